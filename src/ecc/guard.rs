@@ -1,0 +1,225 @@
+//! Transition guards: Boolean formulas over the inputs of an ECC.
+//!
+//! Guards are kept as a small AST over [`InputId`]s. Displaying needs the input names, so
+//! [`Guard::display`] takes them; the text form is the one of the JSON contract:
+//! input names, `!`, `&`, `|`, parentheses and `TRUE` / `FALSE`.
+
+use super::InputId;
+use std::fmt;
+
+/// A Boolean formula over the inputs.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Guard {
+    True,
+    False,
+    Var(InputId),
+    Not(Box<Guard>),
+    And(Vec<Guard>),
+    Or(Vec<Guard>),
+}
+
+/// One literal of a conjunction: input and required value.
+pub type Literal = (InputId, bool);
+
+impl Guard {
+    /// Evaluate on an input vector.
+    pub fn eval(&self, x: &[bool]) -> bool {
+        match self {
+            Guard::True => true,
+            Guard::False => false,
+            Guard::Var(i) => x[i.0],
+            Guard::Not(g) => !g.eval(x),
+            Guard::And(gs) => gs.iter().all(|g| g.eval(x)),
+            Guard::Or(gs) => gs.iter().any(|g| g.eval(x)),
+        }
+    }
+
+    /// A conjunction of literals; the empty conjunction is `TRUE`.
+    pub fn cube(lits: &[Literal]) -> Guard {
+        let mut parts: Vec<Guard> = lits
+            .iter()
+            .map(|&(i, v)| {
+                if v {
+                    Guard::Var(i)
+                } else {
+                    Guard::Not(Box::new(Guard::Var(i)))
+                }
+            })
+            .collect();
+        match parts.len() {
+            0 => Guard::True,
+            1 => parts.pop().unwrap(),
+            _ => Guard::And(parts),
+        }
+    }
+
+    /// A disjunction of cubes (sum of products); the empty disjunction is `FALSE`.
+    pub fn dnf(cubes: &[Vec<Literal>]) -> Guard {
+        let mut parts: Vec<Guard> = cubes.iter().map(|c| Guard::cube(c)).collect();
+        if parts.iter().any(|g| *g == Guard::True) {
+            return Guard::True;
+        }
+        match parts.len() {
+            0 => Guard::False,
+            1 => parts.pop().unwrap(),
+            _ => Guard::Or(parts),
+        }
+    }
+
+    /// Number of variable occurrences (the guard size N of the seeds).
+    pub fn literal_count(&self) -> usize {
+        match self {
+            Guard::True | Guard::False => 0,
+            Guard::Var(_) => 1,
+            Guard::Not(g) => g.literal_count(),
+            Guard::And(gs) | Guard::Or(gs) => gs.iter().map(|g| g.literal_count()).sum(),
+        }
+    }
+
+    /// Largest input index the guard reads, if any.
+    pub fn max_var(&self) -> Option<InputId> {
+        match self {
+            Guard::True | Guard::False => None,
+            Guard::Var(i) => Some(*i),
+            Guard::Not(g) => g.max_var(),
+            Guard::And(gs) | Guard::Or(gs) => gs.iter().filter_map(|g| g.max_var()).max(),
+        }
+    }
+
+    /// Inputs the guard reads, sorted, without repetition.
+    pub fn vars(&self) -> Vec<InputId> {
+        fn go(g: &Guard, out: &mut Vec<InputId>) {
+            match g {
+                Guard::True | Guard::False => {}
+                Guard::Var(i) => out.push(*i),
+                Guard::Not(g) => go(g, out),
+                Guard::And(gs) | Guard::Or(gs) => gs.iter().for_each(|g| go(g, out)),
+            }
+        }
+        let mut v = Vec::new();
+        go(self, &mut v);
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    /// Display with input names in the project's guard syntax (`!`, `&`, `|`).
+    pub fn display<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
+        GuardDisplay {
+            guard: self,
+            names,
+            syntax: Syntax::C,
+        }
+    }
+
+    /// Display in IEC 61131-3 Structured Text syntax (`NOT`, `AND`, `OR`).
+    pub fn display_st<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
+        GuardDisplay {
+            guard: self,
+            names,
+            syntax: Syntax::St,
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Syntax {
+    /// `!a & b | c`, `TRUE`, `FALSE`: the JSON contract, SMV and DOT.
+    C,
+    /// `NOT a AND b OR c`: Structured Text.
+    St,
+}
+
+/// A guard paired with input names, ready to print.
+pub struct GuardDisplay<'a> {
+    guard: &'a Guard,
+    names: &'a [String],
+    syntax: Syntax,
+}
+
+impl GuardDisplay<'_> {
+    // Precedence: Or = 1, And = 2, Not/atoms = 3. Parentheses only where needed.
+    fn write(&self, g: &Guard, parent: u8, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (not, and, or) = match self.syntax {
+            Syntax::C => ("!", " & ", " | "),
+            Syntax::St => ("NOT ", " AND ", " OR "),
+        };
+        match g {
+            Guard::True => write!(f, "TRUE"),
+            Guard::False => write!(f, "FALSE"),
+            Guard::Var(i) => match self.names.get(i.0) {
+                Some(n) => write!(f, "{n}"),
+                None => write!(f, "x{}", i.0 + 1),
+            },
+            Guard::Not(inner) => {
+                write!(f, "{not}")?;
+                self.write(inner, 3, f)
+            }
+            Guard::And(gs) | Guard::Or(gs) => {
+                let (prec, sep) = if matches!(g, Guard::And(_)) {
+                    (2, and)
+                } else {
+                    (1, or)
+                };
+                if prec < parent {
+                    write!(f, "(")?;
+                }
+                for (k, sub) in gs.iter().enumerate() {
+                    if k > 0 {
+                        write!(f, "{sep}")?;
+                    }
+                    self.write(sub, prec + 1, f)?;
+                }
+                if prec < parent {
+                    write!(f, ")")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl fmt::Display for GuardDisplay<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.write(self.guard, 0, f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names() -> Vec<String> {
+        vec!["a".into(), "b".into(), "c".into()]
+    }
+
+    #[test]
+    fn display_uses_minimal_parentheses() {
+        let g = Guard::And(vec![
+            Guard::Or(vec![Guard::Var(InputId(0)), Guard::Var(InputId(1))]),
+            Guard::Not(Box::new(Guard::Var(InputId(2)))),
+        ]);
+        assert_eq!(g.display(&names()).to_string(), "(a | b) & !c");
+        assert_eq!(g.display_st(&names()).to_string(), "(a OR b) AND NOT c");
+        let h = Guard::Not(Box::new(Guard::And(vec![
+            Guard::Var(InputId(0)),
+            Guard::Var(InputId(1)),
+        ])));
+        assert_eq!(h.display(&names()).to_string(), "!(a & b)");
+    }
+
+    #[test]
+    fn dnf_counts_literals_and_evaluates() {
+        let g = Guard::dnf(&[
+            vec![(InputId(0), true), (InputId(2), false)],
+            vec![(InputId(1), true)],
+        ]);
+        assert_eq!(g.literal_count(), 3);
+        assert!(g.eval(&[true, false, false]));
+        assert!(!g.eval(&[true, false, true]));
+        assert!(g.eval(&[false, true, true]));
+        assert_eq!(g.display(&names()).to_string(), "a & !c | b");
+        assert_eq!(Guard::dnf(&[vec![]]), Guard::True);
+        assert_eq!(Guard::dnf(&[]), Guard::False);
+    }
+}

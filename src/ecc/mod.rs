@@ -1,0 +1,311 @@
+//! The Execution Control Chart (ECC) of an IEC 61499 basic function block, as a Moore machine.
+//!
+//! This module is pure data and the one executable semantics of the project (see [`sim`]);
+//! it performs no I/O and depends on no other module of the crate.
+//!
+//! # The model
+//! - Interface: ordered Boolean inputs `x[0..X)`, ordered Boolean outputs `z[0..Z)`, one input
+//!   event `REQ` and one output event `CNF`, and initial output values (default all `0`).
+//! - States `0..C`; state 0 is the initial state. Each state carries an output [`Algorithm`].
+//! - Each state has an *ordered* list of [`Transition`]s `(guard, target)`. On `REQ` with input
+//!   vector `x`, the first transition whose guard holds on `x` fires: the machine enters the
+//!   target, applies the *target's* algorithm to the outputs and emits `CNF` with the new output
+//!   values. If no guard holds nothing happens: no `CNF`, outputs unchanged, state unchanged.
+//!
+//! Numbering: states, inputs and outputs are 0-based everywhere inside the crate. Exports name
+//! states `s0..s{C-1}` (the `.fbt` export calls state 0 `START`, as 4diac expects).
+
+pub mod guard;
+pub mod sim;
+
+pub use guard::Guard;
+pub use sim::{replay, Fired, Mismatch, Run};
+
+use std::fmt;
+
+/// Index of a state, 0-based; state 0 is the initial state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct StateId(pub usize);
+
+/// Index of an input variable in the interface order, 0-based.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct InputId(pub usize);
+
+/// Index of an output variable in the interface order, 0-based.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct OutputId(pub usize);
+
+impl fmt::Display for StateId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "s{}", self.0)
+    }
+}
+
+/// One element of a three-valued output algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Tri {
+    /// Set the output to `0`.
+    Zero,
+    /// Set the output to `1`.
+    One,
+    /// Keep the output's current value (`x`).
+    Keep,
+}
+
+impl Tri {
+    pub fn symbol(self) -> char {
+        match self {
+            Tri::Zero => '0',
+            Tri::One => '1',
+            Tri::Keep => 'x',
+        }
+    }
+
+    pub fn from_symbol(c: char) -> Option<Tri> {
+        match c {
+            '0' => Some(Tri::Zero),
+            '1' => Some(Tri::One),
+            'x' | 'X' => Some(Tri::Keep),
+            _ => None,
+        }
+    }
+}
+
+/// The output algorithm of a state, executed when the state is entered.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Algorithm {
+    /// One symbol per output from `{0, 1, x}` (the seeds' form).
+    Tri(Vec<Tri>),
+    /// The public fbSAT tool's form: new value of output `z` is `a1[z]` if its old value was 1,
+    /// else `a0[z]`. This can also express "flip" (`a0 = 1, a1 = 0`).
+    Binary { a0: Vec<bool>, a1: Vec<bool> },
+}
+
+/// Which algorithm form a synthesis run uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum AlgorithmKind {
+    /// `{0, 1, x}` per output.
+    #[default]
+    Tri,
+    /// Two bit strings `a0`, `a1` per state (fbSAT's form).
+    Binary,
+}
+
+impl Algorithm {
+    /// The algorithm that changes nothing.
+    pub fn keep_all(kind: AlgorithmKind, outputs: usize) -> Algorithm {
+        match kind {
+            AlgorithmKind::Tri => Algorithm::Tri(vec![Tri::Keep; outputs]),
+            AlgorithmKind::Binary => Algorithm::Binary {
+                a0: vec![false; outputs],
+                a1: vec![true; outputs],
+            },
+        }
+    }
+
+    pub fn kind(&self) -> AlgorithmKind {
+        match self {
+            Algorithm::Tri(_) => AlgorithmKind::Tri,
+            Algorithm::Binary { .. } => AlgorithmKind::Binary,
+        }
+    }
+
+    /// Number of outputs the algorithm is written for.
+    pub fn len(&self) -> usize {
+        match self {
+            Algorithm::Tri(t) => t.len(),
+            Algorithm::Binary { a0, .. } => a0.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// New value of one output whose old value is `old`.
+    pub fn apply_one(&self, z: usize, old: bool) -> bool {
+        match self {
+            Algorithm::Tri(t) => match t[z] {
+                Tri::Zero => false,
+                Tri::One => true,
+                Tri::Keep => old,
+            },
+            Algorithm::Binary { a0, a1 } => {
+                if old {
+                    a1[z]
+                } else {
+                    a0[z]
+                }
+            }
+        }
+    }
+
+    /// Apply the algorithm to an output vector in place.
+    pub fn apply(&self, outputs: &mut [bool]) {
+        for (z, v) in outputs.iter_mut().enumerate() {
+            *v = self.apply_one(z, *v);
+        }
+    }
+
+    /// The algorithm as text: `x01x...` for tri; `a0/a1` bit strings for binary.
+    pub fn to_strings(&self) -> Vec<String> {
+        match self {
+            Algorithm::Tri(t) => vec![t.iter().map(|s| s.symbol()).collect()],
+            Algorithm::Binary { a0, a1 } => vec![bits_to_string(a0), bits_to_string(a1)],
+        }
+    }
+}
+
+impl fmt::Display for Algorithm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Algorithm::Tri(_) => write!(f, "{}", self.to_strings()[0]),
+            Algorithm::Binary { a0, a1 } => {
+                write!(f, "0:{} 1:{}", bits_to_string(a0), bits_to_string(a1))
+            }
+        }
+    }
+}
+
+/// `[true, false]` -> `"10"`.
+pub fn bits_to_string(bits: &[bool]) -> String {
+    bits.iter().map(|&b| if b { '1' } else { '0' }).collect()
+}
+
+/// `"10"` -> `[true, false]`; `None` on any other character.
+pub fn bits_from_str(s: &str) -> Option<Vec<bool>> {
+    s.chars()
+        .map(|c| match c {
+            '0' => Some(false),
+            '1' => Some(true),
+            _ => None,
+        })
+        .collect()
+}
+
+/// One outgoing transition of a state.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Transition {
+    pub target: StateId,
+    pub guard: Guard,
+}
+
+/// One state of the ECC with its algorithm and its transitions in priority order.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct State {
+    pub name: String,
+    pub algorithm: Algorithm,
+    /// Outgoing transitions, highest priority first.
+    pub transitions: Vec<Transition>,
+}
+
+/// An Execution Control Chart with its interface.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Ecc {
+    pub inputs: Vec<String>,
+    pub outputs: Vec<String>,
+    pub initial_outputs: Vec<bool>,
+    /// States; index 0 is the initial state.
+    pub states: Vec<State>,
+}
+
+/// Size figures of an ECC, as the seeds report them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+pub struct Size {
+    /// Number of states.
+    pub c: usize,
+    /// Largest number of outgoing transitions of one state.
+    pub k: usize,
+    /// Number of transitions.
+    pub t: usize,
+    /// Total number of literals in all guards.
+    pub n: usize,
+}
+
+impl fmt::Display for Size {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n)
+    }
+}
+
+impl Ecc {
+    pub fn state(&self, id: StateId) -> &State {
+        &self.states[id.0]
+    }
+
+    pub fn size(&self) -> Size {
+        Size {
+            c: self.states.len(),
+            k: self
+                .states
+                .iter()
+                .map(|s| s.transitions.len())
+                .max()
+                .unwrap_or(0),
+            t: self.states.iter().map(|s| s.transitions.len()).sum(),
+            n: self
+                .states
+                .iter()
+                .flat_map(|s| &s.transitions)
+                .map(|t| t.guard.literal_count())
+                .sum(),
+        }
+    }
+
+    pub fn algorithm_kind(&self) -> AlgorithmKind {
+        self.states
+            .first()
+            .map(|s| s.algorithm.kind())
+            .unwrap_or_default()
+    }
+
+    /// Checks the internal consistency the rest of the crate relies on: at least one state,
+    /// vector lengths match the interface, targets and guard variables in range.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.states.is_empty() {
+            return Err("the ECC has no states".into());
+        }
+        if self.initial_outputs.len() != self.outputs.len() {
+            return Err(format!(
+                "initial_outputs has {} values but there are {} outputs",
+                self.initial_outputs.len(),
+                self.outputs.len()
+            ));
+        }
+        let kind = self.algorithm_kind();
+        for (i, s) in self.states.iter().enumerate() {
+            if s.algorithm.len() != self.outputs.len() {
+                return Err(format!(
+                    "state {} ({}) has an algorithm for {} outputs, the interface has {}",
+                    i,
+                    s.name,
+                    s.algorithm.len(),
+                    self.outputs.len()
+                ));
+            }
+            if s.algorithm.kind() != kind {
+                return Err(format!(
+                    "state {} ({}) mixes tri and binary algorithms",
+                    i, s.name
+                ));
+            }
+            for (k, t) in s.transitions.iter().enumerate() {
+                if t.target.0 >= self.states.len() {
+                    return Err(format!(
+                        "transition {} of state {} ({}) targets state {}, which does not exist",
+                        k, i, s.name, t.target.0
+                    ));
+                }
+                if let Some(v) = t.guard.max_var() {
+                    if v.0 >= self.inputs.len() {
+                        return Err(format!(
+                            "transition {} of state {} ({}) reads input {}, which does not exist",
+                            k, i, s.name, v.0
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

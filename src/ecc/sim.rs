@@ -1,0 +1,176 @@
+//! The simulator: the one executable semantics of an ECC.
+//!
+//! Every other part of the project agrees with [`Run::step`]: the SAT decoder replays its
+//! machines through it, the search fitness is computed with it, and the SMV emitter is
+//! differential-tested against it inside NuSMV.
+
+use super::{Ecc, StateId};
+
+/// A transition that fired on one `REQ`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Fired {
+    /// The state the machine was in.
+    pub source: StateId,
+    /// Index of the transition in the source state's priority list.
+    pub index: usize,
+    /// The state entered.
+    pub target: StateId,
+}
+
+/// A running instance of an ECC: current state and output values.
+#[derive(Debug, Clone)]
+pub struct Run<'a> {
+    ecc: &'a Ecc,
+    pub state: StateId,
+    pub outputs: Vec<bool>,
+}
+
+impl<'a> Run<'a> {
+    /// The machine in its initial state with its initial outputs.
+    pub fn new(ecc: &'a Ecc) -> Run<'a> {
+        Run {
+            ecc,
+            state: StateId(0),
+            outputs: ecc.initial_outputs.clone(),
+        }
+    }
+
+    /// One `REQ` with input vector `x`. Returns the fired transition (the machine then emitted
+    /// `CNF` with `self.outputs`), or `None` when no guard held (no `CNF`, nothing changed).
+    pub fn step(&mut self, x: &[bool]) -> Option<Fired> {
+        let source = self.state;
+        let (index, t) = self.ecc.states[source.0]
+            .transitions
+            .iter()
+            .enumerate()
+            .find(|(_, t)| t.guard.eval(x))?;
+        self.state = t.target;
+        self.ecc.states[t.target.0]
+            .algorithm
+            .apply(&mut self.outputs);
+        Some(Fired {
+            source,
+            index,
+            target: t.target,
+        })
+    }
+}
+
+/// The first step where a machine and a recorded trace disagree.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mismatch {
+    /// 0-based index of the `REQ` in the trace.
+    pub step: usize,
+    /// Recorded outputs of `CNF`, or `None` if the trace records no `CNF`.
+    pub expected: Option<Vec<bool>>,
+    /// Outputs the machine emitted with `CNF`, or `None` if it emitted nothing.
+    pub actual: Option<Vec<bool>>,
+}
+
+/// Replays a trace of `(inputs, expected CNF outputs or None)` from the initial state and
+/// returns the first disagreement.
+pub fn replay<'t, I>(ecc: &Ecc, steps: I) -> Result<(), Mismatch>
+where
+    I: IntoIterator<Item = (&'t [bool], Option<&'t [bool]>)>,
+{
+    let mut run = Run::new(ecc);
+    for (k, (x, expected)) in steps.into_iter().enumerate() {
+        let actual = run.step(x).map(|_| run.outputs.as_slice());
+        if actual != expected {
+            return Err(Mismatch {
+                step: k,
+                expected: expected.map(|o| o.to_vec()),
+                actual: actual.map(|o| o.to_vec()),
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::{Algorithm, Guard, InputId, State, Transition, Tri};
+
+    /// A toggle: input `b` pressed switches the lamp; state 1 = on.
+    fn toggle() -> Ecc {
+        let b = Guard::Var(InputId(0));
+        Ecc {
+            inputs: vec!["b".into()],
+            outputs: vec!["lamp".into()],
+            initial_outputs: vec![false],
+            states: vec![
+                State {
+                    name: "s0".into(),
+                    algorithm: Algorithm::Tri(vec![Tri::Zero]),
+                    transitions: vec![Transition {
+                        target: StateId(1),
+                        guard: b.clone(),
+                    }],
+                },
+                State {
+                    name: "s1".into(),
+                    algorithm: Algorithm::Tri(vec![Tri::One]),
+                    transitions: vec![Transition {
+                        target: StateId(0),
+                        guard: b,
+                    }],
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn first_true_guard_fires_and_target_algorithm_applies() {
+        let e = toggle();
+        let mut r = Run::new(&e);
+        assert_eq!(r.step(&[false]), None);
+        assert_eq!(r.outputs, vec![false]);
+        let f = r.step(&[true]).unwrap();
+        assert_eq!((f.source, f.target), (StateId(0), StateId(1)));
+        assert_eq!(r.outputs, vec![true]);
+        r.step(&[true]);
+        assert_eq!(r.outputs, vec![false]);
+    }
+
+    #[test]
+    fn priority_order_decides() {
+        let mut e = toggle();
+        e.states[0].transitions.insert(
+            0,
+            Transition {
+                target: StateId(0),
+                guard: Guard::True,
+            },
+        );
+        let mut r = Run::new(&e);
+        let f = r.step(&[true]).unwrap();
+        assert_eq!((f.index, f.target), (0, StateId(0)));
+    }
+
+    #[test]
+    fn replay_reports_first_mismatch() {
+        let e = toggle();
+        let t: [(&[bool], Option<&[bool]>); 3] = [
+            (&[false], None),
+            (&[true], Some(&[true])),
+            (&[false], Some(&[true])),
+        ];
+        let m = replay(&e, t).unwrap_err();
+        assert_eq!(m.step, 2);
+        assert_eq!(m.actual, None);
+    }
+
+    #[test]
+    fn binary_algorithm_can_flip() {
+        let a = Algorithm::Binary {
+            a0: vec![true],
+            a1: vec![false],
+        };
+        let mut o = vec![false];
+        a.apply(&mut o);
+        assert_eq!(o, vec![true]);
+        a.apply(&mut o);
+        assert_eq!(o, vec![false]);
+    }
+}
