@@ -1,0 +1,414 @@
+//! Sampled PLC I/O logs in CSV, as a data collector writes them, and their conversion to
+//! scenarios by the rules of seed 000 (section IV.A).
+//!
+//! # Format
+//! ```text
+//! time,scenario,in:start,in:sensor,out:motor
+//! 0.00,1,0,0,0
+//! 0.01,1,1,0,0
+//! 0.02,1,1,0,1
+//! ```
+//! - A header row, then one row per sample. Cells are separated by `,` (or `;` when the header
+//!   has no `,`). Values are `0`/`1`/`true`/`false` in any case. Blank lines are ignored.
+//! - Inputs and outputs are told apart by a prefix in the header: `in:NAME` or `out:NAME`.
+//!   Plain `NAME` headers are allowed when names files (`--input-names`/`--output-names`) say
+//!   which side a name is on; with names files, their order is the interface order and every
+//!   listed name must have a column.
+//! - Optional columns: `time` or `timestamp` (kept for the user, ignored here), and `scenario`
+//!   (rows with the same value in a contiguous block form one scenario; without it the whole
+//!   file is one scenario).
+//!
+//! # Conversion (seed 000)
+//! 1. Consecutive identical rows collapse into one element.
+//! 2. While two consecutive elements have equal inputs and different outputs, the first is
+//!    dropped: the output change belongs to the input change before it (scan-cycle skew).
+//! 3. Every element becomes a `REQ`; an element whose outputs differ from the previous one's
+//!    (for the first: from the initial outputs) is answered with `CNF` and those outputs.
+//!
+//! Writing a scenario set as CSV gives one row per step with the outputs after it. Reading it
+//! back is lossless except for active steps that did not change the outputs (they become
+//! passive): a sampled log cannot see an event that changed nothing.
+
+use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
+use std::io::Write;
+use std::path::Path;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Column {
+    Time,
+    Scenario,
+    Input(usize),
+    Output(usize),
+}
+
+/// One sample: input and output values.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Sample {
+    pub inputs: Vec<bool>,
+    pub outputs: Vec<bool>,
+}
+
+/// Parses a CSV log into scenarios.
+pub fn parse(
+    file: &Path,
+    text: &str,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+) -> Result<ScenarioSet, ScenarioError> {
+    let err = |line: usize, message: String| ScenarioError::Syntax {
+        file: file.to_path_buf(),
+        line,
+        message,
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty());
+    let (hline, header) = lines
+        .next()
+        .ok_or_else(|| err(1, "empty file: expected a header row".into()))?;
+    let sep = if header.contains(',') || !header.contains(';') {
+        ','
+    } else {
+        ';'
+    };
+    let (columns, inputs, outputs) =
+        classify(header, sep, input_names, output_names).map_err(|m| err(hline, m))?;
+
+    // Samples grouped by the scenario column.
+    let mut groups: Vec<(usize, String, Vec<Sample>)> = Vec::new();
+    for (line_no, line) in lines {
+        let cells: Vec<&str> = line.split(sep).map(str::trim).collect();
+        if cells.len() != columns.len() {
+            return Err(err(
+                line_no,
+                format!("{} cells, the header has {}", cells.len(), columns.len()),
+            ));
+        }
+        let mut sample = Sample {
+            inputs: vec![false; inputs.len()],
+            outputs: vec![false; outputs.len()],
+        };
+        let mut id = String::new();
+        for (k, (cell, col)) in cells.iter().zip(&columns).enumerate() {
+            let value = || {
+                parse_bool(cell).ok_or_else(|| {
+                    err(
+                        line_no,
+                        format!(
+                            "column {} ('{}'): '{cell}' is not 0/1/true/false",
+                            k + 1,
+                            header_cell(header, sep, k)
+                        ),
+                    )
+                })
+            };
+            match *col {
+                Column::Time => {}
+                Column::Scenario => id = cell.to_string(),
+                Column::Input(i) => sample.inputs[i] = value()?,
+                Column::Output(o) => sample.outputs[o] = value()?,
+            }
+        }
+        match groups.last_mut() {
+            Some((_, last, samples)) if *last == id => samples.push(sample),
+            _ => groups.push((line_no, id, vec![sample])),
+        }
+    }
+    if groups.is_empty() {
+        return Err(err(hline, "no sample rows after the header".into()));
+    }
+    let initial = vec![false; outputs.len()];
+    let scenarios = groups
+        .into_iter()
+        .map(|(line, _, samples)| Scenario {
+            origin: Origin {
+                file: file.to_path_buf(),
+                line,
+            },
+            steps: samples_to_steps(&samples, &initial),
+        })
+        .collect();
+    Ok(ScenarioSet {
+        inputs,
+        outputs,
+        initial_outputs: initial,
+        scenarios,
+    })
+}
+
+fn header_cell(header: &str, sep: char, k: usize) -> String {
+    header.split(sep).nth(k).unwrap_or("").trim().to_string()
+}
+
+fn parse_bool(cell: &str) -> Option<bool> {
+    match cell.to_ascii_lowercase().as_str() {
+        "0" | "false" => Some(false),
+        "1" | "true" => Some(true),
+        _ => None,
+    }
+}
+
+type Classified = (Vec<Column>, Vec<String>, Vec<String>);
+
+fn classify(
+    header: &str,
+    sep: char,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+) -> Result<Classified, String> {
+    let mut inputs: Vec<String> = input_names.map(<[String]>::to_vec).unwrap_or_default();
+    let mut outputs: Vec<String> = output_names.map(<[String]>::to_vec).unwrap_or_default();
+    let fixed_in = input_names.is_some();
+    let fixed_out = output_names.is_some();
+    let mut columns = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for (k, cell) in header.split(sep).map(str::trim).enumerate() {
+        let col_no = k + 1;
+        if !seen.insert(cell.to_string()) {
+            return Err(format!("column {col_no}: duplicate column '{cell}'"));
+        }
+        let lower = cell.to_ascii_lowercase();
+        if lower == "time" || lower == "timestamp" {
+            columns.push(Column::Time);
+            continue;
+        }
+        if lower == "scenario" {
+            columns.push(Column::Scenario);
+            continue;
+        }
+        let (side, name) = if let Some(n) = cell.strip_prefix("in:") {
+            (Some(true), n)
+        } else if let Some(n) = cell.strip_prefix("out:") {
+            (Some(false), n)
+        } else {
+            (None, cell)
+        };
+        if !super::names::is_identifier(name) {
+            return Err(format!(
+                "column {col_no}: '{name}' is not a valid signal name"
+            ));
+        }
+        let in_pos = inputs.iter().position(|n| n == name);
+        let out_pos = outputs.iter().position(|n| n == name);
+        let col = match (side, in_pos, out_pos) {
+            (Some(true), Some(i), _) | (None, Some(i), None) => Column::Input(i),
+            (Some(false), _, Some(o)) | (None, None, Some(o)) => Column::Output(o),
+            (Some(true), None, _) if !fixed_in => {
+                inputs.push(name.to_string());
+                Column::Input(inputs.len() - 1)
+            }
+            (Some(false), _, None) if !fixed_out => {
+                outputs.push(name.to_string());
+                Column::Output(outputs.len() - 1)
+            }
+            (Some(true), None, _) => {
+                return Err(format!(
+                    "column {col_no}: input '{name}' is not in the input names file"
+                ))
+            }
+            (Some(false), _, None) => {
+                return Err(format!(
+                    "column {col_no}: output '{name}' is not in the output names file"
+                ))
+            }
+            (None, Some(_), Some(_)) => {
+                return Err(format!(
+                    "column {col_no}: '{name}' is listed both as an input and as an output"
+                ))
+            }
+            (None, None, None) => {
+                return Err(format!(
+                    "column {col_no}: unknown signal '{name}': write 'in:{name}' or 'out:{name}' in the header, or list it in a names file"
+                ))
+            }
+        };
+        columns.push(col);
+    }
+    for (names, is_input) in [(&inputs, true), (&outputs, false)] {
+        for (i, n) in names.iter().enumerate() {
+            let want = if is_input {
+                Column::Input(i)
+            } else {
+                Column::Output(i)
+            };
+            if !columns.contains(&want) {
+                return Err(format!("no column for signal '{n}' of the names file"));
+            }
+        }
+    }
+    if inputs.is_empty() {
+        return Err("no input columns (prefix them with 'in:')".into());
+    }
+    if outputs.is_empty() {
+        return Err("no output columns (prefix them with 'out:')".into());
+    }
+    Ok((columns, inputs, outputs))
+}
+
+/// Seed 000's preprocessing of one sampled trace into scenario steps.
+pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
+    let mut elems: Vec<&Sample> = Vec::with_capacity(samples.len());
+    for s in samples {
+        // Rule 1 (collapse identical rows) and rule 2 (an output change recorded before the
+        // input change that caused it: drop the earlier element), applied until neither fires.
+        // Dropping can make the new neighbours equal or skewed again, hence the loop.
+        loop {
+            match elems.last() {
+                Some(last) if *last == s => break,
+                Some(last) if last.inputs == s.inputs && last.outputs != s.outputs => {
+                    elems.pop();
+                }
+                _ => {
+                    elems.push(s);
+                    break;
+                }
+            }
+        }
+    }
+    let mut prev = initial_outputs;
+    elems
+        .into_iter()
+        .map(|e| {
+            let changed = e.outputs != prev;
+            prev = &e.outputs;
+            Step {
+                inputs: e.inputs.clone(),
+                outputs: changed.then(|| e.outputs.clone()),
+            }
+        })
+        .collect()
+}
+
+/// Reads a CSV log file (plain or gzip).
+pub fn read(
+    file: &Path,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+) -> Result<ScenarioSet, ScenarioError> {
+    parse(file, &read_text(file)?, input_names, output_names)
+}
+
+/// Writes scenarios as a CSV log: `scenario` column, `in:`/`out:` prefixed signals, one row
+/// per step with the outputs after that step.
+pub fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
+    let mut header = vec!["scenario".to_string()];
+    header.extend(set.inputs.iter().map(|n| format!("in:{n}")));
+    header.extend(set.outputs.iter().map(|n| format!("out:{n}")));
+    writeln!(w, "{}", header.join(","))?;
+    for (k, sc) in set.scenarios.iter().enumerate() {
+        let mut outputs = set.initial_outputs.clone();
+        for step in &sc.steps {
+            if let Some(o) = &step.outputs {
+                outputs.clone_from(o);
+            }
+            let cells: Vec<&str> = std::iter::once(&step.inputs)
+                .chain(std::iter::once(&outputs))
+                .flatten()
+                .map(|&b| if b { "1" } else { "0" })
+                .collect();
+            writeln!(w, "{},{}", k + 1, cells.join(","))?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn steps(text: &str) -> Vec<(String, Option<String>)> {
+        let set = parse(Path::new("log.csv"), text, None, None).unwrap();
+        set.scenarios[0]
+            .steps
+            .iter()
+            .map(|s| {
+                (
+                    crate::ecc::bits_to_string(&s.inputs),
+                    s.outputs.as_deref().map(crate::ecc::bits_to_string),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn seed_000_rules() {
+        // rows: 00/0, 00/0 (repeat), 10/0, 10/1 (skew: same inputs, new outputs), 11/1, 11/1
+        let text = "time,in:a,in:b,out:z\n0,0,0,0\n1,0,0,0\n2,1,0,0\n3,1,0,1\n4,1,1,1\n5,1,1,1\n";
+        assert_eq!(
+            steps(text),
+            vec![
+                ("00".into(), None),
+                ("10".into(), Some("1".into())),
+                ("11".into(), None),
+            ]
+        );
+    }
+
+    #[test]
+    fn first_element_compares_with_initial_outputs() {
+        assert_eq!(
+            steps("in:a,out:z\n0,1\n"),
+            vec![("0".into(), Some("1".into()))]
+        );
+    }
+
+    #[test]
+    fn dropping_repeats_until_stable() {
+        // 0/0, 1/0, 1/1, 1/0 : drop 1/0 (skew) then 1/1 (skew again) -> 0/0, 1/0
+        assert_eq!(
+            steps("in:a,out:z\n0,0\n1,0\n1,1\n1,0\n"),
+            vec![("0".into(), None), ("1".into(), None)]
+        );
+    }
+
+    #[test]
+    fn scenario_column_splits_and_names_files_classify() {
+        let ins = vec!["b".to_string(), "a".to_string()];
+        let outs = vec!["z".to_string()];
+        let set = parse(
+            Path::new("log.csv"),
+            "scenario;a;b;z\n1;1;0;0\n2;0;1;1\n",
+            Some(&ins),
+            Some(&outs),
+        )
+        .unwrap();
+        assert_eq!(set.inputs, ins);
+        assert_eq!(set.scenarios.len(), 2);
+        assert_eq!(set.scenarios[0].steps[0].inputs, vec![false, true]);
+        assert_eq!(set.scenarios[1].origin.line, 3);
+    }
+
+    #[test]
+    fn errors_have_lines_and_columns() {
+        let cases = [
+            ("in:a,out:z\n0,2\n", "log.csv:2: column 2 ('out:z'): '2' is not 0/1/true/false"),
+            ("in:a,out:z\n0\n", "log.csv:2: 1 cells, the header has 2"),
+            ("in:a,q\n0,1\n", "log.csv:1: column 2: unknown signal 'q': write 'in:q' or 'out:q' in the header, or list it in a names file"),
+            ("in:a,in:a,out:z\n", "log.csv:1: column 2: duplicate column 'in:a'"),
+            ("in:a,out:z\n", "log.csv:1: no sample rows after the header"),
+            ("in:a\n1\n", "log.csv:1: no output columns (prefix them with 'out:')"),
+        ];
+        for (text, msg) in cases {
+            let e = parse(Path::new("log.csv"), text, None, None).unwrap_err();
+            assert_eq!(e.to_string(), msg, "for {text:?}");
+        }
+    }
+
+    #[test]
+    fn write_then_read_keeps_changing_steps() {
+        let text = "in:a,out:z\n0,0\n1,1\n0,1\n0,0\n";
+        let set = parse(Path::new("l.csv"), text, None, None).unwrap();
+        let mut buf = Vec::new();
+        write(&set, &mut buf).unwrap();
+        let back = parse(
+            Path::new("l.csv"),
+            std::str::from_utf8(&buf).unwrap(),
+            None,
+            None,
+        )
+        .unwrap();
+        assert_eq!(back.scenarios[0].steps, set.scenarios[0].steps);
+    }
+}

@@ -1,0 +1,199 @@
+//! Execution scenarios: what a black-box controller was seen to do.
+//!
+//! In: scenario files in the fbSAT text format ([`fbsat`]) or sampled PLC I/O logs in CSV
+//! ([`csvlog`]), plus names of the interface variables ([`names`]).
+//! Out: a [`ScenarioSet`] (interface + scenarios) and, from it, the [`tree::ScenarioTree`]
+//! that SAT synthesis colours.
+//!
+//! A scenario is a sequence of [`Step`]s, one per `REQ`: the input vector and, if the controller
+//! answered with `CNF`, the output values it emitted (an *active* step); otherwise `None`
+//! (a *passive* step: outputs unchanged, no `CNF`).
+
+pub mod csvlog;
+pub mod fbsat;
+pub mod names;
+pub mod tree;
+
+use crate::ecc::{bits_to_string, replay, Ecc};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// One `REQ` of a scenario.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Step {
+    pub inputs: Vec<bool>,
+    /// Outputs emitted with `CNF`, or `None` for a passive step.
+    pub outputs: Option<Vec<bool>>,
+}
+
+/// Where a scenario came from, for error messages.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Origin {
+    pub file: PathBuf,
+    /// 1-based line of the file where the scenario starts.
+    pub line: usize,
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.file.display(), self.line)
+    }
+}
+
+/// One recorded run of the controller from its initial state.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Scenario {
+    pub origin: Origin,
+    pub steps: Vec<Step>,
+}
+
+/// Scenarios over one interface.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ScenarioSet {
+    pub inputs: Vec<String>,
+    pub outputs: Vec<String>,
+    /// Output values before the first step of every scenario.
+    pub initial_outputs: Vec<bool>,
+    pub scenarios: Vec<Scenario>,
+}
+
+/// An error in scenario input, always with its place.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error("{file}: {source}")]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{file}: not a valid gzip stream: {message}")]
+    Gzip { file: PathBuf, message: String },
+    #[error("{file}:{line}: {message}")]
+    Syntax {
+        file: PathBuf,
+        line: usize,
+        message: String,
+    },
+    #[error("{file}:{line}: step {step}: {message}")]
+    Step {
+        file: PathBuf,
+        line: usize,
+        /// 1-based number of the `REQ` within the scenario.
+        step: usize,
+        message: String,
+    },
+    #[error("{file}:{line}: {message}")]
+    Names {
+        file: PathBuf,
+        line: usize,
+        message: String,
+    },
+    #[error("contradictory scenarios: {first} step {first_step} {first_says}, but {second} step {second_step} {second_says} after the same input history")]
+    Contradiction {
+        first: Origin,
+        first_step: usize,
+        first_says: String,
+        second: Origin,
+        second_step: usize,
+        second_says: String,
+    },
+    #[error("{0}")]
+    Other(String),
+}
+
+impl Step {
+    /// Human-readable description of what the step records.
+    pub fn describe(&self) -> String {
+        match &self.outputs {
+            Some(o) => format!(
+                "answers inputs {} with CNF[{}]",
+                bits_to_string(&self.inputs),
+                bits_to_string(o)
+            ),
+            None => format!("ignores inputs {}", bits_to_string(&self.inputs)),
+        }
+    }
+}
+
+impl ScenarioSet {
+    /// Total number of steps over all scenarios.
+    pub fn step_count(&self) -> usize {
+        self.scenarios.iter().map(|s| s.steps.len()).sum()
+    }
+
+    /// Number of active steps over all scenarios.
+    pub fn active_count(&self) -> usize {
+        self.scenarios
+            .iter()
+            .flat_map(|s| &s.steps)
+            .filter(|s| s.outputs.is_some())
+            .count()
+    }
+
+    /// Appends the scenarios of another set over the same interface.
+    pub fn merge(&mut self, other: ScenarioSet) -> Result<(), ScenarioError> {
+        if other.inputs != self.inputs || other.outputs != self.outputs {
+            let file = other
+                .scenarios
+                .first()
+                .map(|s| s.origin.to_string())
+                .unwrap_or_default();
+            return Err(ScenarioError::Other(format!(
+                "{file}: the scenarios use a different interface than the files before them"
+            )));
+        }
+        self.scenarios.extend(other.scenarios);
+        Ok(())
+    }
+
+    /// Replays every scenario on `ecc`; the first disagreement is described with its place.
+    pub fn check(&self, ecc: &Ecc) -> Result<(), String> {
+        for sc in &self.scenarios {
+            let steps = sc
+                .steps
+                .iter()
+                .map(|s| (s.inputs.as_slice(), s.outputs.as_deref()));
+            if let Err(m) = replay(ecc, steps) {
+                let show = |o: &Option<Vec<bool>>| match o {
+                    Some(v) => format!("CNF[{}]", bits_to_string(v)),
+                    None => "no CNF".to_string(),
+                };
+                return Err(format!(
+                    "scenario {} step {}: inputs {} recorded {}, the machine gives {}",
+                    sc.origin,
+                    m.step + 1,
+                    bits_to_string(&sc.steps[m.step].inputs),
+                    show(&m.expected),
+                    show(&m.actual)
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads a whole file, transparently gunzipping it when it starts with the gzip magic bytes.
+pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    use std::io::Read;
+    let bytes = std::fs::read(path).map_err(|e| ScenarioError::Io {
+        file: path.to_path_buf(),
+        source: e,
+    })?;
+    let raw = if bytes.starts_with(&[0x1f, 0x8b]) {
+        let mut out = Vec::new();
+        flate2::read::MultiGzDecoder::new(&bytes[..])
+            .read_to_end(&mut out)
+            .map_err(|e| ScenarioError::Gzip {
+                file: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        out
+    } else {
+        bytes
+    };
+    String::from_utf8(raw).map_err(|e| ScenarioError::Syntax {
+        file: path.to_path_buf(),
+        line: 1,
+        message: format!("not UTF-8 text ({e})"),
+    })
+}
