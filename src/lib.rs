@@ -9,5 +9,8 @@
 //! - [`smv`]: SMV emission of an ECC and of the closed loop;
 //! - [`cli`]: the `synth` command line.
 
+pub mod cli;
 pub mod ecc;
+pub mod files;
+pub mod sat;
 pub mod scenario;

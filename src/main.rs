@@ -1,1 +1,5 @@
-fn main() {}
+//! The `synth` binary: a thin wrapper around [`fbsynth::cli`].
+
+fn main() {
+    std::process::exit(fbsynth::cli::run());
+}

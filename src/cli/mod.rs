@@ -1,0 +1,151 @@
+//! The `synth` command line: argument parsing, progress on stderr, exit codes.
+//!
+//! In: `std::env::args`. Out: files written by the library and a summary on stdout.
+//! Everything that computes lives in the library; this module only wires it to a terminal.
+
+mod infer;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Exit codes, as documented in `--help`.
+pub mod exit {
+    /// Success (for the main job and `verify`: every property verified).
+    pub const OK: i32 = 0;
+    /// Bad input or a failed check: a clear message says what and where.
+    pub const INPUT: i32 = 1;
+    /// Command-line usage error (clap).
+    pub const USAGE: i32 = 2;
+    /// No machine exists within the limits given (e.g. --max-states).
+    pub const NO_MACHINE: i32 = 3;
+    /// An internal error: a bug in synth.
+    pub const BUG: i32 = 70;
+}
+
+const EXIT_HELP: &str = "\
+Exit codes:
+  0   success
+  1   bad input (file, line and step are named) or a failed check
+  2   command-line usage error
+  3   no machine exists within the given limits (e.g. --max-states)
+  70  internal error: a bug in synth, please report it";
+
+const ABOUT: &str =
+    "Rebuild the lost control logic of a legacy PLC as a minimal IEC 61499 basic function block.";
+
+const LONG_ABOUT: &str = "\
+Rebuild the lost control logic of a legacy PLC as a minimal IEC 61499 basic function block.
+
+Record the PLC's inputs and outputs while the machine runs (scenario files or CSV logs),
+and synth finds the smallest state machine (Execution Control Chart) that reproduces every
+recording: fewest states, then fewest transitions, then the shortest guards. It writes the
+result as IEC 61499 .fbt (4diac, NxtStudio), Structured Text, SMV, Graphviz and JSON.";
+
+#[derive(Debug, Parser)]
+#[command(name = "synth", version, about = ABOUT, long_about = LONG_ABOUT, after_help = EXIT_HELP)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Synthesize a minimal ECC that reproduces recorded scenarios.
+    Infer(infer::InferArgs),
+    /// Convert scenarios between the fbSAT text format and CSV logs.
+    Convert(infer::ConvertArgs),
+}
+
+/// A failure the CLI reports: message, causes, exit code.
+pub struct Failure {
+    pub code: i32,
+    pub message: String,
+}
+
+impl Failure {
+    pub fn input(e: impl std::error::Error) -> Failure {
+        Failure::with_code(exit::INPUT, e)
+    }
+
+    pub fn with_code(code: i32, e: impl std::error::Error) -> Failure {
+        let mut message = e.to_string();
+        let mut source = e.source();
+        while let Some(s) = source {
+            message.push_str(&format!("\ncaused by: {s}"));
+            source = s.source();
+        }
+        Failure { code, message }
+    }
+
+    pub fn msg(code: i32, message: impl Into<String>) -> Failure {
+        Failure {
+            code,
+            message: message.into(),
+        }
+    }
+}
+
+/// Progress lines on stderr, prefixed with the elapsed time.
+pub struct Progress {
+    start: Instant,
+    quiet: bool,
+}
+
+impl Progress {
+    pub fn new(quiet: bool) -> Progress {
+        Progress {
+            start: Instant::now(),
+            quiet,
+        }
+    }
+
+    pub fn line(&self, msg: &str) {
+        if !self.quiet {
+            eprintln!("[{:7.2}s] {msg}", self.start.elapsed().as_secs_f64());
+        }
+    }
+
+    pub fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn run() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                exit::USAGE
+            } else {
+                exit::OK
+            };
+        }
+    };
+    let result = match cli.command {
+        Some(Command::Infer(a)) => infer::infer(&a),
+        Some(Command::Convert(a)) => infer::convert(&a),
+        None => Err(Failure::msg(
+            exit::USAGE,
+            "no command given; try `synth infer --traces FILE` or `synth --help`",
+        )),
+    };
+    match result {
+        Ok(()) => exit::OK,
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            f.code
+        }
+    }
+}
+
+/// Paths given on the command line, for messages.
+pub fn show(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}

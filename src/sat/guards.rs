@@ -1,0 +1,348 @@
+//! Guard minimization: the smallest guards (fewest literals) for a fixed structure.
+//!
+//! For one state `q` with transitions `i = 0..k` (one per distinct target), the scenarios fix:
+//! - `P_i`: input vectors on which transition `i` must fire;
+//! - `N`: input vectors on which nothing may fire (passive steps in state `q`).
+//! Every other input vector is a don't-care. Transitions are tried in priority order, so guard
+//! `g_i` must hold on `P_i`, and be false on `N` and on `P_j` for every `j` *after* `i`; it may
+//! be true on `P_j` for `j` before `i` (those fire first). The priority order is a variable
+//! too: the encoding picks the order and the guards (each a DNF of at most `M` terms) with the
+//! least total number of literals, by descending search on a totalizer bound.
+//!
+//! States are independent given the structure, so the sum of per-state minima is the global
+//! minimum N for that structure. A time budget bounds the search: when it runs out, the best
+//! guards found so far are kept (still correct, maybe not minimal), and the result says so.
+
+use super::card::Totalizer;
+use super::decode::{Model, Structure};
+use crate::ecc::{guard::Literal, Guard, InputId, StateId, Transition};
+use crate::scenario::tree::{NodeId, ScenarioTree};
+use std::time::Instant;
+use varisat::{ExtendFormula, Lit, Solver};
+
+/// Guards of one state, in priority order.
+#[derive(Debug, Clone)]
+pub struct StateGuards {
+    pub transitions: Vec<Transition>,
+    /// Whether the literal count is proven minimal.
+    pub exact: bool,
+}
+
+/// What the scenarios require of one state's guards.
+#[derive(Debug, Clone, Default)]
+pub struct GuardProblem {
+    /// Targets, one transition each.
+    pub targets: Vec<usize>,
+    /// `positive[i]`: input vectors on which transition `i` fires.
+    pub positive: Vec<Vec<Vec<bool>>>,
+    /// Input vectors on which nothing fires.
+    pub negative: Vec<Vec<bool>>,
+    pub inputs: usize,
+}
+
+impl GuardProblem {
+    /// The requirements on state `q` of a decoded structure.
+    pub fn of_state(s: &Structure, tree: &ScenarioTree, q: usize) -> GuardProblem {
+        let targets = s.targets(q);
+        let positive = targets
+            .iter()
+            .map(|&t| {
+                s.delta[q]
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, d)| **d == Some(t))
+                    .map(|(u, _)| tree.input_vectors[u].clone())
+                    .collect()
+            })
+            .collect();
+        let mut negative: Vec<Vec<bool>> = Vec::new();
+        for (n, node) in tree.nodes.iter().enumerate() {
+            if s.colors[NodeId(n).0] != q {
+                continue;
+            }
+            for &u in &node.passive {
+                let x = &tree.input_vectors[u.0];
+                if !negative.contains(x) {
+                    negative.push(x.clone());
+                }
+            }
+        }
+        GuardProblem {
+            targets,
+            positive,
+            negative,
+            inputs: tree.input_vectors.first().map_or(0, Vec::len),
+        }
+    }
+}
+
+/// Variables of the guard encoding for one state.
+struct GuardVars {
+    /// `before[i][j]`: transition `i` has priority over `j`.
+    before: Vec<Vec<Lit>>,
+    /// Per transition, per term: (used, pos[x], neg[x]).
+    terms: Vec<Vec<(Lit, Vec<Lit>, Vec<Lit>)>>,
+}
+
+/// `OR_x` of the literals that make a term false on input vector `x` (term excludes `x`).
+fn excluding(pos: &[Lit], neg: &[Lit], x: &[bool]) -> Vec<Lit> {
+    x.iter()
+        .enumerate()
+        .map(|(i, &b)| if b { neg[i] } else { pos[i] })
+        .collect()
+}
+
+fn encode(f: &mut Solver, p: &GuardProblem, max_terms: &[usize]) -> GuardVars {
+    let k = p.targets.len();
+    let before: Vec<Vec<Lit>> = (0..k)
+        .map(|_| (0..k).map(|_| f.new_lit()).collect())
+        .collect();
+    // Priority is a strict total order: antisymmetric, total, transitive.
+    for i in 0..k {
+        f.add_clause(&[!before[i][i]]);
+        for j in 0..k {
+            if i != j {
+                f.add_clause(&[before[i][j], before[j][i]]);
+                f.add_clause(&[!before[i][j], !before[j][i]]);
+                for l in 0..k {
+                    if l != i && l != j {
+                        f.add_clause(&[!before[i][j], !before[j][l], before[i][l]]);
+                    }
+                }
+            }
+        }
+    }
+    let mut terms = Vec::new();
+    for i in 0..k {
+        let ts: Vec<(Lit, Vec<Lit>, Vec<Lit>)> = (0..max_terms[i])
+            .map(|_| {
+                let used = f.new_lit();
+                let pos: Vec<Lit> = (0..p.inputs).map(|_| f.new_lit()).collect();
+                let neg: Vec<Lit> = (0..p.inputs).map(|_| f.new_lit()).collect();
+                for x in 0..p.inputs {
+                    // A literal and its negation in one term: the term is empty. Forbid.
+                    f.add_clause(&[!pos[x], !neg[x]]);
+                    f.add_clause(&[!pos[x], used]);
+                    f.add_clause(&[!neg[x], used]);
+                }
+                (used, pos, neg)
+            })
+            .collect();
+        // Guard i covers each of its positive vectors with some term.
+        for x in &p.positive[i] {
+            let mut some = Vec::new();
+            for (used, pos, neg) in &ts {
+                let cov = f.new_lit();
+                f.add_clause(&[!cov, *used]);
+                for l in excluding(pos, neg, x) {
+                    f.add_clause(&[!cov, !l]);
+                }
+                some.push(cov);
+            }
+            f.add_clause(&some);
+        }
+        // No term of guard i covers a negative vector, or a positive vector of a later transition.
+        for (used, pos, neg) in &ts {
+            for x in &p.negative {
+                let mut c = excluding(pos, neg, x);
+                c.push(!*used);
+                f.add_clause(&c);
+            }
+            for (j, pj) in p.positive.iter().enumerate() {
+                if j == i {
+                    continue;
+                }
+                for x in pj {
+                    let mut c = excluding(pos, neg, x);
+                    c.push(!*used);
+                    c.push(!before[i][j]);
+                    f.add_clause(&c);
+                }
+            }
+        }
+        // Symmetry: used terms come first.
+        for w in ts.windows(2) {
+            f.add_clause(&[!w[1].0, w[0].0]);
+        }
+        terms.push(ts);
+    }
+    GuardVars { before, terms }
+}
+
+fn decode(model: &Model, v: &GuardVars, p: &GuardProblem) -> Vec<Transition> {
+    let k = p.targets.len();
+    let mut order: Vec<usize> = (0..k).collect();
+    // Rank = number of transitions that come before; a total order, so ranks are distinct.
+    order.sort_by_key(|&i| (0..k).filter(|&j| model.value(v.before[j][i])).count());
+    order
+        .into_iter()
+        .map(|i| {
+            let cubes: Vec<Vec<Literal>> = v.terms[i]
+                .iter()
+                .filter(|(used, _, _)| model.value(*used))
+                .map(|(_, pos, neg)| {
+                    (0..p.inputs)
+                        .filter_map(|x| {
+                            if model.value(pos[x]) {
+                                Some((InputId(x), true))
+                            } else if model.value(neg[x]) {
+                                Some((InputId(x), false))
+                            } else {
+                                None
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            Transition {
+                target: StateId(p.targets[i]),
+                guard: Guard::dnf(&cubes),
+            }
+        })
+        .collect()
+}
+
+/// Minimizes the guards of one state; stops improving at `deadline` (keeps the best so far).
+pub fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
+    if p.targets.is_empty() {
+        return StateGuards {
+            transitions: Vec::new(),
+            exact: true,
+        };
+    }
+    // Few terms first: guards a person writes rarely need more than a handful. If that is
+    // infeasible, one term per positive vector always is (minterms, in any order).
+    let small: Vec<usize> = p.positive.iter().map(|ps| ps.len().min(3)).collect();
+    let full: Vec<usize> = p.positive.iter().map(Vec::len).collect();
+    let attempts = if small == full {
+        vec![full]
+    } else {
+        vec![small, full]
+    };
+    let mut best: Option<StateGuards> = None;
+    for max_terms in attempts {
+        let mut s = Solver::new();
+        let vars = encode(&mut s, p, &max_terms);
+        let lits: Vec<Lit> = vars
+            .terms
+            .iter()
+            .flatten()
+            .flat_map(|(_, pos, neg)| pos.iter().chain(neg).copied())
+            .collect();
+        if !s.solve().expect("guard solver") {
+            continue;
+        }
+        let mut model = Model::new(&s.model().expect("model"));
+        let mut found = decode(&model, &vars, p);
+        let count = |ts: &[Transition]| ts.iter().map(|t| t.guard.literal_count()).sum::<usize>();
+        let mut n = count(&found);
+        let tot = Totalizer::new(&mut s, &lits, n);
+        let mut exact = n == 0;
+        while n > 0 {
+            if Instant::now() >= deadline {
+                break;
+            }
+            let assume: Vec<Lit> = tot.at_most(n - 1).into_iter().collect();
+            s.assume(&assume);
+            if !s.solve().expect("guard solver") {
+                exact = true;
+                break;
+            }
+            model = Model::new(&s.model().expect("model"));
+            found = decode(&model, &vars, p);
+            n = count(&found);
+            exact = n == 0;
+        }
+        let better = best
+            .as_ref()
+            .is_none_or(|b| count(&b.transitions) > n || (count(&b.transitions) == n && exact));
+        if better {
+            best = Some(StateGuards {
+                transitions: found,
+                exact,
+            });
+        }
+        if best.as_ref().is_some_and(|b| b.exact) {
+            break;
+        }
+    }
+    best.expect("minterm guards always exist")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    fn v(s: &str) -> Vec<bool> {
+        s.chars().map(|c| c == '1').collect()
+    }
+
+    fn solve(p: &GuardProblem) -> StateGuards {
+        minimize_state(p, Instant::now() + Duration::from_secs(30))
+    }
+
+    fn check(p: &GuardProblem, g: &StateGuards) {
+        for (i, ps) in p.positive.iter().enumerate() {
+            for x in ps {
+                let fired = g.transitions.iter().find(|t| t.guard.eval(x)).unwrap();
+                assert_eq!(fired.target.0, p.targets[i]);
+            }
+        }
+        for x in &p.negative {
+            assert!(g.transitions.iter().all(|t| !t.guard.eval(x)));
+        }
+    }
+
+    #[test]
+    fn single_literal_when_one_input_decides() {
+        // fire on 1x, stay on 0x
+        let p = GuardProblem {
+            targets: vec![1],
+            positive: vec![vec![v("10"), v("11")]],
+            negative: vec![v("00"), v("01")],
+            inputs: 2,
+        };
+        let g = solve(&p);
+        assert!(g.exact);
+        assert_eq!(g.transitions[0].guard, Guard::Var(InputId(0)));
+        check(&p, &g);
+    }
+
+    #[test]
+    fn priority_lets_the_second_guard_be_true() {
+        // to 1 on 11, to 2 on 10 and 01 and 00: with order (1, 2), g1 = a & b, g2 = TRUE: N = 2.
+        let p = GuardProblem {
+            targets: vec![2, 1],
+            positive: vec![vec![v("10"), v("01"), v("00")], vec![v("11")]],
+            negative: vec![],
+            inputs: 2,
+        };
+        let g = solve(&p);
+        check(&p, &g);
+        assert!(g.exact);
+        // Either order costs 2 (a & b then TRUE, or !a | !b then TRUE); never 3 or more.
+        assert_eq!(
+            g.transitions
+                .iter()
+                .map(|t| t.guard.literal_count())
+                .sum::<usize>(),
+            2
+        );
+        assert_eq!(g.transitions[1].guard, Guard::True);
+    }
+
+    #[test]
+    fn xor_needs_two_terms() {
+        let p = GuardProblem {
+            targets: vec![1],
+            positive: vec![vec![v("10"), v("01")]],
+            negative: vec![v("00"), v("11")],
+            inputs: 2,
+        };
+        let g = solve(&p);
+        check(&p, &g);
+        assert!(g.exact);
+        assert_eq!(g.transitions[0].guard.literal_count(), 4);
+    }
+}

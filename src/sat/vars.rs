@@ -1,0 +1,112 @@
+//! The variable registry: every Boolean variable of the encoding, allocated once, with index
+//! functions that say what each one means.
+//!
+//! Numbering: states `q, q' in 0..C_max` (0-based, 0 initial), tree nodes `v` as
+//! [`NodeId`], input vectors `u` as [`InputVec`], outputs `z` 0-based. The "no transition"
+//! target is written `⊥` in the doc comments and stored at index `C_max` of the target axis.
+
+use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
+use varisat::{ExtendFormula, Lit};
+
+/// All variables of the basic ECC encoding for at most `c_max` states.
+#[derive(Debug, Clone)]
+pub struct Vars {
+    pub c_max: usize,
+    pub nodes: usize,
+    pub inputs: usize,
+    pub outputs: usize,
+    /// `used[q]`: state `q` exists. States in use form a prefix `0..C`.
+    used: Vec<Lit>,
+    /// `color[v][q]`: tree node `v` is coloured with (mapped to) state `q`.
+    color: Vec<Lit>,
+    /// `y[q][u][q']`: in state `q`, input `u` leads to `q'` (`q' = C_max` is `⊥`: nothing fires).
+    y: Vec<Lit>,
+    /// `a0[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0.
+    a0: Vec<Lit>,
+    /// `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 1.
+    a1: Vec<Lit>,
+    /// `t[q][q']`: there is a transition from `q` to `q'` (for some input).
+    t: Vec<Lit>,
+    /// `p[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
+    p: Vec<Lit>,
+    /// `m[i][u][j]`: `u` is the smallest input on which `i` goes to `j`.
+    m: Vec<Lit>,
+    /// `nm[i][u][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
+    nm: Vec<Lit>,
+}
+
+fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
+    (0..n).map(|_| f.new_lit()).collect()
+}
+
+impl Vars {
+    pub fn new(f: &mut impl ExtendFormula, tree: &ScenarioTree, c_max: usize) -> Vars {
+        let nodes = tree.nodes.len();
+        let inputs = tree.input_vectors.len();
+        let outputs = tree.nodes[0].outputs.len();
+        Vars {
+            c_max,
+            nodes,
+            inputs,
+            outputs,
+            used: alloc(f, c_max),
+            color: alloc(f, nodes * c_max),
+            y: alloc(f, c_max * inputs * (c_max + 1)),
+            a0: alloc(f, c_max * outputs),
+            a1: alloc(f, c_max * outputs),
+            t: alloc(f, c_max * c_max),
+            p: alloc(f, c_max * c_max),
+            m: alloc(f, c_max * inputs * c_max),
+            nm: alloc(f, c_max * (inputs + 1) * c_max),
+        }
+    }
+
+    /// Index of the `⊥` ("nothing fires") target.
+    pub fn none(&self) -> usize {
+        self.c_max
+    }
+
+    pub fn used(&self, q: usize) -> Lit {
+        self.used[q]
+    }
+    pub fn color(&self, v: NodeId, q: usize) -> Lit {
+        self.color[v.0 * self.c_max + q]
+    }
+    pub fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
+        self.y[(q * self.inputs + u.0) * (self.c_max + 1) + target]
+    }
+    pub fn a0(&self, q: usize, z: usize) -> Lit {
+        self.a0[q * self.outputs + z]
+    }
+    pub fn a1(&self, q: usize, z: usize) -> Lit {
+        self.a1[q * self.outputs + z]
+    }
+    /// `a0` or `a1` by the old value of the output.
+    pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
+        if old {
+            self.a1(q, z)
+        } else {
+            self.a0(q, z)
+        }
+    }
+    pub fn t(&self, q: usize, target: usize) -> Lit {
+        self.t[q * self.c_max + target]
+    }
+    pub fn p(&self, j: usize, i: usize) -> Lit {
+        self.p[j * self.c_max + i]
+    }
+    pub fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
+        self.m[(i * self.inputs + u.0) * self.c_max + j]
+    }
+    pub fn nm(&self, i: usize, u: usize, j: usize) -> Lit {
+        self.nm[(i * (self.inputs + 1) + u) * self.c_max + j]
+    }
+    /// All `t[q][q']` literals, for counting transitions.
+    pub fn all_t(&self) -> &[Lit] {
+        &self.t
+    }
+    /// `t[q][·]`, for counting the out-degree of `q`.
+    pub fn t_row(&self, q: usize) -> &[Lit] {
+        &self.t[q * self.c_max..(q + 1) * self.c_max]
+    }
+}
