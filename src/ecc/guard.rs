@@ -56,7 +56,7 @@ impl Guard {
     /// A disjunction of cubes (sum of products); the empty disjunction is `FALSE`.
     pub fn dnf(cubes: &[Vec<Literal>]) -> Guard {
         let mut parts: Vec<Guard> = cubes.iter().map(|c| Guard::cube(c)).collect();
-        if parts.iter().any(|g| *g == Guard::True) {
+        if parts.contains(&Guard::True) {
             return Guard::True;
         }
         match parts.len() {

@@ -114,9 +114,9 @@ pub fn algorithms(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, kin
         let Some((p, _)) = node.parent else { continue };
         let old = &tree.nodes[p.0].outputs;
         for q in 0..v.c_max {
-            for z in 0..v.outputs {
-                let a = v.a(q, z, old[z]);
-                let lit = if node.outputs[z] { a } else { !a };
+            for (z, (&was, &now)) in old.iter().zip(&node.outputs).enumerate() {
+                let a = v.a(q, z, was);
+                let lit = if now { a } else { !a };
                 f.add_clause(&[!v.color(NodeId(w), q), lit]);
             }
         }

@@ -3,6 +3,7 @@
 //! For one state `q` with transitions `i = 0..k` (one per distinct target), the scenarios fix:
 //! - `P_i`: input vectors on which transition `i` must fire;
 //! - `N`: input vectors on which nothing may fire (passive steps in state `q`).
+//!
 //! Every other input vector is a don't-care. Transitions are tried in priority order, so guard
 //! `g_i` must hold on `P_i`, and be false on `N` and on `P_j` for every `j` *after* `i`; it may
 //! be true on `P_j` for `j` before `i` (those fire first). The priority order is a variable
@@ -76,12 +77,15 @@ impl GuardProblem {
     }
 }
 
+/// One DNF term: (used, pos[x], neg[x]).
+type Term = (Lit, Vec<Lit>, Vec<Lit>);
+
 /// Variables of the guard encoding for one state.
 struct GuardVars {
     /// `before[i][j]`: transition `i` has priority over `j`.
     before: Vec<Vec<Lit>>,
     /// Per transition, per term: (used, pos[x], neg[x]).
-    terms: Vec<Vec<(Lit, Vec<Lit>, Vec<Lit>)>>,
+    terms: Vec<Vec<Term>>,
 }
 
 /// `OR_x` of the literals that make a term false on input vector `x` (term excludes `x`).
@@ -114,7 +118,7 @@ fn encode(f: &mut Solver, p: &GuardProblem, max_terms: &[usize]) -> GuardVars {
     }
     let mut terms = Vec::new();
     for i in 0..k {
-        let ts: Vec<(Lit, Vec<Lit>, Vec<Lit>)> = (0..max_terms[i])
+        let ts: Vec<Term> = (0..max_terms[i])
             .map(|_| {
                 let used = f.new_lit();
                 let pos: Vec<Lit> = (0..p.inputs).map(|_| f.new_lit()).collect();

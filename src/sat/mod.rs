@@ -334,3 +334,20 @@ pub fn synthesize(
         stats,
     })
 }
+
+/// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.
+/// The building block of the minimization loops, exposed for tests of known minima.
+pub fn satisfiable(tree: &ScenarioTree, opts: &Options, c: usize, t: Option<usize>) -> bool {
+    let mut enc = Encoding::new(tree, c.max(1), opts);
+    let mut assume: Vec<Lit> = Vec::new();
+    if c == 0 {
+        return false;
+    }
+    if let Some(t) = t {
+        assume.extend(enc.total_t.at_most(t));
+    }
+    enc.solve(&assume).is_some()
+}
+
+#[cfg(test)]
+mod tests;

@@ -88,17 +88,22 @@ pub enum ScenarioError {
         line: usize,
         message: String,
     },
-    #[error("contradictory scenarios: {first} step {first_step} {first_says}, but {second} step {second_step} {second_says} after the same input history")]
-    Contradiction {
-        first: Origin,
-        first_step: usize,
-        first_says: String,
-        second: Origin,
-        second_step: usize,
-        second_says: String,
-    },
+    #[error("{0}")]
+    Contradiction(Box<Contradiction>),
     #[error("{0}")]
     Other(String),
+}
+
+/// Two scenarios that answer the same input history differently.
+#[derive(Debug, thiserror::Error)]
+#[error("contradictory scenarios: {first} step {first_step} {first_says}, but {second} step {second_step} {second_says} after the same input history")]
+pub struct Contradiction {
+    pub first: Origin,
+    pub first_step: usize,
+    pub first_says: String,
+    pub second: Origin,
+    pub second_step: usize,
+    pub second_says: String,
 }
 
 impl Step {

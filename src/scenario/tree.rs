@@ -114,14 +114,16 @@ impl ScenarioTree {
                         node = *child;
                     }
                     (Some((_, first)), _) => {
-                        return Err(ScenarioError::Contradiction {
-                            first: first.origin.clone(),
-                            first_step: first.step,
-                            first_says: first.says.clone(),
-                            second: sc.origin.clone(),
-                            second_step: k + 1,
-                            second_says: step.describe(),
-                        })
+                        return Err(ScenarioError::Contradiction(Box::new(
+                            super::Contradiction {
+                                first: first.origin.clone(),
+                                first_step: first.step,
+                                first_says: first.says.clone(),
+                                second: sc.origin.clone(),
+                                second_step: k + 1,
+                                second_says: step.describe(),
+                            },
+                        )))
                     }
                 }
             }

@@ -1,0 +1,4 @@
+//! Integration tests: one test binary, one submodule per area (fast links).
+
+mod common;
+mod synthesis;
