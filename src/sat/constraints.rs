@@ -45,16 +45,13 @@ pub fn coloring(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
 }
 
 /// Every `(q, u)` has exactly one target in `0..C_max ∪ {⊥}`; targets are used states.
-pub fn transition_function(f: &mut impl ExtendFormula, v: &Vars) {
+pub fn transition_function(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
-        for u in 0..v.inputs {
-            let u = InputVec(u);
-            let lits: Vec<Lit> = (0..=v.c_max).map(|t| v.y(q, u, t)).collect();
-            f.add_clause(&lits);
-            at_most_one(f, &lits);
-            for t in 0..v.c_max {
-                f.add_clause(&[!v.y(q, u, t), v.used(t)]);
-            }
+        let lits: Vec<Lit> = (0..=v.c_max).map(|t| v.y(q, u, t)).collect();
+        f.add_clause(&lits);
+        at_most_one(f, &lits);
+        for t in 0..v.c_max {
+            f.add_clause(&[!v.y(q, u, t), v.used(t)]);
         }
     }
 }
@@ -87,9 +84,18 @@ pub fn passive_marks(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) 
 }
 
 /// Transitions never exercised by a scenario do not exist:
-/// `y[q,u,⊥] | OR_{p has an active child on u} c[p,q]`.
-pub fn no_unexercised_transitions(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
-    let mut parents_on: Vec<Vec<NodeId>> = vec![Vec::new(); v.inputs];
+/// `!sel[u] | y[q,u,⊥] | OR_{p has an active child on u} c[p,q]`.
+///
+/// `sel[u]` is assumed true while `u` is an input of the scenarios only. Once a counterexample
+/// uses `u`, the assumption is dropped: to leave a bad lasso the machine may need a transition
+/// on an input where the scenarios saw it do nothing.
+pub fn no_unexercised_transitions(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    tree: &ScenarioTree,
+    sel: &[Lit],
+) {
+    let mut parents_on: Vec<Vec<NodeId>> = vec![Vec::new(); tree.input_vectors.len()];
     for node in &tree.nodes {
         if let Some((p, u)) = node.parent {
             if !parents_on[u.0].contains(&p) {
@@ -99,7 +105,7 @@ pub fn no_unexercised_transitions(f: &mut impl ExtendFormula, v: &Vars, tree: &S
     }
     for q in 0..v.c_max {
         for (u, parents) in parents_on.iter().enumerate() {
-            let mut clause = vec![v.y(q, InputVec(u), v.none())];
+            let mut clause = vec![!sel[u], v.y(q, InputVec(u), v.none())];
             clause.extend(parents.iter().map(|&p| v.color(p, q)));
             f.add_clause(&clause);
         }
@@ -130,40 +136,53 @@ pub fn algorithms(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, kin
     }
 }
 
-/// Edge variables: `t[q,q'] <-> OR_u y[q,u,q']`.
-pub fn edges(f: &mut impl ExtendFormula, v: &Vars) {
+/// Edge variables, part 1: `y[q,u,q'] -> t[q,q']` for one input.
+pub fn edge_of_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
         for q2 in 0..v.c_max {
-            let mut clause = vec![!v.t(q, q2)];
-            for u in 0..v.inputs {
-                let y = v.y(q, InputVec(u), q2);
-                f.add_clause(&[!y, v.t(q, q2)]);
-                clause.push(y);
-            }
+            f.add_clause(&[!v.y(q, u, q2), v.t(q, q2)]);
+        }
+    }
+}
+
+/// Edge variables, part 2: `t[q,q'] -> OR_u y[q,u,q'] | tail[q,q']`, with `!tail` assumed.
+/// The tail keeps the disjunction open for inputs added later ([`extend_edges`]).
+pub fn edge_definition(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
+    for q in 0..v.c_max {
+        for q2 in 0..v.c_max {
+            let mut clause = vec![!v.t(q, q2), tails[q * v.c_max + q2]];
+            clause.extend((0..v.inputs).map(|u| v.y(q, InputVec(u), q2)));
             f.add_clause(&clause);
         }
     }
 }
 
-/// BFS symmetry breaking (Ulyantsev, Zakirzyanov, Shalyto 2015): states are numbered in the
-/// order a breadth-first search from state 0 visits them, children of one parent by the
-/// smallest input leading to them.
+/// Extends every edge disjunction by input `u`: `tail_old -> y[q,u,q'] | tail_new`.
+pub fn extend_edges(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, tails: &mut [Lit]) {
+    for q in 0..v.c_max {
+        for q2 in 0..v.c_max {
+            let new = f.new_lit();
+            let old = std::mem::replace(&mut tails[q * v.c_max + q2], new);
+            f.add_clause(&[!old, v.y(q, u, q2), new]);
+        }
+    }
+}
+
+/// BFS symmetry breaking (Ulyantsev, Zakirzyanov, Shalyto 2015), the part independent of
+/// inputs: states are numbered in the order a breadth-first search from state 0 visits them.
 /// - `p[j,i] <-> t[i,j] & AND_{k<i} !t[k,j]` (the parent is the smallest predecessor);
 /// - `used[j] -> OR_{i<j} p[j,i]` for `j >= 1`;
-/// - `p[j,i] -> !p[j+1,k]` for `k < i` (parents are non-decreasing);
-/// - `nm[i,0,j]`, `nm[i,u+1,j] <-> nm[i,u,j] & !y[i,u,j]`, `m[i,u,j] <-> y[i,u,j] & nm[i,u,j]`;
-/// - `p[j,i] & p[j+1,i] & m[i,u,j] -> nm[i,u,j+1]` (siblings ordered by smallest input).
+/// - `p[j,i] -> !p[j+1,k]` for `k < i` (parents are non-decreasing).
 ///
 /// Sound because every used state is reachable from state 0: each colour labels a tree node,
-/// and the tree path to it consists of transitions.
-pub fn bfs_symmetry_breaking(f: &mut impl ExtendFormula, v: &Vars) {
+/// and the tree path to it consists of transitions. (Spurious `t` could only weaken it.)
+pub fn bfs_parents(f: &mut impl ExtendFormula, v: &Vars) {
     let c = v.c_max;
     for j in 1..c {
         let mut alo = vec![!v.used(j)];
         for i in 0..j {
             let p = v.p(j, i);
             alo.push(p);
-            // p -> t[i,j], p -> !t[k,j] (k < i)
             f.add_clause(&[!p, v.t(i, j)]);
             let mut back = vec![p, !v.t(i, j)];
             for k in 0..i {
@@ -173,7 +192,6 @@ pub fn bfs_symmetry_breaking(f: &mut impl ExtendFormula, v: &Vars) {
             f.add_clause(&back);
         }
         f.add_clause(&alo);
-        // p[j,i] for i >= j never holds.
         for i in j..c {
             f.add_clause(&[!v.p(j, i)]);
         }
@@ -188,55 +206,82 @@ pub fn bfs_symmetry_breaking(f: &mut impl ExtendFormula, v: &Vars) {
     for i in 0..c {
         for j in 0..c {
             f.add_clause(&[v.nm(i, 0, j)]);
-            for u in 0..v.inputs {
-                let (y, nm, nm1, m) = (
-                    v.y(i, InputVec(u), j),
-                    v.nm(i, u, j),
-                    v.nm(i, u + 1, j),
-                    v.m(i, InputVec(u), j),
-                );
-                f.add_clause(&[!nm1, nm]);
-                f.add_clause(&[!nm1, !y]);
-                f.add_clause(&[nm1, !nm, y]);
-                f.add_clause(&[!m, y]);
-                f.add_clause(&[!m, nm]);
-                f.add_clause(&[m, !y, !nm]);
-            }
+        }
+    }
+}
+
+/// BFS symmetry breaking, the part of one input `u`: siblings are ordered by the smallest
+/// input leading to them.
+/// - `nm[i,u+1,j] <-> nm[i,u,j] & !y[i,u,j]`, `m[i,u,j] <-> y[i,u,j] & nm[i,u,j]`;
+/// - `p[j,i] & p[j+1,i] & m[i,u,j] -> nm[i,u,j+1]`.
+pub fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
+    let c = v.c_max;
+    for i in 0..c {
+        for j in 0..c {
+            let (y, nm, nm1, m) = (
+                v.y(i, u, j),
+                v.nm(i, u.0, j),
+                v.nm(i, u.0 + 1, j),
+                v.m(i, u, j),
+            );
+            f.add_clause(&[!nm1, nm]);
+            f.add_clause(&[!nm1, !y]);
+            f.add_clause(&[nm1, !nm, y]);
+            f.add_clause(&[!m, y]);
+            f.add_clause(&[!m, nm]);
+            f.add_clause(&[m, !y, !nm]);
         }
     }
     for j in 1..c.saturating_sub(1) {
         for i in 0..j {
-            for u in 0..v.inputs {
-                f.add_clause(&[
-                    !v.p(j, i),
-                    !v.p(j + 1, i),
-                    !v.m(i, InputVec(u), j),
-                    v.nm(i, u, j + 1),
-                ]);
-            }
+            f.add_clause(&[
+                !v.p(j, i),
+                !v.p(j + 1, i),
+                !v.m(i, u, j),
+                v.nm(i, u.0, j + 1),
+            ]);
         }
     }
 }
 
 /// fbSAT's convention (optional): state 0 is a start state that no transition enters,
 /// `!y[q,u,0]`. The published fbSAT minima are counted under it, so it costs one state there.
-pub fn start_state_never_entered(f: &mut impl ExtendFormula, v: &Vars) {
+pub fn start_state_never_entered(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
-        for u in 0..v.inputs {
-            f.add_clause(&[!v.y(q, InputVec(u), 0)]);
-        }
+        f.add_clause(&[!v.y(q, u, 0)]);
     }
 }
 
-/// Every family of the basic encoding.
-pub fn basic(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, kind: AlgorithmKind) {
+/// The families of one input vector.
+pub fn per_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, start_state: bool) {
+    transition_function(f, v, u);
+    edge_of_input(f, v, u);
+    bfs_input(f, v, u);
+    if start_state {
+        start_state_never_entered(f, v, u);
+    }
+}
+
+/// Every family of the basic encoding. `sel` and `tails` are the assumption literals of
+/// [`no_unexercised_transitions`] and [`edge_definition`].
+pub fn basic(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    tree: &ScenarioTree,
+    kind: AlgorithmKind,
+    start_state: bool,
+    sel: &[Lit],
+    tails: &[Lit],
+) {
     used_prefix(f, v);
     coloring(f, v, tree);
-    transition_function(f, v);
+    for u in 0..v.inputs {
+        per_input(f, v, InputVec(u), start_state);
+    }
     active_edges(f, v, tree);
     passive_marks(f, v, tree);
-    no_unexercised_transitions(f, v, tree);
+    no_unexercised_transitions(f, v, tree, sel);
     algorithms(f, v, tree, kind);
-    edges(f, v);
-    bfs_symmetry_breaking(f, v);
+    edge_definition(f, v, tails);
+    bfs_parents(f, v);
 }

@@ -9,6 +9,8 @@ use varisat::Lit;
 /// The machine found by the solver, before guards are minimized.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Structure {
+    /// Input vectors, indexed like `delta`'s second axis.
+    pub alphabet: Vec<Vec<bool>>,
     /// Number of states.
     pub c: usize,
     /// Colour (state) of every tree node.
@@ -42,7 +44,17 @@ impl Model {
 impl Structure {
     /// Decodes a model. Algorithm entries the scenarios never exercise are decoded as "keep",
     /// which reads best and is as consistent with the scenarios as any other choice.
-    pub fn decode(model: &Model, v: &Vars, tree: &ScenarioTree, kind: AlgorithmKind) -> Structure {
+    ///
+    /// `alphabet` holds every input vector of the encoding (tree inputs first); `extra[z][old]`
+    /// marks algorithm entries that negative scenarios depend on, for every state.
+    pub fn decode(
+        model: &Model,
+        v: &Vars,
+        tree: &ScenarioTree,
+        kind: AlgorithmKind,
+        alphabet: &[Vec<bool>],
+        extra: &[[bool; 2]],
+    ) -> Structure {
         let c = (0..v.c_max).filter(|&q| model.value(v.used(q))).count();
         let colors: Vec<usize> = (0..tree.nodes.len())
             .map(|n| {
@@ -53,13 +65,13 @@ impl Structure {
             .collect();
         let delta = (0..c)
             .map(|q| {
-                (0..v.inputs)
+                (0..alphabet.len())
                     .map(|u| (0..c).find(|&t| model.value(v.y(q, InputVec(u), t))))
                     .collect()
             })
             .collect();
         // seen[q][z][old]: entering q with output z at value old happens in some scenario.
-        let mut seen = vec![vec![[false; 2]; v.outputs]; c];
+        let mut seen = vec![extra.to_vec(); c];
         for (w, node) in tree.nodes.iter().enumerate() {
             if let Some((p, _)) = node.parent {
                 for z in 0..v.outputs {
@@ -95,6 +107,7 @@ impl Structure {
             })
             .collect();
         Structure {
+            alphabet: alphabet.to_vec(),
             c,
             colors,
             delta,

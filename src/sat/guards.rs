@@ -42,8 +42,15 @@ pub struct GuardProblem {
 }
 
 impl GuardProblem {
-    /// The requirements on state `q` of a decoded structure.
-    pub fn of_state(s: &Structure, tree: &ScenarioTree, q: usize) -> GuardProblem {
+    /// The requirements on state `q` of a decoded structure. Inputs a counterexample uses
+    /// (`in_counterexample[u]`) are cared for in every state: the negative scenarios were
+    /// satisfied by the solver's choice there, so the guards must reproduce it exactly.
+    pub fn of_state(
+        s: &Structure,
+        tree: &ScenarioTree,
+        q: usize,
+        in_counterexample: &[bool],
+    ) -> GuardProblem {
         let targets = s.targets(q);
         let positive = targets
             .iter()
@@ -52,7 +59,7 @@ impl GuardProblem {
                     .iter()
                     .enumerate()
                     .filter(|(_, d)| **d == Some(t))
-                    .map(|(u, _)| tree.input_vectors[u].clone())
+                    .map(|(u, _)| s.alphabet[u].clone())
                     .collect()
             })
             .collect();
@@ -66,6 +73,11 @@ impl GuardProblem {
                 if !negative.contains(x) {
                     negative.push(x.clone());
                 }
+            }
+        }
+        for (u, &ce) in in_counterexample.iter().enumerate() {
+            if ce && s.delta[q][u].is_none() && !negative.contains(&s.alphabet[u]) {
+                negative.push(s.alphabet[u].clone());
             }
         }
         GuardProblem {

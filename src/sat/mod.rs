@@ -21,10 +21,12 @@ pub mod card;
 pub mod constraints;
 pub mod decode;
 pub mod guards;
+pub mod negative;
 pub mod vars;
 
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
-use crate::scenario::tree::ScenarioTree;
+use crate::scenario::negative::NegativeScenario;
+use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::ScenarioSet;
 use card::Totalizer;
 use decode::{Model, Structure};
@@ -110,7 +112,9 @@ impl<F: ExtendFormula> ExtendFormula for Counting<'_, F> {
     }
 }
 
-/// The incremental solver with the basic encoding for up to `c_max` states.
+/// The incremental solver with the basic encoding for up to `c_max` states, its input
+/// alphabet (the tree's input vectors, then those counterexamples bring) and the assumption
+/// literals that keep it open for more.
 struct Encoding {
     solver: Solver<'static>,
     vars: Vars,
@@ -119,6 +123,14 @@ struct Encoding {
     degree: Vec<Totalizer>,
     /// Assumption literal "every out-degree <= K", per K, made on demand.
     k_bounds: Vec<(usize, Lit)>,
+    /// `sel[u]` of [`constraints::no_unexercised_transitions`], per tree input.
+    sel: Vec<Lit>,
+    /// Open tails of the edge definitions, assumed false.
+    tails: Vec<Lit>,
+    /// Input vectors by alphabet index, and whether a counterexample uses each.
+    alphabet: Vec<Vec<bool>>,
+    in_counterexample: Vec<bool>,
+    start_state: bool,
     variables: usize,
     clauses: usize,
     calls: usize,
@@ -133,10 +145,17 @@ impl Encoding {
             clauses: 0,
         };
         let vars = Vars::new(&mut sink, tree, c_max);
-        constraints::basic(&mut sink, &vars, tree, opts.algorithms);
-        if opts.start_state {
-            constraints::start_state_never_entered(&mut sink, &vars);
-        }
+        let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
+        let tails: Vec<Lit> = (0..c_max * c_max).map(|_| sink.new_lit()).collect();
+        constraints::basic(
+            &mut sink,
+            &vars,
+            tree,
+            opts.algorithms,
+            opts.start_state,
+            &sel,
+            &tails,
+        );
         let total_t = Totalizer::new(&mut sink, vars.all_t(), c_max * c_max);
         let degree = if opts.minimize_k {
             (0..c_max)
@@ -152,10 +171,65 @@ impl Encoding {
             total_t,
             degree,
             k_bounds: Vec::new(),
+            sel,
+            tails,
+            alphabet: tree.input_vectors.clone(),
+            in_counterexample: vec![false; tree.input_vectors.len()],
+            start_state: opts.start_state,
             variables,
             clauses,
             calls: 0,
         }
+    }
+
+    /// The alphabet index of an input vector used by a counterexample, added if new.
+    fn counterexample_input(&mut self, x: &[bool]) -> InputVec {
+        if let Some(u) = self.alphabet.iter().position(|a| a == x) {
+            self.in_counterexample[u] = true;
+            return InputVec(u);
+        }
+        let mut sink = Counting {
+            inner: &mut self.solver,
+            vars: 0,
+            clauses: 0,
+        };
+        let u = self.vars.add_input(&mut sink);
+        constraints::per_input(&mut sink, &self.vars, u, self.start_state);
+        constraints::extend_edges(&mut sink, &self.vars, u, &mut self.tails);
+        self.variables += sink.vars;
+        self.clauses += sink.clauses;
+        self.alphabet.push(x.to_vec());
+        self.in_counterexample.push(true);
+        u
+    }
+
+    fn add_negative(&mut self, neg: &NegativeScenario) {
+        let ids: Vec<InputVec> = neg
+            .steps
+            .iter()
+            .map(|s| self.counterexample_input(&s.inputs))
+            .collect();
+        let mut sink = Counting {
+            inner: &mut self.solver,
+            vars: 0,
+            clauses: 0,
+        };
+        negative::leave_lasso(&mut sink, &self.vars, neg, &ids);
+        self.variables += sink.vars;
+        self.clauses += sink.clauses;
+    }
+
+    /// Assumptions every call makes: closed edge tails, and "scenario inputs only" selectors.
+    fn base_assumptions(&self) -> Vec<Lit> {
+        let mut a: Vec<Lit> = self.tails.iter().map(|&t| !t).collect();
+        a.extend(
+            self.sel
+                .iter()
+                .zip(&self.in_counterexample)
+                .filter(|(_, &ce)| !ce)
+                .map(|(&s, _)| s),
+        );
+        a
     }
 
     /// The assumption "at most `c` states".
@@ -179,7 +253,9 @@ impl Encoding {
 
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         self.calls += 1;
-        self.solver.assume(assumptions);
+        let mut all = self.base_assumptions();
+        all.extend_from_slice(assumptions);
+        self.solver.assume(&all);
         if self
             .solver
             .solve()
@@ -192,6 +268,225 @@ impl Encoding {
     }
 }
 
+/// Exact synthesis, kept incremental across calls: negative scenarios can be added between
+/// minimizations (CEGIS), and every call continues on the same solver.
+pub struct Synthesizer<'a> {
+    set: &'a ScenarioSet,
+    tree: &'a ScenarioTree,
+    opts: Options,
+    enc: Encoding,
+    /// No machine with fewer states exists (adding constraints never lowers the minimum).
+    c_lo: usize,
+    negatives: Vec<NegativeScenario>,
+    stats: Stats,
+}
+
+impl<'a> Synthesizer<'a> {
+    pub fn new(set: &'a ScenarioSet, tree: &'a ScenarioTree, opts: &Options) -> Synthesizer<'a> {
+        let c_max = opts.max_states.clamp(1, 8);
+        let enc = Encoding::new(tree, c_max, opts);
+        let stats = Stats {
+            tree_nodes: tree.nodes.len(),
+            distinct_inputs: tree.input_vectors.len(),
+            passive_marks: tree.passive_marks(),
+            variables: enc.variables,
+            clauses: enc.clauses,
+            ..Stats::default()
+        };
+        Synthesizer {
+            set,
+            tree,
+            opts: opts.clone(),
+            enc,
+            c_lo: 1,
+            negatives: Vec::new(),
+            stats,
+        }
+    }
+
+    /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
+    pub fn add_negative(&mut self, neg: NegativeScenario) {
+        let (v0, c0) = (self.enc.variables, self.enc.clauses);
+        if neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs) {
+            self.enc.add_negative(&neg);
+        }
+        self.stats.variables += self.enc.variables - v0;
+        self.stats.clauses += self.enc.clauses - c0;
+        self.negatives.push(neg);
+    }
+
+    pub fn negatives(&self) -> &[NegativeScenario] {
+        &self.negatives
+    }
+
+    /// Rebuilds the encoding for a larger window of states, with every negative scenario.
+    fn grow(&mut self, c_max: usize) {
+        self.enc = Encoding::new(self.tree, c_max, &self.opts);
+        self.stats.variables += self.enc.variables;
+        self.stats.clauses += self.enc.clauses;
+        for neg in &self.negatives {
+            if neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs) {
+                self.enc.add_negative(neg);
+            }
+        }
+    }
+
+    /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards.
+    pub fn minimize(&mut self, progress: &mut dyn FnMut(&str)) -> Result<Synthesis, SatError> {
+        let t0 = Instant::now();
+        let opts = self.opts.clone();
+        // 1. least C, growing the encoding window when exhausted.
+        let (c, mut model) = loop {
+            let c_max = self.enc.vars.c_max;
+            let mut found = None;
+            for c in self.c_lo..=c_max {
+                progress(&format!(
+                    "trying C = {c} ({} tree nodes, {} inputs, {} negative scenarios)",
+                    self.tree.nodes.len(),
+                    self.enc.alphabet.len(),
+                    self.negatives.len()
+                ));
+                let assume: Vec<Lit> = self.enc.states_at_most(c).into_iter().collect();
+                if let Some(m) = self.enc.solve(&assume) {
+                    found = Some((c, m));
+                    break;
+                }
+                self.c_lo = c + 1;
+            }
+            match found {
+                Some(f) => break f,
+                None if c_max >= opts.max_states => {
+                    return Err(SatError::TooManyStates {
+                        max_states: opts.max_states,
+                    })
+                }
+                None => {
+                    let next = (c_max * 2).min(opts.max_states);
+                    progress(&format!("re-encoding for up to {next} states"));
+                    self.grow(next);
+                }
+            }
+        };
+        let enc = &mut self.enc;
+        let tree = self.tree;
+        let extra = care_of_negatives(&self.negatives, enc.vars.outputs);
+        let decode = |m: &Model, enc: &Encoding| {
+            Structure::decode(m, &enc.vars, tree, opts.algorithms, &enc.alphabet, &extra)
+        };
+        let mut base: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
+        let mut structure = decode(&model, enc);
+        progress(&format!(
+            "C = {c} is minimal; first machine has K = {}, T = {}",
+            structure.max_out_degree(),
+            structure.transition_count()
+        ));
+
+        // 2. least K (optional).
+        if opts.minimize_k {
+            let mut k = structure.max_out_degree();
+            while k > 0 {
+                let l = enc.k_at_most(k - 1);
+                let assume: Vec<Lit> = base.iter().copied().chain([l]).collect();
+                progress(&format!("trying K = {}", k - 1));
+                match enc.solve(&assume) {
+                    Some(m) => {
+                        model = m;
+                        structure = decode(&model, enc);
+                        k = structure.max_out_degree();
+                    }
+                    None => break,
+                }
+            }
+            let l = enc.k_at_most(k);
+            base.push(l);
+            progress(&format!("K = {k} is minimal"));
+        }
+
+        // 3. least T.
+        let mut t = structure.transition_count();
+        while t > 0 {
+            let Some(bound) = enc.total_t.at_most(t - 1) else {
+                break;
+            };
+            progress(&format!("trying T = {}", t - 1));
+            let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
+            match enc.solve(&assume) {
+                Some(m) => {
+                    structure = decode(&m, enc);
+                    t = structure.transition_count();
+                }
+                None => break,
+            }
+        }
+        progress(&format!("T = {t} is minimal"));
+        self.stats.solver_calls += enc.calls;
+        enc.calls = 0;
+        self.stats.sat_seconds = t0.elapsed().as_secs_f64();
+
+        // 4. guards.
+        let tg = Instant::now();
+        let deadline = tg + opts.guard_budget;
+        let mut exact = true;
+        let mut states = Vec::with_capacity(structure.c);
+        for q in 0..structure.c {
+            let problem =
+                guards::GuardProblem::of_state(&structure, tree, q, &enc.in_counterexample);
+            let g = guards::minimize_state(&problem, deadline);
+            exact &= g.exact;
+            states.push(State {
+                name: format!("s{q}"),
+                algorithm: structure.algorithms[q].clone(),
+                transitions: g.transitions,
+            });
+        }
+        self.stats.guard_seconds = tg.elapsed().as_secs_f64();
+        let ecc = Ecc {
+            inputs: self.set.inputs.clone(),
+            outputs: self.set.outputs.clone(),
+            initial_outputs: self.set.initial_outputs.clone(),
+            states,
+        };
+        ecc.validate().map_err(SatError::Bug)?;
+        self.set
+            .check(&ecc)
+            .map_err(|m| SatError::Bug(format!("the synthesized ECC does not replay {m}")))?;
+        if let Some(neg) = self.negatives.iter().find(|n| n.followed_by(&ecc)) {
+            return Err(SatError::Bug(format!(
+                "the synthesized ECC follows the negative scenario {}",
+                neg.label
+            )));
+        }
+        let size = ecc.size();
+        progress(&format!(
+            "guards: N = {}{}",
+            size.n,
+            if exact {
+                " (minimal)"
+            } else {
+                " (budget reached, not proven minimal)"
+            }
+        ));
+        Ok(Synthesis {
+            ecc,
+            size,
+            guards_exact: exact,
+            stats: self.stats.clone(),
+        })
+    }
+}
+
+/// `care[z][old]`: some negative scenario enters a state with output `z` at value `old`, so
+/// the decoded algorithms must keep the solver's choice there.
+fn care_of_negatives(negs: &[NegativeScenario], outputs: usize) -> Vec<[bool; 2]> {
+    let mut care = vec![[false; 2]; outputs];
+    for s in negs.iter().flat_map(|n| &n.steps) {
+        for (z, &b) in s.before.iter().enumerate() {
+            care[z][usize::from(b)] = true;
+        }
+    }
+    care
+}
+
 /// Synthesizes a minimal ECC reproducing every scenario of `set`.
 /// `progress` receives one line per step of the search.
 pub fn synthesize(
@@ -200,139 +495,7 @@ pub fn synthesize(
     opts: &Options,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Synthesis, SatError> {
-    let t0 = Instant::now();
-    let mut stats = Stats {
-        tree_nodes: tree.nodes.len(),
-        distinct_inputs: tree.input_vectors.len(),
-        passive_marks: tree.passive_marks(),
-        ..Stats::default()
-    };
-    // 1. least C, growing the encoding window when exhausted.
-    let mut c_lo = 1;
-    let mut c_max = opts.max_states.min(8);
-    let (mut enc, c, mut model) = loop {
-        progress(&format!(
-            "encoding for up to {c_max} states ({} tree nodes, {} distinct inputs)",
-            tree.nodes.len(),
-            tree.input_vectors.len()
-        ));
-        let mut enc = Encoding::new(tree, c_max, opts);
-        stats.variables += enc.variables;
-        stats.clauses += enc.clauses;
-        let mut found = None;
-        for c in c_lo..=c_max {
-            progress(&format!("trying C = {c}"));
-            let assume: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
-            if let Some(m) = enc.solve(&assume) {
-                found = Some((c, m));
-                break;
-            }
-        }
-        stats.solver_calls += enc.calls;
-        enc.calls = 0;
-        match found {
-            Some((c, m)) => break (enc, c, m),
-            None if c_max >= opts.max_states => {
-                return Err(SatError::TooManyStates {
-                    max_states: opts.max_states,
-                })
-            }
-            None => {
-                c_lo = c_max + 1;
-                c_max = (c_max * 2).min(opts.max_states);
-            }
-        }
-    };
-    let mut base: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
-    let mut structure = Structure::decode(&model, &enc.vars, tree, opts.algorithms);
-    progress(&format!(
-        "C = {c} is minimal; first machine has K = {}, T = {}",
-        structure.max_out_degree(),
-        structure.transition_count()
-    ));
-
-    // 2. least K (optional).
-    if opts.minimize_k {
-        let mut k = structure.max_out_degree();
-        while k > 0 {
-            let l = enc.k_at_most(k - 1);
-            let assume: Vec<Lit> = base.iter().copied().chain([l]).collect();
-            progress(&format!("trying K = {}", k - 1));
-            match enc.solve(&assume) {
-                Some(m) => {
-                    model = m;
-                    structure = Structure::decode(&model, &enc.vars, tree, opts.algorithms);
-                    k = structure.max_out_degree();
-                }
-                None => break,
-            }
-        }
-        let l = enc.k_at_most(k);
-        base.push(l);
-        progress(&format!("K = {k} is minimal"));
-    }
-
-    // 3. least T.
-    let mut t = structure.transition_count();
-    while t > 0 {
-        let Some(bound) = enc.total_t.at_most(t - 1) else {
-            break;
-        };
-        progress(&format!("trying T = {}", t - 1));
-        let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
-        match enc.solve(&assume) {
-            Some(m) => {
-                structure = Structure::decode(&m, &enc.vars, tree, opts.algorithms);
-                t = structure.transition_count();
-            }
-            None => break,
-        }
-    }
-    progress(&format!("T = {t} is minimal"));
-    stats.solver_calls += enc.calls;
-    stats.sat_seconds = t0.elapsed().as_secs_f64();
-
-    // 4. guards.
-    let tg = Instant::now();
-    let deadline = tg + opts.guard_budget;
-    let mut exact = true;
-    let mut states = Vec::with_capacity(structure.c);
-    for q in 0..structure.c {
-        let problem = guards::GuardProblem::of_state(&structure, tree, q);
-        let g = guards::minimize_state(&problem, deadline);
-        exact &= g.exact;
-        states.push(State {
-            name: format!("s{q}"),
-            algorithm: structure.algorithms[q].clone(),
-            transitions: g.transitions,
-        });
-    }
-    stats.guard_seconds = tg.elapsed().as_secs_f64();
-    let ecc = Ecc {
-        inputs: set.inputs.clone(),
-        outputs: set.outputs.clone(),
-        initial_outputs: set.initial_outputs.clone(),
-        states,
-    };
-    ecc.validate().map_err(SatError::Bug)?;
-    set.check(&ecc)
-        .map_err(|m| SatError::Bug(format!("the synthesized ECC does not replay {m}")))?;
-    let size = ecc.size();
-    progress(&format!(
-        "guards: N = {}{}",
-        size.n,
-        if exact {
-            " (minimal)"
-        } else {
-            " (budget reached, not proven minimal)"
-        }
-    ));
-    Ok(Synthesis {
-        ecc,
-        size,
-        guards_exact: exact,
-        stats,
-    })
+    Synthesizer::new(set, tree, opts).minimize(progress)
 }
 
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::scenario::fbsat;
+use crate::scenario::negative::NegativeScenario;
 use std::path::Path;
 
 fn set(text: &str) -> ScenarioSet {
@@ -136,4 +137,76 @@ fn encoding_size_is_stable() {
         "variables {} clauses {}",
         enc.variables, enc.clauses
     ));
+}
+
+fn neg(steps: &[(&str, &str, &str)], loop_start: usize) -> NegativeScenario {
+    let b = |s: &str| s.chars().map(|c| c == '1').collect::<Vec<bool>>();
+    NegativeScenario {
+        steps: steps
+            .iter()
+            .map(|(x, z0, z1)| crate::scenario::negative::NegativeStep {
+                inputs: b(x),
+                before: b(z0),
+                after: b(z1),
+            })
+            .collect(),
+        loop_start,
+        label: "test".into(),
+    }
+}
+
+#[test]
+fn negative_scenario_is_left_and_costs_a_state() {
+    // Scenarios: pressing 1 switches the lamp on. Alone, one state would do (s0 on 1 -> s0? no:
+    // s0's algorithm would set the lamp on entry, so C = 1 works with a self-loop setting 1).
+    let s = set("1\nin=REQ[1]; out=CNF[1];\n");
+    let tree = ScenarioTree::build(&s).unwrap();
+    let o = opts(AlgorithmKind::Tri);
+    let mut synth = Synthesizer::new(&s, &tree, &o);
+    let first = synth.minimize(&mut |_| {}).unwrap();
+    assert_eq!(first.size.c, 1);
+    // Forbid: after switching on, pressing 0 forever leaves the lamp on (must switch it off).
+    let bad = neg(&[("1", "0", "1"), ("0", "1", "1")], 1);
+    assert!(
+        bad.followed_by(&first.ecc),
+        "the one-state machine keeps the lamp on"
+    );
+    synth.add_negative(bad.clone());
+    let second = synth.minimize(&mut |_| {}).unwrap();
+    assert!(!bad.followed_by(&second.ecc));
+    s.check(&second.ecc).unwrap();
+    assert_eq!(second.size.c, 2);
+}
+
+#[test]
+fn negative_scenario_on_new_inputs_extends_the_alphabet() {
+    let s = set("1\nin=REQ[10]; out=CNF[1];\n");
+    let tree = ScenarioTree::build(&s).unwrap();
+    let mut synth = Synthesizer::new(&s, &tree, &opts(AlgorithmKind::Tri));
+    // Never stay dark forever on input 01 (not in the scenarios).
+    let bad = neg(&[("01", "0", "0")], 0);
+    synth.add_negative(bad.clone());
+    let r = synth.minimize(&mut |_| {}).unwrap();
+    assert!(!bad.followed_by(&r.ecc));
+    s.check(&r.ecc).unwrap();
+}
+
+#[test]
+fn followed_by_detects_cycles_through_the_loop() {
+    let s = set(TOGGLE);
+    let tree = ScenarioTree::build(&s).unwrap();
+    let r = synthesize(&s, &tree, &opts(AlgorithmKind::Tri), &mut |_| {}).unwrap();
+    // The toggle does exactly this forever: press (on), release, press (off), release.
+    let its_run = neg(
+        &[
+            ("1", "0", "1"),
+            ("0", "1", "1"),
+            ("1", "1", "0"),
+            ("0", "0", "0"),
+        ],
+        0,
+    );
+    assert!(its_run.followed_by(&r.ecc));
+    let other = neg(&[("1", "0", "1"), ("1", "1", "1")], 1);
+    assert!(!other.followed_by(&r.ecc));
 }

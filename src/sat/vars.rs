@@ -19,8 +19,9 @@ pub struct Vars {
     used: Vec<Lit>,
     /// `color[v][q]`: tree node `v` is coloured with (mapped to) state `q`.
     color: Vec<Lit>,
-    /// `y[q][u][q']`: in state `q`, input `u` leads to `q'` (`q' = C_max` is `⊥`: nothing fires).
-    y: Vec<Lit>,
+    /// `y[u][q][q']`: in state `q`, input `u` leads to `q'` (`q' = C_max` is `⊥`: nothing fires).
+    /// Stored per input so the alphabet can grow (counterexamples bring new input vectors).
+    y: Vec<Vec<Lit>>,
     /// `a0[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0.
     a0: Vec<Lit>,
     /// `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 1.
@@ -29,10 +30,10 @@ pub struct Vars {
     t: Vec<Lit>,
     /// `p[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
     p: Vec<Lit>,
-    /// `m[i][u][j]`: `u` is the smallest input on which `i` goes to `j`.
-    m: Vec<Lit>,
-    /// `nm[i][u][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
-    nm: Vec<Lit>,
+    /// `m[u][i][j]`: `u` is the smallest input on which `i` goes to `j`.
+    m: Vec<Vec<Lit>>,
+    /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
+    nm: Vec<Vec<Lit>>,
 }
 
 fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
@@ -42,23 +43,36 @@ fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
 impl Vars {
     pub fn new(f: &mut impl ExtendFormula, tree: &ScenarioTree, c_max: usize) -> Vars {
         let nodes = tree.nodes.len();
-        let inputs = tree.input_vectors.len();
         let outputs = tree.nodes[0].outputs.len();
-        Vars {
+        let mut v = Vars {
             c_max,
             nodes,
-            inputs,
+            inputs: 0,
             outputs,
             used: alloc(f, c_max),
             color: alloc(f, nodes * c_max),
-            y: alloc(f, c_max * inputs * (c_max + 1)),
+            y: Vec::new(),
             a0: alloc(f, c_max * outputs),
             a1: alloc(f, c_max * outputs),
             t: alloc(f, c_max * c_max),
             p: alloc(f, c_max * c_max),
-            m: alloc(f, c_max * inputs * c_max),
-            nm: alloc(f, c_max * (inputs + 1) * c_max),
+            m: Vec::new(),
+            nm: vec![alloc(f, c_max * c_max)],
+        };
+        for _ in 0..tree.input_vectors.len() {
+            v.add_input(f);
         }
+        v
+    }
+
+    /// Allocates the variables of one more input vector (index `self.inputs` before the call).
+    pub fn add_input(&mut self, f: &mut impl ExtendFormula) -> InputVec {
+        let c = self.c_max;
+        self.y.push(alloc(f, c * (c + 1)));
+        self.m.push(alloc(f, c * c));
+        self.nm.push(alloc(f, c * c));
+        self.inputs += 1;
+        InputVec(self.inputs - 1)
     }
 
     /// Index of the `⊥` ("nothing fires") target.
@@ -73,7 +87,7 @@ impl Vars {
         self.color[v.0 * self.c_max + q]
     }
     pub fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
-        self.y[(q * self.inputs + u.0) * (self.c_max + 1) + target]
+        self.y[u.0][q * (self.c_max + 1) + target]
     }
     pub fn a0(&self, q: usize, z: usize) -> Lit {
         self.a0[q * self.outputs + z]
@@ -96,10 +110,10 @@ impl Vars {
         self.p[j * self.c_max + i]
     }
     pub fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
-        self.m[(i * self.inputs + u.0) * self.c_max + j]
+        self.m[u.0][i * self.c_max + j]
     }
     pub fn nm(&self, i: usize, u: usize, j: usize) -> Lit {
-        self.nm[(i * (self.inputs + 1) + u) * self.c_max + j]
+        self.nm[u][i * self.c_max + j]
     }
     /// All `t[q][q']` literals, for counting transitions.
     pub fn all_t(&self) -> &[Lit] {

@@ -12,6 +12,7 @@
 pub mod csvlog;
 pub mod fbsat;
 pub mod names;
+pub mod negative;
 pub mod tree;
 
 use crate::ecc::{bits_to_string, replay, Ecc};
