@@ -62,7 +62,7 @@ pub fn leave_lasso(f: &mut impl ExtendFormula, v: &Vars, neg: &NegativeScenario,
             }
         }
     }
-    for q in 0..c {
-        f.add_clause(&[!g[horizon][q]]);
+    for &last in &g[horizon] {
+        f.add_clause(&[!last]);
     }
 }
