@@ -3,6 +3,7 @@
 //! In: `std::env::args`. Out: files written by the library and a summary on stdout.
 //! Everything that computes lives in the library; this module only wires it to a terminal.
 
+mod bench;
 mod infer;
 
 use clap::{Parser, Subcommand};
@@ -55,6 +56,8 @@ pub enum Command {
     Infer(infer::InferArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
+    /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
+    Bench(bench::BenchArgs),
 }
 
 /// A failure the CLI reports: message, causes, exit code.
@@ -127,6 +130,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
+        Some(Command::Bench(a)) => bench::bench(&a),
         None => Err(Failure::msg(
             exit::USAGE,
             "no command given; try `synth infer --traces FILE` or `synth --help`",
