@@ -1,0 +1,251 @@
+//! The closed loop: controller + surrogate plant + properties as one NuSMV model.
+//!
+//! # Coupling convention
+//! - The plant file defines `MODULE plant(<params>)`. Each parameter is named after a
+//!   controller output the plant reads (e.g. `c1Extend`); outputs the plant ignores need not be
+//!   parameters.
+//! - Every controller input (e.g. `c1Home`) is a `VAR`, `IVAR`, `FROZENVAR` or `DEFINE` of
+//!   module `plant` with exactly that name.
+//! - synth generates `MODULE main`:
+//!   ```text
+//!   VAR ctrl  : ECC(TRUE, plant.c1Home, ..., plant.vac);  -- REQ at every step: one PLC scan
+//!       plant : plant(ctrl.c1Extend, ...);                  -- in the plant's parameter order
+//!   DEFINE c1Extend := ctrl.c1Extend; ...                   -- every controller output
+//!          c1Home := plant.c1Home; ... vp1 := plant.vp1;    -- every name module plant declares
+//!   LTLSPEC NAME p1 := ...;                                 -- the properties, over bare names
+//!   ```
+//!   so a bare name in a property is a controller output or a name of the plant. Anything else
+//!   is an error before NuSMV runs. The names `ctrl`, `plant`, `main` and `ECC` are reserved.
+//! - Timing: at step `t` the controller reads the plant's values of step `t`; its outputs change
+//!   at `t + 1`. The plant reads the controller outputs of step `t`.
+//!
+//! The composed text keeps the plant file verbatim, so NuSMV's error lines inside it map back
+//! to the user's file by a fixed offset; lines of properties map back to the spec file.
+
+use super::ecc_module::write_ecc_module;
+use super::plant::Plant;
+use super::{check_identifier, SmvError};
+use crate::ecc::Ecc;
+use crate::ltl::{property_name, Property};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Module name of the controller in the closed loop.
+pub const CONTROLLER_MODULE: &str = "ECC";
+/// Instance names in `main`.
+pub const CONTROLLER_INSTANCE: &str = "ctrl";
+pub const PLANT_INSTANCE: &str = "plant";
+
+const RESERVED: &[&str] = &["ctrl", "plant", "main", "ECC"];
+
+/// A coupling mistake, found before NuSMV runs.
+#[derive(Debug, thiserror::Error)]
+pub enum CouplingError {
+    #[error("{file}:{line}: {message}")]
+    At {
+        file: PathBuf,
+        line: usize,
+        message: String,
+    },
+    #[error("{0}")]
+    Smv(#[from] SmvError),
+}
+
+/// What a bare name stands for in the closed loop.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Binding {
+    ControllerOutput,
+    Plant,
+}
+
+/// The checked coupling: every bare name and what it resolves to.
+#[derive(Debug, Clone)]
+pub struct Coupling {
+    /// Bare name -> what it is, sorted by name.
+    pub names: BTreeMap<String, Binding>,
+}
+
+/// Checks the coupling convention between a controller interface, a plant and properties.
+/// Runs before synthesis, so mistakes surface in seconds, with file and line.
+pub fn check_coupling(
+    inputs: &[String],
+    outputs: &[String],
+    plant: &Plant,
+    spec_file: &Path,
+    props: &[Property],
+) -> Result<Coupling, CouplingError> {
+    let at = |file: &Path, line: usize, message: String| CouplingError::At {
+        file: file.to_path_buf(),
+        line,
+        message,
+    };
+    let pf = plant.file.as_path();
+    for n in inputs.iter().chain(outputs) {
+        check_identifier(n).map_err(|m| at(pf, plant.module_line, format!("controller name '{n}': {m}")))?;
+        if RESERVED.contains(&n.as_str()) {
+            return Err(at(pf, plant.module_line, format!("controller name '{n}' is reserved by the closed loop")));
+        }
+    }
+    for p in &plant.params {
+        if !outputs.contains(&p.name) {
+            return Err(at(
+                pf,
+                p.line,
+                format!(
+                    "plant parameter '{}' is not a controller output (outputs: {})",
+                    p.name,
+                    outputs.join(" ")
+                ),
+            ));
+        }
+    }
+    let mut names: BTreeMap<String, Binding> = BTreeMap::new();
+    for o in outputs {
+        names.insert(o.clone(), Binding::ControllerOutput);
+    }
+    for d in &plant.names {
+        if RESERVED.contains(&d.name.as_str()) {
+            return Err(at(pf, d.line, format!("the name '{}' is reserved by the closed loop", d.name)));
+        }
+        if outputs.contains(&d.name) {
+            return Err(at(
+                pf,
+                d.line,
+                format!(
+                    "the plant declares '{}', which is a controller output: in the closed loop a name belongs to one side",
+                    d.name
+                ),
+            ));
+        }
+        check_identifier(&d.name).map_err(|m| at(pf, d.line, format!("'{}': {m}", d.name)))?;
+        names.insert(d.name.clone(), Binding::Plant);
+    }
+    for i in inputs {
+        if names.get(i) != Some(&Binding::Plant) {
+            return Err(at(
+                pf,
+                plant.module_line,
+                format!("module plant declares no variable or define '{i}' for the controller input of that name"),
+            ));
+        }
+    }
+    for (k, p) in props.iter().enumerate() {
+        if let Err(m) = check_identifier(&property_name(k, p)) {
+            return Err(at(spec_file, p.line, format!("property name '{}': {m}", property_name(k, p))));
+        }
+        for n in p.formula.names() {
+            if !names.contains_key(&n) {
+                return Err(at(
+                    spec_file,
+                    p.line,
+                    format!(
+                        "unknown name '{n}': neither a controller output nor a variable or define of module plant in {}",
+                        pf.display()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(Coupling { names })
+}
+
+/// Where a line of the composed model came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    /// A line of the user's plant file.
+    Plant(usize),
+    /// The property defined on this line of the spec file.
+    Spec(usize),
+    /// Generated code (the controller module or `main`).
+    Generated,
+}
+
+/// A composed closed-loop model.
+#[derive(Debug, Clone)]
+pub struct ClosedLoop {
+    pub text: String,
+    /// First model line (1-based) holding plant line 1.
+    plant_first: usize,
+    plant_lines: usize,
+    /// Model line of each property's `LTLSPEC`, with its spec line and name.
+    spec_lines: Vec<(usize, usize, String)>,
+}
+
+impl ClosedLoop {
+    /// Where a line of the composed model came from.
+    pub fn source(&self, model_line: usize) -> Source {
+        if model_line >= self.plant_first && model_line < self.plant_first + self.plant_lines {
+            return Source::Plant(model_line - self.plant_first + 1);
+        }
+        match self.spec_lines.iter().find(|(m, _, _)| *m == model_line) {
+            Some((_, s, _)) => Source::Spec(*s),
+            None => Source::Generated,
+        }
+    }
+
+    /// Property names in order.
+    pub fn property_names(&self) -> Vec<String> {
+        self.spec_lines.iter().map(|(_, _, n)| n.clone()).collect()
+    }
+}
+
+/// Composes the closed loop of `ecc` and `plant` with `props` (checked by [`check_coupling`]).
+pub fn compose(
+    ecc: &Ecc,
+    plant: &Plant,
+    coupling: &Coupling,
+    props: &[Property],
+) -> Result<ClosedLoop, SmvError> {
+    let mut out: Vec<u8> = Vec::new();
+    write_ecc_module(ecc, CONTROLLER_MODULE, &mut out)?;
+    let mut text = String::from_utf8(out).expect("emitter writes UTF-8");
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    text.push_str(&format!("-- plant: {}\n", plant.file.display()));
+    let plant_first = text.lines().count() + 1;
+    text.push_str(&plant.text);
+    if !plant.text.ends_with('\n') {
+        text.push('\n');
+    }
+    let plant_lines = plant.text.lines().count();
+    let mut main = String::from("\nMODULE main\nVAR\n");
+    let sensors: Vec<String> = ecc.inputs.iter().map(|i| format!("{PLANT_INSTANCE}.{i}")).collect();
+    main.push_str(&format!(
+        "  {CONTROLLER_INSTANCE} : {CONTROLLER_MODULE}(TRUE{}{});\n",
+        if sensors.is_empty() { "" } else { ", " },
+        sensors.join(", ")
+    ));
+    let commands: Vec<String> = plant
+        .params
+        .iter()
+        .map(|p| format!("{CONTROLLER_INSTANCE}.{}", p.name))
+        .collect();
+    main.push_str(&format!("  {PLANT_INSTANCE} : plant({});\n", commands.join(", ")));
+    main.push_str("DEFINE\n");
+    for (name, binding) in &coupling.names {
+        let inst = match binding {
+            Binding::ControllerOutput => CONTROLLER_INSTANCE,
+            Binding::Plant => PLANT_INSTANCE,
+        };
+        main.push_str(&format!("  {name} := {inst}.{name};\n"));
+    }
+    text.push_str(&main);
+    let mut spec_lines = Vec::new();
+    for (k, p) in props.iter().enumerate() {
+        let name = property_name(k, p);
+        let line = text.lines().count() + 1;
+        text.push_str(&format!(
+            "LTLSPEC NAME {name} := {};  -- {}\n",
+            p.formula.to_smv(&|n: &str| n.to_string()),
+            p.text.replace('\n', " ")
+        ));
+        spec_lines.push((line, p.line, name));
+    }
+    Ok(ClosedLoop {
+        text,
+        plant_first,
+        plant_lines,
+        spec_lines,
+    })
+}

@@ -1,0 +1,289 @@
+//! A hand-written surrogate plant model, read far enough to couple it to a controller.
+//!
+//! In: the text of an SMV file. Out: a [`Plant`]: the file as-is plus what the coupling
+//! convention needs: the formal parameters of `MODULE plant(...)` and the names it declares
+//! (`VAR`, `IVAR`, `FROZENVAR`, `DEFINE`), each with its line. This is a scanner, not a full SMV
+//! parser: NuSMV itself checks the rest, and its errors are mapped back to this file's lines.
+
+use std::path::{Path, PathBuf};
+
+/// A name in the plant file and the line it is declared on (1-based).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Declared {
+    pub name: String,
+    pub line: usize,
+}
+
+/// The plant file with the parts of `MODULE plant` the coupling needs.
+#[derive(Debug, Clone)]
+pub struct Plant {
+    pub file: PathBuf,
+    pub text: String,
+    /// Line of `MODULE plant`.
+    pub module_line: usize,
+    /// Formal parameters: controller outputs the plant reads.
+    pub params: Vec<Declared>,
+    /// Variables and defines of module `plant`.
+    pub names: Vec<Declared>,
+}
+
+/// A plant file that does not follow the coupling convention.
+#[derive(Debug, thiserror::Error)]
+pub enum PlantError {
+    #[error("{file}: {source}")]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{file}:{line}: {message}")]
+    At {
+        file: PathBuf,
+        line: usize,
+        message: String,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Tok {
+    Ident(String),
+    Sym(&'static str),
+    Other,
+}
+
+/// Tokens with their lines; `--` comments dropped.
+fn tokens(text: &str) -> Vec<(Tok, usize)> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.find("--").map_or(raw, |k| &raw[..k]);
+        let cs: Vec<char> = line.chars().collect();
+        let mut k = 0;
+        while k < cs.len() {
+            let c = cs[k];
+            if c.is_whitespace() {
+                k += 1;
+            } else if c.is_ascii_alphabetic() || c == '_' {
+                let start = k;
+                while k < cs.len() && (cs[k].is_ascii_alphanumeric() || "_$#".contains(cs[k])) {
+                    k += 1;
+                }
+                out.push((Tok::Ident(cs[start..k].iter().collect()), i + 1));
+            } else {
+                let two: String = cs[k..(k + 2).min(cs.len())].iter().collect();
+                let sym = match (two.as_str(), c) {
+                    (":=", _) => Some(":="),
+                    (_, ':') => Some(":"),
+                    (_, ';') => Some(";"),
+                    (_, '(') => Some("("),
+                    (_, ')') => Some(")"),
+                    (_, '{') => Some("{"),
+                    (_, '}') => Some("}"),
+                    (_, '[') => Some("["),
+                    (_, ']') => Some("]"),
+                    (_, ',') => Some(","),
+                    _ => None,
+                };
+                match sym {
+                    Some(s) => {
+                        k += s.len();
+                        out.push((Tok::Sym(s), i + 1));
+                    }
+                    None => {
+                        k += 1;
+                        out.push((Tok::Other, i + 1));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+const SECTIONS: &[&str] = &[
+    "VAR",
+    "IVAR",
+    "FROZENVAR",
+    "DEFINE",
+    "ASSIGN",
+    "TRANS",
+    "INIT",
+    "INVAR",
+    "FAIRNESS",
+    "JUSTICE",
+    "COMPASSION",
+    "SPEC",
+    "CTLSPEC",
+    "LTLSPEC",
+    "INVARSPEC",
+    "PSLSPEC",
+    "COMPUTE",
+    "CONSTANTS",
+    "ISA",
+];
+
+/// Scans a plant file.
+pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
+    let at = |line: usize, message: String| PlantError::At {
+        file: file.to_path_buf(),
+        line,
+        message,
+    };
+    let toks = tokens(text);
+    let mut plant: Option<Plant> = None;
+    let mut in_plant = false;
+    let mut section = "";
+    let mut depth = 0i32;
+    let mut stmt_start = false;
+    let mut k = 0;
+    while k < toks.len() {
+        let (tok, line) = (&toks[k].0, toks[k].1);
+        match tok {
+            Tok::Ident(w) if w == "MODULE" && depth == 0 => {
+                let Some((Tok::Ident(name), _)) = toks.get(k + 1) else {
+                    return Err(at(line, "MODULE without a name".into()));
+                };
+                if name == "main" {
+                    return Err(at(
+                        line,
+                        "the plant file must not define MODULE main: synth generates it to connect the plant to the controller".into(),
+                    ));
+                }
+                in_plant = name == "plant";
+                section = "";
+                stmt_start = false;
+                k += 2;
+                if in_plant {
+                    if plant.is_some() {
+                        return Err(at(line, "MODULE plant is defined twice".into()));
+                    }
+                    let mut params = Vec::new();
+                    if toks.get(k).map(|t| &t.0) == Some(&Tok::Sym("(")) {
+                        k += 1;
+                        while let Some((t, l)) = toks.get(k) {
+                            k += 1;
+                            match t {
+                                Tok::Sym(")") => break,
+                                Tok::Sym(",") => {}
+                                Tok::Ident(p) => params.push(Declared {
+                                    name: p.clone(),
+                                    line: *l,
+                                }),
+                                _ => {
+                                    return Err(at(*l, "unexpected token in the parameter list of MODULE plant".into()))
+                                }
+                            }
+                        }
+                    }
+                    plant = Some(Plant {
+                        file: file.to_path_buf(),
+                        text: text.to_string(),
+                        module_line: line,
+                        params,
+                        names: Vec::new(),
+                    });
+                }
+                continue;
+            }
+            Tok::Ident(w) if depth == 0 && SECTIONS.contains(&w.as_str()) => {
+                section = SECTIONS[SECTIONS.iter().position(|s| s == w).expect("member")];
+                stmt_start = true;
+            }
+            Tok::Ident(w) if w == "case" => {
+                depth += 1;
+                stmt_start = false;
+            }
+            Tok::Ident(w) if w == "esac" => {
+                depth -= 1;
+                stmt_start = false;
+            }
+            Tok::Ident(w) => {
+                let declares = match section {
+                    "VAR" | "IVAR" | "FROZENVAR" => Some(":"),
+                    "DEFINE" => Some(":="),
+                    _ => None,
+                };
+                if in_plant && stmt_start && depth == 0 {
+                    if let (Some(want), Some((Tok::Sym(next), _))) = (declares, toks.get(k + 1)) {
+                        if *next == want {
+                            let p = plant.as_mut().expect("in_plant implies plant");
+                            p.names.push(Declared {
+                                name: w.clone(),
+                                line,
+                            });
+                        }
+                    }
+                }
+                stmt_start = false;
+            }
+            Tok::Sym("(") | Tok::Sym("{") | Tok::Sym("[") => {
+                depth += 1;
+                stmt_start = false;
+            }
+            Tok::Sym(")") | Tok::Sym("}") | Tok::Sym("]") => {
+                depth -= 1;
+                stmt_start = false;
+            }
+            Tok::Sym(";") => stmt_start = depth == 0,
+            _ => stmt_start = false,
+        }
+        k += 1;
+    }
+    plant.ok_or_else(|| {
+        at(
+            1,
+            "no MODULE plant(...) in this file: the plant must be a module named plant whose parameters are controller outputs".into(),
+        )
+    })
+}
+
+/// Reads and scans a plant file.
+pub fn read_plant(file: &Path) -> Result<Plant, PlantError> {
+    let text = std::fs::read_to_string(file).map_err(|e| PlantError::Io {
+        file: file.to_path_buf(),
+        source: e,
+    })?;
+    parse_plant(file, &text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PLANT: &str = "\
+-- a door
+MODULE motor(on)
+VAR pos : 0..3;
+MODULE plant(open, close)
+VAR
+  pos : 0..2;   -- position
+  m : motor(open);
+IVAR
+  push : boolean;
+DEFINE
+  isOpen := pos = 2;
+  mode := case open : 1; TRUE : 0; esac;
+  isClosed := pos = 0;
+ASSIGN
+  init(pos) := 0;
+  next(pos) := case open & pos < 2 : pos + 1; TRUE : pos; esac;
+";
+
+    #[test]
+    fn finds_parameters_and_declarations_of_module_plant_only() {
+        let p = parse_plant(Path::new("p.smv"), PLANT).unwrap();
+        let names: Vec<&str> = p.names.iter().map(|d| d.name.as_str()).collect();
+        assert_eq!(names, vec!["pos", "m", "push", "isOpen", "mode", "isClosed"]);
+        let params: Vec<&str> = p.params.iter().map(|d| d.name.as_str()).collect();
+        assert_eq!(params, vec!["open", "close"]);
+        assert_eq!(p.module_line, 4);
+        assert_eq!(p.names[3].line, 11);
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let e = parse_plant(Path::new("p.smv"), "MODULE main\nVAR x : boolean;\n").unwrap_err();
+        assert!(e.to_string().starts_with("p.smv:1: the plant file must not define MODULE main"));
+        let e = parse_plant(Path::new("p.smv"), "MODULE other\n").unwrap_err();
+        assert!(e.to_string().starts_with("p.smv:1: no MODULE plant(...)"));
+    }
+}
