@@ -10,6 +10,7 @@
 pub mod fbt;
 pub mod guard_text;
 pub mod json;
+pub mod st;
 
 #[cfg(test)]
 pub(crate) mod samples;
