@@ -7,6 +7,7 @@
 //! The names that become code (IEC 61131-3 in `.fbt` and `.st`) are checked here with
 //! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`].
 
+pub mod dot;
 pub mod fbt;
 pub mod guard_text;
 pub mod json;
@@ -16,8 +17,195 @@ pub mod st;
 pub(crate) mod samples;
 
 use crate::ecc::Ecc;
+use crate::smv::{ecc_module, SmvError};
 use std::collections::HashMap;
-use std::io;
+use std::fmt;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// An export format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// The JSON contract ([`json`]).
+    Json,
+    /// IEC 61499 basic FB type ([`fbt`]).
+    Fbt,
+    /// NuSMV module ([`crate::smv::ecc_module`]).
+    Smv,
+    /// Graphviz drawing ([`dot`]); an SVG as well when Graphviz is installed.
+    Dot,
+    /// IEC 61131-3 Structured Text function block ([`st`]).
+    St,
+}
+
+impl Format {
+    /// Every format, in the order `--help` lists them.
+    pub const ALL: [Format; 5] = [
+        Format::Json,
+        Format::Fbt,
+        Format::Smv,
+        Format::Dot,
+        Format::St,
+    ];
+
+    /// The format's name on the command line, which is also its file extension.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Json => "json",
+            Format::Fbt => "fbt",
+            Format::Smv => "smv",
+            Format::Dot => "dot",
+            Format::St => "st",
+        }
+    }
+
+    /// File extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        self.name()
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A format name that is not one of [`Format::ALL`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown export format `{given}`; valid formats: json, fbt, smv, dot, st")]
+pub struct UnknownFormat {
+    pub given: String,
+}
+
+impl FromStr for Format {
+    type Err = UnknownFormat;
+
+    /// Parses `json`, `fbt`, `smv`, `dot` or `st` (ignoring case and surrounding blanks).
+    fn from_str(s: &str) -> Result<Format, UnknownFormat> {
+        let wanted = s.trim().to_ascii_lowercase();
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name() == wanted)
+            .ok_or_else(|| UnknownFormat {
+                given: s.to_string(),
+            })
+    }
+}
+
+/// Why [`write_all`] wrote nothing, or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// The ECC breaks an invariant of the model (a bug upstream, not user input).
+    #[error("the ECC is inconsistent: {0}")]
+    InvalidEcc(String),
+    /// A name (the stem, or an interface name) cannot be used in a format.
+    #[error("cannot export as {format}")]
+    Name {
+        format: Format,
+        #[source]
+        source: NameError,
+    },
+    /// A name cannot be used in the SMV module.
+    #[error("cannot export as smv")]
+    Smv(#[source] SmvError),
+    /// Creating, writing or renaming a file failed.
+    #[error("cannot write {}", path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    /// Graphviz is installed but failed to render the drawing.
+    #[error("cannot render {}", path.display())]
+    Render {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+}
+
+/// Writes `ecc` in every format of `formats` (repeats ignored) to `dir/stem.<extension>`, plus
+/// `dir/stem.svg` when [`Format::Dot`] is wanted and Graphviz's `dot` is installed. Returns
+/// the paths written, in the order of `formats`, the SVG right after the DOT file.
+///
+/// `stem` also names the block: the `.fbt` type, the `.st` function block and the SMV module
+/// are called `stem`, so it must be an identifier for those formats (4diac expects the type
+/// name to match the file name).
+///
+/// Every text is produced and every name checked before the first file is touched, and each
+/// file is written to a temporary file in `dir` and renamed over its target, so a failure
+/// never leaves a half-written file, and a bad name leaves no file at all.
+pub fn write_all(
+    ecc: &Ecc,
+    dir: &Path,
+    stem: &str,
+    formats: &[Format],
+) -> Result<Vec<PathBuf>, ExportError> {
+    ecc.validate().map_err(ExportError::InvalidEcc)?;
+    let mut wanted: Vec<Format> = Vec::new();
+    for &f in formats {
+        if !wanted.contains(&f) {
+            wanted.push(f);
+        }
+    }
+    let mut texts: Vec<(Format, String)> = Vec::new();
+    for &format in &wanted {
+        let name_error = |source| ExportError::Name { format, source };
+        let text = match format {
+            Format::Json => json::to_string(ecc),
+            Format::Dot => dot::to_string(ecc),
+            Format::Smv => ecc_module::ecc_module_to_string(ecc, stem).map_err(ExportError::Smv)?,
+            Format::Fbt => {
+                fbt::check_names(ecc, stem).map_err(name_error)?;
+                let options = fbt::FbtOptions {
+                    type_name: stem.to_string(),
+                    ..fbt::FbtOptions::default()
+                };
+                fbt::to_string(ecc, &options).expect("names are checked")
+            }
+            Format::St => {
+                st::check_names(ecc, stem).map_err(name_error)?;
+                st::to_string(ecc, stem).expect("names are checked")
+            }
+        };
+        texts.push((format, text));
+    }
+
+    let mut written = Vec::new();
+    for (format, text) in texts {
+        let path = dir.join(format!("{stem}.{}", format.extension()));
+        write_atomically(&path, text.as_bytes()).map_err(|source| ExportError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        written.push(path);
+        if format == Format::Dot {
+            let svg = dir.join(format!("{stem}.svg"));
+            match dot::render_svg(&text, &svg) {
+                Ok(true) => written.push(svg),
+                Ok(false) => {}
+                Err(source) => return Err(ExportError::Render { path: svg, source }),
+            }
+        }
+    }
+    Ok(written)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
+/// the old file or the whole new one, never a part.
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}
 
 /// A name that cannot be used in an exported program.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -289,5 +477,131 @@ mod tests {
         );
         let err = check_iec_names(&e, "ST", "my-fb", &reserved).unwrap_err();
         assert_eq!(err.role, "type name");
+    }
+
+    #[test]
+    fn formats_parse_and_list_the_valid_ones() {
+        assert_eq!("json".parse(), Ok(Format::Json));
+        assert_eq!(" FBT ".parse(), Ok(Format::Fbt));
+        for f in Format::ALL {
+            assert_eq!(f.name().parse(), Ok(f));
+        }
+        assert_eq!(Format::St.extension(), "st");
+        let e = "svg".parse::<Format>().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st"
+        );
+    }
+
+    fn files_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn write_all_writes_each_format_once_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let ecc = samples::tri();
+        std::fs::write(dir.path().join("Pnp.json"), "old content").unwrap();
+        let formats = [
+            Format::St,
+            Format::Json,
+            Format::Smv,
+            Format::Fbt,
+            Format::Dot,
+        ];
+        let mut with_repeat = formats.to_vec();
+        with_repeat.push(Format::Json);
+        let paths = write_all(&ecc, dir.path(), "Pnp", &with_repeat).unwrap();
+
+        let svg = which::which("dot").is_ok();
+        let mut expected: Vec<String> = formats
+            .iter()
+            .map(|f| format!("Pnp.{}", f.extension()))
+            .collect();
+        if svg {
+            expected.push("Pnp.svg".into());
+        }
+        let returned: Vec<String> = paths
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        let mut in_order = expected.clone();
+        if svg {
+            // The SVG follows the DOT file.
+            in_order.pop();
+            in_order.insert(5, "Pnp.svg".into());
+        }
+        assert_eq!(returned, in_order);
+        expected.sort();
+        assert_eq!(files_in(dir.path()), expected, "no temporary file is left");
+
+        let read = |ext: &str| std::fs::read_to_string(dir.path().join(format!("Pnp.{ext}")));
+        assert_eq!(read("json").unwrap(), json::to_string(&ecc));
+        assert_eq!(read("dot").unwrap(), dot::to_string(&ecc));
+        assert_eq!(read("st").unwrap(), st::to_string(&ecc, "Pnp").unwrap());
+        assert_eq!(
+            read("smv").unwrap(),
+            ecc_module::ecc_module_to_string(&ecc, "Pnp").unwrap()
+        );
+        assert!(read("fbt").unwrap().contains(r#"<FBType Name="Pnp""#));
+    }
+
+    #[test]
+    fn a_bad_name_leaves_no_file_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = write_all(
+            &samples::tri(),
+            dir.path(),
+            "pick-place",
+            &[Format::Json, Format::Dot, Format::Fbt],
+        )
+        .unwrap_err();
+        assert_eq!(e.to_string(), "cannot export as fbt");
+        let cause = std::error::Error::source(&e).unwrap().to_string();
+        assert!(
+            cause.starts_with("type name `pick-place` cannot be used"),
+            "{cause}"
+        );
+        assert!(files_in(dir.path()).is_empty());
+
+        let e = write_all(
+            &samples::tri(),
+            dir.path(),
+            "next",
+            &[Format::Json, Format::Smv],
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, ExportError::Smv(SmvError::Identifier { .. })),
+            "{e:?}"
+        );
+        assert!(files_in(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_missing_directory_is_a_write_error_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("no/such/dir");
+        let e = write_all(&samples::tri(), &missing, "m", &[Format::Json]).unwrap_err();
+        match e {
+            ExportError::Write { path, .. } => assert_eq!(path, missing.join("m.json")),
+            e => panic!("{e:?}"),
+        }
+    }
+
+    #[test]
+    fn an_inconsistent_ecc_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut ecc = samples::tri();
+        ecc.initial_outputs.pop();
+        let e = write_all(&ecc, dir.path(), "m", &[Format::Json]).unwrap_err();
+        assert!(matches!(e, ExportError::InvalidEcc(_)), "{e:?}");
+        assert!(files_in(dir.path()).is_empty());
     }
 }
