@@ -487,22 +487,11 @@ mod tests {
         assert_eq!(position(2, 5), (o + 2 * GRID_X, o));
     }
 
+    /// One snapshot per sample ECC, named after the sample.
     #[test]
-    fn snapshot_one_state() {
-        let opts = FbtOptions {
-            type_name: "OneState".into(),
-            date: "2024-01-01".into(),
-        };
-        insta::assert_snapshot!(to_string(&samples::one_state(), &opts).unwrap());
-    }
-
-    #[test]
-    fn snapshot_tri() {
-        insta::assert_snapshot!(to_string(&samples::tri(), &FbtOptions::default()).unwrap());
-    }
-
-    #[test]
-    fn snapshot_binary() {
-        insta::assert_snapshot!(to_string(&samples::binary(), &FbtOptions::default()).unwrap());
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, to_string(&ecc, &FbtOptions::default()).unwrap());
+        }
     }
 }

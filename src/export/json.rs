@@ -398,19 +398,12 @@ mod tests {
     use super::*;
     use crate::export::samples;
 
+    /// One snapshot per sample ECC, named after the sample.
     #[test]
-    fn snapshot_one_state() {
-        insta::assert_snapshot!(to_string(&samples::one_state()));
-    }
-
-    #[test]
-    fn snapshot_tri() {
-        insta::assert_snapshot!(to_string(&samples::tri()));
-    }
-
-    #[test]
-    fn snapshot_binary() {
-        insta::assert_snapshot!(to_string(&samples::binary()));
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, to_string(&ecc));
+        }
     }
 
     #[test]

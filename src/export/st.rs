@@ -116,19 +116,12 @@ mod tests {
     use crate::ecc::{Algorithm, State, Tri};
     use crate::export::samples;
 
+    /// One snapshot per sample ECC, named after the sample.
     #[test]
-    fn snapshot_one_state() {
-        insta::assert_snapshot!(to_string(&samples::one_state(), "OneState").unwrap());
-    }
-
-    #[test]
-    fn snapshot_tri() {
-        insta::assert_snapshot!(to_string(&samples::tri(), "PickPlace").unwrap());
-    }
-
-    #[test]
-    fn snapshot_binary() {
-        insta::assert_snapshot!(to_string(&samples::binary(), "Lamp").unwrap());
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, to_string(&ecc, "Fb").unwrap());
+        }
     }
 
     #[test]

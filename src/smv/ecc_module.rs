@@ -236,19 +236,12 @@ mod tests {
     use super::*;
     use crate::export::samples;
 
+    /// One snapshot per sample ECC, named after the sample.
     #[test]
-    fn snapshot_one_state() {
-        insta::assert_snapshot!(ecc_module_to_string(&samples::one_state(), "ecc").unwrap());
-    }
-
-    #[test]
-    fn snapshot_tri() {
-        insta::assert_snapshot!(ecc_module_to_string(&samples::tri(), "pnp").unwrap());
-    }
-
-    #[test]
-    fn snapshot_binary() {
-        insta::assert_snapshot!(ecc_module_to_string(&samples::binary(), "lamp").unwrap());
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, ecc_module_to_string(&ecc, "m").unwrap());
+        }
     }
 
     fn name_error(ecc: &Ecc, module: &str) -> String {
