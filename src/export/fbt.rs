@@ -19,7 +19,7 @@
 //! not allow (`ECTransition+`); tools load it nonetheless.
 
 use super::{check_iec_names, iec_bool, NameError};
-use crate::ecc::Ecc;
+use crate::ecc::{Ecc, Guard};
 use crate::smv::Effect;
 use std::io::{self, Write};
 
@@ -226,25 +226,25 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
         }
         writeln!(w, "      </ECState>")?;
     }
-    // A label sits at the middle of its edge (above the state for a self-loop). Labels that
+    // A label sits at the middle of its edge, or above the state for a self-loop. Labels that
     // would land on the same spot (both directions between two states, crossing diagonals) are
-    // moved down one step each.
+    // moved one step each: down, or up for self-loops, away from the state.
     let mut on_spot: std::collections::HashMap<(i64, i64), i64> = Default::default();
     for (i, s) in ecc.states.iter().enumerate() {
         for t in &s.transitions {
             let j = t.target.0;
             let ((x1, y1), (x2, y2)) = (position(i, count), position(j, count));
-            let spot = if i == j {
-                (x1 + GRID_X / 4, y1 - GRID_Y / 3)
+            let (spot, step) = if i == j {
+                ((x1 + GRID_X / 4, y1 - GRID_Y / 3), -LABEL_STEP)
             } else {
-                ((x1 + x2) / 2, (y1 + y2) / 2)
+                (((x1 + x2) / 2, (y1 + y2) / 2), LABEL_STEP)
             };
             let k = on_spot.entry(spot).or_insert(0);
-            let (x, y) = (spot.0, spot.1 + *k * LABEL_STEP);
+            let (x, y) = (spot.0, spot.1 + *k * step);
             *k += 1;
-            let condition = match t.guard {
-                crate::ecc::Guard::True => "REQ".to_string(),
-                ref g => format!("REQ[{}]", g.display_st(&ecc.inputs)),
+            let condition = match &t.guard {
+                Guard::True => "REQ".to_string(),
+                g => format!("REQ[{}]", g.display_st(&ecc.inputs)),
             };
             writeln!(
                 w,
