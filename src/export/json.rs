@@ -21,9 +21,8 @@
 //! }
 //! ```
 //! - `inputs`, `outputs`: variable names in interface order; each must be an identifier
-//!   `[A-Za-z][A-Za-z0-9_]*` that is no NuSMV keyword (see
-//!   [`check_identifier`](crate::smv::check_identifier)), not `REQ` or `CNF`, and all of them
-//!   distinct even ignoring case (Structured Text ignores case).
+//!   `[A-Za-z][A-Za-z0-9_]*` that is no NuSMV keyword (see [`check_identifier`]), not `REQ`
+//!   or `CNF`, and all of them distinct even ignoring case (Structured Text ignores case).
 //! - `initial_outputs`: one `0`/`1` per output, in output order. May be omitted when reading
 //!   (all `0`); always written.
 //! - `states`: index 0 is the initial state. `name` follows the identifier rule above and is
