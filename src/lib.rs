@@ -5,12 +5,16 @@
 //! - [`ecc`]: the model and its simulator (pure data, no I/O);
 //! - [`scenario`]: execution scenarios, their file formats and the scenario tree;
 //! - [`sat`]: exact synthesis with varisat;
-//! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz;
-//! - [`smv`]: SMV emission of an ECC and of the closed loop;
+//! - [`smv`]: SMV emission of an ECC and of the closed loop, and the identifier rules every
+//!   exported name obeys;
+//! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, and writing them all
+//!   (including the SMV module) to files;
 //! - [`cli`]: the `synth` command line.
 
 pub mod cli;
 pub mod ecc;
+pub mod export;
 pub mod files;
 pub mod sat;
 pub mod scenario;
+pub mod smv;

@@ -1,0 +1,497 @@
+//! IEC 61499 basic function block type (`.fbt`) of an ECC, as XML after the IEC 61499-2
+//! `LibraryElement.dtd`, for Eclipse 4diac IDE and Schneider NxtStudio.
+//!
+//! In: a valid [`Ecc`] and [`FbtOptions`]. Out: one `<FBType>` with
+//! - the interface: event input `REQ` associated (`<With>`) with every input variable, event
+//!   output `CNF` associated with every output variable, all variables `BOOL`, outputs that
+//!   start TRUE with `InitialValue="TRUE"`;
+//! - the ECC: state 0 is the first `<ECState>`, named `START` (4diac's convention for the
+//!   initial state), state `i > 0` is named `s{i}`; every state emits `CNF` on entry and runs
+//!   its algorithm `ALG_<state>` if the algorithm changes anything. Transitions of a state
+//!   appear in priority order (4diac and the standard give document order priority), with
+//!   condition `REQ[<guard in ST>]`, or `REQ` for a `TRUE` guard. States sit on a grid so the
+//!   chart is readable when opened;
+//! - one `<Algorithm>` in ST per state that changes something: `z := TRUE;`, `z := FALSE;`,
+//!   `z := NOT z;` per changed output (kept outputs get no line).
+//!
+//! The file is deterministic: the `VersionInfo` date comes from the options, never the clock.
+//! An ECC without transitions yields an `<ECC>` without `<ECTransition>`, which the DTD does
+//! not allow (`ECTransition+`); tools load it nonetheless.
+
+use super::{check_iec_names, iec_bool, NameError};
+use crate::ecc::{Ecc, Guard};
+use crate::smv::Effect;
+use std::io::{self, Write};
+
+/// Options of the `.fbt` export.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FbtOptions {
+    /// Name of the FB type; an IEC 61131-3 identifier. 4diac expects the file to be named
+    /// `<type_name>.fbt`.
+    pub type_name: String,
+    /// `Date` of `VersionInfo`, e.g. `2024-05-31`; empty by default so output stays
+    /// reproducible.
+    pub date: String,
+}
+
+impl Default for FbtOptions {
+    fn default() -> FbtOptions {
+        FbtOptions {
+            type_name: "SynthesizedFB".into(),
+            date: String::new(),
+        }
+    }
+}
+
+/// Layout grid: distance between state columns and rows, in the file's coordinate units.
+const GRID_X: i64 = 1000;
+const GRID_Y: i64 = 600;
+/// Position of state 0.
+const ORIGIN: i64 = 300;
+/// Distance between labels of transitions that would otherwise sit on the same spot.
+const LABEL_STEP: i64 = 100;
+
+/// The `<ECState>` name of state `i`.
+pub fn state_name(i: usize) -> String {
+    if i == 0 {
+        "START".into()
+    } else {
+        format!("s{i}")
+    }
+}
+
+/// The `<Algorithm>` name of state `i`.
+pub fn algorithm_name(i: usize) -> String {
+    format!("ALG_{}", state_name(i))
+}
+
+/// Checks the type name and the interface names (IEC identifiers, distinct ignoring case, none
+/// equal to an event or algorithm name of the block). State names live apart: no expression
+/// can mention a state, so an input may be called `start`.
+pub fn check_names(ecc: &Ecc, type_name: &str) -> Result<(), NameError> {
+    let mut reserved = vec!["REQ".to_string(), "CNF".to_string()];
+    reserved.extend((0..ecc.states.len()).map(algorithm_name));
+    check_iec_names(ecc, "an IEC 61499 .fbt file", type_name, &reserved)
+}
+
+/// Escapes text for a double-quoted XML attribute. Line breaks and tabs become character
+/// references, because a parser normalizes literal ones in attributes to spaces.
+fn attr(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Grid position of state `i` among `count`: as many columns as rows, filled row by row.
+fn position(i: usize, count: usize) -> (i64, i64) {
+    let cols = (1..=count).find(|c| c * c >= count).unwrap_or(1);
+    let (col, row) = ((i % cols) as i64, (i / cols) as i64);
+    // The margin leaves room for the labels of self-loops above the first row.
+    (ORIGIN + col * GRID_X, ORIGIN + row * GRID_Y)
+}
+
+/// The ST body of a state's algorithm, or `None` if it changes nothing.
+fn algorithm_text(ecc: &Ecc, i: usize) -> Option<String> {
+    let lines: Vec<String> = Effect::all(&ecc.states[i].algorithm)
+        .into_iter()
+        .zip(&ecc.outputs)
+        .filter_map(|(e, z)| match e {
+            Effect::Keep => None,
+            Effect::Set(v) => Some(format!("{z} := {};", iec_bool(v))),
+            Effect::Flip => Some(format!("{z} := NOT {z};")),
+        })
+        .collect();
+    (!lines.is_empty()).then(|| lines.join("\n"))
+}
+
+/// Writes the `.fbt` file; fails with [`io::ErrorKind::InvalidInput`] (wrapping a
+/// [`NameError`]) before writing anything if a name is unusable.
+pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Result<()> {
+    check_names(ecc, &options.type_name)?;
+    let size = ecc.size();
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(
+        w,
+        r#"<!DOCTYPE FBType SYSTEM "http://www.holobloc.com/xml/LibraryElement.dtd">"#
+    )?;
+    writeln!(
+        w,
+        r#"<FBType Name="{}" Comment="Basic FB synthesized by fbsynth ({})">"#,
+        attr(&options.type_name),
+        attr(&size.to_string())
+    )?;
+    writeln!(w, r#"  <Identification Standard="61499-2"/>"#)?;
+    writeln!(
+        w,
+        r#"  <VersionInfo Organization="fbsynth" Version="1.0" Author="fbsynth" Date="{}"/>"#,
+        attr(&options.date)
+    )?;
+
+    writeln!(w, "  <InterfaceList>")?;
+    let events = [
+        (
+            "EventInputs",
+            "REQ",
+            "Request: fire the first enabled transition of the current state",
+            &ecc.inputs,
+        ),
+        (
+            "EventOutputs",
+            "CNF",
+            "Confirmation: a transition fired, outputs updated",
+            &ecc.outputs,
+        ),
+    ];
+    for (list, event, comment, vars) in events {
+        writeln!(w, "    <{list}>")?;
+        writeln!(
+            w,
+            r#"      <Event Name="{event}" Type="Event" Comment="{}">"#,
+            attr(comment)
+        )?;
+        for v in vars.iter() {
+            writeln!(w, r#"        <With Var="{}"/>"#, attr(v))?;
+        }
+        writeln!(w, "      </Event>")?;
+        writeln!(w, "    </{list}>")?;
+    }
+    // The DTD wants at least one declaration inside InputVars/OutputVars.
+    if !ecc.inputs.is_empty() {
+        writeln!(w, "    <InputVars>")?;
+        for v in &ecc.inputs {
+            writeln!(
+                w,
+                r#"      <VarDeclaration Name="{}" Type="BOOL"/>"#,
+                attr(v)
+            )?;
+        }
+        writeln!(w, "    </InputVars>")?;
+    }
+    if !ecc.outputs.is_empty() {
+        writeln!(w, "    <OutputVars>")?;
+        for (v, &init) in ecc.outputs.iter().zip(&ecc.initial_outputs) {
+            let initial = if init { r#" InitialValue="TRUE""# } else { "" };
+            writeln!(
+                w,
+                r#"      <VarDeclaration Name="{}" Type="BOOL"{initial}/>"#,
+                attr(v)
+            )?;
+        }
+        writeln!(w, "    </OutputVars>")?;
+    }
+    writeln!(w, "  </InterfaceList>")?;
+
+    writeln!(w, "  <BasicFB>")?;
+    writeln!(w, "    <ECC>")?;
+    let count = ecc.states.len();
+    let algorithms: Vec<Option<String>> = (0..count).map(|i| algorithm_text(ecc, i)).collect();
+    for (i, s) in ecc.states.iter().enumerate() {
+        let name = state_name(i);
+        // Keep a name the user gave a state as its comment; `s{i}` is no such name.
+        let default_name = s.name == name || s.name == format!("s{i}");
+        let comment = match (i, default_name) {
+            (0, true) => "Initial state".to_string(),
+            (0, false) => format!("Initial state ({})", s.name),
+            (_, true) => String::new(),
+            (_, false) => s.name.clone(),
+        };
+        let comment = if comment.is_empty() {
+            String::new()
+        } else {
+            format!(r#" Comment="{}""#, attr(&comment))
+        };
+        let (x, y) = position(i, count);
+        writeln!(
+            w,
+            r#"      <ECState Name="{name}"{comment} x="{x}" y="{y}">"#
+        )?;
+        match algorithms[i] {
+            Some(_) => writeln!(
+                w,
+                r#"        <ECAction Algorithm="{}" Output="CNF"/>"#,
+                algorithm_name(i)
+            )?,
+            None => writeln!(w, r#"        <ECAction Output="CNF"/>"#)?,
+        }
+        writeln!(w, "      </ECState>")?;
+    }
+    // A label sits at the middle of its edge, or above the state for a self-loop. Labels that
+    // would land on the same spot (both directions between two states, crossing diagonals) are
+    // moved one step each: down, or up for self-loops, away from the state.
+    let mut on_spot: std::collections::HashMap<(i64, i64), i64> = Default::default();
+    for (i, s) in ecc.states.iter().enumerate() {
+        for t in &s.transitions {
+            let j = t.target.0;
+            let ((x1, y1), (x2, y2)) = (position(i, count), position(j, count));
+            let (spot, step) = if i == j {
+                ((x1 + GRID_X / 4, y1 - GRID_Y / 3), -LABEL_STEP)
+            } else {
+                (((x1 + x2) / 2, (y1 + y2) / 2), LABEL_STEP)
+            };
+            let k = on_spot.entry(spot).or_insert(0);
+            let (x, y) = (spot.0, spot.1 + *k * step);
+            *k += 1;
+            let condition = match &t.guard {
+                Guard::True => "REQ".to_string(),
+                g => format!("REQ[{}]", g.display_st(&ecc.inputs)),
+            };
+            writeln!(
+                w,
+                r#"      <ECTransition Source="{}" Destination="{}" Condition="{}" x="{x}" y="{y}"/>"#,
+                state_name(i),
+                state_name(j),
+                attr(&condition)
+            )?;
+        }
+    }
+    writeln!(w, "    </ECC>")?;
+    for (i, text) in algorithms.iter().enumerate() {
+        if let Some(text) = text {
+            writeln!(w, r#"    <Algorithm Name="{}">"#, algorithm_name(i))?;
+            writeln!(w, r#"      <ST Text="{}"/>"#, attr(text))?;
+            writeln!(w, "    </Algorithm>")?;
+        }
+    }
+    writeln!(w, "  </BasicFB>")?;
+    writeln!(w, "</FBType>")
+}
+
+/// [`write_fbt`] into a string.
+pub fn to_string(ecc: &Ecc, options: &FbtOptions) -> io::Result<String> {
+    let mut buf = Vec::new();
+    write_fbt(ecc, options, &mut buf)?;
+    Ok(String::from_utf8(buf).expect("the .fbt emitter writes UTF-8 only"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::export::samples;
+    use quick_xml::events::{BytesStart, Event};
+    use std::collections::HashSet;
+
+    /// Just enough of a DOM to check structure.
+    #[derive(Debug)]
+    struct Node {
+        name: String,
+        attrs: Vec<(String, String)>,
+        children: Vec<Node>,
+    }
+
+    impl Node {
+        fn attr(&self, key: &str) -> Option<&str> {
+            self.attrs
+                .iter()
+                .find(|(k, _)| k == key)
+                .map(|(_, v)| v.as_str())
+        }
+
+        fn all(&self, name: &str) -> Vec<&Node> {
+            self.children.iter().filter(|c| c.name == name).collect()
+        }
+
+        fn one(&self, name: &str) -> &Node {
+            let found = self.all(name);
+            assert_eq!(found.len(), 1, "exactly one <{name}> in <{}>", self.name);
+            found[0]
+        }
+    }
+
+    fn node(e: &BytesStart<'_>) -> Node {
+        Node {
+            name: String::from_utf8(e.name().as_ref().to_vec()).unwrap(),
+            attrs: e
+                .attributes()
+                .map(|a| {
+                    let a = a.unwrap();
+                    (
+                        String::from_utf8(a.key.as_ref().to_vec()).unwrap(),
+                        a.unescape_value().unwrap().into_owned(),
+                    )
+                })
+                .collect(),
+            children: Vec::new(),
+        }
+    }
+
+    fn parse(xml: &str) -> Node {
+        let mut reader = quick_xml::Reader::from_str(xml);
+        let mut stack: Vec<Node> = vec![Node {
+            name: "#document".into(),
+            attrs: Vec::new(),
+            children: Vec::new(),
+        }];
+        loop {
+            match reader.read_event().unwrap() {
+                Event::Start(e) => stack.push(node(&e)),
+                Event::Empty(e) => stack.last_mut().unwrap().children.push(node(&e)),
+                Event::End(_) => {
+                    let done = stack.pop().unwrap();
+                    stack.last_mut().unwrap().children.push(done);
+                }
+                Event::Eof => break,
+                _ => {}
+            }
+        }
+        assert_eq!(stack.len(), 1, "every element is closed");
+        stack.pop().unwrap().children.pop().unwrap()
+    }
+
+    /// The structure 4diac relies on, checked on a parsed file.
+    fn check_structure(ecc: &Ecc, xml: &str) {
+        let root = parse(xml);
+        assert_eq!(root.name, "FBType");
+        let iface = root.one("InterfaceList");
+        for (list, event, vars) in [
+            ("EventInputs", "REQ", &ecc.inputs),
+            ("EventOutputs", "CNF", &ecc.outputs),
+        ] {
+            let ev = iface.one(list).one("Event");
+            assert_eq!(ev.attr("Name"), Some(event));
+            let with: Vec<&str> = ev
+                .all("With")
+                .iter()
+                .map(|w| w.attr("Var").unwrap())
+                .collect();
+            let expected: Vec<&str> = vars.iter().map(String::as_str).collect();
+            assert_eq!(with, expected, "{event} is associated with every variable");
+        }
+        let outs = iface.one("OutputVars").all("VarDeclaration");
+        for (z, d) in outs.iter().enumerate() {
+            assert_eq!(d.attr("Type"), Some("BOOL"));
+            let init = d.attr("InitialValue") == Some("TRUE");
+            assert_eq!(init, ecc.initial_outputs[z], "{:?}", d.attr("Name"));
+        }
+
+        let basic = root.one("BasicFB");
+        let chart = basic.one("ECC");
+        let states: Vec<&str> = chart
+            .all("ECState")
+            .iter()
+            .map(|s| s.attr("Name").unwrap())
+            .collect();
+        assert_eq!(states.len(), ecc.states.len());
+        assert_eq!(states[0], "START", "the initial state comes first");
+        let algorithms: HashSet<&str> = basic
+            .all("Algorithm")
+            .iter()
+            .map(|a| a.attr("Name").unwrap())
+            .collect();
+        for s in chart.all("ECState") {
+            for a in s.all("ECAction") {
+                assert_eq!(a.attr("Output"), Some("CNF"), "CNF on every entry");
+                if let Some(alg) = a.attr("Algorithm") {
+                    assert!(algorithms.contains(alg), "{alg} exists");
+                }
+            }
+        }
+        let transitions = chart.all("ECTransition");
+        assert_eq!(transitions.len(), ecc.size().t);
+        for t in &transitions {
+            assert!(states.contains(&t.attr("Source").unwrap()));
+            assert!(states.contains(&t.attr("Destination").unwrap()));
+            assert!(t.attr("Condition").unwrap().starts_with("REQ"));
+        }
+        // Priority is document order within a source state.
+        for (i, s) in ecc.states.iter().enumerate() {
+            let doc: Vec<&str> = transitions
+                .iter()
+                .filter(|t| t.attr("Source") == Some(states[i]))
+                .map(|t| t.attr("Destination").unwrap())
+                .collect();
+            let want: Vec<&str> = s.transitions.iter().map(|t| states[t.target.0]).collect();
+            assert_eq!(doc, want, "priority order of {}", states[i]);
+        }
+    }
+
+    #[test]
+    fn structure_of_every_sample() {
+        for (name, ecc) in samples::all() {
+            let xml = to_string(&ecc, &FbtOptions::default()).unwrap();
+            println!("{name}");
+            check_structure(&ecc, &xml);
+        }
+    }
+
+    #[test]
+    fn st_text_survives_the_attribute_as_lines() {
+        let xml = to_string(&samples::binary(), &FbtOptions::default()).unwrap();
+        let root = parse(&xml);
+        let alg = root.one("BasicFB").all("Algorithm")[1];
+        assert_eq!(alg.attr("Name"), Some("ALG_s1"));
+        assert_eq!(alg.one("ST").attr("Text"), Some("lamp := NOT lamp;"));
+        let alg = root.one("BasicFB").all("Algorithm")[2];
+        assert_eq!(
+            alg.one("ST").attr("Text"),
+            Some("lamp := TRUE;\nbuzzer := NOT buzzer;")
+        );
+    }
+
+    #[test]
+    fn attributes_are_escaped() {
+        assert_eq!(attr("a<b & \"c\"\n"), "a&lt;b &amp; &quot;c&quot;&#10;");
+        let opts = FbtOptions {
+            date: "<today> & \"now\"".into(),
+            ..FbtOptions::default()
+        };
+        let xml = to_string(&samples::one_state(), &opts).unwrap();
+        let root = parse(&xml);
+        assert_eq!(
+            root.one("VersionInfo").attr("Date"),
+            Some("<today> & \"now\"")
+        );
+    }
+
+    #[test]
+    fn unusable_names_are_rejected_before_writing() {
+        let mut buf = Vec::new();
+        let opts = FbtOptions {
+            type_name: "My FB".into(),
+            ..FbtOptions::default()
+        };
+        let e = write_fbt(&samples::tri(), &opts, &mut buf).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
+        assert!(
+            e.to_string()
+                .starts_with("type name `My FB` cannot be used"),
+            "{e}"
+        );
+        assert!(buf.is_empty());
+        let mut ecc = samples::tri();
+        ecc.inputs[3] = "Alg_S2".into();
+        let e = write_fbt(&ecc, &FbtOptions::default(), &mut buf).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "input 4 `Alg_S2` cannot be used in an IEC 61499 .fbt file: the exported block \
+             uses this name itself"
+        );
+    }
+
+    #[test]
+    fn grid_is_square_enough() {
+        let o = ORIGIN;
+        assert_eq!(position(0, 1), (o, o));
+        assert_eq!(position(3, 4), (o + GRID_X, o + GRID_Y));
+        assert_eq!(position(4, 5), (o + GRID_X, o + GRID_Y));
+        assert_eq!(position(2, 5), (o + 2 * GRID_X, o));
+    }
+
+    /// One snapshot per sample ECC, named after the sample.
+    #[test]
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, to_string(&ecc, &FbtOptions::default()).unwrap());
+        }
+    }
+}

@@ -1,0 +1,607 @@
+//! Export formats of an ECC, and writing them to files.
+//!
+//! In: a valid [`Ecc`] and the formats wanted. Out: text in each format (pure emitters, one
+//! module each: [`json`], [`fbt`], [`st`], [`dot`], and the SMV module of
+//! [`crate::smv::ecc_module`]), or files written atomically by [`write_all`].
+//!
+//! The names that become code (IEC 61131-3 in `.fbt` and `.st`) are checked here with
+//! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`].
+
+pub mod dot;
+pub mod fbt;
+pub mod guard_text;
+pub mod json;
+pub mod st;
+
+#[cfg(test)]
+pub(crate) mod samples;
+
+use crate::ecc::Ecc;
+use crate::smv::{ecc_module, SmvError};
+use std::collections::HashMap;
+use std::fmt;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// An export format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// The JSON contract ([`json`]).
+    Json,
+    /// IEC 61499 basic FB type ([`fbt`]).
+    Fbt,
+    /// NuSMV module ([`crate::smv::ecc_module`]).
+    Smv,
+    /// Graphviz drawing ([`dot`]); an SVG as well when Graphviz is installed.
+    Dot,
+    /// IEC 61131-3 Structured Text function block ([`st`]).
+    St,
+}
+
+impl Format {
+    /// Every format, in the order `--help` lists them.
+    pub const ALL: [Format; 5] = [
+        Format::Json,
+        Format::Fbt,
+        Format::Smv,
+        Format::Dot,
+        Format::St,
+    ];
+
+    /// The format's name on the command line, which is also its file extension.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Json => "json",
+            Format::Fbt => "fbt",
+            Format::Smv => "smv",
+            Format::Dot => "dot",
+            Format::St => "st",
+        }
+    }
+
+    /// File extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        self.name()
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A format name that is not one of [`Format::ALL`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown export format `{given}`; valid formats: json, fbt, smv, dot, st")]
+pub struct UnknownFormat {
+    pub given: String,
+}
+
+impl FromStr for Format {
+    type Err = UnknownFormat;
+
+    /// Parses `json`, `fbt`, `smv`, `dot` or `st` (ignoring case and surrounding blanks).
+    fn from_str(s: &str) -> Result<Format, UnknownFormat> {
+        let wanted = s.trim().to_ascii_lowercase();
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name() == wanted)
+            .ok_or_else(|| UnknownFormat {
+                given: s.to_string(),
+            })
+    }
+}
+
+/// Why [`write_all`] wrote nothing, or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// The ECC breaks an invariant of the model (a bug upstream, not user input).
+    #[error("the ECC is inconsistent: {0}")]
+    InvalidEcc(String),
+    /// A name (the stem, or an interface name) cannot be used in a format.
+    #[error("cannot export as {format}")]
+    Name {
+        format: Format,
+        #[source]
+        source: NameError,
+    },
+    /// A name cannot be used in the SMV module.
+    #[error("cannot export as smv")]
+    Smv(#[source] SmvError),
+    /// Creating, writing or renaming a file failed.
+    #[error("cannot write {}", path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    /// Graphviz is installed but failed to render the drawing.
+    #[error("cannot render {}", path.display())]
+    Render {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+}
+
+/// Writes `ecc` in every format of `formats` (repeats ignored) to `dir/stem.<extension>`, plus
+/// `dir/stem.svg` when [`Format::Dot`] is wanted and Graphviz's `dot` is installed. Returns
+/// the paths written, in the order of `formats`, the SVG right after the DOT file.
+///
+/// `stem` also names the block: the `.fbt` type, the `.st` function block and the SMV module
+/// are called `stem`, so it must be an identifier for those formats (4diac expects the type
+/// name to match the file name).
+///
+/// Every text is produced and every name checked before the first file is touched, and each
+/// file is written to a temporary file in `dir` and renamed over its target, so a failure
+/// never leaves a half-written file, and a bad name leaves no file at all.
+pub fn write_all(
+    ecc: &Ecc,
+    dir: &Path,
+    stem: &str,
+    formats: &[Format],
+) -> Result<Vec<PathBuf>, ExportError> {
+    ecc.validate().map_err(ExportError::InvalidEcc)?;
+    let mut wanted: Vec<Format> = Vec::new();
+    for &f in formats {
+        if !wanted.contains(&f) {
+            wanted.push(f);
+        }
+    }
+    let mut texts: Vec<(Format, String)> = Vec::new();
+    for &format in &wanted {
+        let name_error = |source| ExportError::Name { format, source };
+        let text = match format {
+            Format::Json => json::to_string(ecc),
+            Format::Dot => dot::to_string(ecc),
+            Format::Smv => ecc_module::ecc_module_to_string(ecc, stem).map_err(ExportError::Smv)?,
+            Format::Fbt => {
+                fbt::check_names(ecc, stem).map_err(name_error)?;
+                let options = fbt::FbtOptions {
+                    type_name: stem.to_string(),
+                    ..fbt::FbtOptions::default()
+                };
+                fbt::to_string(ecc, &options).expect("names are checked")
+            }
+            Format::St => {
+                st::check_names(ecc, stem).map_err(name_error)?;
+                st::to_string(ecc, stem).expect("names are checked")
+            }
+        };
+        texts.push((format, text));
+    }
+
+    let mut written = Vec::new();
+    for (format, text) in texts {
+        let path = dir.join(format!("{stem}.{}", format.extension()));
+        write_atomically(&path, text.as_bytes()).map_err(|source| ExportError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        written.push(path);
+        if format == Format::Dot {
+            let svg = dir.join(format!("{stem}.svg"));
+            match dot::render_svg(&text, &svg) {
+                Ok(true) => written.push(svg),
+                Ok(false) => {}
+                Err(source) => return Err(ExportError::Render { path: svg, source }),
+            }
+        }
+    }
+    Ok(written)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
+/// the old file or the whole new one, never a part.
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}
+
+/// A name that cannot be used in an exported program.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{role} `{name}` cannot be used in {format}: {reason}")]
+pub struct NameError {
+    /// Where the name comes from: `type name`, `input 3`, `output 1` (1-based).
+    pub role: String,
+    pub name: String,
+    /// The format that cannot use it, e.g. `an IEC 61499 .fbt file`.
+    pub format: &'static str,
+    pub reason: String,
+}
+
+impl From<NameError> for io::Error {
+    fn from(e: NameError) -> io::Error {
+        io::Error::new(io::ErrorKind::InvalidInput, e)
+    }
+}
+
+/// IEC 61131-3 keywords and elementary type names (compared ignoring case, as ST does).
+const IEC_KEYWORDS: &[&str] = &[
+    "ABSTRACT",
+    "ACTION",
+    "AND",
+    "ANY",
+    "ARRAY",
+    "AT",
+    "BOOL",
+    "BY",
+    "BYTE",
+    "CASE",
+    "CHAR",
+    "CLASS",
+    "CONFIGURATION",
+    "CONSTANT",
+    "CONTINUE",
+    "DATE",
+    "DATE_AND_TIME",
+    "DINT",
+    "DO",
+    "DT",
+    "DWORD",
+    "ELSE",
+    "ELSIF",
+    "EN",
+    "END_ACTION",
+    "END_CASE",
+    "END_CLASS",
+    "END_CONFIGURATION",
+    "END_FOR",
+    "END_FUNCTION",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_INTERFACE",
+    "END_METHOD",
+    "END_NAMESPACE",
+    "END_PROGRAM",
+    "END_REPEAT",
+    "END_RESOURCE",
+    "END_STEP",
+    "END_STRUCT",
+    "END_TRANSITION",
+    "END_TYPE",
+    "END_VAR",
+    "END_WHILE",
+    "ENO",
+    "EVENT",
+    "EXIT",
+    "EXTENDS",
+    "FALSE",
+    "FINAL",
+    "FOR",
+    "FROM",
+    "FUNCTION",
+    "FUNCTION_BLOCK",
+    "F_EDGE",
+    "IF",
+    "IMPLEMENTS",
+    "INITIAL_STEP",
+    "INT",
+    "INTERFACE",
+    "INTERNAL",
+    "INTERVAL",
+    "LINT",
+    "LREAL",
+    "LWORD",
+    "METHOD",
+    "MOD",
+    "NAMESPACE",
+    "NON_RETAIN",
+    "NOT",
+    "NULL",
+    "OF",
+    "ON",
+    "OR",
+    "OVERRIDE",
+    "PRIORITY",
+    "PRIVATE",
+    "PROGRAM",
+    "PROTECTED",
+    "PUBLIC",
+    "READ_ONLY",
+    "READ_WRITE",
+    "REAL",
+    "REF",
+    "REF_TO",
+    "REPEAT",
+    "RESOURCE",
+    "RETAIN",
+    "RETURN",
+    "R_EDGE",
+    "SINGLE",
+    "SINT",
+    "STEP",
+    "STRING",
+    "STRUCT",
+    "SUPER",
+    "TASK",
+    "THEN",
+    "THIS",
+    "TIME",
+    "TIME_OF_DAY",
+    "TO",
+    "TOD",
+    "TRANSITION",
+    "TRUE",
+    "TYPE",
+    "UDINT",
+    "UINT",
+    "ULINT",
+    "UNTIL",
+    "USING",
+    "USINT",
+    "VAR",
+    "VAR_ACCESS",
+    "VAR_CONFIG",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+    "VAR_INPUT",
+    "VAR_IN_OUT",
+    "VAR_OUTPUT",
+    "VAR_TEMP",
+    "WCHAR",
+    "WHILE",
+    "WITH",
+    "WORD",
+    "WSTRING",
+    "XOR",
+];
+
+/// Checks an IEC 61131-3 identifier: a letter or `_`, then letters, digits and single `_`s,
+/// not ending in `_`, and no keyword or elementary type name (ignoring case).
+pub fn check_iec_identifier(name: &str) -> Result<(), String> {
+    let mut chars = name.chars();
+    match chars.next() {
+        None => return Err("the name is empty".into()),
+        Some(c) if !(c.is_ascii_alphabetic() || c == '_') => {
+            return Err(format!("a name must start with a letter or `_`, not `{c}`"))
+        }
+        Some(_) => {}
+    }
+    if let Some(c) = chars.find(|c| !(c.is_ascii_alphanumeric() || *c == '_')) {
+        return Err(format!(
+            "a name may contain only letters A-Z a-z, digits and `_`, not `{c}`"
+        ));
+    }
+    if name.contains("__") || name.ends_with('_') {
+        return Err("IEC 61131-3 allows neither `__` nor a trailing `_` in a name".into());
+    }
+    let upper = name.to_ascii_uppercase();
+    if IEC_KEYWORDS.contains(&upper.as_str()) {
+        return Err("it is an IEC 61131-3 keyword".into());
+    }
+    Ok(())
+}
+
+/// Checks the block name and every interface name of `ecc` for a format with IEC 61131-3
+/// names: each an IEC identifier, none equal to a name the emitter generates (`reserved`), and
+/// all distinct, everything ignoring case.
+pub(crate) fn check_iec_names(
+    ecc: &Ecc,
+    format: &'static str,
+    block_name: &str,
+    reserved: &[String],
+) -> Result<(), NameError> {
+    let bad = |role: String, name: &str, reason: String| NameError {
+        role,
+        name: name.to_string(),
+        format,
+        reason,
+    };
+    check_iec_identifier(block_name).map_err(|r| bad("type name".into(), block_name, r))?;
+    let reserved: Vec<String> = reserved.iter().map(|r| r.to_ascii_uppercase()).collect();
+    let mut seen: HashMap<String, String> = HashMap::new();
+    let named = (ecc.inputs.iter().enumerate()).map(|(i, n)| (format!("input {}", i + 1), n));
+    let named = named
+        .chain((ecc.outputs.iter().enumerate()).map(|(i, n)| (format!("output {}", i + 1), n)));
+    for (role, name) in named {
+        check_iec_identifier(name).map_err(|r| bad(role.clone(), name, r))?;
+        let key = name.to_ascii_uppercase();
+        if reserved.contains(&key) {
+            return Err(bad(
+                role,
+                name,
+                "the exported block uses this name itself".into(),
+            ));
+        }
+        if let Some(first) = seen.get(&key) {
+            let reason = format!("{first} has the same name ignoring case");
+            return Err(bad(role, name, reason));
+        }
+        seen.insert(key, role);
+    }
+    Ok(())
+}
+
+/// `TRUE` / `FALSE`, as ST, SMV and 4diac spell them.
+pub(crate) fn iec_bool(v: bool) -> &'static str {
+    if v {
+        "TRUE"
+    } else {
+        "FALSE"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iec_identifiers() {
+        for ok in ["a", "_a", "c1_home", "START", "Motor2"] {
+            assert_eq!(check_iec_identifier(ok), Ok(()), "{ok}");
+        }
+        for (name, why) in [
+            ("", "empty"),
+            ("2a", "start with"),
+            ("a__b", "`__`"),
+            ("a_", "trailing"),
+            ("a.b", "not `.`"),
+            ("end_if", "keyword"),
+            ("Bool", "keyword"),
+        ] {
+            let e = check_iec_identifier(name).unwrap_err();
+            assert!(e.contains(why), "{name}: {e}");
+        }
+    }
+
+    #[test]
+    fn iec_names_of_an_ecc() {
+        let e = samples::tri();
+        let reserved = vec!["REQ".to_string(), "state".to_string()];
+        assert_eq!(check_iec_names(&e, "ST", "Fb", &reserved), Ok(()));
+        let mut bad = e.clone();
+        bad.outputs[1] = "State".into();
+        assert_eq!(
+            check_iec_names(&bad, "ST", "Fb", &reserved)
+                .unwrap_err()
+                .to_string(),
+            "output 2 `State` cannot be used in ST: the exported block uses this name itself"
+        );
+        let mut bad = e.clone();
+        bad.outputs[0] = "C1HOME".into();
+        assert_eq!(
+            check_iec_names(&bad, "ST", "Fb", &reserved)
+                .unwrap_err()
+                .to_string(),
+            "output 1 `C1HOME` cannot be used in ST: input 1 has the same name ignoring case"
+        );
+        let err = check_iec_names(&e, "ST", "my-fb", &reserved).unwrap_err();
+        assert_eq!(err.role, "type name");
+    }
+
+    #[test]
+    fn formats_parse_and_list_the_valid_ones() {
+        assert_eq!("json".parse(), Ok(Format::Json));
+        assert_eq!(" FBT ".parse(), Ok(Format::Fbt));
+        for f in Format::ALL {
+            assert_eq!(f.name().parse(), Ok(f));
+        }
+        assert_eq!(Format::St.extension(), "st");
+        let e = "svg".parse::<Format>().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st"
+        );
+    }
+
+    fn files_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn write_all_writes_each_format_once_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let ecc = samples::tri();
+        std::fs::write(dir.path().join("Pnp.json"), "old content").unwrap();
+        let formats = [
+            Format::St,
+            Format::Json,
+            Format::Smv,
+            Format::Fbt,
+            Format::Dot,
+        ];
+        let mut with_repeat = formats.to_vec();
+        with_repeat.push(Format::Json);
+        let paths = write_all(&ecc, dir.path(), "Pnp", &with_repeat).unwrap();
+
+        let svg = which::which("dot").is_ok();
+        let mut expected: Vec<String> = formats
+            .iter()
+            .map(|f| format!("Pnp.{}", f.extension()))
+            .collect();
+        if svg {
+            expected.push("Pnp.svg".into());
+        }
+        let returned: Vec<String> = paths
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        let mut in_order = expected.clone();
+        if svg {
+            // The SVG follows the DOT file.
+            in_order.pop();
+            in_order.insert(5, "Pnp.svg".into());
+        }
+        assert_eq!(returned, in_order);
+        expected.sort();
+        assert_eq!(files_in(dir.path()), expected, "no temporary file is left");
+
+        let read = |ext: &str| std::fs::read_to_string(dir.path().join(format!("Pnp.{ext}")));
+        assert_eq!(read("json").unwrap(), json::to_string(&ecc));
+        assert_eq!(read("dot").unwrap(), dot::to_string(&ecc));
+        assert_eq!(read("st").unwrap(), st::to_string(&ecc, "Pnp").unwrap());
+        assert_eq!(
+            read("smv").unwrap(),
+            ecc_module::ecc_module_to_string(&ecc, "Pnp").unwrap()
+        );
+        assert!(read("fbt").unwrap().contains(r#"<FBType Name="Pnp""#));
+    }
+
+    #[test]
+    fn a_bad_name_leaves_no_file_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = write_all(
+            &samples::tri(),
+            dir.path(),
+            "pick-place",
+            &[Format::Json, Format::Dot, Format::Fbt],
+        )
+        .unwrap_err();
+        assert_eq!(e.to_string(), "cannot export as fbt");
+        let cause = std::error::Error::source(&e).unwrap().to_string();
+        assert!(
+            cause.starts_with("type name `pick-place` cannot be used"),
+            "{cause}"
+        );
+        assert!(files_in(dir.path()).is_empty());
+
+        let e = write_all(
+            &samples::tri(),
+            dir.path(),
+            "next",
+            &[Format::Json, Format::Smv],
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, ExportError::Smv(SmvError::Identifier { .. })),
+            "{e:?}"
+        );
+        assert!(files_in(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_missing_directory_is_a_write_error_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("no/such/dir");
+        let e = write_all(&samples::tri(), &missing, "m", &[Format::Json]).unwrap_err();
+        match e {
+            ExportError::Write { path, .. } => assert_eq!(path, missing.join("m.json")),
+            e => panic!("{e:?}"),
+        }
+    }
+
+    #[test]
+    fn an_inconsistent_ecc_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut ecc = samples::tri();
+        ecc.initial_outputs.pop();
+        let e = write_all(&ecc, dir.path(), "m", &[Format::Json]).unwrap_err();
+        assert!(matches!(e, ExportError::InvalidEcc(_)), "{e:?}");
+        assert!(files_in(dir.path()).is_empty());
+    }
+}
