@@ -20,7 +20,11 @@ pub struct BenchArgs {
     pub runs: usize,
     /// Folder with fbSAT's scenario sets (tests-N.gz and pnp/input-names, pnp/output-names).
     /// Cases whose files are missing are skipped.
-    #[arg(long, default_value = "../shared/anchors/fbsat/data", value_name = "DIR")]
+    #[arg(
+        long,
+        default_value = "../shared/anchors/fbsat/data",
+        value_name = "DIR"
+    )]
     pub fbsat_data: PathBuf,
     /// The project's Pick-and-Place scenarios.
     #[arg(long, default_value = "specs/pnp.traces", value_name = "FILE")]

@@ -1,7 +1,8 @@
 //! `synth infer` and `synth convert`: scenarios in, minimal ECC (or converted scenarios) out.
 
 use super::{exit, Failure, Progress};
-use crate::ecc::AlgorithmKind;
+use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
+use crate::export::{self, Format};
 use crate::sat::{self, SatError};
 use crate::scenario::{csvlog, fbsat, names, tree::ScenarioTree, ScenarioSet};
 use clap::{Args, ValueEnum};
@@ -155,6 +156,8 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         set.inputs.len(),
         set.outputs.len()
     ));
+    let formats = parse_formats(&args.format)?;
+    check_exportable(&set, &args.name, &formats)?;
     let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
     let opts = sat::Options {
         algorithms: match args.algorithms {
@@ -195,8 +198,42 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(stem(&args.traces.traces[0])));
-    let _ = out;
+    std::fs::create_dir_all(&out)
+        .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
+    let files =
+        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
+    println!("wrote:");
+    for f in files {
+        println!("  {}", f.display());
+    }
     Ok(())
+}
+
+/// Parses `--format` values.
+pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
+    list.iter()
+        .map(|f| f.trim().parse::<Format>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| Failure::msg(exit::USAGE, format!("--format: {e}")))
+}
+
+/// Checks up front, before any search, that the interface names and the block name can be
+/// written in every requested format: an empty machine over the interface must export.
+pub fn check_exportable(set: &ScenarioSet, name: &str, formats: &[Format]) -> Result<(), Failure> {
+    let probe = Ecc {
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+        initial_outputs: set.initial_outputs.clone(),
+        states: vec![State {
+            name: "s0".into(),
+            algorithm: Algorithm::keep_all(AlgorithmKind::Tri, set.outputs.len()),
+            transitions: Vec::new(),
+        }],
+    };
+    let dir = tempfile::tempdir().map_err(Failure::input)?;
+    export::write_all(&probe, dir.path(), name, formats)
+        .map(|_| ())
+        .map_err(Failure::input)
 }
 
 pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
