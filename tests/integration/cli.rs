@@ -1,0 +1,169 @@
+//! The `synth` binary as a user runs it: outputs, exit codes, messages with places, and no
+//! partial files on failure.
+
+use fbsynth::export::json::read_json;
+use fbsynth::scenario::fbsat;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn synth(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run synth")
+}
+
+fn data(name: &str) -> String {
+    format!("tests/data/scenarios/{name}")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|r| r.map(|e| e.unwrap().path()).collect())
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn infer_writes_every_format_and_the_json_replays_the_scenarios() {
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--out",
+        out.path().to_str().unwrap(),
+        "--format",
+        "json,fbt,smv,dot,st",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("C = 2  K = 1  T = 2  N = 2"), "{stdout}");
+    for ext in ["json", "fbt", "smv", "dot", "st"] {
+        assert!(
+            out.path().join(format!("SynthesizedFB.{ext}")).is_file(),
+            "{ext}"
+        );
+    }
+    let json = std::fs::read_to_string(out.path().join("SynthesizedFB.json")).unwrap();
+    let ecc = read_json(&json, Path::new("SynthesizedFB.json")).unwrap();
+    let set = fbsat::read(
+        Path::new(&format!(
+            "{}/{}",
+            env!("CARGO_MANIFEST_DIR"),
+            data("door.traces")
+        )),
+        Some(vec!["start".into(), "stop".into()]),
+        Some(vec!["motor".into(), "lamp".into()]),
+    )
+    .unwrap();
+    set.check(&ecc).unwrap();
+}
+
+#[test]
+fn malformed_traces_fail_with_file_line_and_step_and_write_nothing() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("res");
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("badbits.traces"),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: tests/data/scenarios/badbits.traces:3: step 1: 1 input bits, expected 2"
+    );
+    assert!(files_in(&dir).is_empty());
+}
+
+#[test]
+fn contradictory_traces_name_both_scenarios() {
+    let o = synth(&["infer", "--traces", &data("contradict.traces"), "-q"]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("contradictory scenarios: tests/data/scenarios/contradict.traces:2 step 1")
+            && e.contains("contradict.traces:3 step 1"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_file_and_bad_format_are_reported() {
+    let o = synth(&[
+        "infer",
+        "--traces",
+        "no/such.traces",
+        "--input-names",
+        &data("door.inputs"),
+        "--output-names",
+        &data("door.outputs"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).starts_with("error: no/such.traces: "),
+        "{}",
+        text(&o.stderr)
+    );
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--format",
+        "json,pdf",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("pdf"), "{}", text(&o.stderr));
+}
+
+#[test]
+fn convert_round_trips_through_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("door.csv");
+    let back = dir.path().join("door.traces");
+    let o = synth(&[
+        "convert",
+        "--traces",
+        &data("door.traces"),
+        "--to",
+        "csv",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = synth(&[
+        "convert",
+        "--traces",
+        csv.to_str().unwrap(),
+        "--to",
+        "fbsat",
+        "-o",
+        back.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let original = std::fs::read_to_string(data("door.traces")).unwrap();
+    // Sampled logs cannot tell a repeated row from a held one: seed 000's rule 1 collapses the
+    // passive repeat of 10/11 in scenario 2. Everything else survives.
+    let expected = original.replace(
+        "out=CNF[11]; in=REQ[10]; in=REQ[01]",
+        "out=CNF[11]; in=REQ[01]",
+    );
+    assert_ne!(expected, original);
+    assert_eq!(std::fs::read_to_string(&back).unwrap(), expected);
+}
+
+#[test]
+fn help_documents_exit_codes() {
+    let o = synth(&["--help"]);
+    assert!(o.status.success());
+    assert!(text(&o.stdout).contains("70  internal error"));
+}
