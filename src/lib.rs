@@ -7,6 +7,8 @@
 //! - [`sat`]: exact synthesis with varisat;
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz;
 //! - [`smv`]: SMV emission of an ECC and of the closed loop;
+//! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`cli`]: the `synth` command line.
 
 pub mod ecc;
+pub mod nusmv;
