@@ -14,8 +14,70 @@
 //! This module knows nothing about SAT synthesis: the CEGIS loop that joins both lives
 //! elsewhere.
 
+pub mod locate;
 pub mod output;
 
+pub use locate::locate;
 pub use output::{
     parse_errors, parse_output, ModelError, OutputParseError, PropertyResult, Trace, Verdict,
 };
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong between asking NuSMV for verdicts and getting them.
+#[derive(Debug, thiserror::Error)]
+pub enum NusmvError {
+    /// No NuSMV binary anywhere we look; `hint` says how to get one.
+    #[error("NuSMV not found: {hint}")]
+    NotFound { hint: String },
+    /// The binary named by `--nusmv` or `$NUSMV` does not exist.
+    #[error("NuSMV binary `{}` (from --nusmv or NUSMV) does not exist", .0.display())]
+    ExplicitPathMissing(PathBuf),
+    /// NuSMV ran longer than the configured timeout on `model`; the process was killed.
+    #[error("NuSMV ran longer than {seconds} s on `{}` and was killed", model.display())]
+    Timeout { seconds: f64, model: PathBuf },
+    /// NuSMV rejected the model; each error carries the file and line NuSMV reported.
+    #[error("NuSMV rejected the model: {}", describe_model_errors(.0))]
+    Model(Vec<ModelError>),
+    /// NuSMV failed without saying where: `status` tells how it ended, `stderr_tail` holds
+    /// the last lines it printed on stderr.
+    #[error("NuSMV failed ({status}): {stderr_tail}")]
+    Crashed { status: String, stderr_tail: String },
+    /// A model path NuSMV's interactive shell would mangle (`!` and `%` trigger its history
+    /// expansion, `#` starts a comment, `"` ends the quoting).
+    #[error("model path `{}` contains a character NuSMV's shell cannot take (one of ! % # \" \\ or a control character)", .0.display())]
+    UnsafePath(PathBuf),
+    /// Starting NuSMV, talking to it, or reading the model file failed.
+    #[error("running NuSMV: {0}")]
+    Io(#[from] std::io::Error),
+    /// NuSMV printed something the output parser does not understand.
+    #[error("unexpected NuSMV output: {0}")]
+    Output(#[from] OutputParseError),
+}
+
+fn describe_model_errors(errors: &[ModelError]) -> String {
+    match errors {
+        [] => "no error line".to_string(),
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!("{first} (and {} more)", rest.len()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn model_error_message_names_the_first_position_and_counts_the_rest() {
+        let err = |line| ModelError {
+            file: "m.smv".into(),
+            line,
+            message: "syntax error".into(),
+        };
+        let e = NusmvError::Model(vec![err(3), err(9)]);
+        assert_eq!(
+            e.to_string(),
+            "NuSMV rejected the model: m.smv:3: syntax error (and 1 more)"
+        );
+    }
+}
