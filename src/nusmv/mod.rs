@@ -14,9 +14,11 @@
 //! This module knows nothing about SAT synthesis: the CEGIS loop that joins both lives
 //! elsewhere.
 
+pub mod driver;
 pub mod locate;
 pub mod output;
 
+pub use driver::{kill_all_children, CheckMode, Nusmv, Session};
 pub use locate::locate;
 pub use output::{
     parse_errors, parse_output, ModelError, OutputParseError, PropertyResult, Trace, Verdict,
@@ -61,6 +63,32 @@ fn describe_model_errors(errors: &[ModelError]) -> String {
         [one] => one.to_string(),
         [first, rest @ ..] => format!("{first} (and {} more)", rest.len()),
     }
+}
+
+/// Finding NuSMV for tests, the same way in unit and integration tests.
+pub mod test_support {
+    use super::{locate, Nusmv};
+
+    /// The located NuSMV, or `None` after printing a skip note. Under `CI=true` a missing
+    /// NuSMV panics instead: CI installs it, so a skip there would hide a broken install.
+    pub fn nusmv_or_skip() -> Option<Nusmv> {
+        match locate(None) {
+            Ok(path) => Some(Nusmv::new(path)),
+            Err(e) if std::env::var("CI").as_deref() == Ok("true") => {
+                panic!("NuSMV is required when CI=true, but: {e}")
+            }
+            Err(e) => {
+                eprintln!("skipping NuSMV test: {e}");
+                None
+            }
+        }
+    }
+}
+
+/// See [`test_support::nusmv_or_skip`].
+#[cfg(test)]
+pub(crate) fn nusmv_for_tests() -> Option<Nusmv> {
+    test_support::nusmv_or_skip()
 }
 
 #[cfg(test)]
