@@ -48,8 +48,7 @@ impl Nusmv {
     /// Checks every LTL property of `model` in a fresh batch process, with traces for every
     /// violated one.
     pub fn check_file(&self, model: &Path) -> Result<Vec<PropertyResult>, NusmvError> {
-        // NuSMV reports a missing file with a confusing line number; say it plainly.
-        std::fs::metadata(model)?;
+        model_exists(model)?;
         let deadline = Instant::now() + self.timeout;
         let mut command = Command::new(&self.path);
         // -dynamic: dynamic BDD variable reordering, measured ~40% faster on closed loops.
@@ -158,7 +157,7 @@ impl Session {
         model: &Path,
         mode: CheckMode,
     ) -> Result<Vec<PropertyResult>, NusmvError> {
-        std::fs::metadata(model)?;
+        model_exists(model)?;
         let quoted = shell_quoted(model)?;
         // Restart between models only: the trace pass needs the model the verdict pass read.
         if self.models_in_process >= self.restart_every {
@@ -449,6 +448,13 @@ fn marker_in(line: &str) -> Option<(&str, u64)> {
     let end = digits.find("==")?;
     let marker = digits[..end].parse().ok()?;
     Some((&line[..at], marker))
+}
+
+/// NuSMV reports a missing model with a misleading line number; say it plainly instead.
+fn model_exists(model: &Path) -> io::Result<()> {
+    std::fs::metadata(model)
+        .map(drop)
+        .map_err(|e| io::Error::new(e.kind(), format!("model `{}`: {e}", model.display())))
 }
 
 /// `model` in double quotes for NuSMV's command shell, or an error for paths it would mangle.
@@ -752,6 +758,66 @@ mod tests {
             session.check(&missing, CheckMode::VerdictsOnly),
             Err(NusmvError::Io(_))
         ));
+    }
+
+    /// Run in a child test process by `ctrl_c_kills_nusmv_and_exits_130`: starts a session,
+    /// prints its NuSMV's pid and keeps it checking a long model until the signal comes.
+    /// Does nothing in a normal test run.
+    #[test]
+    fn ctrl_c_helper() {
+        if std::env::var_os(CTRL_C_HELPER).is_none() {
+            return;
+        }
+        let nusmv = nusmv_for_tests().expect("the parent test found NuSMV");
+        let mut session = nusmv.session();
+        session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        println!("nusmv-pid {}", session.pid().unwrap());
+        // Keep NuSMV busy: were it left alive, it would go on for minutes instead of
+        // stopping at the end of its stdin.
+        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        panic!("no Ctrl-C came: {result:?}");
+    }
+
+    const CTRL_C_HELPER: &str = "FBSYNTH_CTRL_C_HELPER";
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn ctrl_c_kills_nusmv_and_exits_130() {
+        if nusmv_for_tests().is_none() {
+            return;
+        }
+        let mut helper = Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "nusmv::driver::tests::ctrl_c_helper",
+                "--nocapture",
+            ])
+            .args(["--test-threads", "1"])
+            .env(CTRL_C_HELPER, "1")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(helper.stdout.take().unwrap()).lines();
+        let nusmv_pid: u32 = lines
+            // libtest prints `test ... ... ` before the helper's own text on the same line.
+            .find_map(|line| line.ok()?.split("nusmv-pid ").nth(1)?.trim().parse().ok())
+            .expect("the helper prints its NuSMV pid");
+        assert!(process_exists(nusmv_pid));
+        let sent = Command::new("sh")
+            .arg("-c")
+            .arg(format!("kill -INT {}", helper.id()))
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let status = helper.wait().unwrap();
+        assert_eq!(status.code(), Some(130));
+        assert!(
+            !process_exists(nusmv_pid),
+            "NuSMV {nusmv_pid} outlived the Ctrl-C"
+        );
     }
 
     /// A process that is gone from the process table was reaped: a zombie would still be
