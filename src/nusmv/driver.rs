@@ -51,7 +51,7 @@ impl Nusmv {
         model_exists(model)?;
         let deadline = Instant::now() + self.timeout;
         let mut command = Command::new(&self.path);
-        // -dynamic: dynamic BDD variable reordering, measured ~40% faster on closed loops.
+        // -dynamic (dynamic BDD variable reordering) took ~40% off a plant + controller check.
         command.arg("-dynamic").arg(model);
         let mut child = Tracked::spawn(command)?;
         // Batch NuSMV reads no commands: give it end-of-file at once.
@@ -68,7 +68,7 @@ impl Nusmv {
                 Ok((Stream::Out, text)) => out = Some(text),
                 Ok((Stream::Err, text)) => err = Some(text),
                 Err(RecvTimeoutError::Timeout) => {
-                    child.kill_and_reap();
+                    let _ = child.kill_and_reap();
                     return Err(timeout(self.timeout, model));
                 }
                 Err(RecvTimeoutError::Disconnected) => {
@@ -326,7 +326,8 @@ impl Session {
                 Err(_) => break,
             }
         }
-        let status = match process.child.reap() {
+        // Killing first: a process that closed its stdout but lingers must not hang us.
+        let status = match process.child.kill_and_reap() {
             Ok(status) => status.to_string(),
             Err(e) => format!("could not be reaped: {e}"),
         };
@@ -487,8 +488,8 @@ fn tail(text: &str) -> String {
 // ---------------------------------------------------------------------------------------
 // The registry of running children.
 
-/// Every child not yet reaped, by registration number. A child is removed before it is
-/// reaped, so the Ctrl-C handler never signals a process id the system may have reused.
+/// Every child not yet reaped, by registration number. Signals go through `Child`, which
+/// remembers that it was reaped and then sends none, so a reused process id is never hit.
 static CHILDREN: Mutex<BTreeMap<u64, Arc<Mutex<Child>>>> = Mutex::new(BTreeMap::new());
 static NEXT_CHILD: AtomicU64 = AtomicU64::new(0);
 static CTRL_C: Once = Once::new();
@@ -568,12 +569,14 @@ impl Tracked {
         }
     }
 
-    fn kill_and_reap(&mut self) {
+    /// Kills the child unless it has exited already, and reaps it; the status tells which.
+    fn kill_and_reap(&mut self) -> io::Result<ExitStatus> {
         let mut child = self.lock();
         let _ = child.kill();
-        let _ = child.wait();
+        let status = child.wait();
         drop(child);
         self.unregister();
+        status
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, Child> {
@@ -593,7 +596,7 @@ impl Drop for Tracked {
         // Closing stdin first lets a well-behaved process end on its own; it is killed
         // anyway, and reaped, so no zombie is left behind.
         self.stdin.take();
-        self.kill_and_reap();
+        let _ = self.kill_and_reap();
     }
 }
 
