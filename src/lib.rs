@@ -9,12 +9,14 @@
 //!   exported name obeys;
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, and writing them all
 //!   (including the SMV module) to files;
+//! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`cli`]: the `synth` command line.
 
 pub mod cli;
 pub mod ecc;
 pub mod export;
 pub mod files;
+pub mod nusmv;
 pub mod sat;
 pub mod scenario;
 pub mod smv;

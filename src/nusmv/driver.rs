@@ -1,0 +1,946 @@
+//! Running NuSMV processes.
+//!
+//! In: the path of a NuSMV binary and SMV model files. Out: parsed [`PropertyResult`]s, or a
+//! [`NusmvError`] saying why there are none.
+//!
+//! Two ways to run it:
+//! - [`Nusmv::check_file`]: one batch process per model (`NuSMV -dynamic model.smv`); simple,
+//!   and what a user would run by hand.
+//! - [`Session`]: one `NuSMV -int` process fed model after model on stdin; it saves the
+//!   process start and, with the `EL_fwd` emptiness algorithm, most of the checking time.
+//!
+//! Every child is kept in a process-wide registry until it has been reaped, so that Ctrl-C
+//! (or [`kill_all_children`]) can kill them all: NuSMV in `-int` mode catches SIGINT itself
+//! and would otherwise outlive us.
+
+use super::output::{parse_errors, parse_output, PropertyResult, Verdict};
+use super::NusmvError;
+use std::collections::BTreeMap;
+use std::io::{self, BufRead, BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+use std::sync::{Arc, Mutex, Once};
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// A NuSMV binary and how long one model may take.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Nusmv {
+    pub path: PathBuf,
+    /// Wall-clock limit per model; the process is killed when it is exceeded.
+    pub timeout: Duration,
+}
+
+impl Nusmv {
+    /// The timeout [`Nusmv::new`] sets.
+    pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
+
+    /// The binary at `path` with [`Nusmv::DEFAULT_TIMEOUT`].
+    pub fn new(path: PathBuf) -> Nusmv {
+        Nusmv {
+            path,
+            timeout: Self::DEFAULT_TIMEOUT,
+        }
+    }
+
+    /// Checks every LTL property of `model` in a fresh batch process, with traces for every
+    /// violated one.
+    pub fn check_file(&self, model: &Path) -> Result<Vec<PropertyResult>, NusmvError> {
+        model_exists(model)?;
+        let deadline = Instant::now() + self.timeout;
+        let mut command = Command::new(&self.path);
+        // -dynamic (dynamic BDD variable reordering) took ~40% off a plant + controller check.
+        command.arg("-dynamic").arg(model);
+        let mut child = Tracked::spawn(command)?;
+        // Batch NuSMV reads no commands: give it end-of-file at once.
+        child.stdin.take();
+        let (tx, rx) = mpsc::channel();
+        let stdout = child.stdout.take().expect("stdout is piped");
+        let stderr = child.stderr.take().expect("stderr is piped");
+        read_all_on_thread(Stream::Out, stdout, tx.clone());
+        read_all_on_thread(Stream::Err, stderr, tx);
+        let mut out = None;
+        let mut err = None;
+        while out.is_none() || err.is_none() {
+            match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+                Ok((Stream::Out, text)) => out = Some(text),
+                Ok((Stream::Err, text)) => err = Some(text),
+                Err(RecvTimeoutError::Timeout) => {
+                    let _ = child.kill_and_reap();
+                    return Err(timeout(self.timeout, model));
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    unreachable!("both reader threads send before they end")
+                }
+            }
+        }
+        let (out, err) = (out.unwrap_or_default(), err.unwrap_or_default());
+        let status = child.reap()?;
+        if !status.success() {
+            let errors = parse_errors(&err);
+            if !errors.is_empty() {
+                return Err(NusmvError::Model(errors));
+            }
+            return Err(NusmvError::Crashed {
+                status: status.to_string(),
+                stderr_tail: tail(&err),
+            });
+        }
+        Ok(parse_output(&out)?)
+    }
+
+    /// A [`Session`] running this binary with this timeout.
+    pub fn session(&self) -> Session {
+        Session::new(self.clone())
+    }
+}
+
+/// What a [`Session`] computes for each model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CheckMode {
+    /// Verdicts of every property, no traces (fast `EL_fwd` emptiness check).
+    VerdictsOnly,
+    /// Verdicts as with `VerdictsOnly`, plus the trace of the first violated property
+    /// (re-checked with `EL_bwd`, the algorithm that can print traces).
+    FirstCounterexample,
+}
+
+/// A long-lived `NuSMV -int` process checking one model after another.
+///
+/// Per model it sends `reset`, `read_model -i F`, `go`, the checks, and an `echo` marker on
+/// stdout and on stderr, and cuts both streams at the markers. Errors in one model leave the
+/// session usable for the next; a timeout or crash kills the process and the next
+/// [`Session::check`] starts a new one. The process is also restarted every
+/// [`Session::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
+pub struct Session {
+    nusmv: Nusmv,
+    process: Option<SessionProcess>,
+    models_in_process: usize,
+    restart_every: usize,
+    next_marker: u64,
+}
+
+/// Text NuSMV echoes after a model's commands; a number follows, then `==`.
+const MARKER: &str = "==fbsynth-end-";
+
+impl Session {
+    /// Models checked by one process before it is replaced by a fresh one.
+    pub const DEFAULT_RESTART_EVERY: usize = 2000;
+
+    /// A session; the process starts with the first [`Session::check`].
+    pub fn new(nusmv: Nusmv) -> Session {
+        Session {
+            nusmv,
+            process: None,
+            models_in_process: 0,
+            restart_every: Self::DEFAULT_RESTART_EVERY,
+            next_marker: 0,
+        }
+    }
+
+    /// Replaces the process after `models` models (at least 1).
+    pub fn set_restart_every(&mut self, models: usize) {
+        self.restart_every = models.max(1);
+    }
+
+    /// The process id of the running NuSMV, if one is running.
+    pub fn pid(&self) -> Option<u32> {
+        self.process.as_ref().map(|p| p.child.id)
+    }
+
+    /// Checks the LTL properties of `model`. Results come in file order; see [`CheckMode`]
+    /// for which carry traces.
+    pub fn check(
+        &mut self,
+        model: &Path,
+        mode: CheckMode,
+    ) -> Result<Vec<PropertyResult>, NusmvError> {
+        model_exists(model)?;
+        let quoted = shell_quoted(model)?;
+        // Restart between models only: the trace pass needs the model the verdict pass read.
+        if self.models_in_process >= self.restart_every {
+            self.process = None;
+        }
+        self.ensure_process()?;
+        self.models_in_process += 1;
+        let deadline = Instant::now() + self.nusmv.timeout;
+        let (out, err) = self.run(
+            &format!(
+                "reset\nread_model -i {quoted}\ngo\n\
+                 set oreg_justice_emptiness_bdd_algorithm EL_fwd\ncheck_ltlspec\n"
+            ),
+            deadline,
+            model,
+        )?;
+        let errors = parse_errors(&err);
+        if !errors.is_empty() {
+            return Err(NusmvError::Model(errors));
+        }
+        let mut results = parse_output(&out)?;
+        if results.is_empty() && !err.trim().is_empty() {
+            // Nothing positioned, yet NuSMV complained and checked nothing.
+            return Err(NusmvError::Crashed {
+                status: "no verdicts from the NuSMV session".to_string(),
+                stderr_tail: tail(&err),
+            });
+        }
+        if mode == CheckMode::FirstCounterexample {
+            self.add_first_trace(&mut results, deadline, model)?;
+        }
+        Ok(results)
+    }
+
+    /// Re-checks violated properties in order with `EL_bwd` until one yields a trace.
+    ///
+    /// NuSMV skips properties whose status is already known, so the property is checked
+    /// again as a new one, given by NuSMV's own reprint of it (`check_ltlspec -p`).
+    fn add_first_trace(
+        &mut self,
+        results: &mut [PropertyResult],
+        deadline: Instant,
+        model: &Path,
+    ) -> Result<(), NusmvError> {
+        for result in results.iter_mut() {
+            if result.verdict != Verdict::Violated(None) || result.formula.contains('"') {
+                continue;
+            }
+            let (out, err) = self.run(
+                &format!(
+                    "set oreg_justice_emptiness_bdd_algorithm EL_bwd\n\
+                     check_ltlspec -p \"{}\"\n",
+                    result.formula
+                ),
+                deadline,
+                model,
+            )?;
+            let errors = parse_errors(&err);
+            if !errors.is_empty() {
+                return Err(NusmvError::Model(errors));
+            }
+            let again = parse_output(&out)?;
+            let [recheck] = &again[..] else {
+                return Err(NusmvError::Crashed {
+                    status: format!(
+                        "{} verdicts when re-checking `{}`",
+                        again.len(),
+                        result.formula
+                    ),
+                    stderr_tail: tail(&err),
+                });
+            };
+            // EL_bwd is NuSMV's reference algorithm: its verdict replaces EL_fwd's.
+            result.verdict = recheck.verdict.clone();
+            if matches!(result.verdict, Verdict::Violated(Some(_))) {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sends `commands` followed by the markers and returns the stdout and stderr text
+    /// printed before them.
+    fn run(
+        &mut self,
+        commands: &str,
+        deadline: Instant,
+        model: &Path,
+    ) -> Result<(String, String), NusmvError> {
+        self.ensure_process()?;
+        self.next_marker += 1;
+        let marker = self.next_marker;
+        let process = self.process.as_mut().expect("started above");
+        let script = format!("{commands}echo {MARKER}{marker}==\necho -2 {MARKER}{marker}==\n");
+        let sent = process
+            .stdin
+            .write_all(script.as_bytes())
+            .and_then(|()| process.stdin.flush());
+        if sent.is_err() {
+            return Err(self.crashed());
+        }
+        let mut out = None;
+        let mut err = None;
+        while out.is_none() || err.is_none() {
+            let process = self.process.as_mut().expect("set until a failure returns");
+            match process
+                .events
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            {
+                Ok(Event::Chunk {
+                    stream,
+                    marker: m,
+                    text,
+                }) if m == marker => match stream {
+                    Stream::Out => out = Some(text),
+                    Stream::Err => err = Some(text),
+                },
+                // A leftover of an earlier model cannot happen (each failure replaces the
+                // process), but it would be harmless to skip.
+                Ok(Event::Chunk { .. }) => {}
+                Ok(Event::Closed { stream, rest }) => {
+                    process.closed(stream, rest);
+                    return Err(self.crashed());
+                }
+                Err(RecvTimeoutError::Timeout) => {
+                    // Dropping the process kills and reaps it.
+                    self.process = None;
+                    return Err(timeout(self.nusmv.timeout, model));
+                }
+                Err(RecvTimeoutError::Disconnected) => return Err(self.crashed()),
+            }
+        }
+        Ok((out.unwrap_or_default(), err.unwrap_or_default()))
+    }
+
+    fn ensure_process(&mut self) -> Result<(), NusmvError> {
+        if self.process.is_none() {
+            self.process = Some(SessionProcess::start(&self.nusmv.path)?);
+            self.models_in_process = 0;
+        }
+        Ok(())
+    }
+
+    /// The process died: reap it and report how, with what it last said on stderr.
+    fn crashed(&mut self) -> NusmvError {
+        let Some(mut process) = self.process.take() else {
+            return NusmvError::Crashed {
+                status: "no process".to_string(),
+                stderr_tail: String::new(),
+            };
+        };
+        // Give the stderr reader a moment to deliver the last words.
+        let grace = Instant::now() + Duration::from_secs(1);
+        while !process.stderr_closed {
+            match process
+                .events
+                .recv_timeout(grace.saturating_duration_since(Instant::now()))
+            {
+                Ok(Event::Chunk {
+                    stream: Stream::Err,
+                    text,
+                    ..
+                }) => process.stderr_text.push_str(&text),
+                Ok(Event::Closed { stream, rest }) => process.closed(stream, rest),
+                Ok(_) => {}
+                Err(_) => break,
+            }
+        }
+        // Killing first: a process that closed its stdout but lingers must not hang us.
+        let status = match process.child.kill_and_reap() {
+            Ok(status) => status.to_string(),
+            Err(e) => format!("could not be reaped: {e}"),
+        };
+        NusmvError::Crashed {
+            status,
+            stderr_tail: tail(&process.stderr_text),
+        }
+    }
+}
+
+/// The running `NuSMV -int` of a [`Session`]. Dropping it kills and reaps the process.
+struct SessionProcess {
+    child: Tracked,
+    stdin: ChildStdin,
+    events: Receiver<Event>,
+    /// stderr text that came after the last marker, kept for crash reports.
+    stderr_text: String,
+    stderr_closed: bool,
+}
+
+impl SessionProcess {
+    fn start(binary: &Path) -> Result<SessionProcess, NusmvError> {
+        let mut command = Command::new(binary);
+        command.arg("-int");
+        let mut child = Tracked::spawn(command)?;
+        let stdin = child.stdin.take().expect("stdin is piped");
+        let (tx, events) = mpsc::channel();
+        read_chunks_on_thread(Stream::Out, child.stdout.take().expect("piped"), tx.clone());
+        read_chunks_on_thread(Stream::Err, child.stderr.take().expect("piped"), tx);
+        Ok(SessionProcess {
+            child,
+            stdin,
+            events,
+            stderr_text: String::new(),
+            stderr_closed: false,
+        })
+    }
+
+    fn closed(&mut self, stream: Stream, rest: String) {
+        if stream == Stream::Err {
+            self.stderr_text.push_str(&rest);
+            self.stderr_closed = true;
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stream {
+    Out,
+    Err,
+}
+
+/// What a session's reader thread reports.
+enum Event {
+    /// The text before the marker numbered `marker` (since the previous marker).
+    Chunk {
+        stream: Stream,
+        marker: u64,
+        text: String,
+    },
+    /// End of the stream; `rest` is what came after the last marker.
+    Closed { stream: Stream, rest: String },
+}
+
+/// Reads a whole stream on a thread and sends it once, at its end.
+fn read_all_on_thread(
+    stream: Stream,
+    mut pipe: impl Read + Send + 'static,
+    tx: Sender<(Stream, String)>,
+) {
+    thread::spawn(move || {
+        let mut bytes = Vec::new();
+        // A read error ends the output early; the caller then sees a truncated text and
+        // the exit status, which says more than the read error would.
+        let _ = pipe.read_to_end(&mut bytes);
+        let _ = tx.send((stream, String::from_utf8_lossy(&bytes).into_owned()));
+    });
+}
+
+/// Reads a session stream line by line on a thread, sending the text between markers.
+fn read_chunks_on_thread(stream: Stream, pipe: impl Read + Send + 'static, tx: Sender<Event>) {
+    thread::spawn(move || {
+        let mut reader = BufReader::new(pipe);
+        let mut text = String::new();
+        let mut line = Vec::new();
+        loop {
+            line.clear();
+            match reader.read_until(b'\n', &mut line) {
+                Ok(0) | Err(_) => break,
+                Ok(_) => {}
+            }
+            let line = String::from_utf8_lossy(&line);
+            match marker_in(&line) {
+                Some((before, marker)) => {
+                    text.push_str(before);
+                    let chunk = std::mem::take(&mut text);
+                    if tx
+                        .send(Event::Chunk {
+                            stream,
+                            marker,
+                            text: chunk,
+                        })
+                        .is_err()
+                    {
+                        return;
+                    }
+                }
+                None => text.push_str(&line),
+            }
+        }
+        let _ = tx.send(Event::Closed { stream, rest: text });
+    });
+}
+
+/// Finds `==fbsynth-end-N==` in a line: the text before it (prompts) and `N`.
+fn marker_in(line: &str) -> Option<(&str, u64)> {
+    let at = line.find(MARKER)?;
+    let digits = &line[at + MARKER.len()..];
+    let end = digits.find("==")?;
+    let marker = digits[..end].parse().ok()?;
+    Some((&line[..at], marker))
+}
+
+/// NuSMV reports a missing model with a misleading line number; say it plainly instead.
+fn model_exists(model: &Path) -> io::Result<()> {
+    std::fs::metadata(model)
+        .map(drop)
+        .map_err(|e| io::Error::new(e.kind(), format!("model `{}`: {e}", model.display())))
+}
+
+/// `model` in double quotes for NuSMV's command shell, or an error for paths it would mangle.
+fn shell_quoted(model: &Path) -> Result<String, NusmvError> {
+    let unsafe_path = || NusmvError::UnsafePath(model.to_path_buf());
+    let text = model.to_str().ok_or_else(unsafe_path)?;
+    if text
+        .chars()
+        .any(|c| matches!(c, '!' | '%' | '#' | '"' | '\\') || c.is_control())
+    {
+        return Err(unsafe_path());
+    }
+    Ok(format!("\"{text}\""))
+}
+
+fn timeout(limit: Duration, model: &Path) -> NusmvError {
+    NusmvError::Timeout {
+        seconds: limit.as_secs_f64(),
+        model: model.to_path_buf(),
+    }
+}
+
+/// The last lines of a stderr text, enough to see why a process failed.
+fn tail(text: &str) -> String {
+    const LINES: usize = 12;
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    lines[lines.len().saturating_sub(LINES)..].join("\n")
+}
+
+// ---------------------------------------------------------------------------------------
+// The registry of running children.
+
+/// Every child not yet reaped, by registration number. Signals go through `Child`, which
+/// remembers that it was reaped and then sends none, so a reused process id is never hit.
+static CHILDREN: Mutex<BTreeMap<u64, Arc<Mutex<Child>>>> = Mutex::new(BTreeMap::new());
+static NEXT_CHILD: AtomicU64 = AtomicU64::new(0);
+static CTRL_C: Once = Once::new();
+
+/// Kills every NuSMV process this program started and has not reaped yet.
+///
+/// The Ctrl-C handler installed with the first child calls this and exits with status 130.
+/// A program that installs its own Ctrl-C handler first (ours then cannot be installed)
+/// must call this from it.
+pub fn kill_all_children() {
+    let children = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
+    for child in children.values() {
+        let mut child = child.lock().unwrap_or_else(|e| e.into_inner());
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+}
+
+fn install_ctrl_c_handler() {
+    CTRL_C.call_once(|| {
+        // Fails only when the program has a handler already; see kill_all_children.
+        let _ = ctrlc::set_handler(|| {
+            kill_all_children();
+            std::process::exit(130);
+        });
+    });
+}
+
+/// A registered child process: killed and reaped when dropped.
+struct Tracked {
+    key: u64,
+    id: u32,
+    child: Arc<Mutex<Child>>,
+    stdin: Option<ChildStdin>,
+    stdout: Option<std::process::ChildStdout>,
+    stderr: Option<std::process::ChildStderr>,
+}
+
+impl Tracked {
+    /// Spawns `command` with all three streams piped and registers it.
+    fn spawn(mut command: Command) -> io::Result<Tracked> {
+        install_ctrl_c_handler();
+        command
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        let mut registry = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
+        // Spawning under the lock: a Ctrl-C in between cannot miss the new child.
+        let mut child = command.spawn()?;
+        let key = NEXT_CHILD.fetch_add(1, Ordering::Relaxed);
+        let (stdin, stdout, stderr) =
+            (child.stdin.take(), child.stdout.take(), child.stderr.take());
+        let id = child.id();
+        let child = Arc::new(Mutex::new(child));
+        registry.insert(key, Arc::clone(&child));
+        Ok(Tracked {
+            key,
+            id,
+            child,
+            stdin,
+            stdout,
+            stderr,
+        })
+    }
+
+    /// Waits for the child to exit. Polls, so that the child's lock is never held while
+    /// blocking and the Ctrl-C handler can always get it.
+    fn reap(&mut self) -> io::Result<ExitStatus> {
+        let mut pause = Duration::from_micros(100);
+        loop {
+            if let Some(status) = self.lock().try_wait()? {
+                self.unregister();
+                return Ok(status);
+            }
+            thread::sleep(pause);
+            pause = (pause * 2).min(Duration::from_millis(10));
+        }
+    }
+
+    /// Kills the child unless it has exited already, and reaps it; the status tells which.
+    fn kill_and_reap(&mut self) -> io::Result<ExitStatus> {
+        let mut child = self.lock();
+        let _ = child.kill();
+        let status = child.wait();
+        drop(child);
+        self.unregister();
+        status
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Child> {
+        self.child.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn unregister(&self) {
+        CHILDREN
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(&self.key);
+    }
+}
+
+impl Drop for Tracked {
+    fn drop(&mut self) {
+        // Closing stdin first lets a well-behaved process end on its own; it is killed
+        // anyway, and reaped, so no zombie is left behind.
+        self.stdin.take();
+        let _ = self.kill_and_reap();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nusmv::nusmv_for_tests;
+
+    fn data(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/nusmv")
+            .join(name)
+    }
+
+    fn holds(results: &[PropertyResult]) -> Vec<(String, bool)> {
+        results
+            .iter()
+            .map(|r| (r.formula.clone(), r.verdict == Verdict::Holds))
+            .collect()
+    }
+
+    #[test]
+    fn marker_lines_are_recognised_after_prompts() {
+        assert_eq!(
+            marker_in("NuSMV > NuSMV > ==fbsynth-end-42== \n"),
+            Some(("NuSMV > NuSMV > ", 42))
+        );
+        assert_eq!(marker_in("-- specification  G x  is true\n"), None);
+    }
+
+    #[test]
+    fn unsafe_paths_are_refused() {
+        assert!(shell_quoted(Path::new("/tmp/a b;c.smv")).is_ok());
+        for bad in [
+            "/tmp/a!b.smv",
+            "/tmp/50%.smv",
+            "/tmp/#1.smv",
+            "/tmp/\"q\".smv",
+        ] {
+            assert!(
+                matches!(shell_quoted(Path::new(bad)), Err(NusmvError::UnsafePath(_))),
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn tail_keeps_the_last_nonblank_lines() {
+        let text: String = (1..=20).map(|i| format!("l{i}\n\n")).collect();
+        assert_eq!(tail(&text).lines().count(), 12);
+        assert!(tail(&text).ends_with("l20"));
+    }
+
+    #[test]
+    fn batch_and_session_verdicts_agree() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let mut session = nusmv.session();
+        for model in ["cylinder.smv", "light.smv"] {
+            let batch = nusmv.check_file(&data(model)).unwrap();
+            let fast = session
+                .check(&data(model), CheckMode::VerdictsOnly)
+                .unwrap();
+            let traced = session
+                .check(&data(model), CheckMode::FirstCounterexample)
+                .unwrap();
+            assert_eq!(holds(&batch), holds(&fast), "{model}");
+            assert_eq!(holds(&batch), holds(&traced), "{model}");
+            assert!(fast
+                .iter()
+                .all(|r| matches!(r.verdict, Verdict::Holds | Verdict::Violated(None))));
+            assert!(batch
+                .iter()
+                .all(|r| matches!(r.verdict, Verdict::Holds | Verdict::Violated(Some(_)))));
+            // The first violated property, and only it, has its trace.
+            let first = traced
+                .iter()
+                .position(|r| r.verdict != Verdict::Holds)
+                .unwrap();
+            for (i, r) in traced.iter().enumerate() {
+                let has_trace =
+                    matches!(&r.verdict, Verdict::Violated(Some(t)) if !t.loop_starts.is_empty());
+                assert_eq!(has_trace, i == first, "{model} property {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn batch_reports_model_errors_with_their_line() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let Err(NusmvError::Model(errors)) = nusmv.check_file(&data("err_case.smv")) else {
+            panic!("err_case.smv must be rejected");
+        };
+        assert_eq!(errors.len(), 1);
+        assert!(errors[0].file.ends_with("err_case.smv"));
+        assert_eq!(errors[0].line, 10);
+        assert_eq!(errors[0].message, "case conditions are not exhaustive");
+    }
+
+    #[test]
+    fn session_survives_a_model_error() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let mut session = nusmv.session();
+        let first = session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        let pid = session.pid();
+        for (model, line) in [
+            ("err_syntax.smv", 5),
+            ("err_undefined.smv", 8),
+            ("err_assign.smv", 7),
+        ] {
+            match session.check(&data(model), CheckMode::FirstCounterexample) {
+                Err(NusmvError::Model(errors)) => {
+                    assert!(errors[0].file.ends_with(model), "{errors:?}");
+                    assert_eq!(errors[0].line, line, "{model}");
+                }
+                other => panic!("{model}: expected a model error, got {other:?}"),
+            }
+        }
+        let again = session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        assert_eq!(holds(&first), holds(&again));
+        assert_eq!(session.pid(), pid, "errors must not restart the process");
+    }
+
+    #[test]
+    fn session_restarts_after_the_configured_number_of_models() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let mut session = nusmv.session();
+        session.set_restart_every(2);
+        let mut pids = Vec::new();
+        for _ in 0..3 {
+            // Each model takes two rounds with the process; it must not be replaced between.
+            let results = session
+                .check(&data("light.smv"), CheckMode::FirstCounterexample)
+                .unwrap();
+            assert!(matches!(results[1].verdict, Verdict::Violated(Some(_))));
+            pids.push(session.pid().unwrap());
+        }
+        assert_eq!(pids[0], pids[1]);
+        assert_ne!(pids[1], pids[2]);
+    }
+
+    #[test]
+    fn missing_model_file_is_an_io_error() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let missing = data("no_such_model.smv");
+        assert!(matches!(nusmv.check_file(&missing), Err(NusmvError::Io(_))));
+        let mut session = nusmv.session();
+        assert!(matches!(
+            session.check(&missing, CheckMode::VerdictsOnly),
+            Err(NusmvError::Io(_))
+        ));
+    }
+
+    /// Run in a child test process by `ctrl_c_kills_nusmv_and_exits_130`: starts a session,
+    /// prints its NuSMV's pid and keeps it checking a long model until the signal comes.
+    /// Does nothing in a normal test run.
+    #[test]
+    fn ctrl_c_helper() {
+        if std::env::var_os(CTRL_C_HELPER).is_none() {
+            return;
+        }
+        let nusmv = nusmv_for_tests().expect("the parent test found NuSMV");
+        let mut session = nusmv.session();
+        session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        println!("nusmv-pid {}", session.pid().unwrap());
+        // Keep NuSMV busy: were it left alive, it would go on for minutes instead of
+        // stopping at the end of its stdin.
+        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        panic!("no Ctrl-C came: {result:?}");
+    }
+
+    const CTRL_C_HELPER: &str = "FBSYNTH_CTRL_C_HELPER";
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn ctrl_c_kills_nusmv_and_exits_130() {
+        if nusmv_for_tests().is_none() {
+            return;
+        }
+        let mut helper = Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "nusmv::driver::tests::ctrl_c_helper",
+                "--nocapture",
+            ])
+            .args(["--test-threads", "1"])
+            .env(CTRL_C_HELPER, "1")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(helper.stdout.take().unwrap()).lines();
+        let nusmv_pid: u32 = lines
+            // libtest prints `test ... ... ` before the helper's own text on the same line.
+            .find_map(|line| line.ok()?.split("nusmv-pid ").nth(1)?.trim().parse().ok())
+            .expect("the helper prints its NuSMV pid");
+        assert!(process_exists(nusmv_pid));
+        let sent = Command::new("sh")
+            .arg("-c")
+            .arg(format!("kill -INT {}", helper.id()))
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let status = helper.wait().unwrap();
+        assert_eq!(status.code(), Some(130));
+        assert!(
+            !process_exists(nusmv_pid),
+            "NuSMV {nusmv_pid} outlived the Ctrl-C"
+        );
+    }
+
+    /// A process that is gone from the process table was reaped: a zombie would still be
+    /// listed.
+    #[cfg(target_os = "linux")]
+    fn process_exists(pid: u32) -> bool {
+        Path::new(&format!("/proc/{pid}")).exists()
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn session_timeout_kills_the_process_and_recovers() {
+        let Some(mut nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        nusmv.timeout = Duration::from_millis(500);
+        let mut session = nusmv.session();
+        session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        let pid = session.pid().unwrap();
+        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        assert!(
+            matches!(result, Err(NusmvError::Timeout { .. })),
+            "{result:?}"
+        );
+        assert_eq!(session.pid(), None);
+        assert!(
+            !process_exists(pid),
+            "NuSMV {pid} is still in the process table"
+        );
+        let after = session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        assert_eq!(after.len(), 4);
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn batch_timeout_kills_the_process() {
+        let Some(mut nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        nusmv.timeout = Duration::from_millis(1000);
+        // A copy under a unique name, to find this test's process among parallel tests'.
+        let dir = tempfile::tempdir().unwrap();
+        let model = dir.path().join("long_counter.smv");
+        std::fs::copy(data("long_counter.smv"), &model).unwrap();
+        let checker = {
+            let (nusmv, model) = (nusmv.clone(), model.clone());
+            thread::spawn(move || nusmv.check_file(&model))
+        };
+        let mut pid = None;
+        while pid.is_none() && !checker.is_finished() {
+            pid = pid_running(&model);
+            thread::sleep(Duration::from_millis(5));
+        }
+        let result = checker.join().unwrap();
+        assert!(
+            matches!(result, Err(NusmvError::Timeout { .. })),
+            "{result:?}"
+        );
+        let pid = pid.expect("the NuSMV process was seen while it ran");
+        assert!(
+            !process_exists(pid),
+            "NuSMV {pid} is still in the process table"
+        );
+    }
+
+    /// The process whose command line mentions `model`.
+    #[cfg(target_os = "linux")]
+    fn pid_running(model: &Path) -> Option<u32> {
+        let needle = model.to_str()?.as_bytes();
+        std::fs::read_dir("/proc")
+            .ok()?
+            .flatten()
+            .find_map(|entry| {
+                let pid: u32 = entry.file_name().to_str()?.parse().ok()?;
+                let cmdline = std::fs::read(entry.path().join("cmdline")).ok()?;
+                cmdline
+                    .windows(needle.len())
+                    .any(|w| w == needle)
+                    .then_some(pid)
+            })
+    }
+
+    /// Median time per model of each way of running NuSMV; prints, asserts nothing.
+    /// Run with `cargo test speed_per_model -- --ignored --nocapture`.
+    #[test]
+    #[ignore = "measurement, not a test"]
+    fn speed_per_model() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        const RUNS: usize = 41;
+        let model = data("cylinder.smv");
+        let median = |mut ms: Vec<f64>| {
+            ms.sort_by(f64::total_cmp);
+            ms[ms.len() / 2]
+        };
+        let time = |f: &mut dyn FnMut()| {
+            let start = Instant::now();
+            f();
+            start.elapsed().as_secs_f64() * 1000.0
+        };
+        let batch: Vec<f64> = (0..RUNS)
+            .map(|_| time(&mut || drop(nusmv.check_file(&model).unwrap())))
+            .collect();
+        let mut session = nusmv.session();
+        session.check(&model, CheckMode::VerdictsOnly).unwrap();
+        let mut per_mode = |mode| -> Vec<f64> {
+            (0..RUNS)
+                .map(|_| time(&mut || drop(session.check(&model, mode).unwrap())))
+                .collect()
+        };
+        let fast = per_mode(CheckMode::VerdictsOnly);
+        let traced = per_mode(CheckMode::FirstCounterexample);
+        println!("cylinder.smv, median of {RUNS} runs:");
+        println!("  batch (-dynamic), all traces:   {:.1} ms", median(batch));
+        println!("  session, VerdictsOnly:          {:.1} ms", median(fast));
+        println!("  session, FirstCounterexample:   {:.1} ms", median(traced));
+    }
+}

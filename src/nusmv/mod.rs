@@ -1,0 +1,111 @@
+//! Running the NuSMV model checker and reading what it prints.
+//!
+//! In: an SMV file on disk (written by the `smv` layer or by hand). Out: one
+//! [`PropertyResult`] per LTL property, in the order NuSMV checked them (the order of the
+//! `LTLSPEC`s in the file), each [`Verdict::Violated`] carrying the counterexample
+//! [`Trace`] when NuSMV printed one.
+//!
+//! - [`locate`] finds the binary (`--nusmv`, `$NUSMV`, `PATH`, the install script's cache);
+//! - [`driver`] runs it: one process per model ([`Nusmv::check_file`]) or one long-lived
+//!   `NuSMV -int` process fed many models ([`Session`]), with timeouts and a Ctrl-C handler
+//!   that kills every child;
+//! - [`output`] parses stdout (verdicts and traces) and stderr (errors with file and line).
+//!
+//! This module knows nothing about SAT synthesis: the CEGIS loop that joins both lives
+//! elsewhere.
+
+pub mod driver;
+pub mod locate;
+pub mod output;
+
+pub use driver::{kill_all_children, CheckMode, Nusmv, Session};
+pub use locate::locate;
+pub use output::{
+    parse_errors, parse_output, ModelError, OutputParseError, PropertyResult, Trace, Verdict,
+};
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong between asking NuSMV for verdicts and getting them.
+#[derive(Debug, thiserror::Error)]
+pub enum NusmvError {
+    /// No NuSMV binary anywhere we look; `hint` says how to get one.
+    #[error("NuSMV not found: {hint}")]
+    NotFound { hint: String },
+    /// The binary named by `--nusmv` or `$NUSMV` does not exist.
+    #[error("NuSMV binary `{}` (from --nusmv or NUSMV) does not exist", .0.display())]
+    ExplicitPathMissing(PathBuf),
+    /// NuSMV ran longer than the configured timeout on `model`; the process was killed.
+    #[error("NuSMV ran longer than {seconds} s on `{}` and was killed", model.display())]
+    Timeout { seconds: f64, model: PathBuf },
+    /// NuSMV rejected the model; each error carries the file and line NuSMV reported.
+    #[error("NuSMV rejected the model: {}", describe_model_errors(.0))]
+    Model(Vec<ModelError>),
+    /// NuSMV failed without saying where: `status` tells how it ended, `stderr_tail` holds
+    /// the last lines it printed on stderr.
+    #[error("NuSMV failed ({status}): {stderr_tail}")]
+    Crashed { status: String, stderr_tail: String },
+    /// A model path NuSMV's interactive shell would mangle (`!` and `%` trigger its history
+    /// expansion, `#` starts a comment, `"` ends the quoting).
+    #[error("model path `{}` contains a character NuSMV's shell cannot take (one of ! % # \" \\ or a control character)", .0.display())]
+    UnsafePath(PathBuf),
+    /// Starting NuSMV, talking to it, or reading the model file failed.
+    #[error("running NuSMV: {0}")]
+    Io(#[from] std::io::Error),
+    /// NuSMV printed something the output parser does not understand.
+    #[error("unexpected NuSMV output: {0}")]
+    Output(#[from] OutputParseError),
+}
+
+fn describe_model_errors(errors: &[ModelError]) -> String {
+    match errors {
+        [] => "no error line".to_string(),
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!("{first} (and {} more)", rest.len()),
+    }
+}
+
+/// Finding NuSMV for tests, the same way in unit and integration tests.
+pub mod test_support {
+    use super::{locate, Nusmv};
+
+    /// The located NuSMV, or `None` after printing a skip note. Under `CI=true` a missing
+    /// NuSMV panics instead: CI installs it, so a skip there would hide a broken install.
+    pub fn nusmv_or_skip() -> Option<Nusmv> {
+        match locate(None) {
+            Ok(path) => Some(Nusmv::new(path)),
+            Err(e) if std::env::var("CI").as_deref() == Ok("true") => {
+                panic!("NuSMV is required when CI=true, but: {e}")
+            }
+            Err(e) => {
+                eprintln!("skipping NuSMV test: {e}");
+                None
+            }
+        }
+    }
+}
+
+/// See [`test_support::nusmv_or_skip`].
+#[cfg(test)]
+pub(crate) fn nusmv_for_tests() -> Option<Nusmv> {
+    test_support::nusmv_or_skip()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn model_error_message_names_the_first_position_and_counts_the_rest() {
+        let err = |line| ModelError {
+            file: "m.smv".into(),
+            line,
+            message: "syntax error".into(),
+        };
+        let e = NusmvError::Model(vec![err(3), err(9)]);
+        assert_eq!(
+            e.to_string(),
+            "NuSMV rejected the model: m.smv:3: syntax error (and 1 more)"
+        );
+    }
+}
