@@ -10,3 +10,4 @@
 //! - [`cli`]: the `synth` command line.
 
 pub mod ecc;
+pub mod ltl;
