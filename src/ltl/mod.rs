@@ -35,8 +35,10 @@
 //! Two deliberate departures from NuSMV's lexer, which reads `a->b` as the name `a-` followed by
 //! `>`, and `a--b` as one name: here `->` is always an implication and `--` always a comment.
 
+mod lasso;
 mod parse;
 
+pub use lasso::EvalError;
 pub use parse::{parse_spec, parse_spec_file, LtlError, LtlErrorKind};
 
 use std::collections::BTreeSet;
@@ -227,7 +229,7 @@ impl Ltl {
     }
 
     /// The largest number of past operators on one path from the root to a leaf.
-    pub(crate) fn past_depth(&self) -> usize {
+    pub fn past_depth(&self) -> usize {
         let (a, b) = self.children();
         let below = [a, b]
             .into_iter()
@@ -449,6 +451,45 @@ pub(crate) mod arb {
                 }
             });
             prop_oneof![unary, binary]
+        })
+    }
+
+    /// Past operators nested under a future one: the formulas whose value at a loop state
+    /// depends on how often the loop has been run through.
+    pub fn past_under_future() -> impl Strategy<Value = Ltl> {
+        let leaf = prop_oneof![
+            Just(Ltl::Atom("a".into())),
+            Just(Ltl::Atom("b".into())),
+            Just(Ltl::Not(b(Ltl::Atom("a".into())))),
+            Just(Ltl::Not(b(Ltl::Atom("b".into())))),
+        ];
+        let past = leaf.prop_recursive(4, 12, 2, |inner| {
+            let unary = (0..5usize, inner.clone()).prop_map(|(k, f)| {
+                let f = b(f);
+                match k {
+                    0 => Ltl::Y(f),
+                    1 => Ltl::Z(f),
+                    2 => Ltl::H(f),
+                    3 => Ltl::O(f),
+                    _ => Ltl::Not(f),
+                }
+            });
+            let binary = (0..4usize, inner.clone(), inner).prop_map(|(k, l, r)| {
+                let (l, r) = (b(l), b(r));
+                match k {
+                    0 => Ltl::S(l, r),
+                    1 => Ltl::T(l, r),
+                    2 => Ltl::And(l, r),
+                    _ => Ltl::Or(l, r),
+                }
+            });
+            prop_oneof![unary, binary]
+        });
+        (0..4usize, past).prop_map(|(k, p)| match k {
+            0 => Ltl::F(b(p)),
+            1 => Ltl::G(b(p)),
+            2 => Ltl::G(b(Ltl::F(b(p)))),
+            _ => Ltl::F(b(Ltl::G(b(p)))),
         })
     }
 }
