@@ -384,9 +384,27 @@ pub(crate) mod arb {
     //! Random formulas for property tests.
     use super::{CmpOp, Ltl};
     use proptest::prelude::*;
+    use proptest::sample::select;
+
+    type Unary = fn(Box<Ltl>) -> Ltl;
+    type Binary = fn(Box<Ltl>, Box<Ltl>) -> Ltl;
 
     fn b(f: Ltl) -> Box<Ltl> {
         Box::new(f)
+    }
+
+    /// Trees of depth at most 4 over `leaf`, built with the given operators.
+    fn trees(
+        leaf: impl Strategy<Value = Ltl> + 'static,
+        unary: &'static [Unary],
+        binary: &'static [Binary],
+    ) -> impl Strategy<Value = Ltl> {
+        leaf.prop_recursive(4, 24, 2, move |inner| {
+            prop_oneof![
+                (select(unary), inner.clone()).prop_map(|(op, f)| op(b(f))),
+                (select(binary), inner.clone(), inner).prop_map(|(op, l, r)| op(b(l), b(r))),
+            ]
+        })
     }
 
     /// Formulas over the Boolean atoms `a`, `b` (and, with `with_cmp`, comparisons of the
@@ -399,98 +417,77 @@ pub(crate) mod arb {
             Just(Ltl::False).boxed(),
         ];
         if with_cmp {
-            let ops = prop_oneof![
-                Just(CmpOp::Eq),
-                Just(CmpOp::Ne),
-                Just(CmpOp::Lt),
-                Just(CmpOp::Le),
-                Just(CmpOp::Gt),
-                Just(CmpOp::Ge)
+            let ops = vec![
+                CmpOp::Eq,
+                CmpOp::Ne,
+                CmpOp::Lt,
+                CmpOp::Le,
+                CmpOp::Gt,
+                CmpOp::Ge,
             ];
             leaves.push(
-                (ops, -2i64..3)
+                (select(ops), -2i64..3)
                     .prop_map(|(op, k)| Ltl::Cmp(op, b(Ltl::Atom("n".into())), b(Ltl::Int(k))))
                     .boxed(),
             );
             leaves.push(
-                prop_oneof![Just("idle"), Just("busy")]
+                select(&["idle", "busy"][..])
                     .prop_map(|c| {
                         Ltl::Cmp(CmpOp::Eq, b(Ltl::Atom("s".into())), b(Ltl::Atom(c.into())))
                     })
                     .boxed(),
             );
         }
-        let leaf = proptest::strategy::Union::new(leaves);
-        leaf.prop_recursive(4, 24, 2, |inner| {
-            let unary = (0..8usize, inner.clone()).prop_map(|(k, f)| {
-                let f = b(f);
-                match k {
-                    0 => Ltl::Not(f),
-                    1 => Ltl::X(f),
-                    2 => Ltl::F(f),
-                    3 => Ltl::G(f),
-                    4 => Ltl::Y(f),
-                    5 => Ltl::Z(f),
-                    6 => Ltl::H(f),
-                    _ => Ltl::O(f),
-                }
-            });
-            let binary = (0..10usize, inner.clone(), inner).prop_map(|(k, l, r)| {
-                let (l, r) = (b(l), b(r));
-                match k {
-                    0 => Ltl::And(l, r),
-                    1 => Ltl::Or(l, r),
-                    2 => Ltl::Xor(l, r),
-                    3 => Ltl::Xnor(l, r),
-                    4 => Ltl::Implies(l, r),
-                    5 => Ltl::Iff(l, r),
-                    6 => Ltl::U(l, r),
-                    7 => Ltl::V(l, r),
-                    8 => Ltl::S(l, r),
-                    _ => Ltl::T(l, r),
-                }
-            });
-            prop_oneof![unary, binary]
-        })
+        trees(
+            proptest::strategy::Union::new(leaves),
+            &[
+                Ltl::Not,
+                Ltl::X,
+                Ltl::F,
+                Ltl::G,
+                Ltl::Y,
+                Ltl::Z,
+                Ltl::H,
+                Ltl::O,
+            ],
+            &[
+                Ltl::And,
+                Ltl::Or,
+                Ltl::Xor,
+                Ltl::Xnor,
+                Ltl::Implies,
+                Ltl::Iff,
+                Ltl::U,
+                Ltl::V,
+                Ltl::S,
+                Ltl::T,
+            ],
+        )
     }
 
     /// Past operators nested under a future one: the formulas whose value at a loop state
     /// depends on how often the loop has been run through.
     pub fn past_under_future() -> impl Strategy<Value = Ltl> {
-        let leaf = prop_oneof![
-            Just(Ltl::Atom("a".into())),
-            Just(Ltl::Atom("b".into())),
-            Just(Ltl::Not(b(Ltl::Atom("a".into())))),
-            Just(Ltl::Not(b(Ltl::Atom("b".into())))),
-        ];
-        let past = leaf.prop_recursive(4, 12, 2, |inner| {
-            let unary = (0..5usize, inner.clone()).prop_map(|(k, f)| {
-                let f = b(f);
-                match k {
-                    0 => Ltl::Y(f),
-                    1 => Ltl::Z(f),
-                    2 => Ltl::H(f),
-                    3 => Ltl::O(f),
-                    _ => Ltl::Not(f),
-                }
-            });
-            let binary = (0..4usize, inner.clone(), inner).prop_map(|(k, l, r)| {
-                let (l, r) = (b(l), b(r));
-                match k {
-                    0 => Ltl::S(l, r),
-                    1 => Ltl::T(l, r),
-                    2 => Ltl::And(l, r),
-                    _ => Ltl::Or(l, r),
-                }
-            });
-            prop_oneof![unary, binary]
+        let literal = (select(&["a", "b"][..]), any::<bool>()).prop_map(|(n, positive)| {
+            let atom = Ltl::Atom(n.into());
+            if positive {
+                atom
+            } else {
+                Ltl::Not(b(atom))
+            }
         });
-        (0..4usize, past).prop_map(|(k, p)| match k {
-            0 => Ltl::F(b(p)),
-            1 => Ltl::G(b(p)),
-            2 => Ltl::G(b(Ltl::F(b(p)))),
-            _ => Ltl::F(b(Ltl::G(b(p)))),
-        })
+        let past = trees(
+            literal,
+            &[Ltl::Y, Ltl::Z, Ltl::H, Ltl::O, Ltl::Not],
+            &[Ltl::S, Ltl::T, Ltl::And, Ltl::Or],
+        );
+        let future: &[Unary] = &[
+            Ltl::F,
+            Ltl::G,
+            |p| Ltl::G(b(Ltl::F(p))),
+            |p| Ltl::F(b(Ltl::G(p))),
+        ];
+        (select(future), past).prop_map(|(op, p)| op(b(p)))
     }
 }
 

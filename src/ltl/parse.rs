@@ -79,31 +79,33 @@ pub fn parse_spec_file(path: &Path) -> Result<Vec<Property>, LtlError> {
 
 /// Parses the text of a specification file; `file` is only used in error messages.
 pub fn parse_spec(file: &Path, text: &str) -> Result<Vec<Property>, LtlError> {
-    let mut props = Vec::new();
-    // Label -> (line, byte offset of the label in its line), to report duplicates and clashes.
-    let mut labels: BTreeMap<String, (usize, usize)> = BTreeMap::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let src = raw.strip_suffix('\r').unwrap_or(raw);
-        let at = |offset: usize, kind: LtlErrorKind| LtlError::At {
+    // `lines` keeps the `\r` of a last line that has no `\n`.
+    let lines: Vec<&str> = text
+        .lines()
+        .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .collect();
+    let at = |line_no: usize, offset: usize, kind: LtlErrorKind| {
+        let src = lines[line_no - 1];
+        LtlError::At {
             file: file.to_path_buf(),
             line: line_no,
             column: src[..offset].chars().count() + 1,
             kind,
             source_line: src.to_string(),
-        };
-        let Some(parsed) = parse_line(src).map_err(|(pos, kind)| at(pos, kind))? else {
-            continue;
-        };
+        }
+    };
+    let mut props = Vec::new();
+    // Label -> (line, byte offset of the label in its line), to report duplicates and clashes.
+    let mut labels: BTreeMap<String, (usize, usize)> = BTreeMap::new();
+    for (i, src) in lines.iter().enumerate() {
+        let line_no = i + 1;
+        let parsed = parse_line(src).map_err(|(pos, kind)| at(line_no, pos, kind))?;
+        let Some(parsed) = parsed else { continue };
         if let Some((label, pos)) = &parsed.label {
             if let Some(&(first_line, _)) = labels.get(label) {
-                return Err(at(
-                    *pos,
-                    LtlErrorKind::DuplicateLabel {
-                        label: label.clone(),
-                        first_line,
-                    },
-                ));
+                let label = label.clone();
+                let kind = LtlErrorKind::DuplicateLabel { label, first_line };
+                return Err(at(line_no, *pos, kind));
             }
             labels.insert(label.clone(), (line_no, *pos));
         }
@@ -119,37 +121,21 @@ pub fn parse_spec(file: &Path, text: &str) -> Result<Vec<Property>, LtlError> {
             file: file.to_path_buf(),
         });
     }
-    check_default_names(file, text, &props, &labels)?;
-    Ok(props)
-}
-
-/// A label may not take the default name `p{k}` of the unlabelled property at position k.
-fn check_default_names(
-    file: &Path,
-    text: &str,
-    props: &[Property],
-    labels: &BTreeMap<String, (usize, usize)>,
-) -> Result<(), LtlError> {
+    // A label may not take the default name `p{k}` of the unlabelled property at position k.
     for (index, p) in props.iter().enumerate() {
-        if p.label.is_some() {
-            continue;
-        }
-        if let Some(&(line, pos)) = labels.get(&default_name(index)) {
-            let src = text.lines().nth(line - 1).unwrap_or("");
-            let src = src.strip_suffix('\r').unwrap_or(src);
-            return Err(LtlError::At {
-                file: file.to_path_buf(),
-                line,
-                column: src[..pos].chars().count() + 1,
-                kind: LtlErrorKind::LabelClash {
-                    label: default_name(index),
+        let label = default_name(index);
+        match labels.get(&label) {
+            Some(&(line_no, pos)) if p.label.is_none() => {
+                let kind = LtlErrorKind::LabelClash {
+                    label,
                     line: p.line,
-                },
-                source_line: src.to_string(),
-            });
+                };
+                return Err(at(line_no, pos, kind));
+            }
+            _ => {}
         }
     }
-    Ok(())
+    Ok(props)
 }
 
 /// A property read from one line, before it gets its line number.
@@ -209,11 +195,7 @@ fn check_label(p: &Pair<Rule>) -> Result<(String, usize), LineError> {
 /// Whether `s` is a plain (undotted) SMV identifier that is not a keyword, and one that this
 /// grammar reads back as a single name (no `->` or `--` inside).
 fn is_identifier(s: &str) -> bool {
-    let mut chars = s.chars();
-    let starts_well = chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
-    starts_well
+    s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
         && s.chars()
             .all(|c| c.is_ascii_alphanumeric() || "_$#-".contains(c))
         && !s.contains("->")
@@ -222,101 +204,17 @@ fn is_identifier(s: &str) -> bool {
 }
 
 /// NuSMV 2.5's reserved words (its lexer's keyword list): none can be a name.
+#[rustfmt::skip]
 const KEYWORDS: &[&str] = &[
-    "A",
-    "ABF",
-    "ABG",
-    "AF",
-    "AG",
-    "ASSIGN",
-    "AX",
-    "BU",
-    "COMPASSION",
-    "COMPID",
-    "COMPUTE",
-    "COMPWFF",
-    "CONSTANTS",
-    "CONSTRAINT",
-    "CTLSPEC",
-    "CTLWFF",
-    "DEFINE",
-    "E",
-    "EBF",
-    "EBG",
-    "EF",
-    "EG",
-    "EX",
-    "F",
-    "FAIRNESS",
-    "FALSE",
-    "FROZENVAR",
-    "G",
-    "H",
-    "IN",
-    "INIT",
-    "INVAR",
-    "INVARSPEC",
-    "ISA",
-    "IVAR",
-    "Integer",
-    "JUSTICE",
-    "LTLSPEC",
-    "LTLWFF",
-    "MAX",
-    "MDEFINE",
-    "MIN",
-    "MIRROR",
-    "MODULE",
-    "NAME",
-    "NEXTWFF",
-    "O",
-    "PRED",
-    "PREDICATES",
-    "PSLSPEC",
-    "READ",
-    "Real",
-    "S",
-    "SIMPWFF",
-    "SPEC",
-    "T",
-    "TRANS",
-    "TRUE",
-    "U",
-    "V",
-    "VAR",
-    "WRITE",
-    "Word",
-    "X",
-    "Y",
-    "Z",
-    "array",
-    "bool",
-    "boolean",
-    "case",
-    "count",
-    "esac",
-    "extend",
-    "in",
-    "init",
-    "integer",
-    "mod",
-    "next",
-    "of",
-    "process",
-    "real",
-    "resize",
-    "self",
-    "signed",
-    "sizeof",
-    "swconst",
-    "toint",
-    "union",
-    "unsigned",
-    "uwconst",
-    "word",
-    "word1",
-    "xnor",
-    "xor",
+    "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
+    "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
+    "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
+    "INVARSPEC", "ISA", "IVAR", "Integer", "JUSTICE", "LTLSPEC", "LTLWFF", "MAX", "MDEFINE", "MIN",
+    "MIRROR", "MODULE", "NAME", "NEXTWFF", "O", "PRED", "PREDICATES", "PSLSPEC", "READ", "Real",
+    "S", "SIMPWFF", "SPEC", "T", "TRANS", "TRUE", "U", "V", "VAR", "WRITE", "Word", "X", "Y", "Z",
+    "array", "bool", "boolean", "case", "count", "esac", "extend", "in", "init", "integer", "mod",
+    "next", "of", "process", "real", "resize", "self", "signed", "sizeof", "swconst", "toint",
+    "union", "unsigned", "uwconst", "word", "word1", "xnor", "xor",
 ];
 
 fn is_keyword(s: &str) -> bool {
@@ -706,6 +604,11 @@ mod tests {
                 ),
             ]
         );
+    }
+
+    #[test]
+    fn a_last_line_may_end_in_a_carriage_return() {
+        assert_eq!(parse("G a\r\nF b\r").unwrap()[1].text, "F b");
     }
 
     #[test]
