@@ -9,6 +9,7 @@
 //!   exported name obeys;
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, and writing them all
 //!   (including the SMV module) to files;
+//! - [`ltl`]: LTL specification files (own grammar) and evaluation on lassos;
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`cli`]: the `synth` command line.
 
@@ -16,6 +17,7 @@ pub mod cli;
 pub mod ecc;
 pub mod export;
 pub mod files;
+pub mod ltl;
 pub mod nusmv;
 pub mod sat;
 pub mod scenario;

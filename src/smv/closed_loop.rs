@@ -81,9 +81,14 @@ pub fn check_coupling(
     };
     let pf = plant.file.as_path();
     for n in inputs.iter().chain(outputs) {
-        check_identifier(n).map_err(|m| at(pf, plant.module_line, format!("controller name '{n}': {m}")))?;
+        check_identifier(n)
+            .map_err(|m| at(pf, plant.module_line, format!("controller name '{n}': {m}")))?;
         if RESERVED.contains(&n.as_str()) {
-            return Err(at(pf, plant.module_line, format!("controller name '{n}' is reserved by the closed loop")));
+            return Err(at(
+                pf,
+                plant.module_line,
+                format!("controller name '{n}' is reserved by the closed loop"),
+            ));
         }
     }
     for p in &plant.params {
@@ -105,7 +110,11 @@ pub fn check_coupling(
     }
     for d in &plant.names {
         if RESERVED.contains(&d.name.as_str()) {
-            return Err(at(pf, d.line, format!("the name '{}' is reserved by the closed loop", d.name)));
+            return Err(at(
+                pf,
+                d.line,
+                format!("the name '{}' is reserved by the closed loop", d.name),
+            ));
         }
         if outputs.contains(&d.name) {
             return Err(at(
@@ -131,7 +140,11 @@ pub fn check_coupling(
     }
     for (k, p) in props.iter().enumerate() {
         if let Err(m) = check_identifier(&property_name(k, p)) {
-            return Err(at(spec_file, p.line, format!("property name '{}': {m}", property_name(k, p))));
+            return Err(at(
+                spec_file,
+                p.line,
+                format!("property name '{}': {m}", property_name(k, p)),
+            ));
         }
         for n in p.formula.names() {
             if !names.contains_key(&n) {
@@ -210,7 +223,11 @@ pub fn compose(
     }
     let plant_lines = plant.text.lines().count();
     let mut main = String::from("\nMODULE main\nVAR\n");
-    let sensors: Vec<String> = ecc.inputs.iter().map(|i| format!("{PLANT_INSTANCE}.{i}")).collect();
+    let sensors: Vec<String> = ecc
+        .inputs
+        .iter()
+        .map(|i| format!("{PLANT_INSTANCE}.{i}"))
+        .collect();
     main.push_str(&format!(
         "  {CONTROLLER_INSTANCE} : {CONTROLLER_MODULE}(TRUE{}{});\n",
         if sensors.is_empty() { "" } else { ", " },
@@ -221,7 +238,10 @@ pub fn compose(
         .iter()
         .map(|p| format!("{CONTROLLER_INSTANCE}.{}", p.name))
         .collect();
-    main.push_str(&format!("  {PLANT_INSTANCE} : plant({});\n", commands.join(", ")));
+    main.push_str(&format!(
+        "  {PLANT_INSTANCE} : plant({});\n",
+        commands.join(", ")
+    ));
     main.push_str("DEFINE\n");
     for (name, binding) in &coupling.names {
         let inst = match binding {

@@ -169,7 +169,11 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
                                     line: *l,
                                 }),
                                 _ => {
-                                    return Err(at(*l, "unexpected token in the parameter list of MODULE plant".into()))
+                                    return Err(at(
+                                        *l,
+                                        "unexpected token in the parameter list of MODULE plant"
+                                            .into(),
+                                    ))
                                 }
                             }
                         }
@@ -272,7 +276,10 @@ ASSIGN
     fn finds_parameters_and_declarations_of_module_plant_only() {
         let p = parse_plant(Path::new("p.smv"), PLANT).unwrap();
         let names: Vec<&str> = p.names.iter().map(|d| d.name.as_str()).collect();
-        assert_eq!(names, vec!["pos", "m", "push", "isOpen", "mode", "isClosed"]);
+        assert_eq!(
+            names,
+            vec!["pos", "m", "push", "isOpen", "mode", "isClosed"]
+        );
         let params: Vec<&str> = p.params.iter().map(|d| d.name.as_str()).collect();
         assert_eq!(params, vec!["open", "close"]);
         assert_eq!(p.module_line, 4);
@@ -282,7 +289,9 @@ ASSIGN
     #[test]
     fn errors_name_the_line() {
         let e = parse_plant(Path::new("p.smv"), "MODULE main\nVAR x : boolean;\n").unwrap_err();
-        assert!(e.to_string().starts_with("p.smv:1: the plant file must not define MODULE main"));
+        assert!(e
+            .to_string()
+            .starts_with("p.smv:1: the plant file must not define MODULE main"));
         let e = parse_plant(Path::new("p.smv"), "MODULE other\n").unwrap_err();
         assert!(e.to_string().starts_with("p.smv:1: no MODULE plant(...)"));
     }
