@@ -13,6 +13,7 @@
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`cli`]: the `synth` command line.
 
+pub mod cegis;
 pub mod cli;
 pub mod ecc;
 pub mod export;
@@ -22,3 +23,4 @@ pub mod nusmv;
 pub mod sat;
 pub mod scenario;
 pub mod smv;
+pub mod verify;

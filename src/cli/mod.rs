@@ -5,6 +5,7 @@
 
 mod bench;
 mod infer;
+mod verified;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -38,16 +39,33 @@ const ABOUT: &str =
 const LONG_ABOUT: &str = "\
 Rebuild the lost control logic of a legacy PLC as a minimal IEC 61499 basic function block.
 
+Main job:  synth --ltl specs/pnp.ltl --plant smv/pnp_surrogate.smv
+  synthesizes the smallest controller that reproduces the recorded scenarios (by default
+  specs/pnp.traces, found beside the --ltl file) and satisfies every LTL property in closed
+  loop with the surrogate plant, as checked by the NuSMV model checker. Exit code 0 only
+  when NuSMV confirmed every property.
+
 Record the PLC's inputs and outputs while the machine runs (scenario files or CSV logs),
 and synth finds the smallest state machine (Execution Control Chart) that reproduces every
 recording: fewest states, then fewest transitions, then the shortest guards. It writes the
 result as IEC 61499 .fbt (4diac, NxtStudio), Structured Text, SMV, Graphviz and JSON.";
 
 #[derive(Debug, Parser)]
-#[command(name = "synth", version, about = ABOUT, long_about = LONG_ABOUT, after_help = EXIT_HELP)]
+#[command(
+    name = "synth",
+    version,
+    about = ABOUT,
+    long_about = LONG_ABOUT,
+    after_help = EXIT_HELP,
+    args_conflicts_with_subcommands = true
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// The main job: synthesize a controller that reproduces the scenarios and satisfies
+    /// every LTL property in closed loop with the plant, verified by NuSMV.
+    #[command(flatten)]
+    pub main: verified::MainArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -56,6 +74,8 @@ pub enum Command {
     Infer(infer::InferArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
+    /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
+    Verify(verified::VerifyArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
 }
@@ -131,10 +151,8 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
-        None => Err(Failure::msg(
-            exit::USAGE,
-            "no command given; try `synth infer --traces FILE` or `synth --help`",
-        )),
+        Some(Command::Verify(a)) => verified::verify(&a),
+        None => verified::main_job(&cli.main),
     };
     match result {
         Ok(()) => exit::OK,

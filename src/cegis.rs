@@ -1,0 +1,152 @@
+//! Counterexample-guided inductive synthesis: SAT proposes, NuSMV disposes.
+//!
+//! In: scenarios, a plant, properties, SAT options, a NuSMV session. Out: the smallest ECC
+//! (least C, then T, then N) that reproduces every scenario and leaves every counterexample
+//! found on the way, together with NuSMV's report saying every property holds.
+//!
+//! Loop: minimize on the incremental [`Synthesizer`]; verify in closed loop; if a property
+//! fails, its counterexample becomes a negative scenario (the ECC must leave that lasso) and
+//! the loop repeats on the same solver. When the current number of states cannot leave every
+//! lasso the minimization itself moves on to more states. This module is the only one that
+//! uses both `sat` and `nusmv`.
+
+use crate::ecc::Ecc;
+use crate::nusmv::Session;
+use crate::sat::{Options, SatError, Synthesis, Synthesizer};
+use crate::scenario::tree::ScenarioTree;
+use crate::scenario::ScenarioSet;
+use crate::verify::{verify, Report, Setup, VerifyError};
+use std::path::Path;
+use std::time::Instant;
+
+/// Settings of the loop.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub sat: Options,
+    /// Give up after this many candidates.
+    pub max_iterations: usize,
+}
+
+/// One iteration, for progress and for the benchmark figures.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Iteration {
+    pub number: usize,
+    pub c: usize,
+    pub t: usize,
+    pub failing: Vec<String>,
+    pub counterexample_length: Option<usize>,
+    pub sat_seconds: f64,
+    pub nusmv_seconds: f64,
+}
+
+/// A verified controller.
+#[derive(Debug, Clone)]
+pub struct Verified {
+    pub synthesis: Synthesis,
+    pub report: Report,
+    pub iterations: Vec<Iteration>,
+    /// The closed-loop model NuSMV verified.
+    pub model_text: String,
+}
+
+/// Why the loop ended without a verified controller.
+#[derive(Debug, thiserror::Error)]
+pub enum CegisError {
+    #[error("{0}")]
+    Sat(#[from] SatError),
+    #[error("{0}")]
+    Verify(#[from] VerifyError),
+    #[error("no verified controller after {iterations} candidates (raise --max-iterations); last candidate fails: {failing}")]
+    Iterations { iterations: usize, failing: String },
+    #[error("property {property} fails, but NuSMV printed no usable counterexample (it needs every controller input and output as a Boolean in the trace), so the loop cannot continue")]
+    NoCounterexample { property: String },
+}
+
+/// Runs CEGIS. `workdir` holds the closed-loop model of the current candidate.
+pub fn run(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    setup: &Setup,
+    session: &mut Session,
+    config: &Config,
+    workdir: &Path,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Verified, CegisError> {
+    let mut synth = Synthesizer::new(set, tree, &config.sat);
+    let mut iterations = Vec::new();
+    let mut last_failing = String::new();
+    for number in 1..=config.max_iterations {
+        let t = Instant::now();
+        let synthesis = synth.minimize(&mut |_| {})?;
+        let sat_seconds = t.elapsed().as_secs_f64();
+        let v = verify(&synthesis.ecc, setup, session, workdir)?;
+        let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
+        let it = Iteration {
+            number,
+            c: synthesis.size.c,
+            t: synthesis.size.t,
+            failing: failing.clone(),
+            counterexample_length: v.counterexample.as_ref().map(|c| c.states.len()),
+            sat_seconds,
+            nusmv_seconds: v.report.nusmv_seconds,
+        };
+        progress(&format!(
+            "iteration {number}: C = {} T = {}; {}; SAT {:.2} s, NuSMV {:.2} s",
+            it.c,
+            it.t,
+            if failing.is_empty() {
+                "every property holds".to_string()
+            } else {
+                format!(
+                    "failing: {} (counterexample of {} steps)",
+                    failing.join(", "),
+                    it.counterexample_length.unwrap_or(0)
+                )
+            },
+            sat_seconds,
+            it.nusmv_seconds
+        ));
+        iterations.push(it);
+        if failing.is_empty() {
+            return Ok(Verified {
+                synthesis,
+                report: v.report,
+                iterations,
+                model_text: v.model.text,
+            });
+        }
+        last_failing = failing.join(", ");
+        let neg = v
+            .counterexample
+            .as_ref()
+            .and_then(|c| c.negative_scenario(&set.inputs, &set.outputs))
+            .ok_or_else(|| CegisError::NoCounterexample {
+                property: failing[0].clone(),
+            })?;
+        debug_assert!(neg.followed_by(&synthesis.ecc));
+        if !neg.followed_by(&synthesis.ecc) {
+            // The candidate does not reproduce its own counterexample: the SMV emission and the
+            // simulator disagree. Continuing would loop forever.
+            return Err(SatError::Bug(format!(
+                "the candidate does not follow its own {} in the simulator",
+                neg.label
+            ))
+            .into());
+        }
+        synth.add_negative(neg);
+    }
+    Err(CegisError::Iterations {
+        iterations: config.max_iterations,
+        failing: last_failing,
+    })
+}
+
+/// Verifies an existing machine (no synthesis): `synth verify`.
+pub fn check_existing(
+    ecc: &Ecc,
+    setup: &Setup,
+    session: &mut Session,
+    workdir: &Path,
+) -> Result<Report, VerifyError> {
+    verify(ecc, setup, session, workdir).map(|v| v.report)
+}
