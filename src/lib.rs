@@ -4,6 +4,7 @@
 //! Layers (each imports only the ones listed before it):
 //! - [`ecc`]: the model and its simulator (pure data, no I/O);
 //! - [`scenario`]: execution scenarios, their file formats and the scenario tree;
+//! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
 //! - [`sat`]: exact synthesis with varisat;
 //! - [`smv`]: SMV emission of an ECC and of the closed loop, and the identifier rules every
 //!   exported name obeys;
@@ -11,6 +12,7 @@
 //!   (including the SMV module) to files;
 //! - [`cli`]: the `synth` command line.
 
+pub mod cases;
 pub mod cli;
 pub mod ecc;
 pub mod export;
