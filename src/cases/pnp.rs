@@ -49,9 +49,9 @@
 //! off), followed by a few idle scans.
 
 use crate::ecc::{Algorithm, Ecc, Fired, Guard, InputId, Run, State, StateId, Transition, Tri};
+use crate::files::{write_atomic, WriteError};
 use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
-use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -533,11 +533,10 @@ pub fn generate() -> ScenarioSet {
 }
 
 /// Writes [`TRACES_FILE`], [`INPUTS_FILE`] and [`OUTPUTS_FILE`] into `dir` (created if
-/// missing), each atomically (a temporary file in `dir`, then renamed), and returns their paths.
-pub fn write_files(dir: &Path) -> io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
+/// missing), each atomically, and returns their paths.
+pub fn write_files(dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
     let mut traces = Vec::new();
-    fbsat::write(&generate(), &mut traces)?;
+    fbsat::write(&generate(), &mut traces).expect("writing into memory cannot fail");
     let names = |names: &[&str]| names.iter().map(|n| format!("{n}\n")).collect::<String>();
     let files = [
         (TRACES_FILE, traces),
@@ -547,17 +546,7 @@ pub fn write_files(dir: &Path) -> io::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     for (name, bytes) in files {
         let path = dir.join(name);
-        let mut tmp = tempfile::NamedTempFile::new_in(dir)?;
-        tmp.write_all(&bytes)?;
-        tmp.as_file().sync_all()?;
-        // A temporary file is private (0600); data files are meant to be read by everyone.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            tmp.as_file()
-                .set_permissions(std::fs::Permissions::from_mode(0o644))?;
-        }
-        tmp.persist(&path).map_err(|e| e.error)?;
+        write_atomic(&path, &bytes)?;
         written.push(path);
     }
     Ok(written)
@@ -831,6 +820,63 @@ mod tests {
         let read = fbsat::read(&traces, Some(input_names()), Some(output_names())).unwrap();
         assert_eq!(read.step_count(), generate().step_count());
         read.check(&reference()).unwrap();
+    }
+
+    /// Names declared in `VAR` / `DEFINE` sections of the surrogate, and its module parameters.
+    fn surrogate_names(text: &str) -> (Vec<String>, Vec<String>) {
+        let mut params = Vec::new();
+        let mut names = Vec::new();
+        let mut section = "";
+        for raw in text.lines() {
+            let line = raw.split("--").next().unwrap().trim();
+            if let Some(rest) = line.strip_prefix("MODULE plant(") {
+                let inside = rest.strip_suffix(')').expect("one-line module header");
+                params = inside.split(',').map(|p| p.trim().to_string()).collect();
+            } else if ["VAR", "DEFINE", "ASSIGN"].contains(&line) {
+                section = line;
+            } else if section != "ASSIGN" && !line.is_empty() {
+                names.push(line.split(':').next().unwrap().trim().to_string());
+            }
+        }
+        (params, names)
+    }
+
+    #[test]
+    fn surrogate_and_properties_follow_the_coupling_convention() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let smv = std::fs::read_to_string(root.join("smv/pnp_surrogate.smv")).unwrap();
+        let (params, names) = surrogate_names(&smv);
+        assert_eq!(params, output_names(), "the plant reads every command");
+        for input in INPUTS {
+            assert!(names.iter().any(|n| n == input), "{input} not declared");
+        }
+        for output in OUTPUTS {
+            assert!(!names.iter().any(|n| n == output), "{output} redeclared");
+        }
+        let ltl = std::fs::read_to_string(root.join("specs/pnp.ltl")).unwrap();
+        let mut labels = Vec::new();
+        for raw in ltl.lines() {
+            let line = raw.split("--").next().unwrap().trim();
+            if line.is_empty() {
+                continue;
+            }
+            let (label, formula) = line.split_once(':').expect("every property is labelled");
+            labels.push(label.trim());
+            let words = formula
+                .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .filter(|w| !w.is_empty() && !["G", "F", "X", "U", "V"].contains(w));
+            for w in words {
+                assert!(
+                    OUTPUTS.contains(&w) || names.iter().any(|n| n == w),
+                    "{label}: '{w}' is neither a command nor a plant name"
+                );
+            }
+        }
+        assert_eq!(labels.len(), 8);
+        let mut unique = labels.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), labels.len(), "labels are unique");
     }
 
     /// Writes the committed data files; run on purpose after changing the generator.
