@@ -4,12 +4,12 @@
 //! Layers (each imports only the ones listed before it):
 //! - [`ecc`]: the model and its simulator (pure data, no I/O);
 //! - [`scenario`]: execution scenarios, their file formats and the scenario tree;
-//! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
 //! - [`sat`]: exact synthesis with varisat;
 //! - [`smv`]: SMV emission of an ECC and of the closed loop, and the identifier rules every
 //!   exported name obeys;
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, and writing them all
 //!   (including the SMV module) to files;
+//! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
 //! - [`cli`]: the `synth` command line.
 
 pub mod cases;

@@ -2,7 +2,7 @@
 //! the generator of its execution scenarios.
 //!
 //! In: a work-piece order such as `1-2-3`. Out: the scans of the reference controller (a
-//! hand-made "legacy PLC" program, [`reference`]) running on a simulated plant, as scenario
+//! hand-made "legacy PLC" program, [`reference()`]) running on a simulated plant, as scenario
 //! [`Step`]s; for the ten test cases of the seed ([`SEED_ORDERS`]) a [`ScenarioSet`]
 //! ([`generate`]) and the files `pnp.traces`, `pnp.inputs`, `pnp.outputs` ([`write_files`]).
 //!
@@ -48,7 +48,8 @@
 //! ends when every piece is delivered and the machine is at rest (hand home and up, all commands
 //! off), followed by a few idle scans.
 
-use crate::ecc::{Algorithm, Ecc, Fired, Guard, InputId, Run, State, StateId, Transition, Tri};
+use crate::ecc::{Algorithm, Ecc, Fired, Run, State, StateId, Transition, Tri};
+use crate::export::guard_text::parse_guard;
 use crate::files::{write_atomic, WriteError};
 use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
@@ -341,27 +342,6 @@ const TRANSITIONS: [(&str, &str, &str); 13] = [
     ("Return", "Idle", "c1Home & c2Home"),
 ];
 
-/// A conjunction of literals such as `c1End & !vac` over [`INPUTS`]. Only for the constant
-/// tables above: an unknown name is a bug of this file, hence the panic.
-fn cube(text: &str) -> Guard {
-    let lits: Vec<(InputId, bool)> = text
-        .split('&')
-        .map(|lit| {
-            let lit = lit.trim();
-            let (name, value) = match lit.strip_prefix('!') {
-                Some(n) => (n.trim(), false),
-                None => (lit, true),
-            };
-            let i = INPUTS
-                .iter()
-                .position(|n| *n == name)
-                .unwrap_or_else(|| panic!("guard '{text}' names unknown input '{name}'"));
-            (InputId(i), value)
-        })
-        .collect();
-    Guard::cube(&lits)
-}
-
 /// The hand-made reference controller: 11 states, state 0 (`Idle`) initial, all outputs 0
 /// initially. One cycle: move over the track of a waiting piece (priority 1 > 2 > 3), go down,
 /// suck, go up, move over the output slider, go down, release, go up, return home.
@@ -378,6 +358,7 @@ pub fn reference() -> Ecc {
                 .unwrap_or_else(|| panic!("unknown state '{name}'")),
         )
     };
+    let inputs = input_names();
     let states = STATES
         .iter()
         .map(|(name, algorithm)| State {
@@ -393,13 +374,15 @@ pub fn reference() -> Ecc {
                 .filter(|(from, _, _)| from == name)
                 .map(|(_, to, guard)| Transition {
                     target: id(to),
-                    guard: cube(guard),
+                    // The tables are constants of this file: a bad guard is a bug here.
+                    guard: parse_guard(guard, &inputs)
+                        .unwrap_or_else(|e| panic!("guard '{guard}': {e}")),
                 })
                 .collect(),
         })
         .collect();
     Ecc {
-        inputs: input_names(),
+        inputs,
         outputs: output_names(),
         initial_outputs: vec![false; OUTPUTS.len()],
         states,
