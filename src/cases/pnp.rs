@@ -227,6 +227,7 @@ impl PlantState {
         }
     }
 
+    /// Where the hand is horizontally (see the geometry table of the module doc).
     pub fn over(&self) -> Over {
         let end = |p: u8| match p {
             0 => Some(0),
