@@ -11,8 +11,12 @@
 //!   (including the SMV module) to files;
 //! - [`ltl`]: LTL specification files (own grammar) and evaluation on lassos;
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
+//! - [`verify`]: closed-loop verification of one ECC, counterexamples as negative scenarios;
+//! - [`cegis`]: the loop joining `sat` and `verify`;
+//! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
 //! - [`cli`]: the `synth` command line.
 
+pub mod cases;
 pub mod cegis;
 pub mod cli;
 pub mod ecc;
