@@ -86,7 +86,7 @@ pub fn run(
             c: synthesis.size.c,
             t: synthesis.size.t,
             failing: failing.clone(),
-            counterexample_length: v.counterexample.as_ref().map(|c| c.states.len()),
+            counterexample_length: v.counterexamples.first().map(|c| c.states.len()),
             sat_seconds,
             nusmv_seconds: v.report.nusmv_seconds,
         };
@@ -116,24 +116,37 @@ pub fn run(
             });
         }
         last_failing = failing.join(", ");
-        let neg = v
-            .counterexample
-            .as_ref()
-            .and_then(|c| c.negative_scenario(&set.inputs, &set.outputs))
-            .ok_or_else(|| CegisError::NoCounterexample {
+        // Safety violations first: their finite prefixes are cheap and strong constraints.
+        // Lassos (liveness) only once no safety property fails, one at a time: each unrolls
+        // `loop length x C` steps into the solver.
+        let all: Vec<_> = v
+            .counterexamples
+            .iter()
+            .filter_map(|c| c.negative_scenario(&set.inputs, &set.outputs))
+            .collect();
+        let finite: Vec<_> = all.iter().filter(|n| n.loop_start.is_none()).cloned().collect();
+        let negs = if finite.is_empty() {
+            all.into_iter().take(1).collect()
+        } else {
+            finite
+        };
+        if negs.is_empty() {
+            return Err(CegisError::NoCounterexample {
                 property: failing[0].clone(),
-            })?;
-        debug_assert!(neg.followed_by(&synthesis.ecc));
-        if !neg.followed_by(&synthesis.ecc) {
-            // The candidate does not reproduce its own counterexample: the SMV emission and the
-            // simulator disagree. Continuing would loop forever.
-            return Err(SatError::Bug(format!(
-                "the candidate does not follow its own {} in the simulator",
-                neg.label
-            ))
-            .into());
+            });
         }
-        synth.add_negative(neg);
+        for neg in negs {
+            if !neg.followed_by(&synthesis.ecc) {
+                // The candidate does not reproduce its own counterexample: the SMV emission
+                // and the simulator disagree. Continuing would loop forever.
+                return Err(SatError::Bug(format!(
+                    "the candidate does not follow its own {} in the simulator",
+                    neg.label
+                ))
+                .into());
+            }
+            synth.add_negative(neg);
+        }
     }
     Err(CegisError::Iterations {
         iterations: config.max_iterations,

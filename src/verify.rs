@@ -12,8 +12,8 @@
 //! `tests/data/nusmv/README.md`).
 
 use crate::ecc::Ecc;
-use crate::ltl::{property_name, Property};
-use crate::nusmv::{CheckMode, ModelError, NusmvError, Session, Trace, Verdict};
+use crate::ltl::{property_name, Ltl, Property};
+use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::closed_loop::{
     compose, ClosedLoop, Coupling, Source, CONTROLLER_INSTANCE, PLANT_INSTANCE,
@@ -84,6 +84,9 @@ pub struct Counterexample {
     pub states: Vec<BTreeMap<String, String>>,
     /// Index of the state the loop returns to.
     pub loop_start: usize,
+    /// For a safety property `G p` (`p` without temporal operators): the first state where `p`
+    /// is false. The prefix up to it is a violation on its own, whatever follows.
+    pub violation_at: Option<usize>,
     /// Whether the lasso evaluation confirmed that this loop point violates the property.
     pub confirmed: bool,
     /// Controller state names (`s0`, ...) along the lasso, when the trace shows them.
@@ -103,6 +106,8 @@ pub enum VerifyError {
     Io(#[from] std::io::Error),
     #[error("NuSMV reported {got} verdicts for {expected} properties")]
     Count { expected: usize, got: usize },
+    #[error("NuSMV reported a verdict on `{0}`, which matches none of the properties")]
+    Unmatched(String),
 }
 
 /// A NuSMV error mapped back to the user's file.
@@ -144,8 +149,8 @@ pub struct Setup<'a> {
 /// The result of one verification run.
 pub struct Verification {
     pub report: Report,
-    /// A counterexample of the first violated property that has a trace.
-    pub counterexample: Option<Counterexample>,
+    /// Counterexamples of the violated properties that have a trace, in spec order.
+    pub counterexamples: Vec<Counterexample>,
     /// The composed model (kept for the user or for error reports).
     pub model: ClosedLoop,
 }
@@ -161,7 +166,7 @@ pub fn verify(
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();
-    let results = match session.check(&path, CheckMode::FirstCounterexample) {
+    let results = match session.check(&path, CheckMode::AllCounterexamples) {
         Ok(r) => r,
         Err(NusmvError::Model(errors)) => {
             return Err(VerifyError::Model(locate_errors(
@@ -177,8 +182,9 @@ pub fn verify(
             got: results.len(),
         });
     }
+    let results = match_results(setup.props, results)?;
     let mut properties = Vec::new();
-    let mut counterexample = None;
+    let mut counterexamples = Vec::new();
     for (k, (p, r)) in setup.props.iter().zip(&results).enumerate() {
         let name = property_name(k, p);
         let (holds, trace) = match &r.verdict {
@@ -194,18 +200,46 @@ pub fn verify(
             verdict_line: r.verdict_line.clone(),
             counterexample_length: cx.as_ref().map(|c| c.states.len()),
         });
-        if counterexample.is_none() {
-            counterexample = cx;
-        }
+        counterexamples.extend(cx);
     }
     Ok(Verification {
         report: Report {
             properties,
             nusmv_seconds,
         },
-        counterexample,
+        counterexamples,
         model,
     })
+}
+
+/// The formula text with whitespace and parentheses removed: NuSMV reprints formulas with its
+/// own spacing and parentheses, so this is what stays comparable.
+fn normalized(text: &str) -> String {
+    text.chars()
+        .filter(|c| !c.is_whitespace() && *c != '(' && *c != ')')
+        .collect()
+}
+
+/// Puts NuSMV's results in spec order. NuSMV does not always report properties in the order
+/// of the `LTLSPEC`s, so each result is matched to the property whose formula it reprints
+/// (among equal texts, in order).
+fn match_results(
+    props: &[Property],
+    results: Vec<PropertyResult>,
+) -> Result<Vec<PropertyResult>, VerifyError> {
+    let keys: Vec<String> = props
+        .iter()
+        .map(|p| normalized(&p.formula.to_smv(&|n: &str| n.to_string())))
+        .collect();
+    let mut slots: Vec<Option<PropertyResult>> = vec![None; props.len()];
+    for r in results {
+        let key = normalized(&r.formula);
+        let Some(k) = (0..props.len()).find(|&k| slots[k].is_none() && keys[k] == key) else {
+            return Err(VerifyError::Unmatched(r.formula));
+        };
+        slots[k] = Some(r);
+    }
+    Ok(slots.into_iter().map(|s| s.expect("counts are equal")).collect())
 }
 
 fn locate_errors(
@@ -255,12 +289,35 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
     };
     let key = format!("{CONTROLLER_INSTANCE}._state");
     let controller_states = states.iter().map(|s| s.get(&key).cloned()).collect();
+    let violation_at = match &p.formula {
+        Ltl::G(inner) if is_propositional(inner) => states
+            .iter()
+            .position(|s| inner.holds_on_lasso(std::slice::from_ref(s), 0) == Ok(false)),
+        _ => None,
+    };
     Counterexample {
         property: name.to_string(),
         states,
         loop_start,
+        violation_at,
         confirmed,
         controller_states,
+    }
+}
+
+/// No temporal operator: the formula's value depends on one state only.
+fn is_propositional(l: &Ltl) -> bool {
+    match l {
+        Ltl::True | Ltl::False | Ltl::Atom(_) | Ltl::Int(_) => true,
+        Ltl::Not(a) => is_propositional(a),
+        Ltl::And(a, b)
+        | Ltl::Or(a, b)
+        | Ltl::Xor(a, b)
+        | Ltl::Xnor(a, b)
+        | Ltl::Implies(a, b)
+        | Ltl::Iff(a, b)
+        | Ltl::Cmp(_, a, b) => is_propositional(a) && is_propositional(b),
+        _ => false,
     }
 }
 
@@ -276,8 +333,10 @@ fn value(state: &BTreeMap<String, String>, name: &str, instance: &str) -> Option
 }
 
 impl Counterexample {
-    /// The lasso seen from the controller: inputs and outputs before/after every step.
-    /// `None` if a controller input or output is missing from the trace or not Boolean.
+    /// The counterexample seen from the controller: inputs and outputs before/after every
+    /// step. For a safety violation, the finite prefix up to the violating state; otherwise
+    /// the lasso. `None` if a controller input or output is missing from the trace or not
+    /// Boolean, or if the violation is in the initial state (no controller can avoid it).
     pub fn negative_scenario(
         &self,
         inputs: &[String],
@@ -289,10 +348,18 @@ impl Counterexample {
                 .map(|n| value(s, n, inst))
                 .collect::<Option<Vec<bool>>>()
         };
-        let n = self.states.len();
+        let (n, loop_start) = match self.violation_at {
+            Some(0) => return None,
+            Some(k) => (k, None),
+            None => (self.states.len(), Some(self.loop_start)),
+        };
         let mut steps = Vec::with_capacity(n);
         for i in 0..n {
-            let next = if i + 1 < n { i + 1 } else { self.loop_start };
+            let next = if i + 1 < self.states.len() {
+                i + 1
+            } else {
+                self.loop_start
+            };
             steps.push(NegativeStep {
                 inputs: read(&self.states[i], inputs, PLANT_INSTANCE)?,
                 before: read(&self.states[i], outputs, CONTROLLER_INSTANCE)?,
@@ -301,7 +368,7 @@ impl Counterexample {
         }
         Some(NegativeScenario {
             steps,
-            loop_start: self.loop_start,
+            loop_start,
             label: format!("counterexample of {}", self.property),
         })
     }

@@ -105,6 +105,8 @@ pub enum CheckMode {
     /// Verdicts as with `VerdictsOnly`, plus the trace of the first violated property
     /// (re-checked with `EL_bwd`, the algorithm that can print traces).
     FirstCounterexample,
+    /// Verdicts, plus a trace for every violated property (one `EL_bwd` re-check each).
+    AllCounterexamples,
 }
 
 /// A long-lived `NuSMV -int` process checking one model after another.
@@ -186,21 +188,27 @@ impl Session {
                 stderr_tail: tail(&err),
             });
         }
-        if mode == CheckMode::FirstCounterexample {
-            self.add_first_trace(&mut results, deadline, model)?;
+        match mode {
+            CheckMode::VerdictsOnly => {}
+            CheckMode::FirstCounterexample => {
+                self.add_traces(&mut results, deadline, model, false)?
+            }
+            CheckMode::AllCounterexamples => self.add_traces(&mut results, deadline, model, true)?,
         }
         Ok(results)
     }
 
-    /// Re-checks violated properties in order with `EL_bwd` until one yields a trace.
+    /// Re-checks violated properties in order with `EL_bwd` until one yields a trace (or, with
+    /// `all`, every one of them).
     ///
     /// NuSMV skips properties whose status is already known, so the property is checked
     /// again as a new one, given by NuSMV's own reprint of it (`check_ltlspec -p`).
-    fn add_first_trace(
+    fn add_traces(
         &mut self,
         results: &mut [PropertyResult],
         deadline: Instant,
         model: &Path,
+        all: bool,
     ) -> Result<(), NusmvError> {
         for result in results.iter_mut() {
             if result.verdict != Verdict::Violated(None) || result.formula.contains('"') {
@@ -232,7 +240,7 @@ impl Session {
             };
             // EL_bwd is NuSMV's reference algorithm: its verdict replaces EL_fwd's.
             result.verdict = recheck.verdict.clone();
-            if matches!(result.verdict, Verdict::Violated(Some(_))) {
+            if !all && matches!(result.verdict, Verdict::Violated(Some(_))) {
                 break;
             }
         }

@@ -3,6 +3,7 @@
 
 use super::vars::Vars;
 use crate::ecc::{Algorithm, AlgorithmKind, Tri};
+use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::Lit;
 
@@ -18,7 +19,13 @@ pub struct Structure {
     /// `delta[q][u]`: target of state `q` on input `u`, `None` if nothing fires (or unobserved).
     pub delta: Vec<Vec<Option<usize>>>,
     pub algorithms: Vec<Algorithm>,
+    /// `care_inputs[q]`: alphabet inputs on which negative scenarios need state `q` to behave
+    /// exactly as the solver chose (beyond what the scenario tree fixes).
+    pub care_inputs: Vec<Vec<usize>>,
 }
+
+/// A negative scenario with the alphabet index of every step's inputs.
+pub type IndexedNegative<'a> = (&'a NegativeScenario, &'a [InputVec]);
 
 /// Assignment lookup by literal.
 pub struct Model(Vec<bool>);
@@ -41,19 +48,70 @@ impl Model {
     }
 }
 
+/// Runs the solver's machine along a negative scenario until it leaves it, marking every
+/// transition input and algorithm entry it uses.
+fn mark_negative(
+    model: &Model,
+    v: &Vars,
+    delta: &[Vec<Option<usize>>],
+    neg: &NegativeScenario,
+    ids: &[InputVec],
+    seen: &mut [Vec<[bool; 2]>],
+    care_inputs: &mut [Vec<usize>],
+) {
+    let n = neg.steps.len();
+    let horizon = match neg.loop_start {
+        Some(p) if p < n => p + (n - p) * v.c_max,
+        Some(_) => return,
+        None => n,
+    };
+    let mut q = 0;
+    for t in 0..horizon {
+        let i = match neg.loop_start {
+            Some(p) if t >= n => p + (t - p) % (n - p),
+            _ => t,
+        };
+        let (u, step) = (ids[i].0, &neg.steps[i]);
+        if !care_inputs[q].contains(&u) {
+            care_inputs[q].push(u);
+        }
+        let after: Vec<bool> = match delta[q][u] {
+            Some(q2) => {
+                let out = step
+                    .before
+                    .iter()
+                    .enumerate()
+                    .map(|(z, &old)| {
+                        seen[q2][z][usize::from(old)] = true;
+                        model.value(v.a(q2, z, old))
+                    })
+                    .collect();
+                q = q2;
+                out
+            }
+            None => step.before.clone(),
+        };
+        if after != step.after {
+            return;
+        }
+    }
+}
+
 impl Structure {
-    /// Decodes a model. Algorithm entries the scenarios never exercise are decoded as "keep",
-    /// which reads best and is as consistent with the scenarios as any other choice.
+    /// Decodes a model. Algorithm entries the scenarios never exercise are free; see `bit`
+    /// below for the choice made (any choice is as consistent with the scenarios).
     ///
-    /// `alphabet` holds every input vector of the encoding (tree inputs first); `extra[z][old]`
-    /// marks algorithm entries that negative scenarios depend on, for every state.
+    /// `alphabet` holds every input vector of the encoding (tree inputs first). The solver's
+    /// machine leaves every negative scenario at some step; the decoded machine must do the
+    /// same, so the transitions and algorithm entries that the solver's machine uses along each
+    /// negative scenario, up to and including the step where it leaves, are kept as chosen.
     pub fn decode(
         model: &Model,
         v: &Vars,
         tree: &ScenarioTree,
         kind: AlgorithmKind,
         alphabet: &[Vec<bool>],
-        extra: &[[bool; 2]],
+        negatives: &[IndexedNegative],
     ) -> Structure {
         let c = (0..v.c_max).filter(|&q| model.value(v.used(q))).count();
         let colors: Vec<usize> = (0..tree.nodes.len())
@@ -63,15 +121,20 @@ impl Structure {
                     .expect("ALO on colours")
             })
             .collect();
-        let delta = (0..c)
+        let delta: Vec<Vec<Option<usize>>> = (0..c)
             .map(|q| {
                 (0..alphabet.len())
                     .map(|u| (0..c).find(|&t| model.value(v.y(q, InputVec(u), t))))
                     .collect()
             })
             .collect();
-        // seen[q][z][old]: entering q with output z at value old happens in some scenario.
-        let mut seen = vec![extra.to_vec(); c];
+        // seen[q][z][old]: entering q with output z at value old happens in some scenario,
+        // or along a negative scenario before the solver's machine leaves it.
+        let mut seen = vec![vec![[false; 2]; v.outputs]; c];
+        let mut care_inputs = vec![Vec::new(); c];
+        for &(neg, ids) in negatives {
+            mark_negative(model, v, &delta, neg, ids, &mut seen, &mut care_inputs);
+        }
         for (w, node) in tree.nodes.iter().enumerate() {
             if let Some((p, _)) = node.parent {
                 for z in 0..v.outputs {
@@ -81,9 +144,17 @@ impl Structure {
         }
         let algorithms = (0..c)
             .map(|q| {
+                // An entry the scenarios exercise comes from the model. An entry they do not:
+                // if the other old value was seen, the output is set to what was seen there
+                // (the state determines the output, as a Moore machine's would; "keep" would
+                // carry stale commands into situations nobody recorded); if neither was seen,
+                // the output is kept.
                 let bit = |z: usize, old: bool| {
-                    if seen[q][z][usize::from(old)] {
+                    let (this, other) = (usize::from(old), usize::from(!old));
+                    if seen[q][z][this] {
                         model.value(v.a(q, z, old))
+                    } else if seen[q][z][other] {
+                        model.value(v.a(q, z, !old))
                     } else {
                         old
                     }
@@ -107,6 +178,7 @@ impl Structure {
             })
             .collect();
         Structure {
+            care_inputs,
             alphabet: alphabet.to_vec(),
             c,
             colors,

@@ -42,15 +42,10 @@ pub struct GuardProblem {
 }
 
 impl GuardProblem {
-    /// The requirements on state `q` of a decoded structure. Inputs a counterexample uses
-    /// (`in_counterexample[u]`) are cared for in every state: the negative scenarios were
-    /// satisfied by the solver's choice there, so the guards must reproduce it exactly.
-    pub fn of_state(
-        s: &Structure,
-        tree: &ScenarioTree,
-        q: usize,
-        in_counterexample: &[bool],
-    ) -> GuardProblem {
+    /// The requirements on state `q` of a decoded structure. Inputs that negative scenarios
+    /// need in state `q` (`Structure::care_inputs`) are cared for too: the solver's machine
+    /// leaves those lassos through its choices there, so the guards must reproduce them.
+    pub fn of_state(s: &Structure, tree: &ScenarioTree, q: usize) -> GuardProblem {
         let targets = s.targets(q);
         let positive = targets
             .iter()
@@ -75,8 +70,8 @@ impl GuardProblem {
                 }
             }
         }
-        for (u, &ce) in in_counterexample.iter().enumerate() {
-            if ce && s.delta[q][u].is_none() && !negative.contains(&s.alphabet[u]) {
+        for &u in &s.care_inputs[q] {
+            if s.delta[q][u].is_none() && !negative.contains(&s.alphabet[u]) {
                 negative.push(s.alphabet[u].clone());
             }
         }

@@ -203,7 +203,7 @@ impl Encoding {
         u
     }
 
-    fn add_negative(&mut self, neg: &NegativeScenario) {
+    fn add_negative(&mut self, neg: &NegativeScenario) -> Vec<InputVec> {
         let ids: Vec<InputVec> = neg
             .steps
             .iter()
@@ -217,6 +217,7 @@ impl Encoding {
         negative::leave_lasso(&mut sink, &self.vars, neg, &ids);
         self.variables += sink.vars;
         self.clauses += sink.clauses;
+        ids
     }
 
     /// Assumptions every call makes: closed edge tails, and "scenario inputs only" selectors.
@@ -277,7 +278,13 @@ pub struct Synthesizer<'a> {
     enc: Encoding,
     /// No machine with fewer states exists (adding constraints never lowers the minimum).
     c_lo: usize,
+    /// `(c, t)`: with `c` states no machine has fewer than `t` transitions (likewise kept
+    /// across calls, since negative scenarios only remove machines).
+    t_lo: Option<(usize, usize)>,
     negatives: Vec<NegativeScenario>,
+    /// Alphabet indices of the steps of each negative scenario in the current encoding
+    /// (`None`: it cannot be followed at all, its first outputs are not the initial ones).
+    negative_ids: Vec<Option<Vec<InputVec>>>,
     stats: Stats,
 }
 
@@ -299,7 +306,9 @@ impl<'a> Synthesizer<'a> {
             opts: opts.clone(),
             enc,
             c_lo: 1,
+            t_lo: None,
             negatives: Vec::new(),
+            negative_ids: Vec::new(),
             stats,
         }
     }
@@ -307,9 +316,9 @@ impl<'a> Synthesizer<'a> {
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
     pub fn add_negative(&mut self, neg: NegativeScenario) {
         let (v0, c0) = (self.enc.variables, self.enc.clauses);
-        if neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs) {
-            self.enc.add_negative(&neg);
-        }
+        let ids = (neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs))
+            .then(|| self.enc.add_negative(&neg));
+        self.negative_ids.push(ids);
         self.stats.variables += self.enc.variables - v0;
         self.stats.clauses += self.enc.clauses - c0;
         self.negatives.push(neg);
@@ -324,9 +333,9 @@ impl<'a> Synthesizer<'a> {
         self.enc = Encoding::new(self.tree, c_max, &self.opts);
         self.stats.variables += self.enc.variables;
         self.stats.clauses += self.enc.clauses;
-        for neg in &self.negatives {
-            if neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs) {
-                self.enc.add_negative(neg);
+        for (neg, ids) in self.negatives.iter().zip(self.negative_ids.iter_mut()) {
+            if ids.is_some() {
+                *ids = Some(self.enc.add_negative(neg));
             }
         }
     }
@@ -369,9 +378,14 @@ impl<'a> Synthesizer<'a> {
         };
         let enc = &mut self.enc;
         let tree = self.tree;
-        let extra = care_of_negatives(&self.negatives, enc.vars.outputs);
+        let indexed: Vec<decode::IndexedNegative> = self
+            .negatives
+            .iter()
+            .zip(&self.negative_ids)
+            .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
+            .collect();
         let decode = |m: &Model, enc: &Encoding| {
-            Structure::decode(m, &enc.vars, tree, opts.algorithms, &enc.alphabet, &extra)
+            Structure::decode(m, &enc.vars, tree, opts.algorithms, &enc.alphabet, &indexed)
         };
         let mut base: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
         let mut structure = decode(&model, enc);
@@ -402,21 +416,45 @@ impl<'a> Synthesizer<'a> {
             progress(&format!("K = {k} is minimal"));
         }
 
-        // 3. least T.
+        // 3. least T. With a lower bound from an earlier call (same C, no K bound), search
+        // upwards from it: every bound below it is already known to be unsatisfiable.
         let mut t = structure.transition_count();
-        while t > 0 {
-            let Some(bound) = enc.total_t.at_most(t - 1) else {
-                break;
-            };
-            progress(&format!("trying T = {}", t - 1));
-            let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
-            match enc.solve(&assume) {
-                Some(m) => {
-                    structure = decode(&m, enc);
-                    t = structure.transition_count();
+        match self.t_lo {
+            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t => {
+                let mut bound = lo;
+                while bound < t {
+                    let Some(b) = enc.total_t.at_most(bound) else {
+                        break;
+                    };
+                    progress(&format!("trying T = {bound}"));
+                    let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+                    if let Some(m) = enc.solve(&assume) {
+                        structure = decode(&m, enc);
+                        t = structure.transition_count();
+                        break;
+                    }
+                    bound += 1;
                 }
-                None => break,
             }
+            _ => {
+                while t > 0 {
+                    let Some(bound) = enc.total_t.at_most(t - 1) else {
+                        break;
+                    };
+                    progress(&format!("trying T = {}", t - 1));
+                    let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
+                    match enc.solve(&assume) {
+                        Some(m) => {
+                            structure = decode(&m, enc);
+                            t = structure.transition_count();
+                        }
+                        None => break,
+                    }
+                }
+            }
+        }
+        if !opts.minimize_k {
+            self.t_lo = Some((c, t));
         }
         progress(&format!("T = {t} is minimal"));
         self.stats.solver_calls += enc.calls;
@@ -430,7 +468,7 @@ impl<'a> Synthesizer<'a> {
         let mut states = Vec::with_capacity(structure.c);
         for q in 0..structure.c {
             let problem =
-                guards::GuardProblem::of_state(&structure, tree, q, &enc.in_counterexample);
+                guards::GuardProblem::of_state(&structure, tree, q);
             let g = guards::minimize_state(&problem, deadline);
             exact &= g.exact;
             states.push(State {
@@ -473,18 +511,6 @@ impl<'a> Synthesizer<'a> {
             stats: self.stats.clone(),
         })
     }
-}
-
-/// `care[z][old]`: some negative scenario enters a state with output `z` at value `old`, so
-/// the decoded algorithms must keep the solver's choice there.
-fn care_of_negatives(negs: &[NegativeScenario], outputs: usize) -> Vec<[bool; 2]> {
-    let mut care = vec![[false; 2]; outputs];
-    for s in negs.iter().flat_map(|n| &n.steps) {
-        for (z, &b) in s.before.iter().enumerate() {
-            care[z][usize::from(b)] = true;
-        }
-    }
-    care
 }
 
 /// Synthesizes a minimal ECC reproducing every scenario of `set`.

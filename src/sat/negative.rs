@@ -11,6 +11,8 @@
 //!   `g[t,q] & y[q,u_i,⊥] -> g[t+1,q]` (position `i` of time `t`);
 //! - `!g[H,q]` for every `q`: the machine never follows the whole unrolling.
 //!
+//! A finite negative scenario (no loop) is the same with `H = n`, the number of its steps.
+//!
 //! `g` and `ok` are only forced *up*; the solver can always set the rest false, so the
 //! constraint is exact.
 
@@ -22,12 +24,15 @@ use varisat::{ExtendFormula, Lit};
 /// Encodes one negative scenario; `ids[i]` is the alphabet index of step `i`'s inputs.
 pub fn leave_lasso(f: &mut impl ExtendFormula, v: &Vars, neg: &NegativeScenario, ids: &[InputVec]) {
     let n = neg.steps.len();
-    let (p, l) = (neg.loop_start, n - neg.loop_start);
-    if n == 0 || l == 0 {
+    let c = v.c_max;
+    let (p, l, horizon) = match neg.loop_start {
+        Some(p) if p < n => (p, n - p, p + (n - p) * c),
+        Some(_) => return,
+        None => (n, 1, n),
+    };
+    if n == 0 {
         return;
     }
-    let c = v.c_max;
-    let horizon = p + l * c;
     let ok: Vec<Vec<Lit>> = neg
         .steps
         .iter()

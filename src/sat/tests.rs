@@ -150,7 +150,7 @@ fn neg(steps: &[(&str, &str, &str)], loop_start: usize) -> NegativeScenario {
                 after: b(z1),
             })
             .collect(),
-        loop_start,
+        loop_start: Some(loop_start),
         label: "test".into(),
     }
 }
@@ -209,4 +209,21 @@ fn followed_by_detects_cycles_through_the_loop() {
     assert!(its_run.followed_by(&r.ecc));
     let other = neg(&[("1", "0", "1"), ("1", "1", "1")], 1);
     assert!(!other.followed_by(&r.ecc));
+}
+
+#[test]
+fn finite_negative_prefix_forbids_reproducing_it() {
+    let s = set("1\nin=REQ[10]; out=CNF[1];\n");
+    let tree = ScenarioTree::build(&s).unwrap();
+    let mut synth = Synthesizer::new(&s, &tree, &opts(AlgorithmKind::Tri));
+    let first = synth.minimize(&mut |_| {}).unwrap();
+    // Lighting the lamp on 11 is bad (a safety violation right after that step).
+    let mut bad = neg(&[("11", "0", "1")], 0);
+    bad.loop_start = None;
+    synth.add_negative(bad.clone());
+    let second = synth.minimize(&mut |_| {}).unwrap();
+    assert!(!bad.followed_by(&second.ecc));
+    s.check(&second.ecc).unwrap();
+    // The first machine (guard on the first input only, or TRUE) may well have done it.
+    let _ = first;
 }

@@ -19,18 +19,21 @@ pub struct NegativeStep {
     pub after: Vec<bool>,
 }
 
-/// A lasso of steps: `steps[..loop_start]` once, then `steps[loop_start..]` forever.
-/// The outputs after the last step are the outputs before `steps[loop_start]`.
+/// A lasso of steps: `steps[..loop_start]` once, then `steps[loop_start..]` forever; the
+/// outputs after the last step are the outputs before `steps[loop_start]`. Without a loop
+/// (`loop_start: None`) it is a finite prefix: reproducing all its steps is already bad (a
+/// safety violation is reached at its end).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct NegativeScenario {
     pub steps: Vec<NegativeStep>,
-    pub loop_start: usize,
+    pub loop_start: Option<usize>,
     /// What it came from, for messages (e.g. the property name).
     pub label: String,
 }
 
 impl NegativeScenario {
-    /// Whether `ecc`, started in its initial state, reproduces the lasso forever.
+    /// Whether `ecc`, started in its initial state, reproduces the lasso forever (or, for a
+    /// finite prefix, every step of it).
     pub fn followed_by(&self, ecc: &Ecc) -> bool {
         let Some(first) = self.steps.first() else {
             return false;
@@ -39,10 +42,16 @@ impl NegativeScenario {
             return false;
         }
         let mut run = Run::new(ecc);
+        let Some(loop_start) = self.loop_start else {
+            return self.steps.iter().all(|step| {
+                run.step(&step.inputs);
+                run.outputs == step.after
+            });
+        };
         let mut seen: HashSet<(usize, StateId)> = HashSet::new();
         let mut i = 0;
         loop {
-            if i >= self.loop_start && !seen.insert((i, run.state)) {
+            if i >= loop_start && !seen.insert((i, run.state)) {
                 // The same position in the same state: the run repeats forever.
                 return true;
             }
@@ -54,7 +63,7 @@ impl NegativeScenario {
             i = if i + 1 < self.steps.len() {
                 i + 1
             } else {
-                self.loop_start
+                loop_start
             };
         }
     }
