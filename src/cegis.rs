@@ -124,7 +124,11 @@ pub fn run(
             .iter()
             .filter_map(|c| c.negative_scenario(&set.inputs, &set.outputs))
             .collect();
-        let finite: Vec<_> = all.iter().filter(|n| n.loop_start.is_none()).cloned().collect();
+        let finite: Vec<_> = all
+            .iter()
+            .filter(|n| n.loop_start.is_none())
+            .cloned()
+            .collect();
         let negs = if finite.is_empty() {
             all.into_iter().take(1).collect()
         } else {

@@ -239,7 +239,10 @@ fn match_results(
         };
         slots[k] = Some(r);
     }
-    Ok(slots.into_iter().map(|s| s.expect("counts are equal")).collect())
+    Ok(slots
+        .into_iter()
+        .map(|s| s.expect("counts are equal"))
+        .collect())
 }
 
 fn locate_errors(

@@ -167,6 +167,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         minimize_k: args.minimize_k,
         max_states: args.max_states,
         start_state: args.start_state,
+        cube_slots: None,
         guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
     };
     let result =

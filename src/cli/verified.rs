@@ -55,6 +55,9 @@ pub struct MainArgs {
     /// Give up when more states than this would be needed.
     #[arg(long, default_value_t = 32, value_name = "C")]
     pub max_states: usize,
+    /// Transitions per state at most (each guarded by a conjunction of input literals).
+    #[arg(long, default_value_t = 6, value_name = "K")]
+    pub max_out_degree: usize,
     /// Give up after this many candidate controllers.
     #[arg(long, default_value_t = 500, value_name = "N")]
     pub max_iterations: usize,
@@ -177,6 +180,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 AlgorithmsArg::Binary => AlgorithmKind::Binary,
             },
             max_states: args.max_states,
+            cube_slots: Some(args.max_out_degree.max(1)),
             ..Options::default()
         },
         max_iterations: args.max_iterations,

@@ -193,7 +193,9 @@ impl Session {
             CheckMode::FirstCounterexample => {
                 self.add_traces(&mut results, deadline, model, false)?
             }
-            CheckMode::AllCounterexamples => self.add_traces(&mut results, deadline, model, true)?,
+            CheckMode::AllCounterexamples => {
+                self.add_traces(&mut results, deadline, model, true)?
+            }
         }
         Ok(results)
     }

@@ -252,9 +252,18 @@ pub fn start_state_never_entered(f: &mut impl ExtendFormula, v: &Vars, u: InputV
     }
 }
 
-/// The families of one input vector.
-pub fn per_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, start_state: bool) {
+/// The families of one input vector (`bits`: its values).
+pub fn per_input(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    u: InputVec,
+    bits: &[bool],
+    start_state: bool,
+) {
     transition_function(f, v, u);
+    if v.cubes.is_some() {
+        super::cubes::input(f, v, u, bits);
+    }
     edge_of_input(f, v, u);
     bfs_input(f, v, u);
     if start_state {
@@ -275,12 +284,18 @@ pub fn basic(
 ) {
     used_prefix(f, v);
     coloring(f, v, tree);
+    if v.cubes.is_some() {
+        super::cubes::slots(f, v);
+    }
     for u in 0..v.inputs {
-        per_input(f, v, InputVec(u), start_state);
+        per_input(f, v, InputVec(u), &tree.input_vectors[u], start_state);
     }
     active_edges(f, v, tree);
     passive_marks(f, v, tree);
-    no_unexercised_transitions(f, v, tree, sel);
+    // With guards in the encoding, transitions on unrecorded inputs follow from the guards.
+    if v.cubes.is_none() {
+        no_unexercised_transitions(f, v, tree, sel);
+    }
     algorithms(f, v, tree, kind);
     edge_definition(f, v, tails);
     bfs_parents(f, v);

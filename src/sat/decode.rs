@@ -2,7 +2,7 @@
 //! function on observed inputs, and the algorithms. Guards are made from it in [`super::guards`].
 
 use super::vars::Vars;
-use crate::ecc::{Algorithm, AlgorithmKind, Tri};
+use crate::ecc::{Algorithm, AlgorithmKind, Guard, InputId, StateId, Transition, Tri};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::Lit;
@@ -22,6 +22,8 @@ pub struct Structure {
     /// `care_inputs[q]`: alphabet inputs on which negative scenarios need state `q` to behave
     /// exactly as the solver chose (beyond what the scenario tree fixes).
     pub care_inputs: Vec<Vec<usize>>,
+    /// Cube-guard model: every state's transitions in priority order, exactly as encoded.
+    pub cube_transitions: Option<Vec<Vec<Transition>>>,
 }
 
 /// A negative scenario with the alphabet index of every step's inputs.
@@ -177,7 +179,37 @@ impl Structure {
                 }
             })
             .collect();
+        let cube_transitions = v.cubes.as_ref().map(|cv| {
+            (0..c)
+                .map(|q| {
+                    (0..cv.slots)
+                        .filter(|&k| model.value(cv.en(q, k)))
+                        .map(|k| {
+                            let target = (0..c)
+                                .find(|&t| model.value(cv.tgt(q, k, v.c_max, t)))
+                                .expect("an enabled slot has a target");
+                            let lits: Vec<(InputId, bool)> = (0..cv.bits)
+                                .filter_map(|x| {
+                                    if model.value(cv.pos(q, k, x)) {
+                                        Some((InputId(x), true))
+                                    } else if model.value(cv.neg(q, k, x)) {
+                                        Some((InputId(x), false))
+                                    } else {
+                                        None
+                                    }
+                                })
+                                .collect();
+                            Transition {
+                                target: StateId(target),
+                                guard: Guard::cube(&lits),
+                            }
+                        })
+                        .collect()
+                })
+                .collect()
+        });
         Structure {
+            cube_transitions,
             care_inputs,
             alphabet: alphabet.to_vec(),
             c,
@@ -198,16 +230,31 @@ impl Structure {
         out
     }
 
-    /// Number of transitions (distinct `(q, q')` pairs).
+    /// Transitions of state `q`: slots in the cube model, distinct targets otherwise.
+    fn out_degree(&self, q: usize) -> usize {
+        match &self.cube_transitions {
+            Some(ts) => ts[q].len(),
+            None => self.targets(q).len(),
+        }
+    }
+
+    /// Number of transitions.
     pub fn transition_count(&self) -> usize {
-        (0..self.c).map(|q| self.targets(q).len()).sum()
+        (0..self.c).map(|q| self.out_degree(q)).sum()
     }
 
     /// Largest out-degree.
     pub fn max_out_degree(&self) -> usize {
-        (0..self.c)
-            .map(|q| self.targets(q).len())
-            .max()
-            .unwrap_or(0)
+        (0..self.c).map(|q| self.out_degree(q)).max().unwrap_or(0)
+    }
+
+    /// Total guard literals (cube model).
+    pub fn literal_count(&self) -> usize {
+        self.cube_transitions
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|t| t.guard.literal_count())
+            .sum()
     }
 }

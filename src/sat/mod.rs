@@ -19,6 +19,7 @@
 
 pub mod card;
 pub mod constraints;
+pub mod cubes;
 pub mod decode;
 pub mod guards;
 pub mod negative;
@@ -46,6 +47,10 @@ pub struct Options {
     pub start_state: bool,
     /// Time for guard minimization, over all states; past it the best guards so far are kept.
     pub guard_budget: Duration,
+    /// `Some(k)`: guards are conjunctions of literals inside the encoding, at most `k`
+    /// transitions per state ([`cubes`]); `None`: transitions on recorded inputs only, guards
+    /// minimized afterwards (the tree-exact model).
+    pub cube_slots: Option<usize>,
 }
 
 impl Default for Options {
@@ -56,6 +61,7 @@ impl Default for Options {
             max_states: 32,
             start_state: false,
             guard_budget: Duration::from_secs(10),
+            cube_slots: None,
         }
     }
 }
@@ -119,6 +125,8 @@ struct Encoding {
     solver: Solver<'static>,
     vars: Vars,
     total_t: Totalizer,
+    /// Guard literal counter (cube model only).
+    total_n: Option<Totalizer>,
     /// Out-degree counters, one per state (only when minimizing `K`).
     degree: Vec<Totalizer>,
     /// Assumption literal "every out-degree <= K", per K, made on demand.
@@ -144,7 +152,7 @@ impl Encoding {
             vars: 0,
             clauses: 0,
         };
-        let vars = Vars::new(&mut sink, tree, c_max);
+        let vars = Vars::new(&mut sink, tree, c_max, opts.cube_slots);
         let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
         let tails: Vec<Lit> = (0..c_max * c_max).map(|_| sink.new_lit()).collect();
         constraints::basic(
@@ -156,10 +164,19 @@ impl Encoding {
             &sel,
             &tails,
         );
-        let total_t = Totalizer::new(&mut sink, vars.all_t(), c_max * c_max);
+        let (total_t, total_n) = match &vars.cubes {
+            Some(cv) => (
+                Totalizer::new(&mut sink, cv.all_en(), c_max * cv.slots),
+                Some(Totalizer::new(&mut sink, &cv.all_literals(), 200)),
+            ),
+            None => (Totalizer::new(&mut sink, vars.all_t(), c_max * c_max), None),
+        };
         let degree = if opts.minimize_k {
             (0..c_max)
-                .map(|q| Totalizer::new(&mut sink, vars.t_row(q), c_max))
+                .map(|q| match &vars.cubes {
+                    Some(cv) => Totalizer::new(&mut sink, cv.en_row(q), cv.slots),
+                    None => Totalizer::new(&mut sink, vars.t_row(q), c_max),
+                })
                 .collect()
         } else {
             Vec::new()
@@ -169,6 +186,7 @@ impl Encoding {
             solver,
             vars,
             total_t,
+            total_n,
             degree,
             k_bounds: Vec::new(),
             sel,
@@ -194,7 +212,7 @@ impl Encoding {
             clauses: 0,
         };
         let u = self.vars.add_input(&mut sink);
-        constraints::per_input(&mut sink, &self.vars, u, self.start_state);
+        constraints::per_input(&mut sink, &self.vars, u, x, self.start_state);
         constraints::extend_edges(&mut sink, &self.vars, u, &mut self.tails);
         self.variables += sink.vars;
         self.clauses += sink.clauses;
@@ -281,6 +299,9 @@ pub struct Synthesizer<'a> {
     /// `(c, t)`: with `c` states no machine has fewer than `t` transitions (likewise kept
     /// across calls, since negative scenarios only remove machines).
     t_lo: Option<(usize, usize)>,
+    /// `(c, t, n)`: with `c` states and `t` transitions no cube guards have fewer than `n`
+    /// literals (cube model).
+    n_lo: Option<(usize, usize, usize)>,
     negatives: Vec<NegativeScenario>,
     /// Alphabet indices of the steps of each negative scenario in the current encoding
     /// (`None`: it cannot be followed at all, its first outputs are not the initial ones).
@@ -307,6 +328,7 @@ impl<'a> Synthesizer<'a> {
             enc,
             c_lo: 1,
             t_lo: None,
+            n_lo: None,
             negatives: Vec::new(),
             negative_ids: Vec::new(),
             stats,
@@ -461,22 +483,59 @@ impl<'a> Synthesizer<'a> {
         enc.calls = 0;
         self.stats.sat_seconds = t0.elapsed().as_secs_f64();
 
-        // 4. guards.
+        // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
+        // state on the fixed structure.
         let tg = Instant::now();
-        let deadline = tg + opts.guard_budget;
         let mut exact = true;
-        let mut states = Vec::with_capacity(structure.c);
-        for q in 0..structure.c {
-            let problem =
-                guards::GuardProblem::of_state(&structure, tree, q);
-            let g = guards::minimize_state(&problem, deadline);
-            exact &= g.exact;
-            states.push(State {
-                name: format!("s{q}"),
-                algorithm: structure.algorithms[q].clone(),
-                transitions: g.transitions,
-            });
-        }
+        let states: Vec<State> = if let Some(cube_ts) = structure.cube_transitions.clone() {
+            let mut best = (structure.clone(), cube_ts);
+            let mut n = best.0.literal_count();
+            let t_bound = enc.total_t.at_most(t);
+            let start = match self.n_lo {
+                Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
+                _ => 0,
+            };
+            // Descend from the current N; stop at the known lower bound.
+            while n > start {
+                let Some(nb) = enc.total_n.as_ref().and_then(|tot| tot.at_most(n - 1)) else {
+                    break;
+                };
+                progress(&format!("trying N = {}", n - 1));
+                let assume: Vec<Lit> = base.iter().copied().chain(t_bound).chain([nb]).collect();
+                match enc.solve(&assume) {
+                    Some(m) => {
+                        let st = decode(&m, enc);
+                        n = st.literal_count();
+                        let ts = st.cube_transitions.clone().expect("cube model");
+                        best = (st, ts);
+                    }
+                    None => break,
+                }
+            }
+            self.n_lo = Some((c, t, n));
+            structure = best.0;
+            (0..structure.c)
+                .map(|q| State {
+                    name: format!("s{q}"),
+                    algorithm: structure.algorithms[q].clone(),
+                    transitions: best.1[q].clone(),
+                })
+                .collect()
+        } else {
+            let deadline = tg + opts.guard_budget;
+            let mut states = Vec::with_capacity(structure.c);
+            for q in 0..structure.c {
+                let problem = guards::GuardProblem::of_state(&structure, tree, q);
+                let g = guards::minimize_state(&problem, deadline);
+                exact &= g.exact;
+                states.push(State {
+                    name: format!("s{q}"),
+                    algorithm: structure.algorithms[q].clone(),
+                    transitions: g.transitions,
+                });
+            }
+            states
+        };
         self.stats.guard_seconds = tg.elapsed().as_secs_f64();
         let ecc = Ecc {
             inputs: self.set.inputs.clone(),

@@ -34,6 +34,58 @@ pub struct Vars {
     m: Vec<Vec<Lit>>,
     /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
     nm: Vec<Vec<Lit>>,
+    /// Guards inside the encoding (see [`super::cubes`]); `None` in the tree-exact mode.
+    pub cubes: Option<CubeVars>,
+}
+
+/// Variables of the cube-guard model: `slots` ordered transition slots per state, each with a
+/// target and a guard that is a conjunction of literals over the `bits` input variables.
+#[derive(Debug, Clone)]
+pub struct CubeVars {
+    pub slots: usize,
+    pub bits: usize,
+    /// `en[q][k]`: slot `k` of state `q` holds a transition.
+    en: Vec<Lit>,
+    /// `tgt[q][k][q']`: its target.
+    tgt: Vec<Lit>,
+    /// `pos[q][k][x]` / `neg[q][k][x]`: its guard contains `x` / `!x`.
+    pos: Vec<Lit>,
+    neg: Vec<Lit>,
+    /// Per input vector `u`: `fire[u][q][k]` (the guard holds), `nf[u][q][k]` (no slot before
+    /// `k` fires, `k` in `0..=slots`).
+    fire: Vec<Vec<Lit>>,
+    nf: Vec<Vec<Lit>>,
+}
+
+impl CubeVars {
+    pub fn en(&self, q: usize, k: usize) -> Lit {
+        self.en[q * self.slots + k]
+    }
+    pub fn tgt(&self, q: usize, k: usize, c_max: usize, t: usize) -> Lit {
+        self.tgt[(q * self.slots + k) * c_max + t]
+    }
+    pub fn pos(&self, q: usize, k: usize, x: usize) -> Lit {
+        self.pos[(q * self.slots + k) * self.bits + x]
+    }
+    pub fn neg(&self, q: usize, k: usize, x: usize) -> Lit {
+        self.neg[(q * self.slots + k) * self.bits + x]
+    }
+    pub fn fire(&self, u: InputVec, q: usize, k: usize) -> Lit {
+        self.fire[u.0][q * self.slots + k]
+    }
+    pub fn nf(&self, u: InputVec, q: usize, k: usize) -> Lit {
+        self.nf[u.0][q * (self.slots + 1) + k]
+    }
+    pub fn all_en(&self) -> &[Lit] {
+        &self.en
+    }
+    pub fn en_row(&self, q: usize) -> &[Lit] {
+        &self.en[q * self.slots..(q + 1) * self.slots]
+    }
+    /// Every guard literal, for counting N.
+    pub fn all_literals(&self) -> Vec<Lit> {
+        self.pos.iter().chain(&self.neg).copied().collect()
+    }
 }
 
 fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
@@ -41,7 +93,13 @@ fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
 }
 
 impl Vars {
-    pub fn new(f: &mut impl ExtendFormula, tree: &ScenarioTree, c_max: usize) -> Vars {
+    /// `cube_slots`: `Some(k)` for the cube-guard model with `k` slots per state.
+    pub fn new(
+        f: &mut impl ExtendFormula,
+        tree: &ScenarioTree,
+        c_max: usize,
+        cube_slots: Option<usize>,
+    ) -> Vars {
         let nodes = tree.nodes.len();
         let outputs = tree.nodes[0].outputs.len();
         let mut v = Vars {
@@ -58,6 +116,19 @@ impl Vars {
             p: alloc(f, c_max * c_max),
             m: Vec::new(),
             nm: vec![alloc(f, c_max * c_max)],
+            cubes: cube_slots.map(|slots| {
+                let bits = tree.input_vectors.first().map_or(0, Vec::len);
+                CubeVars {
+                    slots,
+                    bits,
+                    en: alloc(f, c_max * slots),
+                    tgt: alloc(f, c_max * slots * c_max),
+                    pos: alloc(f, c_max * slots * bits),
+                    neg: alloc(f, c_max * slots * bits),
+                    fire: Vec::new(),
+                    nf: Vec::new(),
+                }
+            }),
         };
         for _ in 0..tree.input_vectors.len() {
             v.add_input(f);
@@ -71,6 +142,10 @@ impl Vars {
         self.y.push(alloc(f, c * (c + 1)));
         self.m.push(alloc(f, c * c));
         self.nm.push(alloc(f, c * c));
+        if let Some(cv) = &mut self.cubes {
+            cv.fire.push(alloc(f, c * cv.slots));
+            cv.nf.push(alloc(f, c * (cv.slots + 1)));
+        }
         self.inputs += 1;
         InputVec(self.inputs - 1)
     }
