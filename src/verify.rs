@@ -104,6 +104,8 @@ pub enum VerifyError {
     Smv(#[from] SmvError),
     #[error("cannot write the closed-loop model: {0}")]
     Io(#[from] std::io::Error),
+    #[error("NuSMV did not finish checking the closed loop with plant {} within {seconds} s and was killed; raise --timeout SECONDS or make the plant model smaller", plant.display())]
+    Timeout { seconds: f64, plant: PathBuf },
     #[error("NuSMV reported {got} verdicts for {expected} properties")]
     Count { expected: usize, got: usize },
     #[error("NuSMV reported a verdict on `{0}`, which matches none of the properties")]
@@ -172,6 +174,12 @@ pub fn verify(
             return Err(VerifyError::Model(locate_errors(
                 &errors, &model, setup, &path,
             )))
+        }
+        Err(NusmvError::Timeout { seconds, .. }) => {
+            return Err(VerifyError::Timeout {
+                seconds,
+                plant: setup.plant.file.clone(),
+            })
         }
         Err(e) => return Err(e.into()),
     };

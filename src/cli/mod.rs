@@ -95,7 +95,11 @@ impl Failure {
         let mut message = e.to_string();
         let mut source = e.source();
         while let Some(s) = source {
-            message.push_str(&format!("\ncaused by: {s}"));
+            // Wrappers that only forward their source would repeat the message.
+            let text = s.to_string();
+            if !message.contains(&text) {
+                message.push_str(&format!("\ncaused by: {text}"));
+            }
             source = s.source();
         }
         Failure { code, message }

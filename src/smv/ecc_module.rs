@@ -278,19 +278,6 @@ mod tests {
         assert!(name_error(&bad, "m").contains("state value"));
     }
 
-    /// NuSMV from `$NUSMV`, the `PATH`, or where the project's installer caches it.
-    fn nusmv() -> Option<std::path::PathBuf> {
-        if let Some(p) = std::env::var_os("NUSMV") {
-            return Some(p.into());
-        }
-        if let Ok(p) = which::which("NuSMV") {
-            return Some(p);
-        }
-        let home = std::env::var_os("HOME")?;
-        let p = std::path::Path::new(&home).join(".cache/fbsynth/nusmv-2.5.4/bin/NuSMV");
-        p.exists().then_some(p)
-    }
-
     /// A `main` module that drives `module` with a fixed input sequence (a function of the step
     /// counter `t`) and one invariant stating, for every step, the state, outputs and `CNF`
     /// that [`Run::step`](crate::ecc::Run::step) computes on the same sequence.
@@ -351,15 +338,31 @@ mod tests {
         m + &ecc_module_to_string(ecc, module).unwrap()
     }
 
-    /// The module agrees with the simulator step by step. Runs wherever NuSMV is installed.
+    /// The module agrees with the simulator step by step, on the samples and on random ECCs.
+    /// Runs wherever NuSMV is installed, and always under CI (where a missing NuSMV fails).
     #[test]
     fn module_agrees_with_simulator_in_nusmv() {
-        let Some(nusmv) = nusmv() else {
-            eprintln!("NuSMV not found: differential test skipped");
+        let Some(nusmv) = crate::nusmv::test_support::nusmv_or_skip() else {
             return;
         };
+        let nusmv = nusmv.path;
         let dir = tempfile::tempdir().unwrap();
-        for (name, ecc) in samples::all() {
+        let mut machines: Vec<(String, Ecc)> = samples::all()
+            .into_iter()
+            .map(|(n, e)| (n.to_string(), e))
+            .collect();
+        for seed in 0..12u64 {
+            let (c, i, o) = (
+                1 + seed as usize % 4,
+                1 + seed as usize % 3,
+                1 + seed as usize % 3,
+            );
+            machines.push((
+                format!("random{seed}"),
+                crate::ecc::random::random_ecc(seed, c, i, o),
+            ));
+        }
+        for (name, ecc) in machines {
             for seed in 0..3 {
                 let path = dir.path().join(format!("{name}_{seed}.smv"));
                 std::fs::write(&path, differential_model(&ecc, "m", seed, 40)).unwrap();

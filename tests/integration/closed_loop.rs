@@ -1,0 +1,221 @@
+//! Verification in the loop through the `synth` binary, with real NuSMV: the main job, `synth
+//! verify`, and every kind of bad input with its place. Needs NuSMV: skipped with a note where
+//! it is not installed, and failing under CI=true.
+
+use fbsynth::nusmv::test_support::nusmv_or_skip;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn synth(nusmv: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .arg("--nusmv")
+        .arg(nusmv)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run synth")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+const DIR: &str = "tests/data/closed_loop";
+
+fn main_job(nusmv: &Path, ltl: &str, plant: &str, out: &Path, extra: &[&str]) -> Output {
+    let ltl = format!("{DIR}/{ltl}");
+    let plant = format!("{DIR}/{plant}");
+    let mut args = vec![
+        "-q",
+        "--ltl",
+        &ltl,
+        "--plant",
+        &plant,
+        "--traces",
+        "tests/data/closed_loop/lamp.traces",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    synth(nusmv, &args)
+}
+
+#[test]
+fn main_job_verifies_and_verify_agrees() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", out.path(), &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
+    let report = std::fs::read_to_string(out.path().join("verification.txt")).unwrap();
+    assert!(
+        report.contains("HOLDS    goes_out") && report.contains("is true"),
+        "{report}"
+    );
+    let json = out.path().join("SynthesizedFB.json");
+    let v = synth(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            json.to_str().unwrap(),
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+        ],
+    );
+    assert!(v.status.success(), "{}", text(&v.stderr));
+    assert!(text(&v.stdout).contains("verified: all 2 properties hold"));
+}
+
+#[test]
+fn scenarios_alone_do_not_make_the_lamp_go_out() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "infer",
+            "-q",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+        ])
+        .arg(out.path())
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = out.path().join("SynthesizedFB.json");
+    let v = synth(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            json.to_str().unwrap(),
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+        ],
+    );
+    assert_eq!(v.status.code(), Some(1));
+    assert!(
+        text(&v.stdout).contains("VIOLATED goes_out"),
+        "{}",
+        text(&v.stdout)
+    );
+    assert!(text(&v.stderr).contains("not verified: goes_out violated"));
+}
+
+/// (plant, spec, expected start of the error message)
+const BAD: &[(&str, &str, &str)] = &[
+    (
+        "broken_plant.smv",
+        "lamp.ltl",
+        "error: NuSMV rejected the closed-loop model:\n  tests/data/closed_loop/broken_plant.smv:10: at token \"DEFINE\": syntax error",
+    ),
+    (
+        "typo_plant.smv",
+        "lamp.ltl",
+        "error: NuSMV rejected the closed-loop model:\n  tests/data/closed_loop/typo_plant.smv:8: \"plant.one\" undefined",
+    ),
+    (
+        "wrong_param_plant.smv",
+        "lamp.ltl",
+        "error: tests/data/closed_loop/wrong_param_plant.smv:2: plant parameter 'light' is not a controller output",
+    ),
+    (
+        "lamp_plant.smv",
+        "unknown_name.ltl",
+        "error: tests/data/closed_loop/unknown_name.ltl:3: unknown name 'dark'",
+    ),
+    (
+        "lamp_plant.smv",
+        "syntax.ltl",
+        "error: tests/data/closed_loop/syntax.ltl:2:21: syntax error: expected formula after '&'",
+    ),
+];
+
+#[test]
+fn bad_plants_and_specs_are_reported_with_file_and_line() {
+    let Some(n) = nusmv_or_skip() else { return };
+    for (plant, spec, want) in BAD {
+        let out = tempfile::tempdir().unwrap();
+        let dir = out.path().join("res");
+        let o = main_job(&n.path, spec, plant, &dir, &[]);
+        assert_eq!(
+            o.status.code(),
+            Some(1),
+            "{plant} {spec}: {}",
+            text(&o.stderr)
+        );
+        let e = text(&o.stderr);
+        assert!(e.starts_with(want), "{plant} {spec}:\n{e}");
+        assert!(!dir.join("SynthesizedFB.json").exists());
+    }
+}
+
+#[test]
+fn nusmv_timeout_is_one_clear_error() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(
+        &n.path,
+        "lamp.ltl",
+        "slow_plant.smv",
+        out.path(),
+        &["--timeout", "1"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: NuSMV did not finish checking the closed loop with plant tests/data/closed_loop/slow_plant.smv within 1 s and was killed; raise --timeout SECONDS or make the plant model smaller"
+    );
+}
+
+#[test]
+fn missing_nusmv_says_how_to_install() {
+    let o = synth(
+        Path::new("/no/such/NuSMV"),
+        &[
+            "-q",
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: NuSMV binary `/no/such/NuSMV` (from --nusmv or NUSMV) does not exist"
+    );
+}
+
+/// The headline: the shipped Pick-and-Place scenarios, properties and surrogate plant give a
+/// controller that NuSMV verifies and that replays every scenario.
+#[test]
+fn pick_and_place_main_job_is_verified() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(
+        &n.path,
+        &[
+            "-q",
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--out",
+            out.path().to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout)
+        .contains("verified: all 8 properties hold (NuSMV), 10 scenarios reproduced"));
+    let json = std::fs::read_to_string(out.path().join("SynthesizedFB.json")).unwrap();
+    let ecc = fbsynth::export::json::read_json(&json, Path::new("SynthesizedFB.json")).unwrap();
+    let set = fbsynth::cases::pnp::generate();
+    set.check(&ecc).unwrap();
+}
