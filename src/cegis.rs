@@ -25,6 +25,8 @@ pub struct Config {
     pub sat: Options,
     /// Give up after this many candidates.
     pub max_iterations: usize,
+    /// Report every step of every minimization, not only one line per candidate.
+    pub verbose: bool,
 }
 
 /// One iteration, for progress and for the benchmark figures.
@@ -77,7 +79,11 @@ pub fn run(
     let mut last_failing = String::new();
     for number in 1..=config.max_iterations {
         let t = Instant::now();
-        let synthesis = synth.minimize(&mut |_| {})?;
+        let synthesis = synth.minimize(&mut |m| {
+            if config.verbose {
+                progress(m)
+            }
+        })?;
         let sat_seconds = t.elapsed().as_secs_f64();
         let v = verify(&synthesis.ecc, setup, session, workdir)?;
         let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();

@@ -76,8 +76,35 @@ pub enum Command {
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
     Verify(verified::VerifyArgs),
+    /// Regenerate a shipped case's scenario files from its reference controller and plant
+    /// simulation (`pnp`: the Pick-and-Place manipulator).
+    Generate(GenerateArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct GenerateArgs {
+    /// The case: `pnp`.
+    #[arg(value_parser = ["pnp"])]
+    pub case: String,
+    /// Folder to write the scenario and names files into.
+    #[arg(long, default_value = "specs", value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
+    let set = crate::cases::pnp::generate();
+    println!(
+        "recorded {} work-piece orders ({} steps) from the reference controller:",
+        set.scenarios.len(),
+        set.step_count()
+    );
+    for f in files {
+        println!("  {}", f.display());
+    }
+    Ok(())
 }
 
 /// A failure the CLI reports: message, causes, exit code.
@@ -156,6 +183,7 @@ pub fn run() -> i32 {
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
+        Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),
     };
     match result {

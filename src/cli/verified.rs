@@ -72,6 +72,9 @@ pub struct MainArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Progress of every minimization step, not only one line per candidate.
+    #[arg(long, short)]
+    pub verbose: bool,
 }
 
 #[derive(Debug, Args)]
@@ -184,6 +187,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             ..Options::default()
         },
         max_iterations: args.max_iterations,
+        verbose: args.verbose,
     };
     let setup = Setup {
         plant: &plant,
