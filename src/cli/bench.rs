@@ -29,6 +29,13 @@ pub struct BenchArgs {
     /// The project's Pick-and-Place scenarios.
     #[arg(long, default_value = "specs/pnp.traces", value_name = "FILE")]
     pub pnp: PathBuf,
+    /// Runs of the main job (CEGIS with NuSMV on specs/pnp.ltl and smv/pnp_surrogate.smv);
+    /// 0 skips it.
+    #[arg(long, default_value_t = 3)]
+    pub cegis_runs: usize,
+    /// The NuSMV binary for the main-job benchmark (default: as the main job finds it).
+    #[arg(long, value_name = "PATH")]
+    pub nusmv: Option<PathBuf>,
 }
 
 struct Case {
@@ -81,6 +88,82 @@ fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
     (xs[0], xs[xs.len() / 2], xs[xs.len() - 1])
 }
 
+/// The main job, `runs` times: iterations, time, SAT share, NuSMV time per candidate.
+fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
+    use crate::cegis::{self, Config};
+    use crate::ltl::parse_spec_file;
+    use crate::nusmv::{locate, Nusmv};
+    use crate::smv::closed_loop::check_coupling;
+    use crate::smv::plant::read_plant;
+    use crate::verify::Setup;
+    let (ltl, plant_file) = (
+        Path::new("specs/pnp.ltl"),
+        Path::new("smv/pnp_surrogate.smv"),
+    );
+    if !ltl.is_file() || !plant_file.is_file() || !args.pnp.is_file() {
+        return Ok(());
+    }
+    let nusmv = locate(args.nusmv.as_deref()).map_err(Failure::input)?;
+    let set = load_scenarios(&TraceArgs {
+        traces: vec![args.pnp.clone()],
+        input_names: None,
+        output_names: None,
+    })?;
+    let props = parse_spec_file(ltl).map_err(Failure::input)?;
+    let plant = read_plant(plant_file).map_err(Failure::input)?;
+    let coupling =
+        check_coupling(&set.inputs, &set.outputs, &plant, ltl, &props).map_err(Failure::input)?;
+    let setup = Setup {
+        plant: &plant,
+        coupling: &coupling,
+        spec_file: ltl,
+        props: &props,
+    };
+    let config = Config {
+        sat: Options {
+            cube_slots: Some(6),
+            ..Options::default()
+        },
+        max_iterations: 500,
+        verbose: false,
+    };
+    println!();
+    println!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per candidate (median) |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for run in 1..=args.cegis_runs {
+        let mut session = Nusmv::new(nusmv.clone()).session();
+        let work = tempfile::tempdir().map_err(Failure::input)?;
+        let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
+        let t = Instant::now();
+        let v = cegis::run(
+            &set,
+            &tree,
+            &setup,
+            &mut session,
+            &config,
+            work.path(),
+            &mut |_| {},
+        )
+        .map_err(Failure::input)?;
+        let total = t.elapsed().as_secs_f64();
+        let sat: f64 = v.iterations.iter().map(|i| i.sat_seconds).sum();
+        let nus: Vec<f64> = v.iterations.iter().map(|i| i.nusmv_seconds).collect();
+        let (_, med, _) = stats(nus.clone());
+        let s = v.synthesis.size;
+        println!(
+            "| {run} | {} | {} | {} | {} | {total:.2} | {sat:.2} ({:.0}%) | {:.2} | {:.0} |",
+            v.iterations.len(),
+            s.c,
+            s.t,
+            s.n,
+            100.0 * sat / total,
+            nus.iter().sum::<f64>(),
+            med * 1000.0
+        );
+    }
+    Ok(())
+}
+
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     let runs = args.runs.max(1);
     let all = cases(args);
@@ -108,6 +191,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             times.push(t.elapsed().as_secs_f64());
             size = Some(r.size);
         }
+
         let s = size.expect("runs >= 1");
         let (lo, med, hi) = stats(times);
         println!(
@@ -119,6 +203,9 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             s.t,
             s.n
         );
+    }
+    if args.cegis_runs > 0 {
+        bench_cegis(args)?;
     }
     Ok(())
 }
