@@ -91,10 +91,7 @@ fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
 /// The main job, `runs` times: iterations, time, SAT share, NuSMV time per candidate.
 fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     use crate::cegis::{self, Config};
-    use crate::ltl::parse_spec_file;
     use crate::nusmv::{locate, Nusmv};
-    use crate::smv::closed_loop::check_coupling;
-    use crate::smv::plant::read_plant;
     use crate::verify::Setup;
     let (ltl, plant_file) = (
         Path::new("specs/pnp.ltl"),
@@ -109,10 +106,8 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
         input_names: None,
         output_names: None,
     })?;
-    let props = parse_spec_file(ltl).map_err(Failure::input)?;
-    let plant = read_plant(plant_file).map_err(Failure::input)?;
-    let coupling =
-        check_coupling(&set.inputs, &set.outputs, &plant, ltl, &props).map_err(Failure::input)?;
+    let (props, plant, coupling) =
+        super::verified::load_setup(ltl, plant_file, &set.inputs, &set.outputs)?;
     let setup = Setup {
         plant: &plant,
         coupling: &coupling,

@@ -254,3 +254,42 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
     );
     Ok(())
 }
+
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The machine, in the JSON format `synth infer` writes.
+    #[arg(long, value_name = "FILE")]
+    pub ecc: PathBuf,
+    #[command(flatten)]
+    pub traces: TraceArgs,
+}
+
+/// Replays scenarios on a machine read from JSON and reports the first disagreement.
+pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(&args.ecc)
+        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", args.ecc.display())))?;
+    let ecc = export::json::read_json(&text, &args.ecc).map_err(Failure::input)?;
+    let set = load_scenarios(&args.traces)?;
+    if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
+        return Err(Failure::msg(
+            exit::INPUT,
+            format!(
+                "{} has inputs [{}] and outputs [{}], the scenarios [{}] and [{}]",
+                args.ecc.display(),
+                ecc.inputs.join(" "),
+                ecc.outputs.join(" "),
+                set.inputs.join(" "),
+                set.outputs.join(" ")
+            ),
+        ));
+    }
+    set.check(&ecc)
+        .map_err(|m| Failure::msg(exit::INPUT, format!("not reproduced: {m}")))?;
+    println!(
+        "replayed {} scenarios ({} steps): all reproduced by {}",
+        set.scenarios.len(),
+        set.step_count(),
+        args.ecc.display()
+    );
+    Ok(())
+}

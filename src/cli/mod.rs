@@ -72,6 +72,8 @@ pub struct Cli {
 pub enum Command {
     /// Synthesize a minimal ECC that reproduces recorded scenarios.
     Infer(infer::InferArgs),
+    /// Replay scenarios on a machine (JSON) and report the first step it does not reproduce.
+    Replay(infer::ReplayArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -181,6 +183,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
+        Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),

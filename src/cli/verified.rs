@@ -108,7 +108,7 @@ fn session(args: &NusmvArgs) -> Result<Session, Failure> {
 }
 
 /// Reads and checks the spec, the plant and the coupling with the controller interface.
-fn load_setup(
+pub(super) fn load_setup(
     ltl: &Path,
     plant: &Path,
     inputs: &[String],

@@ -67,6 +67,48 @@ fn infer_writes_every_format_and_the_json_replays_the_scenarios() {
 }
 
 #[test]
+fn replay_reports_the_first_step_a_machine_gets_wrong() {
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        &data("door.traces"),
+        "--out",
+        out.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let json = out.path().join("SynthesizedFB.json");
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--traces",
+        &data("door.traces"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).starts_with("replayed 3 scenarios (12 steps): all reproduced"));
+    // Make the machine ignore `stop`: scenario 1 step 4 is then not reproduced.
+    let broken = std::fs::read_to_string(&json)
+        .unwrap()
+        .replace("\"guard\": \"stop\"", "\"guard\": \"FALSE\"");
+    std::fs::write(&json, broken).unwrap();
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--traces",
+        &data("door.traces"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("scenario tests/data/scenarios/door.traces:2 step 4: inputs 01 recorded CNF[01], the machine gives no CNF"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+#[test]
 fn malformed_traces_fail_with_file_line_and_step_and_write_nothing() {
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().join("res");
