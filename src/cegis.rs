@@ -75,6 +75,23 @@ pub fn run(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Verified, CegisError> {
     let mut synth = Synthesizer::new(set, tree, &config.sat);
+    if config.sat.cube_slots.is_some() {
+        // The tree-exact minimum (a second of SAT) bounds the cube model from below.
+        let tree_exact = Options {
+            cube_slots: None,
+            minimize_k: false,
+            ..config.sat.clone()
+        };
+        let t = Instant::now();
+        let lower = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
+        synth.assume_lower_bounds(lower.size.c, lower.size.t);
+        progress(&format!(
+            "lower bounds from the recorded inputs alone: C >= {}, T >= {} ({:.2} s)",
+            lower.size.c,
+            lower.size.t,
+            t.elapsed().as_secs_f64()
+        ));
+    }
     let mut iterations = Vec::new();
     let mut last_failing = String::new();
     for number in 1..=config.max_iterations {

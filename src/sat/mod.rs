@@ -335,6 +335,16 @@ impl<'a> Synthesizer<'a> {
         }
     }
 
+    /// Starts the search at known lower bounds: no machine has fewer than `c` states, and none
+    /// with `c` states has fewer than `t` transitions. The caller vouches for them, e.g. with
+    /// the minimum of the tree-exact model, which bounds the cube model from below: restricting
+    /// a cube machine to the recorded inputs gives a tree-exact machine with the same states and
+    /// no more edges.
+    pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
+        self.c_lo = self.c_lo.max(c);
+        self.t_lo = Some((c, t));
+    }
+
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
     pub fn add_negative(&mut self, neg: NegativeScenario) {
         let (v0, c0) = (self.enc.variables, self.enc.clauses);
