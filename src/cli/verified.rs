@@ -266,9 +266,10 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         set.scenarios.len()
     );
     println!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    let n = verified.iterations.len();
     println!(
-        "{} candidates, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
-        verified.iterations.len(),
+        "{n} candidate{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
+        if n == 1 { "" } else { "s" },
         progress.elapsed(),
         sat_total,
         nusmv_total
