@@ -3,13 +3,13 @@
 //!
 //! In: an [`Ecc`], a [`Plant`], checked [`Coupling`], properties, and a NuSMV [`Session`].
 //! Out: a [`Report`] with one [`PropertyReport`] per property (NuSMV's verdict line kept), and
-//! for a violated property with a trace, a [`Counterexample`]: the lasso as NuSMV printed it,
-//! with a loop point that really violates the property, and as a [`NegativeScenario`].
+//! for every violated property with a trace, a [`Counterexample`]: the lasso as NuSMV printed
+//! it, with a loop point that really violates the property, and as a [`NegativeScenario`].
 //!
 //! Every "holds" in a report comes from NuSMV; nothing here decides a verdict itself. The
-//! lasso evaluation only picks *which* of NuSMV's loop markers to use (NuSMV may mark loop
-//! points that do not violate the property; see `../shared`-independent notes in
-//! `tests/data/nusmv/README.md`).
+//! lasso evaluation only picks *which* of NuSMV's `-- Loop starts here` markers to use: NuSMV
+//! marks every earlier state equal to the last one, and some of those loop points satisfy the
+//! property (its tableau variables are not printed).
 
 use crate::ecc::Ecc;
 use crate::ltl::{property_name, Ltl, Property};

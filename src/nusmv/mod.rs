@@ -5,7 +5,7 @@
 //! `LTLSPEC`s in the file), each [`Verdict::Violated`] carrying the counterexample
 //! [`Trace`] when NuSMV printed one.
 //!
-//! - [`locate`] finds the binary (`--nusmv`, `$NUSMV`, `PATH`, the install script's cache);
+//! - [`locate()`] finds the binary (`--nusmv`, `$NUSMV`, `PATH`, the install script's cache);
 //! - [`driver`] runs it: one process per model ([`Nusmv::check_file`]) or one long-lived
 //!   `NuSMV -int` process fed many models ([`Session`]), with timeouts and a Ctrl-C handler
 //!   that kills every child;

@@ -6,11 +6,22 @@
 //! The procedure is seed 000's Algorithm 1 on seed 004's basic model:
 //! 1. least number of states `C`;
 //! 2. optionally, least largest out-degree `K`;
-//! 3. least number of transitions `T` (edges `q -> q'`, each with one guard);
-//! 4. for that structure, guards with the least total literal count `N` ([`guards`]).
+//! 3. least number of transitions `T`;
+//! 4. guards with the least total literal count `N`.
 //!
-//! Steps 1-3 run on *one* incremental solver: the encoding is built for up to `C_max` states
-//! with "state in use" variables, and every bound (states, `K`, `T`) is a solver assumption on
+//! Two guard models:
+//! - tree-exact (default, `synth infer`): transitions exist only on recorded inputs, `T`
+//!   counts edges `q -> q'` (each with one guard), and guards are minimized per state on the
+//!   fixed structure afterwards ([`guards`]); unrecorded inputs are don't-cares;
+//! - cube (`Options::cube_slots`, the main job): guards are conjunctions of literals inside the
+//!   encoding with first-fire priority ([`cubes`]), `T` counts transitions and `N` is minimized
+//!   on the same solver, so the machine is determined on every input. Verification in the loop
+//!   needs that: counterexamples run on inputs nobody recorded.
+//!
+//! Negative scenarios ([`negative`]) can be added between minimizations ([`Synthesizer`]).
+//!
+//! Steps 1-3 (and 4 in the cube model) run on *one* incremental solver: the encoding is built for up to `C_max` states
+//! with "state in use" variables, and every bound (states, `K`, `T`, `N`) is a solver assumption on
 //! those variables or on totalizer outputs ([`card`]). Only if every `C <= C_max` is
 //! unsatisfiable is the encoding rebuilt for a doubled `C_max`.
 //!
