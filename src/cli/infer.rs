@@ -13,7 +13,7 @@ use std::time::Duration;
 #[derive(Debug, Args, Clone)]
 pub struct TraceArgs {
     /// Scenario files: fbSAT text format (plain or .gz) or CSV logs (`.csv`, `.csv.gz`).
-    #[arg(long = "traces", value_name = "FILE", num_args = 1.., required = true)]
+    #[arg(long = "traces", visible_alias = "log", value_name = "FILE", num_args = 1.., required = true)]
     pub traces: Vec<PathBuf>,
     /// Input names, separated by whitespace or newlines, in bit order.
     /// Default: `<stem>.inputs` or `input-names` beside the first trace file.

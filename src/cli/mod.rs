@@ -4,6 +4,7 @@
 //! Everything that computes lives in the library; this module only wires it to a terminal.
 
 mod bench;
+mod conform;
 mod infer;
 mod verified;
 
@@ -72,6 +73,9 @@ pub struct Cli {
 pub enum Command {
     /// Synthesize a minimal ECC that reproduces recorded scenarios.
     Infer(infer::InferArgs),
+    /// Monitor a machine in service: replay new recordings, report each trace's first
+    /// divergence; with --refine, learn the divergent traces and synthesize again.
+    Conform(conform::ConformArgs),
     /// Replay scenarios on a machine (JSON) and report the first step it does not reproduce.
     Replay(infer::ReplayArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
@@ -184,6 +188,7 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
+        Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),

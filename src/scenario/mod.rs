@@ -152,29 +152,74 @@ impl ScenarioSet {
         Ok(())
     }
 
+    /// Replays every scenario on `ecc` and returns, per scenario that departs from it, the
+    /// first step where it does (conformance monitoring).
+    pub fn divergences(&self, ecc: &Ecc) -> Vec<Divergence> {
+        self.scenarios
+            .iter()
+            .enumerate()
+            .filter_map(|(k, sc)| {
+                let steps = sc
+                    .steps
+                    .iter()
+                    .map(|s| (s.inputs.as_slice(), s.outputs.as_deref()));
+                replay(ecc, steps).err().map(|m| Divergence {
+                    scenario: k,
+                    step: m.step,
+                    inputs: sc.steps[m.step].inputs.clone(),
+                    recorded: m.expected,
+                    machine: m.actual,
+                })
+            })
+            .collect()
+    }
+
     /// Replays every scenario on `ecc`; the first disagreement is described with its place.
     pub fn check(&self, ecc: &Ecc) -> Result<(), String> {
-        for sc in &self.scenarios {
-            let steps = sc
-                .steps
-                .iter()
-                .map(|s| (s.inputs.as_slice(), s.outputs.as_deref()));
-            if let Err(m) = replay(ecc, steps) {
-                let show = |o: &Option<Vec<bool>>| match o {
-                    Some(v) => format!("CNF[{}]", bits_to_string(v)),
-                    None => "no CNF".to_string(),
-                };
-                return Err(format!(
-                    "scenario {} step {}: inputs {} recorded {}, the machine gives {}",
-                    sc.origin,
-                    m.step + 1,
-                    bits_to_string(&sc.steps[m.step].inputs),
-                    show(&m.expected),
-                    show(&m.actual)
-                ));
-            }
+        match self.divergences(ecc).first() {
+            None => Ok(()),
+            Some(d) => Err(d.describe(self)),
         }
-        Ok(())
+    }
+}
+
+/// The first step where a machine departs from a recorded scenario.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Divergence {
+    /// Index of the scenario in its set.
+    pub scenario: usize,
+    /// 0-based step.
+    pub step: usize,
+    pub inputs: Vec<bool>,
+    /// Outputs recorded with `CNF`, or `None` if no `CNF` was recorded.
+    pub recorded: Option<Vec<bool>>,
+    /// Outputs the machine emits with `CNF`, or `None` if it emits nothing.
+    pub machine: Option<Vec<bool>>,
+}
+
+impl Divergence {
+    /// `scenario FILE:LINE step K: inputs ... recorded ..., the machine gives ...` (1-based step).
+    pub fn describe(&self, set: &ScenarioSet) -> String {
+        format!(
+            "scenario {} {}",
+            set.scenarios[self.scenario].origin,
+            self.describe_step()
+        )
+    }
+
+    /// `step K: inputs ... recorded ..., the machine gives ...` (1-based step).
+    pub fn describe_step(&self) -> String {
+        let show = |o: &Option<Vec<bool>>| match o {
+            Some(v) => format!("CNF[{}]", bits_to_string(v)),
+            None => "no CNF".to_string(),
+        };
+        format!(
+            "step {}: inputs {} recorded {}, the machine gives {}",
+            self.step + 1,
+            bits_to_string(&self.inputs),
+            show(&self.recorded),
+            show(&self.machine)
+        )
     }
 }
 

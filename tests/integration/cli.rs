@@ -209,3 +209,59 @@ fn help_documents_exit_codes() {
     assert!(o.status.success());
     assert!(text(&o.stdout).contains("70  internal error"));
 }
+
+#[test]
+fn conform_finds_an_injected_divergence_and_refine_removes_it() {
+    let out = tempfile::tempdir().unwrap();
+    let first = out.path().join("first");
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        &data("door.traces"),
+        "--out",
+        first.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let json = first.join("SynthesizedFB.json");
+    // door_new.traces: after stop, a second stop switches the lamp off (step 4), which the
+    // machine learned from door.traces does not do.
+    let o = synth(&[
+        "conform",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--log",
+        &data("door_new.traces"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let report = text(&o.stdout);
+    assert!(
+        report.contains("door_new.traces:2: DIVERGES: step 4: inputs 01 recorded CNF[00], the machine gives no CNF"),
+        "{report}"
+    );
+    assert!(report.contains("agreement: 0 of 1 traces reproduced; 3 of 4 steps"));
+    let refined = out.path().join("refined");
+    let o = synth(&[
+        "conform",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--log",
+        &data("door_new.traces"),
+        "--refine",
+        "--train",
+        &data("door.traces"),
+        "--out",
+        refined.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("after refinement, on the new recordings:\ntests/data/scenarios/door_new.traces:2: agrees on all 4 steps"));
+    // The refined machine still reproduces the training scenarios.
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        refined.join("SynthesizedFB.json").to_str().unwrap(),
+        "--traces",
+        &data("door.traces"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}
