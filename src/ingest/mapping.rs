@@ -173,12 +173,21 @@ mod tests {
     #[test]
     fn errors_name_their_line() {
         let cases = [
-            ("%IX0.1 in a\n%IX0.1 in b\n%QX0.0 out z\n", "m.map:2: duplicate address '%IX0.1' (first on line 1)"),
-            ("%IX0.1 in a\n\n%IX0.2 out a\n", "m.map:3: duplicate name 'a' (first on line 1)"),
+            (
+                "%IX0.1 in a\n%IX0.1 in b\n%QX0.0 out z\n",
+                "m.map:2: duplicate address '%IX0.1' (first on line 1)",
+            ),
+            (
+                "%IX0.1 in a\n\n%IX0.2 out a\n",
+                "m.map:3: duplicate name 'a' (first on line 1)",
+            ),
             ("%IX0.1 in 1a\n", "m.map:1: '1a' is not a valid name"),
             ("%IX0.1 inout a\n", "m.map:1: expected 'in' or 'out'"),
             ("%IX0.1 in\n", "m.map:1: expected 'ADDRESS in|out NAME'"),
-            ("%IX0.1 in a\n# only inputs\n", "m.map:2: the mapping needs at least one"),
+            (
+                "%IX0.1 in a\n# only inputs\n",
+                "m.map:2: the mapping needs at least one",
+            ),
         ];
         for (text, want) in cases {
             let got = parse(text).unwrap_err();

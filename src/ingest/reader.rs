@@ -226,7 +226,8 @@ impl<R: BufRead> LogReader<R> {
     /// starts.
     fn long_row(&mut self, line: &[u8]) -> Result<Option<Sample>, BadRow> {
         let mut cells = line.split(|&b| b == b',');
-        let (Some(t), Some(a), Some(v), None) = (cells.next(), cells.next(), cells.next(), cells.next())
+        let (Some(t), Some(a), Some(v), None) =
+            (cells.next(), cells.next(), cells.next(), cells.next())
         else {
             return Err(BadRow::CellCount {
                 found: line.split(|&b| b == b',').count(),
@@ -235,9 +236,10 @@ impl<R: BufRead> LogReader<R> {
         };
         let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
         let address = trim(a);
-        let slot = self.mapping.slot(address).ok_or_else(|| {
-            BadRow::UnknownAddress(String::from_utf8_lossy(address).into_owned())
-        })?;
+        let slot = self
+            .mapping
+            .slot(address)
+            .ok_or_else(|| BadRow::UnknownAddress(String::from_utf8_lossy(address).into_owned()))?;
         let value = parse_bool(trim(v)).ok_or_else(|| bad_value(&self.headers[2], v))?;
         self.check_time(time)?;
         let finished = match self.group_time {
@@ -268,7 +270,8 @@ impl<R: BufRead> LogReader<R> {
             outputs: vec![false; self.mapping.outputs.len()],
         };
         for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
-            let value = parse_bool(trim(cell)).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
+            let value =
+                parse_bool(trim(cell)).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
             match slot {
                 Slot::Input(x) => sample.inputs[x.0] = value,
                 Slot::Output(z) => sample.outputs[z.0] = value,
@@ -356,4 +359,186 @@ fn parse_time(cell: &[u8]) -> Option<f64> {
         .parse::<f64>()
         .ok()
         .filter(|t| t.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    const MAP: &str = "%IX0.0 in a\n%IX0.1 in b\n%QX0.0 out z\n";
+
+    fn mapping() -> Mapping {
+        Mapping::parse(Path::new("m.map"), MAP).unwrap()
+    }
+
+    fn reader(log: &str, lenient: bool) -> Result<LogReader<&[u8]>, IngestError> {
+        LogReader::new(PathBuf::from("l.csv"), log.as_bytes(), &mapping(), lenient)
+    }
+
+    /// Samples as `ab/z` bit strings, or the first error's message.
+    fn read(log: &str, lenient: bool) -> Result<Vec<String>, String> {
+        let r = reader(log, lenient).map_err(|e| e.to_string())?;
+        r.map(|s| {
+            s.map(|s| {
+                let bits = |v: &[bool]| {
+                    v.iter()
+                        .map(|&b| if b { '1' } else { '0' })
+                        .collect::<String>()
+                };
+                format!("{}/{}", bits(&s.inputs), bits(&s.outputs))
+            })
+            .map_err(|e| e.to_string())
+        })
+        .collect()
+    }
+
+    #[test]
+    fn long_rows_with_one_timestamp_form_one_sample() {
+        let log = "timestamp,address,value\n\
+                   0.0,%IX0.0,1\n\
+                   0.0,%IX0.1,TRUE\n\
+                   \n\
+                   0.5,%QX0.0,1\r\n\
+                   1,a,false\n\
+                   1,%IX0.1,0\n";
+        assert_eq!(read(log, false).unwrap(), ["11/0", "11/1", "00/1"]);
+        let mut r = reader(log, false).unwrap();
+        assert_eq!(r.format(), LogFormat::Long);
+        assert_eq!(r.by_ref().count(), 3);
+        assert_eq!(r.stats().rows, 5);
+        assert_eq!(r.stats().samples, 3);
+    }
+
+    #[test]
+    fn wide_rows_are_samples_in_mapping_order() {
+        // Columns in another order than the mapping, by address and by name.
+        let log = "time,z,%IX0.1,a\n0,0,1,0\n0.01,1,1,0\n0.01,1,0,1\n";
+        assert_eq!(read(log, false).unwrap(), ["01/0", "01/1", "10/1"]);
+        assert_eq!(reader(log, false).unwrap().format(), LogFormat::Wide);
+    }
+
+    #[test]
+    fn header_errors() {
+        let cases = [
+            ("", "l.csv:1: empty log"),
+            (
+                "when,address,value\n",
+                "l.csv:1: expected 'timestamp,address,value'",
+            ),
+            (
+                "\ntimestamp,a,b,q\n",
+                "l.csv:2: column 4: 'q' is not an address or name",
+            ),
+            (
+                "timestamp,a,b,%IX0.0\n",
+                "l.csv:1: column 4: '%IX0.0' is the same signal as column 2",
+            ),
+            (
+                "timestamp,a,z\n",
+                "l.csv:1: no column for signal 'b' (%IX0.1)",
+            ),
+        ];
+        for (log, want) in cases {
+            let got = read(log, false).unwrap_err();
+            assert!(got.starts_with(want), "{got:?} should start with {want:?}");
+        }
+    }
+
+    #[test]
+    fn every_bad_row_kind_names_its_line() {
+        let long = "timestamp,address,value\n1,a,1\n";
+        let wide = "timestamp,a,b,z\n1,1,0,0\n";
+        let cases = [
+            (long, "2,a,2\n", "l.csv:3: column 'value': cannot read '2'"),
+            (
+                long,
+                "x,a,1\n",
+                "l.csv:3: column 'timestamp': cannot read 'x'",
+            ),
+            (
+                long,
+                "inf,a,1\n",
+                "l.csv:3: column 'timestamp': cannot read 'inf'",
+            ),
+            (
+                long,
+                "2,%IX7.7,1\n",
+                "l.csv:3: unknown address '%IX7.7' (not in the mapping)",
+            ),
+            (
+                long,
+                "0.5,a,0\n",
+                "l.csv:3: time goes backwards: 0.5 after 1",
+            ),
+            (long, "2,a\n", "l.csv:3: 2 cells, the header has 3"),
+            (long, "2,a,1,1\n", "l.csv:3: 4 cells, the header has 3"),
+            (
+                wide,
+                "2,1,0,maybe\n",
+                "l.csv:3: column 'z': cannot read 'maybe'",
+            ),
+            (wide, "0,1,0,0\n", "l.csv:3: time goes backwards: 0 after 1"),
+            (wide, "2,1,0\n", "l.csv:3: 3 cells, the header has 4"),
+        ];
+        for (head, row, want) in cases {
+            let got = read(&format!("{head}{row}"), false).unwrap_err();
+            assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn lenient_mode_skips_and_counts_bad_rows() {
+        let log = "timestamp,address,value\n\
+                   1,a,1\n\
+                   1,a,yes\n\
+                   2,%IX7.7,1\n\
+                   0,b,1\n\
+                   2,b\n\
+                   2,b,1\n\
+                   3,x,1\n";
+        assert_eq!(read(log, true).unwrap(), ["10/0", "11/0"]);
+        let mut r = reader(log, true).unwrap();
+        r.by_ref().for_each(drop);
+        let s = r.stats();
+        assert_eq!(s.rows, 7);
+        assert_eq!(s.skipped(RowKind::Value), 1);
+        assert_eq!(s.skipped(RowKind::UnknownAddress), 2);
+        assert_eq!(s.skipped(RowKind::TimeBackwards), 1);
+        assert_eq!(s.skipped(RowKind::CellCount), 1);
+        assert_eq!(s.skipped_total(), 5);
+        // Without --lenient the first bad row stops the reader.
+        assert_eq!(
+            read(log, false).unwrap_err(),
+            "l.csv:3: column 'value': cannot read 'yes'"
+        );
+    }
+
+    #[test]
+    fn gzip_logs_are_read_transparently_even_multi_member() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv.gz");
+        let mut bytes = Vec::new();
+        for part in ["timestamp,address,value\n0,a,1\n", "1,z,1\n"] {
+            let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+            gz.write_all(part.as_bytes()).unwrap();
+            bytes.extend(gz.finish().unwrap());
+        }
+        std::fs::write(&path, bytes).unwrap();
+        let samples: Vec<Sample> = LogReader::open(&path, &mapping(), false)
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        assert_eq!(samples.len(), 2);
+        assert_eq!(samples[1].outputs, [true]);
+
+        std::fs::write(&path, [0x1f, 0x8b, 8, 0, 1, 2, 3]).unwrap();
+        let err = match LogReader::open(&path, &mapping(), false) {
+            Err(e) => e,
+            Ok(mut r) => r
+                .find_map(Result::err)
+                .expect("a broken gzip stream is an error"),
+        };
+        assert!(matches!(err, IngestError::Io { .. }), "{err}");
+    }
 }
