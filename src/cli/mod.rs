@@ -5,6 +5,7 @@
 
 mod bench;
 mod infer;
+mod ingest;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -83,6 +84,11 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
+    /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
+    /// mapping into one fbSAT scenario, streaming.
+    Ingest(ingest::IngestArgs),
+    /// Measure ingestion throughput and peak memory on a generated long-format log.
+    BenchIngest(ingest::BenchIngestArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -185,6 +191,8 @@ pub fn run() -> i32 {
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
+        Some(Command::Ingest(a)) => ingest::ingest(&a),
+        Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),
