@@ -27,7 +27,8 @@
 //!   one sample, emitted once a later timestamp (or the end of the file) is seen.
 //! - **wide**, header `timestamp,COL,...`: one row per scan; each `COL` is an address or a
 //!   name of the mapping, and every mapped signal needs exactly one column.
-//! In both, the address column may hold a name of the mapping instead of an address.
+//!
+//! In the long format, the address column may also hold a name of the mapping.
 //!
 //! # Bad rows
 //! An unparsable value or timestamp, an unknown address, a timestamp smaller than the one
