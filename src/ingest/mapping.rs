@@ -185,6 +185,10 @@ mod tests {
             ("%IX0.1 inout a\n", "m.map:1: expected 'in' or 'out'"),
             ("%IX0.1 in\n", "m.map:1: expected 'ADDRESS in|out NAME'"),
             (
+                "%IX0.1 in a\nb out z\n%IX0.2 in b\n",
+                "m.map:3: 'b' is both an address (line 2) and the name of another signal (line 3)",
+            ),
+            (
                 "%IX0.1 in a\n# only inputs\n",
                 "m.map:2: the mapping needs at least one",
             ),

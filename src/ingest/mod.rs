@@ -243,6 +243,29 @@ mod tests {
     use std::path::Path;
 
     #[test]
+    fn a_hand_made_log_becomes_one_fbsat_scenario() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("log.csv");
+        // The motor follows start one scan late (seed 000's rule 2 joins the two), a repeated
+        // scan collapses, stop turns the motor off in the same scan.
+        std::fs::write(
+            &log,
+            "time,start,stop,motor\n0,0,0,0\n1,1,0,0\n2,1,0,1\n3,1,0,1\n4,1,1,0\n",
+        )
+        .unwrap();
+        let map = "%IX0.0 in start\n%IX0.1 in stop\n%QX0.0 out motor\n";
+        let mapping = Mapping::parse(Path::new("m.map"), map).unwrap();
+        let (set, stats) = read_scenarios(&log, &mapping, false).unwrap();
+        assert_eq!((stats.rows, stats.samples), (5, 5));
+        let mut text = Vec::new();
+        crate::scenario::fbsat::write(&set, &mut text).unwrap();
+        assert_eq!(
+            String::from_utf8(text).unwrap(),
+            "1\nin=REQ[00]; in=REQ[10]; out=CNF[1]; in=REQ[11]; out=CNF[0];\n"
+        );
+    }
+
+    #[test]
     fn a_generated_log_reads_back_into_steps() {
         let dir = tempfile::tempdir().unwrap();
         let log = dir.path().join("log.csv");
