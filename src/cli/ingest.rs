@@ -149,7 +149,7 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
     let reader = LogReader::open(tmp.path(), &mapping, false).map_err(Failure::input)?;
     let mut steps: u64 = 0;
     let mut active: u64 = 0;
-    let stats = ingest::convert_log(reader, vec![false; mapping.outputs.len()], |s| {
+    let stats = ingest::convert_log(reader, vec![false; mapping.outputs().len()], |s| {
         steps += 1;
         active += u64::from(s.outputs.is_some());
     })

@@ -19,12 +19,9 @@ pub enum Slot {
 /// The interface of a log: named inputs and outputs, each tied to one PLC address.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Mapping {
-    /// Input names in interface order (file order of the `in` lines).
-    pub inputs: Vec<String>,
-    /// Output names in interface order (file order of the `out` lines).
-    pub outputs: Vec<String>,
-    /// `(address, slot)` in file order.
-    pub addresses: Vec<(String, Slot)>,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+    addresses: Vec<(String, Slot)>,
     /// Addresses and names, both resolving to their slot.
     lookup: HashMap<Box<[u8]>, Slot>,
 }
@@ -143,6 +140,21 @@ impl Mapping {
             Slot::Output(_) => self.outputs.push(name),
         }
         self.addresses.push((address, slot));
+    }
+
+    /// Input names in interface order (file order of the `in` lines).
+    pub fn inputs(&self) -> &[String] {
+        &self.inputs
+    }
+
+    /// Output names in interface order (file order of the `out` lines).
+    pub fn outputs(&self) -> &[String] {
+        &self.outputs
+    }
+
+    /// `(address, slot)` of every signal, inputs first, each side in file order.
+    pub fn addresses(&self) -> &[(String, Slot)] {
+        &self.addresses
     }
 
     /// The slot of an address or a name.

@@ -175,12 +175,12 @@ pub fn read_scenarios(
 ) -> Result<(crate::scenario::ScenarioSet, ReadStats), IngestError> {
     use crate::scenario::{Origin, Scenario, ScenarioSet};
     let reader = LogReader::open(log, mapping, lenient)?;
-    let initial = vec![false; mapping.outputs.len()];
+    let initial = vec![false; mapping.outputs().len()];
     let mut steps = Vec::new();
     let stats = convert_log(reader, initial.clone(), |s| steps.push(s))?;
     let set = ScenarioSet {
-        inputs: mapping.inputs.clone(),
-        outputs: mapping.outputs.clone(),
+        inputs: mapping.inputs().to_vec(),
+        outputs: mapping.outputs().to_vec(),
         initial_outputs: initial,
         scenarios: vec![Scenario {
             origin: Origin {

@@ -106,8 +106,8 @@ impl<R: BufRead> LogReader<R> {
             headers: Vec::new(),
             mapping: mapping.clone(),
             current: Sample {
-                inputs: vec![false; mapping.inputs.len()],
-                outputs: vec![false; mapping.outputs.len()],
+                inputs: vec![false; mapping.inputs().len()],
+                outputs: vec![false; mapping.outputs().len()],
             },
             group_time: None,
             last_time: None,
@@ -176,7 +176,7 @@ impl<R: BufRead> LogReader<R> {
             )));
         }
         self.format = LogFormat::Wide;
-        let mut seen = vec![None; self.mapping.addresses.len()];
+        let mut seen = vec![None; self.mapping.addresses().len()];
         for (k, cell) in cells.iter().enumerate().skip(1) {
             let slot = self.mapping.slot(cell.as_bytes()).ok_or_else(|| {
                 self.header_err(format!(
@@ -194,10 +194,10 @@ impl<R: BufRead> LogReader<R> {
             self.columns.push(slot);
         }
         if let Some(i) = seen.iter().position(Option::is_none) {
-            let (address, slot) = &self.mapping.addresses[i];
+            let (address, slot) = &self.mapping.addresses()[i];
             let name = match slot {
-                Slot::Input(x) => &self.mapping.inputs[x.0],
-                Slot::Output(z) => &self.mapping.outputs[z.0],
+                Slot::Input(x) => &self.mapping.inputs()[x.0],
+                Slot::Output(z) => &self.mapping.outputs()[z.0],
             };
             return Err(self.header_err(format!(
                 "no column for signal '{name}' ({address}) of the mapping"
@@ -211,7 +211,7 @@ impl<R: BufRead> LogReader<R> {
     fn slot_index(&self, slot: Slot) -> usize {
         match slot {
             Slot::Input(x) => x.0,
-            Slot::Output(z) => self.mapping.inputs.len() + z.0,
+            Slot::Output(z) => self.mapping.inputs().len() + z.0,
         }
     }
 
@@ -266,8 +266,8 @@ impl<R: BufRead> LogReader<R> {
         let t = cells.next().unwrap_or_default();
         let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
         let mut sample = Sample {
-            inputs: vec![false; self.mapping.inputs.len()],
-            outputs: vec![false; self.mapping.outputs.len()],
+            inputs: vec![false; self.mapping.inputs().len()],
+            outputs: vec![false; self.mapping.outputs().len()],
         };
         for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
             let value =
