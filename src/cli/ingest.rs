@@ -31,8 +31,15 @@ pub struct IngestArgs {
 pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let mapping = Mapping::read(&args.map).map_err(Failure::input)?;
-    let (set, stats) =
-        ingest::read_scenarios(&args.log, &mapping, args.lenient).map_err(Failure::input)?;
+    let (set, stats) = ingest::read_scenarios(&args.log, &mapping, args.lenient).map_err(|e| {
+        let row = matches!(e, ingest::IngestError::Row { .. });
+        let mut f = Failure::input(e);
+        if row {
+            f.message
+                .push_str("\n(--lenient skips bad rows and counts them instead)");
+        }
+        f
+    })?;
     let secs = start.elapsed().as_secs_f64();
     let mut buf = Vec::new();
     fbsat::write(&set, &mut buf).map_err(Failure::input)?;
