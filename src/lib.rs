@@ -13,6 +13,8 @@
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: closed-loop verification of one ECC, counterexamples as negative scenarios;
 //! - [`cegis`]: the loop joining `sat` and `verify`;
+//! - [`ingest`]: streaming ingestion of raw PLC I/O data-flow logs (long/wide, gzip) into
+//!   scenario steps;
 //! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
 //! - [`cli`]: the `synth` command line.
 
@@ -22,6 +24,7 @@ pub mod cli;
 pub mod ecc;
 pub mod export;
 pub mod files;
+pub mod ingest;
 pub mod ltl;
 pub mod nusmv;
 pub mod sat;

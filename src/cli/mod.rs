@@ -6,6 +6,7 @@
 mod bench;
 mod conform;
 mod infer;
+mod ingest;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -87,6 +88,11 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
+    /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
+    /// mapping into one fbSAT scenario, streaming.
+    Ingest(ingest::IngestArgs),
+    /// Measure ingestion throughput and peak memory on a generated long-format log.
+    BenchIngest(ingest::BenchIngestArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -190,6 +196,8 @@ pub fn run() -> i32 {
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
+        Some(Command::Ingest(a)) => ingest::ingest(&a),
+        Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

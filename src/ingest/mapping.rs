@@ -1,0 +1,213 @@
+//! Mapping files: which PLC address is which named input or output.
+//!
+//! In: the text of a mapping file. Out: a [`Mapping`] (interface names in order, and a lookup
+//! from address or name to the signal's slot). Format in the [`super`] module header.
+
+use super::IngestError;
+use crate::ecc::{InputId, OutputId};
+use crate::scenario::names::is_identifier;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Where a signal's value goes in a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slot {
+    Input(InputId),
+    Output(OutputId),
+}
+
+/// The interface of a log: named inputs and outputs, each tied to one PLC address.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mapping {
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+    addresses: Vec<(String, Slot)>,
+    /// Addresses and names, both resolving to their slot.
+    lookup: HashMap<Box<[u8]>, Slot>,
+}
+
+impl Mapping {
+    /// Parses the text of a mapping file; `file` is only used in error messages.
+    pub fn parse(file: &Path, text: &str) -> Result<Mapping, IngestError> {
+        let err = |line: usize, message: String| IngestError::Mapping {
+            file: file.to_path_buf(),
+            line,
+            message,
+        };
+        let mut m = Mapping {
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            addresses: Vec::new(),
+            lookup: HashMap::new(),
+        };
+        // Line of first use, for duplicate messages.
+        let mut seen_addr: HashMap<String, usize> = HashMap::new();
+        let mut seen_name: HashMap<String, usize> = HashMap::new();
+        let mut outs: Vec<(String, String)> = Vec::new();
+        let mut ins: Vec<(String, String)> = Vec::new();
+        let mut last_line = 1;
+        for (i, raw) in text.lines().enumerate() {
+            let line = i + 1;
+            last_line = line;
+            let content = raw.split('#').next().unwrap_or("").trim();
+            if content.is_empty() {
+                continue;
+            }
+            let words: Vec<&str> = content.split_whitespace().collect();
+            let [address, side, name] = words[..] else {
+                return Err(err(
+                    line,
+                    format!("expected 'ADDRESS in|out NAME', found '{content}'"),
+                ));
+            };
+            if address.contains(',') {
+                return Err(err(line, format!("address '{address}' contains ','")));
+            }
+            if !is_identifier(name) {
+                return Err(err(
+                    line,
+                    format!(
+                        "'{name}' is not a valid name (letters, digits and '_', starting with a letter)"
+                    ),
+                ));
+            }
+            if let Some(first) = seen_addr.insert(address.to_string(), line) {
+                return Err(err(
+                    line,
+                    format!("duplicate address '{address}' (first on line {first})"),
+                ));
+            }
+            if let Some(first) = seen_name.insert(name.to_string(), line) {
+                return Err(err(
+                    line,
+                    format!("duplicate name '{name}' (first on line {first})"),
+                ));
+            }
+            match side {
+                "in" => ins.push((address.to_string(), name.to_string())),
+                "out" => outs.push((address.to_string(), name.to_string())),
+                _ => {
+                    return Err(err(
+                        line,
+                        format!("expected 'in' or 'out' after the address, found '{side}'"),
+                    ))
+                }
+            }
+        }
+        if ins.is_empty() || outs.is_empty() {
+            return Err(err(
+                last_line,
+                "the mapping needs at least one 'in' and one 'out' signal".into(),
+            ));
+        }
+        for (address, name) in ins {
+            m.add(address, name, Slot::Input(InputId(m.inputs.len())));
+        }
+        for (address, name) in outs {
+            m.add(address, name, Slot::Output(OutputId(m.outputs.len())));
+        }
+        // A name may not double as another signal's address: a column would be ambiguous.
+        for (name, name_line) in &seen_name {
+            match seen_addr.get(name) {
+                Some(addr_line) if addr_line != name_line => {
+                    return Err(err(
+                        *addr_line.max(name_line),
+                        format!("'{name}' is both an address (line {addr_line}) and the name of another signal (line {name_line})"),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(m)
+    }
+
+    /// Reads a mapping file.
+    pub fn read(file: &Path) -> Result<Mapping, IngestError> {
+        let text = std::fs::read_to_string(file).map_err(|e| IngestError::Io {
+            file: file.to_path_buf(),
+            source: e,
+        })?;
+        Mapping::parse(file, &text)
+    }
+
+    fn add(&mut self, address: String, name: String, slot: Slot) {
+        self.lookup
+            .insert(address.as_bytes().to_vec().into_boxed_slice(), slot);
+        self.lookup
+            .insert(name.as_bytes().to_vec().into_boxed_slice(), slot);
+        match slot {
+            Slot::Input(_) => self.inputs.push(name),
+            Slot::Output(_) => self.outputs.push(name),
+        }
+        self.addresses.push((address, slot));
+    }
+
+    /// Input names in interface order (file order of the `in` lines).
+    pub fn inputs(&self) -> &[String] {
+        &self.inputs
+    }
+
+    /// Output names in interface order (file order of the `out` lines).
+    pub fn outputs(&self) -> &[String] {
+        &self.outputs
+    }
+
+    /// `(address, slot)` of every signal, inputs first, each side in file order.
+    pub fn addresses(&self) -> &[(String, Slot)] {
+        &self.addresses
+    }
+
+    /// The slot of an address or a name.
+    pub fn slot(&self, key: &[u8]) -> Option<Slot> {
+        self.lookup.get(key).copied()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Mapping, String> {
+        Mapping::parse(Path::new("m.map"), text).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn order_is_file_order_of_inputs_then_outputs() {
+        let m = parse("# tank\n%QX0.0 out valve\n%IX0.1 in start # button\n\n%IX0.2 in stop\n")
+            .unwrap();
+        assert_eq!(m.inputs, ["start", "stop"]);
+        assert_eq!(m.outputs, ["valve"]);
+        assert_eq!(m.slot(b"%IX0.2"), Some(Slot::Input(InputId(1))));
+        assert_eq!(m.slot(b"valve"), Some(Slot::Output(OutputId(0))));
+        assert_eq!(m.slot(b"%IX9.9"), None);
+    }
+
+    #[test]
+    fn errors_name_their_line() {
+        let cases = [
+            (
+                "%IX0.1 in a\n%IX0.1 in b\n%QX0.0 out z\n",
+                "m.map:2: duplicate address '%IX0.1' (first on line 1)",
+            ),
+            (
+                "%IX0.1 in a\n\n%IX0.2 out a\n",
+                "m.map:3: duplicate name 'a' (first on line 1)",
+            ),
+            ("%IX0.1 in 1a\n", "m.map:1: '1a' is not a valid name"),
+            ("%IX0.1 inout a\n", "m.map:1: expected 'in' or 'out'"),
+            ("%IX0.1 in\n", "m.map:1: expected 'ADDRESS in|out NAME'"),
+            (
+                "%IX0.1 in a\nb out z\n%IX0.2 in b\n",
+                "m.map:3: 'b' is both an address (line 2) and the name of another signal (line 3)",
+            ),
+            (
+                "%IX0.1 in a\n# only inputs\n",
+                "m.map:2: the mapping needs at least one",
+            ),
+        ];
+        for (text, want) in cases {
+            let got = parse(text).unwrap_err();
+            assert!(got.starts_with(want), "{got:?} should start with {want:?}");
+        }
+    }
+}

@@ -1,0 +1,544 @@
+//! The streaming log reader: lines in, samples out.
+//!
+//! In: a log (long or wide format, plain or gzip; see the [`super`] module header) and its
+//! [`Mapping`]. Out: [`Sample`]s, one per scan (wide) or per timestamp (long), via
+//! [`Iterator`]. Holds one line and one sample at a time, whatever the log's length.
+
+use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+/// The two layouts a tapping device writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogFormat {
+    /// `timestamp,address,value`: one row per changed signal.
+    Long,
+    /// `timestamp,COL,...`: one row per scan.
+    Wide,
+}
+
+/// Counts of what a reader has seen so far.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ReadStats {
+    /// Non-blank data rows (after the header), including skipped ones.
+    pub rows: u64,
+    /// Samples produced.
+    pub samples: u64,
+    /// Skipped rows per kind, indexed like [`RowKind::ALL`] (lenient mode only).
+    pub skipped: [u64; 4],
+}
+
+impl ReadStats {
+    /// Skipped rows of one kind.
+    pub fn skipped(&self, kind: RowKind) -> u64 {
+        self.skipped[kind as usize]
+    }
+
+    /// Skipped rows of every kind.
+    pub fn skipped_total(&self) -> u64 {
+        self.skipped.iter().sum()
+    }
+}
+
+/// Reads samples from a log, line by line.
+pub struct LogReader<R: BufRead = Box<dyn BufRead>> {
+    file: PathBuf,
+    src: R,
+    buf: Vec<u8>,
+    /// 1-based number of the line in `buf`.
+    line: usize,
+    lenient: bool,
+    format: LogFormat,
+    /// Wide format: the slot of every column after the timestamp.
+    columns: Vec<Slot>,
+    /// Header cells, for error messages.
+    headers: Vec<String>,
+    mapping: Mapping,
+    /// Long format: the signal values so far.
+    current: Sample,
+    /// Long format: timestamp of the group being collected, if any row was applied.
+    group_time: Option<f64>,
+    /// Timestamp of the last accepted row.
+    last_time: Option<f64>,
+    done: bool,
+    stats: ReadStats,
+}
+
+impl LogReader {
+    /// Opens a log file, gunzipping it on the fly when it starts with the gzip magic bytes,
+    /// and reads its header.
+    pub fn open(path: &Path, mapping: &Mapping, lenient: bool) -> Result<LogReader, IngestError> {
+        let io = |source| IngestError::Io {
+            file: path.to_path_buf(),
+            source,
+        };
+        let file = std::fs::File::open(path).map_err(io)?;
+        let mut raw = BufReader::with_capacity(1 << 16, file);
+        let gzip = raw.fill_buf().map_err(io)?.starts_with(&[0x1f, 0x8b]);
+        let src: Box<dyn BufRead> = if gzip {
+            Box::new(BufReader::with_capacity(
+                1 << 16,
+                flate2::bufread::MultiGzDecoder::new(raw),
+            ))
+        } else {
+            Box::new(raw)
+        };
+        LogReader::new(path.to_path_buf(), src, mapping, lenient)
+    }
+}
+
+impl<R: BufRead> LogReader<R> {
+    /// A reader over `src` (already decompressed); `file` names it in errors. Reads the header.
+    pub fn new(
+        file: PathBuf,
+        src: R,
+        mapping: &Mapping,
+        lenient: bool,
+    ) -> Result<LogReader<R>, IngestError> {
+        let mut r = LogReader {
+            file,
+            src,
+            buf: Vec::with_capacity(256),
+            line: 0,
+            lenient,
+            format: LogFormat::Long,
+            columns: Vec::new(),
+            headers: Vec::new(),
+            mapping: mapping.clone(),
+            current: Sample {
+                inputs: vec![false; mapping.inputs().len()],
+                outputs: vec![false; mapping.outputs().len()],
+            },
+            group_time: None,
+            last_time: None,
+            done: false,
+            stats: ReadStats::default(),
+        };
+        r.read_header()?;
+        Ok(r)
+    }
+
+    /// The detected format.
+    pub fn format(&self) -> LogFormat {
+        self.format
+    }
+
+    /// What has been read so far.
+    pub fn stats(&self) -> &ReadStats {
+        &self.stats
+    }
+
+    fn header_err(&self, message: String) -> IngestError {
+        IngestError::Header {
+            file: self.file.clone(),
+            line: self.line.max(1),
+            message,
+        }
+    }
+
+    /// Reads the next non-blank line into `buf` (trimmed view via [`trim`]); false at the end.
+    fn next_line(&mut self) -> Result<bool, IngestError> {
+        loop {
+            self.buf.clear();
+            let n = self
+                .src
+                .read_until(b'\n', &mut self.buf)
+                .map_err(|source| IngestError::Io {
+                    file: self.file.clone(),
+                    source,
+                })?;
+            if n == 0 {
+                return Ok(false);
+            }
+            self.line += 1;
+            if !trim(&self.buf).is_empty() {
+                return Ok(true);
+            }
+        }
+    }
+
+    fn read_header(&mut self) -> Result<(), IngestError> {
+        if !self.next_line()? {
+            return Err(self.header_err("empty log: expected a header row".into()));
+        }
+        let text = String::from_utf8_lossy(trim(&self.buf)).into_owned();
+        let text = text.trim_start_matches('\u{feff}');
+        let cells: Vec<String> = text.split(',').map(|c| c.trim().to_string()).collect();
+        let lower: Vec<String> = cells.iter().map(|c| c.to_ascii_lowercase()).collect();
+        if lower == ["timestamp", "address", "value"] {
+            self.format = LogFormat::Long;
+            self.headers = cells;
+            return Ok(());
+        }
+        if lower[0] != "timestamp" && lower[0] != "time" {
+            return Err(self.header_err(format!(
+                "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found '{text}'"
+            )));
+        }
+        self.format = LogFormat::Wide;
+        let mut seen = vec![None; self.mapping.addresses().len()];
+        for (k, cell) in cells.iter().enumerate().skip(1) {
+            let slot = self.mapping.slot(cell.as_bytes()).ok_or_else(|| {
+                self.header_err(format!(
+                    "column {}: '{cell}' is not an address or name of the mapping",
+                    k + 1
+                ))
+            })?;
+            let index = self.slot_index(slot);
+            if let Some(first) = seen[index].replace(k + 1) {
+                return Err(self.header_err(format!(
+                    "column {}: '{cell}' is the same signal as column {first}",
+                    k + 1
+                )));
+            }
+            self.columns.push(slot);
+        }
+        if let Some(i) = seen.iter().position(Option::is_none) {
+            let (address, slot) = &self.mapping.addresses()[i];
+            let name = match slot {
+                Slot::Input(x) => &self.mapping.inputs()[x.0],
+                Slot::Output(z) => &self.mapping.outputs()[z.0],
+            };
+            return Err(self.header_err(format!(
+                "no column for signal '{name}' ({address}) of the mapping"
+            )));
+        }
+        self.headers = cells;
+        Ok(())
+    }
+
+    /// Position of a slot in the mapping's address list.
+    fn slot_index(&self, slot: Slot) -> usize {
+        match slot {
+            Slot::Input(x) => x.0,
+            Slot::Output(z) => self.mapping.inputs().len() + z.0,
+        }
+    }
+
+    fn check_time(&self, time: f64) -> Result<(), BadRow> {
+        match self.last_time {
+            Some(previous) if time < previous => Err(BadRow::TimeBackwards { time, previous }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Long format: applies one change; returns the finished sample when a new timestamp
+    /// starts.
+    fn long_row(&mut self, line: &[u8]) -> Result<Option<Sample>, BadRow> {
+        let mut cells = line.split(|&b| b == b',');
+        let (Some(t), Some(a), Some(v), None) =
+            (cells.next(), cells.next(), cells.next(), cells.next())
+        else {
+            return Err(BadRow::CellCount {
+                found: line.split(|&b| b == b',').count(),
+                expected: 3,
+            });
+        };
+        let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
+        let address = trim(a);
+        let slot = self
+            .mapping
+            .slot(address)
+            .ok_or_else(|| BadRow::UnknownAddress(String::from_utf8_lossy(address).into_owned()))?;
+        let value = parse_bool(trim(v)).ok_or_else(|| bad_value(&self.headers[2], v))?;
+        self.check_time(time)?;
+        let finished = match self.group_time {
+            Some(g) if g != time => Some(self.current.clone()),
+            _ => None,
+        };
+        match slot {
+            Slot::Input(x) => self.current.inputs[x.0] = value,
+            Slot::Output(z) => self.current.outputs[z.0] = value,
+        }
+        self.group_time = Some(time);
+        self.last_time = Some(time);
+        Ok(finished)
+    }
+
+    /// Wide format: one row, one sample.
+    fn wide_row(&mut self, line: &[u8]) -> Result<Sample, BadRow> {
+        let expected = self.columns.len() + 1;
+        let found = line.split(|&b| b == b',').count();
+        if found != expected {
+            return Err(BadRow::CellCount { found, expected });
+        }
+        let mut cells = line.split(|&b| b == b',');
+        let t = cells.next().unwrap_or_default();
+        let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
+        let mut sample = Sample {
+            inputs: vec![false; self.mapping.inputs().len()],
+            outputs: vec![false; self.mapping.outputs().len()],
+        };
+        for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
+            let value =
+                parse_bool(trim(cell)).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
+            match slot {
+                Slot::Input(x) => sample.inputs[x.0] = value,
+                Slot::Output(z) => sample.outputs[z.0] = value,
+            }
+        }
+        self.check_time(time)?;
+        self.last_time = Some(time);
+        Ok(sample)
+    }
+}
+
+impl<R: BufRead> Iterator for LogReader<R> {
+    type Item = Result<Sample, IngestError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        while !self.done {
+            match self.next_line() {
+                Err(e) => {
+                    self.done = true;
+                    return Some(Err(e));
+                }
+                Ok(false) => {
+                    self.done = true;
+                    // The last timestamp group of a long log ends with the file.
+                    if self.group_time.take().is_some() {
+                        self.stats.samples += 1;
+                        return Some(Ok(self.current.clone()));
+                    }
+                    return None;
+                }
+                Ok(true) => {}
+            }
+            self.stats.rows += 1;
+            let line = std::mem::take(&mut self.buf);
+            let row = match self.format {
+                LogFormat::Long => self.long_row(trim(&line)),
+                LogFormat::Wide => self.wide_row(trim(&line)).map(Some),
+            };
+            self.buf = line;
+            match row {
+                Ok(Some(sample)) => {
+                    self.stats.samples += 1;
+                    return Some(Ok(sample));
+                }
+                Ok(None) => {}
+                Err(problem) if self.lenient => self.stats.skipped[problem.kind() as usize] += 1,
+                Err(problem) => {
+                    self.done = true;
+                    return Some(Err(IngestError::Row {
+                        file: self.file.clone(),
+                        line: self.line,
+                        problem,
+                    }));
+                }
+            }
+        }
+        None
+    }
+}
+
+fn trim(bytes: &[u8]) -> &[u8] {
+    bytes.trim_ascii()
+}
+
+fn bad_value(column: &str, cell: &[u8]) -> BadRow {
+    BadRow::Value {
+        column: column.to_string(),
+        cell: String::from_utf8_lossy(trim(cell)).into_owned(),
+    }
+}
+
+fn parse_bool(cell: &[u8]) -> Option<bool> {
+    match cell {
+        b"0" => Some(false),
+        b"1" => Some(true),
+        _ if cell.eq_ignore_ascii_case(b"false") => Some(false),
+        _ if cell.eq_ignore_ascii_case(b"true") => Some(true),
+        _ => None,
+    }
+}
+
+fn parse_time(cell: &[u8]) -> Option<f64> {
+    std::str::from_utf8(cell)
+        .ok()?
+        .parse::<f64>()
+        .ok()
+        .filter(|t| t.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    const MAP: &str = "%IX0.0 in a\n%IX0.1 in b\n%QX0.0 out z\n";
+
+    fn mapping() -> Mapping {
+        Mapping::parse(Path::new("m.map"), MAP).unwrap()
+    }
+
+    fn reader(log: &str, lenient: bool) -> Result<LogReader<&[u8]>, IngestError> {
+        LogReader::new(PathBuf::from("l.csv"), log.as_bytes(), &mapping(), lenient)
+    }
+
+    /// Samples as `ab/z` bit strings, or the first error's message.
+    fn read(log: &str, lenient: bool) -> Result<Vec<String>, String> {
+        let r = reader(log, lenient).map_err(|e| e.to_string())?;
+        r.map(|s| {
+            s.map(|s| {
+                let bits = |v: &[bool]| {
+                    v.iter()
+                        .map(|&b| if b { '1' } else { '0' })
+                        .collect::<String>()
+                };
+                format!("{}/{}", bits(&s.inputs), bits(&s.outputs))
+            })
+            .map_err(|e| e.to_string())
+        })
+        .collect()
+    }
+
+    #[test]
+    fn long_rows_with_one_timestamp_form_one_sample() {
+        let log = "timestamp,address,value\n\
+                   0.0,%IX0.0,1\n\
+                   0.0,%IX0.1,TRUE\n\
+                   \n\
+                   0.5,%QX0.0,1\r\n\
+                   1,a,false\n\
+                   1,%IX0.1,0\n";
+        assert_eq!(read(log, false).unwrap(), ["11/0", "11/1", "00/1"]);
+        let mut r = reader(log, false).unwrap();
+        assert_eq!(r.format(), LogFormat::Long);
+        assert_eq!(r.by_ref().count(), 3);
+        assert_eq!(r.stats().rows, 5);
+        assert_eq!(r.stats().samples, 3);
+    }
+
+    #[test]
+    fn wide_rows_are_samples_in_mapping_order() {
+        // Columns in another order than the mapping, by address and by name.
+        let log = "time,z,%IX0.1,a\n0,0,1,0\n0.01,1,1,0\n0.01,1,0,1\n";
+        assert_eq!(read(log, false).unwrap(), ["01/0", "01/1", "10/1"]);
+        assert_eq!(reader(log, false).unwrap().format(), LogFormat::Wide);
+    }
+
+    #[test]
+    fn header_errors() {
+        let cases = [
+            ("", "l.csv:1: empty log"),
+            (
+                "when,address,value\n",
+                "l.csv:1: expected 'timestamp,address,value'",
+            ),
+            (
+                "\ntimestamp,a,b,q\n",
+                "l.csv:2: column 4: 'q' is not an address or name",
+            ),
+            (
+                "timestamp,a,b,%IX0.0\n",
+                "l.csv:1: column 4: '%IX0.0' is the same signal as column 2",
+            ),
+            (
+                "timestamp,a,z\n",
+                "l.csv:1: no column for signal 'b' (%IX0.1)",
+            ),
+        ];
+        for (log, want) in cases {
+            let got = read(log, false).unwrap_err();
+            assert!(got.starts_with(want), "{got:?} should start with {want:?}");
+        }
+    }
+
+    #[test]
+    fn every_bad_row_kind_names_its_line() {
+        let long = "timestamp,address,value\n1,a,1\n";
+        let wide = "timestamp,a,b,z\n1,1,0,0\n";
+        let cases = [
+            (long, "2,a,2\n", "l.csv:3: column 'value': cannot read '2'"),
+            (
+                long,
+                "x,a,1\n",
+                "l.csv:3: column 'timestamp': cannot read 'x'",
+            ),
+            (
+                long,
+                "inf,a,1\n",
+                "l.csv:3: column 'timestamp': cannot read 'inf'",
+            ),
+            (
+                long,
+                "2,%IX7.7,1\n",
+                "l.csv:3: unknown address '%IX7.7' (not in the mapping)",
+            ),
+            (
+                long,
+                "0.5,a,0\n",
+                "l.csv:3: time goes backwards: 0.5 after 1",
+            ),
+            (long, "2,a\n", "l.csv:3: 2 cells, the header has 3"),
+            (long, "2,a,1,1\n", "l.csv:3: 4 cells, the header has 3"),
+            (
+                wide,
+                "2,1,0,maybe\n",
+                "l.csv:3: column 'z': cannot read 'maybe'",
+            ),
+            (wide, "0,1,0,0\n", "l.csv:3: time goes backwards: 0 after 1"),
+            (wide, "2,1,0\n", "l.csv:3: 3 cells, the header has 4"),
+        ];
+        for (head, row, want) in cases {
+            let got = read(&format!("{head}{row}"), false).unwrap_err();
+            assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn lenient_mode_skips_and_counts_bad_rows() {
+        let log = "timestamp,address,value\n\
+                   1,a,1\n\
+                   1,a,yes\n\
+                   2,%IX7.7,1\n\
+                   0,b,1\n\
+                   2,b\n\
+                   2,b,1\n\
+                   3,x,1\n";
+        assert_eq!(read(log, true).unwrap(), ["10/0", "11/0"]);
+        let mut r = reader(log, true).unwrap();
+        r.by_ref().for_each(drop);
+        let s = r.stats();
+        assert_eq!(s.rows, 7);
+        assert_eq!(s.skipped(RowKind::Value), 1);
+        assert_eq!(s.skipped(RowKind::UnknownAddress), 2);
+        assert_eq!(s.skipped(RowKind::TimeBackwards), 1);
+        assert_eq!(s.skipped(RowKind::CellCount), 1);
+        assert_eq!(s.skipped_total(), 5);
+        // Without --lenient the first bad row stops the reader.
+        assert_eq!(
+            read(log, false).unwrap_err(),
+            "l.csv:3: column 'value': cannot read 'yes'"
+        );
+    }
+
+    #[test]
+    fn gzip_logs_are_read_transparently_even_multi_member() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv.gz");
+        let mut bytes = Vec::new();
+        for part in ["timestamp,address,value\n0,a,1\n", "1,z,1\n"] {
+            let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+            gz.write_all(part.as_bytes()).unwrap();
+            bytes.extend(gz.finish().unwrap());
+        }
+        std::fs::write(&path, bytes).unwrap();
+        let samples: Vec<Sample> = LogReader::open(&path, &mapping(), false)
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        assert_eq!(samples.len(), 2);
+        assert_eq!(samples[1].outputs, [true]);
+
+        std::fs::write(&path, [0x1f, 0x8b, 8, 0, 1, 2, 3]).unwrap();
+        let err = match LogReader::open(&path, &mapping(), false) {
+            Err(e) => e,
+            Ok(mut r) => r
+                .find_map(Result::err)
+                .expect("a broken gzip stream is an error"),
+        };
+        assert!(matches!(err, IngestError::Io { .. }), "{err}");
+    }
+}
