@@ -6,10 +6,9 @@ use super::infer::{self, load_scenarios, AlgorithmsArg, InferArgs, TraceArgs};
 use super::verified::{self, MainArgs, NusmvArgs};
 use super::{exit, Failure};
 use crate::ecc::Ecc;
-use crate::export::json::read_json;
 use crate::scenario::{fbsat, ScenarioSet};
 use clap::Args;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct ConformArgs {
@@ -36,12 +35,6 @@ pub struct ConformArgs {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
-}
-
-fn read_ecc(path: &Path) -> Result<Ecc, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", path.display())))?;
-    read_json(&text, path).map_err(Failure::input)
 }
 
 /// Prints the conformance report; returns the indices of the divergent scenarios.
@@ -73,21 +66,7 @@ fn report(ecc: &Ecc, set: &ScenarioSet) -> Vec<usize> {
 }
 
 pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
-    let ecc = read_ecc(&args.ecc)?;
-    let set = load_scenarios(&args.traces)?;
-    if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
-        return Err(Failure::msg(
-            exit::INPUT,
-            format!(
-                "{} has inputs [{}] and outputs [{}], the recordings [{}] and [{}]",
-                args.ecc.display(),
-                ecc.inputs.join(" "),
-                ecc.outputs.join(" "),
-                set.inputs.join(" "),
-                set.outputs.join(" ")
-            ),
-        ));
-    }
+    let (ecc, set) = infer::machine_and_scenarios(&args.ecc, &args.traces)?;
     let divergent = report(&ecc, &set);
     if divergent.is_empty() {
         return Ok(());
@@ -180,7 +159,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             quiet: false,
         })?,
     }
-    let refined = read_ecc(&out.join("SynthesizedFB.json"))?;
+    let refined = infer::read_ecc(&out.join("SynthesizedFB.json"))?;
     println!("after refinement, on the new recordings:");
     let left = report(&refined, &set);
     if left.is_empty() {

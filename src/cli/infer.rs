@@ -264,18 +264,26 @@ pub struct ReplayArgs {
     pub traces: TraceArgs,
 }
 
-/// Replays scenarios on a machine read from JSON and reports the first disagreement.
-pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
-    let text = std::fs::read_to_string(&args.ecc)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", args.ecc.display())))?;
-    let ecc = export::json::read_json(&text, &args.ecc).map_err(Failure::input)?;
-    let set = load_scenarios(&args.traces)?;
+/// Reads a machine from its JSON file.
+pub fn read_ecc(path: &Path) -> Result<Ecc, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", path.display())))?;
+    export::json::read_json(&text, path).map_err(Failure::input)
+}
+
+/// Reads a machine and recordings and checks that they share one interface.
+pub fn machine_and_scenarios(
+    ecc_file: &Path,
+    traces: &TraceArgs,
+) -> Result<(Ecc, ScenarioSet), Failure> {
+    let ecc = read_ecc(ecc_file)?;
+    let set = load_scenarios(traces)?;
     if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
         return Err(Failure::msg(
             exit::INPUT,
             format!(
                 "{} has inputs [{}] and outputs [{}], the scenarios [{}] and [{}]",
-                args.ecc.display(),
+                ecc_file.display(),
                 ecc.inputs.join(" "),
                 ecc.outputs.join(" "),
                 set.inputs.join(" "),
@@ -283,6 +291,12 @@ pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
             ),
         ));
     }
+    Ok((ecc, set))
+}
+
+/// Replays scenarios on a machine read from JSON and reports the first disagreement.
+pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
+    let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces)?;
     set.check(&ecc)
         .map_err(|m| Failure::msg(exit::INPUT, format!("not reproduced: {m}")))?;
     println!(

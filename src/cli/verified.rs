@@ -4,7 +4,7 @@ use super::infer::{check_exportable, load_scenarios, parse_formats, AlgorithmsAr
 use super::{exit, Failure, Progress};
 use crate::cegis::{self, CegisError, Config};
 use crate::ecc::{AlgorithmKind, Ecc};
-use crate::export::{self, json::read_json};
+use crate::export;
 use crate::ltl::{parse_spec_file, Property};
 use crate::nusmv::{locate, Nusmv, NusmvError, Session};
 use crate::sat::{Options, SatError};
@@ -282,9 +282,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
 }
 
 pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
-    let text = std::fs::read_to_string(&args.ecc)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", args.ecc.display())))?;
-    let ecc: Ecc = read_json(&text, &args.ecc).map_err(Failure::input)?;
+    let ecc: Ecc = super::infer::read_ecc(&args.ecc)?;
     let (props, plant, coupling) = load_setup(&args.ltl, &args.plant, &ecc.inputs, &ecc.outputs)?;
     let mut session = session(&args.nusmv)?;
     let work = tempfile::tempdir().map_err(Failure::input)?;
