@@ -66,19 +66,24 @@ fn infer_writes_every_format_and_the_json_replays_the_scenarios() {
     set.check(&ecc).unwrap();
 }
 
-#[test]
-fn replay_reports_the_first_step_a_machine_gets_wrong() {
-    let out = tempfile::tempdir().unwrap();
+/// Synthesizes the door machine from door.traces into `dir`; returns its JSON file.
+fn infer_door(dir: &Path) -> PathBuf {
     let o = synth(&[
         "infer",
         "-q",
         "--traces",
         &data("door.traces"),
         "--out",
-        out.path().to_str().unwrap(),
+        dir.to_str().unwrap(),
     ]);
-    assert!(o.status.success());
-    let json = out.path().join("SynthesizedFB.json");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    dir.join("SynthesizedFB.json")
+}
+
+#[test]
+fn replay_reports_the_first_step_a_machine_gets_wrong() {
+    let out = tempfile::tempdir().unwrap();
+    let json = infer_door(out.path());
     let o = synth(&[
         "replay",
         "--ecc",
@@ -213,17 +218,7 @@ fn help_documents_exit_codes() {
 #[test]
 fn conform_finds_an_injected_divergence_and_refine_removes_it() {
     let out = tempfile::tempdir().unwrap();
-    let first = out.path().join("first");
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--traces",
-        &data("door.traces"),
-        "--out",
-        first.to_str().unwrap(),
-    ]);
-    assert!(o.status.success());
-    let json = first.join("SynthesizedFB.json");
+    let json = infer_door(&out.path().join("first"));
     // door_new.traces: after stop, a second stop switches the lamp off (step 4), which the
     // machine learned from door.traces does not do.
     let o = synth(&[

@@ -40,6 +40,22 @@ fn main_job(nusmv: &Path, ltl: &str, plant: &str, out: &Path, extra: &[&str]) ->
     synth(nusmv, &args)
 }
 
+/// `synth verify` of a machine against the lamp's properties and plant.
+fn verify_lamp(nusmv: &Path, json: &Path) -> Output {
+    synth(
+        nusmv,
+        &[
+            "verify",
+            "--ecc",
+            json.to_str().unwrap(),
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+        ],
+    )
+}
+
 #[test]
 fn main_job_verifies_and_verify_agrees() {
     let Some(n) = nusmv_or_skip() else { return };
@@ -53,18 +69,7 @@ fn main_job_verifies_and_verify_agrees() {
         "{report}"
     );
     let json = out.path().join("SynthesizedFB.json");
-    let v = synth(
-        &n.path,
-        &[
-            "verify",
-            "--ecc",
-            json.to_str().unwrap(),
-            "--ltl",
-            "tests/data/closed_loop/lamp.ltl",
-            "--plant",
-            "tests/data/closed_loop/lamp_plant.smv",
-        ],
-    );
+    let v = verify_lamp(&n.path, &json);
     assert!(v.status.success(), "{}", text(&v.stderr));
     assert!(text(&v.stdout).contains("verified: all 2 properties hold"));
 }
@@ -87,18 +92,7 @@ fn scenarios_alone_do_not_make_the_lamp_go_out() {
         .unwrap();
     assert!(o.status.success(), "{}", text(&o.stderr));
     let json = out.path().join("SynthesizedFB.json");
-    let v = synth(
-        &n.path,
-        &[
-            "verify",
-            "--ecc",
-            json.to_str().unwrap(),
-            "--ltl",
-            "tests/data/closed_loop/lamp.ltl",
-            "--plant",
-            "tests/data/closed_loop/lamp_plant.smv",
-        ],
-    );
+    let v = verify_lamp(&n.path, &json);
     assert_eq!(v.status.code(), Some(1));
     assert!(
         text(&v.stdout).contains("VIOLATED goes_out"),
