@@ -5,6 +5,7 @@
 
 mod bench;
 mod conform;
+mod events;
 mod infer;
 mod ingest;
 mod verified;
@@ -93,6 +94,9 @@ pub enum Command {
     Ingest(ingest::IngestArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
+    /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
+    /// sliced into traces at a reset activity (seed 002's conversion).
+    Events(events::EventsArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -198,6 +202,7 @@ pub fn run() -> i32 {
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
+        Some(Command::Events(a)) => events::events(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),
