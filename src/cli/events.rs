@@ -58,3 +58,13 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     println!("wrote {}, {}", args.out.display(), csv.display());
     Ok(())
 }
+
+/// `synth generate tank`: the tank case's scenario files and raw logs.
+pub fn generate_tank(out: &std::path::Path) -> Result<(), Failure> {
+    let files = crate::cases::tank::write_files(out).map_err(Failure::input)?;
+    println!("recorded seed 002's tank scenarios and held-out runs from the reference programs:");
+    for f in files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}

@@ -101,8 +101,8 @@ pub enum Command {
 
 #[derive(Debug, clap::Args)]
 pub struct GenerateArgs {
-    /// The case: `pnp`.
-    #[arg(value_parser = ["pnp"])]
+    /// The case: `pnp`, or `tank` (seed 002's tank: scenarios, raw logs, held-out runs).
+    #[arg(value_parser = ["pnp", "tank"])]
     pub case: String,
     /// Folder to write the scenario and names files into.
     #[arg(long, default_value = "specs", value_name = "DIR")]
@@ -110,6 +110,9 @@ pub struct GenerateArgs {
 }
 
 fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    if args.case == "tank" {
+        return events::generate_tank(&args.out);
+    }
     let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
     let set = crate::cases::pnp::generate();
     println!(
