@@ -567,6 +567,7 @@ pub fn hazards(rec: &Recording) -> Vec<Hazard> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ecc::{Algorithm, Tri};
     use crate::scenario::tree::ScenarioTree;
 
     fn orders() -> Vec<WorkOrder> {
