@@ -5,7 +5,7 @@ summary; optionally import a PNML net and replay the log on it (token-based repl
 Usage: pm4py_check.py LOG.xes [--pnml NET.pnml]
 
 Prints `key: value` lines (traces, events, activities, places, transitions, and for --pnml
-pnml_places, pnml_transitions, pnml_fitness) and exits 0; any error exits 1 with a message
+pnml_places, pnml_transitions, pnml_fitness, pnml_fitting_traces) and exits 0; any error exits 1 with a message
 on stderr. Used by fbsynth's interoperability test with the XES that `synth events` writes.
 """
 import argparse
@@ -44,6 +44,8 @@ def main() -> int:
             if pfm is not None and len(pfm) > 0:
                 pfit = pm4py.fitness_token_based_replay(log, pnet, pim, pfm)
                 print(f"pnml_fitness: {pfit['log_fitness']:.4f}")
+                fitting = round(pfit["percentage_of_fitting_traces"] * traces / 100)
+                print(f"pnml_fitting_traces: {fitting}")
     except Exception as e:  # any failure is a failed check
         print(f"pm4py_check: error: {type(e).__name__}: {e}", file=sys.stderr)
         return 1

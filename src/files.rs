@@ -45,7 +45,8 @@ impl AtomicFile {
             _ => Path::new("."),
         };
         std::fs::create_dir_all(dir).map_err(err)?;
-        let tmp = BufWriter::with_capacity(1 << 16, tempfile::NamedTempFile::new_in(dir).map_err(err)?);
+        let tmp =
+            BufWriter::with_capacity(1 << 16, tempfile::NamedTempFile::new_in(dir).map_err(err)?);
         let out = if path.extension().is_some_and(|e| e == "gz") {
             Sink::Gzip(flate2::write::GzEncoder::new(
                 tmp,

@@ -357,8 +357,14 @@ pub fn write_files(dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
         let mut traces = Vec::new();
         fbsat::write(&training_set(program), &mut traces).expect("writing into memory");
         files.push((dir.join(format!("{stem}.traces")), traces));
-        files.push((dir.join(format!("{stem}.inputs")), names(&INPUTS).into_bytes()));
-        files.push((dir.join(format!("{stem}.outputs")), names(&OUTPUTS).into_bytes()));
+        files.push((
+            dir.join(format!("{stem}.inputs")),
+            names(&INPUTS).into_bytes(),
+        ));
+        files.push((
+            dir.join(format!("{stem}.outputs")),
+            names(&OUTPUTS).into_bytes(),
+        ));
     }
     files.push((dir.join("tank/tank.map"), MAP_TEXT.as_bytes().to_vec()));
     for spec in SCENARIOS.iter().chain(&HELD_OUT) {
@@ -422,7 +428,10 @@ mod tests {
         assert_eq!(a, record(&SCENARIOS[2]));
         assert_ne!(
             a.iter().map(|s| s.level).collect::<Vec<_>>(),
-            record(&SCENARIOS[1]).iter().map(|s| s.level).collect::<Vec<_>>()
+            record(&SCENARIOS[1])
+                .iter()
+                .map(|s| s.level)
+                .collect::<Vec<_>>()
         );
     }
 

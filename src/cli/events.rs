@@ -2,9 +2,10 @@
 
 use super::Failure;
 use crate::events::{self, ResetActivity};
+use crate::export::pnml::{write_pnml_labelled, Labels};
 use crate::ingest::Mapping;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct EventsArgs {
@@ -28,6 +29,13 @@ pub struct EventsArgs {
     /// Skip bad rows and count them, instead of stopping at the first.
     #[arg(long)]
     pub lenient: bool,
+    /// A synthesized machine (JSON) to export as a Petri net whose labels are the log's
+    /// activities (needs --pnml; its signal names must be the mapping's).
+    #[arg(long, value_name = "FILE", requires = "pnml")]
+    pub ecc: Option<PathBuf>,
+    /// PNML file to write the --ecc machine's Petri net to.
+    #[arg(long, value_name = "FILE", requires = "ecc")]
+    pub pnml: Option<PathBuf>,
 }
 
 pub fn events(args: &EventsArgs) -> Result<(), Failure> {
@@ -56,6 +64,54 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");
     }
     println!("wrote {}, {}", args.out.display(), csv.display());
+    if let (Some(ecc), Some(pnml)) = (&args.ecc, &args.pnml) {
+        write_net(ecc, &mapping, pnml)?;
+    }
+    Ok(())
+}
+
+/// Writes the Petri net of the machine in `ecc_file`, labelled with the mapping's addresses.
+fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(ecc_file)
+        .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
+    let ecc = crate::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
+    let address = |name: &String| -> Result<String, Failure> {
+        mapping
+            .slot(name.as_bytes())
+            .and_then(|slot| {
+                mapping
+                    .addresses()
+                    .iter()
+                    .find(|(_, s)| *s == slot)
+                    .map(|(a, _)| a.clone())
+            })
+            .ok_or_else(|| {
+                Failure::msg(
+                    super::exit::INPUT,
+                    format!(
+                        "{}: signal '{name}' is not in the mapping",
+                        ecc_file.display()
+                    ),
+                )
+            })
+    };
+    let labels = Labels {
+        inputs: ecc.inputs.iter().map(address).collect::<Result<_, _>>()?,
+        outputs: ecc.outputs.iter().map(address).collect::<Result<_, _>>()?,
+    };
+    let name = ecc_file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut buf = Vec::new();
+    write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
+    crate::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
+    println!(
+        "wrote {} (Petri net of {}: {} places)",
+        pnml.display(),
+        ecc_file.display(),
+        ecc.states.len()
+    );
     Ok(())
 }
 

@@ -273,7 +273,11 @@ fn a_bad_row_names_file_and_line_and_writes_nothing() {
         )
     );
     assert!(!xes_path.exists() && !csv_path.exists());
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temporary file left");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temporary file left"
+    );
     // Lenient mode skips and counts the row.
     let s = write_event_logs(&log, &m, &reset, true, &xes_path, &csv_path).unwrap();
     assert_eq!((s.skipped, s.events), (1, 1));

@@ -224,10 +224,13 @@ mod tests {
             for (i, s) in ecc.states.iter().enumerate() {
                 for (k, t) in s.transitions.iter().enumerate() {
                     let prefix = format!("t{i}_{k}_");
-                    let found = transitions.iter().filter(|id| id.starts_with(&prefix)).any(|id| {
-                        arcs.contains(&(format!("p{i}"), id.clone()))
-                            && arcs.contains(&(id.clone(), format!("p{}", t.target.0)))
-                    });
+                    let found = transitions
+                        .iter()
+                        .filter(|id| id.starts_with(&prefix))
+                        .any(|id| {
+                            arcs.contains(&(format!("p{i}"), id.clone()))
+                                && arcs.contains(&(id.clone(), format!("p{}", t.target.0)))
+                        });
                     // States no run reaches get no output transitions.
                     let reachable = !entry_outputs(&ecc)[i].is_empty();
                     assert_eq!(found, reachable, "{name}: transition {i}.{k}");
@@ -250,11 +253,9 @@ mod tests {
         // Drain -> Fill from the initial outputs (00) opens the inlet only; from Drain's own
         // outputs (01) it also closes the outlet: two outcomes, two net transitions.
         assert!(xml.contains(r#"<transition id="t0_0_0"><name><text>%QX0.0 true</text>"#));
-        assert!(xml.contains(
-            r#"<transition id="t0_0_1"><name><text>%QX0.0 true + %QX0.1 false</text>"#
-        ));
-        assert!(xml.contains(
-            r#"<transition id="t1_0_0"><name><text>%QX0.0 false + %QX0.1 true</text>"#
-        ));
+        assert!(xml
+            .contains(r#"<transition id="t0_0_1"><name><text>%QX0.0 true + %QX0.1 false</text>"#));
+        assert!(xml
+            .contains(r#"<transition id="t1_0_0"><name><text>%QX0.0 false + %QX0.1 true</text>"#));
     }
 }

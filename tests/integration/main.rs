@@ -4,3 +4,4 @@ mod cli;
 mod closed_loop;
 mod common;
 mod synthesis;
+mod tank;
