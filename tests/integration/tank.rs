@@ -231,3 +231,61 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
         assert!(fitness > 0.99, "{}: fitness {fitness}", spec.name);
     }
 }
+
+/// The raw-log route: `synth ingest` of program 2's two raw logs, `synth infer` on the result
+/// (no properties), and the machine is the same size, verified by `synth verify`, and exact on
+/// held-out runs.
+#[test]
+fn program_2_from_the_raw_logs_alone() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut traces = Vec::new();
+    for name in ["scenario2", "scenario3"] {
+        let t = dir.path().join(format!("{name}.traces"));
+        let log = format!("specs/tank/{name}.csv");
+        let o = synth(&[
+            "ingest",
+            "--log",
+            &log,
+            "--map",
+            "specs/tank/tank.map",
+            "-o",
+            t.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        traces.push(t.to_str().unwrap().to_string());
+    }
+    let out = dir.path().join("out");
+    let mut args = vec!["infer", "-q", "--out", out.to_str().unwrap(), "--traces"];
+    args.extend(traces.iter().map(String::as_str));
+    let o = synth(&args);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = out.join("SynthesizedFB.json");
+    let ecc = read_ecc(&json);
+    assert_eq!(ecc.states.len(), 2 + 2 * tank::CYCLES);
+    for seed in HELD_OUT_SEEDS {
+        let recorded = tank::record(&RunSpec {
+            name: "held-out",
+            program: Program::Cycles,
+            plant: Plant::Noisy { seed },
+            scans: 1500,
+        });
+        assert_eq!(
+            tank::first_disagreement(&ecc, &recorded),
+            None,
+            "seed {seed}"
+        );
+    }
+    let o = synth(&[
+        "verify",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--ltl",
+        "specs/tank2.ltl",
+        "--plant",
+        "smv/tank_surrogate.smv",
+        "--nusmv",
+        n.path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stdout));
+}
