@@ -55,9 +55,20 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         ));
     }
     let s = events::write_event_logs(&args.log, &mapping, &reset, args.lenient, &args.out, &csv)
-        .map_err(Failure::input)?;
+        .map_err(|e| {
+            let row = matches!(
+                e,
+                events::EventsError::Log(crate::ingest::IngestError::Row { .. })
+            );
+            let mut f = Failure::input(e);
+            if row {
+                f.message
+                    .push_str("\n(--lenient skips bad rows and counts them instead)");
+            }
+            f
+        })?;
     println!(
-        "rows {}, samples {}, skipped {}; {} events in {} traces ({} resets at '{}')",
+        "rows {}, samples {}, skipped {}; {} events in {} traces ({} of them the reset '{}')",
         s.rows, s.samples, s.skipped, s.events, s.traces, s.resets, reset
     );
     if s.resets == 0 && s.events > 0 {

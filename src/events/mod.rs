@@ -361,34 +361,43 @@ pub struct Summary {
     pub skipped: u64,
 }
 
-/// Streams a whole log through rules 1-4 into `sinks`. A sink's write error comes back as
-/// [`std::io::Error`] inside `Err(Err(..))`; log errors as `Err(Ok(..))`.
+/// Streams a whole log through rules 1-4 into `sinks`.
 pub fn convert<R: BufRead>(
     mut reader: LogReader<R>,
     mapping: &Mapping,
     reset: &ResetActivity,
     sinks: &mut [&mut dyn EventSink],
-) -> Result<Summary, Result<IngestError, std::io::Error>> {
+) -> Result<Summary, ConvertError> {
     let mut stream = EventStream::new(mapping);
     let mut slicer = TraceSlicer::new(reset);
     while let Some(sample) = reader.next() {
-        let sample = sample.map_err(Ok)?;
+        let sample = sample?;
         let time = reader
             .sample_time()
             .expect("the reader sets the time of every sample it returns");
         for e in stream.push(time, sample) {
-            slicer.push(&e, sinks).map_err(Err)?;
+            slicer.push(&e, sinks).map_err(ConvertError::Sink)?;
         }
     }
     for e in stream.finish() {
-        slicer.push(&e, sinks).map_err(Err)?;
+        slicer.push(&e, sinks).map_err(ConvertError::Sink)?;
     }
-    let mut summary = slicer.finish(sinks).map_err(Err)?;
+    let mut summary = slicer.finish(sinks).map_err(ConvertError::Sink)?;
     let stats = reader.stats();
     summary.samples = stats.samples;
     summary.rows = stats.rows;
     summary.skipped = stats.skipped_total();
     Ok(summary)
+}
+
+/// Why [`convert`] stopped: a bad log, or a sink that could not write (the caller knows
+/// which files its sinks write).
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    #[error(transparent)]
+    Log(#[from] IngestError),
+    #[error("{0}")]
+    Sink(std::io::Error),
 }
 
 /// `synth events`: converts the log file `log` into an XES file and a CSV file, both written
@@ -416,8 +425,8 @@ pub fn write_event_logs(
     let mut csv = csv::CsvWriter::new(csv_file).map_err(sink_err)?;
     let summary = match convert(reader, mapping, reset, &mut [&mut xes, &mut csv]) {
         Ok(s) => s,
-        Err(Ok(e)) => return Err(e.into()),
-        Err(Err(e)) => return Err(sink_err(e)),
+        Err(ConvertError::Log(e)) => return Err(e.into()),
+        Err(ConvertError::Sink(e)) => return Err(sink_err(e)),
     };
     xes.finish().map_err(sink_err)?.commit()?;
     csv.finish().commit()?;

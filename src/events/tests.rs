@@ -32,7 +32,7 @@ fn traces(log: &str, reset: &str) -> Vec<Vec<(String, &'static str, f64)>> {
     let reader = LogReader::new(PathBuf::from("log.csv"), log.as_bytes(), &m, false).unwrap();
     let reset = ResetActivity::parse(reset, &m).unwrap();
     let mut c = Collect(Vec::new());
-    convert(reader, &m, &reset, &mut [&mut c]).unwrap_or_else(|e| panic!("{e:?}"));
+    convert(reader, &m, &reset, &mut [&mut c]).unwrap();
     c.0
 }
 

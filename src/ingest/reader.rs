@@ -136,12 +136,6 @@ impl<R: BufRead> LogReader<R> {
         self.sample_time
     }
 
-    /// The 1-based number of the line read last: for a sample of the long format, the line
-    /// that ended its timestamp group (or the last line of the file).
-    pub fn line(&self) -> usize {
-        self.line
-    }
-
     fn header_err(&self, message: String) -> IngestError {
         IngestError::Header {
             file: self.file.clone(),
