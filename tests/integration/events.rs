@@ -75,4 +75,27 @@ fn errors_name_their_place_and_leave_no_output() {
         "error: reset activity '%IX0.9 false': '%IX0.9' is not an address or name of the mapping"
     );
     assert!(!dir.path().join("t.xes").exists() && !dir.path().join("t.csv").exists());
+    // The default CSV path beside `--out bad.xes` is the input log itself: refused.
+    let o = synth(
+        dir.path(),
+        &[
+            "events",
+            "--log",
+            "./bad.csv",
+            "--map",
+            "t.map",
+            "--reset",
+            "ll 0",
+            "--out",
+            "bad.xes",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: the output bad.csv would overwrite the input log; give --out/--csv other paths"
+    );
+    assert!(std::fs::read_to_string(dir.path().join("bad.csv"))
+        .unwrap()
+        .contains("maybe"));
 }
