@@ -38,6 +38,7 @@ pub struct EventsArgs {
     pub pnml: Option<PathBuf>,
 }
 
+/// Runs `synth events`: the XES and CSV files, then the optional Petri net.
 pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     let mapping = Mapping::read(&args.map).map_err(Failure::input)?;
     let reset = ResetActivity::parse(&args.reset, &mapping).map_err(Failure::input)?;

@@ -294,6 +294,7 @@ pub struct TraceSlicer<'a> {
 }
 
 impl<'a> TraceSlicer<'a> {
+    /// A slicer with no trace open yet.
     pub fn new(reset: &'a ResetActivity) -> TraceSlicer<'a> {
         TraceSlicer {
             reset,
