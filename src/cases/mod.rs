@@ -1,7 +1,8 @@
 //! Benchmark cases owned by the project: a plant simulation, a hand-made reference controller
 //! (the "legacy PLC" whose logic is to be recovered) and the generator of the recorded data.
 //!
-//! In: nothing but the case's own constants (and, for [`pnp`], a work-piece order).
+//! In: nothing but the case's own constants (and, for [`pnp`], a work-piece order; for
+//! [`tank`], a seed of the noisy plant).
 //! Out: [`ScenarioSet`](crate::scenario::ScenarioSet)s and the data files under `specs/` that
 //! are committed beside the code and checked against the generator by a test.
 
