@@ -1,6 +1,6 @@
 //! Event logs for process-mining tools, by seed 002's conversion of PLC data-flow logs.
 //!
-//! In: the samples of a raw I/O log ([`LogReader`](crate::ingest::LogReader) with its
+//! In: the samples of a raw I/O log ([`LogReader`] with its
 //! [`Mapping`]), each with its timestamp, and a reset activity. Out: [`Event`]s grouped into
 //! traces, handed to [`EventSink`]s as they arise; [`xes`] writes IEEE 1849 XES and [`csv`] a
 //! flat CSV. Streaming: only the samples of the current timestamp and the values before it are
