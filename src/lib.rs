@@ -22,6 +22,7 @@ pub mod cases;
 pub mod cegis;
 pub mod cli;
 pub mod ecc;
+pub mod events;
 pub mod export;
 pub mod files;
 pub mod ingest;

@@ -48,8 +48,7 @@
 //! ends when every piece is delivered and the machine is at rest (hand home and up, all commands
 //! off), followed by a few idle scans.
 
-use crate::ecc::{Algorithm, Ecc, Fired, Run, State, StateId, Transition, Tri};
-use crate::export::guard_text::parse_guard;
+use crate::ecc::{Ecc, Fired, Run};
 use crate::files::{write_atomic, WriteError};
 use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
@@ -351,43 +350,7 @@ const TRANSITIONS: [(&str, &str, &str); 13] = [
 /// `vacuum_on` with `vacuum_off`, and commands horizontal moves only in states entered with the
 /// vertical cylinder up and not commanded down.
 pub fn reference() -> Ecc {
-    let id = |name: &str| {
-        StateId(
-            STATES
-                .iter()
-                .position(|(n, _)| *n == name)
-                .unwrap_or_else(|| panic!("unknown state '{name}'")),
-        )
-    };
-    let inputs = input_names();
-    let states = STATES
-        .iter()
-        .map(|(name, algorithm)| State {
-            name: name.to_string(),
-            algorithm: Algorithm::Tri(
-                algorithm
-                    .chars()
-                    .map(|c| Tri::from_symbol(c).expect("algorithm symbol"))
-                    .collect(),
-            ),
-            transitions: TRANSITIONS
-                .iter()
-                .filter(|(from, _, _)| from == name)
-                .map(|(_, to, guard)| Transition {
-                    target: id(to),
-                    // The tables are constants of this file: a bad guard is a bug here.
-                    guard: parse_guard(guard, &inputs)
-                        .unwrap_or_else(|e| panic!("guard '{guard}': {e}")),
-                })
-                .collect(),
-        })
-        .collect();
-    Ecc {
-        inputs,
-        outputs: output_names(),
-        initial_outputs: vec![false; OUTPUTS.len()],
-        states,
-    }
+    super::table_ecc(&INPUTS, &OUTPUTS, &STATES, &TRANSITIONS)
 }
 
 /// One scan of a simulated run.
@@ -604,6 +567,7 @@ pub fn hazards(rec: &Recording) -> Vec<Hazard> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ecc::{Algorithm, Tri};
     use crate::scenario::tree::ScenarioTree;
 
     fn orders() -> Vec<WorkOrder> {

@@ -5,6 +5,7 @@
 
 mod bench;
 mod conform;
+mod events;
 mod infer;
 mod ingest;
 mod verified;
@@ -93,12 +94,15 @@ pub enum Command {
     Ingest(ingest::IngestArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
+    /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
+    /// sliced into traces at a reset activity (seed 002's conversion).
+    Events(events::EventsArgs),
 }
 
 #[derive(Debug, clap::Args)]
 pub struct GenerateArgs {
-    /// The case: `pnp`.
-    #[arg(value_parser = ["pnp"])]
+    /// The case: `pnp`, or `tank` (seed 002's tank: scenarios, raw logs, held-out runs).
+    #[arg(value_parser = ["pnp", "tank"])]
     pub case: String,
     /// Folder to write the scenario and names files into.
     #[arg(long, default_value = "specs", value_name = "DIR")]
@@ -106,6 +110,9 @@ pub struct GenerateArgs {
 }
 
 fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    if args.case == "tank" {
+        return events::generate_tank(&args.out);
+    }
     let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
     let set = crate::cases::pnp::generate();
     println!(
@@ -198,6 +205,7 @@ pub fn run() -> i32 {
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
+        Some(Command::Events(a)) => events::events(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

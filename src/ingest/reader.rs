@@ -60,6 +60,8 @@ pub struct LogReader<R: BufRead = Box<dyn BufRead>> {
     group_time: Option<f64>,
     /// Timestamp of the last accepted row.
     last_time: Option<f64>,
+    /// Timestamp of the sample last returned.
+    sample_time: Option<f64>,
     done: bool,
     stats: ReadStats,
 }
@@ -111,6 +113,7 @@ impl<R: BufRead> LogReader<R> {
             },
             group_time: None,
             last_time: None,
+            sample_time: None,
             done: false,
             stats: ReadStats::default(),
         };
@@ -126,6 +129,11 @@ impl<R: BufRead> LogReader<R> {
     /// What has been read so far.
     pub fn stats(&self) -> &ReadStats {
         &self.stats
+    }
+
+    /// The timestamp of the sample the iterator returned last (`None` before the first).
+    pub fn sample_time(&self) -> Option<f64> {
+        self.sample_time
     }
 
     fn header_err(&self, message: String) -> IngestError {
@@ -243,7 +251,10 @@ impl<R: BufRead> LogReader<R> {
         let value = parse_bool(trim(v)).ok_or_else(|| bad_value(&self.headers[2], v))?;
         self.check_time(time)?;
         let finished = match self.group_time {
-            Some(g) if g != time => Some(self.current.clone()),
+            Some(g) if g != time => {
+                self.sample_time = Some(g);
+                Some(self.current.clone())
+            }
             _ => None,
         };
         match slot {
@@ -279,6 +290,7 @@ impl<R: BufRead> LogReader<R> {
         }
         self.check_time(time)?;
         self.last_time = Some(time);
+        self.sample_time = Some(time);
         Ok(sample)
     }
 }
@@ -296,7 +308,8 @@ impl<R: BufRead> Iterator for LogReader<R> {
                 Ok(false) => {
                     self.done = true;
                     // The last timestamp group of a long log ends with the file.
-                    if self.group_time.take().is_some() {
+                    if let Some(g) = self.group_time.take() {
+                        self.sample_time = Some(g);
                         self.stats.samples += 1;
                         return Some(Ok(self.current.clone()));
                     }

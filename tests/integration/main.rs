@@ -3,4 +3,6 @@
 mod cli;
 mod closed_loop;
 mod common;
+mod events;
 mod synthesis;
+mod tank;

@@ -1,0 +1,168 @@
+//! `synth events`: a raw PLC I/O log into an event log (XES and CSV) for process-mining tools.
+
+use super::Failure;
+use crate::events::{self, ResetActivity};
+use crate::export::pnml::{write_pnml_labelled, Labels};
+use crate::ingest::Mapping;
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct EventsArgs {
+    /// Data-flow log: long (`timestamp,address,value`) or wide (`timestamp,<signal>,...`)
+    /// CSV, plain or gzip. Timestamps are seconds.
+    #[arg(long, value_name = "FILE")]
+    pub log: PathBuf,
+    /// Mapping file: one `ADDRESS in|out NAME` per line.
+    #[arg(long, value_name = "FILE")]
+    pub map: PathBuf,
+    /// The activity that starts a new trace, e.g. "%IX0.1 false" (an address or mapping
+    /// name, then true/false; several changes of one class joined by '+').
+    #[arg(long, value_name = "ACTIVITY")]
+    pub reset: String,
+    /// XES file to write.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// CSV file to write (default: the XES path with the extension .csv).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Skip bad rows and count them, instead of stopping at the first.
+    #[arg(long)]
+    pub lenient: bool,
+    /// A synthesized machine (JSON) to export as a Petri net whose labels are the log's
+    /// activities (needs --pnml; its signal names must be the mapping's).
+    #[arg(long, value_name = "FILE", requires = "pnml")]
+    pub ecc: Option<PathBuf>,
+    /// PNML file to write the --ecc machine's Petri net to.
+    #[arg(long, value_name = "FILE", requires = "ecc")]
+    pub pnml: Option<PathBuf>,
+}
+
+/// Runs `synth events`: the XES and CSV files, then the optional Petri net.
+pub fn events(args: &EventsArgs) -> Result<(), Failure> {
+    let mapping = Mapping::read(&args.map).map_err(Failure::input)?;
+    let reset = ResetActivity::parse(&args.reset, &mapping).map_err(Failure::input)?;
+    let csv = args
+        .csv
+        .clone()
+        .unwrap_or_else(|| args.out.with_extension("csv"));
+    if same_path(&csv, &args.out) {
+        return Err(Failure::msg(
+            super::exit::INPUT,
+            format!(
+                "the CSV and XES outputs are both {}; give --csv another path",
+                csv.display()
+            ),
+        ));
+    }
+    // The default CSV path of `--out log.xes` is `log.csv`, which may well be the input log.
+    for out in [&args.out, &csv] {
+        if same_path(out, &args.log) {
+            return Err(Failure::msg(
+                super::exit::INPUT,
+                format!(
+                    "the output {} would overwrite the input log; give --out/--csv other paths",
+                    out.display()
+                ),
+            ));
+        }
+    }
+    let s = events::write_event_logs(&args.log, &mapping, &reset, args.lenient, &args.out, &csv)
+        .map_err(|e| {
+            let row = matches!(
+                e,
+                events::EventsError::Log(crate::ingest::IngestError::Row { .. })
+            );
+            let mut f = Failure::input(e);
+            if row {
+                f.message
+                    .push_str("\n(--lenient skips bad rows and counts them instead)");
+            }
+            f
+        })?;
+    println!(
+        "rows {}, samples {}, skipped {}; {} events in {} traces ({} of them the reset '{}')",
+        s.rows, s.samples, s.skipped, s.events, s.traces, s.resets, reset
+    );
+    if s.resets == 0 && s.events > 0 {
+        eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");
+    }
+    println!("wrote {}, {}", args.out.display(), csv.display());
+    if let (Some(ecc), Some(pnml)) = (&args.ecc, &args.pnml) {
+        write_net(ecc, &mapping, pnml)?;
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same file (the second need not exist yet): compared after
+/// resolving the folders, so `./a.csv` and `a.csv` are the same.
+fn same_path(a: &Path, b: &Path) -> bool {
+    let resolve = |p: &Path| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(dir)
+            .ok()
+            .map(|d| d.join(p.file_name().unwrap_or_default()))
+    };
+    match (resolve(a), resolve(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// Writes the Petri net of the machine in `ecc_file`, labelled with the mapping's addresses.
+fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(ecc_file)
+        .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
+    let ecc = crate::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
+    let address = |name: &String| -> Result<String, Failure> {
+        mapping
+            .slot(name.as_bytes())
+            .and_then(|slot| {
+                mapping
+                    .addresses()
+                    .iter()
+                    .find(|(_, s)| *s == slot)
+                    .map(|(a, _)| a.clone())
+            })
+            .ok_or_else(|| {
+                Failure::msg(
+                    super::exit::INPUT,
+                    format!(
+                        "{}: signal '{name}' is not in the mapping",
+                        ecc_file.display()
+                    ),
+                )
+            })
+    };
+    let labels = Labels {
+        inputs: ecc.inputs.iter().map(address).collect::<Result<_, _>>()?,
+        outputs: ecc.outputs.iter().map(address).collect::<Result<_, _>>()?,
+    };
+    let name = ecc_file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut buf = Vec::new();
+    write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
+    crate::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
+    println!(
+        "wrote {} (Petri net of {}: {} places)",
+        pnml.display(),
+        ecc_file.display(),
+        ecc.states.len()
+    );
+    Ok(())
+}
+
+/// `synth generate tank`: the tank case's scenario files and raw logs.
+pub fn generate_tank(out: &std::path::Path) -> Result<(), Failure> {
+    let files = crate::cases::tank::write_files(out).map_err(Failure::input)?;
+    println!("recorded seed 002's tank scenarios and held-out runs from the reference programs:");
+    for f in files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}

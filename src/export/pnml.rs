@@ -1,0 +1,361 @@
+//! PNML (ISO/IEC 15909-2 place/transition net) of an ECC, for replaying event logs on it in
+//! process-mining tools (pm4py, ProM).
+//!
+//! In: a valid [`Ecc`] and the text of each input and output in activities ([`Labels`]: the
+//! signal names, or the PLC addresses of a mapping so that the net speaks the language of the
+//! logs `synth events` writes). Out: a PNML document ([`write_pnml`]).
+//!
+//! # Mapping
+//! The net reads an event log of seed 002's conversion: input events (`ADDRESS VALUE`, one
+//! input changing) and output events (the outputs one ECC transition changed, joined by
+//! ` + ` in interface order). It assumes one `REQ` per scan: a machine waits in a state while
+//! no guard holds, and an input event that makes a guard hold fires it at once.
+//! - Places: `p<i>` per ECC state; `q<i>_<k>` per ECC transition `k` of state `i` (fired,
+//!   output event pending); `start`, holding the initial token.
+//! - Input events: for state `i` and each input literal event, every input vector on which
+//!   state `i` waits (no guard holds) and which the event changes is tried: when the new
+//!   vector makes transition `k` the first to hold, a transition labelled with the input event
+//!   moves `p<i>` to `q<i>_<k>`; when no guard holds, a self-loop on `p<i>` carries the label.
+//!   So a net replays a log only if every output event follows the input event that caused it.
+//!   (For more than [`MAX_EXACT_INPUTS`] inputs the vectors are not enumerated and every event
+//!   gets a self-loop and a move to every transition: an over-approximation.)
+//! - Output events: per ECC transition, one net transition from `q<i>_<k>` to the target's
+//!   place per distinct set of output changes it can cause (found by a fixpoint over the output
+//!   vectors each state can be entered with, from the initial outputs), labelled with the
+//!   changes; no change: an invisible (`tau`) transition.
+//! - `start` has copies of state 0's input-event transitions (a trace that starts at a reset,
+//!   in the initial state) and, when a guard of state 0 holds on all-false inputs, the output
+//!   transition of the power-up scan, which fires without an input event. Everything leaving
+//!   `start` is labelled, so token replay never has to guess an invisible move. The final
+//!   marking (pm4py's `<finalmarkings>` extension) is `p0`: a reset brings the process back.
+//!
+//! Not represented: merged input events (two inputs changing at one timestamp), and a machine
+//! that fires again without a new input event (two output events in a row).
+//!
+//! Ids: `p<i>`, `q<i>_<k>`, `start`; output transitions `t<i>_<k>_<outcome>`; input
+//! transitions `e<i>_<input>_<0|1>_<k>` (moves) and `i<i>_<input>_<0|1>` (self-loops), their
+//! copies from `start` prefixed `s`, and `power_up_<k>`; arcs `a<n>` in writing order.
+
+use crate::ecc::Ecc;
+use quick_xml::escape::escape;
+use std::collections::BTreeSet;
+use std::io::{self, Write};
+
+/// How inputs and outputs appear in activities.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Labels {
+    /// Per input, in interface order.
+    pub inputs: Vec<String>,
+    /// Per output, in interface order.
+    pub outputs: Vec<String>,
+}
+
+impl Labels {
+    /// The ECC's own signal names.
+    pub fn names(ecc: &Ecc) -> Labels {
+        Labels {
+            inputs: ecc.inputs.clone(),
+            outputs: ecc.outputs.clone(),
+        }
+    }
+}
+
+/// The output vectors each state can be entered with (state 0 also with the initial outputs).
+/// At most [`MAX_VECTORS`] per state are followed, which bounds the work for wide interfaces.
+fn entry_outputs(ecc: &Ecc) -> Vec<BTreeSet<Vec<bool>>> {
+    let mut sets = vec![BTreeSet::new(); ecc.states.len()];
+    sets[0].insert(ecc.initial_outputs.clone());
+    let mut work = vec![(0, ecc.initial_outputs.clone())];
+    while let Some((s, z)) = work.pop() {
+        for t in &ecc.states[s].transitions {
+            let mut next = z.clone();
+            ecc.states[t.target.0].algorithm.apply(&mut next);
+            let set = &mut sets[t.target.0];
+            if set.len() < MAX_VECTORS && set.insert(next.clone()) {
+                work.push((t.target.0, next));
+            }
+        }
+    }
+    sets
+}
+
+/// Bound of [`entry_outputs`] per state.
+const MAX_VECTORS: usize = 64;
+
+/// Writes the net of `ecc` labelled by its own signal names.
+pub fn write_pnml(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
+    write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", w)
+}
+
+/// Inputs up to which input events are analysed exactly (2^n vectors per state).
+pub const MAX_EXACT_INPUTS: usize = 12;
+
+/// What an input event (`input` taking `value`) can do in a state: `None` = nothing fires,
+/// `Some(k)` = transition `k` fires. Sorted, `None` first.
+fn event_outcomes(ecc: &Ecc, state: usize, input: usize, value: bool) -> BTreeSet<Option<usize>> {
+    let transitions = &ecc.states[state].transitions;
+    let n = ecc.inputs.len();
+    if n > MAX_EXACT_INPUTS {
+        return std::iter::once(None)
+            .chain((0..transitions.len()).map(Some))
+            .collect();
+    }
+    let first = |x: &[bool]| transitions.iter().position(|t| t.guard.eval(x));
+    let mut out = BTreeSet::new();
+    for bits in 0u32..(1 << n) {
+        let mut x: Vec<bool> = (0..n).map(|b| bits >> b & 1 == 1).collect();
+        if x[input] == value || first(&x).is_some() {
+            continue;
+        }
+        x[input] = value;
+        out.insert(first(&x));
+    }
+    out
+}
+
+/// Writes the net of `ecc` with activities built from `labels`; `name` names the net.
+pub fn write_pnml_labelled(
+    ecc: &Ecc,
+    labels: &Labels,
+    name: &str,
+    w: &mut impl Write,
+) -> io::Result<()> {
+    let entry = entry_outputs(ecc);
+    let mut arcs: Vec<(String, String)> = Vec::new();
+    let tau = |w: &mut dyn Write, id: &str| -> io::Result<()> {
+        writeln!(
+            w,
+            r#"      <transition id="{id}"><name><text>tau</text></name><toolspecific tool="ProM" version="6.4" activity="$invisible$" localNodeID="{id}"/></transition>"#
+        )
+    };
+    let labelled = |w: &mut dyn Write, id: &str, label: &str| -> io::Result<()> {
+        writeln!(
+            w,
+            r#"      <transition id="{id}"><name><text>{}</text></name></transition>"#,
+            escape(label)
+        )
+    };
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(w, "<pnml>")?;
+    writeln!(
+        w,
+        r#"  <net id="{}" type="http://www.pnml.org/version-2009/grammar/pnmlcoremodel">"#,
+        escape(name)
+    )?;
+    writeln!(w, "    <name><text>{}</text></name>", escape(name))?;
+    writeln!(w, r#"    <page id="page0">"#)?;
+    writeln!(
+        w,
+        r#"      <place id="start"><name><text>start</text></name><initialMarking><text>1</text></initialMarking></place>"#
+    )?;
+    for (i, s) in ecc.states.iter().enumerate() {
+        writeln!(
+            w,
+            r#"      <place id="p{i}"><name><text>{}</text></name></place>"#,
+            escape(s.name.as_str())
+        )?;
+        for k in 0..s.transitions.len() {
+            writeln!(
+                w,
+                r#"      <place id="q{i}_{k}"><name><text>{} fired {k}</text></name></place>"#,
+                escape(s.name.as_str())
+            )?;
+        }
+    }
+    // Input events of state `i` read from place `from` (`p<i>`, or `start` for state 0).
+    let input_events = |w: &mut dyn Write,
+                        arcs: &mut Vec<(String, String)>,
+                        i: usize,
+                        from: &str|
+     -> io::Result<()> {
+        for (x, label) in labels.inputs.iter().enumerate() {
+            for v in [false, true] {
+                let text = format!("{label} {v}");
+                for outcome in event_outcomes(ecc, i, x, v) {
+                    let (id, to) = match outcome {
+                        None => (format!("i{i}_{x}_{}", u8::from(v)), format!("p{i}")),
+                        Some(k) => (format!("e{i}_{x}_{}_{k}", u8::from(v)), format!("q{i}_{k}")),
+                    };
+                    let id = if from == "start" {
+                        format!("s{id}")
+                    } else {
+                        id
+                    };
+                    labelled(w, &id, &text)?;
+                    arcs.push((from.to_string(), id.clone()));
+                    arcs.push((id, to));
+                }
+            }
+        }
+        Ok(())
+    };
+    // From `start`: the power-up scan, which fires without an input event when a guard of
+    // state 0 holds on all-false inputs, or the input events of state 0 (a trace that starts
+    // at a reset). All labelled, so replay never has to guess an invisible move.
+    let zeros = vec![false; ecc.inputs.len()];
+    if let Some(k) = ecc.states[0]
+        .transitions
+        .iter()
+        .position(|t| t.guard.eval(&zeros))
+    {
+        let target = ecc.states[0].transitions[k].target;
+        let mut new = ecc.initial_outputs.clone();
+        ecc.states[target.0].algorithm.apply(&mut new);
+        let changes: Vec<String> = (0..new.len())
+            .filter(|&z| new[z] != ecc.initial_outputs[z])
+            .map(|z| format!("{} {}", labels.outputs[z], new[z]))
+            .collect();
+        let id = format!("power_up_{k}");
+        if changes.is_empty() {
+            tau(w, &id)?;
+        } else {
+            labelled(w, &id, &changes.join(crate::events::JOIN))?;
+        }
+        arcs.push(("start".into(), id.clone()));
+        arcs.push((id, format!("p{}", target.0)));
+    }
+    input_events(w, &mut arcs, 0, "start")?;
+    for (i, s) in ecc.states.iter().enumerate() {
+        input_events(w, &mut arcs, i, &format!("p{i}"))?;
+        for (k, t) in s.transitions.iter().enumerate() {
+            let outcomes: BTreeSet<Vec<(usize, bool)>> = entry[i]
+                .iter()
+                .map(|old| {
+                    let mut new = old.clone();
+                    ecc.states[t.target.0].algorithm.apply(&mut new);
+                    (0..new.len())
+                        .filter(|&z| new[z] != old[z])
+                        .map(|z| (z, new[z]))
+                        .collect()
+                })
+                .collect();
+            for (j, changes) in outcomes.iter().enumerate() {
+                let id = format!("t{i}_{k}_{j}");
+                if changes.is_empty() {
+                    tau(w, &id)?;
+                } else {
+                    let text: Vec<String> = changes
+                        .iter()
+                        .map(|&(z, v)| format!("{} {v}", labels.outputs[z]))
+                        .collect();
+                    labelled(w, &id, &text.join(crate::events::JOIN))?;
+                }
+                arcs.push((format!("q{i}_{k}"), id.clone()));
+                arcs.push((id, format!("p{}", t.target.0)));
+            }
+        }
+    }
+    for (n, (source, target)) in arcs.iter().enumerate() {
+        writeln!(
+            w,
+            r#"      <arc id="a{n}" source="{source}" target="{target}"/>"#
+        )?;
+    }
+    writeln!(w, "    </page>")?;
+    writeln!(
+        w,
+        r#"    <finalmarkings><marking><place idref="p0"><text>1</text></place></marking></finalmarkings>"#
+    )?;
+    writeln!(w, "  </net>")?;
+    writeln!(w, "</pnml>")
+}
+
+/// [`write_pnml`] into a string.
+pub fn to_string(ecc: &Ecc) -> String {
+    let mut buf = Vec::new();
+    write_pnml(ecc, &mut buf).expect("writing into memory cannot fail");
+    String::from_utf8(buf).expect("the emitter writes UTF-8")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::xes::elements;
+    use crate::export::samples;
+
+    #[test]
+    fn snapshots() {
+        for (name, ecc) in samples::all() {
+            insta::assert_snapshot!(name, to_string(&ecc));
+        }
+        let tank = crate::cases::tank::Program::FillDrain.reference();
+        insta::assert_snapshot!("tank1", to_string(&tank));
+    }
+
+    /// Well-formed, every arc joins a place and a transition, the places are `start`, one per
+    /// state and one per ECC transition, and each ECC transition of a reachable state has an
+    /// output transition from its pending place to its target's place.
+    #[test]
+    fn structure_of_every_sample() {
+        let mut eccs = samples::all();
+        eccs.push(("tank2", crate::cases::tank::Program::Cycles.reference()));
+        for (name, ecc) in eccs {
+            let xml = to_string(&ecc);
+            let els = elements(&xml);
+            let ids = |kind: &str| -> BTreeSet<String> {
+                els.iter()
+                    .filter(|(n, _)| n == kind)
+                    .filter_map(|(_, a)| a.iter().find(|(k, _)| k == "id"))
+                    .map(|(_, v)| v.clone())
+                    .collect()
+            };
+            let (places, transitions) = (ids("place"), ids("transition"));
+            let transitions_total: usize = ecc.states.iter().map(|s| s.transitions.len()).sum();
+            assert_eq!(
+                places.len(),
+                1 + ecc.states.len() + transitions_total,
+                "{name}"
+            );
+            let arcs: Vec<(String, String)> = els
+                .iter()
+                .filter(|(n, _)| n == "arc")
+                .map(|(_, a)| {
+                    let get = |k: &str| a.iter().find(|(key, _)| key == k).unwrap().1.clone();
+                    (get("source"), get("target"))
+                })
+                .collect();
+            for (s, t) in &arcs {
+                assert!(
+                    (places.contains(s) && transitions.contains(t))
+                        || (transitions.contains(s) && places.contains(t)),
+                    "{name}: arc {s} -> {t}"
+                );
+            }
+            for (i, s) in ecc.states.iter().enumerate() {
+                for (k, t) in s.transitions.iter().enumerate() {
+                    let prefix = format!("t{i}_{k}_");
+                    let found = transitions
+                        .iter()
+                        .filter(|id| id.starts_with(&prefix))
+                        .any(|id| {
+                            arcs.contains(&(format!("q{i}_{k}"), id.clone()))
+                                && arcs.contains(&(id.clone(), format!("p{}", t.target.0)))
+                        });
+                    // States no run reaches get no output transitions.
+                    let reachable = !entry_outputs(&ecc)[i].is_empty();
+                    assert_eq!(found, reachable, "{name}: transition {i}.{k}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn labels_are_the_output_changes_and_escaped() {
+        let ecc = crate::cases::tank::Program::FillDrain.reference();
+        let labels = Labels {
+            inputs: vec!["%IX0.1".into(), "%IX0.2".into(), "<&>".into()],
+            outputs: vec!["%QX0.0".into(), "%QX0.1".into()],
+        };
+        let mut buf = Vec::new();
+        write_pnml_labelled(&ecc, &labels, "tank", &mut buf).unwrap();
+        let xml = String::from_utf8(buf).unwrap();
+        assert!(xml.contains("<text>&lt;&amp;&gt; true</text>"));
+        // Drain -> Fill from the initial outputs (00) opens the inlet only; from Drain's own
+        // outputs (01) it also closes the outlet: two outcomes, two net transitions.
+        assert!(xml.contains(r#"<transition id="t0_0_0"><name><text>%QX0.0 true</text>"#));
+        assert!(xml
+            .contains(r#"<transition id="t0_0_1"><name><text>%QX0.0 true + %QX0.1 false</text>"#));
+        assert!(xml
+            .contains(r#"<transition id="t1_0_0"><name><text>%QX0.0 false + %QX0.1 true</text>"#));
+    }
+}

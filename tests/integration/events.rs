@@ -1,0 +1,101 @@
+//! `synth events` through the binary: outputs, default CSV path, errors with their place and
+//! exit code 1, and no output left behind by a failed run.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn synth(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run synth")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+const MAP: &str = "%IX0.1 in ll\n%QX0.0 out inlet\n";
+
+#[test]
+fn writes_xes_and_csv_beside_it_and_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.map"), MAP).unwrap();
+    std::fs::write(
+        dir.path().join("t.csv"),
+        "timestamp,address,value\n0,%QX0.0,1\n1,%IX0.1,1\n2,%IX0.1,0\n2,%QX0.0,0\n",
+    )
+    .unwrap();
+    let o = synth(
+        dir.path(),
+        &[
+            "events", "--log", "t.csv", "--map", "t.map", "--reset", "ll false", "--out", "o/t.xes",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("4 events in 2 traces (1 of them the reset '%IX0.1 false')"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(dir.path().join("o/t.xes").is_file());
+    let csv = std::fs::read_to_string(dir.path().join("o/t.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5);
+    assert!(csv.contains("\n2,%IX0.1 false,"));
+}
+
+#[test]
+fn errors_name_their_place_and_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.map"), MAP).unwrap();
+    std::fs::write(
+        dir.path().join("bad.csv"),
+        "timestamp,address,value\n0,%QX0.0,1\n1,%IX0.1,maybe\n",
+    )
+    .unwrap();
+    let run = |log: &str, reset: &str| {
+        synth(
+            dir.path(),
+            &[
+                "events", "--log", log, "--map", "t.map", "--reset", reset, "--out", "t.xes",
+            ],
+        )
+    };
+    let o = run("bad.csv", "%IX0.1 false");
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: bad.csv:3: column 'value': cannot read 'maybe'\n(--lenient skips bad rows and counts them instead)"
+    );
+    let o = run("bad.csv", "%IX0.9 false");
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: reset activity '%IX0.9 false': '%IX0.9' is not an address or name of the mapping"
+    );
+    assert!(!dir.path().join("t.xes").exists() && !dir.path().join("t.csv").exists());
+    // The default CSV path beside `--out bad.xes` is the input log itself: refused.
+    let o = synth(
+        dir.path(),
+        &[
+            "events",
+            "--log",
+            "./bad.csv",
+            "--map",
+            "t.map",
+            "--reset",
+            "ll 0",
+            "--out",
+            "bad.xes",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim(),
+        "error: the output bad.csv would overwrite the input log; give --out/--csv other paths"
+    );
+    assert!(std::fs::read_to_string(dir.path().join("bad.csv"))
+        .unwrap()
+        .contains("maybe"));
+}
