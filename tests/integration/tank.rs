@@ -206,7 +206,7 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
         let before = |w: &str| words[words.iter().position(|x| *x == w).unwrap() - 1].to_string();
         let (events, traces) = (before("events"), before("traces"));
         let check = Command::new(&python)
-            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/pm4py_check.py"))
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/pm4py_check.py"))
             .arg(&xes)
             .arg("--pnml")
             .arg(&pnml)
@@ -355,7 +355,7 @@ fn only_the_machine_net_notices_a_wrong_cycle_count() {
     );
     events(&dir.path().join("wrong.log.csv"), &wrong_xes, &[]);
     let check = Command::new(&python)
-        .arg(root.join("scripts/pm4py_check.py"))
+        .arg(root.join("tests/pm4py_check.py"))
         .arg(&good_xes)
         .arg("--pnml")
         .arg(&pnml)
