@@ -33,6 +33,7 @@ pub mod constraints;
 pub mod cubes;
 pub mod decode;
 pub mod guards;
+pub mod modular;
 pub mod negative;
 pub mod vars;
 
