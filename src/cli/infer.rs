@@ -65,6 +65,18 @@ pub struct InferArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
+    /// (writes <name>.fbt/.smv/.modules.json and <name>_M<i>.fbt/.json/.dot; --format is
+    /// ignored).
+    #[arg(long, value_name = "M")]
+    pub modules: Option<usize>,
+    /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`
+    /// (modules numbered from 1); repeatable. The solver places the other outputs.
+    #[arg(long, value_name = "MODULE=OUTPUTS", requires = "modules")]
+    pub pin: Vec<String>,
+    /// With --modules: transition slots per state (guards are conjunctions of literals).
+    #[arg(long, default_value_t = 3, value_name = "K")]
+    pub slots: usize,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -137,7 +149,7 @@ pub fn load_scenarios(args: &TraceArgs) -> Result<ScenarioSet, Failure> {
     Ok(set.expect("at least one trace file"))
 }
 
-fn stem(path: &Path) -> String {
+pub fn stem(path: &Path) -> String {
     let f = path
         .file_name()
         .map(|f| f.to_string_lossy().into_owned())
@@ -146,6 +158,9 @@ fn stem(path: &Path) -> String {
 }
 
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    if let Some(m) = args.modules {
+        return super::modular::infer_modular(args, m);
+    }
     let progress = Progress::new(args.quiet);
     let set = load_scenarios(&args.traces)?;
     progress.line(&format!(

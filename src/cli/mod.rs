@@ -7,6 +7,7 @@ mod bench;
 mod conform;
 mod infer;
 mod ingest;
+mod modular;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -93,6 +94,8 @@ pub enum Command {
     Ingest(ingest::IngestArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
+    /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
+    BenchModular(modular::BenchModularArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -198,6 +201,7 @@ pub fn run() -> i32 {
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
+        Some(Command::BenchModular(a)) => modular::bench_modular(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),
