@@ -133,3 +133,46 @@ pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
         }
     }
 }
+
+/// The literals of a conjunction built by [`Guard::cube`].
+fn cube_literals(g: &Guard) -> Vec<(InputId, bool)> {
+    match g {
+        Guard::True => Vec::new(),
+        Guard::Var(i) => vec![(*i, true)],
+        Guard::Not(inner) => match **inner {
+            Guard::Var(i) => vec![(i, false)],
+            _ => unreachable!("decoded guards are cubes"),
+        },
+        Guard::And(parts) => parts.iter().flat_map(cube_literals).collect(),
+        _ => unreachable!("decoded guards are cubes"),
+    }
+}
+
+/// Drops guard literals one at a time, greedily, while the composite still replays every
+/// scenario: the solver only bounds the inputs a module reads, not the literals it writes, so
+/// a guard may test more than the scenarios need.
+pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
+    for m in 0..modular.modules.len() {
+        for q in 0..modular.modules[m].ecc.states.len() {
+            for k in 0..modular.modules[m].ecc.states[q].transitions.len() {
+                let mut lits =
+                    cube_literals(&modular.modules[m].ecc.states[q].transitions[k].guard);
+                let mut i = 0;
+                while i < lits.len() {
+                    let mut fewer = lits.clone();
+                    fewer.remove(i);
+                    let old = std::mem::replace(
+                        &mut modular.modules[m].ecc.states[q].transitions[k].guard,
+                        Guard::cube(&fewer),
+                    );
+                    if super::check(set, modular).is_ok() {
+                        lits = fewer;
+                    } else {
+                        modular.modules[m].ecc.states[q].transitions[k].guard = old;
+                        i += 1;
+                    }
+                }
+            }
+        }
+    }
+}

@@ -13,7 +13,7 @@
 //! doubled window when every size inside it is unsatisfiable.
 //!
 //! The decoded controller is pruned of transitions the scenarios never fire (they cannot change
-//! what the scenarios see) and replayed on every scenario before it is returned; a mismatch is
+//! what the scenarios see) and of guard literals the scenarios do not need, and replayed on every scenario before it is returned; a mismatch is
 //! reported as [`ModularError::Bug`].
 
 pub mod constraints;
@@ -352,6 +352,9 @@ pub fn synthesize_modular(
 
     let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms);
     decode::prune_unfired(&mut modular, set);
+    if check(set, &modular).is_ok() {
+        decode::prune_literals(&mut modular, set);
+    }
     modular.validate().map_err(ModularError::Bug)?;
     check(set, &modular)
         .map_err(|m| ModularError::Bug(format!("the modular controller does not replay {m}")))?;
