@@ -149,7 +149,7 @@ pub fn load_scenarios(args: &TraceArgs) -> Result<ScenarioSet, Failure> {
     Ok(set.expect("at least one trace file"))
 }
 
-pub fn stem(path: &Path) -> String {
+fn stem(path: &Path) -> String {
     let f = path
         .file_name()
         .map(|f| f.to_string_lossy().into_owned())
@@ -157,12 +157,8 @@ pub fn stem(path: &Path) -> String {
     f.split('.').next().unwrap_or("traces").to_string()
 }
 
-pub fn infer(args: &InferArgs) -> Result<(), Failure> {
-    if let Some(m) = args.modules {
-        return super::modular::infer_modular(args, m);
-    }
-    let progress = Progress::new(args.quiet);
-    let set = load_scenarios(&args.traces)?;
+/// The progress line saying what was read.
+pub fn report_loaded(progress: &Progress, set: &ScenarioSet) {
     progress.line(&format!(
         "read {} scenarios, {} steps ({} active) over {} inputs and {} outputs",
         set.scenarios.len(),
@@ -171,6 +167,15 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         set.inputs.len(),
         set.outputs.len()
     ));
+}
+
+pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    if let Some(m) = args.modules {
+        return super::modular::infer_modular(args, m);
+    }
+    let progress = Progress::new(args.quiet);
+    let set = load_scenarios(&args.traces)?;
+    report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
@@ -210,19 +215,31 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
+    let out = out_dir(args)?;
+    let files =
+        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
+    print_written(&files);
+    Ok(())
+}
+
+/// The output folder of `synth infer` (`--out`, default `out/<stem of the first trace>`),
+/// created if missing.
+pub fn out_dir(args: &InferArgs) -> Result<PathBuf, Failure> {
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(stem(&args.traces.traces[0])));
     std::fs::create_dir_all(&out)
         .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
-    let files =
-        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
+    Ok(out)
+}
+
+/// The list of files written, on stdout.
+pub fn print_written(files: &[PathBuf]) {
     println!("wrote:");
     for f in files {
         println!("  {}", f.display());
     }
-    Ok(())
 }
 
 /// Parses `--format` values.

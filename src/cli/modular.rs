@@ -3,7 +3,7 @@
 //! In: scenarios, `M`, pins. Out: the decomposition and sizes on stdout, and the composite's
 //! files ([`crate::export::modular::write_modular`]) in the output folder.
 
-use super::infer::{load_scenarios, stem, InferArgs, TraceArgs};
+use super::infer::{load_scenarios, out_dir, print_written, report_loaded, InferArgs, TraceArgs};
 use super::{exit, Failure, Progress};
 use crate::ecc::modular::{Modular, Module};
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, InputId, OutputId, State};
@@ -12,7 +12,6 @@ use crate::sat::modular::{parse_pins, synthesize_modular, ModularError, ModularO
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use clap::Args;
-use std::path::PathBuf;
 use std::time::Instant;
 
 /// Checks before any search that the block name and the interface can be exported: a probe
@@ -103,14 +102,7 @@ pub fn describe(modular: &Modular) -> Vec<String> {
 pub fn infer_modular(args: &InferArgs, modules: usize) -> Result<(), Failure> {
     let progress = Progress::new(args.quiet);
     let set = load_scenarios(&args.traces)?;
-    progress.line(&format!(
-        "read {} scenarios, {} steps ({} active) over {} inputs and {} outputs",
-        set.scenarios.len(),
-        set.step_count(),
-        set.active_count(),
-        set.inputs.len(),
-        set.outputs.len()
-    ));
+    report_loaded(&progress, &set);
     let opts = options(args, &set, modules)?;
     check_exportable(&set, &args.name, modules)?;
     let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
@@ -130,17 +122,9 @@ pub fn infer_modular(args: &InferArgs, modules: usize) -> Result<(), Failure> {
         result.stats.sat_seconds,
         set.scenarios.len()
     );
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(stem(&args.traces.traces[0])));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
+    let out = out_dir(args)?;
     let files = write_modular(&result.modular, &out, &args.name).map_err(Failure::input)?;
-    println!("wrote:");
-    for f in files {
-        println!("  {}", f.display());
-    }
+    print_written(&files);
     Ok(())
 }
 

@@ -113,10 +113,10 @@ pub enum SatError {
 }
 
 /// A clause sink that counts what it forwards.
-struct Counting<'a, F: ExtendFormula> {
-    inner: &'a mut F,
-    vars: usize,
-    clauses: usize,
+pub(crate) struct Counting<'a, F: ExtendFormula> {
+    pub inner: &'a mut F,
+    pub vars: usize,
+    pub clauses: usize,
 }
 
 impl<F: ExtendFormula> ExtendFormula for Counting<'_, F> {

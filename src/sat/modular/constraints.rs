@@ -9,6 +9,7 @@
 use super::vars::ModVars;
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::sat::constraints::at_most_one;
+use crate::sat::cubes::first_fire;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
 
@@ -112,7 +113,6 @@ pub fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool
             f.add_clause(&[v.nf(m, g, q, 0)]);
             for k in 0..d.slots {
                 let (fire, en) = (v.fire(m, g, q, k), v.en(m, q, k));
-                f.add_clause(&[!fire, en]);
                 // The literals that make the guard false on g.
                 let killers: Vec<Lit> = bits
                     .iter()
@@ -125,16 +125,8 @@ pub fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool
                         }
                     })
                     .collect();
-                for &l in &killers {
-                    f.add_clause(&[!fire, !l]);
-                }
-                let mut back = vec![fire, !en];
-                back.extend(&killers);
-                f.add_clause(&back);
                 let (nf, nf1) = (v.nf(m, g, q, k), v.nf(m, g, q, k + 1));
-                f.add_clause(&[!nf1, nf]);
-                f.add_clause(&[!nf1, !fire]);
-                f.add_clause(&[nf1, !nf, fire]);
+                first_fire(f, [fire, en, nf, nf1], &killers);
             }
         }
     }

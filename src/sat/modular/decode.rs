@@ -9,7 +9,7 @@ use super::vars::ModVars;
 use crate::ecc::modular::{Modular, Module};
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, Guard, InputId, OutputId, Run, State, StateId};
 use crate::ecc::{Transition, Tri};
-use crate::sat::decode::Model;
+use crate::sat::decode::{cube_literals, Model};
 use crate::scenario::ScenarioSet;
 use std::collections::HashSet;
 
@@ -43,17 +43,13 @@ pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind
                             let target = (0..d.c_max)
                                 .find(|&t| model.value(v.tgt(m, q, k, t)))
                                 .expect("an enabled slot has a target");
-                            let lits: Vec<(InputId, bool)> = (0..d.bits)
-                                .filter_map(|x| {
-                                    if model.value(v.pos(m, q, k, x)) {
-                                        Some((local(x), true))
-                                    } else if model.value(v.neg(m, q, k, x)) {
-                                        Some((local(x), false))
-                                    } else {
-                                        None
-                                    }
-                                })
-                                .collect();
+                            let lits = cube_literals(
+                                model,
+                                d.bits,
+                                |x| v.pos(m, q, k, x),
+                                |x| v.neg(m, q, k, x),
+                                local,
+                            );
                             Transition {
                                 target: StateId(target),
                                 guard: Guard::cube(&lits),
@@ -135,7 +131,7 @@ pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
 }
 
 /// The literals of a conjunction built by [`Guard::cube`].
-fn cube_literals(g: &Guard) -> Vec<(InputId, bool)> {
+fn guard_literals(g: &Guard) -> Vec<(InputId, bool)> {
     match g {
         Guard::True => Vec::new(),
         Guard::Var(i) => vec![(*i, true)],
@@ -143,7 +139,7 @@ fn cube_literals(g: &Guard) -> Vec<(InputId, bool)> {
             Guard::Var(i) => vec![(i, false)],
             _ => unreachable!("decoded guards are cubes"),
         },
-        Guard::And(parts) => parts.iter().flat_map(cube_literals).collect(),
+        Guard::And(parts) => parts.iter().flat_map(guard_literals).collect(),
         _ => unreachable!("decoded guards are cubes"),
     }
 }
@@ -156,7 +152,7 @@ pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
         for q in 0..modular.modules[m].ecc.states.len() {
             for k in 0..modular.modules[m].ecc.states[q].transitions.len() {
                 let mut lits =
-                    cube_literals(&modular.modules[m].ecc.states[q].transitions[k].guard);
+                    guard_literals(&modular.modules[m].ecc.states[q].transitions[k].guard);
                 let mut i = 0;
                 while i < lits.len() {
                     let mut fewer = lits.clone();

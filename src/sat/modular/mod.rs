@@ -22,12 +22,13 @@ pub mod vars;
 
 use super::card::Totalizer;
 use super::decode::Model;
+use super::Counting;
 use crate::ecc::modular::{replay_modular, Modular, ModularSize};
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::{Divergence, ScenarioSet};
 use std::time::Instant;
-use varisat::{ExtendFormula, Lit, Solver, Var};
+use varisat::{Lit, Solver};
 use vars::ModVars;
 
 /// Settings of a modular synthesis run.
@@ -162,24 +163,6 @@ pub fn parse_pins(
         }
     }
     Ok(pins)
-}
-
-/// A clause sink that counts what it forwards.
-struct Counting<'a> {
-    inner: &'a mut Solver<'static>,
-    vars: usize,
-    clauses: usize,
-}
-
-impl ExtendFormula for Counting<'_> {
-    fn add_clause(&mut self, clause: &[Lit]) {
-        self.clauses += 1;
-        self.inner.add_clause(clause);
-    }
-    fn new_var(&mut self) -> Var {
-        self.vars += 1;
-        self.inner.new_var()
-    }
 }
 
 /// The solver with the modular encoding for a window of `c_max` states per module.
