@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::ecc::modular::tests::two_toggles;
-use crate::ecc::modular::ModularRun;
+use crate::ecc::modular::{ModularRun, Module};
 use crate::ecc::InputId;
 use crate::scenario::{Origin, Scenario, Step};
 
@@ -200,4 +200,87 @@ fn encoding_size_is_stable() {
     let (_, tree) = toggles();
     let enc = Encoding::new(&tree, 4, &opts(2));
     insta::assert_json_snapshot!((enc.variables, enc.clauses));
+}
+
+/// Two random machines over disjoint inputs and outputs, run side by side: modular synthesis
+/// with two modules finds a controller no larger than the larger of them, and one module a
+/// controller no larger than their product; both replay every run.
+#[test]
+fn random_composites_are_rebuilt_no_larger() {
+    use crate::ecc::random::random_ecc;
+    use rand::{Rng, SeedableRng};
+    for seed in 0..6u64 {
+        let (c1, c2) = (2 + seed as usize % 2, 2 + (seed as usize / 2) % 2);
+        let mut e1 = random_ecc(seed, c1, 2, 1);
+        let mut e2 = random_ecc(seed + 100, c2, 2, 2);
+        e1.inputs = vec!["a1".into(), "a2".into()];
+        e1.outputs = vec!["p".into()];
+        e2.inputs = vec!["b1".into(), "b2".into()];
+        e2.outputs = vec!["q".into(), "r".into()];
+        let original = Modular {
+            inputs: ["a1", "a2", "b1", "b2"].map(String::from).to_vec(),
+            outputs: ["p", "q", "r"].map(String::from).to_vec(),
+            initial_outputs: vec![false; 3],
+            modules: vec![
+                Module {
+                    inputs: vec![InputId(0), InputId(1)],
+                    outputs: vec![OutputId(0)],
+                    ecc: e1,
+                },
+                Module {
+                    inputs: vec![InputId(2), InputId(3)],
+                    outputs: vec![OutputId(1), OutputId(2)],
+                    ecc: e2,
+                },
+            ],
+        };
+        original.validate().unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let runs: Vec<Vec<Vec<bool>>> = (0..6)
+            .map(|_| {
+                (0..12)
+                    .map(|_| (0..4).map(|_| rng.gen_bool(0.5)).collect())
+                    .collect()
+            })
+            .collect();
+        let set = record(&original, &runs);
+        let tree = ScenarioTree::build(&set).unwrap();
+        let two = synthesize_modular(&set, &tree, &opts(2), &mut |_| {}).unwrap();
+        assert!(two.size.max_states <= c1.max(c2), "seed {seed}");
+        check(&set, &two.modular).unwrap();
+        let one = synthesize_modular(&set, &tree, &opts(1), &mut |_| {}).unwrap();
+        assert!(one.size.max_states <= c1 * c2, "seed {seed}");
+        assert!(one.size.max_states >= two.size.max_states, "seed {seed}");
+        check(&set, &one.modular).unwrap();
+    }
+}
+
+/// The first-fire gadget, exhaustively: for every value of `en`, `nf` and two killer literals,
+/// `fire` and `nf1` are forced to `en & no killer` and `nf & !fire`.
+#[test]
+fn first_fire_gadget_is_exact() {
+    use varisat::{CnfFormula, ExtendFormula};
+    let mut f = CnfFormula::new();
+    let [fire, en, nf, nf1, k1, k2] = [(); 6].map(|_| f.new_lit());
+    crate::sat::cubes::first_fire(&mut f, [fire, en, nf, nf1], &[k1, k2]);
+    for mask in 0u32..16 {
+        let bit = |i: u32| mask >> i & 1 == 1;
+        let given = [(en, bit(0)), (nf, bit(1)), (k1, bit(2)), (k2, bit(3))];
+        let want_fire = bit(0) && !bit(2) && !bit(3);
+        let want_nf1 = bit(1) && !want_fire;
+        for (fv, nv) in [(false, false), (false, true), (true, false), (true, true)] {
+            let mut s = varisat::Solver::new();
+            s.add_formula(&f);
+            let mut assume: Vec<Lit> = given.iter().map(|&(l, v)| if v { l } else { !l }).collect();
+            assume.push(if fv { fire } else { !fire });
+            assume.push(if nv { nf1 } else { !nf1 });
+            s.assume(&assume);
+            let expect = fv == want_fire && nv == want_nf1;
+            assert_eq!(
+                s.solve().unwrap(),
+                expect,
+                "mask {mask:04b} fire {fv} nf1 {nv}"
+            );
+        }
+    }
 }
