@@ -127,6 +127,10 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
         &options.date,
         [&ecc.inputs, &ecc.outputs],
         &ecc.initial_outputs,
+        [
+            "Request: fire the first enabled transition of the current state",
+            "Confirmation: a transition fired, outputs updated",
+        ],
     )?;
 
     writeln!(w, "  <BasicFB>")?;
@@ -213,6 +217,7 @@ pub(crate) fn write_head(
     date: &str,
     [inputs, outputs]: [&[String]; 2],
     initial_outputs: &[bool],
+    [req_comment, cnf_comment]: [&str; 2],
 ) -> io::Result<()> {
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
@@ -234,18 +239,8 @@ pub(crate) fn write_head(
 
     writeln!(w, "  <InterfaceList>")?;
     let events = [
-        (
-            "EventInputs",
-            "REQ",
-            "Request: fire the first enabled transition of the current state",
-            inputs,
-        ),
-        (
-            "EventOutputs",
-            "CNF",
-            "Confirmation: a transition fired, outputs updated",
-            outputs,
-        ),
+        ("EventInputs", "REQ", req_comment, inputs),
+        ("EventOutputs", "CNF", cnf_comment, outputs),
     ];
     for (list, event, comment, vars) in events {
         writeln!(w, "    <{list}>")?;

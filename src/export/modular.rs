@@ -102,6 +102,10 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
         "",
         [&modular.inputs, &modular.outputs],
         &modular.initial_outputs,
+        [
+            "Request: every module fires its first enabled transition",
+            "Confirmation: a module fired, its outputs updated (one CNF per firing module)",
+        ],
     )?;
     let count = modular.modules.len();
     writeln!(w, "  <FBNetwork>")?;
