@@ -267,3 +267,50 @@ fn composite_smv_agrees_with_the_recordings_in_nusmv() {
         assert_eq!(results[0].verdict, Verdict::Holds, "scenario {k}");
     }
 }
+
+/// The composite SMV takes the controller's place in the closed loop with the Pick-and-Place
+/// surrogate plant: NuSMV accepts the model and gives a verdict for every property.
+#[test]
+fn composite_closes_the_loop_with_the_pnp_plant() {
+    use fbsynth::ltl::parse_spec_file;
+    use fbsynth::sat::modular::{synthesize_modular, ModularOptions};
+    use fbsynth::scenario::tree::ScenarioTree;
+    use fbsynth::smv::closed_loop::{check_coupling, compose_controller, CONTROLLER_MODULE};
+    use fbsynth::smv::plant::read_plant;
+    let Some(nusmv) = nusmv_or_skip() else {
+        return;
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let names = |f: &str| {
+        let text = std::fs::read_to_string(root.join("specs").join(f)).unwrap();
+        Some(text.split_whitespace().map(String::from).collect())
+    };
+    let set = fbsat::read(
+        &root.join("specs/pnp.traces"),
+        names("pnp.inputs"),
+        names("pnp.outputs"),
+    )
+    .unwrap();
+    let tree = ScenarioTree::build(&set).unwrap();
+    let opts = ModularOptions {
+        modules: 2,
+        ..ModularOptions::default()
+    };
+    let r = synthesize_modular(&set, &tree, &opts, &mut |_| {}).unwrap();
+    let spec = root.join("specs/pnp.ltl");
+    let props = parse_spec_file(&spec).unwrap();
+    let plant = read_plant(&root.join("smv/pnp_surrogate.smv")).unwrap();
+    let coupling = check_coupling(&set.inputs, &set.outputs, &plant, &spec, &props).unwrap();
+    let controller = composite_smv_to_string(&r.modular, CONTROLLER_MODULE).unwrap();
+    let model = compose_controller(controller, &set.inputs, &plant, &coupling, &props);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("closed_loop.smv");
+    std::fs::write(&file, &model.text).unwrap();
+    let results = nusmv.check_file(&file).unwrap();
+    assert_eq!(results.len(), props.len());
+    let holds = results
+        .iter()
+        .filter(|r| r.verdict == Verdict::Holds)
+        .count();
+    eprintln!("{holds} of {} properties hold in closed loop", props.len());
+}
