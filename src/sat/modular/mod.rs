@@ -165,6 +165,15 @@ pub fn parse_pins(
     Ok(pins)
 }
 
+/// The two sums minimized after the largest module.
+#[derive(Debug, Clone, Copy)]
+enum Counter {
+    /// `A`: the `α` set.
+    Inputs,
+    /// `N'`: the `uc` set.
+    States,
+}
+
 /// The solver with the modular encoding for a window of `c_max` states per module.
 struct Encoding {
     solver: Solver<'static>,
@@ -198,6 +207,22 @@ impl Encoding {
             clauses,
             calls: 0,
         }
+    }
+
+    fn totalizer(&self, c: Counter) -> &Totalizer {
+        match c {
+            Counter::Inputs => &self.total_alpha,
+            Counter::States => &self.total_used,
+        }
+    }
+
+    /// The value of a sum in a model.
+    fn count(&self, c: Counter, model: &Model) -> usize {
+        let lits = match c {
+            Counter::Inputs => self.vars.all_alpha(),
+            Counter::States => self.vars.all_used(),
+        };
+        lits.iter().filter(|&&l| model.value(l)).count()
     }
 
     /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
@@ -292,42 +317,26 @@ pub fn synthesize_modular(
     progress(&format!("largest module: {n} states (minimal)"));
 
     // 2. least A, then 3. least N', each descending from the current model's value.
-    let counters = [("A (inputs used)", 0usize), ("N' (states used)", 1)];
-    for (label, which) in counters {
-        let count = |m: &Model, enc: &Encoding| {
-            let lits = if which == 0 {
-                enc.vars.all_alpha()
-            } else {
-                enc.vars.all_used()
-            };
-            lits.iter().filter(|&&l| m.value(l)).count()
-        };
-        let mut value = count(&model, &enc);
+    for (label, counter) in [
+        ("A (inputs used)", Counter::Inputs),
+        ("N' (states used)", Counter::States),
+    ] {
+        let mut value = enc.count(counter, &model);
         while value > 0 {
-            let tot = if which == 0 {
-                &enc.total_alpha
-            } else {
-                &enc.total_used
-            };
-            let Some(bound) = tot.at_most(value - 1) else {
+            let Some(bound) = enc.totalizer(counter).at_most(value - 1) else {
                 break;
             };
             progress(&format!("trying {label} = {}", value - 1));
             let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
             match enc.solve(&assume) {
                 Some(m) => {
-                    value = count(&m, &enc);
+                    value = enc.count(counter, &m);
                     model = m;
                 }
                 None => break,
             }
         }
-        let tot = if which == 0 {
-            &enc.total_alpha
-        } else {
-            &enc.total_used
-        };
-        base.extend(tot.at_most(value));
+        base.extend(enc.totalizer(counter).at_most(value));
         progress(&format!("{label} = {value} (minimal)"));
     }
     stats.solver_calls += enc.calls;

@@ -284,3 +284,16 @@ fn first_fire_gadget_is_exact() {
         }
     }
 }
+
+#[test]
+fn too_few_states_is_reported_with_the_limits() {
+    let (set, tree) = toggles();
+    let mut o = opts(1);
+    o.max_states = 3;
+    let e = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap_err();
+    assert!(
+        matches!(e, ModularError::NoController { max_states: 3, .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("raise --max-states"), "{e}");
+}
