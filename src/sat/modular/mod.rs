@@ -12,8 +12,12 @@
 //! The encoding is built for a window of at most `N` states per module and rebuilt for a
 //! doubled window when every size inside it is unsatisfiable.
 //!
+//! Minimal means minimal among controllers with at most `K` transitions per state: a state that
+//! needs a disjunction of more than `K` cubes forces more states (or more inputs).
+//!
 //! The decoded controller is pruned of transitions the scenarios never fire (they cannot change
-//! what the scenarios see) and of guard literals the scenarios do not need, and replayed on every scenario before it is returned; a mismatch is
+//! what the scenarios see) and of guard literals the scenarios do not need (greedily, so `N`
+//! is not minimal), and replayed on every scenario before it is returned; a mismatch is
 //! reported as [`ModularError::Bug`].
 
 pub mod constraints;
