@@ -119,6 +119,16 @@ pub(crate) struct Counting<'a, F: ExtendFormula> {
     pub clauses: usize,
 }
 
+impl<'a, F: ExtendFormula> Counting<'a, F> {
+    pub(crate) fn new(inner: &'a mut F) -> Self {
+        Counting {
+            inner,
+            vars: 0,
+            clauses: 0,
+        }
+    }
+}
+
 impl<F: ExtendFormula> ExtendFormula for Counting<'_, F> {
     fn add_clause(&mut self, clause: &[Lit]) {
         self.clauses += 1;

@@ -22,6 +22,22 @@ fn synth(args: &[&str]) -> Output {
         .expect("run synth")
 }
 
+/// `synth infer -q --modules 2 --traces lamps.traces --out dir` and `extra`.
+fn infer_lamps(dir: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "infer",
+        "-q",
+        "--modules",
+        "2",
+        "--traces",
+        LAMPS,
+        "--out",
+        dir,
+    ];
+    args.extend_from_slice(extra);
+    synth(&args)
+}
+
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
@@ -78,18 +94,7 @@ fn read_back(dir: &Path, stem: &str, set: &ScenarioSet) -> Modular {
 fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().to_str().unwrap();
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--modules",
-        "2",
-        "--traces",
-        LAMPS,
-        "--out",
-        dir,
-        "--name",
-        "Line",
-    ]);
+    let o = infer_lamps(dir, &["--name", "Line"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let stdout = text(&o.stdout);
     assert!(
@@ -129,36 +134,14 @@ fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
 fn pinned_outputs_go_where_they_are_pinned() {
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().to_str().unwrap();
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--modules",
-        "2",
-        "--pin",
-        "2=start_led",
-        "--traces",
-        LAMPS,
-        "--out",
-        dir,
-    ]);
+    let o = infer_lamps(dir, &["--pin", "2=start_led"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let stdout = text(&o.stdout);
     assert!(
         stdout.contains("module 2: 2 states, 3 transitions, 4 guard literals; outputs: start_led"),
         "{stdout}"
     );
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--modules",
-        "2",
-        "--pin",
-        "1=start_led,motor",
-        "--traces",
-        LAMPS,
-        "--out",
-        dir,
-    ]);
+    let o = infer_lamps(dir, &["--pin", "1=start_led, motor"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
         text(&o.stdout).contains("outputs: start_led, motor"),
@@ -182,18 +165,7 @@ fn bad_pins_are_usage_errors_naming_the_problem() {
         ),
         ("motor", "expected MODULE=OUTPUT"),
     ] {
-        let o = synth(&[
-            "infer",
-            "-q",
-            "--modules",
-            "2",
-            "--pin",
-            pin,
-            "--traces",
-            LAMPS,
-            "--out",
-            dir,
-        ]);
+        let o = infer_lamps(dir, &["--pin", pin]);
         assert_eq!(o.status.code(), Some(2), "{pin}");
         assert!(text(&o.stderr).contains(says), "{pin}: {}", text(&o.stderr));
     }
@@ -209,16 +181,7 @@ fn composite_smv_agrees_with_the_recordings_in_nusmv() {
     };
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().to_str().unwrap();
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--modules",
-        "2",
-        "--traces",
-        LAMPS,
-        "--out",
-        dir,
-    ]);
+    let o = infer_lamps(dir, &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let set = lamps();
     let modular = read_back(out.path(), "SynthesizedFB", &set);

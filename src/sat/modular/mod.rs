@@ -192,11 +192,7 @@ struct Encoding {
 impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &ModularOptions) -> Encoding {
         let mut solver = Solver::new();
-        let mut sink = Counting {
-            inner: &mut solver,
-            vars: 0,
-            clauses: 0,
-        };
+        let mut sink = Counting::new(&mut solver);
         let vars = ModVars::new(&mut sink, tree, opts.modules, c_max, opts.slots.max(1));
         constraints::all(&mut sink, &vars, tree, opts.algorithms, &opts.pins);
         let total_alpha = Totalizer::new(&mut sink, vars.all_alpha(), vars.all_alpha().len());
