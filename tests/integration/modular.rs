@@ -141,7 +141,7 @@ fn pinned_outputs_go_where_they_are_pinned() {
         stdout.contains("module 2: 2 states, 3 transitions, 4 guard literals; outputs: start_led"),
         "{stdout}"
     );
-    let o = infer_lamps(dir, &["--pin", "1=start_led, motor"]);
+    let o = infer_lamps(dir, &["--pin", "1=start_led,motor"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
         text(&o.stdout).contains("outputs: start_led, motor"),
