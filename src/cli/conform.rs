@@ -157,6 +157,9 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             format: formats,
             name: "SynthesizedFB".into(),
             quiet: false,
+            modules: None,
+            pin: Vec::new(),
+            slots: 3,
         })?,
     }
     let refined = infer::read_ecc(&out.join("SynthesizedFB.json"))?;

@@ -65,6 +65,18 @@ pub struct InferArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
+    /// (writes <name>.fbt/.smv/.modules.json and <name>_M<i>.fbt/.json/.dot; --format is
+    /// ignored).
+    #[arg(long, value_name = "M")]
+    pub modules: Option<usize>,
+    /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`
+    /// (modules numbered from 1); repeatable. The solver places the other outputs.
+    #[arg(long, value_name = "MODULE=OUTPUTS", requires = "modules")]
+    pub pin: Vec<String>,
+    /// With --modules: transition slots per state (guards are conjunctions of literals).
+    #[arg(long, default_value_t = 3, value_name = "K")]
+    pub slots: usize,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -145,9 +157,8 @@ fn stem(path: &Path) -> String {
     f.split('.').next().unwrap_or("traces").to_string()
 }
 
-pub fn infer(args: &InferArgs) -> Result<(), Failure> {
-    let progress = Progress::new(args.quiet);
-    let set = load_scenarios(&args.traces)?;
+/// The progress line saying what was read.
+pub fn report_loaded(progress: &Progress, set: &ScenarioSet) {
     progress.line(&format!(
         "read {} scenarios, {} steps ({} active) over {} inputs and {} outputs",
         set.scenarios.len(),
@@ -156,6 +167,15 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         set.inputs.len(),
         set.outputs.len()
     ));
+}
+
+pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    if let Some(m) = args.modules {
+        return super::modular::infer_modular(args, m);
+    }
+    let progress = Progress::new(args.quiet);
+    let set = load_scenarios(&args.traces)?;
+    report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
@@ -195,19 +215,31 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
+    let out = out_dir(args)?;
+    let files =
+        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
+    print_written(&files);
+    Ok(())
+}
+
+/// The output folder of `synth infer` (`--out`, default `out/<stem of the first trace>`),
+/// created if missing.
+pub fn out_dir(args: &InferArgs) -> Result<PathBuf, Failure> {
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(stem(&args.traces.traces[0])));
     std::fs::create_dir_all(&out)
         .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
-    let files =
-        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
+    Ok(out)
+}
+
+/// The list of files written, on stdout.
+pub fn print_written(files: &[PathBuf]) {
     println!("wrote:");
     for f in files {
         println!("  {}", f.display());
     }
-    Ok(())
 }
 
 /// Parses `--format` values.

@@ -8,6 +8,7 @@ mod conform;
 mod events;
 mod infer;
 mod ingest;
+mod modular;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -97,6 +98,8 @@ pub enum Command {
     /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
     /// sliced into traces at a reset activity (seed 002's conversion).
     Events(events::EventsArgs),
+    /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
+    BenchModular(modular::BenchModularArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -206,6 +209,7 @@ pub fn run() -> i32 {
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Events(a)) => events::events(&a),
+        Some(Command::BenchModular(a)) => modular::bench_modular(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

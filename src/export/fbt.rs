@@ -76,7 +76,7 @@ pub fn check_names(ecc: &Ecc, type_name: &str) -> Result<(), NameError> {
 
 /// Escapes text for a double-quoted XML attribute. Line breaks and tabs become character
 /// references, because a parser normalizes literal ones in attributes to spaces.
-fn attr(s: &str) -> String {
+pub(crate) fn attr(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -119,78 +119,19 @@ fn algorithm_text(ecc: &Ecc, i: usize) -> Option<String> {
 /// [`NameError`]) before writing anything if a name is unusable.
 pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Result<()> {
     check_names(ecc, &options.type_name)?;
-    let size = ecc.size();
-    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
-    writeln!(
+    let comment = format!("Basic FB synthesized by fbsynth ({})", ecc.size());
+    write_head(
         w,
-        r#"<!DOCTYPE FBType SYSTEM "http://www.holobloc.com/xml/LibraryElement.dtd">"#
-    )?;
-    writeln!(
-        w,
-        r#"<FBType Name="{}" Comment="Basic FB synthesized by fbsynth ({})">"#,
-        attr(&options.type_name),
-        attr(&size.to_string())
-    )?;
-    writeln!(w, r#"  <Identification Standard="61499-2"/>"#)?;
-    writeln!(
-        w,
-        r#"  <VersionInfo Organization="fbsynth" Version="1.0" Author="fbsynth" Date="{}"/>"#,
-        attr(&options.date)
-    )?;
-
-    writeln!(w, "  <InterfaceList>")?;
-    let events = [
-        (
-            "EventInputs",
-            "REQ",
+        &options.type_name,
+        &comment,
+        &options.date,
+        [&ecc.inputs, &ecc.outputs],
+        &ecc.initial_outputs,
+        [
             "Request: fire the first enabled transition of the current state",
-            &ecc.inputs,
-        ),
-        (
-            "EventOutputs",
-            "CNF",
             "Confirmation: a transition fired, outputs updated",
-            &ecc.outputs,
-        ),
-    ];
-    for (list, event, comment, vars) in events {
-        writeln!(w, "    <{list}>")?;
-        writeln!(
-            w,
-            r#"      <Event Name="{event}" Type="Event" Comment="{}">"#,
-            attr(comment)
-        )?;
-        for v in vars.iter() {
-            writeln!(w, r#"        <With Var="{}"/>"#, attr(v))?;
-        }
-        writeln!(w, "      </Event>")?;
-        writeln!(w, "    </{list}>")?;
-    }
-    // The DTD wants at least one declaration inside InputVars/OutputVars.
-    if !ecc.inputs.is_empty() {
-        writeln!(w, "    <InputVars>")?;
-        for v in &ecc.inputs {
-            writeln!(
-                w,
-                r#"      <VarDeclaration Name="{}" Type="BOOL"/>"#,
-                attr(v)
-            )?;
-        }
-        writeln!(w, "    </InputVars>")?;
-    }
-    if !ecc.outputs.is_empty() {
-        writeln!(w, "    <OutputVars>")?;
-        for (v, &init) in ecc.outputs.iter().zip(&ecc.initial_outputs) {
-            let initial = if init { r#" InitialValue="TRUE""# } else { "" };
-            writeln!(
-                w,
-                r#"      <VarDeclaration Name="{}" Type="BOOL"{initial}/>"#,
-                attr(v)
-            )?;
-        }
-        writeln!(w, "    </OutputVars>")?;
-    }
-    writeln!(w, "  </InterfaceList>")?;
+        ],
+    )?;
 
     writeln!(w, "  <BasicFB>")?;
     writeln!(w, "    <ECC>")?;
@@ -267,6 +208,81 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
     writeln!(w, "</FBType>")
 }
 
+/// The XML prolog, `<FBType>` start tag, identification and `<InterfaceList>` (REQ with every
+/// input, CNF with every output, all `BOOL`): the part basic and composite types share.
+pub(crate) fn write_head(
+    w: &mut impl Write,
+    type_name: &str,
+    comment: &str,
+    date: &str,
+    [inputs, outputs]: [&[String]; 2],
+    initial_outputs: &[bool],
+    [req_comment, cnf_comment]: [&str; 2],
+) -> io::Result<()> {
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(
+        w,
+        r#"<!DOCTYPE FBType SYSTEM "http://www.holobloc.com/xml/LibraryElement.dtd">"#
+    )?;
+    writeln!(
+        w,
+        r#"<FBType Name="{}" Comment="{}">"#,
+        attr(type_name),
+        attr(comment)
+    )?;
+    writeln!(w, r#"  <Identification Standard="61499-2"/>"#)?;
+    writeln!(
+        w,
+        r#"  <VersionInfo Organization="fbsynth" Version="1.0" Author="fbsynth" Date="{}"/>"#,
+        attr(date)
+    )?;
+
+    writeln!(w, "  <InterfaceList>")?;
+    let events = [
+        ("EventInputs", "REQ", req_comment, inputs),
+        ("EventOutputs", "CNF", cnf_comment, outputs),
+    ];
+    for (list, event, comment, vars) in events {
+        writeln!(w, "    <{list}>")?;
+        writeln!(
+            w,
+            r#"      <Event Name="{event}" Type="Event" Comment="{}">"#,
+            attr(comment)
+        )?;
+        for v in vars.iter() {
+            writeln!(w, r#"        <With Var="{}"/>"#, attr(v))?;
+        }
+        writeln!(w, "      </Event>")?;
+        writeln!(w, "    </{list}>")?;
+    }
+    // The DTD wants at least one declaration inside InputVars/OutputVars.
+    if !inputs.is_empty() {
+        writeln!(w, "    <InputVars>")?;
+        for v in inputs {
+            writeln!(
+                w,
+                r#"      <VarDeclaration Name="{}" Type="BOOL"/>"#,
+                attr(v)
+            )?;
+        }
+        writeln!(w, "    </InputVars>")?;
+    }
+    if !outputs.is_empty() {
+        writeln!(w, "    <OutputVars>")?;
+        for (v, &init) in outputs.iter().zip(initial_outputs) {
+            let initial = if init { r#" InitialValue="TRUE""# } else { "" };
+            writeln!(
+                w,
+                r#"      <VarDeclaration Name="{}" Type="BOOL"{initial}/>"#,
+                attr(v)
+            )?;
+        }
+        writeln!(w, "    </OutputVars>")?;
+    }
+    writeln!(w, "  </InterfaceList>")?;
+    Ok(())
+}
+
 /// [`write_fbt`] into a string.
 pub fn to_string(ecc: &Ecc, options: &FbtOptions) -> io::Result<String> {
     let mut buf = Vec::new();
@@ -275,7 +291,7 @@ pub fn to_string(ecc: &Ecc, options: &FbtOptions) -> io::Result<String> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::export::samples;
     use quick_xml::events::{BytesStart, Event};
@@ -283,25 +299,25 @@ mod tests {
 
     /// Just enough of a DOM to check structure.
     #[derive(Debug)]
-    struct Node {
-        name: String,
-        attrs: Vec<(String, String)>,
-        children: Vec<Node>,
+    pub(crate) struct Node {
+        pub name: String,
+        pub attrs: Vec<(String, String)>,
+        pub children: Vec<Node>,
     }
 
     impl Node {
-        fn attr(&self, key: &str) -> Option<&str> {
+        pub fn attr(&self, key: &str) -> Option<&str> {
             self.attrs
                 .iter()
                 .find(|(k, _)| k == key)
                 .map(|(_, v)| v.as_str())
         }
 
-        fn all(&self, name: &str) -> Vec<&Node> {
+        pub fn all(&self, name: &str) -> Vec<&Node> {
             self.children.iter().filter(|c| c.name == name).collect()
         }
 
-        fn one(&self, name: &str) -> &Node {
+        pub fn one(&self, name: &str) -> &Node {
             let found = self.all(name);
             assert_eq!(found.len(), 1, "exactly one <{name}> in <{}>", self.name);
             found[0]
@@ -325,7 +341,8 @@ mod tests {
         }
     }
 
-    fn parse(xml: &str) -> Node {
+    /// Parses well-formed XML (panics otherwise) into a tree of elements.
+    pub(crate) fn parse(xml: &str) -> Node {
         let mut reader = quick_xml::Reader::from_str(xml);
         let mut stack: Vec<Node> = vec![Node {
             name: "#document".into(),

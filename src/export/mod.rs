@@ -11,6 +11,7 @@ pub mod dot;
 pub mod fbt;
 pub mod guard_text;
 pub mod json;
+pub mod modular;
 pub mod pnml;
 pub mod st;
 

@@ -13,7 +13,7 @@ use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
 
 /// Pairwise at-most-one.
-fn at_most_one(f: &mut impl ExtendFormula, lits: &[Lit]) {
+pub(crate) fn at_most_one(f: &mut impl ExtendFormula, lits: &[Lit]) {
     for (i, &a) in lits.iter().enumerate() {
         for &b in &lits[i + 1..] {
             f.add_clause(&[!a, !b]);

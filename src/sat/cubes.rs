@@ -51,6 +51,25 @@ pub fn slots(f: &mut impl ExtendFormula, v: &Vars) {
     }
 }
 
+/// One slot on one input vector: `fire <-> en & AND ¬killers` (no literal of the guard is false
+/// on the input) and `nf1 <-> nf & ¬fire` (no slot up to this one fires).
+pub(crate) fn first_fire(
+    f: &mut impl ExtendFormula,
+    [fire, en, nf, nf1]: [Lit; 4],
+    killers: &[Lit],
+) {
+    f.add_clause(&[!fire, en]);
+    for &l in killers {
+        f.add_clause(&[!fire, !l]);
+    }
+    let mut back = vec![fire, !en];
+    back.extend(killers);
+    f.add_clause(&back);
+    f.add_clause(&[!nf1, nf]);
+    f.add_clause(&[!nf1, !fire]);
+    f.add_clause(&[nf1, !nf, fire]);
+}
+
 /// The part of one input vector `u` with bits `bits`: which slot fires, hence `y[·,u,·]`.
 pub fn input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, bits: &[bool]) {
     let cv = v.cubes.as_ref().expect("cube model");
@@ -58,23 +77,14 @@ pub fn input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, bits: &[bool]) {
     for q in 0..c {
         for k in 0..cv.slots {
             let (fire, en) = (cv.fire(u, q, k), cv.en(q, k));
-            f.add_clause(&[!fire, en]);
             // The literals that make the guard false on u.
             let killers: Vec<Lit> = bits
                 .iter()
                 .enumerate()
                 .map(|(x, &b)| if b { cv.neg(q, k, x) } else { cv.pos(q, k, x) })
                 .collect();
-            for &l in &killers {
-                f.add_clause(&[!fire, !l]);
-            }
-            let mut back = vec![fire, !en];
-            back.extend(&killers);
-            f.add_clause(&back);
             let (nf, nf1) = (cv.nf(u, q, k), cv.nf(u, q, k + 1));
-            f.add_clause(&[!nf1, nf]);
-            f.add_clause(&[!nf1, !fire]);
-            f.add_clause(&[nf1, !nf, fire]);
+            first_fire(f, [fire, en, nf, nf1], &killers);
             for t in 0..c {
                 f.add_clause(&[!nf, !fire, !cv.tgt(q, k, c, t), v.y(q, u, t)]);
             }

@@ -50,6 +50,28 @@ impl Model {
     }
 }
 
+/// The literals of a cube guard from its `pos`/`neg` variables over `bits` inputs, each input
+/// renamed by `id` (e.g. into a module's own numbering).
+pub(crate) fn cube_literals(
+    model: &Model,
+    bits: usize,
+    pos: impl Fn(usize) -> Lit,
+    neg: impl Fn(usize) -> Lit,
+    id: impl Fn(usize) -> InputId,
+) -> Vec<(InputId, bool)> {
+    (0..bits)
+        .filter_map(|x| {
+            if model.value(pos(x)) {
+                Some((id(x), true))
+            } else if model.value(neg(x)) {
+                Some((id(x), false))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
 /// Runs the solver's machine along a negative scenario until it leaves it, marking every
 /// transition input and algorithm entry it uses.
 fn mark_negative(
@@ -188,17 +210,13 @@ impl Structure {
                             let target = (0..c)
                                 .find(|&t| model.value(cv.tgt(q, k, v.c_max, t)))
                                 .expect("an enabled slot has a target");
-                            let lits: Vec<(InputId, bool)> = (0..cv.bits)
-                                .filter_map(|x| {
-                                    if model.value(cv.pos(q, k, x)) {
-                                        Some((InputId(x), true))
-                                    } else if model.value(cv.neg(q, k, x)) {
-                                        Some((InputId(x), false))
-                                    } else {
-                                        None
-                                    }
-                                })
-                                .collect();
+                            let lits = cube_literals(
+                                model,
+                                cv.bits,
+                                |x| cv.pos(q, k, x),
+                                |x| cv.neg(q, k, x),
+                                InputId,
+                            );
                             Transition {
                                 target: StateId(target),
                                 guard: Guard::cube(&lits),

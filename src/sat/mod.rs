@@ -33,6 +33,7 @@ pub mod constraints;
 pub mod cubes;
 pub mod decode;
 pub mod guards;
+pub mod modular;
 pub mod negative;
 pub mod vars;
 
@@ -112,10 +113,20 @@ pub enum SatError {
 }
 
 /// A clause sink that counts what it forwards.
-struct Counting<'a, F: ExtendFormula> {
-    inner: &'a mut F,
-    vars: usize,
-    clauses: usize,
+pub(crate) struct Counting<'a, F: ExtendFormula> {
+    pub inner: &'a mut F,
+    pub vars: usize,
+    pub clauses: usize,
+}
+
+impl<'a, F: ExtendFormula> Counting<'a, F> {
+    pub(crate) fn new(inner: &'a mut F) -> Self {
+        Counting {
+            inner,
+            vars: 0,
+            clauses: 0,
+        }
+    }
 }
 
 impl<F: ExtendFormula> ExtendFormula for Counting<'_, F> {

@@ -211,7 +211,27 @@ pub fn compose(
 ) -> Result<ClosedLoop, SmvError> {
     let mut out: Vec<u8> = Vec::new();
     write_ecc_module(ecc, CONTROLLER_MODULE, &mut out)?;
-    let mut text = String::from_utf8(out).expect("emitter writes UTF-8");
+    let text = String::from_utf8(out).expect("emitter writes UTF-8");
+    Ok(compose_controller(
+        text,
+        &ecc.inputs,
+        plant,
+        coupling,
+        props,
+    ))
+}
+
+/// Composes the closed loop of any controller given as SMV text that defines
+/// `MODULE ECC(REQ, <inputs in order>)` with a `CNF` and every output (e.g. a modular
+/// controller's composite, [`crate::export::modular`]).
+pub fn compose_controller(
+    controller: String,
+    inputs: &[String],
+    plant: &Plant,
+    coupling: &Coupling,
+    props: &[Property],
+) -> ClosedLoop {
+    let mut text = controller;
     if !text.ends_with('\n') {
         text.push('\n');
     }
@@ -223,8 +243,7 @@ pub fn compose(
     }
     let plant_lines = plant.text.lines().count();
     let mut main = String::from("\nMODULE main\nVAR\n");
-    let sensors: Vec<String> = ecc
-        .inputs
+    let sensors: Vec<String> = inputs
         .iter()
         .map(|i| format!("{PLANT_INSTANCE}.{i}"))
         .collect();
@@ -262,10 +281,10 @@ pub fn compose(
         ));
         spec_lines.push((line, p.line, name));
     }
-    Ok(ClosedLoop {
+    ClosedLoop {
         text,
         plant_first,
         plant_lines,
         spec_lines,
-    })
+    }
 }

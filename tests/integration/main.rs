@@ -4,5 +4,6 @@ mod cli;
 mod closed_loop;
 mod common;
 mod events;
+mod modular;
 mod synthesis;
 mod tank;

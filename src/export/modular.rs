@@ -1,0 +1,453 @@
+//! Exports of a modular controller: an IEC 61499 composite FB wiring one basic FB per module,
+//! the composite as one SMV controller module, and every module in the single-ECC formats.
+//!
+//! In: a valid [`Modular`] and a stem. Out: pure emitters ([`write_composite_fbt`],
+//! [`write_composite_smv`]) and [`write_modular`], which writes the files:
+//! - `<stem>.fbt`: the `CompositeFBType` (interface `REQ`/`CNF` with every input and output);
+//! - `<stem>_M<i>.fbt`, `.json`, `.dot` (and `.svg` with Graphviz): module `i` (1-based) as a
+//!   basic FB of type `<stem>_M<i>` over its own inputs and outputs;
+//! - `<stem>.smv`: the module SMVs and `MODULE <stem>(REQ, inputs...)` composing them;
+//! - `<stem>.modules.json`: the decomposition (inputs, outputs, sizes per module).
+//!
+//! # Composite FB network
+//! IEC 61499 allows neither fan-out nor fan-in of event connections, so the events go through
+//! the standard event FBs: `REQ` reaches the modules' `REQ` in module order through a chain of
+//! `E_SPLIT` (`SPLIT1..`), and the modules' `CNF` reach the composite's `CNF` through a chain
+//! of `E_MERGE` (`MERGE1..`); with one module the events connect directly. Data inputs fan out
+//! to every module that reads them, each output comes from the module that owns it.
+//! A `REQ` on which no module fires gives no `CNF`, as in the simulator. On a `REQ` where `k`
+//! modules fire, the composite emits `k` CNFs (one per firing module, the merge does not
+//! combine them); once the modules have all handled the `REQ`, the outputs are the composite's
+//! values of [`crate::ecc::modular`]. A consumer that needs exactly one `CNF` per `REQ` should
+//! read the outputs on the last one.
+//!
+//! # Composite SMV
+//! `MODULE <stem>(REQ, x1, ..., xX)` has the signature and the variables (`CNF`, every output)
+//! of a single ECC's module ([`crate::smv::ecc_module`]): instances `_m1.._mM` of the module
+//! types `<stem>_M<i>`, `CNF := _m1.CNF | ... | _mM.CNF` and each output defined as its
+//! owner's. Named [`crate::smv::closed_loop::CONTROLLER_MODULE`], it replaces the controller
+//! of a closed loop.
+
+use super::fbt::{attr, write_head};
+use super::{check_iec_identifier, write_atomically, ExportError, Format, NameError};
+use crate::ecc::modular::Modular;
+use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
+use crate::smv::ecc_module::{self, write_ecc_module};
+use crate::smv::SmvError;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+/// Type name of module `m` (0-based) of a composite named `stem`: `<stem>_M<m+1>`.
+pub fn module_type_name(stem: &str, m: usize) -> String {
+    format!("{stem}_M{}", m + 1)
+}
+
+/// Instance name of module `m` (0-based) in the composite FB network: `M<m+1>`.
+fn instance_name(m: usize) -> String {
+    format!("M{}", m + 1)
+}
+
+/// Instance name of module `m` (0-based) in the composite SMV module: `_m<m+1>`.
+fn smv_instance(m: usize) -> String {
+    format!("_m{}", m + 1)
+}
+
+/// The composite's interface as an ECC without behaviour, to check names as for one block.
+fn interface(modular: &Modular) -> Ecc {
+    Ecc {
+        inputs: modular.inputs.clone(),
+        outputs: modular.outputs.clone(),
+        initial_outputs: modular.initial_outputs.clone(),
+        states: vec![State {
+            name: "s0".into(),
+            algorithm: Algorithm::keep_all(AlgorithmKind::Tri, modular.outputs.len()),
+            transitions: Vec::new(),
+        }],
+    }
+}
+
+/// Checks every name the `.fbt` files would contain: the composite's interface and type name
+/// and every module's type name.
+pub fn check_fbt_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
+    super::fbt::check_names(&interface(modular), stem)?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        let name = module_type_name(stem, m);
+        check_iec_identifier(&name).map_err(|reason| NameError {
+            role: "module type name".into(),
+            name: name.clone(),
+            format: "an IEC 61499 .fbt file",
+            reason,
+        })?;
+        super::fbt::check_names(&module.ecc, &name)?;
+    }
+    Ok(())
+}
+
+/// Writes the `CompositeFBType`; see the module header for its network. Fails with
+/// [`io::ErrorKind::InvalidInput`] before writing anything if a name is unusable.
+pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) -> io::Result<()> {
+    check_fbt_names(modular, stem)?;
+    let size = modular.size();
+    let comment = format!(
+        "Composite FB synthesized by fbsynth: {} modules, largest {} states, A={}, N'={}",
+        modular.modules.len(),
+        size.max_states,
+        size.inputs_used,
+        size.total_states
+    );
+    write_head(
+        w,
+        stem,
+        &comment,
+        "",
+        [&modular.inputs, &modular.outputs],
+        &modular.initial_outputs,
+        [
+            "Request: every module fires its first enabled transition",
+            "Confirmation: a module fired, its outputs updated (one CNF per firing module)",
+        ],
+    )?;
+    let count = modular.modules.len();
+    writeln!(w, "  <FBNetwork>")?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        let names: Vec<&str> = module.ecc.outputs.iter().map(String::as_str).collect();
+        writeln!(
+            w,
+            r#"    <FB Name="{}" Type="{}" Comment="{}" x="{}" y="{}"/>"#,
+            instance_name(m),
+            attr(&module_type_name(stem, m)),
+            attr(&format!("outputs: {}", names.join(", "))),
+            1500,
+            300 + 800 * m
+        )?;
+    }
+    let splits = count.saturating_sub(1);
+    for i in 0..splits {
+        writeln!(
+            w,
+            r#"    <FB Name="SPLIT{}" Type="E_SPLIT" x="{}" y="{}"/>"#,
+            i + 1,
+            700,
+            300 + 800 * i
+        )?;
+        writeln!(
+            w,
+            r#"    <FB Name="MERGE{}" Type="E_MERGE" x="{}" y="{}"/>"#,
+            i + 1,
+            2600,
+            300 + 800 * i
+        )?;
+    }
+    writeln!(w, "    <EventConnections>")?;
+    let conn = |w: &mut dyn Write, s: &str, d: &str| {
+        writeln!(
+            w,
+            r#"      <Connection Source="{}" Destination="{}"/>"#,
+            attr(s),
+            attr(d)
+        )
+    };
+    let m_ev = |m: usize, e: &str| format!("{}.{e}", instance_name(m));
+    if count == 1 {
+        conn(w, "REQ", &m_ev(0, "REQ"))?;
+        conn(w, &m_ev(0, "CNF"), "CNF")?;
+    } else {
+        // REQ -> SPLIT1; SPLITi.EO1 -> Mi.REQ; SPLITi.EO2 -> SPLIT(i+1) or, last, M(count).
+        conn(w, "REQ", "SPLIT1.EI")?;
+        for i in 0..splits {
+            conn(w, &format!("SPLIT{}.EO1", i + 1), &m_ev(i, "REQ"))?;
+            let next = if i + 1 < splits {
+                format!("SPLIT{}.EI", i + 2)
+            } else {
+                m_ev(count - 1, "REQ")
+            };
+            conn(w, &format!("SPLIT{}.EO2", i + 1), &next)?;
+        }
+        // M1.CNF -> MERGE1.EI1; M(i+1).CNF -> MERGEi.EI2; MERGEi.EO -> MERGE(i+1).EI1 or CNF.
+        conn(w, &m_ev(0, "CNF"), "MERGE1.EI1")?;
+        for i in 0..splits {
+            conn(w, &m_ev(i + 1, "CNF"), &format!("MERGE{}.EI2", i + 1))?;
+            let next = if i + 1 < splits {
+                format!("MERGE{}.EI1", i + 2)
+            } else {
+                "CNF".to_string()
+            };
+            conn(w, &format!("MERGE{}.EO", i + 1), &next)?;
+        }
+    }
+    writeln!(w, "    </EventConnections>")?;
+    let wired = modular
+        .modules
+        .iter()
+        .any(|m| !m.inputs.is_empty() || !m.outputs.is_empty());
+    if wired {
+        writeln!(w, "    <DataConnections>")?;
+        for (m, module) in modular.modules.iter().enumerate() {
+            for x in &module.inputs {
+                let name = &modular.inputs[x.0];
+                conn(w, name, &format!("{}.{name}", instance_name(m)))?;
+            }
+            for z in &module.outputs {
+                let name = &modular.outputs[z.0];
+                conn(w, &format!("{}.{name}", instance_name(m)), name)?;
+            }
+        }
+        writeln!(w, "    </DataConnections>")?;
+    }
+    writeln!(w, "  </FBNetwork>")?;
+    writeln!(w, "</FBType>")
+}
+
+/// [`write_composite_fbt`] into a string.
+pub fn composite_fbt_to_string(modular: &Modular, stem: &str) -> io::Result<String> {
+    let mut buf = Vec::new();
+    write_composite_fbt(modular, stem, &mut buf)?;
+    Ok(String::from_utf8(buf).expect("the .fbt emitter writes UTF-8 only"))
+}
+
+/// Checks the names of the composite SMV: the composite as one ECC module and every module.
+/// The instance names `_m<i>` cannot clash: SMV names starting with `_` are reserved for
+/// generated identifiers ([`crate::smv::check_identifier`]).
+pub fn check_smv_names(modular: &Modular, module_name: &str) -> Result<(), SmvError> {
+    ecc_module::check_names(&interface(modular), module_name)?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        ecc_module::check_names(&module.ecc, &module_type_name(module_name, m))?;
+    }
+    Ok(())
+}
+
+/// Writes the composite as SMV: every module's ECC module, then `MODULE module_name`; see the
+/// module header.
+pub fn write_composite_smv(
+    modular: &Modular,
+    module_name: &str,
+    w: &mut impl Write,
+) -> Result<(), SmvError> {
+    check_smv_names(modular, module_name)?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        write_ecc_module(&module.ecc, &module_type_name(module_name, m), w)?;
+        writeln!(w)?;
+    }
+    let mut params = vec!["REQ".to_string()];
+    params.extend(modular.inputs.iter().cloned());
+    writeln!(
+        w,
+        "-- Composite of {} modules: every module gets REQ, CNF if some module fired.",
+        modular.modules.len()
+    )?;
+    writeln!(w, "MODULE {}({})", module_name, params.join(", "))?;
+    writeln!(w, "VAR")?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        let mut args = vec!["REQ".to_string()];
+        args.extend(module.ecc.inputs.iter().cloned());
+        writeln!(
+            w,
+            "  {} : {}({});",
+            smv_instance(m),
+            module_type_name(module_name, m),
+            args.join(", ")
+        )?;
+    }
+    writeln!(w, "DEFINE")?;
+    let cnf: Vec<String> = (0..modular.modules.len())
+        .map(|m| format!("{}.CNF", smv_instance(m)))
+        .collect();
+    writeln!(w, "  CNF := {};", cnf.join(" | "))?;
+    for (z, name) in modular.outputs.iter().enumerate() {
+        let owner = modular
+            .owner(crate::ecc::OutputId(z))
+            .expect("a valid composite has an owner for every output");
+        writeln!(w, "  {name} := {}.{name};", smv_instance(owner))?;
+    }
+    Ok(())
+}
+
+/// [`write_composite_smv`] into a string.
+pub fn composite_smv_to_string(modular: &Modular, module_name: &str) -> Result<String, SmvError> {
+    let mut buf = Vec::new();
+    write_composite_smv(modular, module_name, &mut buf)?;
+    Ok(String::from_utf8(buf).expect("the SMV emitter writes UTF-8 only"))
+}
+
+/// The decomposition as JSON: per module, its type name, inputs, outputs and size.
+pub fn decomposition_json(modular: &Modular, stem: &str) -> String {
+    let modules: Vec<serde_json::Value> = modular
+        .modules
+        .iter()
+        .enumerate()
+        .map(|(m, module)| {
+            let size = module.ecc.size();
+            serde_json::json!({
+                "module": m + 1,
+                "type": module_type_name(stem, m),
+                "inputs": module.ecc.inputs,
+                "outputs": module.ecc.outputs,
+                "states": size.c,
+                "transitions": size.t,
+                "guard_literals": size.n,
+            })
+        })
+        .collect();
+    let size = modular.size();
+    let doc = serde_json::json!({
+        "composite": stem,
+        "largest_module_states": size.max_states,
+        "inputs_used": size.inputs_used,
+        "total_states": size.total_states,
+        "modules": modules,
+    });
+    let mut text = serde_json::to_string_pretty(&doc).expect("JSON values serialize");
+    text.push('\n');
+    text
+}
+
+/// Writes every file of the module header into `dir`, and returns the paths in the order
+/// written. Every name is checked before the first file is touched; files are written
+/// atomically.
+pub fn write_modular(
+    modular: &Modular,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ExportError> {
+    modular.validate().map_err(ExportError::InvalidEcc)?;
+    check_fbt_names(modular, stem).map_err(|source| ExportError::Name {
+        format: Format::Fbt,
+        source,
+    })?;
+    let smv = composite_smv_to_string(modular, stem).map_err(ExportError::Smv)?;
+    let fbt = composite_fbt_to_string(modular, stem).expect("names are checked");
+    let mut written = Vec::new();
+    let texts = [
+        (format!("{stem}.fbt"), fbt),
+        (format!("{stem}.smv"), smv),
+        (
+            format!("{stem}.modules.json"),
+            decomposition_json(modular, stem),
+        ),
+    ];
+    for (file, text) in texts {
+        let path = dir.join(file);
+        write_atomically(&path, text.as_bytes()).map_err(|source| ExportError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        written.push(path);
+    }
+    for (m, module) in modular.modules.iter().enumerate() {
+        let name = module_type_name(stem, m);
+        written.extend(super::write_all(
+            &module.ecc,
+            dir,
+            &name,
+            &[Format::Fbt, Format::Json, Format::Dot],
+        )?);
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::modular::tests::two_toggles;
+    use crate::export::fbt::tests::{parse, Node};
+
+    fn connections<'a>(net: &'a Node, list: &str) -> Vec<(&'a str, &'a str)> {
+        net.one(list)
+            .all("Connection")
+            .into_iter()
+            .map(|c| (c.attr("Source").unwrap(), c.attr("Destination").unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn composite_fbt_snapshot() {
+        insta::assert_snapshot!(composite_fbt_to_string(&two_toggles(), "Lamps").unwrap());
+    }
+
+    #[test]
+    fn composite_smv_snapshot() {
+        insta::assert_snapshot!(composite_smv_to_string(&two_toggles(), "ECC").unwrap());
+    }
+
+    #[test]
+    fn decomposition_snapshot() {
+        insta::assert_snapshot!(decomposition_json(&two_toggles(), "Lamps"));
+    }
+
+    /// Every written XML file parses; the composite wires each event and variable once.
+    #[test]
+    fn written_xml_is_well_formed_and_wired() {
+        let mut three = two_toggles();
+        // A third module with no outputs and no inputs still gets REQ and merges its CNF.
+        let mut spare = three.modules[0].clone();
+        spare.inputs.clear();
+        spare.outputs.clear();
+        spare.ecc = Ecc {
+            inputs: vec![],
+            outputs: vec![],
+            initial_outputs: vec![],
+            states: vec![State {
+                name: "s0".into(),
+                algorithm: Algorithm::Tri(vec![]),
+                transitions: vec![],
+            }],
+        };
+        three.modules.push(spare);
+        for (modular, splits) in [(two_toggles(), 1), (three, 2)] {
+            let dir = tempfile::tempdir().unwrap();
+            let files = write_modular(&modular, dir.path(), "Lamps").unwrap();
+            let mut xml = 0;
+            for f in &files {
+                if f.extension().is_some_and(|e| e == "fbt") {
+                    let text = std::fs::read_to_string(f).unwrap();
+                    let root = parse(&text);
+                    assert_eq!(root.name, "FBType");
+                    xml += 1;
+                }
+            }
+            assert_eq!(xml, 1 + modular.modules.len());
+            let text = std::fs::read_to_string(dir.path().join("Lamps.fbt")).unwrap();
+            let root = parse(&text);
+            let net = root.one("FBNetwork");
+            let fbs = net.all("FB");
+            assert_eq!(fbs.len(), modular.modules.len() + 2 * splits);
+            let events = connections(net, "EventConnections");
+            // Every event input of the network is driven exactly once.
+            let mut dests: Vec<&str> = events.iter().map(|c| c.1).collect();
+            dests.sort();
+            let before = dests.len();
+            dests.dedup();
+            assert_eq!(before, dests.len(), "no event fan-in");
+            for m in 0..modular.modules.len() {
+                assert!(dests.contains(&format!("M{}.REQ", m + 1).as_str()));
+            }
+            assert_eq!(events.iter().filter(|c| c.1 == "CNF").count(), 1);
+            let data = connections(net, "DataConnections");
+            assert!(data.contains(&("a", "M1.a")));
+            assert!(data.contains(&("M2.lb", "lb")));
+            for f in &fbs {
+                let ty = f.attr("Type").unwrap();
+                if ty == "E_SPLIT" || ty == "E_MERGE" {
+                    continue;
+                }
+                assert!(dir.path().join(format!("{ty}.fbt")).is_file(), "{ty}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_names_write_nothing() {
+        let mut m = two_toggles();
+        m.inputs[0] = "REQ".into();
+        m.modules[0].ecc.inputs[0] = "REQ".into();
+        let dir = tempfile::tempdir().unwrap();
+        let e = write_modular(&m, dir.path(), "Lamps").unwrap_err();
+        assert!(matches!(e, ExportError::Name { .. }), "{e}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        let mut m = two_toggles();
+        m.outputs[0] = "_m2".into();
+        m.modules[0].ecc.outputs[0] = "_m2".into();
+        let e = check_smv_names(&m, "ECC").unwrap_err();
+        assert!(e.to_string().contains("reserved"), "{e}");
+    }
+}

@@ -1,0 +1,174 @@
+//! From a satisfying assignment of the modular encoding to a [`Modular`] controller, and the
+//! clean-up that keeps its behaviour on the scenarios.
+//!
+//! In: the solver's [`Model`], the [`ModVars`] registry and the scenarios. Out: one [`Module`]
+//! per module with its inputs (`α`), outputs (`θ`) and ECC over them: the used states, the
+//! enabled slots in priority order with their cubes, and the algorithms of the owned outputs.
+
+use super::vars::ModVars;
+use crate::ecc::modular::{Modular, Module};
+use crate::ecc::{Algorithm, AlgorithmKind, Ecc, Guard, InputId, OutputId, Run, State, StateId};
+use crate::ecc::{Transition, Tri};
+use crate::sat::decode::{cube_literals, Model};
+use crate::scenario::ScenarioSet;
+use std::collections::HashSet;
+
+/// Reads the controller out of `model`.
+pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind) -> Modular {
+    let d = v.d;
+    let modules = (0..d.modules)
+        .map(|m| {
+            let inputs: Vec<InputId> = (0..d.bits)
+                .filter(|&x| model.value(v.alpha(m, x)))
+                .map(InputId)
+                .collect();
+            let outputs: Vec<OutputId> = (0..d.outputs)
+                .filter(|&z| model.value(v.theta(m, z)))
+                .map(OutputId)
+                .collect();
+            let local = |x: usize| {
+                InputId(
+                    inputs
+                        .iter()
+                        .position(|i| i.0 == x)
+                        .expect("guard literals imply α"),
+                )
+            };
+            let n = (0..d.c_max).filter(|&q| model.value(v.used(m, q))).count();
+            let states = (0..n)
+                .map(|q| {
+                    let transitions = (0..d.slots)
+                        .take_while(|&k| model.value(v.en(m, q, k)))
+                        .map(|k| {
+                            let target = (0..d.c_max)
+                                .find(|&t| model.value(v.tgt(m, q, k, t)))
+                                .expect("an enabled slot has a target");
+                            let lits = cube_literals(
+                                model,
+                                d.bits,
+                                |x| v.pos(m, q, k, x),
+                                |x| v.neg(m, q, k, x),
+                                local,
+                            );
+                            Transition {
+                                target: StateId(target),
+                                guard: Guard::cube(&lits),
+                            }
+                        })
+                        .collect();
+                    let a0: Vec<bool> = outputs
+                        .iter()
+                        .map(|z| model.value(v.a0(m, q, z.0)))
+                        .collect();
+                    let a1: Vec<bool> = outputs
+                        .iter()
+                        .map(|z| model.value(v.a1(m, q, z.0)))
+                        .collect();
+                    let algorithm = match kind {
+                        AlgorithmKind::Binary => Algorithm::Binary { a0, a1 },
+                        AlgorithmKind::Tri => Algorithm::Tri(
+                            a0.iter()
+                                .zip(&a1)
+                                .map(|(&a, &b)| match (a, b) {
+                                    (false, false) => Tri::Zero,
+                                    (true, true) => Tri::One,
+                                    _ => Tri::Keep,
+                                })
+                                .collect(),
+                        ),
+                    };
+                    State {
+                        name: format!("s{q}"),
+                        algorithm,
+                        transitions,
+                    }
+                })
+                .collect();
+            let ecc = Ecc {
+                inputs: inputs.iter().map(|i| set.inputs[i.0].clone()).collect(),
+                outputs: outputs.iter().map(|z| set.outputs[z.0].clone()).collect(),
+                initial_outputs: outputs.iter().map(|z| set.initial_outputs[z.0]).collect(),
+                states,
+            };
+            Module {
+                inputs,
+                outputs,
+                ecc,
+            }
+        })
+        .collect();
+    Modular {
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+        initial_outputs: set.initial_outputs.clone(),
+        modules,
+    }
+}
+
+/// Removes every transition no scenario fires. What the scenarios see is unchanged: a slot
+/// that never fires first on a recorded step decides nothing there, and each module runs on its
+/// own inputs, independently of the others.
+pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
+    for module in &mut modular.modules {
+        let mut fired: HashSet<(StateId, usize)> = HashSet::new();
+        for sc in &set.scenarios {
+            let mut run = Run::new(&module.ecc);
+            for step in &sc.steps {
+                let local: Vec<bool> = module.inputs.iter().map(|i| step.inputs[i.0]).collect();
+                if let Some(f) = run.step(&local) {
+                    fired.insert((f.source, f.index));
+                }
+            }
+        }
+        for (q, state) in module.ecc.states.iter_mut().enumerate() {
+            let mut k = 0;
+            state.transitions.retain(|_| {
+                k += 1;
+                fired.contains(&(StateId(q), k - 1))
+            });
+        }
+    }
+}
+
+/// The literals of a conjunction built by [`Guard::cube`].
+fn guard_literals(g: &Guard) -> Vec<(InputId, bool)> {
+    match g {
+        Guard::True => Vec::new(),
+        Guard::Var(i) => vec![(*i, true)],
+        Guard::Not(inner) => match **inner {
+            Guard::Var(i) => vec![(i, false)],
+            _ => unreachable!("decoded guards are cubes"),
+        },
+        Guard::And(parts) => parts.iter().flat_map(guard_literals).collect(),
+        _ => unreachable!("decoded guards are cubes"),
+    }
+}
+
+/// Drops guard literals one at a time, greedily, while the composite still replays every
+/// scenario: the solver only bounds the inputs a module reads, not the literals it writes, so
+/// a guard may test more than the scenarios need.
+pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
+    for m in 0..modular.modules.len() {
+        for q in 0..modular.modules[m].ecc.states.len() {
+            for k in 0..modular.modules[m].ecc.states[q].transitions.len() {
+                let mut lits =
+                    guard_literals(&modular.modules[m].ecc.states[q].transitions[k].guard);
+                let mut i = 0;
+                while i < lits.len() {
+                    let mut fewer = lits.clone();
+                    fewer.remove(i);
+                    let old = std::mem::replace(
+                        &mut modular.modules[m].ecc.states[q].transitions[k].guard,
+                        Guard::cube(&fewer),
+                    );
+                    if super::check(set, modular).is_ok() {
+                        lits = fewer;
+                    } else {
+                        modular.modules[m].ecc.states[q].transitions[k].guard = old;
+                        i += 1;
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,401 @@
+//! Exact synthesis of a modular controller (seed 000, section V) with SAT.
+//!
+//! In: a [`ScenarioSet`], its [`ScenarioTree`] and [`ModularOptions`] (number of modules `M`,
+//! transition slots `K` per state, outputs pinned to modules). Out: a [`ModularSynthesis`]:
+//! the [`Modular`] controller, its sizes and figures.
+//!
+//! Minimization, lexicographic, on one incremental solver (every bound is an assumption):
+//! 1. the largest module size (states of the largest module), `!uc[m,n]` for every `m`;
+//! 2. the total number of inputs read by the modules `A` (a totalizer over `α`);
+//! 3. the total number of states `N'` (a totalizer over `uc`).
+//!
+//! The encoding is built for a window of at most `N` states per module and rebuilt for a
+//! doubled window when every size inside it is unsatisfiable.
+//!
+//! Minimal means minimal among controllers with at most `K` transitions per state: a state that
+//! needs a disjunction of more than `K` cubes forces more states (or more inputs).
+//!
+//! The decoded controller is pruned of transitions the scenarios never fire (they cannot change
+//! what the scenarios see) and of guard literals the scenarios do not need (greedily, so `N`
+//! is not minimal), and replayed on every scenario before it is returned; a mismatch is
+//! reported as [`ModularError::Bug`].
+
+pub mod constraints;
+pub mod decode;
+pub mod vars;
+
+use super::card::Totalizer;
+use super::decode::Model;
+use super::Counting;
+use crate::ecc::modular::{replay_modular, Modular, ModularSize};
+use crate::ecc::{AlgorithmKind, OutputId};
+use crate::scenario::tree::ScenarioTree;
+use crate::scenario::{Divergence, ScenarioSet};
+use std::time::Instant;
+use varisat::{Lit, Solver};
+use vars::ModVars;
+
+/// Settings of a modular synthesis run.
+#[derive(Debug, Clone)]
+pub struct ModularOptions {
+    /// Number of modules `M` (at least 1).
+    pub modules: usize,
+    /// Transition slots per state `K` (guards are conjunctions, so a disjunction needs slots).
+    pub slots: usize,
+    /// Give up above this many states in one module.
+    pub max_states: usize,
+    pub algorithms: AlgorithmKind,
+    /// `pins[m]`: outputs that must belong to module `m` (0-based; may be shorter than `M`).
+    pub pins: Vec<Vec<OutputId>>,
+}
+
+impl Default for ModularOptions {
+    fn default() -> Self {
+        ModularOptions {
+            modules: 2,
+            slots: 3,
+            max_states: 16,
+            algorithms: AlgorithmKind::Tri,
+            pins: Vec::new(),
+        }
+    }
+}
+
+/// The result of a modular synthesis run.
+#[derive(Debug, Clone)]
+pub struct ModularSynthesis {
+    pub modular: Modular,
+    pub size: ModularSize,
+    pub stats: ModularStats,
+}
+
+/// Figures of a run.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct ModularStats {
+    pub tree_nodes: usize,
+    pub variables: usize,
+    pub clauses: usize,
+    pub solver_calls: usize,
+    pub sat_seconds: f64,
+}
+
+/// Why modular synthesis produced no controller.
+#[derive(Debug, thiserror::Error)]
+pub enum ModularError {
+    #[error("no modular controller with {modules} modules of at most {max_states} states and {slots} transitions per state reproduces the scenarios (raise --max-states or --slots)")]
+    NoController {
+        modules: usize,
+        max_states: usize,
+        slots: usize,
+    },
+    #[error("--modules must be at least 1")]
+    NoModules,
+    #[error("internal error (a bug in synth, please report it): {0}")]
+    Bug(String),
+}
+
+/// A bad `--pin` argument.
+#[derive(Debug, thiserror::Error)]
+pub enum PinError {
+    #[error("--pin `{text}`: expected MODULE=OUTPUT[,OUTPUT...], e.g. 1=start_led,reset_led")]
+    Syntax { text: String },
+    #[error("--pin `{text}`: module {module} does not exist; modules are numbered 1 to {modules}")]
+    Module {
+        text: String,
+        module: String,
+        modules: usize,
+    },
+    #[error("--pin `{text}`: `{name}` is not an output; the outputs are {}", outputs.join(", "))]
+    Output {
+        text: String,
+        name: String,
+        outputs: Vec<String>,
+    },
+    #[error("--pin `{text}`: output `{name}` is already pinned to module {other}")]
+    Twice {
+        text: String,
+        name: String,
+        other: usize,
+    },
+}
+
+/// Parses `--pin` arguments `MODULE=OUTPUT,OUTPUT` (modules numbered from 1) against the output
+/// names; returns the pinned outputs per module (0-based, `modules` entries).
+pub fn parse_pins(
+    args: &[String],
+    outputs: &[String],
+    modules: usize,
+) -> Result<Vec<Vec<OutputId>>, PinError> {
+    let mut pins: Vec<Vec<OutputId>> = vec![Vec::new(); modules];
+    for text in args {
+        let syntax = || PinError::Syntax { text: text.clone() };
+        let (module, names) = text.split_once('=').ok_or_else(syntax)?;
+        let m = module
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&m| (1..=modules).contains(&m))
+            .ok_or_else(|| PinError::Module {
+                text: text.clone(),
+                module: module.trim().to_string(),
+                modules,
+            })?;
+        let names: Vec<&str> = names.split(',').map(str::trim).collect();
+        if names.iter().any(|n| n.is_empty()) {
+            return Err(syntax());
+        }
+        for name in names {
+            let z = outputs
+                .iter()
+                .position(|o| o == name)
+                .ok_or_else(|| PinError::Output {
+                    text: text.clone(),
+                    name: name.to_string(),
+                    outputs: outputs.to_vec(),
+                })?;
+            if let Some(other) = pins.iter().position(|p| p.contains(&OutputId(z))) {
+                if other != m - 1 {
+                    return Err(PinError::Twice {
+                        text: text.clone(),
+                        name: name.to_string(),
+                        other: other + 1,
+                    });
+                }
+                continue;
+            }
+            pins[m - 1].push(OutputId(z));
+        }
+    }
+    Ok(pins)
+}
+
+/// The two sums minimized after the largest module.
+#[derive(Debug, Clone, Copy)]
+enum Counter {
+    /// `A`: the `α` set.
+    Inputs,
+    /// `N'`: the `uc` set.
+    States,
+}
+
+/// The solver with the modular encoding for a window of `c_max` states per module.
+struct Encoding {
+    solver: Solver<'static>,
+    vars: ModVars,
+    total_alpha: Totalizer,
+    total_used: Totalizer,
+    variables: usize,
+    clauses: usize,
+    calls: usize,
+}
+
+impl Encoding {
+    fn new(tree: &ScenarioTree, c_max: usize, opts: &ModularOptions) -> Encoding {
+        let mut solver = Solver::new();
+        let mut sink = Counting::new(&mut solver);
+        let vars = ModVars::new(&mut sink, tree, opts.modules, c_max, opts.slots.max(1));
+        constraints::all(&mut sink, &vars, tree, opts.algorithms, &opts.pins);
+        let total_alpha = Totalizer::new(&mut sink, vars.all_alpha(), vars.all_alpha().len());
+        let total_used = Totalizer::new(&mut sink, vars.all_used(), vars.all_used().len());
+        let (variables, clauses) = (sink.vars, sink.clauses);
+        Encoding {
+            solver,
+            vars,
+            total_alpha,
+            total_used,
+            variables,
+            clauses,
+            calls: 0,
+        }
+    }
+
+    fn totalizer(&self, c: Counter) -> &Totalizer {
+        match c {
+            Counter::Inputs => &self.total_alpha,
+            Counter::States => &self.total_used,
+        }
+    }
+
+    /// The value of a sum in a model.
+    fn count(&self, c: Counter, model: &Model) -> usize {
+        let lits = match c {
+            Counter::Inputs => self.vars.all_alpha(),
+            Counter::States => self.vars.all_used(),
+        };
+        lits.iter().filter(|&&l| model.value(l)).count()
+    }
+
+    /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
+    fn size_at_most(&self, n: usize) -> Vec<Lit> {
+        if n >= self.vars.d.c_max {
+            return Vec::new();
+        }
+        (0..self.vars.d.modules)
+            .map(|m| !self.vars.used(m, n))
+            .collect()
+    }
+
+    fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
+        self.calls += 1;
+        self.solver.assume(assumptions);
+        if self
+            .solver
+            .solve()
+            .expect("varisat does not fail without proof output")
+        {
+            Some(Model::new(&self.solver.model().expect("model after SAT")))
+        } else {
+            None
+        }
+    }
+}
+
+fn check_options(opts: &ModularOptions) -> Result<(), ModularError> {
+    if opts.modules == 0 {
+        return Err(ModularError::NoModules);
+    }
+    if opts.pins.len() > opts.modules {
+        return Err(ModularError::Bug("pins for more modules than exist".into()));
+    }
+    Ok(())
+}
+
+/// Synthesizes a modular controller with `opts.modules` modules reproducing every scenario of
+/// `set`: least largest module, then least `A`, then least `N'`.
+/// `progress` receives one line per step of the search.
+pub fn synthesize_modular(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    opts: &ModularOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<ModularSynthesis, ModularError> {
+    check_options(opts)?;
+    let t0 = Instant::now();
+    let mut stats = ModularStats {
+        tree_nodes: tree.nodes.len(),
+        ..ModularStats::default()
+    };
+    let mut lo = 1;
+    let mut c_max = opts.max_states.clamp(1, 4);
+    // 1. least largest module, growing the window when exhausted.
+    let (mut enc, n, mut model) = loop {
+        let mut enc = Encoding::new(tree, c_max, opts);
+        stats.variables += enc.variables;
+        stats.clauses += enc.clauses;
+        let mut found = None;
+        for n in lo..=c_max {
+            progress(&format!(
+                "trying at most {n} states per module ({} modules, {} tree nodes)",
+                opts.modules,
+                tree.nodes.len()
+            ));
+            let assume = enc.size_at_most(n);
+            if let Some(m) = enc.solve(&assume) {
+                found = Some((n, m));
+                break;
+            }
+        }
+        match found {
+            Some((n, m)) => break (enc, n, m),
+            None if c_max >= opts.max_states => {
+                return Err(ModularError::NoController {
+                    modules: opts.modules,
+                    max_states: opts.max_states,
+                    slots: opts.slots,
+                })
+            }
+            None => {
+                // Every size inside the window is unsatisfiable.
+                lo = c_max + 1;
+                stats.solver_calls += enc.calls;
+                c_max = (c_max * 2).min(opts.max_states);
+                progress(&format!("re-encoding for up to {c_max} states per module"));
+            }
+        }
+    };
+    let mut base = enc.size_at_most(n);
+    progress(&format!("largest module: {n} states (minimal)"));
+
+    // 2. least A, then 3. least N', each descending from the current model's value.
+    for (label, counter) in [
+        ("A (inputs used)", Counter::Inputs),
+        ("N' (states used)", Counter::States),
+    ] {
+        let mut value = enc.count(counter, &model);
+        while value > 0 {
+            let Some(bound) = enc.totalizer(counter).at_most(value - 1) else {
+                break;
+            };
+            progress(&format!("trying {label} = {}", value - 1));
+            let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
+            match enc.solve(&assume) {
+                Some(m) => {
+                    value = enc.count(counter, &m);
+                    model = m;
+                }
+                None => break,
+            }
+        }
+        base.extend(enc.totalizer(counter).at_most(value));
+        progress(&format!("{label} = {value} (minimal)"));
+    }
+    stats.solver_calls += enc.calls;
+    stats.sat_seconds = t0.elapsed().as_secs_f64();
+
+    let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms);
+    decode::prune_unfired(&mut modular, set);
+    if check(set, &modular).is_ok() {
+        decode::prune_literals(&mut modular, set);
+    }
+    modular.validate().map_err(ModularError::Bug)?;
+    check(set, &modular)
+        .map_err(|m| ModularError::Bug(format!("the modular controller does not replay {m}")))?;
+    for (m, zs) in opts.pins.iter().enumerate() {
+        if let Some(z) = zs.iter().find(|z| modular.owner(**z) != Some(m)) {
+            return Err(ModularError::Bug(format!(
+                "output {} was pinned to module {} but is not there",
+                set.outputs[z.0],
+                m + 1
+            )));
+        }
+    }
+    Ok(ModularSynthesis {
+        size: modular.size(),
+        modular,
+        stats,
+    })
+}
+
+/// Replays every scenario of `set` on the composite; the first disagreement with its place.
+pub fn check(set: &ScenarioSet, modular: &Modular) -> Result<(), String> {
+    for (k, sc) in set.scenarios.iter().enumerate() {
+        let steps = sc
+            .steps
+            .iter()
+            .map(|s| (s.inputs.as_slice(), s.outputs.as_deref()));
+        if let Err(m) = replay_modular(modular, steps) {
+            let d = Divergence {
+                scenario: k,
+                step: m.step,
+                inputs: sc.steps[m.step].inputs.clone(),
+                recorded: m.expected,
+                machine: m.actual,
+            };
+            return Err(d.describe(set));
+        }
+    }
+    Ok(())
+}
+
+/// Whether a modular controller whose modules have at most `n` states each reproduces the tree
+/// (the building block of the first minimization, exposed for tests of known minima).
+pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
+    if n == 0 || check_options(opts).is_err() {
+        return false;
+    }
+    let mut enc = Encoding::new(tree, n, opts);
+    enc.solve(&[]).is_some()
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,299 @@
+//! Known minima of the modular encoding on tiny hand-made instances.
+
+use super::*;
+use crate::ecc::modular::tests::two_toggles;
+use crate::ecc::modular::{ModularRun, Module};
+use crate::ecc::InputId;
+use crate::scenario::{Origin, Scenario, Step};
+
+/// Records the composite `m` on each input sequence, as scenarios.
+pub(crate) fn record(m: &Modular, runs: &[Vec<Vec<bool>>]) -> ScenarioSet {
+    let scenarios = runs
+        .iter()
+        .enumerate()
+        .map(|(i, xs)| {
+            let mut run = ModularRun::new(m);
+            let steps = xs
+                .iter()
+                .map(|x| Step {
+                    inputs: x.clone(),
+                    outputs: run.step(x).then(|| run.outputs.clone()),
+                })
+                .collect();
+            Scenario {
+                origin: Origin {
+                    file: "recorded".into(),
+                    line: i + 1,
+                },
+                steps,
+            }
+        })
+        .collect();
+    ScenarioSet {
+        inputs: m.inputs.clone(),
+        outputs: m.outputs.clone(),
+        initial_outputs: m.initial_outputs.clone(),
+        scenarios,
+    }
+}
+
+/// Every input combination of two buttons, pressed in a few orders.
+fn toggle_runs() -> Vec<Vec<Vec<bool>>> {
+    let v = |a: bool, b: bool| vec![a, b];
+    let (n, a, b, ab) = (
+        v(false, false),
+        v(true, false),
+        v(false, true),
+        v(true, true),
+    );
+    vec![
+        vec![
+            n.clone(),
+            a.clone(),
+            b.clone(),
+            a.clone(),
+            b.clone(),
+            n.clone(),
+        ],
+        vec![
+            b.clone(),
+            ab.clone(),
+            a.clone(),
+            n.clone(),
+            ab.clone(),
+            b.clone(),
+        ],
+        vec![ab.clone(), ab.clone(), a.clone(), ab.clone(), b.clone(), ab],
+        vec![a.clone(), a, b.clone(), b, n],
+    ]
+}
+
+fn opts(modules: usize) -> ModularOptions {
+    ModularOptions {
+        modules,
+        slots: 3,
+        max_states: 8,
+        ..ModularOptions::default()
+    }
+}
+
+fn toggles() -> (ScenarioSet, ScenarioTree) {
+    let set = record(&two_toggles(), &toggle_runs());
+    let tree = ScenarioTree::build(&set).unwrap();
+    (set, tree)
+}
+
+#[test]
+fn one_module_needs_four_states_two_need_two() {
+    let (_, tree) = toggles();
+    assert!(satisfiable_modular(&tree, &opts(1), 4));
+    assert!(!satisfiable_modular(&tree, &opts(1), 3));
+    assert!(satisfiable_modular(&tree, &opts(2), 2));
+    assert!(!satisfiable_modular(&tree, &opts(2), 1));
+}
+
+#[test]
+fn two_modules_split_the_toggles_and_replay() {
+    let (set, tree) = toggles();
+    let r = synthesize_modular(&set, &tree, &opts(2), &mut |_| {}).unwrap();
+    assert_eq!(r.size.max_states, 2);
+    assert_eq!(r.size.inputs_used, 2);
+    assert_eq!(r.size.total_states, 4);
+    check(&set, &r.modular).unwrap();
+    // Each lamp with its own button.
+    for module in &r.modular.modules {
+        assert_eq!(module.outputs.len(), 1);
+        assert_eq!(module.inputs, vec![InputId(module.outputs[0].0)]);
+    }
+    let one = synthesize_modular(&set, &tree, &opts(1), &mut |_| {}).unwrap();
+    assert_eq!((one.size.max_states, one.size.inputs_used), (4, 2));
+    check(&set, &one.modular).unwrap();
+}
+
+#[test]
+fn a_third_module_does_not_help_and_stays_empty_of_states() {
+    let (set, tree) = toggles();
+    let r = synthesize_modular(&set, &tree, &opts(3), &mut |_| {}).unwrap();
+    assert_eq!(r.size.max_states, 2);
+    // The spare module keeps one state and reads nothing.
+    assert_eq!((r.size.inputs_used, r.size.total_states), (2, 5));
+    check(&set, &r.modular).unwrap();
+}
+
+#[test]
+fn pinned_outputs_stay_together() {
+    let (set, tree) = toggles();
+    let mut o = opts(2);
+    o.pins = parse_pins(&["2=la,lb".to_string()], &set.outputs, 2).unwrap();
+    assert!(!satisfiable_modular(&tree, &o, 3));
+    let r = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap();
+    assert_eq!(r.size.max_states, 4);
+    assert_eq!(r.modular.owner(OutputId(0)), Some(1));
+    assert_eq!(r.modular.owner(OutputId(1)), Some(1));
+    check(&set, &r.modular).unwrap();
+
+    // One pinned, the other left to the solver, which puts it apart.
+    o.pins = parse_pins(&["2=la".to_string()], &set.outputs, 2).unwrap();
+    let r = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap();
+    assert_eq!(r.size.max_states, 2);
+    assert_eq!(r.modular.owner(OutputId(0)), Some(1));
+    assert_eq!(r.modular.owner(OutputId(1)), Some(0));
+}
+
+#[test]
+fn pins_are_validated_with_clear_messages() {
+    let outs = vec!["la".to_string(), "lb".to_string()];
+    let e = |args: &[&str]| {
+        let a: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+        parse_pins(&a, &outs, 2).unwrap_err().to_string()
+    };
+    assert!(e(&["la"]).contains("expected MODULE=OUTPUT"));
+    assert!(e(&["3=la"]).contains("numbered 1 to 2"));
+    assert!(e(&["0=la"]).contains("numbered 1 to 2"));
+    assert!(e(&["1=lc"]).contains("`lc` is not an output; the outputs are la, lb"));
+    assert!(e(&["1=la", "2=la"]).contains("already pinned to module 1"));
+    assert!(e(&["1=la,"]).contains("expected MODULE=OUTPUT"));
+    let ok = parse_pins(&["1=lb".into(), "1=lb,la".into()], &outs, 2).unwrap();
+    assert_eq!(ok, vec![vec![OutputId(1), OutputId(0)], vec![]]);
+}
+
+/// An active step whose outputs do not change still needs some module to fire (`CNF`).
+#[test]
+fn active_step_without_change_is_reproduced() {
+    let set = ScenarioSet {
+        inputs: vec!["a".into()],
+        outputs: vec!["z".into()],
+        initial_outputs: vec![false],
+        scenarios: vec![Scenario {
+            origin: Origin {
+                file: "t".into(),
+                line: 1,
+            },
+            steps: vec![
+                Step {
+                    inputs: vec![true],
+                    outputs: Some(vec![false]),
+                },
+                Step {
+                    inputs: vec![false],
+                    outputs: None,
+                },
+            ],
+        }],
+    };
+    let tree = ScenarioTree::build(&set).unwrap();
+    let r = synthesize_modular(&set, &tree, &opts(2), &mut |_| {}).unwrap();
+    check(&set, &r.modular).unwrap();
+    assert_eq!(r.size.inputs_used, 1);
+}
+
+#[test]
+fn zero_modules_is_an_error() {
+    let (set, tree) = toggles();
+    let e = synthesize_modular(&set, &tree, &opts(0), &mut |_| {}).unwrap_err();
+    assert!(matches!(e, ModularError::NoModules));
+}
+
+/// Encoding size on the two-toggle instance, to catch blow-ups.
+#[test]
+fn encoding_size_is_stable() {
+    let (_, tree) = toggles();
+    let enc = Encoding::new(&tree, 4, &opts(2));
+    insta::assert_json_snapshot!((enc.variables, enc.clauses));
+}
+
+/// Two random machines over disjoint inputs and outputs, run side by side: modular synthesis
+/// with two modules finds a controller no larger than the larger of them, and one module a
+/// controller no larger than their product; both replay every run.
+#[test]
+fn random_composites_are_rebuilt_no_larger() {
+    use crate::ecc::random::random_ecc;
+    use rand::{Rng, SeedableRng};
+    for seed in 0..6u64 {
+        let (c1, c2) = (2 + seed as usize % 2, 2 + (seed as usize / 2) % 2);
+        let mut e1 = random_ecc(seed, c1, 2, 1);
+        let mut e2 = random_ecc(seed + 100, c2, 2, 2);
+        e1.inputs = vec!["a1".into(), "a2".into()];
+        e1.outputs = vec!["p".into()];
+        e2.inputs = vec!["b1".into(), "b2".into()];
+        e2.outputs = vec!["q".into(), "r".into()];
+        let original = Modular {
+            inputs: ["a1", "a2", "b1", "b2"].map(String::from).to_vec(),
+            outputs: ["p", "q", "r"].map(String::from).to_vec(),
+            initial_outputs: vec![false; 3],
+            modules: vec![
+                Module {
+                    inputs: vec![InputId(0), InputId(1)],
+                    outputs: vec![OutputId(0)],
+                    ecc: e1,
+                },
+                Module {
+                    inputs: vec![InputId(2), InputId(3)],
+                    outputs: vec![OutputId(1), OutputId(2)],
+                    ecc: e2,
+                },
+            ],
+        };
+        original.validate().unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let runs: Vec<Vec<Vec<bool>>> = (0..6)
+            .map(|_| {
+                (0..12)
+                    .map(|_| (0..4).map(|_| rng.gen_bool(0.5)).collect())
+                    .collect()
+            })
+            .collect();
+        let set = record(&original, &runs);
+        let tree = ScenarioTree::build(&set).unwrap();
+        let two = synthesize_modular(&set, &tree, &opts(2), &mut |_| {}).unwrap();
+        assert!(two.size.max_states <= c1.max(c2), "seed {seed}");
+        check(&set, &two.modular).unwrap();
+        let one = synthesize_modular(&set, &tree, &opts(1), &mut |_| {}).unwrap();
+        assert!(one.size.max_states <= c1 * c2, "seed {seed}");
+        assert!(one.size.max_states >= two.size.max_states, "seed {seed}");
+        check(&set, &one.modular).unwrap();
+    }
+}
+
+/// The first-fire gadget, exhaustively: for every value of `en`, `nf` and two killer literals,
+/// `fire` and `nf1` are forced to `en & no killer` and `nf & !fire`.
+#[test]
+fn first_fire_gadget_is_exact() {
+    use varisat::{CnfFormula, ExtendFormula};
+    let mut f = CnfFormula::new();
+    let [fire, en, nf, nf1, k1, k2] = [(); 6].map(|_| f.new_lit());
+    crate::sat::cubes::first_fire(&mut f, [fire, en, nf, nf1], &[k1, k2]);
+    for mask in 0u32..16 {
+        let bit = |i: u32| mask >> i & 1 == 1;
+        let given = [(en, bit(0)), (nf, bit(1)), (k1, bit(2)), (k2, bit(3))];
+        let want_fire = bit(0) && !bit(2) && !bit(3);
+        let want_nf1 = bit(1) && !want_fire;
+        for (fv, nv) in [(false, false), (false, true), (true, false), (true, true)] {
+            let mut s = varisat::Solver::new();
+            s.add_formula(&f);
+            let mut assume: Vec<Lit> = given.iter().map(|&(l, v)| if v { l } else { !l }).collect();
+            assume.push(if fv { fire } else { !fire });
+            assume.push(if nv { nf1 } else { !nf1 });
+            s.assume(&assume);
+            let expect = fv == want_fire && nv == want_nf1;
+            assert_eq!(
+                s.solve().unwrap(),
+                expect,
+                "mask {mask:04b} fire {fv} nf1 {nv}"
+            );
+        }
+    }
+}
+
+#[test]
+fn too_few_states_is_reported_with_the_limits() {
+    let (set, tree) = toggles();
+    let mut o = opts(1);
+    o.max_states = 3;
+    let e = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap_err();
+    assert!(
+        matches!(e, ModularError::NoController { max_states: 3, .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("raise --max-states"), "{e}");
+}

@@ -1,0 +1,279 @@
+//! Modular synthesis as a user runs it (`synth infer --modules`), its files read back and
+//! replayed, and the composite SMV checked against the simulator inside NuSMV.
+
+use fbsynth::ecc::modular::{Modular, Module};
+use fbsynth::ecc::{InputId, OutputId};
+use fbsynth::export::json::read_json;
+use fbsynth::export::modular::composite_smv_to_string;
+use fbsynth::nusmv::test_support::nusmv_or_skip;
+use fbsynth::nusmv::Verdict;
+use fbsynth::sat::modular::check;
+use fbsynth::scenario::{fbsat, ScenarioSet};
+use std::path::Path;
+use std::process::{Command, Output};
+
+const LAMPS: &str = "tests/data/scenarios/lamps.traces";
+
+fn synth(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run synth")
+}
+
+/// `synth infer -q --modules 2 --traces lamps.traces --out dir` and `extra`.
+fn infer_lamps(dir: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "infer",
+        "-q",
+        "--modules",
+        "2",
+        "--traces",
+        LAMPS,
+        "--out",
+        dir,
+    ];
+    args.extend_from_slice(extra);
+    synth(&args)
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn lamps() -> ScenarioSet {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let names = |v: &[&str]| Some(v.iter().map(|s| s.to_string()).collect());
+    fbsat::read(
+        &dir.join(LAMPS),
+        names(&["start", "stop", "sensor"]),
+        names(&["start_led", "motor"]),
+    )
+    .unwrap()
+}
+
+/// Rebuilds the composite from the files `synth infer --modules` wrote.
+fn read_back(dir: &Path, stem: &str, set: &ScenarioSet) -> Modular {
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join(format!("{stem}.modules.json"))).unwrap(),
+    )
+    .unwrap();
+    let modules = doc["modules"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| {
+            let ty = m["type"].as_str().unwrap();
+            let file = dir.join(format!("{ty}.json"));
+            let ecc = read_json(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+            Module {
+                inputs: ecc
+                    .inputs
+                    .iter()
+                    .map(|n| InputId(set.inputs.iter().position(|i| i == n).unwrap()))
+                    .collect(),
+                outputs: ecc
+                    .outputs
+                    .iter()
+                    .map(|n| OutputId(set.outputs.iter().position(|o| o == n).unwrap()))
+                    .collect(),
+                ecc,
+            }
+        })
+        .collect();
+    Modular {
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+        initial_outputs: set.initial_outputs.clone(),
+        modules,
+    }
+}
+
+#[test]
+fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = infer_lamps(dir, &["--name", "Line"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(
+        stdout.contains("largest module = 2 states  A = 3 inputs used  N' = 4 states"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("outputs: start_led; inputs: start, stop"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("outputs: motor; inputs: sensor"),
+        "{stdout}"
+    );
+    let set = lamps();
+    let modular = read_back(out.path(), "Line", &set);
+    modular.validate().unwrap();
+    check(&set, &modular).unwrap();
+    // The composite is well-formed XML naming both module types.
+    let xml = std::fs::read_to_string(out.path().join("Line.fbt")).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&xml);
+    let mut types = Vec::new();
+    loop {
+        match reader.read_event().unwrap() {
+            quick_xml::events::Event::Eof => break,
+            quick_xml::events::Event::Empty(e) if e.name().as_ref() == b"FB" => {
+                let ty = e.try_get_attribute("Type").unwrap().unwrap();
+                types.push(String::from_utf8(ty.value.to_vec()).unwrap());
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(types, ["Line_M1", "Line_M2", "E_SPLIT", "E_MERGE"]);
+}
+
+#[test]
+fn pinned_outputs_go_where_they_are_pinned() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = infer_lamps(dir, &["--pin", "2=start_led"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(
+        stdout.contains("module 2: 2 states, 3 transitions, 4 guard literals; outputs: start_led"),
+        "{stdout}"
+    );
+    let o = infer_lamps(dir, &["--pin", "1=start_led,motor"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("outputs: start_led, motor"),
+        "{}",
+        text(&o.stdout)
+    );
+}
+
+#[test]
+fn bad_pins_are_usage_errors_naming_the_problem() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    for (pin, says) in [
+        (
+            "3=motor",
+            "module 3 does not exist; modules are numbered 1 to 2",
+        ),
+        (
+            "1=moto",
+            "`moto` is not an output; the outputs are start_led, motor",
+        ),
+        ("motor", "expected MODULE=OUTPUT"),
+    ] {
+        let o = infer_lamps(dir, &["--pin", pin]);
+        assert_eq!(o.status.code(), Some(2), "{pin}");
+        assert!(text(&o.stderr).contains(says), "{pin}: {}", text(&o.stderr));
+    }
+    assert_eq!(std::fs::read_dir(out.path()).unwrap().count(), 0);
+}
+
+/// Inside NuSMV, the composite SMV module emits exactly the CNFs and outputs the simulator
+/// (and so the recordings) says, step by step, on every scenario.
+#[test]
+fn composite_smv_agrees_with_the_recordings_in_nusmv() {
+    let Some(nusmv) = nusmv_or_skip() else {
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = infer_lamps(dir, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let set = lamps();
+    let modular = read_back(out.path(), "SynthesizedFB", &set);
+    let b = |v: bool| if v { "TRUE" } else { "FALSE" };
+    for (k, sc) in set.scenarios.iter().enumerate() {
+        let mut model = composite_smv_to_string(&modular, "ECC").unwrap();
+        let len = sc.steps.len();
+        model.push_str(&format!(
+            "\nMODULE main\nVAR\n  t : 0..{};\n  ctrl : ECC(TRUE, {});\n",
+            len + 1,
+            set.inputs.join(", ")
+        ));
+        model.push_str(&format!(
+            "ASSIGN\n  init(t) := 0;\n  next(t) := t <= {len} ? t + 1 : {len} + 1;\nDEFINE\n"
+        ));
+        for (x, name) in set.inputs.iter().enumerate() {
+            let on: Vec<String> = (0..len)
+                .filter(|&t| sc.steps[t].inputs[x])
+                .map(|t| format!("t = {t}"))
+                .collect();
+            let expr = if on.is_empty() {
+                "FALSE".into()
+            } else {
+                on.join(" | ")
+            };
+            model.push_str(&format!("  {name} := {expr};\n"));
+        }
+        // After step t (at t + 1): CNF iff the step is active, outputs as recorded.
+        let mut outputs = set.initial_outputs.clone();
+        let mut expect = Vec::new();
+        for (t, step) in sc.steps.iter().enumerate() {
+            if let Some(o) = &step.outputs {
+                outputs = o.clone();
+            }
+            let mut parts = vec![format!("ctrl.CNF = {}", b(step.outputs.is_some()))];
+            for (z, name) in set.outputs.iter().enumerate() {
+                parts.push(format!("ctrl.{name} = {}", b(outputs[z])));
+            }
+            expect.push(format!("(t = {} -> {})", t + 1, parts.join(" & ")));
+        }
+        model.push_str(&format!("LTLSPEC G ({});\n", expect.join(" & ")));
+        let file = out.path().join(format!("check{k}.smv"));
+        std::fs::write(&file, model).unwrap();
+        let results = nusmv.check_file(&file).unwrap();
+        assert_eq!(results.len(), 1);
+        assert_eq!(results[0].verdict, Verdict::Holds, "scenario {k}");
+    }
+}
+
+/// The composite SMV takes the controller's place in the closed loop with the Pick-and-Place
+/// surrogate plant: NuSMV accepts the model and gives a verdict for every property.
+#[test]
+fn composite_closes_the_loop_with_the_pnp_plant() {
+    use fbsynth::ltl::parse_spec_file;
+    use fbsynth::sat::modular::{synthesize_modular, ModularOptions};
+    use fbsynth::scenario::tree::ScenarioTree;
+    use fbsynth::smv::closed_loop::{check_coupling, compose_controller, CONTROLLER_MODULE};
+    use fbsynth::smv::plant::read_plant;
+    let Some(nusmv) = nusmv_or_skip() else {
+        return;
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let names = |f: &str| {
+        let text = std::fs::read_to_string(root.join("specs").join(f)).unwrap();
+        Some(text.split_whitespace().map(String::from).collect())
+    };
+    let set = fbsat::read(
+        &root.join("specs/pnp.traces"),
+        names("pnp.inputs"),
+        names("pnp.outputs"),
+    )
+    .unwrap();
+    let tree = ScenarioTree::build(&set).unwrap();
+    let opts = ModularOptions {
+        modules: 2,
+        ..ModularOptions::default()
+    };
+    let r = synthesize_modular(&set, &tree, &opts, &mut |_| {}).unwrap();
+    let spec = root.join("specs/pnp.ltl");
+    let props = parse_spec_file(&spec).unwrap();
+    let plant = read_plant(&root.join("smv/pnp_surrogate.smv")).unwrap();
+    let coupling = check_coupling(&set.inputs, &set.outputs, &plant, &spec, &props).unwrap();
+    let controller = composite_smv_to_string(&r.modular, CONTROLLER_MODULE).unwrap();
+    let model = compose_controller(controller, &set.inputs, &plant, &coupling, &props);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("closed_loop.smv");
+    std::fs::write(&file, &model.text).unwrap();
+    let results = nusmv.check_file(&file).unwrap();
+    assert_eq!(results.len(), props.len());
+    let holds = results
+        .iter()
+        .filter(|r| r.verdict == Verdict::Holds)
+        .count();
+    eprintln!("{holds} of {} properties hold in closed loop", props.len());
+}
