@@ -1,0 +1,119 @@
+//! The verification terms' source: closed-loop NuSMV runs through [`verify::verify`], cached
+//! by machine.
+//!
+//! In: a candidate [`Ecc`]. Out: its [`Verdicts`] (properties that hold, longest
+//! counterexample, counterexample inputs for the weighted mutation). Identical candidates are
+//! common in a search (neutral mutations, restarts from the shared best), so verdicts are
+//! cached in a map shared by every colony; NuSMV's answer for one model does not depend on who
+//! asks, so the cache does not change what a seeded run computes.
+
+use super::fitness::Verdicts;
+use super::machine::input_bits;
+use crate::ecc::Ecc;
+use crate::ltl::Property;
+use crate::nusmv::{Nusmv, Session};
+use crate::smv::closed_loop::Coupling;
+use crate::smv::plant::Plant;
+use crate::verify::{verify, Setup, Verification, VerifyError};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Something that gives verdicts on candidates; one per colony.
+pub trait Checker: Send {
+    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, VerifyError>;
+}
+
+/// What NuSMV checks against, owned so colonies on other threads can share it.
+#[derive(Debug, Clone)]
+pub struct Context {
+    pub plant: Plant,
+    pub coupling: Coupling,
+    pub spec_file: PathBuf,
+    pub props: Vec<Property>,
+    pub nusmv: Nusmv,
+}
+
+/// Shared cache and counters of every [`Oracle`] made from one [`Shared`].
+#[derive(Debug, Default)]
+pub struct Shared {
+    cache: Mutex<HashMap<Ecc, Arc<Verdicts>>>,
+    /// NuSMV runs.
+    pub runs: AtomicU64,
+    /// Answers from the cache.
+    pub hits: AtomicU64,
+}
+
+/// A NuSMV session of one colony with the shared cache.
+pub struct Oracle {
+    ctx: Arc<Context>,
+    shared: Arc<Shared>,
+    session: Session,
+    workdir: tempfile::TempDir,
+}
+
+impl Oracle {
+    pub fn new(ctx: Arc<Context>, shared: Arc<Shared>) -> std::io::Result<Oracle> {
+        Ok(Oracle {
+            session: ctx.nusmv.session(),
+            ctx,
+            shared,
+            workdir: tempfile::tempdir()?,
+        })
+    }
+}
+
+/// The verdicts of one verification run.
+pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
+    let props = &v.report.properties;
+    let satisfied = props.iter().filter(|p| p.holds).count();
+    let longest = props
+        .iter()
+        .filter(|p| !p.holds)
+        .map(|p| p.counterexample_length.unwrap_or(1))
+        .max()
+        .unwrap_or(0);
+    let counterexamples = v
+        .counterexamples
+        .iter()
+        .filter_map(|c| c.negative_scenario(&ecc.inputs, &ecc.outputs))
+        .map(|n| n.steps.iter().map(|s| input_bits(&s.inputs)).collect())
+        .collect();
+    Verdicts {
+        satisfied,
+        total: props.len(),
+        longest_counterexample: longest,
+        counterexamples,
+    }
+}
+
+impl Checker for Oracle {
+    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, VerifyError> {
+        if let Some(v) = self
+            .shared
+            .cache
+            .lock()
+            .expect("no panic holds it")
+            .get(ecc)
+        {
+            self.shared.hits.fetch_add(1, Ordering::Relaxed);
+            return Ok(v.clone());
+        }
+        let setup = Setup {
+            plant: &self.ctx.plant,
+            coupling: &self.ctx.coupling,
+            spec_file: &self.ctx.spec_file,
+            props: &self.ctx.props,
+        };
+        let v = verify(ecc, &setup, &mut self.session, self.workdir.path())?;
+        self.shared.runs.fetch_add(1, Ordering::Relaxed);
+        let verdicts = Arc::new(verdicts_of(&v, ecc));
+        self.shared
+            .cache
+            .lock()
+            .expect("no panic holds it")
+            .insert(ecc.clone(), verdicts.clone());
+        Ok(verdicts)
+    }
+}
