@@ -7,6 +7,7 @@ mod bench;
 mod conform;
 mod infer;
 mod ingest;
+mod search;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -93,6 +94,10 @@ pub enum Command {
     Ingest(ingest::IngestArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
+    /// Reproduce a seed paper's experiment (`table1`: seed 001's Table I with the search).
+    Experiment(search::ExperimentArgs),
+    /// Measure the search's scenario-fitness evaluations per second per thread.
+    BenchSearch(search::BenchSearchArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -198,6 +203,8 @@ pub fn run() -> i32 {
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
+        Some(Command::Experiment(a)) => search::experiment(&a),
+        Some(Command::BenchSearch(a)) => search::bench_search(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

@@ -487,7 +487,7 @@ mod tests {
         assert_eq!((good.ed, good.fe), (1.0, 1.0));
         assert!((good.sc - (1.0 - 4.0 / 6.0)).abs() < 1e-12);
         assert_eq!(ev.algorithms(), vec![vec![Tri::Zero], vec![Tri::One]]);
-        // Never leaves s0: labeling gives s0 `x` (2 rises, 2 falls, 2 unchanged... tie to x),
+        // Never leaves s0: 2 rises, 2 falls, one stay each; `0` and `1` tie at 3, `0` wins,
         // so the lamp stays 0: produced 0 0 0 0 0 0 vs 1 1 0 1 0 0.
         let stuck = ev.evaluate(&two_states(0, 0));
         assert!(!stuck.perfect());

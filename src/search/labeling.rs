@@ -5,8 +5,16 @@
 //!
 //! The machine runs every scenario from its initial state. At a recorded `CNF` step where the
 //! machine fires into state `y`, each output's recorded value before and after the step is
-//! counted in `y`'s table: `0 -> 1`, `1 -> 0`, or unchanged. Each output of `y` then gets the
-//! symbol with the largest count among `1` (rises), `0` (falls) and `x` (unchanged).
+//! counted in `y`'s table `M`: `0 -> 1`, `1 -> 0`, `0 -> 0`, `1 -> 1`. Each output of `y` then
+//! gets the arg max of
+//! `C = {0: M10 + M00, 1: M01 + M11, x: M00 + M11}`, the number of counted steps each symbol
+//! reproduces.
+//!
+//! The seed's relation is `C = {0: M10, 1: M01, x: M00 + M11}`. It cannot label a state that
+//! is entered both from `0` and from `1` and must set `0` (or `1`): `0 -> 0` steps vote for
+//! `x` although `0` reproduces them too. On the first Pick-and-Place scenario the seed's rule
+//! gives the minimal machine SAT finds `F_ed = 0.75` instead of 1, and the search stalled on
+//! exactly such a plateau; the relation above reproduces every step any symbol can.
 //!
 //! Two adaptations to this project's scenarios, which record passive steps (no `CNF`): only
 //! steps where the recording *and* the machine produce `CNF` are counted (a passive step has no
@@ -18,8 +26,8 @@ use super::fitness::ScenarioData;
 use super::machine::Machine;
 use crate::ecc::Tri;
 
-/// Counts of one output in one state: `[falls (1->0), rises (0->1), unchanged]`.
-pub type Counts = [u32; 3];
+/// Counts of one output in one state: `[falls (1->0), rises (0->1), stays 0, stays 1]`.
+pub type Counts = [u32; 4];
 
 /// Runs the scenarios; fills `path` with the state entered at every step (`u32::MAX` when the
 /// machine does not fire) and `counts` (`states * outputs` tables, state-major).
@@ -27,7 +35,7 @@ pub(crate) fn run(m: &Machine, data: &ScenarioData, path: &mut Vec<u32>, counts:
     let z = data.outputs.len();
     path.clear();
     counts.clear();
-    counts.resize(m.states.len() * z, [0; 3]);
+    counts.resize(m.states.len() * z, [0; 4]);
     for sc in &data.bounds {
         let mut s = 0usize;
         for st in &data.steps[sc.clone()] {
@@ -42,7 +50,8 @@ pub(crate) fn run(m: &Machine, data: &ScenarioData, path: &mut Vec<u32>, counts:
                         for (j, c) in row.iter_mut().enumerate() {
                             let b = (before >> j) & 1;
                             let a = (after >> j) & 1;
-                            let k = if a == b { 2 } else { a as usize };
+                            // falls 0, rises 1, stays 0: 2, stays 1: 3
+                            let k = if a == b { 2 + a as usize } else { a as usize };
                             c[k] += 1;
                         }
                     }
@@ -55,8 +64,9 @@ pub(crate) fn run(m: &Machine, data: &ScenarioData, path: &mut Vec<u32>, counts:
 
 /// The symbol the counts elect (arg max; ties to `x`, then `0`).
 pub fn decide(c: Counts) -> Tri {
-    let [falls, rises, same] = c;
-    if same >= falls && same >= rises {
+    let [falls, rises, same0, same1] = c;
+    let (zero, one, same) = (falls + same0, rises + same1, same0 + same1);
+    if same >= zero && same >= one {
         Tri::Keep
     } else if falls >= rises {
         Tri::Zero
@@ -116,8 +126,8 @@ mod tests {
             },
             steps,
         };
-        // Entering s1: lamp rises twice, beep rises once and stays once (a tie: x).
-        // Entering s0: lamp falls twice, beep stays twice (1 -> 1, 0 -> 0).
+        // Entering s1: lamp rises twice; beep rises once and stays 0 once (a tie of 1 and x).
+        // Entering s0: lamp falls twice; beep stays 1 once and 0 once (x).
         let set = ScenarioSet {
             inputs: vec!["b".into()],
             outputs: vec!["lamp".into(), "beep".into()],
@@ -140,8 +150,8 @@ mod tests {
         let mut counts = Vec::new();
         run(&m, &data, &mut path, &mut counts);
         assert_eq!(path, vec![1, u32::MAX, 0, u32::MAX, 1, 0]);
-        // state-major: s0 lamp, s0 beep, s1 lamp, s1 beep; [falls, rises, unchanged]
-        assert_eq!(counts, vec![[2, 0, 0], [0, 0, 2], [0, 2, 0], [0, 1, 1]]);
+        // state-major: s0 lamp, s0 beep, s1 lamp, s1 beep; [falls, rises, stays 0, stays 1]
+        assert_eq!(counts, vec![[2, 0, 0, 0], [0, 0, 1, 1], [0, 2, 0, 0], [0, 1, 1, 0]]);
         let algs = label(&m, &data);
         assert_eq!(algs[0], vec![Tri::Zero, Tri::Keep]);
         assert_eq!(algs[1], vec![Tri::One, Tri::Keep]);
@@ -149,10 +159,15 @@ mod tests {
 
     #[test]
     fn arg_max_with_ties_to_keep_then_zero() {
-        assert_eq!(decide([3, 1, 2]), Tri::Zero);
-        assert_eq!(decide([1, 3, 2]), Tri::One);
-        assert_eq!(decide([2, 2, 2]), Tri::Keep);
-        assert_eq!(decide([2, 2, 1]), Tri::Zero);
-        assert_eq!(decide([0, 0, 0]), Tri::Keep);
+        // [falls, rises, stays 0, stays 1]
+        assert_eq!(decide([3, 1, 1, 1]), Tri::Zero);
+        assert_eq!(decide([1, 3, 1, 1]), Tri::One);
+        assert_eq!(decide([0, 0, 2, 2]), Tri::Keep);
+        assert_eq!(decide([2, 2, 0, 0]), Tri::Zero);
+        assert_eq!(decide([0, 0, 0, 0]), Tri::Keep);
+        // The seed's relation would say `x` here (3 unchanged against 1 fall); `0`
+        // reproduces all four steps, `x` three.
+        assert_eq!(decide([1, 0, 3, 0]), Tri::Zero);
+        assert_eq!(decide([0, 1, 0, 3]), Tri::One);
     }
 }
