@@ -60,7 +60,7 @@ pub struct SearchArgs {
     pub start: Start,
     /// Probability of verifying a candidate whose scenario fitness is below 99% of the maximum
     /// (seed 001's p; above it every candidate is verified).
-    #[arg(long, default_value_t = 0.01, value_name = "P")]
+    #[arg(long, default_value_t = 0.001, value_name = "P")]
     pub verify_probability: f64,
 }
 
@@ -74,7 +74,7 @@ impl Default for SearchArgs {
             states: None,
             colonies: 4,
             start: Start::Random,
-            verify_probability: 0.01,
+            verify_probability: 0.001,
         }
     }
 }
@@ -318,11 +318,15 @@ pub struct ExperimentArgs {
     /// Configurations to run, comma-separated (1, 2, 3).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
     pub configs: Vec<usize>,
-    #[arg(long, default_value_t = 0.01, value_name = "P")]
+    #[arg(long, default_value_t = 0.001, value_name = "P")]
     pub verify_probability: f64,
     /// Progress of every run (one line per second) on stderr.
     #[arg(long, short)]
     pub verbose: bool,
+    /// Ask NuSMV even for a child that still follows a counterexample of its parent (seed
+    /// 001 as written; by default such a child keeps its parent's verdicts).
+    #[arg(long)]
+    pub no_replay: bool,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
 }
@@ -441,6 +445,7 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
                 weights,
                 time_limit: Some(Duration::from_secs_f64(args.time_limit)),
                 verify_probability: args.verify_probability,
+                replay_counterexamples: !args.no_replay,
                 initial: initial.clone(),
                 ..Config::default()
             };
@@ -469,12 +474,14 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
                 states_used: reachable_states(&out.ecc),
             };
             progress.line(&format!(
-                "config {cfg} run {} (seed {seed}): {:.2} s, {}, {} evaluations, {} NuSMV runs; {} states reachable; final NuSMV check: {}",
+                "config {cfg} run {} (seed {seed}): {:.2} s, {}, {} evaluations, {} NuSMV runs, {} cache hits, {} saved by counterexample replay; {} states reachable; final NuSMV check: {}",
                 r + 1,
                 seconds,
                 if res.solved { "solved" } else { "NOT solved in time" },
                 out.stats.evaluations,
                 shared.runs.load(std::sync::atomic::Ordering::Relaxed),
+                shared.hits.load(std::sync::atomic::Ordering::Relaxed),
+                out.stats.replayed,
                 res.states_used,
                 if res.all_hold {
                     "all properties hold".to_string()

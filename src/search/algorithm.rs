@@ -19,7 +19,8 @@
 //! exactly, one stopped by the clock stops at a round that depends on the machine's speed.
 
 use super::fitness::{Evaluator, ScenarioData, ScenarioScore, Verdicts, Weights};
-use super::machine::{Machine, SearchState};
+use super::machine::{input_bits, Machine, SearchState};
+use crate::scenario::negative::NegativeScenario;
 use super::operators::{self, Operator};
 use super::oracle::Checker;
 use crate::ecc::Ecc;
@@ -55,6 +56,9 @@ pub struct Config {
     pub counterexample_weight: f64,
     /// Probability that "add or delete transitions" touches a state.
     pub add_delete_probability: f64,
+    /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
+    /// verdicts: those properties fail, the rest inherited), beyond seed 001.
+    pub replay_counterexamples: bool,
     pub seed: u64,
     /// Worker threads (rayon).
     pub threads: usize,
@@ -73,13 +77,14 @@ impl Default for Config {
             max_vars: 4,
             colonies: 4,
             offspring: 8,
-            generations_per_round: 200,
+            generations_per_round: 25,
             stagnation_rounds: 10,
             weights: Weights::default(),
-            verify_probability: 0.01,
+            verify_probability: 0.001,
             verify_threshold: 0.99,
             counterexample_weight: 1.0,
             add_delete_probability: 0.2,
+            replay_counterexamples: true,
             seed: 0,
             threads: 1,
             time_limit: None,
@@ -109,6 +114,8 @@ pub struct Stats {
     pub evaluations: u64,
     /// Verification requests (NuSMV runs plus cache hits).
     pub verifications: u64,
+    /// Verifications saved because the child still followed a parent's counterexample.
+    pub replayed: u64,
     pub rounds: usize,
     pub seconds: f64,
 }
@@ -158,7 +165,32 @@ struct Colony<'a> {
     stagnant: usize,
     evaluations: u64,
     verifications: u64,
+    replayed: u64,
+    /// Counterexamples NuSMV gave this colony (controller view), oldest first.
+    known: Vec<NegativeScenario>,
     error: Option<VerifyError>,
+}
+
+/// The verdicts of a machine known to follow the counterexamples `followed`: the properties
+/// they belong to are violated (at most `total - k` hold), the rest is inherited.
+fn known_violations(inherited: Option<&Verdicts>, followed: &[&NegativeScenario]) -> Verdicts {
+    let mut labels: Vec<&str> = followed.iter().map(|n| n.label.as_str()).collect();
+    labels.sort();
+    labels.dedup();
+    let total = inherited.map_or(labels.len(), |v| v.total);
+    let satisfied = inherited
+        .map_or(0, |v| v.satisfied)
+        .min(total.saturating_sub(labels.len()));
+    Verdicts {
+        satisfied,
+        total,
+        longest_counterexample: followed.iter().map(|n| n.steps.len()).max().unwrap_or(1),
+        counterexamples: followed
+            .iter()
+            .map(|n| n.steps.iter().map(|s| input_bits(&s.inputs)).collect())
+            .collect(),
+        negatives: followed.iter().map(|n| (*n).clone()).collect(),
+    }
 }
 
 /// Pads a machine with states without transitions up to `states`.
@@ -202,13 +234,30 @@ impl Colony<'_> {
                     &data.initial_outputs,
                     &self.eval.algorithms(),
                 );
-                self.verifications += 1;
-                match checker.check(&ecc) {
-                    Ok(v) => {
-                        verdicts = Some(v);
-                        own = true;
+                // Beyond seed 001: a child that still follows a counterexample this colony
+                // has seen violates that property for sure; NuSMV would only repeat it.
+                let followed: Vec<&NegativeScenario> = if config.replay_counterexamples {
+                    self.known.iter().filter(|n| n.followed_by(&ecc)).collect()
+                } else {
+                    vec![]
+                };
+                if !followed.is_empty() {
+                    self.replayed += 1;
+                    verdicts = Some(Arc::new(known_violations(verdicts.as_deref(), &followed)));
+                } else {
+                    self.verifications += 1;
+                    match checker.check(&ecc) {
+                        Ok(v) => {
+                            for n in &v.negatives {
+                                if !self.known.contains(n) {
+                                    self.known.push(n.clone());
+                                }
+                            }
+                            verdicts = Some(v);
+                            own = true;
+                        }
+                        Err(e) => self.error = Some(e),
                     }
-                    Err(e) => self.error = Some(e),
                 }
             }
         }
@@ -348,6 +397,8 @@ pub fn run(
                 stagnant: 0,
                 evaluations: 0,
                 verifications: 0,
+                replayed: 0,
+                known: Vec::new(),
                 error: None,
             };
             c.current = c.assess(machine, None, config, true);
@@ -414,6 +465,7 @@ pub fn run(
                 stats: Stats {
                     evaluations,
                     verifications: colonies.iter().map(|c| c.verifications).sum(),
+                    replayed: colonies.iter().map(|c| c.replayed).sum(),
                     rounds: round,
                     seconds: start.elapsed().as_secs_f64(),
                 },

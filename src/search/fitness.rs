@@ -22,6 +22,7 @@
 use super::labeling::{self, Counts};
 use super::machine::{input_bits, Machine};
 use crate::ecc::Tri;
+use crate::scenario::negative::NegativeScenario;
 use crate::scenario::ScenarioSet;
 use std::ops::Range;
 
@@ -153,6 +154,9 @@ pub struct Verdicts {
     /// Controller input vectors (bit masks) of every counterexample, for the weighted
     /// mutation.
     pub counterexamples: Vec<Vec<u32>>,
+    /// The counterexamples seen from the controller. A machine that still follows one of
+    /// them violates its property for sure, without asking NuSMV.
+    pub negatives: Vec<NegativeScenario>,
 }
 
 impl Verdicts {
@@ -419,7 +423,7 @@ mod tests {
             satisfied: 2,
             total: 3,
             longest_counterexample: 10,
-            counterexamples: vec![],
+            ..Verdicts::default()
         };
         assert!((v.f_sat() - 2.0 / 3.0).abs() < 1e-12);
         assert_eq!(v.f_ce(), f_ce(10));

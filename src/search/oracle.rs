@@ -74,10 +74,13 @@ pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
         .map(|p| p.counterexample_length.unwrap_or(1))
         .max()
         .unwrap_or(0);
-    let counterexamples = v
+    let negatives: Vec<_> = v
         .counterexamples
         .iter()
         .filter_map(|c| c.negative_scenario(&ecc.inputs, &ecc.outputs))
+        .collect();
+    let counterexamples = negatives
+        .iter()
         .map(|n| n.steps.iter().map(|s| input_bits(&s.inputs)).collect())
         .collect();
     Verdicts {
@@ -85,6 +88,7 @@ pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
         total: props.len(),
         longest_counterexample: longest,
         counterexamples,
+        negatives,
     }
 }
 
