@@ -142,10 +142,7 @@ fn describe(p: &search::Progress) -> String {
 }
 
 /// Verifies a machine in a fresh NuSMV session; the report the "verified" claim rests on.
-fn final_check(
-    ecc: &Ecc,
-    ctx: &Context,
-) -> Result<crate::verify::Verification, Failure> {
+fn final_check(ecc: &Ecc, ctx: &Context) -> Result<crate::verify::Verification, Failure> {
     let mut session = ctx.nusmv.session();
     let work = tempfile::tempdir().map_err(Failure::input)?;
     let setup = Setup {
@@ -263,7 +260,10 @@ pub fn main_job(args: &MainArgs, inputs: &MainInputs, progress: &Progress) -> Re
         v.report.properties.len(),
         inputs.set.scenarios.len()
     );
-    println!("C = {}  K = {}  T = {}  N = {}", size.c, size.k, size.t, size.n);
+    println!(
+        "C = {}  K = {}  T = {}  N = {}",
+        size.c, size.k, size.t, size.n
+    );
     println!(
         "search, seed {}: {:.2} s total, {} evaluations, {} NuSMV runs",
         s.seed,
@@ -340,7 +340,11 @@ struct RunResult {
     states_used: usize,
 }
 
-fn pick_properties(all: Vec<Property>, names: &[String], file: &Path) -> Result<Vec<Property>, Failure> {
+fn pick_properties(
+    all: Vec<Property>,
+    names: &[String],
+    file: &Path,
+) -> Result<Vec<Property>, Failure> {
     if names.iter().any(|n| n == "all") {
         return Ok(all);
     }
@@ -427,11 +431,21 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
     let mut rows = Vec::new();
     for &cfg in &args.configs {
         if !(1..=3).contains(&cfg) {
-            return Err(Failure::msg(exit::USAGE, format!("no configuration {cfg} (1, 2 or 3)")));
+            return Err(Failure::msg(
+                exit::USAGE,
+                format!("no configuration {cfg} (1, 2 or 3)"),
+            ));
         }
         let weights = match cfg {
-            1 => Weights { sat: 0.0, ce: 0.0, ..Weights::default() },
-            2 => Weights { ce: 0.0, ..Weights::default() },
+            1 => Weights {
+                sat: 0.0,
+                ce: 0.0,
+                ..Weights::default()
+            },
+            2 => Weights {
+                ce: 0.0,
+                ..Weights::default()
+            },
             _ => Weights::default(),
         };
         let mut results = Vec::new();
@@ -439,7 +453,9 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
             let seed = args.seed + r as u64;
             let shared = Arc::new(Shared::default());
             let config = Config {
-                states: args.states.max(initial.first().map_or(1, |m| m.states.len())),
+                states: args
+                    .states
+                    .max(initial.first().map_or(1, |m| m.states.len())),
                 seed,
                 threads,
                 weights,

@@ -332,7 +332,8 @@ pub(super) fn write_verified(
     let out = &inputs.out;
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
-    let mut files = export::write_all(ecc, out, &args.name, &inputs.formats).map_err(Failure::input)?;
+    let mut files =
+        export::write_all(ecc, out, &args.name, &inputs.formats).map_err(Failure::input)?;
     let report_txt = out.join("verification.txt");
     let mut text = format!(
         "Closed-loop verification by NuSMV of {}\nplant: {}\nproperties: {}\n\n",

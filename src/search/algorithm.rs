@@ -20,10 +20,10 @@
 
 use super::fitness::{Evaluator, ScenarioData, ScenarioScore, Verdicts, Weights};
 use super::machine::{input_bits, Machine, SearchState};
-use crate::scenario::negative::NegativeScenario;
 use super::operators::{self, Operator};
 use super::oracle::Checker;
 use crate::ecc::Ecc;
+use crate::scenario::negative::NegativeScenario;
 use crate::verify::VerifyError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -236,11 +236,13 @@ impl Colony<'_> {
                 );
                 // Beyond seed 001: a child that still follows a counterexample this colony
                 // has seen violates that property for sure; NuSMV would only repeat it.
-                let followed: Vec<&NegativeScenario> = if config.replay_counterexamples {
-                    self.known.iter().filter(|n| n.followed_by(&ecc)).collect()
-                } else {
-                    vec![]
-                };
+                // Only with inherited verdicts: they say how many properties there are.
+                let followed: Vec<&NegativeScenario> =
+                    if config.replay_counterexamples && verdicts.is_some() {
+                        self.known.iter().filter(|n| n.followed_by(&ecc)).collect()
+                    } else {
+                        vec![]
+                    };
                 if !followed.is_empty() {
                     self.replayed += 1;
                     verdicts = Some(Arc::new(known_violations(verdicts.as_deref(), &followed)));
@@ -405,6 +407,8 @@ pub fn run(
             c
         })
         .collect();
+    // The best machine so far: colonies restart, the elite stays.
+    let mut elite: Option<(usize, Individual)> = None;
     let mut round = 0;
     loop {
         round += 1;
@@ -429,8 +433,22 @@ pub fn run(
                 pa.cmp(&pb).then(fa.total_cmp(&fb)).then(b.cmp(&a))
             })
             .expect("colonies >= 1");
-        let best = colonies[best_k].current.clone();
-        let done = colonies[best_k].perfect(&best);
+        let candidate = &colonies[best_k];
+        let better = match &elite {
+            None => true,
+            Some((k, e)) => {
+                let (pc, pe) = (
+                    candidate.perfect(&candidate.current),
+                    colonies[*k].perfect(e),
+                );
+                pc && !pe || (pc == pe && candidate.current.fitness > e.fitness)
+            }
+        };
+        if better {
+            elite = Some((best_k, candidate.current.clone()));
+        }
+        let (elite_k, best) = elite.clone().expect("set above");
+        let done = colonies[elite_k].perfect(&best);
         progress(&Progress {
             round,
             best_fitness: best.fitness,
@@ -442,7 +460,7 @@ pub fn run(
         let out_of_budget = config.time_limit.is_some_and(|t| start.elapsed() >= t)
             || config.max_evaluations.is_some_and(|m| evaluations >= m);
         if done || out_of_budget {
-            let c = &mut colonies[best_k];
+            let c = &mut colonies[elite_k];
             // Labeling again gives the best machine's algorithms.
             c.eval.evaluate(&best.machine);
             let ecc = best.machine.to_ecc(
@@ -471,14 +489,14 @@ pub fn run(
                 },
             });
         }
-        // Sharing: a stagnating colony restarts from the shared best when that is better
-        // than its own, else from a random machine.
-        for (k, c) in colonies.iter_mut().enumerate() {
+        // Sharing: a stagnating colony restarts from the elite when that is better than its
+        // own, else from a random machine.
+        for c in colonies.iter_mut() {
             if c.stagnant < config.stagnation_rounds {
                 continue;
             }
             c.stagnant = 0;
-            if k != best_k && best.fitness > c.current.fitness {
+            if best.fitness > c.current.fitness {
                 c.current = best.clone();
             } else {
                 let m = Machine::random(&mut c.rng, inputs, config.states, config.max_vars);

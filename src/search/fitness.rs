@@ -53,6 +53,9 @@ pub struct ScenarioData {
     pub(crate) steps: Vec<StepData>,
     /// Range of `steps` of every scenario.
     pub(crate) bounds: Vec<Range<usize>>,
+    /// Per scenario of at most 128 steps, Myers' match masks: for every recorded symbol, the
+    /// steps that record it. Empty for longer scenarios (they use the quadratic algorithm).
+    pub(crate) peq: Vec<Vec<(u32, u128)>>,
 }
 
 /// Why scenarios cannot be searched.
@@ -105,6 +108,21 @@ impl ScenarioData {
         if steps.is_empty() {
             return Err(DataError::Empty);
         }
+        let peq = bounds
+            .iter()
+            .map(|r| {
+                let mut masks: Vec<(u32, u128)> = Vec::new();
+                if r.len() <= 128 {
+                    for (j, st) in steps[r.clone()].iter().enumerate() {
+                        match masks.iter_mut().find(|(c, _)| *c == st.expected) {
+                            Some((_, m)) => *m |= 1 << j,
+                            None => masks.push((st.expected, 1 << j)),
+                        }
+                    }
+                }
+                masks
+            })
+            .collect();
         Ok(ScenarioData {
             inputs: set.inputs.clone(),
             outputs: set.outputs.clone(),
@@ -112,6 +130,7 @@ impl ScenarioData {
             initial,
             steps,
             bounds,
+            peq,
         })
     }
 
@@ -286,7 +305,7 @@ impl<'a> Evaluator<'a> {
             self.masks.push((zero, one));
         }
         let (mut ed, mut fe, mut reproduced, mut changes) = (0.0, 0.0, 0, 0usize);
-        for range in &data.bounds {
+        for (k, range) in data.bounds.iter().enumerate() {
             let steps = &data.steps[range.clone()];
             let path = &self.path[range.clone()];
             self.produced.clear();
@@ -317,7 +336,11 @@ impl<'a> Evaluator<'a> {
                     fe += 1.0;
                 }
                 Some(i) => {
-                    let d = levenshtein(&self.produced[i..], &steps[i..], &mut self.row);
+                    let d = if data.peq[k].is_empty() {
+                        levenshtein(&self.produced[i..], &steps[i..], &mut self.row)
+                    } else {
+                        myers(&self.produced, &data.peq[k], n)
+                    };
                     ed += 1.0 - d as f64 / n as f64;
                     fe += i as f64 / n as f64;
                 }
@@ -353,6 +376,35 @@ impl<'a> Evaluator<'a> {
             })
             .collect()
     }
+}
+
+/// Levenshtein distance between `text` and a recorded pattern of `m <= 128` symbols given by
+/// its match masks, by Myers' bit-parallel algorithm (Hyyrö's formulation for the global
+/// distance): one column of the distance matrix per text symbol, as two bit vectors of
+/// vertical +1/-1 deltas.
+fn myers(text: &[u32], peq: &[(u32, u128)], m: usize) -> usize {
+    debug_assert!((1..=128).contains(&m));
+    let high = 1u128 << (m - 1);
+    let (mut pv, mut mv) = (!0u128, 0u128);
+    let mut score = m;
+    for &c in text {
+        let eq = peq.iter().find(|(s, _)| *s == c).map_or(0, |&(_, e)| e);
+        let xv = eq | mv;
+        let xh = ((eq & pv).wrapping_add(pv) ^ pv) | eq;
+        let mut ph = mv | !(xh | pv);
+        let mut mh = pv & xh;
+        if ph & high != 0 {
+            score += 1;
+        } else if mh & high != 0 {
+            score -= 1;
+        }
+        // Row 0 of the matrix grows by one per text symbol: a +1 shifts in.
+        ph = (ph << 1) | 1;
+        mh <<= 1;
+        pv = mh | !(xv | ph);
+        mv = ph & xv;
+    }
+    score
 }
 
 /// Levenshtein distance between the produced symbols and the recorded ones, with one reused
@@ -412,6 +464,31 @@ mod tests {
         let k: Vec<u32> = "kitten".bytes().map(u32::from).collect();
         let s: Vec<u32> = "sitting".bytes().map(u32::from).collect();
         assert_eq!(levenshtein(&k, &sd(&s), &mut row), 3);
+    }
+
+    #[test]
+    fn bit_parallel_distance_agrees_with_the_table() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let mut row = Vec::new();
+        for _ in 0..2000 {
+            let m = rng.gen_range(1..=128);
+            let n = rng.gen_range(0..=140);
+            let b: Vec<u32> = (0..m).map(|_| rng.gen_range(0..4)).collect();
+            let a: Vec<u32> = (0..n).map(|_| rng.gen_range(0..4)).collect();
+            let mut peq: Vec<(u32, u128)> = Vec::new();
+            for (j, &c) in b.iter().enumerate() {
+                match peq.iter_mut().find(|(s, _)| *s == c) {
+                    Some((_, x)) => *x |= 1 << j,
+                    None => peq.push((c, 1 << j)),
+                }
+            }
+            assert_eq!(
+                myers(&a, &peq, m),
+                levenshtein(&a, &sd(&b), &mut row),
+                "{a:?} {b:?}"
+            );
+        }
     }
 
     #[test]

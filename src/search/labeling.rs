@@ -151,7 +151,10 @@ mod tests {
         run(&m, &data, &mut path, &mut counts);
         assert_eq!(path, vec![1, u32::MAX, 0, u32::MAX, 1, 0]);
         // state-major: s0 lamp, s0 beep, s1 lamp, s1 beep; [falls, rises, stays 0, stays 1]
-        assert_eq!(counts, vec![[2, 0, 0, 0], [0, 0, 1, 1], [0, 2, 0, 0], [0, 1, 1, 0]]);
+        assert_eq!(
+            counts,
+            vec![[2, 0, 0, 0], [0, 0, 1, 1], [0, 2, 0, 0], [0, 1, 1, 0]]
+        );
         let algs = label(&m, &data);
         assert_eq!(algs[0], vec![Tri::Zero, Tri::Keep]);
         assert_eq!(algs[1], vec![Tri::One, Tri::Keep]);
