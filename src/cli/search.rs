@@ -91,7 +91,11 @@ fn threads(arg: Option<usize>) -> usize {
 
 /// The minimal machine SAT finds for the scenarios alone (guards: conjunctions, at most
 /// `out_degree` transitions per state, as in the SAT main job), as a search machine.
-fn sat_start(set: &ScenarioSet, out_degree: usize, progress: &Progress) -> Result<Machine, Failure> {
+fn sat_start(
+    set: &ScenarioSet,
+    out_degree: usize,
+    progress: &Progress,
+) -> Result<Machine, Failure> {
     let t = Instant::now();
     let tree = ScenarioTree::build(set).map_err(Failure::input)?;
     let opts = Options {

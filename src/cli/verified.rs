@@ -250,13 +250,13 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         verbose: args.verbose,
     };
     let setup = Setup {
-        plant: &plant,
-        coupling: &coupling,
+        plant,
+        coupling,
         spec_file: ltl,
-        props: &props,
+        props,
     };
     let result = cegis::run(
-        &set,
+        set,
         &tree,
         &setup,
         &mut session,
@@ -270,7 +270,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             // Keep the model NuSMV choked on where the user can read it.
             let kept = work.path().join("closed_loop.smv");
             if kept.is_file() {
-                let _ = std::fs::create_dir_all(&out);
+                let _ = std::fs::create_dir_all(out);
                 let _ = std::fs::copy(&kept, out.join("closed_loop.last.smv"));
             }
             return Err(match e {

@@ -16,6 +16,8 @@ use crate::smv::closed_loop::Coupling;
 use crate::smv::plant::Plant;
 use crate::verify::{verify, Setup, Verification, VerifyError};
 use std::collections::HashMap;
+#[cfg(test)]
+use std::path::Path;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -119,5 +121,82 @@ impl Checker for Oracle {
             .expect("no panic holds it")
             .insert(ecc.clone(), verdicts.clone());
         Ok(verdicts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ltl::parse_spec_file;
+    use crate::nusmv::test_support::nusmv_or_skip;
+    use crate::scenario::tree::ScenarioTree;
+    use crate::search::{run, Config, Machine, ScenarioData};
+    use crate::smv::closed_loop::check_coupling;
+    use crate::smv::plant::read_plant;
+    use std::time::Duration;
+
+    /// Seed 001's setting: one Pick-and-Place scenario (a piece on track 1) and its three
+    /// properties. SAT's machine for the scenario alone is the start; the search must make
+    /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
+    #[test]
+    fn search_finds_a_verified_controller_for_seed_001s_case() {
+        let Some(nusmv) = nusmv_or_skip() else {
+            return;
+        };
+        let mut set = crate::cases::pnp::generate();
+        set.scenarios.truncate(1);
+        let dir = tempfile::tempdir().unwrap();
+        let spec = dir.path().join("s.ltl");
+        std::fs::write(
+            &spec,
+            "c1_exclusive: G !(c1Extend & c1Retract)\nc2_exclusive: G !(c2Extend & c2Retract)\ntrack1_served: G (pp1 -> F vp1)\n",
+        )
+        .unwrap();
+        let props = parse_spec_file(&spec).unwrap();
+        let plant =
+            read_plant(&Path::new(env!("CARGO_MANIFEST_DIR")).join("smv/pnp_surrogate.smv"))
+                .unwrap();
+        let coupling = check_coupling(&set.inputs, &set.outputs, &plant, &spec, &props).unwrap();
+        let tree = ScenarioTree::build(&set).unwrap();
+        let opts = crate::sat::Options {
+            cube_slots: Some(6),
+            ..Default::default()
+        };
+        let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();
+        let ctx = Arc::new(Context {
+            plant,
+            coupling,
+            spec_file: spec.clone(),
+            props,
+            nusmv,
+        });
+        let shared = Arc::new(Shared::default());
+        let config = Config {
+            states: 6,
+            colonies: 2,
+            threads: 2,
+            seed: 3,
+            time_limit: Some(Duration::from_secs(120)),
+            initial: vec![Machine::from_ecc(&start.ecc).unwrap()],
+            ..Config::default()
+        };
+        let checkers: Vec<Box<dyn Checker>> = (0..2)
+            .map(|_| {
+                Box::new(Oracle::new(ctx.clone(), shared.clone()).unwrap()) as Box<dyn Checker>
+            })
+            .collect();
+        let data = ScenarioData::new(&set).unwrap();
+        let out = run(&data, &config, checkers, &mut |_| {}).unwrap();
+        assert!(out.perfect, "no verified controller: {:?}", out.score);
+        set.check(&out.ecc).unwrap();
+        let mut session = ctx.nusmv.session();
+        let setup = Setup {
+            plant: &ctx.plant,
+            coupling: &ctx.coupling,
+            spec_file: &ctx.spec_file,
+            props: &ctx.props,
+        };
+        let v = verify(&out.ecc, &setup, &mut session, dir.path()).unwrap();
+        assert!(v.report.all_hold(), "{}", v.report.to_text());
     }
 }
