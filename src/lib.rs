@@ -13,6 +13,7 @@
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: closed-loop verification of one ECC, counterexamples as negative scenarios;
 //! - [`cegis`]: the loop joining `sat` and `verify`;
+//! - [`search`]: metaheuristic synthesis (seeds 004, 001) with verification-aware fitness;
 //! - [`ingest`]: streaming ingestion of raw PLC I/O data-flow logs (long/wide, gzip) into
 //!   scenario steps;
 //! - [`cases`]: benchmark cases (plant simulation, reference controller, their recorded data);
@@ -30,5 +31,6 @@ pub mod ltl;
 pub mod nusmv;
 pub mod sat;
 pub mod scenario;
+pub mod search;
 pub mod smv;
 pub mod verify;

@@ -145,6 +145,8 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             nusmv: args.nusmv.clone(),
             quiet: false,
             verbose: false,
+            method: verified::Method::Sat,
+            search: Default::default(),
         })?,
         _ => infer::infer(&InferArgs {
             traces: trace_args,

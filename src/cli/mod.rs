@@ -9,6 +9,7 @@ mod events;
 mod infer;
 mod ingest;
 mod modular;
+mod search;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -100,6 +101,10 @@ pub enum Command {
     Events(events::EventsArgs),
     /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
     BenchModular(modular::BenchModularArgs),
+    /// Reproduce a seed paper's experiment (`table1`: seed 001's Table I with the search).
+    Experiment(search::ExperimentArgs),
+    /// Measure the search's scenario-fitness evaluations per second per thread.
+    BenchSearch(search::BenchSearchArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -210,6 +215,8 @@ pub fn run() -> i32 {
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Events(a)) => events::events(&a),
         Some(Command::BenchModular(a)) => modular::bench_modular(&a),
+        Some(Command::Experiment(a)) => search::experiment(&a),
+        Some(Command::BenchSearch(a)) => search::bench_search(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

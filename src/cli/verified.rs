@@ -75,6 +75,21 @@ pub struct MainArgs {
     /// Progress of every minimization step, not only one line per candidate.
     #[arg(long, short)]
     pub verbose: bool,
+    /// How to synthesize: exact SAT with counterexample-guided refinement (default), or the
+    /// metaheuristic search of seeds 004 and 001 (options under "Search").
+    #[arg(long, value_enum, default_value_t = Method::Sat)]
+    pub method: Method,
+    #[command(flatten)]
+    pub search: super::search::SearchArgs,
+}
+
+/// Synthesis method of the main job.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// Exact SAT synthesis, minimal, with CEGIS against NuSMV.
+    Sat,
+    /// Metaheuristic search with verification-aware fitness (seeds 004, 001).
+    Search,
 }
 
 #[derive(Debug, Args)]
@@ -99,12 +114,17 @@ fn stem(path: &Path) -> String {
         .unwrap_or_else(|| "result".into())
 }
 
-/// Locates NuSMV and opens a session; fails early with the install hint.
-fn session(args: &NusmvArgs) -> Result<Session, Failure> {
+/// Locates NuSMV; fails early with the install hint.
+pub(super) fn nusmv(args: &NusmvArgs) -> Result<Nusmv, Failure> {
     let path = locate(args.nusmv.as_deref()).map_err(Failure::input)?;
     let mut n = Nusmv::new(path);
     n.timeout = Duration::from_secs_f64(args.timeout.max(0.1));
-    Ok(n.session())
+    Ok(n)
+}
+
+/// Locates NuSMV and opens a session.
+fn session(args: &NusmvArgs) -> Result<Session, Failure> {
+    Ok(nusmv(args)?.session())
 }
 
 /// Reads and checks the spec, the plant and the coupling with the controller interface.
@@ -124,8 +144,20 @@ fn verify_failure(e: VerifyError) -> Failure {
     Failure::input(e)
 }
 
-pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
-    let progress = Progress::new(args.quiet);
+/// What the main job reads and checks before synthesizing, whichever the method.
+pub(super) struct MainInputs {
+    pub set: crate::scenario::ScenarioSet,
+    pub props: Vec<Property>,
+    pub plant: Plant,
+    pub coupling: Coupling,
+    pub formats: Vec<export::Format>,
+    pub ltl: PathBuf,
+    pub plant_file: PathBuf,
+    pub out: PathBuf,
+}
+
+/// Reads scenarios, spec and plant of the main job and checks them against each other.
+pub(super) fn main_inputs(args: &MainArgs, progress: &Progress) -> Result<MainInputs, Failure> {
     let (Some(ltl), Some(plant_file)) = (&args.ltl, &args.plant) else {
         return Err(Failure::msg(
             exit::USAGE,
@@ -169,12 +201,40 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     ));
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
-    let mut session = session(&args.nusmv)?;
-    let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(stem(ltl)));
+    Ok(MainInputs {
+        set,
+        props,
+        plant,
+        coupling,
+        formats,
+        ltl: ltl.clone(),
+        plant_file: plant_file.clone(),
+        out,
+    })
+}
+
+pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
+    let progress = Progress::new(args.quiet);
+    let inputs = main_inputs(args, &progress)?;
+    if args.method == Method::Search {
+        return super::search::main_job(args, &inputs, &progress);
+    }
+    let MainInputs {
+        set,
+        props,
+        plant,
+        coupling,
+        ltl,
+        out,
+        ..
+    } = &inputs;
+    let ltl = ltl.as_path();
+    let mut session = session(&args.nusmv)?;
+    let tree = ScenarioTree::build(set).map_err(Failure::input)?;
     let work = tempfile::tempdir().map_err(Failure::input)?;
     let config = Config {
         sat: Options {
@@ -190,13 +250,13 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         verbose: args.verbose,
     };
     let setup = Setup {
-        plant: &plant,
-        coupling: &coupling,
+        plant,
+        coupling,
         spec_file: ltl,
-        props: &props,
+        props,
     };
     let result = cegis::run(
-        &set,
+        set,
         &tree,
         &setup,
         &mut session,
@@ -210,7 +270,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             // Keep the model NuSMV choked on where the user can read it.
             let kept = work.path().join("closed_loop.smv");
             if kept.is_file() {
-                let _ = std::fs::create_dir_all(&out);
+                let _ = std::fs::create_dir_all(out);
                 let _ = std::fs::copy(&kept, out.join("closed_loop.last.smv"));
             }
             return Err(match e {
@@ -225,23 +285,6 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     let s = verified.synthesis.size;
     let sat_total: f64 = verified.iterations.iter().map(|i| i.sat_seconds).sum();
     let nusmv_total: f64 = verified.iterations.iter().map(|i| i.nusmv_seconds).sum();
-    std::fs::create_dir_all(&out)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
-    let mut files = export::write_all(&verified.synthesis.ecc, &out, &args.name, &formats)
-        .map_err(Failure::input)?;
-    let report_txt = out.join("verification.txt");
-    let mut text = format!(
-        "Closed-loop verification by NuSMV of {}\nplant: {}\nproperties: {}\n\n",
-        args.name,
-        plant_file.display(),
-        ltl.display()
-    );
-    text.push_str(&verified.report.to_text());
-    crate::files::write_atomic(&report_txt, text.as_bytes()).map_err(Failure::input)?;
-    files.push(report_txt);
-    let model = out.join("closed_loop.smv");
-    crate::files::write_atomic(&model, verified.model_text.as_bytes()).map_err(Failure::input)?;
-    files.push(model);
     let summary = serde_json::json!({
         "size": s,
         "iterations": verified.iterations,
@@ -250,16 +293,14 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         "nusmv_seconds": nusmv_total,
         "total_seconds": progress.elapsed(),
     });
-    let summary_file = out.join("summary.json");
-    crate::files::write_atomic(
-        &summary_file,
-        serde_json::to_string_pretty(&summary)
-            .expect("serializable")
-            .as_bytes(),
-    )
-    .map_err(Failure::input)?;
-    files.push(summary_file);
-
+    let files = write_verified(
+        args,
+        &inputs,
+        &verified.synthesis.ecc,
+        &verified.report,
+        &verified.model_text,
+        &summary,
+    )?;
     println!(
         "verified: all {} properties hold (NuSMV), {} scenarios reproduced",
         verified.report.properties.len(),
@@ -274,11 +315,56 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         sat_total,
         nusmv_total
     );
+    print_files(out, &files);
+    Ok(())
+}
+
+/// Writes a verified machine: every export format, NuSMV's report, the closed-loop model it
+/// checked and `summary.json`. Returns the files written.
+pub(super) fn write_verified(
+    args: &MainArgs,
+    inputs: &MainInputs,
+    ecc: &Ecc,
+    report: &Report,
+    model_text: &str,
+    summary: &serde_json::Value,
+) -> Result<Vec<PathBuf>, Failure> {
+    let out = &inputs.out;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
+    let mut files =
+        export::write_all(ecc, out, &args.name, &inputs.formats).map_err(Failure::input)?;
+    let report_txt = out.join("verification.txt");
+    let mut text = format!(
+        "Closed-loop verification by NuSMV of {}\nplant: {}\nproperties: {}\n\n",
+        args.name,
+        inputs.plant_file.display(),
+        inputs.ltl.display()
+    );
+    text.push_str(&report.to_text());
+    crate::files::write_atomic(&report_txt, text.as_bytes()).map_err(Failure::input)?;
+    files.push(report_txt);
+    let model = out.join("closed_loop.smv");
+    crate::files::write_atomic(&model, model_text.as_bytes()).map_err(Failure::input)?;
+    files.push(model);
+    let summary_file = out.join("summary.json");
+    crate::files::write_atomic(
+        &summary_file,
+        serde_json::to_string_pretty(summary)
+            .expect("serializable")
+            .as_bytes(),
+    )
+    .map_err(Failure::input)?;
+    files.push(summary_file);
+    Ok(files)
+}
+
+/// The closing lines of the main job: where the results are.
+pub(super) fn print_files(out: &Path, files: &[PathBuf]) {
     println!("results in {}:", out.display());
     for f in files {
         println!("  {}", f.display());
     }
-    Ok(())
 }
 
 pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {

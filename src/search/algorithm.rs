@@ -1,0 +1,562 @@
+//! The parallel search, in the spirit of pMuACO: several colonies, each a `(1+λ)` evolution
+//! strategy over [`Machine`]s, that share their best machine in synchronous rounds.
+//!
+//! In: [`ScenarioData`], a [`Config`], and (with properties) one [`Checker`] per colony.
+//! Out: an [`Outcome`] with the best machine as an [`Ecc`], its scores and run figures.
+//!
+//! One generation of a colony: `λ` children of the current machine, each made by one operator
+//! chosen uniformly (the verification-aware one only when the parent has counterexamples);
+//! the best child replaces the parent when it is at least as fit (neutral moves let the search
+//! drift across plateaus). A child's verification terms are computed by NuSMV with
+//! probability `p`, always when its scenario part exceeds 99% of the maximum, and otherwise
+//! inherited from its parent (seed 001, section III.B).
+//!
+//! Determinism: every colony has its own ChaCha generator seeded from `(seed, colony)`, the
+//! colonies run `generations_per_round` generations independently (in parallel on rayon),
+//! and between rounds the sharing step runs on one thread in colony order. The outcome
+//! therefore depends on the seed, the configuration and where the run stops, not on the
+//! number of threads; a run that stops on a perfect machine or on `max_evaluations` repeats
+//! exactly, one stopped by the clock stops at a round that depends on the machine's speed.
+
+use super::fitness::{Evaluator, ScenarioData, ScenarioScore, Verdicts, Weights};
+use super::machine::{input_bits, Machine, SearchState};
+use super::operators::{self, Operator};
+use super::oracle::Checker;
+use crate::ecc::Ecc;
+use crate::scenario::negative::NegativeScenario;
+use crate::verify::VerifyError;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Settings of a search run.
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// Number of states of every candidate.
+    pub states: usize,
+    /// Most significant inputs of one transition group.
+    pub max_vars: usize,
+    /// Colonies (independent of the number of threads, so results do not depend on it).
+    pub colonies: usize,
+    /// Children per generation (the `λ` of `(1+λ)`).
+    pub offspring: usize,
+    /// Generations between two sharing steps.
+    pub generations_per_round: usize,
+    /// A colony without improvement for this many rounds restarts (from the shared best if
+    /// that is better than its own, else from a random machine).
+    pub stagnation_rounds: usize,
+    pub weights: Weights,
+    /// Probability `p` of verifying a child whose scenario part is below the threshold.
+    pub verify_probability: f64,
+    /// Share of the scenario part's maximum above which a child is always verified.
+    pub verify_threshold: f64,
+    /// Seed 001's `λ`: weight added per counterexample visit of a transition.
+    pub counterexample_weight: f64,
+    /// Probability that "add or delete transitions" touches a state.
+    pub add_delete_probability: f64,
+    /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
+    /// verdicts: those properties fail, the rest inherited), beyond seed 001.
+    pub replay_counterexamples: bool,
+    pub seed: u64,
+    /// Worker threads (rayon).
+    pub threads: usize,
+    pub time_limit: Option<Duration>,
+    /// Stop after the round in which this many scenario evaluations were reached.
+    pub max_evaluations: Option<u64>,
+    /// Starting machines (e.g. from SAT); colony `k` starts from `initial[k % len]`, padded
+    /// to `states` states. Empty: random starts.
+    pub initial: Vec<Machine>,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            states: 8,
+            max_vars: 4,
+            colonies: 4,
+            offspring: 8,
+            generations_per_round: 25,
+            stagnation_rounds: 10,
+            weights: Weights::default(),
+            verify_probability: 0.001,
+            verify_threshold: 0.99,
+            counterexample_weight: 1.0,
+            add_delete_probability: 0.2,
+            replay_counterexamples: true,
+            seed: 0,
+            threads: 1,
+            time_limit: None,
+            max_evaluations: None,
+            initial: Vec::new(),
+        }
+    }
+}
+
+/// Why a search stopped without an outcome.
+#[derive(Debug, thiserror::Error)]
+pub enum SearchError {
+    #[error("verification of a candidate failed: {0}")]
+    Verify(#[from] VerifyError),
+    #[error("the search needs at least one state, one colony and one child per generation")]
+    Config,
+    #[error("cannot start the thread pool: {0}")]
+    Threads(String),
+    #[error("{0} checkers given for {1} colonies")]
+    Checkers(usize, usize),
+}
+
+/// Figures of a run.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Stats {
+    /// Scenario fitness evaluations.
+    pub evaluations: u64,
+    /// Verification requests (NuSMV runs plus cache hits).
+    pub verifications: u64,
+    /// Verifications saved because the child still followed a parent's counterexample.
+    pub replayed: u64,
+    pub rounds: usize,
+    pub seconds: f64,
+}
+
+/// What the progress callback sees after every round.
+#[derive(Debug, Clone)]
+pub struct Progress {
+    pub round: usize,
+    pub best_fitness: f64,
+    pub best_score: ScenarioScore,
+    /// `(satisfied, total)` of the best machine's latest verdicts, if it has any.
+    pub properties: Option<(usize, usize)>,
+    pub evaluations: u64,
+    pub seconds: f64,
+}
+
+/// The result of a run.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub machine: Machine,
+    /// The machine with its labeled algorithms.
+    pub ecc: Ecc,
+    pub score: ScenarioScore,
+    /// Verdicts the search saw for it (computed for this machine, not inherited).
+    pub verdicts: Option<Verdicts>,
+    pub fitness: f64,
+    /// Every scenario reproduced and (with properties) every property held in the search.
+    pub perfect: bool,
+    pub stats: Stats,
+}
+
+#[derive(Debug, Clone)]
+struct Individual {
+    machine: Machine,
+    score: ScenarioScore,
+    verdicts: Option<Arc<Verdicts>>,
+    /// The verdicts were computed for this machine, not inherited.
+    own: bool,
+    fitness: f64,
+}
+
+struct Colony<'a> {
+    rng: ChaCha8Rng,
+    eval: Evaluator<'a>,
+    checker: Option<Box<dyn Checker>>,
+    current: Individual,
+    stagnant: usize,
+    evaluations: u64,
+    verifications: u64,
+    replayed: u64,
+    /// Counterexamples NuSMV gave this colony (controller view), oldest first.
+    known: Vec<NegativeScenario>,
+    error: Option<VerifyError>,
+}
+
+/// The verdicts of a machine known to follow the counterexamples `followed`: the properties
+/// they belong to are violated (at most `total - k` hold), the rest is inherited.
+fn known_violations(inherited: Option<&Verdicts>, followed: &[&NegativeScenario]) -> Verdicts {
+    let mut labels: Vec<&str> = followed.iter().map(|n| n.label.as_str()).collect();
+    labels.sort();
+    labels.dedup();
+    let total = inherited.map_or(labels.len(), |v| v.total);
+    let satisfied = inherited
+        .map_or(0, |v| v.satisfied)
+        .min(total.saturating_sub(labels.len()));
+    Verdicts {
+        satisfied,
+        total,
+        longest_counterexample: followed.iter().map(|n| n.steps.len()).max().unwrap_or(1),
+        counterexamples: followed
+            .iter()
+            .map(|n| n.steps.iter().map(|s| input_bits(&s.inputs)).collect())
+            .collect(),
+        negatives: followed.iter().map(|n| (*n).clone()).collect(),
+    }
+}
+
+/// Pads a machine with states without transitions up to `states`.
+fn padded(m: &Machine, states: usize) -> Machine {
+    let mut m = m.clone();
+    while m.states.len() < states {
+        m.states.push(SearchState::default());
+    }
+    m
+}
+
+impl Colony<'_> {
+    fn perfect(&self, ind: &Individual) -> bool {
+        ind.score.perfect()
+            && (self.checker.is_none()
+                || (ind.own && ind.verdicts.as_ref().is_some_and(|v| v.all_hold())))
+    }
+
+    /// Scores a machine; verifies it when `force`, when the scenario part is above the
+    /// threshold, or with probability `p`; else inherits `parent`'s verdicts.
+    fn assess(
+        &mut self,
+        machine: Machine,
+        parent: Option<&Individual>,
+        config: &Config,
+        force: bool,
+    ) -> Individual {
+        let score = self.eval.evaluate(&machine);
+        self.evaluations += 1;
+        let w = &config.weights;
+        let mut verdicts = parent.and_then(|p| p.verdicts.clone());
+        let mut own = false;
+        if let (Some(checker), None) = (self.checker.as_mut(), &self.error) {
+            let above = w.scenario_part(&score) > config.verify_threshold * w.scenario_max();
+            if force || above || verdicts.is_none() || self.rng.gen_bool(config.verify_probability)
+            {
+                let data = self.eval.data();
+                let ecc = machine.to_ecc(
+                    &data.inputs,
+                    &data.outputs,
+                    &data.initial_outputs,
+                    &self.eval.algorithms(),
+                );
+                // Beyond seed 001: a child that still follows a counterexample this colony
+                // has seen violates that property for sure; NuSMV would only repeat it.
+                // Only with inherited verdicts: they say how many properties there are.
+                let followed: Vec<&NegativeScenario> =
+                    if config.replay_counterexamples && verdicts.is_some() {
+                        self.known.iter().filter(|n| n.followed_by(&ecc)).collect()
+                    } else {
+                        vec![]
+                    };
+                if !followed.is_empty() {
+                    self.replayed += 1;
+                    verdicts = Some(Arc::new(known_violations(verdicts.as_deref(), &followed)));
+                } else {
+                    self.verifications += 1;
+                    match checker.check(&ecc) {
+                        Ok(v) => {
+                            for n in &v.negatives {
+                                if !self.known.contains(n) {
+                                    self.known.push(n.clone());
+                                }
+                            }
+                            verdicts = Some(v);
+                            own = true;
+                        }
+                        Err(e) => self.error = Some(e),
+                    }
+                }
+            }
+        }
+        let fitness = w.total(&score, verdicts.as_deref());
+        Individual {
+            machine,
+            score,
+            verdicts,
+            own,
+            fitness,
+        }
+    }
+
+    fn mutate(&mut self, parent: &Individual, config: &Config) -> Machine {
+        let cxs: &[Vec<u32>] = parent
+            .verdicts
+            .as_deref()
+            .map_or(&[], |v| v.counterexamples.as_slice());
+        let mut ops = vec![
+            Operator::ChangeTarget,
+            Operator::AddDelete,
+            Operator::SwapSignificance,
+            Operator::ResizeSignificance,
+        ];
+        if !cxs.is_empty() {
+            ops.push(Operator::WeightedChangeTarget);
+        }
+        let mut m = parent.machine.clone();
+        // An operator with nothing to act on leaves the machine alone; another one is tried.
+        for _ in 0..8 {
+            let op = ops[self.rng.gen_range(0..ops.len())];
+            let rng = &mut self.rng;
+            let done = match op {
+                Operator::ChangeTarget => operators::change_target(rng, &mut m),
+                Operator::AddDelete => {
+                    operators::add_or_delete(rng, &mut m, config.add_delete_probability)
+                }
+                Operator::SwapSignificance => operators::swap_significance(rng, &mut m),
+                Operator::ResizeSignificance => {
+                    operators::resize_significance(rng, &mut m, config.max_vars)
+                }
+                Operator::WeightedChangeTarget => operators::weighted_change_target(
+                    rng,
+                    &mut m,
+                    cxs,
+                    config.counterexample_weight,
+                ),
+            };
+            if done {
+                break;
+            }
+        }
+        m
+    }
+
+    /// Runs up to `generations` generations; stops early on a perfect machine.
+    fn run(&mut self, generations: usize, config: &Config) {
+        let start = self.current.fitness;
+        for _ in 0..generations {
+            if self.perfect(&self.current) || self.error.is_some() {
+                break;
+            }
+            let parent = self.current.clone();
+            let mut best: Option<Individual> = None;
+            for _ in 0..config.offspring {
+                let child = self.mutate(&parent, config);
+                let child = self.assess(child, Some(&parent), config, false);
+                let perfect = self.perfect(&child);
+                if best.as_ref().is_none_or(|b| child.fitness > b.fitness) || perfect {
+                    best = Some(child);
+                }
+                if perfect {
+                    break;
+                }
+            }
+            let best = best.expect("offspring >= 1");
+            if best.fitness >= self.current.fitness || self.perfect(&best) {
+                self.current = best;
+            }
+        }
+        if self.current.fitness > start {
+            self.stagnant = 0;
+        } else {
+            self.stagnant += 1;
+        }
+    }
+}
+
+/// Runs the search. `checkers`: one per colony when there are properties, else empty.
+pub fn run(
+    data: &ScenarioData,
+    config: &Config,
+    checkers: Vec<Box<dyn Checker>>,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Outcome, SearchError> {
+    if config.states == 0 || config.colonies == 0 || config.offspring == 0 {
+        return Err(SearchError::Config);
+    }
+    if !checkers.is_empty() && checkers.len() != config.colonies {
+        return Err(SearchError::Checkers(checkers.len(), config.colonies));
+    }
+    let start = Instant::now();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(config.threads.max(1))
+        .build()
+        .map_err(|e| SearchError::Threads(e.to_string()))?;
+    let mut checkers: Vec<Option<Box<dyn Checker>>> = checkers.into_iter().map(Some).collect();
+    checkers.resize_with(config.colonies, || None);
+    let inputs = data.inputs.len();
+    let mut colonies: Vec<Colony> = checkers
+        .into_iter()
+        .enumerate()
+        .map(|(k, checker)| {
+            let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+            rng.set_stream(k as u64);
+            let machine = match config.initial.get(k % config.initial.len().max(1)) {
+                Some(m) => padded(m, config.states),
+                None => Machine::random(&mut rng, inputs, config.states, config.max_vars),
+            };
+            let mut c = Colony {
+                rng,
+                eval: Evaluator::new(data),
+                checker,
+                current: Individual {
+                    machine: machine.clone(),
+                    score: ScenarioScore {
+                        ed: 0.0,
+                        fe: 0.0,
+                        sc: 0.0,
+                        reproduced: 0,
+                        scenarios: 0,
+                    },
+                    verdicts: None,
+                    own: false,
+                    fitness: f64::NEG_INFINITY,
+                },
+                stagnant: 0,
+                evaluations: 0,
+                verifications: 0,
+                replayed: 0,
+                known: Vec::new(),
+                error: None,
+            };
+            c.current = c.assess(machine, None, config, true);
+            c
+        })
+        .collect();
+    // The best machine so far: colonies restart, the elite stays.
+    let mut elite: Option<(usize, Individual)> = None;
+    let mut round = 0;
+    loop {
+        round += 1;
+        pool.install(|| {
+            colonies
+                .par_iter_mut()
+                .for_each(|c| c.run(config.generations_per_round, config))
+        });
+        if let Some(k) = colonies.iter().position(|c| c.error.is_some()) {
+            return Err(colonies[k].error.take().expect("found").into());
+        }
+        let evaluations: u64 = colonies.iter().map(|c| c.evaluations).sum();
+        // The first colony with the highest fitness (a perfect one first).
+        let best_k = (0..colonies.len())
+            .max_by(|&a, &b| {
+                let key = |k: usize| {
+                    let c = &colonies[k];
+                    (c.perfect(&c.current), c.current.fitness)
+                };
+                let (pa, fa) = key(a);
+                let (pb, fb) = key(b);
+                pa.cmp(&pb).then(fa.total_cmp(&fb)).then(b.cmp(&a))
+            })
+            .expect("colonies >= 1");
+        let candidate = &colonies[best_k];
+        let better = match &elite {
+            None => true,
+            Some((k, e)) => {
+                let (pc, pe) = (
+                    candidate.perfect(&candidate.current),
+                    colonies[*k].perfect(e),
+                );
+                pc && !pe || (pc == pe && candidate.current.fitness > e.fitness)
+            }
+        };
+        if better {
+            elite = Some((best_k, candidate.current.clone()));
+        }
+        let (elite_k, best) = elite.clone().expect("set above");
+        let done = colonies[elite_k].perfect(&best);
+        progress(&Progress {
+            round,
+            best_fitness: best.fitness,
+            best_score: best.score,
+            properties: best.verdicts.as_ref().map(|v| (v.satisfied, v.total)),
+            evaluations,
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        let out_of_budget = config.time_limit.is_some_and(|t| start.elapsed() >= t)
+            || config.max_evaluations.is_some_and(|m| evaluations >= m);
+        if done || out_of_budget {
+            let c = &mut colonies[elite_k];
+            // Labeling again gives the best machine's algorithms.
+            c.eval.evaluate(&best.machine);
+            let ecc = best.machine.to_ecc(
+                &data.inputs,
+                &data.outputs,
+                &data.initial_outputs,
+                &c.eval.algorithms(),
+            );
+            return Ok(Outcome {
+                perfect: done,
+                verdicts: if best.own {
+                    best.verdicts.as_deref().cloned()
+                } else {
+                    None
+                },
+                machine: best.machine,
+                ecc,
+                score: best.score,
+                fitness: best.fitness,
+                stats: Stats {
+                    evaluations,
+                    verifications: colonies.iter().map(|c| c.verifications).sum(),
+                    replayed: colonies.iter().map(|c| c.replayed).sum(),
+                    rounds: round,
+                    seconds: start.elapsed().as_secs_f64(),
+                },
+            });
+        }
+        // Sharing: a stagnating colony restarts from the elite when that is better than its
+        // own, else from a random machine.
+        for c in colonies.iter_mut() {
+            if c.stagnant < config.stagnation_rounds {
+                continue;
+            }
+            c.stagnant = 0;
+            if best.fitness > c.current.fitness {
+                c.current = best.clone();
+            } else {
+                let m = Machine::random(&mut c.rng, inputs, config.states, config.max_vars);
+                c.current = c.assess(m, None, config, true);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cases::pnp;
+
+    fn quick(seed: u64) -> Config {
+        Config {
+            seed,
+            states: 4,
+            colonies: 3,
+            threads: 2,
+            generations_per_round: 20,
+            max_evaluations: Some(3_000),
+            ..Config::default()
+        }
+    }
+
+    #[test]
+    fn same_seed_same_machine_whatever_the_threads() {
+        let mut set = pnp::generate();
+        set.scenarios.truncate(2);
+        let data = ScenarioData::new(&set).unwrap();
+        let a = run(&data, &quick(5), vec![], &mut |_| {}).unwrap();
+        let b = run(
+            &data,
+            &Config {
+                threads: 1,
+                ..quick(5)
+            },
+            vec![],
+            &mut |_| {},
+        )
+        .unwrap();
+        assert_eq!(a.machine, b.machine);
+        assert_eq!(a.ecc, b.ecc);
+        assert_eq!(a.stats.evaluations, b.stats.evaluations);
+        let c = run(&data, &quick(6), vec![], &mut |_| {}).unwrap();
+        assert_ne!(a.machine, c.machine, "another seed searches elsewhere");
+    }
+
+    #[test]
+    fn the_outcome_is_the_machine_the_scores_describe() {
+        let mut set = pnp::generate();
+        set.scenarios.truncate(1);
+        let data = ScenarioData::new(&set).unwrap();
+        let out = run(&data, &quick(1), vec![], &mut |_| {}).unwrap();
+        out.ecc.validate().unwrap();
+        let mut ev = Evaluator::new(&data);
+        assert_eq!(ev.evaluate(&out.machine), out.score);
+        if out.perfect {
+            set.check(&out.ecc).unwrap();
+        }
+    }
+}

@@ -1,0 +1,535 @@
+//! Mutation operators: the four of seed 004 (section IV.D) and the verification-aware one of
+//! seed 001 (section III.C).
+//!
+//! In: a [`Machine`], a random generator, and for the weighted operator the input vectors of
+//! the parent's counterexamples. Out: the machine changed in place; every operator returns
+//! `false` (and leaves the machine as it was) when it has nothing to act on.
+//!
+//! Every operator keeps the invariants of [`Machine::validate`]; none changes the number of
+//! states (the seeds search a fixed number of states).
+
+use super::machine::{Group, Machine, TransitionRef};
+use crate::ecc::{InputId, StateId};
+use rand::Rng;
+
+/// The operators, for choosing one and for statistics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Operator {
+    /// A uniformly chosen transition gets another target.
+    ChangeTarget,
+    /// Per state with a fixed probability: add an absent entry or delete a present one.
+    AddDelete,
+    /// One significant input of a group becomes insignificant, an insignificant one
+    /// significant.
+    SwapSignificance,
+    /// A group gains a significant input (table doubled) or loses one (table halved).
+    ResizeSignificance,
+    /// Seed 001: a transition chosen by counterexample-weighted roulette gets another target.
+    WeightedChangeTarget,
+}
+
+/// A state other than `old`, uniformly (`None` with a single state).
+fn other_state(rng: &mut impl Rng, states: usize, old: StateId) -> Option<StateId> {
+    if states < 2 {
+        return None;
+    }
+    let t = rng.gen_range(0..states - 1);
+    Some(StateId(if t >= old.0 { t + 1 } else { t }))
+}
+
+/// Seed 004, "change transition end state".
+pub fn change_target(rng: &mut impl Rng, m: &mut Machine) -> bool {
+    let all = m.transitions();
+    if all.is_empty() {
+        return false;
+    }
+    let t = all[rng.gen_range(0..all.len())];
+    retarget(rng, m, t)
+}
+
+fn retarget(rng: &mut impl Rng, m: &mut Machine, t: TransitionRef) -> bool {
+    let old = m.target(t).expect("a present entry");
+    match other_state(rng, m.states.len(), old) {
+        Some(new) => {
+            m.set_target(t, Some(new));
+            true
+        }
+        None => false,
+    }
+}
+
+/// Seed 004, "add or delete transitions": each state is touched with probability `p` (at
+/// least one state always is). In a uniformly chosen group of the state, either an absent
+/// entry gets a uniformly chosen target, or a present entry is deleted; the choice is a fair
+/// coin unless only one of them is possible.
+pub fn add_or_delete(rng: &mut impl Rng, m: &mut Machine, p: f64) -> bool {
+    let n = m.states.len();
+    let forced = rng.gen_range(0..n);
+    let mut changed = false;
+    for s in 0..n {
+        if s != forced && !rng.gen_bool(p) {
+            continue;
+        }
+        let groups = m.states[s].groups.len();
+        if groups == 0 {
+            // A state without groups gets its first one, with no significant input.
+            let mut g = Group::empty(vec![]);
+            g.table[0] = Some(StateId(rng.gen_range(0..n)));
+            m.states[s].groups.push(g);
+            changed = true;
+            continue;
+        }
+        let g = &mut m.states[s].groups[rng.gen_range(0..groups)];
+        let present: Vec<usize> = (0..g.table.len())
+            .filter(|&e| g.table[e].is_some())
+            .collect();
+        let absent: Vec<usize> = (0..g.table.len())
+            .filter(|&e| g.table[e].is_none())
+            .collect();
+        let add = match (present.is_empty(), absent.is_empty()) {
+            (true, true) => continue,
+            (false, true) => false,
+            (true, false) => true,
+            (false, false) => rng.gen_bool(0.5),
+        };
+        if add {
+            let e = absent[rng.gen_range(0..absent.len())];
+            g.table[e] = Some(StateId(rng.gen_range(0..n)));
+        } else {
+            let e = present[rng.gen_range(0..present.len())];
+            g.table[e] = None;
+        }
+        changed = true;
+    }
+    changed
+}
+
+/// All groups as `(state, group)`.
+fn groups(m: &Machine) -> impl Iterator<Item = (usize, usize)> + '_ {
+    m.states
+        .iter()
+        .enumerate()
+        .flat_map(|(s, st)| (0..st.groups.len()).map(move |g| (s, g)))
+}
+
+/// Rebuilds a group's table for new significant inputs: `value(old_vars, old_entry)` says
+/// which assignment of the new variables each old entry stands for.
+fn reindex(
+    g: &Group,
+    new_vars: &[InputId],
+    map: impl Fn(InputId, usize) -> Option<bool>,
+) -> Vec<Option<StateId>> {
+    let mut table = vec![None; 1 << new_vars.len()];
+    for (e, &t) in g.table.iter().enumerate() {
+        let idx = new_vars.iter().fold(0usize, |acc, &v| {
+            (acc << 1) | usize::from(map(v, e).unwrap_or(false))
+        });
+        table[idx] = t;
+    }
+    table
+}
+
+/// Seed 004, "change significance mask": in a uniformly chosen group with at least one
+/// transition, a significant input `i` and an insignificant `j` swap roles; every entry keeps
+/// its target, now under `x_j` where it was under `x_i`.
+pub fn swap_significance(rng: &mut impl Rng, m: &mut Machine) -> bool {
+    let inputs = m.inputs;
+    let candidates: Vec<(usize, usize)> = groups(m)
+        .filter(|&(s, g)| {
+            let grp = &m.states[s].groups[g];
+            grp.present() > 0 && !grp.vars.is_empty() && grp.vars.len() < inputs
+        })
+        .collect();
+    if candidates.is_empty() {
+        return false;
+    }
+    let (s, gi) = candidates[rng.gen_range(0..candidates.len())];
+    let g = &m.states[s].groups[gi];
+    let i = g.vars[rng.gen_range(0..g.vars.len())];
+    let free: Vec<InputId> = (0..inputs)
+        .map(InputId)
+        .filter(|&v| !g.has_var(v))
+        .collect();
+    let j = free[rng.gen_range(0..free.len())];
+    let mut vars: Vec<InputId> = g.vars.iter().map(|&v| if v == i { j } else { v }).collect();
+    vars.sort();
+    let old = g.clone();
+    let table = reindex(&old, &vars, |v, e| {
+        let from = if v == j { i } else { v };
+        old.literals(e).iter().find(|l| l.0 == from).map(|l| l.1)
+    });
+    let g = &mut m.states[s].groups[gi];
+    g.vars = vars;
+    g.table = table;
+    true
+}
+
+/// Seed 004, "change significant variables set": a uniformly chosen group gains an input
+/// (each old entry is copied for `x_i = 0` and `x_i = 1`; at most `max_vars` significant) or
+/// loses one (of each pair of entries that merge, the `x_i = 0` one is kept when the number of
+/// transitions kept so far is even, else the `x_i = 1` one).
+pub fn resize_significance(rng: &mut impl Rng, m: &mut Machine, max_vars: usize) -> bool {
+    let inputs = m.inputs;
+    let all: Vec<(usize, usize)> = groups(m).collect();
+    if all.is_empty() {
+        return false;
+    }
+    let (s, gi) = all[rng.gen_range(0..all.len())];
+    let g = m.states[s].groups[gi].clone();
+    let can_add = g.vars.len() < max_vars.min(inputs);
+    let can_delete = !g.vars.is_empty();
+    let add = match (can_add, can_delete) {
+        (false, false) => return false,
+        (true, false) => true,
+        (false, true) => false,
+        (true, true) => rng.gen_bool(0.5),
+    };
+    let new = if add {
+        let free: Vec<InputId> = (0..inputs)
+            .map(InputId)
+            .filter(|&v| !g.has_var(v))
+            .collect();
+        let j = free[rng.gen_range(0..free.len())];
+        let mut vars = g.vars.clone();
+        vars.push(j);
+        vars.sort();
+        let mut ng = Group::empty(vars);
+        for e in 0..ng.table.len() {
+            let lits = ng.literals(e);
+            let old_idx = g.vars.iter().fold(0usize, |acc, v| {
+                let val = lits
+                    .iter()
+                    .find(|l| l.0 == *v)
+                    .map(|l| l.1)
+                    .unwrap_or(false);
+                (acc << 1) | usize::from(val)
+            });
+            ng.table[e] = g.table[old_idx];
+        }
+        ng
+    } else {
+        let pos = rng.gen_range(0..g.vars.len());
+        let i = g.vars[pos];
+        let mut ng = Group::empty(g.vars.iter().copied().filter(|&v| v != i).collect());
+        let k = g.vars.len();
+        let bit = 1 << (k - 1 - pos);
+        let mut kept = 0usize;
+        for e in 0..ng.table.len() {
+            // Insert a 0 bit at `pos` into the new entry index to get the old `x_i = 0` entry.
+            let high = (e >> (k - 1 - pos)) << (k - pos);
+            let low = e & (bit - 1);
+            let zero = high | low;
+            let chosen = if kept.is_multiple_of(2) {
+                g.table[zero]
+            } else {
+                g.table[zero | bit]
+            };
+            if chosen.is_some() {
+                kept += 1;
+            }
+            ng.table[e] = chosen;
+        }
+        ng
+    };
+    m.states[s].groups[gi] = new;
+    true
+}
+
+/// The entries a run of `m` from the initial state fires on the input vectors `xs`, in order
+/// (one per step that fires).
+pub fn visited(m: &Machine, xs: &[u32]) -> Vec<TransitionRef> {
+    let mut s = 0usize;
+    let mut out = Vec::new();
+    for &x in xs {
+        if let Some((group, entry, t)) = m.fire(s, x) {
+            out.push(TransitionRef {
+                state: StateId(s),
+                group,
+                entry,
+            });
+            s = t.0;
+        }
+    }
+    out
+}
+
+/// Seed 001's transition weights: 1 for every present entry, plus `lambda` per visit by a
+/// replayed counterexample. In [`Machine::transitions`] order.
+pub fn weights(
+    m: &Machine,
+    counterexamples: &[Vec<u32>],
+    lambda: f64,
+) -> (Vec<TransitionRef>, Vec<f64>) {
+    let all = m.transitions();
+    let mut w = vec![1.0; all.len()];
+    for cx in counterexamples {
+        for t in visited(m, cx) {
+            let k = all.binary_search(&t).expect("fired entries are present");
+            w[k] += lambda;
+        }
+    }
+    (all, w)
+}
+
+/// Roulette wheel: index `k` with probability `w[k] / sum(w)`.
+pub fn roulette(rng: &mut impl Rng, w: &[f64]) -> usize {
+    let total: f64 = w.iter().sum();
+    let mut r = rng.gen_range(0.0..total);
+    for (k, &x) in w.iter().enumerate() {
+        if r < x {
+            return k;
+        }
+        r -= x;
+    }
+    w.len() - 1
+}
+
+/// Seed 001's verification-aware mutation: a transition picked by [`roulette`] over
+/// [`weights`] gets another target.
+pub fn weighted_change_target(
+    rng: &mut impl Rng,
+    m: &mut Machine,
+    counterexamples: &[Vec<u32>],
+    lambda: f64,
+) -> bool {
+    let (all, w) = weights(m, counterexamples, lambda);
+    if all.is_empty() {
+        return false;
+    }
+    let t = all[roulette(rng, &w)];
+    retarget(rng, m, t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::search::machine::SearchState;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn rng() -> ChaCha8Rng {
+        ChaCha8Rng::seed_from_u64(11)
+    }
+
+    /// The targets of every (state, input vector), for comparing behaviour.
+    fn behaviour(m: &Machine) -> Vec<Option<StateId>> {
+        (0..m.states.len())
+            .flat_map(|s| (0..1u32 << m.inputs).map(move |x| (s, x)))
+            .map(|(s, x)| m.fire(s, x).map(|f| f.2))
+            .collect()
+    }
+
+    fn machines() -> Vec<Machine> {
+        let mut r = ChaCha8Rng::seed_from_u64(3);
+        (0..30).map(|_| Machine::random(&mut r, 5, 4, 3)).collect()
+    }
+
+    #[test]
+    fn change_target_moves_exactly_one_transition_to_another_state() {
+        let mut r = rng();
+        for m in machines() {
+            let mut c = m.clone();
+            if !change_target(&mut r, &mut c) {
+                assert_eq!(m.transition_count(), 0);
+                continue;
+            }
+            c.validate().unwrap();
+            let diff: Vec<_> = m
+                .transitions()
+                .into_iter()
+                .filter(|&t| m.target(t) != c.target(t))
+                .collect();
+            assert_eq!(diff.len(), 1);
+            assert!(c.target(diff[0]).is_some());
+            assert_eq!(m.transitions(), c.transitions());
+        }
+    }
+
+    #[test]
+    fn add_or_delete_changes_the_set_of_present_entries_only() {
+        let mut r = rng();
+        for m in machines() {
+            let mut c = m.clone();
+            assert!(add_or_delete(&mut r, &mut c, 0.3));
+            c.validate().unwrap();
+            assert_ne!(m, c);
+            // Same significance everywhere; entries present in both keep their targets.
+            for (a, b) in m.states.iter().zip(&c.states) {
+                for (ga, gb) in a.groups.iter().zip(&b.groups) {
+                    assert_eq!(ga.vars, gb.vars);
+                    for (ta, tb) in ga.table.iter().zip(&gb.table) {
+                        if let (Some(x), Some(y)) = (ta, tb) {
+                            assert_eq!(x, y);
+                        }
+                    }
+                }
+            }
+            assert_ne!(m.transitions(), c.transitions());
+        }
+    }
+
+    #[test]
+    fn swap_significance_exchanges_one_input_and_keeps_the_table() {
+        let mut r = rng();
+        let mut tried = 0;
+        for m in machines() {
+            let mut c = m.clone();
+            if !swap_significance(&mut r, &mut c) {
+                continue;
+            }
+            tried += 1;
+            c.validate().unwrap();
+            let changed: Vec<_> = m
+                .states
+                .iter()
+                .zip(&c.states)
+                .flat_map(|(a, b)| a.groups.iter().zip(&b.groups))
+                .filter(|(a, b)| a != b)
+                .collect();
+            assert_eq!(changed.len(), 1);
+            let (a, b) = changed[0];
+            assert_eq!(a.vars.len(), b.vars.len());
+            let gone: Vec<_> = a.vars.iter().filter(|v| !b.has_var(**v)).collect();
+            let new: Vec<_> = b.vars.iter().filter(|v| !a.has_var(**v)).collect();
+            assert_eq!((gone.len(), new.len()), (1, 1));
+            let mut ta: Vec<_> = a.table.clone();
+            let mut tb: Vec<_> = b.table.clone();
+            ta.sort();
+            tb.sort();
+            assert_eq!(ta, tb, "the same targets, re-indexed");
+        }
+        assert!(tried > 10);
+    }
+
+    #[test]
+    fn adding_a_significant_input_keeps_behaviour_and_doubles_the_table() {
+        let mut r = rng();
+        for m in machines() {
+            let mut c = m.clone();
+            let before: usize = m
+                .states
+                .iter()
+                .flat_map(|s| &s.groups)
+                .map(|g| g.table.len())
+                .sum();
+            // Force "add" with room for it: max 5 significant inputs.
+            let mut added = false;
+            for _ in 0..20 {
+                let mut t = m.clone();
+                assert!(resize_significance(&mut r, &mut t, 5));
+                t.validate().unwrap();
+                let after: usize = t
+                    .states
+                    .iter()
+                    .flat_map(|s| &s.groups)
+                    .map(|g| g.table.len())
+                    .sum();
+                if after > before {
+                    c = t;
+                    added = true;
+                    break;
+                }
+            }
+            assert!(added);
+            let grown: Vec<_> = m
+                .states
+                .iter()
+                .zip(&c.states)
+                .flat_map(|(a, b)| a.groups.iter().zip(&b.groups))
+                .filter(|(a, b)| a != b)
+                .collect();
+            assert_eq!(grown.len(), 1);
+            assert_eq!(grown[0].1.table.len(), 2 * grown[0].0.table.len());
+            assert_eq!(behaviour(&m), behaviour(&c));
+        }
+    }
+
+    #[test]
+    fn deleting_a_significant_input_halves_the_table_and_keeps_the_seed_choice() {
+        // One group over x0, x1 with entries 00 -> s0, 01 -> s1, 10 -> s2, 11 -> None.
+        let mut g = Group::empty(vec![InputId(0), InputId(1)]);
+        g.table = vec![Some(StateId(0)), Some(StateId(1)), Some(StateId(2)), None];
+        let m = Machine {
+            inputs: 2,
+            states: vec![
+                SearchState { groups: vec![g] },
+                SearchState::default(),
+                SearchState::default(),
+            ],
+        };
+        let mut seen = std::collections::HashSet::new();
+        let mut r = rng();
+        for _ in 0..50 {
+            let mut c = m.clone();
+            assert!(resize_significance(&mut r, &mut c, 1));
+            c.validate().unwrap();
+            let g = &c.states[0].groups[0];
+            assert_eq!(g.vars.len(), 1);
+            assert_eq!(g.table.len(), 2);
+            seen.insert((g.vars[0], g.table.clone()));
+        }
+        // Drop x0: pairs (00,10) and (01,11); first keeps x0=0 -> s0 (1 kept, odd), second
+        // keeps x0=1 -> None. Drop x1: pairs (00,01), (10,11): s0, then x1=1 -> None.
+        let expected: std::collections::HashSet<_> = [
+            (InputId(1), vec![Some(StateId(0)), None]),
+            (InputId(0), vec![Some(StateId(0)), None]),
+        ]
+        .into_iter()
+        .collect();
+        assert_eq!(seen, expected);
+    }
+
+    #[test]
+    fn roulette_follows_the_weights() {
+        let mut r = rng();
+        let w = [1.0, 3.0, 0.5, 5.5];
+        let mut hits = [0usize; 4];
+        let n = 100_000;
+        for _ in 0..n {
+            hits[roulette(&mut r, &w)] += 1;
+        }
+        for k in 0..4 {
+            let share = hits[k] as f64 / n as f64;
+            assert!((share - w[k] / 10.0).abs() < 0.01, "{k}: {share}");
+        }
+    }
+
+    #[test]
+    fn counterexamples_weigh_the_transitions_they_visit() {
+        // s0 --x0--> s1 --!x0--> s0; a counterexample x0, !x0, x0 visits both, the first twice.
+        let mut g0 = Group::empty(vec![InputId(0)]);
+        g0.table[1] = Some(StateId(1));
+        let mut g1 = Group::empty(vec![InputId(0)]);
+        g1.table[0] = Some(StateId(0));
+        g1.table[1] = Some(StateId(1));
+        let m = Machine {
+            inputs: 1,
+            states: vec![
+                SearchState { groups: vec![g0] },
+                SearchState { groups: vec![g1] },
+            ],
+        };
+        let (all, w) = weights(&m, &[vec![1, 0, 1]], 2.0);
+        assert_eq!(all.len(), 3);
+        assert_eq!(w, vec![5.0, 3.0, 1.0]);
+        // The weighted operator picks s0's transition about 5/9 of the time.
+        let mut r = rng();
+        let mut first = 0;
+        let n = 20_000;
+        for _ in 0..n {
+            let mut c = m.clone();
+            assert!(weighted_change_target(
+                &mut r,
+                &mut c,
+                &[vec![1, 0, 1]],
+                2.0
+            ));
+            c.validate().unwrap();
+            if c.target(all[0]) != m.target(all[0]) {
+                first += 1;
+            }
+        }
+        let share = first as f64 / n as f64;
+        assert!((share - 5.0 / 9.0).abs() < 0.02, "{share}");
+    }
+}
