@@ -348,7 +348,8 @@ pub fn synthesize_noisy(
     let (mut enc, n) = loop {
         let mut enc = NoisyEncoding::new(&graph, c_max, kind, &mut stats);
         let mut found = None;
-        for c in c_lo..=c_max {
+        let window = c_lo..=c_max;
+        for c in window {
             progress(&format!("trying N = {c}"));
             let assume: Vec<Lit> = enc
                 .states_at_most(c)
