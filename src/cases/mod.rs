@@ -5,4 +5,5 @@
 //! Out: [`ScenarioSet`](crate::scenario::ScenarioSet)s and the data files under `specs/` that
 //! are committed beside the code and checked against the generator by a test.
 
+pub mod distribution;
 pub mod pnp;

@@ -157,6 +157,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             format: formats,
             name: "SynthesizedFB".into(),
             quiet: false,
+            noisy: super::noisy::NoisyArgs::off(),
         })?,
     }
     let refined = infer::read_ecc(&out.join("SynthesizedFB.json"))?;

@@ -65,6 +65,8 @@ pub struct InferArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    #[command(flatten)]
+    pub noisy: super::noisy::NoisyArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -146,6 +148,9 @@ fn stem(path: &Path) -> String {
 }
 
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    if args.noisy.noisy {
+        return super::noisy::infer_noisy(args);
+    }
     let progress = Progress::new(args.quiet);
     let set = load_scenarios(&args.traces)?;
     progress.line(&format!(

@@ -7,6 +7,7 @@ mod bench;
 mod conform;
 mod infer;
 mod ingest;
+mod noisy;
 mod verified;
 
 use clap::{Parser, Subcommand};
@@ -93,12 +94,14 @@ pub enum Command {
     Ingest(ingest::IngestArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
+    /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
+    BenchNoisy(noisy::BenchNoisyArgs),
 }
 
 #[derive(Debug, clap::Args)]
 pub struct GenerateArgs {
-    /// The case: `pnp`.
-    #[arg(value_parser = ["pnp"])]
+    /// The case: `pnp`, or `distribution` (clean, noisy and held-out sampled logs).
+    #[arg(value_parser = ["pnp", "distribution"])]
     pub case: String,
     /// Folder to write the scenario and names files into.
     #[arg(long, default_value = "specs", value_name = "DIR")]
@@ -106,6 +109,9 @@ pub struct GenerateArgs {
 }
 
 fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    if args.case == "distribution" {
+        return noisy::generate_distribution(&args.out);
+    }
     let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
     let set = crate::cases::pnp::generate();
     println!(
@@ -198,6 +204,7 @@ pub fn run() -> i32 {
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
+        Some(Command::BenchNoisy(a)) => noisy::bench_noisy(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

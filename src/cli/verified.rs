@@ -100,7 +100,7 @@ fn stem(path: &Path) -> String {
 }
 
 /// Locates NuSMV and opens a session; fails early with the install hint.
-fn session(args: &NusmvArgs) -> Result<Session, Failure> {
+pub(super) fn session(args: &NusmvArgs) -> Result<Session, Failure> {
     let path = locate(args.nusmv.as_deref()).map_err(Failure::input)?;
     let mut n = Nusmv::new(path);
     n.timeout = Duration::from_secs_f64(args.timeout.max(0.1));
