@@ -85,6 +85,8 @@ pub const MAX_SCANS: usize = 20_000;
 pub const CLEAN_FILE: &str = "distribution.csv";
 pub const NOISY_FILE: &str = "distribution_noisy.csv";
 pub const HELDOUT_FILE: &str = "distribution_heldout.csv";
+/// The reference controller in the project's JSON format.
+pub const REFERENCE_FILE: &str = "distribution_reference.json";
 /// Error rate and seed of the shipped noisy log.
 pub const SHIPPED_RATE: f64 = 0.05;
 pub const SHIPPED_SEED: u64 = 2024;
@@ -103,7 +105,7 @@ const STATES: [(&str, &str); 9] = [
 ];
 
 /// Transitions in priority order per source state: (from, to, guard).
-const TRANSITIONS: [(&str, &str, &str); 18] = [
+const TRANSITIONS: [(&str, &str, &str); 19] = [
     ("Idle", "EmergencyStop", "emergency"),
     ("Idle", "Ready", "start & !stop"),
     ("Ready", "EmergencyStop", "emergency"),
@@ -116,6 +118,7 @@ const TRANSITIONS: [(&str, &str, &str); 18] = [
     ("Suck", "EmergencyStop", "emergency"),
     ("Suck", "ToClient", "vac_on"),
     ("ToClient", "Release", "at_client"),
+    ("Release", "EmergencyStop", "emergency"),
     ("Release", "ToMagazine", "!vac_on"),
     ("ToMagazine", "EmergencyStop", "emergency"),
     ("ToMagazine", "Retract", "at_magazine & auto_man & !empty"),
@@ -462,6 +465,11 @@ pub fn record(case: &UseCase) -> Vec<Sample> {
 /// at every scan `k` whose outputs changed while the outputs of scan `k-1` did not, with
 /// probability `rate`, sample `k-1` gets the outputs of sample `k`. Returns the noisy samples
 /// and the number of errors injected. Seeded, so reproducible.
+///
+/// Only errors of the seed's model are injected: a skew is skipped where the samples before
+/// `k-1` with the same inputs start with a transition (e.g. `start` pressed, then released):
+/// preprocessing would drop that transition together with the skewed sample, an error no
+/// alternative edge can undo.
 pub fn inject_skew(samples: &[Sample], rate: f64, seed: u64) -> (Vec<Sample>, usize) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out = samples.to_vec();
@@ -469,7 +477,12 @@ pub fn inject_skew(samples: &[Sample], rate: f64, seed: u64) -> (Vec<Sample>, us
     for k in 2..samples.len() {
         let changed = samples[k].outputs != samples[k - 1].outputs;
         let quiet_before = samples[k - 1].outputs == samples[k - 2].outputs;
-        if changed && quiet_before && rng.gen_bool(rate.clamp(0.0, 1.0)) {
+        let mut j = k - 1;
+        while j > 0 && samples[j - 1].inputs == samples[k - 1].inputs {
+            j -= 1;
+        }
+        let hides_transition = j > 0 && samples[j].outputs != samples[j - 1].outputs;
+        if changed && quiet_before && !hides_transition && rng.gen_bool(rate.clamp(0.0, 1.0)) {
             out[k - 1].outputs = samples[k].outputs.clone();
             injected += 1;
         }
@@ -573,8 +586,9 @@ pub fn long_log(samples: usize, seed: u64) -> Vec<Sample> {
     log
 }
 
-/// Writes [`CLEAN_FILE`], [`NOISY_FILE`] (rate [`SHIPPED_RATE`], seed [`SHIPPED_SEED`]) and
-/// [`HELDOUT_FILE`] into `dir`; returns the paths and the number of errors injected.
+/// Writes [`CLEAN_FILE`], [`NOISY_FILE`] (rate [`SHIPPED_RATE`], seed [`SHIPPED_SEED`]),
+/// [`HELDOUT_FILE`] and [`REFERENCE_FILE`] into `dir`; returns the paths and the number of
+/// errors injected.
 pub fn write_files(dir: &Path) -> Result<(Vec<PathBuf>, usize), WriteError> {
     let logs = generate(SHIPPED_RATE, SHIPPED_SEED);
     let mut written = Vec::new();
@@ -589,6 +603,12 @@ pub fn write_files(dir: &Path) -> Result<(Vec<PathBuf>, usize), WriteError> {
         write_atomic(&path, &bytes)?;
         written.push(path);
     }
+    let path = dir.join(REFERENCE_FILE);
+    write_atomic(
+        &path,
+        crate::export::json::to_string(&reference()).as_bytes(),
+    )?;
+    written.push(path);
     Ok((written, logs.injected))
 }
 
@@ -623,6 +643,31 @@ mod tests {
         assert_eq!(set.check(&reference()), Ok(()));
         let held = to_scenarios(&logs.held_out, "y.csv");
         assert_eq!(held.check(&reference()), Ok(()));
+    }
+
+    /// Every injected error can be undone by alternative edges: choosing, at each place
+    /// where the reference departs from the noisy steps, the alternative there makes the
+    /// reference replay everything.
+    #[test]
+    fn injected_errors_are_within_the_error_model() {
+        let clean = long_log(3000, 1);
+        let (noisy, injected) = inject_skew(&clean, 0.05, 1);
+        assert!(injected > 0);
+        let set = to_scenarios(&[noisy], "n.csv");
+        let g = crate::scenario::trace_graph::TraceGraph::build(&set);
+        let mut used = vec![false; g.alternatives.len()];
+        loop {
+            let fixed = g.corrected(&set, &used);
+            let Some(d) = fixed.divergences(&reference()).first().cloned() else {
+                break;
+            };
+            let a = g.chains[0].nodes[d.step]
+                .and_then(|n| g.alternative_of.get(&n).copied())
+                .filter(|&a| !used[a])
+                .unwrap_or_else(|| panic!("no alternative undoes {}", d.describe_step()));
+            used[a] = true;
+        }
+        assert!(used.iter().filter(|&&u| u).count() <= injected);
     }
 
     #[test]

@@ -287,6 +287,12 @@ pub struct BenchNoisyArgs {
     /// Candidates to enumerate after minimization.
     #[arg(long, default_value_t = 1)]
     pub enumerate: usize,
+    /// Bound on corrected errors, as a multiple of the number injected (0: no bound).
+    #[arg(long, default_value_t = 1.0)]
+    pub error_bound: f64,
+    /// Progress of every minimization step on stderr.
+    #[arg(long, short)]
+    pub verbose: bool,
 }
 
 /// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs.
@@ -300,11 +306,16 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
         let set = distribution::to_scenarios(&[noisy], "<generated>");
         let opts = NoisyOptions {
             enumerate: args.enumerate.max(1),
+            max_errors: (args.error_bound > 0.0)
+                .then(|| (injected as f64 * args.error_bound).ceil() as usize),
             ..NoisyOptions::default()
         };
         let t = Instant::now();
-        let r = synthesize_noisy(&set, &opts, &mut |_| {}, &mut |_| Flow::Continue)
-            .map_err(|e| Failure::with_code(exit::BUG, e))?;
+        let progress = Progress::new(!args.verbose);
+        let r = synthesize_noisy(&set, &opts, &mut |m| progress.line(m), &mut |_| {
+            Flow::Continue
+        })
+        .map_err(|e| Failure::with_code(exit::BUG, e))?;
         let total = t.elapsed().as_secs_f64();
         println!(
             "{:<8} {:<7} {:<7} {:<5} {:<9} {:<2} {:<2} {:<3} {:<9} {:<9} {:<10} {:<11.2} {:<12.2} {:.2}",
