@@ -331,7 +331,15 @@ pub fn use_cases() -> Vec<UseCase> {
         },
         UseCase {
             name: "manual_then_auto",
-            actions: vec![Load(3), Press(Start), Auto(true), Press(Stop)],
+            actions: vec![
+                Load(3),
+                Press(Start),
+                Press(Emergency),
+                Press(Stop),
+                Press(Start),
+                Auto(true),
+                Press(Stop),
+            ],
         },
         UseCase {
             name: "emergency_and_reset",

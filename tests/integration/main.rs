@@ -3,4 +3,5 @@
 mod cli;
 mod closed_loop;
 mod common;
+mod noisy;
 mod synthesis;
