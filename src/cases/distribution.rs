@@ -572,26 +572,32 @@ pub fn generate(rate: f64, seed: u64) -> Logs {
     }
 }
 
-/// A long log for benchmarks: random use cases (seeded) until at least `samples` samples.
-pub fn long_log(samples: usize, seed: u64) -> Vec<Sample> {
+/// Logs for benchmarks: random use cases (seeded; each 1 to 3 rounds of loading 1 to 8 pieces,
+/// start, sometimes an emergency, stop) until they hold `samples` samples in all; the last log
+/// is cut to make the total exact.
+pub fn random_logs(samples: usize, seed: u64) -> Vec<Vec<Sample>> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut actions = vec![Action::Auto(true)];
-    let mut log = Vec::new();
-    while log.len() < samples {
-        actions.push(Action::Load(rng.gen_range(1..=8)));
-        actions.push(Action::Press(Button::Start));
-        if rng.gen_bool(0.3) {
-            actions.push(Action::Press(Button::Emergency));
+    let mut logs = Vec::new();
+    let mut total = 0;
+    while total < samples {
+        let mut actions = vec![Action::Auto(true)];
+        for _ in 0..rng.gen_range(1..=3) {
+            actions.push(Action::Load(rng.gen_range(1..=8)));
+            actions.push(Action::Press(Button::Start));
+            if rng.gen_bool(0.3) {
+                actions.push(Action::Press(Button::Emergency));
+            }
+            actions.push(Action::Press(Button::Stop));
         }
-        actions.push(Action::Press(Button::Stop));
-        let case = UseCase {
-            name: "bench",
-            actions: actions.clone(),
-        };
-        log = record(&case);
+        let mut log = record(&UseCase {
+            name: "random",
+            actions,
+        });
+        log.truncate(samples - total);
+        total += log.len();
+        logs.push(log);
     }
-    log.truncate(samples);
-    log
+    logs
 }
 
 /// Writes [`CLEAN_FILE`], [`NOISY_FILE`] (rate [`SHIPPED_RATE`], seed [`SHIPPED_SEED`]),
@@ -658,24 +664,27 @@ mod tests {
     /// reference replay everything.
     #[test]
     fn injected_errors_are_within_the_error_model() {
-        let clean = long_log(3000, 1);
-        let (noisy, injected) = inject_skew(&clean, 0.05, 1);
-        assert!(injected > 0);
-        let set = to_scenarios(&[noisy], "n.csv");
-        let g = crate::scenario::trace_graph::TraceGraph::build(&set);
-        let mut used = vec![false; g.alternatives.len()];
-        loop {
-            let fixed = g.corrected(&set, &used);
-            let Some(d) = fixed.divergences(&reference()).first().cloned() else {
-                break;
-            };
-            let a = g.chains[0].nodes[d.step]
-                .and_then(|n| g.alternative_of.get(&n).copied())
-                .filter(|&a| !used[a])
-                .unwrap_or_else(|| panic!("no alternative undoes {}", d.describe_step()));
-            used[a] = true;
+        let mut total = 0;
+        for (k, clean) in random_logs(3000, 1).iter().enumerate() {
+            let (noisy, injected) = inject_skew(clean, 0.05, k as u64);
+            total += injected;
+            let set = to_scenarios(&[noisy], "n.csv");
+            let g = crate::scenario::trace_graph::TraceGraph::build(&set);
+            let mut used = vec![false; g.alternatives.len()];
+            loop {
+                let fixed = g.corrected(&set, &used);
+                let Some(d) = fixed.divergences(&reference()).first().cloned() else {
+                    break;
+                };
+                let a = g.chains[0].nodes[d.step]
+                    .and_then(|n| g.alternative_of.get(&n).copied())
+                    .filter(|&a| !used[a])
+                    .unwrap_or_else(|| panic!("no alternative undoes {}", d.describe_step()));
+                used[a] = true;
+            }
+            assert!(used.iter().filter(|&&u| u).count() <= injected);
         }
-        assert!(used.iter().filter(|&&u| u).count() <= injected);
+        assert!(total > 0);
     }
 
     #[test]

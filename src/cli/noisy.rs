@@ -295,15 +295,24 @@ pub struct BenchNoisyArgs {
     pub verbose: bool,
 }
 
-/// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs.
+/// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
+/// ([`distribution::random_logs`], skew injected per log).
 pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
     println!(
         "samples  steps   nodes   alts  injected  N  K  R   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
     );
     for &len in &args.samples {
-        let clean = distribution::long_log(len, args.seed);
-        let (noisy, injected) = distribution::inject_skew(&clean, args.rate, args.seed);
-        let set = distribution::to_scenarios(&[noisy], "<generated>");
+        let mut injected = 0;
+        let noisy: Vec<_> = distribution::random_logs(len, args.seed)
+            .iter()
+            .enumerate()
+            .map(|(k, log)| {
+                let (n, i) = distribution::inject_skew(log, args.rate, args.seed + k as u64);
+                injected += i;
+                n
+            })
+            .collect();
+        let set = distribution::to_scenarios(&noisy, "<generated>");
         let opts = NoisyOptions {
             enumerate: args.enumerate.max(1),
             max_errors: (args.error_bound > 0.0)
