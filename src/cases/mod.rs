@@ -6,6 +6,7 @@
 //! Out: [`ScenarioSet`](crate::scenario::ScenarioSet)s and the data files under `specs/` that
 //! are committed beside the code and checked against the generator by a test.
 
+pub mod distribution;
 pub mod pnp;
 pub mod tank;
 

@@ -162,6 +162,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             modules: None,
             pin: Vec::new(),
             slots: 3,
+            noisy: super::noisy::NoisyArgs::off(),
         })?,
     }
     let refined = infer::read_ecc(&out.join("SynthesizedFB.json"))?;

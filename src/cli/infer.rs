@@ -77,6 +77,8 @@ pub struct InferArgs {
     /// With --modules: transition slots per state (guards are conjunctions of literals).
     #[arg(long, default_value_t = 3, value_name = "K")]
     pub slots: usize,
+    #[command(flatten)]
+    pub noisy: super::noisy::NoisyArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -170,6 +172,9 @@ pub fn report_loaded(progress: &Progress, set: &ScenarioSet) {
 }
 
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    if args.noisy.noisy {
+        return super::noisy::infer_noisy(args);
+    }
     if let Some(m) = args.modules {
         return super::modular::infer_modular(args, m);
     }

@@ -9,6 +9,7 @@ mod events;
 mod infer;
 mod ingest;
 mod modular;
+mod noisy;
 mod search;
 mod verified;
 
@@ -105,12 +106,15 @@ pub enum Command {
     Experiment(search::ExperimentArgs),
     /// Measure the search's scenario-fitness evaluations per second per thread.
     BenchSearch(search::BenchSearchArgs),
+    /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
+    BenchNoisy(noisy::BenchNoisyArgs),
 }
 
 #[derive(Debug, clap::Args)]
 pub struct GenerateArgs {
-    /// The case: `pnp`, or `tank` (seed 002's tank: scenarios, raw logs, held-out runs).
-    #[arg(value_parser = ["pnp", "tank"])]
+    /// The case: `pnp`, `tank` (seed 002's tank: scenarios, raw logs, held-out runs) or
+    /// `distribution` (the Festo station: clean, noisy and held-out sampled logs).
+    #[arg(value_parser = ["pnp", "tank", "distribution"])]
     pub case: String,
     /// Folder to write the scenario and names files into.
     #[arg(long, default_value = "specs", value_name = "DIR")]
@@ -120,6 +124,9 @@ pub struct GenerateArgs {
 fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     if args.case == "tank" {
         return events::generate_tank(&args.out);
+    }
+    if args.case == "distribution" {
+        return noisy::generate_distribution(&args.out);
     }
     let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
     let set = crate::cases::pnp::generate();
@@ -217,6 +224,7 @@ pub fn run() -> i32 {
         Some(Command::BenchModular(a)) => modular::bench_modular(&a),
         Some(Command::Experiment(a)) => search::experiment(&a),
         Some(Command::BenchSearch(a)) => search::bench_search(&a),
+        Some(Command::BenchNoisy(a)) => noisy::bench_noisy(&a),
         Some(Command::Verify(a)) => verified::verify(&a),
         Some(Command::Generate(a)) => generate(&a),
         None => verified::main_job(&cli.main),

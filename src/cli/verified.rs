@@ -123,7 +123,7 @@ pub(super) fn nusmv(args: &NusmvArgs) -> Result<Nusmv, Failure> {
 }
 
 /// Locates NuSMV and opens a session.
-fn session(args: &NusmvArgs) -> Result<Session, Failure> {
+pub(super) fn session(args: &NusmvArgs) -> Result<Session, Failure> {
     Ok(nusmv(args)?.session())
 }
 

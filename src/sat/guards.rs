@@ -16,7 +16,7 @@
 
 use super::card::Totalizer;
 use super::decode::{Model, Structure};
-use crate::ecc::{guard::Literal, Guard, InputId, StateId, Transition};
+use crate::ecc::{guard::Literal, Guard, InputId, State, StateId, Transition};
 use crate::scenario::tree::{NodeId, ScenarioTree};
 use std::time::Instant;
 use varisat::{ExtendFormula, Lit, Solver};
@@ -211,6 +211,24 @@ fn decode(model: &Model, v: &GuardVars, p: &GuardProblem) -> Vec<Transition> {
             }
         })
         .collect()
+}
+
+/// Guards of every state of a tree-exact structure, minimized state by state until
+/// `deadline`, as [`State`]s named `s0..`; and whether every literal count is proven minimal.
+pub fn all_states(s: &Structure, tree: &ScenarioTree, deadline: Instant) -> (Vec<State>, bool) {
+    let mut exact = true;
+    let states = (0..s.c)
+        .map(|q| {
+            let g = minimize_state(&GuardProblem::of_state(s, tree, q), deadline);
+            exact &= g.exact;
+            State {
+                name: format!("s{q}"),
+                algorithm: s.algorithms[q].clone(),
+                transitions: g.transitions,
+            }
+        })
+        .collect();
+    (states, exact)
 }
 
 /// Minimizes the guards of one state; stops improving at `deadline` (keeps the best so far).

@@ -35,6 +35,7 @@ pub mod decode;
 pub mod guards;
 pub mod modular;
 pub mod negative;
+pub mod noisy;
 pub mod vars;
 
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
@@ -554,18 +555,8 @@ impl<'a> Synthesizer<'a> {
                 })
                 .collect()
         } else {
-            let deadline = tg + opts.guard_budget;
-            let mut states = Vec::with_capacity(structure.c);
-            for q in 0..structure.c {
-                let problem = guards::GuardProblem::of_state(&structure, tree, q);
-                let g = guards::minimize_state(&problem, deadline);
-                exact &= g.exact;
-                states.push(State {
-                    name: format!("s{q}"),
-                    algorithm: structure.algorithms[q].clone(),
-                    transitions: g.transitions,
-                });
-            }
+            let (states, all_exact) = guards::all_states(&structure, tree, tg + opts.guard_budget);
+            exact = all_exact;
             states
         };
         self.stats.guard_seconds = tg.elapsed().as_secs_f64();

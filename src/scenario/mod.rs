@@ -13,6 +13,7 @@ pub mod csvlog;
 pub mod fbsat;
 pub mod names;
 pub mod negative;
+pub mod trace_graph;
 pub mod tree;
 
 use crate::ecc::{bits_to_string, replay, Ecc};

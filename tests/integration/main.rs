@@ -5,5 +5,6 @@ mod closed_loop;
 mod common;
 mod events;
 mod modular;
+mod noisy;
 mod synthesis;
 mod tank;
