@@ -12,6 +12,7 @@ use crate::sat::modular::{parse_pins, synthesize_modular, ModularError, ModularO
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use clap::Args;
+use std::path::Path;
 use std::time::Instant;
 
 /// Checks before any search that the block name and the interface can be exported: a probe
@@ -103,11 +104,24 @@ pub fn infer_modular(args: &InferArgs, modules: usize) -> Result<(), Failure> {
     let progress = Progress::new(args.quiet);
     let set = load_scenarios(&args.traces)?;
     report_loaded(&progress, &set);
-    let opts = options(args, &set, modules)?;
-    check_exportable(&set, &args.name, modules)?;
-    let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
+    let out = out_dir(args)?;
+    distribute(args, modules, &set, &out, &progress)
+}
+
+/// Modular synthesis of `set` into `out` (also the second stage of `--noisy --modules`,
+/// on the corrected traces).
+pub fn distribute(
+    args: &InferArgs,
+    modules: usize,
+    set: &ScenarioSet,
+    out: &Path,
+    progress: &Progress,
+) -> Result<(), Failure> {
+    let opts = options(args, set, modules)?;
+    check_exportable(set, &args.name, modules)?;
+    let tree = ScenarioTree::build(set).map_err(Failure::input)?;
     let result =
-        synthesize_modular(&set, &tree, &opts, &mut |m| progress.line(m)).map_err(failure)?;
+        synthesize_modular(set, &tree, &opts, &mut |m| progress.line(m)).map_err(failure)?;
     let s = &result.size;
     println!(
         "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
@@ -122,8 +136,7 @@ pub fn infer_modular(args: &InferArgs, modules: usize) -> Result<(), Failure> {
         result.stats.sat_seconds,
         set.scenarios.len()
     );
-    let out = out_dir(args)?;
-    let files = write_modular(&result.modular, &out, &args.name).map_err(Failure::input)?;
+    let files = write_modular(&result.modular, out, &args.name).map_err(Failure::input)?;
     print_written(&files);
     Ok(())
 }

@@ -239,6 +239,18 @@ pub fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     .map_err(Failure::input)?;
     print!("{table}");
     println!("results in {}", out.display());
+    // Seed 000's toolchain: correct the traces first, then distribute the logic.
+    if let Some(m) = args.modules {
+        let chosen = verified.unwrap_or(1);
+        let c = &result.candidates[chosen - 1];
+        let dir = out.join("modular");
+        std::fs::create_dir_all(&dir).map_err(|e| folder_error(&dir, e))?;
+        println!(
+            "modular synthesis (M = {m}) on the corrected traces of candidate {chosen} (ε = {}):",
+            c.errors
+        );
+        super::modular::distribute(args, m, &c.corrected, &dir, &progress)?;
+    }
     match (checker_given(n), verified) {
         (false, _) => Ok(()),
         (true, Some(k)) => {

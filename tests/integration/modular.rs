@@ -277,3 +277,90 @@ fn composite_closes_the_loop_with_the_pnp_plant() {
         .count();
     eprintln!("{holds} of {} properties hold in closed loop", props.len());
 }
+
+fn distribution(file: &str) -> ScenarioSet {
+    fbsynth::scenario::csvlog::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join(file),
+        None,
+        None,
+    )
+    .unwrap()
+}
+
+/// The distribution station's clean logs in two modules; with the lamps and the station's
+/// actuators pinned apart, the HMI becomes a module of its own (seed 000's Fig. 6).
+#[test]
+fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
+    let clean = distribution("specs/distribution.csv");
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--modules",
+        "2",
+        "--traces",
+        "specs/distribution.csv",
+        "--out",
+        dir,
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let free = read_back(out.path(), "SynthesizedFB", &clean);
+    assert_eq!(free.modules.len(), 2);
+    assert_eq!(check(&clean, &free), Ok(()));
+    let pinned = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--modules",
+        "2",
+        "--pin",
+        "1=start_led,reset_led",
+        "--pin",
+        "2=retract,vacuum_on,vacuum_off,to_magazine,to_client",
+        "--traces",
+        "specs/distribution.csv",
+        "--out",
+        pinned.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let hmi = read_back(pinned.path(), "SynthesizedFB", &clean);
+    assert_eq!(hmi.modules[0].ecc.outputs, ["start_led", "reset_led"]);
+    assert_eq!(hmi.modules[1].ecc.outputs.len(), 5);
+    assert_eq!(check(&clean, &hmi), Ok(()));
+}
+
+/// `--noisy --modules`: the traces are corrected first, then the logic is distributed.
+#[test]
+fn noisy_then_modular_distributes_the_corrected_traces() {
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--noisy",
+        "--max-errors",
+        "2",
+        "--modules",
+        "2",
+        "--pin",
+        "1=start_led,reset_led",
+        "--traces",
+        "specs/distribution_noisy.csv",
+        "--out",
+        out.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let corrected = distribution(
+        out.path()
+            .join("candidate_1/corrected.csv")
+            .to_str()
+            .unwrap(),
+    );
+    let composite = read_back(&out.path().join("modular"), "SynthesizedFB", &corrected);
+    assert!(composite.modules[0]
+        .ecc
+        .outputs
+        .iter()
+        .any(|o| o == "start_led"));
+    assert_eq!(check(&corrected, &composite), Ok(()));
+}
