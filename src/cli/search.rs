@@ -263,9 +263,8 @@ pub fn main_job(args: &MainArgs, inputs: &MainInputs, progress: &Progress) -> Re
     });
     let files = write_verified(args, inputs, &ecc, &v.report, &v.model.text, &summary)?;
     println!(
-        "verified: all {} properties hold (NuSMV), {} scenarios reproduced",
-        v.report.properties.len(),
-        inputs.set.scenarios.len()
+        "{}",
+        super::verified::verified_line(v.report.properties.len(), inputs.set.scenarios.len())
     );
     println!(
         "C = {}  K = {}  T = {}  N = {}",

@@ -302,9 +302,8 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         &summary,
     )?;
     println!(
-        "verified: all {} properties hold (NuSMV), {} scenarios reproduced",
-        verified.report.properties.len(),
-        set.scenarios.len()
+        "{}",
+        verified_line(verified.report.properties.len(), set.scenarios.len())
     );
     println!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
     let n = verified.iterations.len();
@@ -396,4 +395,15 @@ impl From<NusmvError> for Failure {
     fn from(e: NusmvError) -> Failure {
         Failure::input(e)
     }
+}
+
+/// The line that says a controller is verified (only ever printed after NuSMV said so).
+pub(super) fn verified_line(properties: usize, scenarios: usize) -> String {
+    let holds = if properties == 1 {
+        "the property holds".to_string()
+    } else {
+        format!("all {properties} properties hold")
+    };
+    let s = if scenarios == 1 { "" } else { "s" };
+    format!("verified: {holds} (NuSMV), {scenarios} scenario{s} reproduced")
 }
