@@ -28,8 +28,7 @@
 //! on one input vector, so [`csvlog::samples_to_steps`] turns a clean log into exactly the
 //! scans that mattered.
 
-use crate::ecc::{Algorithm, Ecc, Run, State, StateId, Transition, Tri};
-use crate::export::guard_text::parse_guard;
+use crate::ecc::{Ecc, Run};
 use crate::files::{write_atomic, WriteError};
 use crate::scenario::csvlog::{self, Sample};
 use crate::scenario::{Origin, Scenario, ScenarioSet};
@@ -142,46 +141,11 @@ pub fn output_names() -> Vec<String> {
 /// client one by one while the magazine is not empty; `stop` in `Ready` goes back to `Idle`;
 /// `emergency` stops every motion (lamp `reset_led`) until `stop` acknowledges it.
 pub fn reference() -> Ecc {
-    let id = |name: &str| {
-        StateId(
-            STATES
-                .iter()
-                .position(|(n, _)| *n == name)
-                .unwrap_or_else(|| panic!("unknown state '{name}'")),
-        )
-    };
-    let inputs = input_names();
-    // Emergency first in every state: the priority order is what makes it win.
-    let mut ordered: Vec<&(&str, &str, &str)> = TRANSITIONS.iter().collect();
-    ordered.sort_by_key(|(from, to, _)| (id(from), *to != "EmergencyStop"));
-    let states = STATES
-        .iter()
-        .map(|(name, algorithm)| State {
-            name: name.to_string(),
-            algorithm: Algorithm::Tri(
-                algorithm
-                    .chars()
-                    .map(|c| Tri::from_symbol(c).expect("algorithm symbol"))
-                    .collect(),
-            ),
-            transitions: ordered
-                .iter()
-                .filter(|(from, _, _)| from == name)
-                .map(|(_, to, guard)| Transition {
-                    target: id(to),
-                    // The tables are constants of this file: a bad guard is a bug here.
-                    guard: parse_guard(guard, &inputs)
-                        .unwrap_or_else(|e| panic!("guard '{guard}': {e}")),
-                })
-                .collect(),
-        })
-        .collect();
-    Ecc {
-        inputs,
-        outputs: output_names(),
-        initial_outputs: vec![false; OUTPUTS.len()],
-        states,
-    }
+    // Emergency first in every state: the priority order is what makes it win. The sort is
+    // stable, so the other transitions keep their table order.
+    let mut ordered = TRANSITIONS.to_vec();
+    ordered.sort_by_key(|(_, to, _)| *to != "EmergencyStop");
+    super::table_ecc(&INPUTS, &OUTPUTS, &STATES, &ordered)
 }
 
 /// The simulated station (everything but the controller).

@@ -113,6 +113,18 @@ pub enum SatError {
     Bug(String),
 }
 
+/// Solves under the assumptions already set; the model when satisfiable.
+pub(crate) fn solve_model(solver: &mut Solver<'_>) -> Option<Model> {
+    if solver
+        .solve()
+        .expect("varisat does not fail without proof output")
+    {
+        Some(Model::new(&solver.model().expect("model after SAT")))
+    } else {
+        None
+    }
+}
+
 /// A clause sink that counts what it forwards.
 pub(crate) struct Counting<'a, F: ExtendFormula> {
     pub inner: &'a mut F,
@@ -170,11 +182,7 @@ struct Encoding {
 impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &Options) -> Encoding {
         let mut solver = Solver::new();
-        let mut sink = Counting {
-            inner: &mut solver,
-            vars: 0,
-            clauses: 0,
-        };
+        let mut sink = Counting::new(&mut solver);
         let vars = Vars::new(&mut sink, tree, c_max, opts.cube_slots);
         let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
         let tails: Vec<Lit> = (0..c_max * c_max).map(|_| sink.new_lit()).collect();
@@ -229,11 +237,7 @@ impl Encoding {
             self.in_counterexample[u] = true;
             return InputVec(u);
         }
-        let mut sink = Counting {
-            inner: &mut self.solver,
-            vars: 0,
-            clauses: 0,
-        };
+        let mut sink = Counting::new(&mut self.solver);
         let u = self.vars.add_input(&mut sink);
         constraints::per_input(&mut sink, &self.vars, u, x, self.start_state);
         constraints::extend_edges(&mut sink, &self.vars, u, &mut self.tails);
@@ -250,11 +254,7 @@ impl Encoding {
             .iter()
             .map(|s| self.counterexample_input(&s.inputs))
             .collect();
-        let mut sink = Counting {
-            inner: &mut self.solver,
-            vars: 0,
-            clauses: 0,
-        };
+        let mut sink = Counting::new(&mut self.solver);
         negative::leave_lasso(&mut sink, &self.vars, neg, &ids);
         self.variables += sink.vars;
         self.clauses += sink.clauses;
@@ -298,15 +298,7 @@ impl Encoding {
         let mut all = self.base_assumptions();
         all.extend_from_slice(assumptions);
         self.solver.assume(&all);
-        if self
-            .solver
-            .solve()
-            .expect("varisat does not fail without proof output")
-        {
-            Some(Model::new(&self.solver.model().expect("model after SAT")))
-        } else {
-            None
-        }
+        solve_model(&mut self.solver)
     }
 }
 

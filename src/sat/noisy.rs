@@ -272,11 +272,7 @@ impl NoisyEncoding {
         stats: &mut NoisyStats,
     ) -> Self {
         let mut solver = Solver::new();
-        let mut sink = Counting {
-            inner: &mut solver,
-            vars: 0,
-            clauses: 0,
-        };
+        let mut sink = Counting::new(&mut solver);
         let vars = Vars::new(&mut sink, &graph.tree, c_max, None);
         let e = encode(&mut sink, &vars, graph, kind);
         let total_t = Totalizer::new(&mut sink, vars.all_t(), c_max * c_max);
@@ -306,15 +302,7 @@ impl NoisyEncoding {
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         self.calls += 1;
         self.solver.assume(assumptions);
-        if self
-            .solver
-            .solve()
-            .expect("varisat does not fail without proof output")
-        {
-            Some(Model::new(&self.solver.model().expect("model after SAT")))
-        } else {
-            None
-        }
+        super::solve_model(&mut self.solver)
     }
 
     /// Forbids the edge choice of `used` from now on.

@@ -63,16 +63,7 @@ pub struct TraceGraph {
 impl TraceGraph {
     /// Builds the graph; never fails (noise is what the graph is for).
     pub fn build(set: &ScenarioSet) -> TraceGraph {
-        let mut tree = ScenarioTree {
-            input_vectors: Vec::new(),
-            nodes: vec![Node {
-                outputs: set.initial_outputs.clone(),
-                parent: None,
-                children: Vec::new(),
-                passive: Vec::new(),
-            }],
-            witness: vec![(0, 0)],
-        };
+        let mut tree = ScenarioTree::root_only(&set.initial_outputs);
         let mut interned: HashMap<Vec<bool>, InputVec> = HashMap::new();
         let mut intern = |tree: &mut ScenarioTree, x: &[bool]| -> InputVec {
             *interned.entry(x.to_vec()).or_insert_with(|| {

@@ -62,18 +62,23 @@ enum Edge {
 }
 
 impl ScenarioTree {
-    /// Builds the tree, failing on contradictory scenarios.
-    pub fn build(set: &ScenarioSet) -> Result<ScenarioTree, ScenarioError> {
-        let mut tree = ScenarioTree {
+    /// A tree (or trace graph) of the root alone, which holds the initial outputs.
+    pub(crate) fn root_only(initial_outputs: &[bool]) -> ScenarioTree {
+        ScenarioTree {
             input_vectors: Vec::new(),
             nodes: vec![Node {
-                outputs: set.initial_outputs.clone(),
+                outputs: initial_outputs.to_vec(),
                 parent: None,
                 children: Vec::new(),
                 passive: Vec::new(),
             }],
             witness: vec![(0, 0)],
-        };
+        }
+    }
+
+    /// Builds the tree, failing on contradictory scenarios.
+    pub fn build(set: &ScenarioSet) -> Result<ScenarioTree, ScenarioError> {
+        let mut tree = ScenarioTree::root_only(&set.initial_outputs);
         let mut interned: HashMap<Vec<bool>, InputVec> = HashMap::new();
         let mut edges: HashMap<(NodeId, InputVec), (Edge, Seen)> = HashMap::new();
         for (si, sc) in set.scenarios.iter().enumerate() {

@@ -238,15 +238,7 @@ impl Encoding {
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         self.calls += 1;
         self.solver.assume(assumptions);
-        if self
-            .solver
-            .solve()
-            .expect("varisat does not fail without proof output")
-        {
-            Some(Model::new(&self.solver.model().expect("model after SAT")))
-        } else {
-            None
-        }
+        crate::sat::solve_model(&mut self.solver)
     }
 }
 
