@@ -1,4 +1,10 @@
-//! The `synth` binary: a thin wrapper around [`fbsynth::cli`].
+//! The `synth` binary: the command line ([`cli`]) over the `fbsynth` library, and the
+//! benchmark cases (`synth generate`, `synth bench-noisy`).
+
+// The tests use more of the cases than the commands do.
+#[allow(dead_code)]
+mod cases;
+mod cli;
 
 fn main() {
     // Like other command-line tools, end quietly when the reader of stdout goes away
@@ -8,5 +14,5 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    std::process::exit(fbsynth::cli::run());
+    std::process::exit(cli::run());
 }

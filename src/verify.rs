@@ -140,12 +140,131 @@ fn describe(errors: &[LocatedError]) -> String {
     s
 }
 
-/// What to verify against.
-pub struct Setup<'a> {
-    pub plant: &'a Plant,
-    pub coupling: &'a Coupling,
-    pub spec_file: &'a Path,
-    pub props: &'a [Property],
+/// The verification problem: what a controller is checked against, owned so that colonies
+/// on other threads, candidates of a noisy enumeration and the final check share one value.
+///
+/// Built once per run with [`Problem::load`], which checks the spec, the plant and their
+/// coupling with the controller interface before any synthesis starts.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The surrogate plant (`MODULE plant(...)`).
+    pub plant: Plant,
+    /// How plant and controller signals are wired.
+    pub coupling: Coupling,
+    /// The spec file the properties come from (errors are located in it).
+    pub spec_file: PathBuf,
+    /// The LTL properties, in spec order.
+    pub props: Vec<Property>,
+}
+
+/// Why a verification problem could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemError {
+    #[error(transparent)]
+    Spec(#[from] crate::ltl::LtlError),
+    #[error(transparent)]
+    Plant(#[from] crate::smv::plant::PlantError),
+    #[error(transparent)]
+    Coupling(#[from] crate::smv::closed_loop::CouplingError),
+    #[error("{file}: no property named `{name}`", file = .file.display())]
+    UnknownProperty { file: PathBuf, name: String },
+}
+
+impl Problem {
+    /// Reads the spec and the plant and checks their coupling with a controller over
+    /// `inputs` and `outputs`.
+    pub fn load(
+        spec_file: &Path,
+        plant_file: &Path,
+        inputs: &[String],
+        outputs: &[String],
+    ) -> Result<Problem, ProblemError> {
+        let props = crate::ltl::parse_spec_file(spec_file)?;
+        let plant = crate::smv::plant::read_plant(plant_file)?;
+        let coupling =
+            crate::smv::closed_loop::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
+        Ok(Problem {
+            plant,
+            coupling,
+            spec_file: spec_file.to_path_buf(),
+            props,
+        })
+    }
+
+    /// Keeps only the properties named (by label or `p<k>`); `all` keeps every one.
+    pub fn select(mut self, names: &[String]) -> Result<Problem, ProblemError> {
+        if names.iter().any(|n| n == "all") {
+            return Ok(self);
+        }
+        let named: Vec<(String, Property)> = self
+            .props
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (property_name(k, p), p.clone()))
+            .collect();
+        self.props = names
+            .iter()
+            .map(|n| {
+                named
+                    .iter()
+                    .find(|(m, _)| m == n)
+                    .map(|(_, p)| p.clone())
+                    .ok_or_else(|| ProblemError::UnknownProperty {
+                        file: self.spec_file.clone(),
+                        name: n.clone(),
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(self)
+    }
+
+    /// The properties' names, in spec order.
+    pub fn property_names(&self) -> Vec<String> {
+        self.props
+            .iter()
+            .enumerate()
+            .map(|(k, p)| property_name(k, p))
+            .collect()
+    }
+}
+
+/// The one verifier: a NuSMV session and a private folder for the closed-loop model, over a
+/// shared [`Problem`].
+pub struct Verifier {
+    problem: std::sync::Arc<Problem>,
+    session: Session,
+    workdir: tempfile::TempDir,
+}
+
+impl Verifier {
+    /// Opens a session of `nusmv` for `problem`.
+    pub fn new(
+        problem: std::sync::Arc<Problem>,
+        nusmv: &crate::nusmv::Nusmv,
+    ) -> Result<Verifier, VerifyError> {
+        Ok(Verifier {
+            problem,
+            session: nusmv.session(),
+            workdir: tempfile::tempdir()?,
+        })
+    }
+
+    /// The problem this verifier checks against.
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    /// Verifies `ecc` in closed loop (see [`verify`]).
+    pub fn verify(&mut self, ecc: &Ecc) -> Result<Verification, VerifyError> {
+        verify(ecc, &self.problem, &mut self.session, self.workdir.path())
+    }
+
+    /// The closed-loop model of the last check, if one was written (kept for the user when
+    /// NuSMV rejects it).
+    pub fn last_model(&self) -> Option<PathBuf> {
+        let p = self.workdir.path().join("closed_loop.smv");
+        p.is_file().then_some(p)
+    }
 }
 
 /// The result of one verification run.
@@ -160,11 +279,11 @@ pub struct Verification {
 /// Verifies `ecc` in closed loop; `workdir` receives the model file.
 pub fn verify(
     ecc: &Ecc,
-    setup: &Setup,
+    problem: &Problem,
     session: &mut Session,
     workdir: &Path,
 ) -> Result<Verification, VerifyError> {
-    let model = compose(ecc, setup.plant, setup.coupling, setup.props)?;
+    let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();
@@ -172,28 +291,28 @@ pub fn verify(
         Ok(r) => r,
         Err(NusmvError::Model(errors)) => {
             return Err(VerifyError::Model(locate_errors(
-                &errors, &model, setup, &path,
+                &errors, &model, problem, &path,
             )))
         }
         Err(NusmvError::Timeout { seconds, .. }) => {
             return Err(VerifyError::Timeout {
                 seconds,
-                plant: setup.plant.file.clone(),
+                plant: problem.plant.file.clone(),
             })
         }
         Err(e) => return Err(e.into()),
     };
     let nusmv_seconds = t.elapsed().as_secs_f64();
-    if results.len() != setup.props.len() {
+    if results.len() != problem.props.len() {
         return Err(VerifyError::Count {
-            expected: setup.props.len(),
+            expected: problem.props.len(),
             got: results.len(),
         });
     }
-    let results = match_results(setup.props, results)?;
+    let results = match_results(&problem.props, results)?;
     let mut properties = Vec::new();
     let mut counterexamples = Vec::new();
-    for (k, (p, r)) in setup.props.iter().zip(&results).enumerate() {
+    for (k, (p, r)) in problem.props.iter().zip(&results).enumerate() {
         let name = property_name(k, p);
         let (holds, trace) = match &r.verdict {
             Verdict::Holds => (true, None),
@@ -256,20 +375,20 @@ fn match_results(
 fn locate_errors(
     errors: &[ModelError],
     model: &ClosedLoop,
-    setup: &Setup,
+    problem: &Problem,
     path: &Path,
 ) -> Vec<LocatedError> {
     errors
         .iter()
         .map(|e| match model.source(e.line) {
             Source::Plant(l) => LocatedError {
-                file: setup.plant.file.clone(),
+                file: problem.plant.file.clone(),
                 line: l,
                 message: e.message.clone(),
                 generated: false,
             },
             Source::Spec(l) => LocatedError {
-                file: setup.spec_file.to_path_buf(),
+                file: problem.spec_file.to_path_buf(),
                 line: l,
                 message: e.message.clone(),
                 generated: false,

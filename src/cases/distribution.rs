@@ -28,10 +28,10 @@
 //! on one input vector, so [`csvlog::samples_to_steps`] turns a clean log into exactly the
 //! scans that mattered.
 
-use crate::ecc::{Ecc, Run};
-use crate::files::{write_atomic, WriteError};
-use crate::scenario::csvlog::{self, Sample};
-use crate::scenario::{Origin, Scenario, ScenarioSet};
+use fbsynth::ecc::{Ecc, Run};
+use fbsynth::files::{write_atomic, WriteError};
+use fbsynth::scenario::csvlog::{self, Sample};
+use fbsynth::scenario::{Origin, Scenario, ScenarioSet};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::io::Write;
@@ -584,7 +584,7 @@ pub fn write_files(dir: &Path) -> Result<(Vec<PathBuf>, usize), WriteError> {
     let path = dir.join(REFERENCE_FILE);
     write_atomic(
         &path,
-        crate::export::json::to_string(&reference()).as_bytes(),
+        fbsynth::export::json::to_string(&reference()).as_bytes(),
     )?;
     written.push(path);
     Ok((written, logs.injected))
@@ -633,7 +633,7 @@ mod tests {
             let (noisy, injected) = inject_skew(clean, 0.05, k as u64);
             total += injected;
             let set = to_scenarios(&[noisy], "n.csv");
-            let g = crate::scenario::trace_graph::TraceGraph::build(&set);
+            let g = fbsynth::scenario::trace_graph::TraceGraph::build(&set);
             let mut used = vec![false; g.alternatives.len()];
             loop {
                 let fixed = g.corrected(&set, &used);

@@ -3,15 +3,15 @@
 //!
 //! In: nothing but the case's own constants (and, for [`pnp`], a work-piece order; for
 //! [`tank`], a seed of the noisy plant).
-//! Out: [`ScenarioSet`](crate::scenario::ScenarioSet)s and the data files under `specs/` that
+//! Out: [`ScenarioSet`](fbsynth::scenario::ScenarioSet)s and the data files under `specs/` that
 //! are committed beside the code and checked against the generator by a test.
 
 pub mod distribution;
 pub mod pnp;
 pub mod tank;
 
-use crate::ecc::{Algorithm, Ecc, State, StateId, Transition, Tri};
-use crate::export::guard_text::parse_guard;
+use fbsynth::ecc::{Algorithm, Ecc, State, StateId, Transition, Tri};
+use fbsynth::export::guard_text::parse_guard;
 
 /// A reference controller written as tables: states `(name, algorithm)` with the algorithm as
 /// `0/1/x` symbols per output, and transitions `(from, to, guard text)` in priority order.

@@ -48,9 +48,9 @@
 //! ends when every piece is delivered and the machine is at rest (hand home and up, all commands
 //! off), followed by a few idle scans.
 
-use crate::ecc::{Ecc, Fired, Run};
-use crate::files::{write_atomic, WriteError};
-use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
+use fbsynth::ecc::{Ecc, Fired, Run};
+use fbsynth::files::{write_atomic, WriteError};
+use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -567,8 +567,8 @@ pub fn hazards(rec: &Recording) -> Vec<Hazard> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ecc::{Algorithm, Tri};
-    use crate::scenario::tree::ScenarioTree;
+    use fbsynth::ecc::{Algorithm, Tri};
+    use fbsynth::scenario::tree::ScenarioTree;
 
     fn orders() -> Vec<WorkOrder> {
         SEED_ORDERS.iter().map(|o| o.parse().unwrap()).collect()

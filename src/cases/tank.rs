@@ -35,9 +35,9 @@
 //! 3 = program 2 on the noisy plant; [`HELD_OUT`] lists runs never used for training.
 
 use super::table_ecc;
-use crate::ecc::{Ecc, Run};
-use crate::files::{write_atomic, WriteError};
-use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
+use fbsynth::ecc::{Ecc, Run};
+use fbsynth::files::{write_atomic, WriteError};
+use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::io::Write;
@@ -383,7 +383,7 @@ pub fn write_files(dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ingest::{read_scenarios, Mapping};
+    use fbsynth::ingest::{read_scenarios, Mapping};
 
     fn reset_times(scans: &[Scan]) -> usize {
         scans

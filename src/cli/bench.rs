@@ -1,15 +1,22 @@
-//! `synth bench`: measured figures for the README, reproducible with one command.
+//! The benchmark commands: figures for the README, each reproducible with one command.
 //!
-//! Runs exact synthesis on the project's Pick-and-Place scenarios and, when the fbSAT data
-//! folder is present (it is not part of the repository), on fbSAT's published scenario sets,
-//! several times each, and prints a Markdown table of wall-clock times and sizes.
+//! - `synth bench`: exact synthesis on the project's Pick-and-Place scenarios and, when the
+//!   fbSAT data folder is present (it is not part of the repository), on fbSAT's published
+//!   scenario sets; then the main job (exact synthesis verified by NuSMV);
+//! - `synth bench-noisy`: noisy synthesis on generated distribution-station logs;
+//! - `synth bench-modular`: modular synthesis for M = 1..4;
+//! - `synth bench-search`: the search's scenario-fitness evaluations per second.
 
-use super::infer::{load_scenarios, TraceArgs};
+use super::args::{problem, TraceArgs};
+use super::infer::describe_modules;
+use super::progress::Progress;
 use super::{exit, Failure};
-use crate::ecc::AlgorithmKind;
-use crate::sat::{self, Options};
-use crate::scenario::tree::ScenarioTree;
+use crate::cases::distribution;
 use clap::Args;
+use fbsynth::ecc::AlgorithmKind;
+use fbsynth::pipeline::{self, exact, modular, noisy, Check, Recordings};
+use fbsynth::search::{self, Evaluator, Machine, ScenarioData};
+use rand::SeedableRng;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -40,8 +47,8 @@ pub struct BenchArgs {
 
 struct Case {
     name: String,
-    traces: TraceArgs,
-    opts: Options,
+    traces: Recordings,
+    opts: exact::Options,
 }
 
 fn cases(args: &BenchArgs) -> Vec<Case> {
@@ -49,12 +56,8 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
     if args.pnp.is_file() {
         out.push(Case {
             name: format!("{} (tri)", args.pnp.display()),
-            traces: TraceArgs {
-                traces: vec![args.pnp.clone()],
-                input_names: None,
-                output_names: None,
-            },
-            opts: Options::default(),
+            traces: Recordings::files(vec![args.pnp.clone()]),
+            opts: exact::Options::default(),
         });
     }
     let names = |f: &str| args.fbsat_data.join("pnp").join(f);
@@ -63,7 +66,7 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
         if !file.is_file() || !names("input-names").is_file() {
             continue;
         }
-        let traces = TraceArgs {
+        let traces = Recordings {
             traces: vec![file],
             input_names: Some(names("input-names")),
             output_names: Some(names("output-names")),
@@ -72,10 +75,10 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
             out.push(Case {
                 name: format!("fbSAT tests-{n} ({label})"),
                 traces: traces.clone(),
-                opts: Options {
+                opts: exact::Options {
                     algorithms: AlgorithmKind::Binary,
                     start_state,
-                    ..Options::default()
+                    ..exact::Options::default()
                 },
             });
         }
@@ -90,9 +93,6 @@ fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
 
 /// The main job, `runs` times: iterations, time, SAT share, NuSMV time per candidate.
 fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
-    use crate::cegis::{self, Config};
-    use crate::nusmv::{locate, Nusmv};
-    use crate::verify::Setup;
     let (ltl, plant_file) = (
         Path::new("specs/pnp.ltl"),
         Path::new("smv/pnp_surrogate.smv"),
@@ -100,46 +100,19 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     if !ltl.is_file() || !plant_file.is_file() || !args.pnp.is_file() {
         return Ok(());
     }
-    let nusmv = locate(args.nusmv.as_deref()).map_err(Failure::input)?;
-    let set = load_scenarios(&TraceArgs {
-        traces: vec![args.pnp.clone()],
-        input_names: None,
-        output_names: None,
-    })?;
-    let (props, plant, coupling) =
-        super::verified::load_setup(ltl, plant_file, &set.inputs, &set.outputs)?;
-    let setup = Setup {
-        plant: &plant,
-        coupling: &coupling,
-        spec_file: ltl,
-        props: &props,
-    };
-    let config = Config {
-        sat: Options {
-            cube_slots: Some(6),
-            ..Options::default()
-        },
-        max_iterations: 500,
-        verbose: false,
+    let nusmv = pipeline::nusmv(args.nusmv.as_deref(), 60.0)?;
+    let set = Recordings::files(vec![args.pnp.clone()]).load()?;
+    let check = Check::new(problem(ltl, plant_file, &set.inputs, &set.outputs)?, nusmv);
+    let opts = exact::Options {
+        max_out_degree: Some(exact::DEFAULT_OUT_DEGREE),
+        ..exact::Options::default()
     };
     println!();
     println!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per candidate (median) |");
     println!("|---|---|---|---|---|---|---|---|---|");
     for run in 1..=args.cegis_runs {
-        let mut session = Nusmv::new(nusmv.clone()).session();
-        let work = tempfile::tempdir().map_err(Failure::input)?;
-        let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
         let t = Instant::now();
-        let v = cegis::run(
-            &set,
-            &tree,
-            &setup,
-            &mut session,
-            &config,
-            work.path(),
-            &mut |_| {},
-        )
-        .map_err(Failure::input)?;
+        let v = exact::run(&set, Some(&check), &opts, &mut |_| {})?;
         let total = t.elapsed().as_secs_f64();
         let sat: f64 = v.iterations.iter().map(|i| i.sat_seconds).sum();
         let nus: Vec<f64> = v.iterations.iter().map(|i| i.nusmv_seconds).collect();
@@ -175,14 +148,12 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     println!("| case | steps | C | K | T | N | min s | median s | max s |");
     println!("|---|---|---|---|---|---|---|---|---|");
     for case in all {
-        let set = load_scenarios(&case.traces)?;
+        let set = case.traces.load()?;
         let mut times = Vec::with_capacity(runs);
         let mut size = None;
         for _ in 0..runs {
             let t = Instant::now();
-            let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
-            let r = sat::synthesize(&set, &tree, &case.opts, &mut |_| {})
-                .map_err(|e| Failure::with_code(exit::NO_MACHINE, e))?;
+            let r = exact::run(&set, None, &case.opts, &mut |_| {})?.synthesis;
             times.push(t.elapsed().as_secs_f64());
             size = Some(r.size);
         }
@@ -202,5 +173,222 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     if args.cegis_runs > 0 {
         bench_cegis(args)?;
     }
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct BenchNoisyArgs {
+    /// Log lengths in samples, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000")]
+    pub samples: Vec<usize>,
+    /// Probability that an output change is recorded one sample early.
+    #[arg(long, default_value_t = 0.02)]
+    pub rate: f64,
+    /// Seed of the use cases and of the injected errors.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Candidates to enumerate after minimization.
+    #[arg(long, default_value_t = 1)]
+    pub enumerate: usize,
+    /// Bound on corrected errors, as a multiple of the number injected (0: no bound).
+    #[arg(long, default_value_t = 1.0)]
+    pub error_bound: f64,
+    /// Progress of every minimization step on stderr.
+    #[arg(long, short)]
+    pub verbose: bool,
+}
+
+/// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
+/// ([`distribution::random_logs`], skew injected per log).
+pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
+    println!(
+        "samples  steps   nodes   alts  injected  N  K  R   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
+    );
+    for &len in &args.samples {
+        let mut injected = 0;
+        let noisy: Vec<_> = distribution::random_logs(len, args.seed)
+            .iter()
+            .enumerate()
+            .map(|(k, log)| {
+                let (n, i) = distribution::inject_skew(log, args.rate, args.seed + k as u64);
+                injected += i;
+                n
+            })
+            .collect();
+        let set = distribution::to_scenarios(&noisy, "<generated>");
+        let opts = noisy::Options {
+            enumerate: args.enumerate.max(1),
+            max_errors: (args.error_bound > 0.0)
+                .then(|| (injected as f64 * args.error_bound).ceil() as usize),
+            ..noisy::Options::default()
+        };
+        let t = Instant::now();
+        let progress = Progress::new(!args.verbose);
+        let r = noisy::run(&set, None, &opts, &mut |e| progress.event(e))
+            .map_err(|e| Failure::with_code(exit::BUG, e))?
+            .synthesis;
+        let total = t.elapsed().as_secs_f64();
+        println!(
+            "{:<8} {:<7} {:<7} {:<5} {:<9} {:<2} {:<2} {:<3} {:<9} {:<9} {:<10} {:<11.2} {:<12.2} {:.2}",
+            len,
+            set.step_count(),
+            r.stats.graph_nodes,
+            r.stats.alternatives,
+            injected,
+            r.n,
+            r.k,
+            r.r,
+            r.candidates.first().map_or(0, |c| c.errors),
+            r.stats.variables,
+            r.stats.clauses,
+            r.stats.minimize_seconds,
+            r.stats.enumerate_seconds,
+            total
+        );
+    }
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct BenchModularArgs {
+    #[command(flatten)]
+    pub traces: TraceArgs,
+    /// Largest number of modules; the table has one row per M = 1..=this.
+    #[arg(long, default_value_t = 4, value_name = "M")]
+    pub max_modules: usize,
+    /// Transition slots per state.
+    #[arg(long, default_value_t = 3, value_name = "K")]
+    pub slots: usize,
+    /// Runs per M; the table shows min / median / max.
+    #[arg(long, default_value_t = 3)]
+    pub runs: usize,
+}
+
+/// `synth bench-modular`: modular synthesis for M = 1..=max, as a Markdown table.
+pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
+    let recordings = args.traces.recordings();
+    let set = recordings.load()?;
+    println!(
+        "{}: {} scenarios, {} steps, {} tree nodes, {} inputs, {} outputs; K = {} slots, {} runs",
+        recordings.show(),
+        set.scenarios.len(),
+        set.step_count(),
+        modular::tree_nodes(&set)?,
+        set.inputs.len(),
+        set.outputs.len(),
+        args.slots,
+        args.runs.max(1)
+    );
+    println!();
+    println!("| M | largest | A | N' | transitions | variables | clauses | solver calls | time min / median / max (s) |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for modules in 1..=args.max_modules {
+        let opts = modular::Options {
+            modules,
+            slots: args.slots,
+            ..modular::Options::default()
+        };
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..args.runs.max(1) {
+            let t0 = Instant::now();
+            let r = modular::run(&set, &opts, &mut |_| {})?;
+            times.push(t0.elapsed().as_secs_f64());
+            last = Some(r);
+        }
+        times.sort_by(f64::total_cmp);
+        let r = last.expect("at least one run");
+        let t: usize = r.size.modules.iter().map(|s| s.t).sum();
+        println!(
+            "| {modules} | {} | {} | {} | {t} | {} | {} | {} | {:.2} / {:.2} / {:.2} |",
+            r.size.max_states,
+            r.size.inputs_used,
+            r.size.total_states,
+            r.stats.variables,
+            r.stats.clauses,
+            r.stats.solver_calls,
+            times[0],
+            times[times.len() / 2],
+            times[times.len() - 1]
+        );
+        for line in describe_modules(&r.modular) {
+            eprintln!("    M={modules} {line}");
+        }
+    }
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct BenchSearchArgs {
+    /// Scenarios to evaluate on.
+    #[arg(long, default_value = "specs/pnp.traces", value_name = "FILE")]
+    pub traces: PathBuf,
+    /// Seconds per measurement.
+    #[arg(long, default_value_t = 3.0)]
+    pub seconds: f64,
+    /// States of the evaluated machines.
+    #[arg(long, default_value_t = 8)]
+    pub states: usize,
+    /// Threads of the parallel measurement (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Evaluations per second of one evaluator over a pool of machines.
+fn evaluations_per_second(data: &ScenarioData, pool: &[Machine], seconds: f64) -> f64 {
+    let mut ev = Evaluator::new(data);
+    let start = Instant::now();
+    let mut n = 0u64;
+    let mut sink = 0.0;
+    while start.elapsed().as_secs_f64() < seconds {
+        for m in pool {
+            sink += ev.evaluate(m).ed;
+        }
+        n += pool.len() as u64;
+    }
+    std::hint::black_box(sink);
+    n as f64 / start.elapsed().as_secs_f64()
+}
+
+/// `synth bench-search`.
+pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Failure> {
+    let set = Recordings::files(vec![args.traces.clone()]).load()?;
+    let data = ScenarioData::new(&set).map_err(Failure::input)?;
+    // Machines as the search sees them: random starts moved by a few dozen mutations.
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let pool: Vec<Machine> = (0..256)
+        .map(|_| {
+            let mut m = Machine::random(&mut rng, data.inputs.len(), args.states, 4);
+            for _ in 0..30 {
+                search::operators::add_or_delete(&mut rng, &mut m, 0.2);
+                search::operators::resize_significance(&mut rng, &mut m, 4);
+            }
+            m
+        })
+        .collect();
+    let one = evaluations_per_second(&data, &pool, args.seconds);
+    let n = pipeline::search::threads(args.threads);
+    let per_thread: Vec<f64> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..n)
+            .map(|_| s.spawn(|| evaluations_per_second(&data, &pool, args.seconds)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("no panic"))
+            .collect()
+    });
+    let total: f64 = per_thread.iter().sum();
+    println!(
+        "scenario fitness on {} ({} scenarios, {} steps), {} states:",
+        args.traces.display(),
+        data.scenario_count(),
+        data.step_count(),
+        args.states
+    );
+    println!("  1 thread:  {one:.0} evaluations/s");
+    println!(
+        "  {n} threads: {total:.0} evaluations/s in all, {:.0} per thread",
+        total / n as f64
+    );
     Ok(())
 }

@@ -1,13 +1,15 @@
-//! `synth conform`: seed 000's proposed loop. Replay new recordings on a synthesized machine,
-//! report every trace's first divergence, and with `--refine` add the divergent traces to the
-//! training scenarios and synthesize again (verified again with `--ltl`/`--plant`).
+//! `synth conform`: replay new recordings on a machine in service, report every trace's first
+//! divergence, and with `--refine` learn the divergent traces and synthesize again (verified
+//! again with `--ltl`/`--plant`).
 
-use super::infer::{self, load_scenarios, AlgorithmsArg, InferArgs, TraceArgs};
-use super::verified::{self, MainArgs, NusmvArgs};
+use super::args::{check, parse_formats, problem, NusmvArgs, TraceArgs};
+use super::progress::Progress;
 use super::{exit, Failure};
-use crate::ecc::Ecc;
-use crate::scenario::{fbsat, ScenarioSet};
 use clap::Args;
+use fbsynth::ecc::Ecc;
+use fbsynth::pipeline::recordings::machine_and_scenarios;
+use fbsynth::pipeline::{exact, refine, Recordings};
+use fbsynth::scenario::ScenarioSet;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -37,8 +39,8 @@ pub struct ConformArgs {
     pub nusmv: NusmvArgs,
 }
 
-/// Prints the conformance report; returns the indices of the divergent scenarios.
-fn report(ecc: &Ecc, set: &ScenarioSet) -> Vec<usize> {
+/// Prints the conformance report; returns the number of divergent scenarios.
+fn report(ecc: &Ecc, set: &ScenarioSet) -> usize {
     let divergences = set.divergences(ecc);
     let mut agreeing_steps = 0;
     for (k, sc) in set.scenarios.iter().enumerate() {
@@ -62,13 +64,14 @@ fn report(ecc: &Ecc, set: &ScenarioSet) -> Vec<usize> {
         set.step_count(),
         100.0 * agreeing_steps as f64 / steps as f64
     );
-    divergences.iter().map(|d| d.scenario).collect()
+    divergences.len()
 }
 
+/// `synth conform`.
 pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
-    let (ecc, set) = infer::machine_and_scenarios(&args.ecc, &args.traces)?;
+    let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
     let divergent = report(&ecc, &set);
-    if divergent.is_empty() {
+    if divergent == 0 {
         return Ok(());
     }
     if !args.refine {
@@ -76,108 +79,59 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             exit::INPUT,
             format!(
                 "{} of {} traces diverge (use --refine --train FILE... to learn them)",
-                divergent.len(),
+                divergent,
                 set.scenarios.len()
             ),
         ));
     }
-
-    // Training scenarios + the divergent new ones, written where the user can see them.
-    let mut training = load_scenarios(&TraceArgs {
+    let training = Recordings {
         traces: args.train.clone(),
         input_names: args.traces.input_names.clone(),
         output_names: args.traces.output_names.clone(),
-    })?;
-    let mut new = set.clone();
-    new.scenarios = divergent
-        .iter()
-        .map(|&k| set.scenarios[k].clone())
-        .collect();
-    training.merge(new).map_err(Failure::input)?;
+    }
+    .load()?;
+    let check = match (&args.ltl, &args.plant) {
+        (Some(ltl), Some(plant)) => Some(check(
+            problem(ltl, plant, &set.inputs, &set.outputs)?,
+            &args.nusmv,
+        )?),
+        _ => None,
+    };
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/refined"));
-    let traces = out.join("refined.traces");
-    let mut text = Vec::new();
-    fbsat::write(&training, &mut text).map_err(Failure::input)?;
-    crate::files::write_atomic(&traces, &text).map_err(Failure::input)?;
-    for (file, names) in [
-        ("refined.inputs", &training.inputs),
-        ("refined.outputs", &training.outputs),
-    ] {
-        crate::files::write_atomic(&out.join(file), (names.join("\n") + "\n").as_bytes())
-            .map_err(Failure::input)?;
-    }
+    let formats = parse_formats(&["json", "fbt", "smv", "dot", "st"].map(String::from))?;
+    let progress = Progress::new(false);
+    let opts = refine::Options {
+        out: &out,
+        formats: &formats,
+        name: "SynthesizedFB",
+        exact: exact::Options::default(),
+    };
+    let refined = refine::run(&ecc, &set, training, check.as_ref(), &opts, &mut |e| {
+        progress.event(e)
+    })?
+    .expect("a divergent trace was found above");
     println!(
         "refining: {} training scenarios + {} divergent traces -> {}",
-        training.scenarios.len() - divergent.len(),
-        divergent.len(),
-        traces.display()
+        refined.training_scenarios,
+        refined.divergent.len(),
+        refined.traces_file.display()
     );
-    let algorithms = match ecc.algorithm_kind() {
-        crate::ecc::AlgorithmKind::Tri => AlgorithmsArg::Tri,
-        crate::ecc::AlgorithmKind::Binary => AlgorithmsArg::Binary,
-    };
-    let trace_args = TraceArgs {
-        traces: vec![traces],
-        input_names: None,
-        output_names: None,
-    };
-    let formats: Vec<String> = ["json", "fbt", "smv", "dot", "st"]
-        .iter()
-        .map(|f| f.to_string())
-        .collect();
-    match (&args.ltl, &args.plant) {
-        (Some(ltl), Some(plant)) => verified::main_job(&MainArgs {
-            ltl: Some(ltl.clone()),
-            plant: Some(plant.clone()),
-            traces: trace_args.traces,
-            input_names: None,
-            output_names: None,
-            out: Some(out.clone()),
-            algorithms,
-            max_states: 32,
-            max_out_degree: 6,
-            max_iterations: 500,
-            format: formats,
-            name: "SynthesizedFB".into(),
-            nusmv: args.nusmv.clone(),
-            quiet: false,
-            verbose: false,
-            method: verified::Method::Sat,
-            search: Default::default(),
-        })?,
-        _ => infer::infer(&InferArgs {
-            traces: trace_args,
-            algorithms,
-            minimize_k: false,
-            start_state: false,
-            max_states: 32,
-            guard_budget: 10.0,
-            out: Some(out.clone()),
-            format: formats,
-            name: "SynthesizedFB".into(),
-            quiet: false,
-            modules: None,
-            pin: Vec::new(),
-            slots: 3,
-            noisy: super::noisy::NoisyArgs::off(),
-        })?,
+    let s = refined.exact.synthesis.size;
+    if let Some(cert) = &refined.exact.certificate {
+        println!(
+            "verified: all {} properties hold (NuSMV)",
+            cert.report.properties.len()
+        );
     }
-    let refined = infer::read_ecc(&out.join("SynthesizedFB.json"))?;
+    println!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    println!("wrote:");
+    for f in &refined.files {
+        println!("  {}", f.display());
+    }
     println!("after refinement, on the new recordings:");
-    let left = report(&refined, &set);
-    if left.is_empty() {
-        Ok(())
-    } else {
-        // The refined machine was synthesized from these very traces: a divergence is a bug.
-        Err(Failure::msg(
-            exit::BUG,
-            format!(
-                "the refined machine still diverges on trace {}",
-                set.scenarios[left[0]].origin
-            ),
-        ))
-    }
+    report(refined.ecc(), &set);
+    Ok(())
 }

@@ -1,10 +1,10 @@
 //! `synth events`: a raw PLC I/O log into an event log (XES and CSV) for process-mining tools.
 
 use super::Failure;
-use crate::events::{self, ResetActivity};
-use crate::export::pnml::{write_pnml_labelled, Labels};
-use crate::ingest::Mapping;
 use clap::Args;
+use fbsynth::events::{self, ResetActivity};
+use fbsynth::export::pnml::{write_pnml_labelled, Labels};
+use fbsynth::ingest::Mapping;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
@@ -71,7 +71,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         .map_err(|e| {
             let row = matches!(
                 e,
-                events::EventsError::Log(crate::ingest::IngestError::Row { .. })
+                events::EventsError::Log(fbsynth::ingest::IngestError::Row { .. })
             );
             let mut f = Failure::input(e);
             if row {
@@ -116,7 +116,7 @@ fn same_path(a: &Path, b: &Path) -> bool {
 fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Failure> {
     let text = std::fs::read_to_string(ecc_file)
         .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
-    let ecc = crate::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
+    let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
     let address = |name: &String| -> Result<String, Failure> {
         mapping
             .slot(name.as_bytes())
@@ -147,22 +147,12 @@ fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Fail
         .unwrap_or_default();
     let mut buf = Vec::new();
     write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
-    crate::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
+    fbsynth::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
     println!(
         "wrote {} (Petri net of {}: {} places)",
         pnml.display(),
         ecc_file.display(),
         ecc.states.len()
     );
-    Ok(())
-}
-
-/// `synth generate tank`: the tank case's scenario files and raw logs.
-pub fn generate_tank(out: &std::path::Path) -> Result<(), Failure> {
-    let files = crate::cases::tank::write_files(out).map_err(Failure::input)?;
-    println!("recorded seed 002's tank scenarios and held-out runs from the reference programs:");
-    for f in files {
-        println!("  {}", f.display());
-    }
     Ok(())
 }

@@ -1,37 +1,20 @@
-//! `synth infer` and `synth convert`: scenarios in, minimal ECC (or converted scenarios) out.
+//! `synth infer` (exact, noisy or modular synthesis from recordings), `synth convert` and
+//! `synth replay`.
 
-use super::{exit, Failure, Progress};
-use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
-use crate::export::{self, Format};
-use crate::sat::{self, SatError};
-use crate::scenario::{csvlog, fbsat, names, tree::ScenarioTree, ScenarioSet};
+use super::args::{
+    check, out_dir, parse_formats, print_written, problem, AlgorithmsArg, NusmvArgs, TraceArgs,
+};
+use super::progress::Progress;
+use super::{exit, Failure};
 use clap::{Args, ValueEnum};
+use fbsynth::ecc::modular::Modular;
+use fbsynth::export;
+use fbsynth::pipeline::output::{self, check_exportable, check_exportable_modular};
+use fbsynth::pipeline::recordings::machine_and_scenarios;
+use fbsynth::pipeline::{exact, modular, noisy};
+use fbsynth::scenario::{csvlog, fbsat, ScenarioSet};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-
-/// Where scenarios come from: shared by every command that reads them.
-#[derive(Debug, Args, Clone)]
-pub struct TraceArgs {
-    /// Scenario files: fbSAT text format (plain or .gz) or CSV logs (`.csv`, `.csv.gz`).
-    #[arg(long = "traces", visible_alias = "log", value_name = "FILE", num_args = 1.., required = true)]
-    pub traces: Vec<PathBuf>,
-    /// Input names, separated by whitespace or newlines, in bit order.
-    /// Default: `<stem>.inputs` or `input-names` beside the first trace file.
-    #[arg(long, value_name = "FILE")]
-    pub input_names: Option<PathBuf>,
-    /// Output names, in bit order. Default: `<stem>.outputs` or `output-names` beside the
-    /// first trace file.
-    #[arg(long, value_name = "FILE")]
-    pub output_names: Option<PathBuf>,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
-pub enum AlgorithmsArg {
-    /// One symbol per output from {0, 1, x}: set to 0, set to 1, keep.
-    Tri,
-    /// fbSAT's form: two bit strings a0/a1 (new value when the old one was 0 / 1).
-    Binary,
-}
 
 #[derive(Debug, Args)]
 pub struct InferArgs {
@@ -78,7 +61,30 @@ pub struct InferArgs {
     #[arg(long, default_value_t = 3, value_name = "K")]
     pub slots: usize,
     #[command(flatten)]
-    pub noisy: super::noisy::NoisyArgs,
+    pub noisy: NoisyArgs,
+}
+
+/// The options of `synth infer` that only `--noisy` reads.
+#[derive(Debug, Args, Clone)]
+pub struct NoisyArgs {
+    /// Read the traces as noisy (scan-cycle skew between PLC and data collector): correct up
+    /// to --max-errors recorded output changes and list the minimal machines by errors.
+    #[arg(long)]
+    pub noisy: bool,
+    /// With --noisy: at most this many corrected errors (default: no bound).
+    #[arg(long, value_name = "E", requires = "noisy")]
+    pub max_errors: Option<usize>,
+    /// With --noisy: stop after this many distinct candidate machines.
+    #[arg(long, default_value_t = 5, value_name = "N", requires = "noisy")]
+    pub enumerate: usize,
+    /// With --noisy: LTL properties each candidate is checked against (needs --plant).
+    #[arg(long, value_name = "FILE", requires_all = ["noisy", "plant"])]
+    pub ltl: Option<PathBuf>,
+    /// With --noisy: surrogate plant for the check (needs --ltl).
+    #[arg(long, value_name = "FILE", requires_all = ["noisy", "ltl"])]
+    pub plant: Option<PathBuf>,
+    #[command(flatten)]
+    pub nusmv: NusmvArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -101,66 +107,17 @@ pub struct ConvertArgs {
     pub output: PathBuf,
 }
 
-fn is_csv(path: &Path) -> bool {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    name.ends_with(".csv") || name.ends_with(".csv.gz")
-}
-
-/// Reads every trace file of `args` into one scenario set.
-pub fn load_scenarios(args: &TraceArgs) -> Result<ScenarioSet, Failure> {
-    let defaults = names::default_names_files(&args.traces[0]);
-    let in_file = args
-        .input_names
-        .clone()
-        .or_else(|| defaults.as_ref().map(|d| d.0.clone()));
-    let out_file = args
-        .output_names
-        .clone()
-        .or_else(|| defaults.as_ref().map(|d| d.1.clone()));
-    let inputs = in_file
-        .as_deref()
-        .map(names::read_names)
-        .transpose()
-        .map_err(Failure::input)?;
-    let outputs = out_file
-        .as_deref()
-        .map(names::read_names)
-        .transpose()
-        .map_err(Failure::input)?;
-    if let (Some(i), Some(o)) = (&inputs, &outputs) {
-        if let Some(n) = i.iter().find(|n| o.contains(n)) {
-            return Err(Failure::msg(
-                exit::INPUT,
-                format!("'{n}' is named both as an input and as an output"),
-            ));
-        }
-    }
-    let mut set: Option<ScenarioSet> = None;
-    for file in &args.traces {
-        let s = if is_csv(file) {
-            csvlog::read(file, inputs.as_deref(), outputs.as_deref())
-        } else {
-            fbsat::read(file, inputs.clone(), outputs.clone())
-        }
-        .map_err(Failure::input)?;
-        match &mut set {
-            None => set = Some(s),
-            Some(all) => all.merge(s).map_err(Failure::input)?,
-        }
-    }
-    Ok(set.expect("at least one trace file"))
-}
-
-fn stem(path: &Path) -> String {
-    let f = path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "traces".into());
-    f.split('.').next().unwrap_or("traces").to_string()
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The machine, in the JSON format `synth infer` writes.
+    #[arg(long, value_name = "FILE")]
+    pub ecc: PathBuf,
+    #[command(flatten)]
+    pub traces: TraceArgs,
 }
 
 /// The progress line saying what was read.
-pub fn report_loaded(progress: &Progress, set: &ScenarioSet) {
+fn report_loaded(progress: &Progress, set: &ScenarioSet) {
     progress.line(&format!(
         "read {} scenarios, {} steps ({} active) over {} inputs and {} outputs",
         set.scenarios.len(),
@@ -171,35 +128,39 @@ pub fn report_loaded(progress: &Progress, set: &ScenarioSet) {
     ));
 }
 
+/// The output folder (`--out`, default `out/<stem of the first trace>`), created.
+fn infer_out(args: &InferArgs) -> Result<PathBuf, Failure> {
+    let out = out_dir(&args.out, &args.traces.recordings().stem());
+    output::create_dir(&out)?;
+    Ok(out)
+}
+
+/// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     if args.noisy.noisy {
-        return super::noisy::infer_noisy(args);
+        return infer_noisy(args);
     }
     if let Some(m) = args.modules {
-        return super::modular::infer_modular(args, m);
+        let progress = Progress::new(args.quiet);
+        let set = args.traces.load()?;
+        report_loaded(&progress, &set);
+        let out = infer_out(args)?;
+        return distribute(args, m, &set, &out, &progress);
     }
     let progress = Progress::new(args.quiet);
-    let set = load_scenarios(&args.traces)?;
+    let set = args.traces.load()?;
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
-    let tree = ScenarioTree::build(&set).map_err(Failure::input)?;
-    let opts = sat::Options {
-        algorithms: match args.algorithms {
-            AlgorithmsArg::Tri => AlgorithmKind::Tri,
-            AlgorithmsArg::Binary => AlgorithmKind::Binary,
-        },
+    let opts = exact::Options {
+        algorithms: args.algorithms.into(),
         minimize_k: args.minimize_k,
         max_states: args.max_states,
         start_state: args.start_state,
-        cube_slots: None,
         guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+        ..exact::Options::default()
     };
-    let result =
-        sat::synthesize(&set, &tree, &opts, &mut |m| progress.line(m)).map_err(|e| match e {
-            SatError::TooManyStates { .. } => Failure::with_code(exit::NO_MACHINE, e),
-            SatError::Bug(_) => Failure::with_code(exit::BUG, e),
-        })?;
+    let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))?.synthesis;
     let s = result.size;
     println!(
         "C = {}  K = {}  T = {}  N = {}{}",
@@ -220,69 +181,144 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
-    let out = out_dir(args)?;
+    let out = infer_out(args)?;
     let files =
         export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
     print_written(&files);
     Ok(())
 }
 
-/// The output folder of `synth infer` (`--out`, default `out/<stem of the first trace>`),
-/// created if missing.
-pub fn out_dir(args: &InferArgs) -> Result<PathBuf, Failure> {
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(stem(&args.traces.traces[0])));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("cannot create {}: {e}", out.display())))?;
-    Ok(out)
-}
-
-/// The list of files written, on stdout.
-pub fn print_written(files: &[PathBuf]) {
-    println!("wrote:");
-    for f in files {
-        println!("  {}", f.display());
+/// `synth infer --noisy`: candidates by ε, each in its folder, and the summary.
+fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
+    let progress = Progress::new(args.quiet);
+    let set = args.traces.load()?;
+    let formats = parse_formats(&args.format)?;
+    check_exportable(&set, &args.name, &formats)?;
+    let n = &args.noisy;
+    let check = match (&n.ltl, &n.plant) {
+        (Some(ltl), Some(plant)) => Some(check(
+            problem(ltl, plant, &set.inputs, &set.outputs)?,
+            &n.nusmv,
+        )?),
+        _ => None,
+    };
+    let out = out_dir(&args.out, &args.traces.recordings().stem());
+    output::create_dir(&out)?;
+    let opts = noisy::Options {
+        algorithms: args.algorithms.into(),
+        max_states: args.max_states,
+        max_errors: n.max_errors,
+        enumerate: n.enumerate.max(1),
+        guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+        ..noisy::Options::default()
+    };
+    let result = noisy::run(&set, check.as_ref(), &opts, &mut |e| progress.event(e))?;
+    let table = output::write_noisy(&out, &args.name, &formats, &result, progress.elapsed())?;
+    print!("{table}");
+    println!("results in {}", out.display());
+    let verified = result.first_verified();
+    // Correct the traces first, then distribute the logic.
+    if let Some(m) = args.modules {
+        let chosen = verified.unwrap_or(1);
+        let c = &result.synthesis.candidates[chosen - 1];
+        let dir = out.join("modular");
+        output::create_dir(&dir)?;
+        println!(
+            "modular synthesis (M = {m}) on the corrected traces of candidate {chosen} (ε = {}):",
+            c.errors
+        );
+        distribute(args, m, &c.corrected, &dir, &progress)?;
+    }
+    match (check.is_some(), verified) {
+        (false, _) => Ok(()),
+        (true, Some(k)) => {
+            println!("first verified candidate: {k} (NuSMV: every property holds)");
+            Ok(())
+        }
+        (true, None) => Err(Failure::msg(
+            exit::NO_MACHINE,
+            "no candidate satisfies every property (raise --enumerate or --max-errors)",
+        )),
     }
 }
 
-/// Parses `--format` values.
-pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
-    list.iter()
-        .map(|f| f.trim().parse::<Format>())
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| Failure::msg(exit::USAGE, format!("--format: {e}")))
+/// One line per module: its outputs, inputs and size.
+pub fn describe_modules(modular: &Modular) -> Vec<String> {
+    modular
+        .modules
+        .iter()
+        .enumerate()
+        .map(|(m, module)| {
+            let s = module.ecc.size();
+            let list = |v: &[String]| {
+                if v.is_empty() {
+                    "-".to_string()
+                } else {
+                    v.join(", ")
+                }
+            };
+            format!(
+                "module {}: {} states, {} transitions, {} guard literals; outputs: {}; inputs: {}",
+                m + 1,
+                s.c,
+                s.t,
+                s.n,
+                list(&module.ecc.outputs),
+                list(&module.ecc.inputs)
+            )
+        })
+        .collect()
 }
 
-/// Checks up front, before any search, that the interface names and the block name can be
-/// written in every requested format: an empty machine over the interface must export.
-pub fn check_exportable(set: &ScenarioSet, name: &str, formats: &[Format]) -> Result<(), Failure> {
-    let probe = Ecc {
-        inputs: set.inputs.clone(),
-        outputs: set.outputs.clone(),
-        initial_outputs: set.initial_outputs.clone(),
-        states: vec![State {
-            name: "s0".into(),
-            algorithm: Algorithm::keep_all(AlgorithmKind::Tri, set.outputs.len()),
-            transitions: Vec::new(),
-        }],
+/// Modular synthesis of `set` into `out` (also the second stage of `--noisy --modules`, on
+/// the corrected traces).
+fn distribute(
+    args: &InferArgs,
+    modules: usize,
+    set: &ScenarioSet,
+    out: &Path,
+    progress: &Progress,
+) -> Result<(), Failure> {
+    let opts = modular::Options {
+        modules,
+        slots: args.slots,
+        max_states: args.max_states,
+        algorithms: args.algorithms.into(),
+        pins: modular::parse_pins(&args.pin, &set.outputs, modules)
+            .map_err(|e| Failure::with_code(exit::USAGE, e))?,
     };
-    let dir = tempfile::tempdir().map_err(Failure::input)?;
-    export::write_all(&probe, dir.path(), name, formats)
-        .map(|_| ())
-        .map_err(Failure::input)
+    check_exportable_modular(set, &args.name, modules)?;
+    let result = modular::run(set, &opts, &mut |e| progress.event(e))?;
+    let s = &result.size;
+    println!(
+        "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
+        modules, s.max_states, s.inputs_used, s.total_states
+    );
+    for line in describe_modules(&result.modular) {
+        println!("  {line}");
+    }
+    println!(
+        "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the composite: all reproduced",
+        progress.elapsed(),
+        result.stats.sat_seconds,
+        set.scenarios.len()
+    );
+    let files =
+        export::modular::write_modular(&result.modular, out, &args.name).map_err(Failure::input)?;
+    print_written(&files);
+    Ok(())
 }
 
+/// `synth convert`.
 pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
-    let set = load_scenarios(&args.traces)?;
+    let set = args.traces.load()?;
     let mut buf = Vec::new();
     match args.to {
         ConvertTo::Fbsat => fbsat::write(&set, &mut buf),
         ConvertTo::Csv => csvlog::write(&set, &mut buf),
     }
     .map_err(Failure::input)?;
-    crate::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
+    fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
     println!(
         "wrote {} scenarios ({} steps) to {}",
         set.scenarios.len(),
@@ -292,48 +328,10 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-#[derive(Debug, Args)]
-pub struct ReplayArgs {
-    /// The machine, in the JSON format `synth infer` writes.
-    #[arg(long, value_name = "FILE")]
-    pub ecc: PathBuf,
-    #[command(flatten)]
-    pub traces: TraceArgs,
-}
-
-/// Reads a machine from its JSON file.
-pub fn read_ecc(path: &Path) -> Result<Ecc, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::msg(exit::INPUT, format!("{}: {e}", path.display())))?;
-    export::json::read_json(&text, path).map_err(Failure::input)
-}
-
-/// Reads a machine and recordings and checks that they share one interface.
-pub fn machine_and_scenarios(
-    ecc_file: &Path,
-    traces: &TraceArgs,
-) -> Result<(Ecc, ScenarioSet), Failure> {
-    let ecc = read_ecc(ecc_file)?;
-    let set = load_scenarios(traces)?;
-    if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
-        return Err(Failure::msg(
-            exit::INPUT,
-            format!(
-                "{} has inputs [{}] and outputs [{}], the scenarios [{}] and [{}]",
-                ecc_file.display(),
-                ecc.inputs.join(" "),
-                ecc.outputs.join(" "),
-                set.inputs.join(" "),
-                set.outputs.join(" ")
-            ),
-        ));
-    }
-    Ok((ecc, set))
-}
-
-/// Replays scenarios on a machine read from JSON and reports the first disagreement.
+/// `synth replay`: replays scenarios on a machine read from JSON and reports the first
+/// disagreement.
 pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
-    let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces)?;
+    let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
     set.check(&ecc)
         .map_err(|m| Failure::msg(exit::INPUT, format!("not reproduced: {m}")))?;
     println!(

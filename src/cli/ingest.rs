@@ -2,9 +2,9 @@
 //! ingestion throughput benchmark.
 
 use super::Failure;
-use crate::ingest::{self, LogReader, Mapping, ReadStats, RowKind};
-use crate::scenario::fbsat;
 use clap::Args;
+use fbsynth::ingest::{self, LogReader, Mapping, ReadStats, RowKind};
+use fbsynth::scenario::fbsat;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -43,11 +43,11 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
     let secs = start.elapsed().as_secs_f64();
     let mut buf = Vec::new();
     fbsat::write(&set, &mut buf).map_err(Failure::input)?;
-    crate::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
+    fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
     let (inputs_file, outputs_file) = names_files(&args.output);
     for (file, names) in [(&inputs_file, &set.inputs), (&outputs_file, &set.outputs)] {
         let text: String = names.iter().map(|n| format!("{n}\n")).collect();
-        crate::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
+        fbsynth::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
     }
     report(&stats, secs);
     println!(

@@ -1,21 +1,23 @@
 //! The `synth` command line: argument parsing, progress on stderr, exit codes.
 //!
 //! In: `std::env::args`. Out: files written by the library and a summary on stdout.
-//! Everything that computes lives in the library; this module only wires it to a terminal.
+//! Everything that computes lives in the library ([`fbsynth::pipeline`] above all); each
+//! command file parses its arguments, calls the library and prints. Command files never
+//! import each other: what they share is here, in [`args`] and in [`progress`].
 
+mod args;
 mod bench;
 mod conform;
 mod events;
+mod experiment;
+mod generate;
 mod infer;
 mod ingest;
-mod modular;
-mod noisy;
-mod search;
-mod verified;
+mod main_job;
+mod progress;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
-use std::time::Instant;
+use fbsynth::pipeline::{self, Class};
 
 /// Exit codes, as documented in `--help`.
 pub mod exit {
@@ -71,7 +73,7 @@ pub struct Cli {
     /// The main job: synthesize a controller that reproduces the scenarios and satisfies
     /// every LTL property in closed loop with the plant, verified by NuSMV.
     #[command(flatten)]
-    pub main: verified::MainArgs,
+    pub main: main_job::MainArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -86,10 +88,10 @@ pub enum Command {
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
-    Verify(verified::VerifyArgs),
+    Verify(main_job::VerifyArgs),
     /// Regenerate a shipped case's scenario files from its reference controller and plant
     /// simulation (`pnp`: the Pick-and-Place manipulator).
-    Generate(GenerateArgs),
+    Generate(generate::GenerateArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
     /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
@@ -101,44 +103,13 @@ pub enum Command {
     /// sliced into traces at a reset activity (seed 002's conversion).
     Events(events::EventsArgs),
     /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
-    BenchModular(modular::BenchModularArgs),
+    BenchModular(bench::BenchModularArgs),
     /// Reproduce a seed paper's experiment (`table1`: seed 001's Table I with the search).
-    Experiment(search::ExperimentArgs),
+    Experiment(experiment::ExperimentArgs),
     /// Measure the search's scenario-fitness evaluations per second per thread.
-    BenchSearch(search::BenchSearchArgs),
+    BenchSearch(bench::BenchSearchArgs),
     /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
-    BenchNoisy(noisy::BenchNoisyArgs),
-}
-
-#[derive(Debug, clap::Args)]
-pub struct GenerateArgs {
-    /// The case: `pnp`, `tank` (seed 002's tank: scenarios, raw logs, held-out runs) or
-    /// `distribution` (the Festo station: clean, noisy and held-out sampled logs).
-    #[arg(value_parser = ["pnp", "tank", "distribution"])]
-    pub case: String,
-    /// Folder to write the scenario and names files into.
-    #[arg(long, default_value = "specs", value_name = "DIR")]
-    pub out: PathBuf,
-}
-
-fn generate(args: &GenerateArgs) -> Result<(), Failure> {
-    if args.case == "tank" {
-        return events::generate_tank(&args.out);
-    }
-    if args.case == "distribution" {
-        return noisy::generate_distribution(&args.out);
-    }
-    let files = crate::cases::pnp::write_files(&args.out).map_err(Failure::input)?;
-    let set = crate::cases::pnp::generate();
-    println!(
-        "recorded {} work-piece orders ({} steps) from the reference controller:",
-        set.scenarios.len(),
-        set.step_count()
-    );
-    for f in files {
-        println!("  {}", f.display());
-    }
-    Ok(())
+    BenchNoisy(bench::BenchNoisyArgs),
 }
 
 /// A failure the CLI reports: message, causes, exit code.
@@ -174,28 +145,16 @@ impl Failure {
     }
 }
 
-/// Progress lines on stderr, prefixed with the elapsed time.
-pub struct Progress {
-    start: Instant,
-    quiet: bool,
-}
-
-impl Progress {
-    pub fn new(quiet: bool) -> Progress {
-        Progress {
-            start: Instant::now(),
-            quiet,
-        }
-    }
-
-    pub fn line(&self, msg: &str) {
-        if !self.quiet {
-            eprintln!("[{:7.2}s] {msg}", self.start.elapsed().as_secs_f64());
-        }
-    }
-
-    pub fn elapsed(&self) -> f64 {
-        self.start.elapsed().as_secs_f64()
+/// The one place where a library failure becomes an exit code.
+impl From<pipeline::Error> for Failure {
+    fn from(e: pipeline::Error) -> Failure {
+        let code = match e.class() {
+            Class::Input => exit::INPUT,
+            Class::Usage => exit::USAGE,
+            Class::NoMachine => exit::NO_MACHINE,
+            Class::Bug => exit::BUG,
+        };
+        Failure::with_code(code, e)
     }
 }
 
@@ -221,13 +180,13 @@ pub fn run() -> i32 {
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Events(a)) => events::events(&a),
-        Some(Command::BenchModular(a)) => modular::bench_modular(&a),
-        Some(Command::Experiment(a)) => search::experiment(&a),
-        Some(Command::BenchSearch(a)) => search::bench_search(&a),
-        Some(Command::BenchNoisy(a)) => noisy::bench_noisy(&a),
-        Some(Command::Verify(a)) => verified::verify(&a),
-        Some(Command::Generate(a)) => generate(&a),
-        None => verified::main_job(&cli.main),
+        Some(Command::BenchModular(a)) => bench::bench_modular(&a),
+        Some(Command::Experiment(a)) => experiment::experiment(&a),
+        Some(Command::BenchSearch(a)) => bench::bench_search(&a),
+        Some(Command::BenchNoisy(a)) => bench::bench_noisy(&a),
+        Some(Command::Verify(a)) => main_job::verify(&a),
+        Some(Command::Generate(a)) => generate::generate(&a),
+        None => main_job::main_job(&cli.main),
     };
     match result {
         Ok(()) => exit::OK,
@@ -236,13 +195,4 @@ pub fn run() -> i32 {
             f.code
         }
     }
-}
-
-/// Paths given on the command line, for messages.
-pub fn show(paths: &[PathBuf]) -> String {
-    paths
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
 }

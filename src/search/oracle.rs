@@ -1,4 +1,4 @@
-//! The verification terms' source: closed-loop NuSMV runs through [`verify::verify`], cached
+//! The verification terms' source: closed-loop NuSMV runs through a [`Verifier`], cached
 //! by machine.
 //!
 //! In: a candidate [`Ecc`]. Out: its [`Verdicts`] (properties that hold, longest
@@ -10,31 +10,14 @@
 use super::fitness::Verdicts;
 use super::machine::input_bits;
 use crate::ecc::Ecc;
-use crate::ltl::Property;
-use crate::nusmv::{Nusmv, Session};
-use crate::smv::closed_loop::Coupling;
-use crate::smv::plant::Plant;
-use crate::verify::{verify, Setup, Verification, VerifyError};
+use crate::verify::{Verification, Verifier, VerifyError};
 use std::collections::HashMap;
-#[cfg(test)]
-use std::path::Path;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// Something that gives verdicts on candidates; one per colony.
 pub trait Checker: Send {
     fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, VerifyError>;
-}
-
-/// What NuSMV checks against, owned so colonies on other threads can share it.
-#[derive(Debug, Clone)]
-pub struct Context {
-    pub plant: Plant,
-    pub coupling: Coupling,
-    pub spec_file: PathBuf,
-    pub props: Vec<Property>,
-    pub nusmv: Nusmv,
 }
 
 /// Shared cache and counters of every [`Oracle`] made from one [`Shared`].
@@ -47,22 +30,16 @@ pub struct Shared {
     pub hits: AtomicU64,
 }
 
-/// A NuSMV session of one colony with the shared cache.
+/// The verifier of one colony with the shared cache.
 pub struct Oracle {
-    ctx: Arc<Context>,
+    verifier: Verifier,
     shared: Arc<Shared>,
-    session: Session,
-    workdir: tempfile::TempDir,
 }
 
 impl Oracle {
-    pub fn new(ctx: Arc<Context>, shared: Arc<Shared>) -> std::io::Result<Oracle> {
-        Ok(Oracle {
-            session: ctx.nusmv.session(),
-            ctx,
-            shared,
-            workdir: tempfile::tempdir()?,
-        })
+    /// A colony's oracle: its own verifier, the cache shared with the others.
+    pub fn new(verifier: Verifier, shared: Arc<Shared>) -> Oracle {
+        Oracle { verifier, shared }
     }
 }
 
@@ -106,13 +83,7 @@ impl Checker for Oracle {
             self.shared.hits.fetch_add(1, Ordering::Relaxed);
             return Ok(v.clone());
         }
-        let setup = Setup {
-            plant: &self.ctx.plant,
-            coupling: &self.ctx.coupling,
-            spec_file: &self.ctx.spec_file,
-            props: &self.ctx.props,
-        };
-        let v = verify(ecc, &setup, &mut self.session, self.workdir.path())?;
+        let v = self.verifier.verify(ecc)?;
         self.shared.runs.fetch_add(1, Ordering::Relaxed);
         let verdicts = Arc::new(verdicts_of(&v, ecc));
         self.shared
@@ -127,12 +98,11 @@ impl Checker for Oracle {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ltl::parse_spec_file;
     use crate::nusmv::test_support::nusmv_or_skip;
     use crate::scenario::tree::ScenarioTree;
     use crate::search::{run, Config, Machine, ScenarioData};
-    use crate::smv::closed_loop::check_coupling;
-    use crate::smv::plant::read_plant;
+    use crate::verify::Problem;
+    use std::path::Path;
     use std::time::Duration;
 
     /// Seed 001's setting: one Pick-and-Place scenario (a piece on track 1) and its three
@@ -152,24 +122,14 @@ mod tests {
             "c1_exclusive: G !(c1Extend & c1Retract)\nc2_exclusive: G !(c2Extend & c2Retract)\ntrack1_served: G (pp1 -> F vp1)\n",
         )
         .unwrap();
-        let props = parse_spec_file(&spec).unwrap();
-        let plant =
-            read_plant(&Path::new(env!("CARGO_MANIFEST_DIR")).join("smv/pnp_surrogate.smv"))
-                .unwrap();
-        let coupling = check_coupling(&set.inputs, &set.outputs, &plant, &spec, &props).unwrap();
+        let plant = Path::new(env!("CARGO_MANIFEST_DIR")).join("smv/pnp_surrogate.smv");
+        let problem = Arc::new(Problem::load(&spec, &plant, &set.inputs, &set.outputs).unwrap());
         let tree = ScenarioTree::build(&set).unwrap();
         let opts = crate::sat::Options {
             cube_slots: Some(6),
             ..Default::default()
         };
         let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();
-        let ctx = Arc::new(Context {
-            plant,
-            coupling,
-            spec_file: spec.clone(),
-            props,
-            nusmv,
-        });
         let shared = Arc::new(Shared::default());
         let config = Config {
             states: 6,
@@ -182,21 +142,18 @@ mod tests {
         };
         let checkers: Vec<Box<dyn Checker>> = (0..2)
             .map(|_| {
-                Box::new(Oracle::new(ctx.clone(), shared.clone()).unwrap()) as Box<dyn Checker>
+                let verifier = Verifier::new(problem.clone(), &nusmv).unwrap();
+                Box::new(Oracle::new(verifier, shared.clone())) as Box<dyn Checker>
             })
             .collect();
         let data = ScenarioData::new(&set).unwrap();
         let out = run(&data, &config, checkers, &mut |_| {}).unwrap();
         assert!(out.perfect, "no verified controller: {:?}", out.score);
         set.check(&out.ecc).unwrap();
-        let mut session = ctx.nusmv.session();
-        let setup = Setup {
-            plant: &ctx.plant,
-            coupling: &ctx.coupling,
-            spec_file: &ctx.spec_file,
-            props: &ctx.props,
-        };
-        let v = verify(&out.ecc, &setup, &mut session, dir.path()).unwrap();
+        let v = Verifier::new(problem, &nusmv)
+            .unwrap()
+            .verify(&out.ecc)
+            .unwrap();
         assert!(v.report.all_hold(), "{}", v.report.to_text());
     }
 }

@@ -210,6 +210,6 @@ fn pick_and_place_main_job_is_verified() {
         .contains("verified: all 8 properties hold (NuSMV), 10 scenarios reproduced"));
     let json = std::fs::read_to_string(out.path().join("SynthesizedFB.json")).unwrap();
     let ecc = fbsynth::export::json::read_json(&json, Path::new("SynthesizedFB.json")).unwrap();
-    let set = fbsynth::cases::pnp::generate();
+    let set = crate::cases::pnp::generate();
     set.check(&ecc).unwrap();
 }

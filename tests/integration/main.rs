@@ -1,5 +1,10 @@
 //! Integration tests: one test binary, one submodule per area (fast links).
 
+// The benchmark cases are not part of the library; the tests compile the binary's copy.
+#[path = "../../src/cases/mod.rs"]
+#[allow(dead_code)]
+mod cases;
+
 mod cli;
 mod closed_loop;
 mod common;

@@ -1,7 +1,7 @@
 //! Synthesis from noisy logs: the distribution-station case end to end (library), the
 //! shipped files, and `synth infer --noisy` as a user runs it.
 
-use fbsynth::cases::distribution::{self, generate, to_scenarios, SHIPPED_RATE, SHIPPED_SEED};
+use crate::cases::distribution::{self, generate, to_scenarios, SHIPPED_RATE, SHIPPED_SEED};
 use fbsynth::export::json::read_json;
 use fbsynth::sat::noisy::{synthesize_noisy, Flow, NoisyOptions};
 use std::path::Path;

@@ -4,7 +4,7 @@
 //! skip with a note where NuSMV is missing (and fail under CI=true); the pm4py test needs
 //! `$PM4PY_PYTHON` (from `.ci/install-pm4py.sh`) in the same way.
 
-use fbsynth::cases::tank::{self, Plant, Program, RunSpec};
+use crate::cases::tank::{self, Plant, Program, RunSpec};
 use fbsynth::ecc::Ecc;
 use fbsynth::ingest::{read_scenarios, Mapping};
 use fbsynth::nusmv::test_support::nusmv_or_skip;

@@ -7,16 +7,13 @@
 //! Loop: minimize on the incremental [`Synthesizer`]; verify in closed loop; if a property
 //! fails, its counterexample becomes a negative scenario (the ECC must leave that lasso) and
 //! the loop repeats on the same solver. When the current number of states cannot leave every
-//! lasso the minimization itself moves on to more states. This module is the only one that
-//! uses both `sat` and `nusmv`.
+//! lasso the minimization itself moves on to more states.
 
-use crate::ecc::Ecc;
-use crate::nusmv::Session;
+use super::{Event, Events};
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
-use crate::verify::{verify, Report, Setup, VerifyError};
-use std::path::Path;
+use crate::verify::{Report, Verifier, VerifyError};
 use std::time::Instant;
 
 /// Settings of the loop.
@@ -64,15 +61,13 @@ pub enum CegisError {
     NoCounterexample { property: String },
 }
 
-/// Runs CEGIS. `workdir` holds the closed-loop model of the current candidate.
+/// Runs CEGIS; `verifier` holds the closed-loop model of the current candidate.
 pub fn run(
     set: &ScenarioSet,
     tree: &ScenarioTree,
-    setup: &Setup,
-    session: &mut Session,
+    verifier: &mut Verifier,
     config: &Config,
-    workdir: &Path,
-    progress: &mut dyn FnMut(&str),
+    events: Events<'_>,
 ) -> Result<Verified, CegisError> {
     let mut synth = Synthesizer::new(set, tree, &config.sat);
     if config.sat.cube_slots.is_some() {
@@ -85,12 +80,11 @@ pub fn run(
         let t = Instant::now();
         let lower = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
         synth.assume_lower_bounds(lower.size.c, lower.size.t);
-        progress(&format!(
-            "lower bounds from the recorded inputs alone: C >= {}, T >= {} ({:.2} s)",
-            lower.size.c,
-            lower.size.t,
-            t.elapsed().as_secs_f64()
-        ));
+        events(Event::LowerBounds {
+            c: lower.size.c,
+            t: lower.size.t,
+            seconds: t.elapsed().as_secs_f64(),
+        });
     }
     let mut iterations = Vec::new();
     let mut last_failing = String::new();
@@ -98,11 +92,11 @@ pub fn run(
         let t = Instant::now();
         let synthesis = synth.minimize(&mut |m| {
             if config.verbose {
-                progress(m)
+                events(Event::Solver(m))
             }
         })?;
         let sat_seconds = t.elapsed().as_secs_f64();
-        let v = verify(&synthesis.ecc, setup, session, workdir)?;
+        let v = verifier.verify(&synthesis.ecc)?;
         let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
         let it = Iteration {
             number,
@@ -113,22 +107,7 @@ pub fn run(
             sat_seconds,
             nusmv_seconds: v.report.nusmv_seconds,
         };
-        progress(&format!(
-            "iteration {number}: C = {} T = {}; {}; SAT {:.2} s, NuSMV {:.2} s",
-            it.c,
-            it.t,
-            if failing.is_empty() {
-                "every property holds".to_string()
-            } else {
-                format!(
-                    "failing: {} (counterexample of {} steps)",
-                    failing.join(", "),
-                    it.counterexample_length.unwrap_or(0)
-                )
-            },
-            sat_seconds,
-            it.nusmv_seconds
-        ));
+        events(Event::Candidate(&it));
         iterations.push(it);
         if failing.is_empty() {
             return Ok(Verified {
@@ -179,14 +158,4 @@ pub fn run(
         iterations: config.max_iterations,
         failing: last_failing,
     })
-}
-
-/// Verifies an existing machine (no synthesis): `synth verify`.
-pub fn check_existing(
-    ecc: &Ecc,
-    setup: &Setup,
-    session: &mut Session,
-    workdir: &Path,
-) -> Result<Report, VerifyError> {
-    verify(ecc, setup, session, workdir).map(|v| v.report)
 }

@@ -1,0 +1,135 @@
+//! Argument groups shared by several commands, and their conversion to library settings.
+
+use super::{exit, Failure};
+use clap::{Args, ValueEnum};
+use fbsynth::ecc::AlgorithmKind;
+use fbsynth::export::Format;
+use fbsynth::pipeline::Nusmv;
+use fbsynth::pipeline::Problem;
+use fbsynth::pipeline::{self, Check, Recordings};
+use fbsynth::scenario::ScenarioSet;
+use std::path::{Path, PathBuf};
+
+/// Where scenarios come from: shared by every command that reads them.
+#[derive(Debug, Args, Clone)]
+pub struct TraceArgs {
+    /// Scenario files: fbSAT text format (plain or .gz) or CSV logs (`.csv`, `.csv.gz`).
+    #[arg(long = "traces", visible_alias = "log", value_name = "FILE", num_args = 1.., required = true)]
+    pub traces: Vec<PathBuf>,
+    /// Input names, separated by whitespace or newlines, in bit order.
+    /// Default: `<stem>.inputs` or `input-names` beside the first trace file.
+    #[arg(long, value_name = "FILE")]
+    pub input_names: Option<PathBuf>,
+    /// Output names, in bit order. Default: `<stem>.outputs` or `output-names` beside the
+    /// first trace file.
+    #[arg(long, value_name = "FILE")]
+    pub output_names: Option<PathBuf>,
+}
+
+impl TraceArgs {
+    /// The recordings these arguments name.
+    pub fn recordings(&self) -> Recordings {
+        Recordings {
+            traces: self.traces.clone(),
+            input_names: self.input_names.clone(),
+            output_names: self.output_names.clone(),
+        }
+    }
+
+    /// Reads every trace file into one scenario set.
+    pub fn load(&self) -> Result<ScenarioSet, Failure> {
+        Ok(self.recordings().load()?)
+    }
+}
+
+/// Form of the state output algorithms.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum AlgorithmsArg {
+    /// One symbol per output from {0, 1, x}: set to 0, set to 1, keep.
+    Tri,
+    /// fbSAT's form: two bit strings a0/a1 (new value when the old one was 0 / 1).
+    Binary,
+}
+
+impl From<AlgorithmsArg> for AlgorithmKind {
+    fn from(a: AlgorithmsArg) -> AlgorithmKind {
+        match a {
+            AlgorithmsArg::Tri => AlgorithmKind::Tri,
+            AlgorithmsArg::Binary => AlgorithmKind::Binary,
+        }
+    }
+}
+
+/// NuSMV options shared by the commands that run it.
+#[derive(Debug, Args, Clone)]
+pub struct NusmvArgs {
+    /// The NuSMV binary. Default: $NUSMV, then NuSMV on PATH, then the install script's cache.
+    #[arg(long, value_name = "PATH")]
+    pub nusmv: Option<PathBuf>,
+    /// Seconds NuSMV may spend on one closed-loop model before it is killed.
+    #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
+    pub timeout: f64,
+}
+
+impl NusmvArgs {
+    /// Locates NuSMV; fails early with the install hint.
+    pub fn nusmv(&self) -> Result<Nusmv, Failure> {
+        Ok(pipeline::nusmv(self.nusmv.as_deref(), self.timeout)?)
+    }
+}
+
+/// Reads and checks the spec, the plant and the coupling with the controller interface.
+pub fn problem(
+    ltl: &Path,
+    plant: &Path,
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<Problem, Failure> {
+    Problem::load(ltl, plant, inputs, outputs).map_err(|e| Failure::from(pipeline::Error::from(e)))
+}
+
+/// A problem and the NuSMV that checks it.
+pub fn check(problem: Problem, nusmv: &NusmvArgs) -> Result<Check, Failure> {
+    Ok(Check::new(problem, nusmv.nusmv()?))
+}
+
+/// Parses `--format` values.
+pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
+    list.iter()
+        .map(|f| f.trim().parse::<Format>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| Failure::msg(exit::USAGE, format!("--format: {e}")))
+}
+
+/// `--out`, or `out/<stem>`.
+pub fn out_dir(out: &Option<PathBuf>, stem: &str) -> PathBuf {
+    out.clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(stem))
+}
+
+/// The list of files written, on stdout.
+pub fn print_written(files: &[PathBuf]) {
+    println!("wrote:");
+    for f in files {
+        println!("  {}", f.display());
+    }
+}
+
+/// The closing lines of a verified run: where the results are.
+pub fn print_files(out: &Path, files: &[PathBuf]) {
+    println!("results in {}:", out.display());
+    for f in files {
+        println!("  {}", f.display());
+    }
+}
+
+/// The line that says a controller is verified (only ever printed after NuSMV said so).
+pub fn verified_line(properties: usize, scenarios: usize) -> String {
+    let holds = if properties == 1 {
+        "the property holds".to_string()
+    } else {
+        format!("all {properties} properties hold")
+    };
+    let s = if scenarios == 1 { "" } else { "s" };
+    format!("verified: {holds} (NuSMV), {scenarios} scenario{s} reproduced")
+}

@@ -1,0 +1,104 @@
+//! Progress on stderr: the library's [`Event`]s as lines prefixed with the elapsed time.
+
+use fbsynth::pipeline::Event;
+use std::time::Instant;
+
+/// Progress lines on stderr, prefixed with the elapsed time.
+pub struct Progress {
+    start: Instant,
+    quiet: bool,
+}
+
+impl Progress {
+    pub fn new(quiet: bool) -> Progress {
+        Progress {
+            start: Instant::now(),
+            quiet,
+        }
+    }
+
+    pub fn line(&self, msg: &str) {
+        if !self.quiet {
+            eprintln!("[{:7.2}s] {msg}", self.start.elapsed().as_secs_f64());
+        }
+    }
+
+    pub fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    /// Shows one event of a pipeline.
+    pub fn event(&self, e: Event<'_>) {
+        self.line(&describe(&e));
+    }
+}
+
+/// One line for an event.
+pub fn describe(e: &Event<'_>) -> String {
+    match e {
+        Event::Solver(m) => m.to_string(),
+        Event::LowerBounds { c, t, seconds } => format!(
+            "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
+        ),
+        Event::Candidate(it) => format!(
+            "iteration {}: C = {} T = {}; {}; SAT {:.2} s, NuSMV {:.2} s",
+            it.number,
+            it.c,
+            it.t,
+            if it.failing.is_empty() {
+                "every property holds".to_string()
+            } else {
+                format!(
+                    "failing: {} (counterexample of {} steps)",
+                    it.failing.join(", "),
+                    it.counterexample_length.unwrap_or(0)
+                )
+            },
+            it.sat_seconds,
+            it.nusmv_seconds
+        ),
+        Event::SatStart { size, seconds } => {
+            format!("SAT start: {size} for the scenarios alone in {seconds:.2} s")
+        }
+        Event::SearchStarted {
+            seed,
+            states,
+            colonies,
+            threads,
+            time_limit,
+        } => format!(
+            "search: seed {seed}, {states} states, {colonies} colonies on {threads} threads, limit {time_limit} s"
+        ),
+        Event::SearchRound(p) => {
+            let props = p
+                .properties
+                .map(|(s, t)| format!(", properties {s}/{t}"))
+                .unwrap_or_default();
+            format!(
+                "round {}: best fitness {:.5} ({}/{} scenarios{props}), {} evaluations, {:.0}/s",
+                p.round,
+                p.best_fitness,
+                p.best_score.reproduced,
+                p.best_score.scenarios,
+                p.evaluations,
+                p.evaluations as f64 / p.seconds.max(1e-9)
+            )
+        }
+        Event::SearchEnded {
+            seconds,
+            evaluations,
+            nusmv_runs,
+            cache_hits,
+        } => format!(
+            "search ended after {seconds:.2} s: {evaluations} evaluations, NuSMV {nusmv_runs} runs + {cache_hits} cache hits"
+        ),
+        Event::CandidateVerdict { failing } => format!(
+            "  NuSMV: {}",
+            if failing.is_empty() {
+                "every property holds".to_string()
+            } else {
+                format!("violated: {}", failing.join(", "))
+            }
+        ),
+    }
+}

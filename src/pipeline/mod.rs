@@ -1,0 +1,199 @@
+//! Every synthesize-then-verify pipeline of the tool, one function each, over one
+//! verification problem.
+//!
+//! In: a [`ScenarioSet`](crate::scenario::ScenarioSet) (read with [`Recordings::load`]), the
+//! options of the method and, where the result must be correct in closed loop, a [`Check`]:
+//! the [`Problem`] (plant, coupling, properties) and the NuSMV binary that certifies it.
+//! Out: the machine, its figures and, when checked, NuSMV's [`Report`](crate::verify::Report)
+//! with the closed-loop model it verified. Progress is reported as typed [`Event`]s; the caller
+//! decides how to show them.
+//!
+//! | method | function | result |
+//! |---|---|---|
+//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] | [`exact::Exact`] |
+//! | metaheuristic search with verification-aware fitness | [`search::run`] | [`search::Searched`] |
+//! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
+//! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
+//! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
+//!
+//! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
+//! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
+//! [`crate::nusmv`] and [`crate::verify`]; the command line only parses, calls one function
+//! here and prints.
+//!
+//! Letters, the same in every method's output, the README and `summary.json`:
+//! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,
+//! M modules.
+
+pub mod cegis;
+pub mod exact;
+pub mod modular;
+pub mod noisy;
+pub mod output;
+pub mod recordings;
+pub mod refine;
+pub mod search;
+
+pub use crate::nusmv::Nusmv;
+pub use crate::verify::{Problem, Report};
+pub use recordings::Recordings;
+use std::sync::Arc;
+
+/// What a verified result is checked against: the problem and the NuSMV that certifies it.
+#[derive(Debug, Clone)]
+pub struct Check {
+    /// Plant, coupling and properties, shared by every verifier of a run.
+    pub problem: Arc<Problem>,
+    /// The model checker; every "verified" comes from it.
+    pub nusmv: Nusmv,
+}
+
+impl Check {
+    /// A check of `problem` by `nusmv`.
+    pub fn new(problem: Problem, nusmv: Nusmv) -> Check {
+        Check {
+            problem: Arc::new(problem),
+            nusmv,
+        }
+    }
+
+    /// A fresh verifier (own NuSMV session and work folder).
+    pub fn verifier(&self) -> Result<crate::verify::Verifier, Error> {
+        Ok(crate::verify::Verifier::new(
+            self.problem.clone(),
+            &self.nusmv,
+        )?)
+    }
+}
+
+/// Progress of a pipeline, for the caller to show (or not).
+#[derive(Debug)]
+pub enum Event<'a> {
+    /// A step inside a SAT minimization (solver-level detail, for verbose output).
+    Solver(&'a str),
+    /// The exact loop's lower bounds, from the recorded inputs alone.
+    LowerBounds { c: usize, t: usize, seconds: f64 },
+    /// One candidate of the exact loop, verified by NuSMV.
+    Candidate(&'a cegis::Iteration),
+    /// The search's start machine, found by SAT for the scenarios alone.
+    SatStart {
+        size: crate::ecc::Size,
+        seconds: f64,
+    },
+    /// The search begins.
+    SearchStarted {
+        seed: u64,
+        states: usize,
+        colonies: usize,
+        threads: usize,
+        time_limit: f64,
+    },
+    /// A round of the search (emitted by the search at its own pace).
+    SearchRound(&'a crate::search::Progress),
+    /// The search ended.
+    SearchEnded {
+        seconds: f64,
+        evaluations: u64,
+        nusmv_runs: u64,
+        cache_hits: u64,
+    },
+    /// NuSMV's verdict on a candidate of the noisy enumeration.
+    CandidateVerdict { failing: &'a [String] },
+}
+
+/// A sink for [`Event`]s.
+pub type Events<'a> = &'a mut dyn FnMut(Event<'_>);
+
+/// What kind of failure an [`Error`] is; the command line maps each to one exit code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Class {
+    /// Bad input (file, line, step named) or a failed check.
+    Input,
+    /// An option out of its range or a combination the method does not take.
+    Usage,
+    /// No machine within the limits given.
+    NoMachine,
+    /// An internal invariant broke: a bug.
+    Bug,
+}
+
+/// Why a pipeline produced no result.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(transparent)]
+    Scenario(#[from] crate::scenario::ScenarioError),
+    #[error(transparent)]
+    Problem(#[from] crate::verify::ProblemError),
+    #[error(transparent)]
+    Verify(#[from] crate::verify::VerifyError),
+    #[error(transparent)]
+    Nusmv(#[from] crate::nusmv::NusmvError),
+    #[error(transparent)]
+    Sat(#[from] crate::sat::SatError),
+    #[error(transparent)]
+    Modular(#[from] crate::sat::modular::ModularError),
+    #[error(transparent)]
+    Pin(#[from] crate::sat::modular::PinError),
+    #[error(transparent)]
+    Search(#[from] crate::search::SearchError),
+    #[error(transparent)]
+    SearchData(#[from] crate::search::fitness::DataError),
+    #[error(transparent)]
+    Cegis(#[from] cegis::CegisError),
+    #[error(transparent)]
+    Export(#[from] crate::export::ExportError),
+    #[error(transparent)]
+    Json(#[from] crate::export::json::JsonError),
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    #[error(transparent)]
+    Write(#[from] crate::files::WriteError),
+    /// Bad input described in words (the place is in the text).
+    #[error("{0}")]
+    Input(String),
+    /// An option the method cannot take.
+    #[error("{0}")]
+    Usage(String),
+    /// No machine within the limits given.
+    #[error("{0}")]
+    NoMachine(String),
+    /// A broken invariant.
+    #[error("{0}")]
+    Bug(String),
+}
+
+impl Error {
+    /// The kind of failure, for the exit code.
+    pub fn class(&self) -> Class {
+        use crate::sat::modular::ModularError;
+        use crate::sat::SatError;
+        match self {
+            Error::Sat(SatError::TooManyStates { .. })
+            | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
+            | Error::Cegis(cegis::CegisError::Iterations { .. })
+            | Error::Modular(ModularError::NoController { .. })
+            | Error::NoMachine(_) => Class::NoMachine,
+            Error::Sat(SatError::Bug(_))
+            | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
+            | Error::Modular(ModularError::Bug(_))
+            | Error::Bug(_) => Class::Bug,
+            Error::Modular(ModularError::NoModules) | Error::Pin(_) | Error::Usage(_) => {
+                Class::Usage
+            }
+            _ => Class::Input,
+        }
+    }
+}
+
+/// Locates NuSMV (`path`, else `$NUSMV`, `PATH`, the install script's cache) with a timeout
+/// per closed-loop model; fails early with the install hint.
+pub fn nusmv(path: Option<&std::path::Path>, timeout_seconds: f64) -> Result<Nusmv, Error> {
+    let mut n = Nusmv::new(crate::nusmv::locate(path)?);
+    n.timeout = std::time::Duration::from_secs_f64(timeout_seconds.max(0.1));
+    Ok(n)
+}
+
+/// Verifies an existing machine in closed loop (no synthesis).
+pub fn verify(ecc: &crate::ecc::Ecc, check: &Check) -> Result<crate::verify::Verification, Error> {
+    Ok(check.verifier()?.verify(ecc)?)
+}

@@ -1,0 +1,248 @@
+//! Writing results: a machine in every requested format, and around a verified one NuSMV's
+//! report, the closed-loop model it checked and `summary.json`; the noisy candidates each in
+//! their folder with the corrected traces. Every file is written atomically (a temporary file
+//! renamed over the target) with the mode of any file the user creates (0644 under umask 022).
+
+use super::exact::Certificate;
+use super::noisy::Noisy;
+use super::Error;
+use crate::ecc::modular::{Modular, Module};
+use crate::ecc::{Algorithm, AlgorithmKind, Ecc, InputId, OutputId, State};
+use crate::export::{self, Format};
+use crate::files::write_atomic;
+use crate::scenario::{csvlog, fbsat, ScenarioSet};
+use std::path::{Path, PathBuf};
+
+/// Creates `dir` (and its parents) with a located error.
+pub fn create_dir(dir: &Path) -> Result<(), Error> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::Input(format!("cannot create {}: {e}", dir.display())))
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    Ok(write_atomic(path, bytes)?)
+}
+
+/// A machine with one initial state and no transition over the interface of `set`.
+fn probe(set: &ScenarioSet, outputs: &[OutputId]) -> Ecc {
+    Ecc {
+        inputs: set.inputs.clone(),
+        outputs: outputs.iter().map(|z| set.outputs[z.0].clone()).collect(),
+        initial_outputs: outputs.iter().map(|z| set.initial_outputs[z.0]).collect(),
+        states: vec![State {
+            name: "s0".into(),
+            algorithm: Algorithm::keep_all(AlgorithmKind::Tri, outputs.len()),
+            transitions: Vec::new(),
+        }],
+    }
+}
+
+/// Checks up front, before any search, that the interface names and the block name can be
+/// written in every requested format: an empty machine over the interface must export.
+pub fn check_exportable(set: &ScenarioSet, name: &str, formats: &[Format]) -> Result<(), Error> {
+    let all: Vec<OutputId> = (0..set.outputs.len()).map(OutputId).collect();
+    let dir = tempfile::tempdir()?;
+    export::write_all(&probe(set, &all), dir.path(), name, formats)?;
+    Ok(())
+}
+
+/// Checks before a modular search that the block name and the interface can be exported: a
+/// probe composite with `modules` modules must pass the name checks of the `.fbt` and SMV
+/// files.
+pub fn check_exportable_modular(
+    set: &ScenarioSet,
+    name: &str,
+    modules: usize,
+) -> Result<(), Error> {
+    let module = |owns: bool| {
+        let outputs: Vec<OutputId> = if owns {
+            (0..set.outputs.len()).map(OutputId).collect()
+        } else {
+            Vec::new()
+        };
+        Module {
+            inputs: (0..set.inputs.len()).map(InputId).collect(),
+            ecc: probe(set, &outputs),
+            outputs,
+        }
+    };
+    let composite = Modular {
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+        initial_outputs: set.initial_outputs.clone(),
+        modules: (0..modules.max(1)).map(|m| module(m == 0)).collect(),
+    };
+    export::modular::check_fbt_names(&composite, name)
+        .map_err(|e| Error::Input(error_chain(&e)))?;
+    export::modular::check_smv_names(&composite, name).map_err(|e| Error::Input(error_chain(&e)))
+}
+
+/// An error's message followed by its causes, as the command line prints them.
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut message = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !message.contains(&text) {
+            message.push_str(&format!("\ncaused by: {text}"));
+        }
+        source = s.source();
+    }
+    message
+}
+
+/// Where a verified result came from, for the head of `verification.txt`.
+pub struct Provenance<'a> {
+    /// The function block type's name.
+    pub name: &'a str,
+    pub plant_file: &'a Path,
+    pub spec_file: &'a Path,
+}
+
+/// Writes a verified machine into `out`: every export format, NuSMV's report, the
+/// closed-loop model it checked and `summary.json`. Returns the files written.
+pub fn write_verified(
+    out: &Path,
+    formats: &[Format],
+    ecc: &Ecc,
+    certificate: &Certificate,
+    provenance: &Provenance<'_>,
+    summary: &serde_json::Value,
+) -> Result<Vec<PathBuf>, Error> {
+    create_dir(out)?;
+    let mut files = export::write_all(ecc, out, provenance.name, formats)?;
+    let report_txt = out.join("verification.txt");
+    let mut text = format!(
+        "Closed-loop verification by NuSMV of {}\nplant: {}\nproperties: {}\n\n",
+        provenance.name,
+        provenance.plant_file.display(),
+        provenance.spec_file.display()
+    );
+    text.push_str(&certificate.report.to_text());
+    write(&report_txt, text.as_bytes())?;
+    files.push(report_txt);
+    let model = out.join("closed_loop.smv");
+    write(&model, certificate.model_text.as_bytes())?;
+    files.push(model);
+    let summary_file = out.join("summary.json");
+    write(
+        &summary_file,
+        serde_json::to_string_pretty(summary)
+            .expect("serializable")
+            .as_bytes(),
+    )?;
+    files.push(summary_file);
+    Ok(files)
+}
+
+/// One row of the noisy summary.
+#[derive(Debug, serde::Serialize)]
+pub struct NoisyRow {
+    pub candidate: usize,
+    pub errors: usize,
+    pub size: crate::ecc::Size,
+    pub guards_exact: bool,
+    /// `Some(true)`: every property holds; `None`: not checked.
+    pub verified: Option<bool>,
+    pub folder: String,
+}
+
+/// Writes every noisy candidate into `out/candidate_<k>/` (the machine in every format, the
+/// corrected traces as `corrected.txt` and `corrected.csv`, and `candidate.json`), then
+/// `summary.txt` and `summary.json`. Returns the summary table.
+pub fn write_noisy(
+    out: &Path,
+    name: &str,
+    formats: &[Format],
+    noisy: &Noisy,
+    total_seconds: f64,
+) -> Result<String, Error> {
+    create_dir(out)?;
+    let result = &noisy.synthesis;
+    let mut rows = Vec::new();
+    for (k, c) in result.candidates.iter().enumerate() {
+        let folder = format!("candidate_{}", k + 1);
+        let dir = out.join(&folder);
+        create_dir(&dir)?;
+        export::write_all(&c.ecc, &dir, name, formats)?;
+        let mut text = Vec::new();
+        fbsat::write(&c.corrected, &mut text)?;
+        write(&dir.join("corrected.txt"), &text)?;
+        let mut csv = Vec::new();
+        csvlog::write(&c.corrected, &mut csv)?;
+        write(&dir.join("corrected.csv"), &csv)?;
+        let row = NoisyRow {
+            candidate: k + 1,
+            errors: c.errors,
+            size: c.size,
+            guards_exact: c.guards_exact,
+            verified: noisy.verdicts.get(k).copied().flatten(),
+            folder,
+        };
+        let json = serde_json::to_string_pretty(&row).expect("serializable");
+        write(&dir.join("candidate.json"), json.as_bytes())?;
+        rows.push(row);
+    }
+    let mut table = format!(
+        "noisy synthesis: C = {}  K = {}  T = {}; {} alternative edges; {} candidate(s){}\n\n\
+         candidate  errors  C   K   T   N    verified  folder\n",
+        result.n,
+        result.k,
+        result.r,
+        result.stats.alternatives,
+        rows.len(),
+        if result.exhausted { ", all" } else { "" }
+    );
+    for r in &rows {
+        table.push_str(&format!(
+            "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<9} {}\n",
+            r.candidate,
+            r.errors,
+            r.size.c,
+            r.size.k,
+            r.size.t,
+            r.size.n,
+            match r.verified {
+                None => "-",
+                Some(true) => "yes",
+                Some(false) => "no",
+            },
+            r.folder
+        ));
+    }
+    write(&out.join("summary.txt"), table.as_bytes())?;
+    let summary = serde_json::json!({
+        // `c`, `k`, `t` as everywhere else; `n` and `r` are the older names of C and T.
+        "c": result.n, "k": result.k, "t": result.r,
+        "n": result.n, "r": result.r,
+        "exhausted": result.exhausted,
+        "first_verified": noisy.first_verified(),
+        "candidates": rows,
+        "stats": result.stats,
+        "total_seconds": total_seconds,
+    });
+    write(
+        &out.join("summary.json"),
+        serde_json::to_string_pretty(&summary)
+            .expect("serializable")
+            .as_bytes(),
+    )?;
+    Ok(table)
+}
+
+/// Writes scenarios in the fbSAT text format with their names files beside them
+/// (`<stem>.traces`, `<stem>.inputs`, `<stem>.outputs`). Returns the traces file.
+pub fn write_scenarios(dir: &Path, stem: &str, set: &ScenarioSet) -> Result<PathBuf, Error> {
+    create_dir(dir)?;
+    let traces = dir.join(format!("{stem}.traces"));
+    let mut text = Vec::new();
+    fbsat::write(set, &mut text)?;
+    write(&traces, &text)?;
+    for (ext, names) in [("inputs", &set.inputs), ("outputs", &set.outputs)] {
+        write(
+            &dir.join(format!("{stem}.{ext}")),
+            (names.join("\n") + "\n").as_bytes(),
+        )?;
+    }
+    Ok(traces)
+}

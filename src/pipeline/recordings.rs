@@ -1,0 +1,124 @@
+//! Where scenarios come from: trace files (fbSAT text or CSV logs, plain or gzip) and the
+//! interface names files, read into one [`ScenarioSet`].
+
+use super::Error;
+use crate::ecc::Ecc;
+use crate::scenario::{csvlog, fbsat, names, ScenarioSet};
+use std::path::{Path, PathBuf};
+
+/// Trace files and the names of their bits.
+#[derive(Debug, Clone, Default)]
+pub struct Recordings {
+    /// Scenario files: fbSAT text format or CSV logs (`.csv`, `.csv.gz`); at least one.
+    pub traces: Vec<PathBuf>,
+    /// Input names file (default: `<stem>.inputs` or `input-names` beside the first trace).
+    pub input_names: Option<PathBuf>,
+    /// Output names file (default: beside the first trace, like the inputs).
+    pub output_names: Option<PathBuf>,
+}
+
+fn is_csv(path: &Path) -> bool {
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    name.ends_with(".csv") || name.ends_with(".csv.gz")
+}
+
+impl Recordings {
+    /// Recordings in `traces` with the default names files.
+    pub fn files(traces: Vec<PathBuf>) -> Recordings {
+        Recordings {
+            traces,
+            ..Recordings::default()
+        }
+    }
+
+    /// Reads every trace file into one scenario set.
+    pub fn load(&self) -> Result<ScenarioSet, Error> {
+        let Some(first) = self.traces.first() else {
+            return Err(Error::Usage("no trace file given".into()));
+        };
+        let defaults = names::default_names_files(first);
+        let in_file = self
+            .input_names
+            .clone()
+            .or_else(|| defaults.as_ref().map(|d| d.0.clone()));
+        let out_file = self
+            .output_names
+            .clone()
+            .or_else(|| defaults.as_ref().map(|d| d.1.clone()));
+        let inputs = in_file.as_deref().map(names::read_names).transpose()?;
+        let outputs = out_file.as_deref().map(names::read_names).transpose()?;
+        if let (Some(i), Some(o)) = (&inputs, &outputs) {
+            if let Some(n) = i.iter().find(|n| o.contains(n)) {
+                return Err(Error::Input(format!(
+                    "'{n}' is named both as an input and as an output"
+                )));
+            }
+        }
+        let mut set: Option<ScenarioSet> = None;
+        for file in &self.traces {
+            let s = if is_csv(file) {
+                csvlog::read(file, inputs.as_deref(), outputs.as_deref())
+            } else {
+                fbsat::read(file, inputs.clone(), outputs.clone())
+            }?;
+            match &mut set {
+                None => set = Some(s),
+                Some(all) => all.merge(s)?,
+            }
+        }
+        Ok(set.expect("at least one trace file"))
+    }
+
+    /// The first trace file's name up to its first dot (`specs/pnp.traces` -> `pnp`): the
+    /// default name of an output folder.
+    pub fn stem(&self) -> String {
+        self.traces
+            .first()
+            .map_or_else(|| "traces".into(), |p| stem(p))
+    }
+
+    /// The trace files, comma-separated, for messages.
+    pub fn show(&self) -> String {
+        self.traces
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A file's name up to its first dot.
+pub fn stem(path: &Path) -> String {
+    let f = path
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "traces".into());
+    f.split('.').next().unwrap_or("traces").to_string()
+}
+
+/// Reads a machine from its JSON file.
+pub fn read_ecc(path: &Path) -> Result<Ecc, Error> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+    Ok(crate::export::json::read_json(&text, path)?)
+}
+
+/// Reads a machine and recordings and checks that they share one interface.
+pub fn machine_and_scenarios(
+    ecc_file: &Path,
+    recordings: &Recordings,
+) -> Result<(Ecc, ScenarioSet), Error> {
+    let ecc = read_ecc(ecc_file)?;
+    let set = recordings.load()?;
+    if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
+        return Err(Error::Input(format!(
+            "{} has inputs [{}] and outputs [{}], the scenarios [{}] and [{}]",
+            ecc_file.display(),
+            ecc.inputs.join(" "),
+            ecc.outputs.join(" "),
+            set.inputs.join(" "),
+            set.outputs.join(" ")
+        )));
+    }
+    Ok((ecc, set))
+}
