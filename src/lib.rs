@@ -22,6 +22,7 @@
 
 // The benchmark cases are written against the public API (`fbsynth::...`), so the binary,
 // the integration tests and the unit tests here can all compile the same files.
+#[cfg(test)]
 extern crate self as fbsynth;
 
 #[cfg(test)]

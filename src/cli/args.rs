@@ -4,9 +4,7 @@ use super::{exit, Failure};
 use clap::{Args, ValueEnum};
 use fbsynth::ecc::AlgorithmKind;
 use fbsynth::export::Format;
-use fbsynth::pipeline::Nusmv;
-use fbsynth::pipeline::Problem;
-use fbsynth::pipeline::{self, Check, Recordings};
+use fbsynth::pipeline::{self, search, Check, Nusmv, Problem, Recordings};
 use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
@@ -107,29 +105,20 @@ pub fn out_dir(out: &Option<PathBuf>, stem: &str) -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("out").join(stem))
 }
 
-/// The list of files written, on stdout.
-pub fn print_written(files: &[PathBuf]) {
-    println!("wrote:");
-    for f in files {
-        println!("  {}", f.display());
-    }
+/// Where the colonies start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Start {
+    /// Random machines (the seeds' method).
+    Random,
+    /// The minimal machine SAT finds for the scenarios alone (verification left to the search).
+    Sat,
 }
 
-/// The closing lines of a verified run: where the results are.
-pub fn print_files(out: &Path, files: &[PathBuf]) {
-    println!("results in {}:", out.display());
-    for f in files {
-        println!("  {}", f.display());
+impl From<Start> for search::Start {
+    fn from(s: Start) -> search::Start {
+        match s {
+            Start::Random => search::Start::Random,
+            Start::Sat => search::Start::Sat,
+        }
     }
-}
-
-/// The line that says a controller is verified (only ever printed after NuSMV said so).
-pub fn verified_line(properties: usize, scenarios: usize) -> String {
-    let holds = if properties == 1 {
-        "the property holds".to_string()
-    } else {
-        format!("all {properties} properties hold")
-    };
-    let s = if scenarios == 1 { "" } else { "s" };
-    format!("verified: {holds} (NuSMV), {scenarios} scenario{s} reproduced")
 }

@@ -8,8 +8,8 @@
 //! - `synth bench-search`: the search's scenario-fitness evaluations per second.
 
 use super::args::{problem, TraceArgs};
-use super::infer::describe_modules;
 use super::progress::Progress;
+use super::show::describe_modules;
 use super::{exit, Failure};
 use crate::cases::distribution;
 use clap::Args;

@@ -2,8 +2,7 @@
 //! LTL without the counterexample term; scenarios + LTL) from Ovsiannikova, Chukharev,
 //! Vyatkin and Chivilikhin's counterexample-guided search, on the project's data.
 
-use super::args::{check, problem, NusmvArgs};
-use super::main_job::Start;
+use super::args::{check, problem, NusmvArgs, Start};
 use super::progress::{describe, Progress};
 use super::{exit, Failure};
 use clap::Args;

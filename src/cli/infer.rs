@@ -1,13 +1,11 @@
 //! `synth infer` (exact, noisy or modular synthesis from recordings), `synth convert` and
 //! `synth replay`.
 
-use super::args::{
-    check, out_dir, parse_formats, print_written, problem, AlgorithmsArg, NusmvArgs, TraceArgs,
-};
+use super::args::{check, out_dir, parse_formats, problem, AlgorithmsArg, NusmvArgs, TraceArgs};
 use super::progress::Progress;
+use super::show::{describe_modules, print_written};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
-use fbsynth::ecc::modular::Modular;
 use fbsynth::export;
 use fbsynth::pipeline::output::{self, check_exportable, check_exportable_modular};
 use fbsynth::pipeline::recordings::machine_and_scenarios;
@@ -49,7 +47,7 @@ pub struct InferArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
-    /// (writes <name>.fbt/.smv/.modules.json and <name>_M<i>.fbt/.json/.dot; --format is
+    /// (writes `<name>.fbt/.smv/.modules.json` and `<name>_M<i>.fbt/.json/.dot`; --format is
     /// ignored).
     #[arg(long, value_name = "M")]
     pub modules: Option<usize>,
@@ -240,34 +238,6 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
             "no candidate satisfies every property (raise --enumerate or --max-errors)",
         )),
     }
-}
-
-/// One line per module: its outputs, inputs and size.
-pub fn describe_modules(modular: &Modular) -> Vec<String> {
-    modular
-        .modules
-        .iter()
-        .enumerate()
-        .map(|(m, module)| {
-            let s = module.ecc.size();
-            let list = |v: &[String]| {
-                if v.is_empty() {
-                    "-".to_string()
-                } else {
-                    v.join(", ")
-                }
-            };
-            format!(
-                "module {}: {} states, {} transitions, {} guard literals; outputs: {}; inputs: {}",
-                m + 1,
-                s.c,
-                s.t,
-                s.n,
-                list(&module.ecc.outputs),
-                list(&module.ecc.inputs)
-            )
-        })
-        .collect()
 }
 
 /// Modular synthesis of `set` into `out` (also the second stage of `--noisy --modules`, on

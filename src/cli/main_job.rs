@@ -2,10 +2,10 @@
 //! `synth verify`.
 
 use super::args::{
-    check, out_dir, parse_formats, print_files, problem, verified_line, AlgorithmsArg, NusmvArgs,
-    TraceArgs,
+    check, out_dir, parse_formats, problem, AlgorithmsArg, NusmvArgs, Start, TraceArgs,
 };
 use super::progress::Progress;
+use super::show::{print_files, verified_line};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
@@ -76,24 +76,6 @@ pub enum Method {
     Sat,
     /// Metaheuristic search with verification-aware fitness.
     Search,
-}
-
-/// Where the colonies start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Start {
-    /// Random machines (the seeds' method).
-    Random,
-    /// The minimal machine SAT finds for the scenarios alone (verification left to the search).
-    Sat,
-}
-
-impl From<Start> for search::Start {
-    fn from(s: Start) -> search::Start {
-        match s {
-            Start::Random => search::Start::Random,
-            Start::Sat => search::Start::Sat,
-        }
-    }
 }
 
 /// Options of the search (`--method search`).

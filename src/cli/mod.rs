@@ -15,6 +15,7 @@ mod infer;
 mod ingest;
 mod main_job;
 mod progress;
+mod show;
 
 use clap::{Parser, Subcommand};
 use fbsynth::pipeline::{self, Class};

@@ -4,7 +4,7 @@
 //! In: a [`ScenarioSet`](crate::scenario::ScenarioSet) (read with [`Recordings::load`]), the
 //! options of the method and, where the result must be correct in closed loop, a [`Check`]:
 //! the [`Problem`] (plant, coupling, properties) and the NuSMV binary that certifies it.
-//! Out: the machine, its figures and, when checked, NuSMV's [`Report`](crate::verify::Report)
+//! Out: the machine, its figures and, when checked, NuSMV's [`Report`]
 //! with the closed-loop model it verified. Progress is reported as typed [`Event`]s; the caller
 //! decides how to show them.
 //!

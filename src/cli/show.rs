@@ -1,0 +1,59 @@
+//! What several commands print the same way.
+
+use fbsynth::ecc::modular::Modular;
+use std::path::{Path, PathBuf};
+
+/// The list of files written, on stdout.
+pub fn print_written(files: &[PathBuf]) {
+    println!("wrote:");
+    for f in files {
+        println!("  {}", f.display());
+    }
+}
+
+/// The closing lines of a verified run: where the results are.
+pub fn print_files(out: &Path, files: &[PathBuf]) {
+    println!("results in {}:", out.display());
+    for f in files {
+        println!("  {}", f.display());
+    }
+}
+
+/// The line that says a controller is verified (only ever printed after NuSMV said so).
+pub fn verified_line(properties: usize, scenarios: usize) -> String {
+    let holds = if properties == 1 {
+        "the property holds".to_string()
+    } else {
+        format!("all {properties} properties hold")
+    };
+    let s = if scenarios == 1 { "" } else { "s" };
+    format!("verified: {holds} (NuSMV), {scenarios} scenario{s} reproduced")
+}
+
+/// One line per module: its outputs, inputs and size.
+pub fn describe_modules(modular: &Modular) -> Vec<String> {
+    modular
+        .modules
+        .iter()
+        .enumerate()
+        .map(|(m, module)| {
+            let s = module.ecc.size();
+            let list = |v: &[String]| {
+                if v.is_empty() {
+                    "-".to_string()
+                } else {
+                    v.join(", ")
+                }
+            };
+            format!(
+                "module {}: {} states, {} transitions, {} guard literals; outputs: {}; inputs: {}",
+                m + 1,
+                s.c,
+                s.t,
+                s.n,
+                list(&module.ecc.outputs),
+                list(&module.ecc.inputs)
+            )
+        })
+        .collect()
+}
