@@ -86,6 +86,23 @@ pub fn problem(
     Problem::load(ltl, plant, inputs, outputs).map_err(|e| Failure::from(pipeline::Error::from(e)))
 }
 
+/// With both `--ltl` and `--plant`: the problem they state over the interface of `set`, and
+/// the NuSMV that checks it.
+pub fn optional_check(
+    ltl: &Option<PathBuf>,
+    plant: &Option<PathBuf>,
+    set: &ScenarioSet,
+    nusmv: &NusmvArgs,
+) -> Result<Option<Check>, Failure> {
+    match (ltl, plant) {
+        (Some(ltl), Some(plant)) => Ok(Some(check(
+            problem(ltl, plant, &set.inputs, &set.outputs)?,
+            nusmv,
+        )?)),
+        _ => Ok(None),
+    }
+}
+
 /// A problem and the NuSMV that checks it.
 pub fn check(problem: Problem, nusmv: &NusmvArgs) -> Result<Check, Failure> {
     Ok(Check::new(problem, nusmv.nusmv()?))

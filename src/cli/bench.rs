@@ -76,8 +76,11 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
                 name: format!("fbSAT tests-{n} ({label})"),
                 traces: traces.clone(),
                 opts: exact::Options {
-                    algorithms: AlgorithmKind::Binary,
-                    start_state,
+                    sat: exact::SatOptions {
+                        algorithms: AlgorithmKind::Binary,
+                        start_state,
+                        ..exact::SatOptions::default()
+                    },
                     ..exact::Options::default()
                 },
             });
@@ -103,10 +106,7 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     let nusmv = pipeline::nusmv(args.nusmv.as_deref(), 60.0)?;
     let set = Recordings::files(vec![args.pnp.clone()]).load()?;
     let check = Check::new(problem(ltl, plant_file, &set.inputs, &set.outputs)?, nusmv);
-    let opts = exact::Options {
-        max_out_degree: Some(exact::DEFAULT_OUT_DEGREE),
-        ..exact::Options::default()
-    };
+    let opts = exact::Options::default();
     println!();
     println!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per candidate (median) |");
     println!("|---|---|---|---|---|---|---|---|---|");

@@ -2,7 +2,7 @@
 //! divergence, and with `--refine` learn the divergent traces and synthesize again (verified
 //! again with `--ltl`/`--plant`).
 
-use super::args::{check, parse_formats, problem, NusmvArgs, TraceArgs};
+use super::args::{optional_check, parse_formats, NusmvArgs, TraceArgs};
 use super::progress::Progress;
 use super::{exit, Failure};
 use clap::Args;
@@ -90,13 +90,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
         output_names: args.traces.output_names.clone(),
     }
     .load()?;
-    let check = match (&args.ltl, &args.plant) {
-        (Some(ltl), Some(plant)) => Some(check(
-            problem(ltl, plant, &set.inputs, &set.outputs)?,
-            &args.nusmv,
-        )?),
-        _ => None,
-    };
+    let check = optional_check(&args.ltl, &args.plant, &set, &args.nusmv)?;
     let out = args
         .out
         .clone()

@@ -1,7 +1,7 @@
 //! `synth infer` (exact, noisy or modular synthesis from recordings), `synth convert` and
 //! `synth replay`.
 
-use super::args::{check, out_dir, parse_formats, problem, AlgorithmsArg, NusmvArgs, TraceArgs};
+use super::args::{optional_check, out_dir, parse_formats, AlgorithmsArg, NusmvArgs, TraceArgs};
 use super::progress::Progress;
 use super::show::{describe_modules, print_written};
 use super::{exit, Failure};
@@ -151,11 +151,14 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let opts = exact::Options {
-        algorithms: args.algorithms.into(),
-        minimize_k: args.minimize_k,
-        max_states: args.max_states,
-        start_state: args.start_state,
-        guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+        sat: exact::SatOptions {
+            algorithms: args.algorithms.into(),
+            minimize_k: args.minimize_k,
+            max_states: args.max_states,
+            start_state: args.start_state,
+            guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+            ..exact::SatOptions::default()
+        },
         ..exact::Options::default()
     };
     let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))?.synthesis;
@@ -193,13 +196,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let n = &args.noisy;
-    let check = match (&n.ltl, &n.plant) {
-        (Some(ltl), Some(plant)) => Some(check(
-            problem(ltl, plant, &set.inputs, &set.outputs)?,
-            &n.nusmv,
-        )?),
-        _ => None,
-    };
+    let check = optional_check(&n.ltl, &n.plant, &set, &n.nusmv)?;
     let out = out_dir(&args.out, &args.traces.recordings().stem());
     output::create_dir(&out)?;
     let opts = noisy::Options {

@@ -182,13 +182,15 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     let (ecc, size, certificate, summary, closing) = match args.method {
         Method::Sat => {
             let opts = exact::Options {
-                algorithms: args.algorithms.into(),
-                max_states: args.max_states,
-                max_out_degree: Some(args.max_out_degree.max(1)),
+                sat: exact::SatOptions {
+                    algorithms: args.algorithms.into(),
+                    max_states: args.max_states,
+                    cube_slots: Some(args.max_out_degree.max(1)),
+                    ..exact::SatOptions::default()
+                },
                 max_iterations: args.max_iterations,
                 verbose: args.verbose,
                 keep_failed_model: Some(out.join("closed_loop.last.smv")),
-                ..exact::Options::default()
             };
             let r = exact::run(&set, Some(&check), &opts, &mut |e| progress.event(e))?;
             let certificate = r.certificate.expect("a check gives a certificate");

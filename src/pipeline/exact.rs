@@ -4,32 +4,22 @@
 
 use super::cegis::{self, Iteration};
 use super::{Check, Error, Event, Events};
-use crate::ecc::AlgorithmKind;
 use crate::sat::{self, Synthesis};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use crate::verify::Report;
 use std::path::PathBuf;
-use std::time::Duration;
+
+pub use crate::sat::Options as SatOptions;
 
 /// Settings of exact synthesis.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Form of the state output algorithms.
-    pub algorithms: AlgorithmKind,
-    /// Minimize the largest out-degree K before T.
-    pub minimize_k: bool,
-    /// Give up above this many states.
-    pub max_states: usize,
-    /// State 0 is a start state no transition enters (the fbSAT tool's convention).
-    pub start_state: bool,
-    /// Time for guard minimization in the tree-exact model.
-    pub guard_budget: Duration,
-    /// Guards: `None`, transitions on recorded inputs only with guards minimized afterwards
-    /// (tree-exact); `Some(k)`, conjunctions inside the encoding, at most `k` transitions per
-    /// state, so the machine is defined on every input (always used with a [`Check`]:
-    /// counterexamples run on inputs nobody recorded).
-    pub max_out_degree: Option<usize>,
+    /// The SAT synthesis: algorithms, bounds, guard model. With a [`Check`] the cube guard
+    /// model is always used (at most [`DEFAULT_OUT_DEGREE`] transitions per state unless
+    /// set), so the machine is defined on every input: counterexamples run on inputs nobody
+    /// recorded.
+    pub sat: SatOptions,
     /// With a check: give up after this many candidates.
     pub max_iterations: usize,
     /// Report every step of every minimization as [`Event::Solver`].
@@ -42,12 +32,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            algorithms: AlgorithmKind::Tri,
-            minimize_k: false,
-            max_states: 32,
-            start_state: false,
-            guard_budget: Duration::from_secs(10),
-            max_out_degree: None,
+            sat: SatOptions::default(),
             max_iterations: 500,
             verbose: false,
             keep_failed_model: None,
@@ -59,20 +44,12 @@ impl Default for Options {
 pub const DEFAULT_OUT_DEGREE: usize = 6;
 
 impl Options {
-    fn sat(&self, verified: bool) -> sat::Options {
-        let slots = match (self.max_out_degree, verified) {
-            (Some(k), _) => Some(k.max(1)),
-            (None, true) => Some(DEFAULT_OUT_DEGREE),
-            (None, false) => None,
-        };
-        sat::Options {
-            algorithms: self.algorithms,
-            minimize_k: self.minimize_k,
-            max_states: self.max_states,
-            start_state: self.start_state,
-            guard_budget: self.guard_budget,
-            cube_slots: slots,
+    fn sat(&self, verified: bool) -> SatOptions {
+        let mut sat = self.sat.clone();
+        if verified && sat.cube_slots.is_none() {
+            sat.cube_slots = Some(DEFAULT_OUT_DEGREE);
         }
+        sat
     }
 }
 

@@ -145,6 +145,10 @@ pub enum Error {
     #[error(transparent)]
     Json(#[from] crate::export::json::JsonError),
     #[error(transparent)]
+    Name(#[from] crate::export::NameError),
+    #[error(transparent)]
+    Smv(#[from] crate::smv::SmvError),
+    #[error(transparent)]
     Io(#[from] std::io::Error),
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),

@@ -72,23 +72,8 @@ pub fn check_exportable_modular(
         initial_outputs: set.initial_outputs.clone(),
         modules: (0..modules.max(1)).map(|m| module(m == 0)).collect(),
     };
-    export::modular::check_fbt_names(&composite, name)
-        .map_err(|e| Error::Input(error_chain(&e)))?;
-    export::modular::check_smv_names(&composite, name).map_err(|e| Error::Input(error_chain(&e)))
-}
-
-/// An error's message followed by its causes, as the command line prints them.
-fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut message = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        let text = s.to_string();
-        if !message.contains(&text) {
-            message.push_str(&format!("\ncaused by: {text}"));
-        }
-        source = s.source();
-    }
-    message
+    export::modular::check_fbt_names(&composite, name)?;
+    Ok(export::modular::check_smv_names(&composite, name)?)
 }
 
 /// Where a verified result came from, for the head of `verification.txt`.

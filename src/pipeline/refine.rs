@@ -66,7 +66,7 @@ pub fn run(
     training.merge(learned)?;
     let traces_file = output::write_scenarios(opts.out, "refined", &training)?;
     let mut exact_opts = opts.exact.clone();
-    exact_opts.algorithms = ecc.algorithm_kind();
+    exact_opts.sat.algorithms = ecc.algorithm_kind();
     if check.is_some() && exact_opts.keep_failed_model.is_none() {
         exact_opts.keep_failed_model = Some(opts.out.join("closed_loop.last.smv"));
     }
