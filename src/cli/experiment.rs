@@ -1,6 +1,6 @@
-//! `synth experiment table1`: the search's Table I experiment (scenarios only; scenarios +
-//! LTL without the counterexample term; scenarios + LTL) from Ovsiannikova, Chukharev,
-//! Vyatkin and Chivilikhin's counterexample-guided search, on the project's data.
+//! `synth experiment table1`: Table I of the function-block reconstruction with NuSMV in the
+//! loop (scenarios only; scenarios + LTL without the counterexample term; scenarios + LTL),
+//! repeated with the search on the project's data.
 
 use super::args::{check, problem, NusmvArgs, Start};
 use super::progress::{describe, Progress};

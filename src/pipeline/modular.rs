@@ -1,6 +1,7 @@
 //! Modular synthesis: the outputs distributed over M basic function blocks that read the
-//! same inputs, wired by a composite block (the parallel decomposition of Chukharev and
-//! Chivilikhin's modular synthesis).
+//! same inputs, wired by a composite block (the parallel decomposition of the modular
+//! synthesis in Chivilikhin et al., "Automatic state machine reconstruction from legacy PLC
+//! using data collection and SAT solver").
 
 use super::{Error, Event, Events};
 use crate::sat::modular::synthesize_modular;

@@ -1,5 +1,6 @@
-//! Synthesis from noisy sampled logs: the scan-cycle error model of Chukharev and
-//! Chivilikhin's noisy-trace synthesis. Minimal machines are enumerated by number of corrected
+//! Synthesis from noisy sampled logs: the scan-cycle error model of Chivilikhin, Patil,
+//! Chukharev, Cordonnier and Vyatkin, "Automatic state machine reconstruction from legacy
+//! PLC using data collection and SAT solver". Minimal machines are enumerated by number of corrected
 //! errors ε; with a [`Check`] every candidate is verified by NuSMV and the enumeration stops at
 //! the first one that satisfies every property.
 

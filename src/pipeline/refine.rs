@@ -1,5 +1,6 @@
-//! Monitoring and refinement, the loop Chukharev and Chivilikhin propose for a machine in
-//! service: replay new recordings on it; where one diverges, add it to the training scenarios,
+//! Monitoring and refinement, the loop Chivilikhin et al. ("Automatic state machine
+//! reconstruction from legacy PLC using data collection and SAT solver") propose for a
+//! machine in service: replay new recordings on it; where one diverges, add it to the training scenarios,
 //! synthesize again (verified again with a [`Check`]) and show that the new machine reproduces
 //! every new recording.
 

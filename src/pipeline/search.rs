@@ -1,7 +1,9 @@
 //! Search-based synthesis in closed loop: colonies of `(1+λ)` strategies evolve machines
-//! against the scenarios and NuSMV's verdicts (the metaheuristic of Chukharev, Suvorov and
-//! Chivilikhin, and its counterexample-guided variant by Ovsiannikova, Chukharev, Vyatkin and
-//! Chivilikhin); the machine found is checked once more by NuSMV in a fresh session.
+//! against the scenarios (Chivilikhin, Shalyto, Patil and Vyatkin, "Reconstruction of
+//! Function Block Logic using Metaheuristic Algorithm: Initial Explorations") and against
+//! NuSMV's verdicts with counterexample-weighted mutation (the function-block reconstruction
+//! augmented with closed-loop NuSMV verification over a hand-made surrogate plant model); the
+//! machine found is checked once more by NuSMV in a fresh session.
 
 use super::{Check, Error, Event, Events};
 use crate::ecc::Ecc;

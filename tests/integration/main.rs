@@ -9,6 +9,7 @@ mod cli;
 mod closed_loop;
 mod common;
 mod events;
+mod modes;
 mod modular;
 mod noisy;
 mod synthesis;
