@@ -28,7 +28,8 @@
 //! on one input vector, so [`csvlog::samples_to_steps`] turns a clean log into exactly the
 //! scans that mattered.
 
-use fbsynth::ecc::{Ecc, Run};
+use super::{closed_loop, Drive, Scanned, Simulated};
+use fbsynth::ecc::Ecc;
 use fbsynth::files::{write_atomic, WriteError};
 use fbsynth::scenario::csvlog::{self, Sample};
 use fbsynth::scenario::{Origin, Scenario, ScenarioSet};
@@ -375,47 +376,63 @@ pub fn held_out_cases() -> Vec<UseCase> {
 /// returns one sample per scan and the station at the end; `None` if the run does not settle
 /// within [`MAX_SCANS`].
 pub fn simulate(ecc: &Ecc, case: &UseCase) -> Option<(Vec<Sample>, Station)> {
-    let mut station = Station::new();
-    let mut run = Run::new(ecc);
-    let mut samples = Vec::new();
     let mut quiet = 0;
     let mut actions = case.actions.iter();
     // Pending button: which one and scans left to hold it.
     let mut pressing: Option<(Button, usize)> = None;
-    let scan = |station: &mut Station, run: &mut Run, samples: &mut Vec<Sample>| {
-        let inputs = station.sensors();
-        let fired = run.step(&inputs);
-        station.tick(&run.outputs);
-        samples.push(Sample {
-            inputs,
-            outputs: run.outputs.clone(),
-        });
-        fired.is_some()
-    };
-    while samples.len() < MAX_SCANS {
+    let mut settled = false;
+    let drive = |k: usize, station: &mut Station, scans: &[Scanned<Station>]| {
+        if let Some(last) = scans.last() {
+            if last.fired.is_some() {
+                quiet = 0;
+            } else {
+                quiet += 1;
+            }
+        }
+        if k == MAX_SCANS {
+            return Drive::Stop;
+        }
         if let Some((b, left)) = pressing {
-            set_button(&mut station, b, left > 0);
+            set_button(station, b, left > 0);
             pressing = (left > 0).then(|| (b, left - 1));
         } else if quiet >= SETTLE {
             match actions.next() {
-                None => return Some((samples, station)),
+                None => {
+                    settled = true;
+                    return Drive::Stop;
+                }
                 Some(Action::Load(n)) => station.stack += n,
                 Some(Action::Auto(a)) => station.auto_man = *a,
                 Some(Action::Press(b)) => pressing = Some((*b, PRESS)),
             }
             quiet = 0;
             if let Some((b, left)) = pressing {
-                set_button(&mut station, b, true);
+                set_button(station, b, true);
                 pressing = Some((b, left - 1));
             }
         }
-        if scan(&mut station, &mut run, &mut samples) {
-            quiet = 0;
-        } else {
-            quiet += 1;
-        }
+        Drive::Scan
+    };
+    let (scans, station) = closed_loop(ecc, Station::new(), MAX_SCANS, drive);
+    settled.then(|| {
+        let samples = scans
+            .into_iter()
+            .map(|s| Sample {
+                inputs: s.inputs,
+                outputs: s.outputs,
+            })
+            .collect();
+        (samples, station)
+    })
+}
+
+impl Simulated for Station {
+    fn read(&self) -> Vec<bool> {
+        self.sensors()
     }
-    None
+    fn scan(&mut self, z: &[bool]) {
+        self.tick(z)
+    }
 }
 
 fn set_button(s: &mut Station, b: Button, down: bool) {

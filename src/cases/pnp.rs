@@ -48,7 +48,8 @@
 //! ends when every piece is delivered and the machine is at rest (hand home and up, all commands
 //! off), followed by a few idle scans.
 
-use fbsynth::ecc::{Ecc, Fired, Run};
+use super::{closed_loop, Drive, Scanned, Simulated};
+use fbsynth::ecc::Ecc;
 use fbsynth::files::{write_atomic, WriteError};
 use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
@@ -354,20 +355,19 @@ pub fn reference() -> Ecc {
 }
 
 /// One scan of a simulated run.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ScanRecord {
-    /// The plant as the controller saw it (before it moved for this scan).
-    pub plant: PlantState,
-    /// Sensor values read.
-    pub inputs: Vec<bool>,
-    /// The transition that fired, if any.
-    pub fired: Option<Fired>,
-    /// Commands after the scan (unchanged when nothing fired).
-    pub outputs: Vec<bool>,
+pub type ScanRecord = Scanned<PlantState>;
+
+impl Simulated for PlantState {
+    fn read(&self) -> Vec<bool> {
+        self.sensors()
+    }
+    fn scan(&mut self, z: &[bool]) {
+        self.tick(z)
+    }
 }
 
 /// A simulated run of a controller on the plant.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Recording {
     pub scans: Vec<ScanRecord>,
     /// The plant after the last scan.
@@ -394,13 +394,22 @@ impl Recording {
 /// [`MAX_SCANS`] scans (then `finished` is false).
 pub fn simulate(ecc: &Ecc, order: &WorkOrder, extra_steps: usize) -> Recording {
     let pieces: usize = order.groups.iter().map(Vec::len).sum();
-    let mut plant = PlantState::new();
-    let mut run = Run::new(ecc);
-    let mut scans = Vec::new();
     let mut next_group = 0;
     let mut next_arrival = FIRST_ARRIVAL;
     let mut rest_since = None;
-    for scan in 0..MAX_SCANS {
+    let drive = |scan: usize, plant: &mut PlantState, scans: &[ScanRecord]| {
+        if let Some(last) = scans.last() {
+            let done = next_group == order.groups.len()
+                && plant.delivered.len() == pieces
+                && plant.at_rest()
+                && last.outputs.iter().all(|z| !z);
+            let previous = scan - 1;
+            if !done {
+                rest_since = None;
+            } else if previous - *rest_since.get_or_insert(previous) >= extra_steps {
+                return Drive::Stop;
+            }
+        }
         if next_group < order.groups.len() && scan == next_arrival {
             for t in &order.groups[next_group] {
                 plant.on_track[t.0] = true;
@@ -416,26 +425,9 @@ pub fn simulate(ecc: &Ecc, order: &WorkOrder, extra_steps: usize) -> Recording {
                 next_arrival = scan + NEXT_ARRIVAL;
             }
         }
-        let inputs = plant.sensors();
-        let seen = plant.clone();
-        let fired = run.step(&inputs);
-        plant.tick(&run.outputs);
-        scans.push(ScanRecord {
-            plant: seen,
-            inputs,
-            fired,
-            outputs: run.outputs.clone(),
-        });
-        let done = next_group == order.groups.len()
-            && plant.delivered.len() == pieces
-            && plant.at_rest()
-            && run.outputs.iter().all(|z| !z);
-        if !done {
-            rest_since = None;
-        } else if scan - *rest_since.get_or_insert(scan) >= extra_steps {
-            break;
-        }
-    }
+        Drive::Scan
+    };
+    let (scans, plant) = closed_loop(ecc, PlantState::new(), MAX_SCANS, drive);
     Recording {
         finished: rest_since.is_some(),
         last: plant,

@@ -35,6 +35,7 @@
 //! 3 = program 2 on the noisy plant; [`HELD_OUT`] lists runs never used for training.
 
 use super::table_ecc;
+use super::{closed_loop, Drive, Simulated};
 use fbsynth::ecc::{Ecc, Run};
 use fbsynth::files::{write_atomic, WriteError};
 use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
@@ -241,23 +242,27 @@ pub struct Scan {
 
 /// Runs `ecc` (over [`INPUTS`] / [`OUTPUTS`]) on an empty tank of `plant` for `scans` scans.
 pub fn simulate(ecc: &Ecc, plant: Plant, scans: usize) -> Vec<Scan> {
-    let mut tank = Tank::new(plant);
-    let mut run = Run::new(ecc);
-    (0..scans)
-        .map(|k| {
-            let inputs = tank.sensors();
-            let level = tank.level;
-            let fired = run.step(&inputs).is_some();
-            tank.tick(&run.outputs, SCAN);
-            Scan {
-                time: k as f64 * SCAN,
-                level,
-                inputs,
-                fired,
-                outputs: run.outputs.clone(),
-            }
+    closed_loop(ecc, Tank::new(plant), scans, |_, _, _| Drive::Scan)
+        .0
+        .into_iter()
+        .enumerate()
+        .map(|(k, s)| Scan {
+            time: k as f64 * SCAN,
+            level: s.plant.level,
+            inputs: s.inputs,
+            fired: s.fired.is_some(),
+            outputs: s.outputs,
         })
         .collect()
+}
+
+impl Simulated for Tank {
+    fn read(&self) -> Vec<bool> {
+        self.sensors()
+    }
+    fn scan(&mut self, z: &[bool]) {
+        self.tick(z, SCAN)
+    }
 }
 
 /// Runs a spec's reference program.
