@@ -1,7 +1,43 @@
-//! Writing files so that a failure never leaves a half-written one behind.
+//! Reading and writing the files a user names: one place for how a file is opened (gzip or
+//! not) and for how a result is published (atomically, as an ordinary file).
+//!
+//! In: paths. Out: readers that gunzip on the fly ([`open_input`]), and writers that never
+//! leave a half-written file behind ([`write_atomic`], [`AtomicFile`]). CSV cells are read in
+//! [`csv`].
 
-use std::io::{BufWriter, Write};
+pub mod csv;
+
+use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
+
+/// The first two bytes of every gzip member (RFC 1952).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// A file opened for reading by [`open_input`].
+pub struct Input {
+    /// The content, decompressed when the file is gzip.
+    pub reader: Box<dyn BufRead>,
+    /// Whether the file started with gzip's magic bytes (an error while reading is then
+    /// likely a broken gzip stream).
+    pub gzip: bool,
+}
+
+/// Opens `path` for reading, gunzipping it on the fly when it starts with the gzip magic
+/// bytes (whatever its name; multi-member streams are read to the end).
+pub fn open_input(path: &Path) -> std::io::Result<Input> {
+    let file = std::fs::File::open(path)?;
+    let mut raw = BufReader::with_capacity(1 << 16, file);
+    let gzip = raw.fill_buf()?.starts_with(&GZIP_MAGIC);
+    let reader: Box<dyn BufRead> = if gzip {
+        Box::new(BufReader::with_capacity(
+            1 << 16,
+            flate2::bufread::MultiGzDecoder::new(raw),
+        ))
+    } else {
+        Box::new(raw)
+    };
+    Ok(Input { reader, gzip })
+}
 
 /// A file that could not be written, with its path.
 #[derive(Debug, thiserror::Error)]
@@ -12,10 +48,24 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
+/// What a writer does about missing folders above the file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Folders {
+    /// Creates them.
+    Create,
+    /// Fails: the caller's folder must already be there.
+    MustExist,
+}
+
 /// Writes `bytes` to `path` atomically: into a temporary file in the same folder, then renamed
 /// over `path`. Creates missing parent folders. Paths ending in `.gz` are gzip-compressed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    let mut file = AtomicFile::create(path)?;
+    write_atomic_in(path, bytes, Folders::Create)
+}
+
+/// [`write_atomic`], saying what to do about missing parent folders.
+pub fn write_atomic_in(path: &Path, bytes: &[u8], folders: Folders) -> Result<(), WriteError> {
+    let mut file = AtomicFile::open(path, folders)?;
     file.write_all(bytes).map_err(|e| file.error(e))?;
     file.commit()
 }
@@ -23,6 +73,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
 /// A file written as a stream and published atomically, like [`write_atomic`]: the content
 /// goes into a temporary file beside `path`, which [`AtomicFile::commit`] renames over `path`.
 /// Dropped without a commit, the temporary file is removed and `path` is left as it was.
+///
+/// The published file has the mode of any file the user creates (0666 less the umask, so
+/// 0644 under the usual umask 022), not the private 0600 of a temporary file.
 pub struct AtomicFile {
     path: PathBuf,
     out: Sink,
@@ -36,6 +89,12 @@ enum Sink {
 impl AtomicFile {
     /// Starts writing `path` (parent folders are created; `.gz` paths are gzip-compressed).
     pub fn create(path: &Path) -> Result<AtomicFile, WriteError> {
+        AtomicFile::open(path, Folders::Create)
+    }
+
+    /// Starts writing `path`, creating missing parent folders or not as `folders` says
+    /// (`.gz` paths are gzip-compressed).
+    pub fn open(path: &Path, folders: Folders) -> Result<AtomicFile, WriteError> {
         let err = |source| WriteError {
             path: path.to_path_buf(),
             source,
@@ -44,9 +103,18 @@ impl AtomicFile {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
         };
-        std::fs::create_dir_all(dir).map_err(err)?;
-        let tmp =
-            BufWriter::with_capacity(1 << 16, tempfile::NamedTempFile::new_in(dir).map_err(err)?);
+        if folders == Folders::Create {
+            std::fs::create_dir_all(dir).map_err(err)?;
+        }
+        let mut builder = tempfile::Builder::new();
+        // Asking for 0666 at creation lets the kernel apply the umask, as for any new file;
+        // tempfile's default 0600 would survive the rename.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let tmp = BufWriter::with_capacity(1 << 16, builder.tempfile_in(dir).map_err(err)?);
         let out = if path.extension().is_some_and(|e| e == "gz") {
             Sink::Gzip(flate2::write::GzEncoder::new(
                 tmp,
@@ -82,13 +150,6 @@ impl AtomicFile {
         };
         let tmp = buffered.into_inner().map_err(|e| err(e.into_error()))?;
         tmp.as_file().sync_all().map_err(err)?;
-        // Temporary files are created private (0600); results are ordinary files.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
-                .map_err(err)?;
-        }
         tmp.persist(&path).map_err(|e| err(e.error))?;
         Ok(())
     }
@@ -107,5 +168,46 @@ impl Write for AtomicFile {
             Sink::Plain(w) => w.flush(),
             Sink::Gzip(w) => w.flush(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Read;
+
+    #[test]
+    fn gzip_is_recognized_by_its_bytes_not_its_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let packed = dir.path().join("log.txt");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(b"hello\n").unwrap();
+        std::fs::write(&packed, gz.finish().unwrap()).unwrap();
+        let plain = dir.path().join("log.gz");
+        std::fs::write(&plain, "plain\n").unwrap();
+        for (path, gzip, text) in [(&packed, true, "hello\n"), (&plain, false, "plain\n")] {
+            let mut input = open_input(path).unwrap();
+            assert_eq!(input.gzip, gzip);
+            let mut got = String::new();
+            input.reader.read_to_string(&mut got).unwrap();
+            assert_eq!(got, text);
+        }
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.txt");
+        std::fs::write(&path, "old").unwrap();
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"half").unwrap();
+        drop(file);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        let missing = dir.path().join("no/such/out.txt");
+        let e = write_atomic_in(&missing, b"x", Folders::MustExist).unwrap_err();
+        assert_eq!(e.path, missing);
+        write_atomic(&missing, b"x").unwrap();
+        assert_eq!(std::fs::read_to_string(&missing).unwrap(), "x");
     }
 }

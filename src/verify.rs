@@ -455,11 +455,7 @@ fn value(state: &BTreeMap<String, String>, name: &str, instance: &str) -> Option
     let v = state
         .get(name)
         .or_else(|| state.get(&format!("{instance}.{name}")))?;
-    match v.as_str() {
-        "TRUE" => Some(true),
-        "FALSE" => Some(false),
-        _ => None,
-    }
+    crate::smv::parse_bool(v)
 }
 
 impl Counterexample {

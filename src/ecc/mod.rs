@@ -16,6 +16,7 @@
 //! states `s0..s{C-1}` (the `.fbt` export calls state 0 `START`, as 4diac expects).
 
 pub mod guard;
+pub mod ident;
 pub mod modular;
 pub mod random;
 pub mod sim;

@@ -140,10 +140,8 @@ impl ResetActivity {
             let slot = mapping
                 .slot(key.as_bytes())
                 .ok_or_else(|| err(format!("'{key}' is not an address or name of the mapping")))?;
-            let value = match value.to_ascii_lowercase().as_str() {
-                "true" | "1" => true,
-                "false" | "0" => false,
-                _ => return Err(err(format!("'{value}' is not true, false, 1 or 0"))),
+            let Some(value) = crate::files::csv::parse_bool(value.as_bytes()) else {
+                return Err(err(format!("'{value}' is not true, false, 1 or 0")));
             };
             let (c, address) = match slot {
                 Slot::Input(_) => (EventClass::Input, address_of(mapping, slot)),

@@ -7,6 +7,7 @@
 //! source state. [`render_svg`] turns such text into an SVG file if Graphviz is installed.
 
 use crate::ecc::Ecc;
+use crate::files::{self, Folders};
 use std::io::{self, Read, Write};
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -109,7 +110,7 @@ pub fn render_svg(dot_text: &str, out: &Path) -> Result<bool, io::Error> {
         )));
     }
     fed?;
-    super::write_atomically(out, &svg)?;
+    files::write_atomic_in(out, &svg, Folders::MustExist).map_err(|e| e.source)?;
     Ok(true)
 }
 

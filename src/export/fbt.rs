@@ -18,8 +18,9 @@
 //! An ECC without transitions yields an `<ECC>` without `<ECTransition>`, which the DTD does
 //! not allow (`ECTransition+`); tools load it nonetheless.
 
-use super::{check_iec_names, iec_bool, NameError};
+use super::{check_iec_names, NameError};
 use crate::ecc::{Ecc, Guard};
+use crate::smv::bool_literal;
 use crate::smv::Effect;
 use std::io::{self, Write};
 
@@ -108,7 +109,7 @@ fn algorithm_text(ecc: &Ecc, i: usize) -> Option<String> {
         .zip(&ecc.outputs)
         .filter_map(|(e, z)| match e {
             Effect::Keep => None,
-            Effect::Set(v) => Some(format!("{z} := {};", iec_bool(v))),
+            Effect::Set(v) => Some(format!("{z} := {};", bool_literal(v))),
             Effect::Flip => Some(format!("{z} := NOT {z};")),
         })
         .collect();

@@ -18,11 +18,14 @@ pub mod st;
 #[cfg(test)]
 pub(crate) mod samples;
 
+pub use crate::ecc::ident::check_iec as check_iec_identifier;
+
 use crate::ecc::Ecc;
+use crate::files::{self, Folders, WriteError};
 use crate::smv::{ecc_module, SmvError};
 use std::collections::HashMap;
 use std::fmt;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -178,10 +181,7 @@ pub fn write_all(
     let mut written = Vec::new();
     for (format, text) in texts {
         let path = dir.join(format!("{stem}.{}", format.extension()));
-        write_atomically(&path, text.as_bytes()).map_err(|source| ExportError::Write {
-            path: path.clone(),
-            source,
-        })?;
+        write_file(&path, text.as_bytes())?;
         written.push(path);
         if format == Format::Dot {
             let svg = dir.join(format!("{stem}.svg"));
@@ -195,18 +195,11 @@ pub fn write_all(
     Ok(written)
 }
 
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
-/// the old file or the whole new one, never a part.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)?;
-    tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
+/// Writes one export file atomically as an ordinary file (0666 less the umask), into `dir`
+/// as it is: a missing folder is an error, not created.
+pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
+    files::write_atomic_in(path, bytes, Folders::MustExist)
+        .map_err(|WriteError { path, source }| ExportError::Write { path, source })
 }
 
 /// A name that cannot be used in an exported program.
@@ -225,163 +218,6 @@ impl From<NameError> for io::Error {
     fn from(e: NameError) -> io::Error {
         io::Error::new(io::ErrorKind::InvalidInput, e)
     }
-}
-
-/// IEC 61131-3 keywords and elementary type names (compared ignoring case, as ST does).
-const IEC_KEYWORDS: &[&str] = &[
-    "ABSTRACT",
-    "ACTION",
-    "AND",
-    "ANY",
-    "ARRAY",
-    "AT",
-    "BOOL",
-    "BY",
-    "BYTE",
-    "CASE",
-    "CHAR",
-    "CLASS",
-    "CONFIGURATION",
-    "CONSTANT",
-    "CONTINUE",
-    "DATE",
-    "DATE_AND_TIME",
-    "DINT",
-    "DO",
-    "DT",
-    "DWORD",
-    "ELSE",
-    "ELSIF",
-    "EN",
-    "END_ACTION",
-    "END_CASE",
-    "END_CLASS",
-    "END_CONFIGURATION",
-    "END_FOR",
-    "END_FUNCTION",
-    "END_FUNCTION_BLOCK",
-    "END_IF",
-    "END_INTERFACE",
-    "END_METHOD",
-    "END_NAMESPACE",
-    "END_PROGRAM",
-    "END_REPEAT",
-    "END_RESOURCE",
-    "END_STEP",
-    "END_STRUCT",
-    "END_TRANSITION",
-    "END_TYPE",
-    "END_VAR",
-    "END_WHILE",
-    "ENO",
-    "EVENT",
-    "EXIT",
-    "EXTENDS",
-    "FALSE",
-    "FINAL",
-    "FOR",
-    "FROM",
-    "FUNCTION",
-    "FUNCTION_BLOCK",
-    "F_EDGE",
-    "IF",
-    "IMPLEMENTS",
-    "INITIAL_STEP",
-    "INT",
-    "INTERFACE",
-    "INTERNAL",
-    "INTERVAL",
-    "LINT",
-    "LREAL",
-    "LWORD",
-    "METHOD",
-    "MOD",
-    "NAMESPACE",
-    "NON_RETAIN",
-    "NOT",
-    "NULL",
-    "OF",
-    "ON",
-    "OR",
-    "OVERRIDE",
-    "PRIORITY",
-    "PRIVATE",
-    "PROGRAM",
-    "PROTECTED",
-    "PUBLIC",
-    "READ_ONLY",
-    "READ_WRITE",
-    "REAL",
-    "REF",
-    "REF_TO",
-    "REPEAT",
-    "RESOURCE",
-    "RETAIN",
-    "RETURN",
-    "R_EDGE",
-    "SINGLE",
-    "SINT",
-    "STEP",
-    "STRING",
-    "STRUCT",
-    "SUPER",
-    "TASK",
-    "THEN",
-    "THIS",
-    "TIME",
-    "TIME_OF_DAY",
-    "TO",
-    "TOD",
-    "TRANSITION",
-    "TRUE",
-    "TYPE",
-    "UDINT",
-    "UINT",
-    "ULINT",
-    "UNTIL",
-    "USING",
-    "USINT",
-    "VAR",
-    "VAR_ACCESS",
-    "VAR_CONFIG",
-    "VAR_EXTERNAL",
-    "VAR_GLOBAL",
-    "VAR_INPUT",
-    "VAR_IN_OUT",
-    "VAR_OUTPUT",
-    "VAR_TEMP",
-    "WCHAR",
-    "WHILE",
-    "WITH",
-    "WORD",
-    "WSTRING",
-    "XOR",
-];
-
-/// Checks an IEC 61131-3 identifier: a letter or `_`, then letters, digits and single `_`s,
-/// not ending in `_`, and no keyword or elementary type name (ignoring case).
-pub fn check_iec_identifier(name: &str) -> Result<(), String> {
-    let mut chars = name.chars();
-    match chars.next() {
-        None => return Err("the name is empty".into()),
-        Some(c) if !(c.is_ascii_alphabetic() || c == '_') => {
-            return Err(format!("a name must start with a letter or `_`, not `{c}`"))
-        }
-        Some(_) => {}
-    }
-    if let Some(c) = chars.find(|c| !(c.is_ascii_alphanumeric() || *c == '_')) {
-        return Err(format!(
-            "a name may contain only letters A-Z a-z, digits and `_`, not `{c}`"
-        ));
-    }
-    if name.contains("__") || name.ends_with('_') {
-        return Err("IEC 61131-3 allows neither `__` nor a trailing `_` in a name".into());
-    }
-    let upper = name.to_ascii_uppercase();
-    if IEC_KEYWORDS.contains(&upper.as_str()) {
-        return Err("it is an IEC 61131-3 keyword".into());
-    }
-    Ok(())
 }
 
 /// Checks the block name and every interface name of `ecc` for a format with IEC 61131-3
@@ -424,37 +260,9 @@ pub(crate) fn check_iec_names(
     Ok(())
 }
 
-/// `TRUE` / `FALSE`, as ST, SMV and 4diac spell them.
-pub(crate) fn iec_bool(v: bool) -> &'static str {
-    if v {
-        "TRUE"
-    } else {
-        "FALSE"
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn iec_identifiers() {
-        for ok in ["a", "_a", "c1_home", "START", "Motor2"] {
-            assert_eq!(check_iec_identifier(ok), Ok(()), "{ok}");
-        }
-        for (name, why) in [
-            ("", "empty"),
-            ("2a", "start with"),
-            ("a__b", "`__`"),
-            ("a_", "trailing"),
-            ("a.b", "not `.`"),
-            ("end_if", "keyword"),
-            ("Bool", "keyword"),
-        ] {
-            let e = check_iec_identifier(name).unwrap_err();
-            assert!(e.contains(why), "{name}: {e}");
-        }
-    }
 
     #[test]
     fn iec_names_of_an_ecc() {
@@ -552,6 +360,26 @@ mod tests {
             ecc_module::ecc_module_to_string(&ecc, "Pnp").unwrap()
         );
         assert!(read("fbt").unwrap().contains(r#"<FBType Name="Pnp""#));
+    }
+
+    /// The machine files are ordinary files: 0644 under the usual umask 022, not the 0600 of
+    /// the temporary file they were written to.
+    #[cfg(unix)]
+    #[test]
+    fn written_files_are_world_readable_under_umask_022() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        // SAFETY: umask only swaps the process's file mode mask; the old one is restored below.
+        // 022 is the mask tests run under anyway, so parallel tests see no change.
+        let old = unsafe { libc::umask(0o022) };
+        let written = write_all(&samples::tri(), dir.path(), "SynthesizedFB", &Format::ALL);
+        unsafe { libc::umask(old) };
+        let written = written.unwrap();
+        assert!(written.len() >= Format::ALL.len());
+        for path in written {
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, 0o644, "{}", path.display());
+        }
     }
 
     #[test]

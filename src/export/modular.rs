@@ -29,7 +29,7 @@
 //! of a closed loop.
 
 use super::fbt::{attr, write_head};
-use super::{check_iec_identifier, write_atomically, ExportError, Format, NameError};
+use super::{check_iec_identifier, ExportError, Format, NameError};
 use crate::ecc::modular::Modular;
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
 use crate::smv::ecc_module::{self, write_ecc_module};
@@ -327,10 +327,7 @@ pub fn write_modular(
     ];
     for (file, text) in texts {
         let path = dir.join(file);
-        write_atomically(&path, text.as_bytes()).map_err(|source| ExportError::Write {
-            path: path.clone(),
-            source,
-        })?;
+        super::write_file(&path, text.as_bytes())?;
         written.push(path);
     }
     for (m, module) in modular.modules.iter().enumerate() {

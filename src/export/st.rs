@@ -12,8 +12,9 @@
 //! nothing and leaves `CNF` FALSE. So calling the block once per PLC cycle with `REQ` from an
 //! edge or a timer reproduces [`Run::step`](crate::ecc::Run::step) call by call.
 
-use super::{check_iec_names, iec_bool, NameError};
+use super::{check_iec_names, NameError};
 use crate::ecc::Ecc;
+use crate::smv::bool_literal;
 use crate::smv::Effect;
 use std::io::{self, Write};
 
@@ -89,7 +90,9 @@ pub fn write_st(ecc: &Ecc, block_name: &str, w: &mut impl Write) -> io::Result<(
                 for (z, e) in ecc.outputs.iter().zip(effects) {
                     match e {
                         Effect::Keep => {}
-                        Effect::Set(v) => writeln!(w, "                {z} := {};", iec_bool(v))?,
+                        Effect::Set(v) => {
+                            writeln!(w, "                {z} := {};", bool_literal(v))?
+                        }
                         Effect::Flip => writeln!(w, "                {z} := NOT {z};")?,
                     }
                 }

@@ -5,7 +5,8 @@
 //! [`Iterator`]. Holds one line and one sample at a time, whatever the log's length.
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
-use std::io::{BufRead, BufReader};
+use crate::files::csv::parse_bool;
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 /// The two layouts a tapping device writes.
@@ -74,17 +75,7 @@ impl LogReader {
             file: path.to_path_buf(),
             source,
         };
-        let file = std::fs::File::open(path).map_err(io)?;
-        let mut raw = BufReader::with_capacity(1 << 16, file);
-        let gzip = raw.fill_buf().map_err(io)?.starts_with(&[0x1f, 0x8b]);
-        let src: Box<dyn BufRead> = if gzip {
-            Box::new(BufReader::with_capacity(
-                1 << 16,
-                flate2::bufread::MultiGzDecoder::new(raw),
-            ))
-        } else {
-            Box::new(raw)
-        };
+        let src = crate::files::open_input(path).map_err(io)?.reader;
         LogReader::new(path.to_path_buf(), src, mapping, lenient)
     }
 }
@@ -353,16 +344,6 @@ fn bad_value(column: &str, cell: &[u8]) -> BadRow {
     BadRow::Value {
         column: column.to_string(),
         cell: String::from_utf8_lossy(trim(cell)).into_owned(),
-    }
-}
-
-fn parse_bool(cell: &[u8]) -> Option<bool> {
-    match cell {
-        b"0" => Some(false),
-        b"1" => Some(true),
-        _ if cell.eq_ignore_ascii_case(b"false") => Some(false),
-        _ if cell.eq_ignore_ascii_case(b"true") => Some(true),
-        _ => None,
     }
 }
 

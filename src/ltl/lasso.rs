@@ -93,15 +93,12 @@ impl Ltl {
             Atom(name) => (0..n)
                 .map(|i| {
                     let state = lasso.original(i);
-                    match lookup(states, state, name)? {
-                        "TRUE" => Ok(true),
-                        "FALSE" => Ok(false),
-                        value => Err(EvalError::NotBoolean {
-                            name: name.clone(),
-                            value: value.to_string(),
-                            state,
-                        }),
-                    }
+                    let value = lookup(states, state, name)?;
+                    crate::smv::parse_bool(value).ok_or_else(|| EvalError::NotBoolean {
+                        name: name.clone(),
+                        value: value.to_string(),
+                        state,
+                    })
                 })
                 .collect::<Result<_, _>>()?,
             Cmp(op, l, r) => (0..n)

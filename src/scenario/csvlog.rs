@@ -30,6 +30,7 @@
 //! passive): a sampled log cannot see an event that changed nothing.
 
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
+use crate::files::csv::parse_bool;
 use std::io::Write;
 use std::path::Path;
 
@@ -93,7 +94,7 @@ pub fn parse(
         let mut id = String::new();
         for (k, (cell, col)) in cells.iter().zip(&columns).enumerate() {
             let value = || {
-                parse_bool(cell).ok_or_else(|| {
+                parse_bool(cell.as_bytes()).ok_or_else(|| {
                     err(
                         line_no,
                         format!(
@@ -140,14 +141,6 @@ pub fn parse(
 
 fn header_cell(header: &str, sep: char, k: usize) -> String {
     header.split(sep).nth(k).unwrap_or("").trim().to_string()
-}
-
-fn parse_bool(cell: &str) -> Option<bool> {
-    match cell.to_ascii_lowercase().as_str() {
-        "0" | "false" => Some(false),
-        "1" | "true" => Some(true),
-        _ => None,
-    }
 }
 
 type Classified = (Vec<Column>, Vec<String>, Vec<String>);

@@ -227,22 +227,24 @@ impl Divergence {
 /// Reads a whole file, transparently gunzipping it when it starts with the gzip magic bytes.
 pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     use std::io::Read;
-    let bytes = std::fs::read(path).map_err(|e| ScenarioError::Io {
+    let mut input = crate::files::open_input(path).map_err(|e| ScenarioError::Io {
         file: path.to_path_buf(),
         source: e,
     })?;
-    let raw = if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(&bytes[..])
-            .read_to_end(&mut out)
-            .map_err(|e| ScenarioError::Gzip {
+    let mut raw = Vec::new();
+    input
+        .reader
+        .read_to_end(&mut raw)
+        .map_err(|e| match input.gzip {
+            true => ScenarioError::Gzip {
                 file: path.to_path_buf(),
                 message: e.to_string(),
-            })?;
-        out
-    } else {
-        bytes
-    };
+            },
+            false => ScenarioError::Io {
+                file: path.to_path_buf(),
+                source: e,
+            },
+        })?;
     String::from_utf8(raw).map_err(|e| ScenarioError::Syntax {
         file: path.to_path_buf(),
         line: 1,

@@ -1,19 +1,14 @@
 //! Interface variable names: files of names separated by whitespace or newlines.
 //!
 //! Names end up as identifiers in SMV, Structured Text and IEC 61499 XML, so only
-//! `[A-Za-z][A-Za-z0-9_]*` is accepted, each name once. (Keywords of the target languages are
-//! checked where those languages are emitted.)
+//! `[A-Za-z][A-Za-z0-9_]*` ([`is_identifier`]) is accepted, each name once. (Keywords of the
+//! target languages are checked where those languages are emitted.)
 
 use super::ScenarioError;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-/// Is `name` acceptable as an interface variable name?
-pub fn is_identifier(name: &str) -> bool {
-    let mut cs = name.chars();
-    matches!(cs.next(), Some(c) if c.is_ascii_alphabetic())
-        && cs.all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
+pub use crate::ecc::ident::is_identifier;
 
 /// Parses the text of a names file.
 pub fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError> {

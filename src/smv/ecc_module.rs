@@ -22,7 +22,7 @@
 //! enumeration into a constant, so a one-state ECC gets a second, unreachable value
 //! `s0_unused`.
 
-use super::{check_identifier, Effect};
+use super::{bool_literal, check_identifier, Effect};
 use crate::ecc::{Ecc, Guard, StateId};
 use std::collections::HashMap;
 use std::io::{self, Write};
@@ -186,14 +186,18 @@ pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Res
     writeln!(w, "  init(CNF) := FALSE;")?;
     writeln!(w, "  next(CNF) := _fired;")?;
     for (z, name) in ecc.outputs.iter().enumerate() {
-        writeln!(w, "  init({name}) := {};", smv_bool(ecc.initial_outputs[z]))?;
+        writeln!(
+            w,
+            "  init({name}) := {};",
+            bool_literal(ecc.initial_outputs[z])
+        )?;
         let lines: Vec<(usize, String)> = ecc
             .states
             .iter()
             .enumerate()
             .filter_map(|(i, s)| match Effect::of(&s.algorithm, z) {
                 Effect::Keep => None,
-                Effect::Set(v) => Some((i, smv_bool(v).to_string())),
+                Effect::Set(v) => Some((i, bool_literal(v).to_string())),
                 Effect::Flip => Some((i, format!("!{name}"))),
             })
             .collect();
@@ -214,14 +218,6 @@ pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Res
         writeln!(w, "    esac;")?;
     }
     Ok(())
-}
-
-fn smv_bool(v: bool) -> &'static str {
-    if v {
-        "TRUE"
-    } else {
-        "FALSE"
-    }
 }
 
 /// [`write_ecc_module`] into a string.
@@ -295,7 +291,7 @@ mod tests {
         let signal = |values: Vec<bool>| {
             let mut c = String::from("case ");
             for (k, v) in values.into_iter().enumerate() {
-                c += &format!("t = {k} : {}; ", smv_bool(v));
+                c += &format!("t = {k} : {}; ", bool_literal(v));
             }
             c + "TRUE : FALSE; esac"
         };
@@ -324,10 +320,10 @@ mod tests {
             let mut c = format!(
                 "e._state = {} & e.CNF = {}",
                 state_value(run.state),
-                smv_bool(cnf)
+                bool_literal(cnf)
             );
             for (z, n) in ecc.outputs.iter().enumerate() {
-                c += &format!(" & e.{n} = {}", smv_bool(run.outputs[z]));
+                c += &format!(" & e.{n} = {}", bool_literal(run.outputs[z]));
             }
             claims.push(format!("(t = {k} -> {c})"));
             if let Some((req, x)) = script.get(k) {

@@ -11,123 +11,28 @@ pub mod plant;
 
 pub use ecc_module::{state_value, write_ecc_module, SmvError};
 
+pub use crate::ecc::ident::check_smv as check_identifier;
+
 use crate::ecc::Algorithm;
 
-/// Words NuSMV 2.5/2.6 reserves (case-sensitive), plus the LTL/CTL operator letters, which
-/// NuSMV's lexer also treats as keywords.
-const KEYWORDS: &[&str] = &[
-    "MODULE",
-    "VAR",
-    "IVAR",
-    "DEFINE",
-    "ASSIGN",
-    "TRANS",
-    "INIT",
-    "INVAR",
-    "SPEC",
-    "LTLSPEC",
-    "CTLSPEC",
-    "INVARSPEC",
-    "COMPUTE",
-    "FAIRNESS",
-    "JUSTICE",
-    "COMPASSION",
-    "CONSTANTS",
-    "FROZENVAR",
-    "ISA",
-    "PSLSPEC",
-    "PRED",
-    "MIRROR",
-    "NAME",
-    "process",
-    "array",
-    "of",
-    "boolean",
-    "integer",
-    "real",
-    "word",
-    "unsigned",
-    "signed",
-    "TRUE",
-    "FALSE",
-    "case",
-    "esac",
-    "init",
-    "next",
-    "self",
-    "mod",
-    "union",
-    "in",
-    "xor",
-    "xnor",
-    "G",
-    "F",
-    "X",
-    "U",
-    "V",
-    "Y",
-    "Z",
-    "H",
-    "O",
-    "S",
-    "T",
-    "A",
-    "E",
-    "AG",
-    "AF",
-    "AX",
-    "EG",
-    "EF",
-    "EX",
-    "AU",
-    "EU",
-    "ABF",
-    "ABG",
-    "EBF",
-    "EBG",
-    "BU",
-    "count",
-    "toint",
-    "bool",
-    "word1",
-    "uwconst",
-    "swconst",
-    "resize",
-    "extend",
-    "sizeof",
-    "floor",
-];
+/// `TRUE` / `FALSE`: how SMV writes a Boolean constant and NuSMV prints one in a trace.
+/// IEC 61131-3 Structured Text and 4diac spell them the same way.
+pub fn bool_literal(v: bool) -> &'static str {
+    if v {
+        "TRUE"
+    } else {
+        "FALSE"
+    }
+}
 
-/// Checks that a user-chosen name (input, output, module) can be used verbatim in SMV code.
-///
-/// SMV itself allows `[A-Za-z_][A-Za-z0-9_$#-]*`; we accept only the portable core
-/// `[A-Za-z][A-Za-z0-9_]*`, which is also a legal IEC 61131-3 identifier in almost all cases,
-/// and reject NuSMV keywords (case-sensitive, as NuSMV is). Names starting with `_` are reserved
-/// for identifiers the emitters generate, so generated names never collide with user names.
-/// The error says why the name is rejected; the caller adds where the name came from.
-pub fn check_identifier(name: &str) -> Result<(), String> {
-    let mut chars = name.chars();
-    match chars.next() {
-        None => return Err("the name is empty".into()),
-        Some('_') => {
-            return Err("names starting with `_` are reserved for generated identifiers".into())
-        }
-        Some(c) if !c.is_ascii_alphabetic() => {
-            return Err(format!(
-                "a name must start with a letter A-Z or a-z, not `{c}`"
-            ))
-        }
-        Some(_) => {}
+/// Reads a value as NuSMV prints it in a trace: `TRUE` or `FALSE`; anything else (a number, a
+/// state name) is not a Boolean.
+pub fn parse_bool(value: &str) -> Option<bool> {
+    match value {
+        "TRUE" => Some(true),
+        "FALSE" => Some(false),
+        _ => None,
     }
-    if let Some(c) = chars.find(|c| !(c.is_ascii_alphanumeric() || *c == '_')) {
-        return Err(format!(
-            "a name may contain only letters A-Z a-z, digits and `_`, not `{c}`"
-        ));
-    }
-    if KEYWORDS.contains(&name) {
-        return Err("it is a NuSMV keyword".into());
-    }
-    Ok(())
 }
 
 /// What a state's algorithm does to one output when the state is entered.
@@ -171,30 +76,12 @@ mod tests {
     use crate::ecc::Tri;
 
     #[test]
-    fn identifiers_accept_plain_names() {
-        for ok in ["a", "c1Home", "vac_on", "Z9", "Process", "s0", "REQ2"] {
-            assert_eq!(check_identifier(ok), Ok(()), "{ok}");
+    fn booleans_read_back_as_written() {
+        for v in [false, true] {
+            assert_eq!(parse_bool(bool_literal(v)), Some(v));
         }
-    }
-
-    #[test]
-    fn identifiers_reject_keywords_reserved_and_odd_characters() {
-        let cases = [
-            ("", "empty"),
-            ("_state", "reserved"),
-            ("1a", "start with a letter"),
-            ("a-b", "not `-`"),
-            ("a$b", "not `$`"),
-            ("vác", "not `á`"),
-            ("next", "keyword"),
-            ("X", "keyword"),
-            ("AG", "keyword"),
-            ("process", "keyword"),
-            ("TRUE", "keyword"),
-        ];
-        for (name, why) in cases {
-            let err = check_identifier(name).unwrap_err();
-            assert!(err.contains(why), "{name}: {err}");
+        for other in ["true", "1", "idle", ""] {
+            assert_eq!(parse_bool(other), None, "{other}");
         }
     }
 

@@ -1,0 +1,358 @@
+//! Identifiers: the names a block, its inputs, outputs and states may have, checked once for
+//! every language they end up in.
+//!
+//! In: a user-chosen name. Out: whether it is usable, and if not, why (the caller adds where
+//! the name came from). Three rules, from loosest to strictest per language:
+//! - [`is_identifier`]: the portable core `[A-Za-z][A-Za-z0-9_]*` that every names file,
+//!   mapping and CSV header must follow;
+//! - [`check_smv`]: the core, and no NuSMV keyword ([`SMV_KEYWORDS`], case-sensitive); names
+//!   starting with `_` are kept for generated identifiers;
+//! - [`check_iec`]: an IEC 61131-3 identifier (`.fbt`, `.st`): a letter or `_` first, no `__`,
+//!   no trailing `_`, and no keyword ([`IEC_KEYWORDS`], ignoring case).
+
+/// Letters A-Z a-z, digits and `_`: the characters every rule allows after the first.
+fn word_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// Checks the characters after the first.
+fn check_rest(name: &str) -> Result<(), String> {
+    match name.chars().skip(1).find(|&c| !word_char(c)) {
+        Some(c) => Err(format!(
+            "a name may contain only letters A-Z a-z, digits and `_`, not `{c}`"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Is `name` in the portable core `[A-Za-z][A-Za-z0-9_]*`, usable as an interface variable
+/// name? (Keywords of the target languages are checked where those languages are emitted.)
+pub fn is_identifier(name: &str) -> bool {
+    name.starts_with(|c: char| c.is_ascii_alphabetic()) && name.chars().all(word_char)
+}
+
+/// Words NuSMV 2.5/2.6 reserves (case-sensitive), plus the LTL/CTL operator letters, which
+/// NuSMV's lexer also treats as keywords.
+pub const SMV_KEYWORDS: &[&str] = &[
+    "MODULE",
+    "VAR",
+    "IVAR",
+    "DEFINE",
+    "ASSIGN",
+    "TRANS",
+    "INIT",
+    "INVAR",
+    "SPEC",
+    "LTLSPEC",
+    "CTLSPEC",
+    "INVARSPEC",
+    "COMPUTE",
+    "FAIRNESS",
+    "JUSTICE",
+    "COMPASSION",
+    "CONSTANTS",
+    "FROZENVAR",
+    "ISA",
+    "PSLSPEC",
+    "PRED",
+    "MIRROR",
+    "NAME",
+    "process",
+    "array",
+    "of",
+    "boolean",
+    "integer",
+    "real",
+    "word",
+    "unsigned",
+    "signed",
+    "TRUE",
+    "FALSE",
+    "case",
+    "esac",
+    "init",
+    "next",
+    "self",
+    "mod",
+    "union",
+    "in",
+    "xor",
+    "xnor",
+    "G",
+    "F",
+    "X",
+    "U",
+    "V",
+    "Y",
+    "Z",
+    "H",
+    "O",
+    "S",
+    "T",
+    "A",
+    "E",
+    "AG",
+    "AF",
+    "AX",
+    "EG",
+    "EF",
+    "EX",
+    "AU",
+    "EU",
+    "ABF",
+    "ABG",
+    "EBF",
+    "EBG",
+    "BU",
+    "count",
+    "toint",
+    "bool",
+    "word1",
+    "uwconst",
+    "swconst",
+    "resize",
+    "extend",
+    "sizeof",
+    "floor",
+];
+
+/// Checks that a user-chosen name (input, output, module) can be used verbatim in SMV code.
+///
+/// SMV itself allows `[A-Za-z_][A-Za-z0-9_$#-]*`; we accept only the portable core
+/// `[A-Za-z][A-Za-z0-9_]*`, which is also a legal IEC 61131-3 identifier in almost all cases,
+/// and reject NuSMV keywords (case-sensitive, as NuSMV is). Names starting with `_` are reserved
+/// for identifiers the emitters generate, so generated names never collide with user names.
+/// The error says why the name is rejected; the caller adds where the name came from.
+pub fn check_smv(name: &str) -> Result<(), String> {
+    match name.chars().next() {
+        None => return Err("the name is empty".into()),
+        Some('_') => {
+            return Err("names starting with `_` are reserved for generated identifiers".into())
+        }
+        Some(c) if !c.is_ascii_alphabetic() => {
+            return Err(format!(
+                "a name must start with a letter A-Z or a-z, not `{c}`"
+            ))
+        }
+        Some(_) => {}
+    }
+    check_rest(name)?;
+    if SMV_KEYWORDS.contains(&name) {
+        return Err("it is a NuSMV keyword".into());
+    }
+    Ok(())
+}
+
+/// IEC 61131-3 keywords and elementary type names (compared ignoring case, as ST does).
+pub const IEC_KEYWORDS: &[&str] = &[
+    "ABSTRACT",
+    "ACTION",
+    "AND",
+    "ANY",
+    "ARRAY",
+    "AT",
+    "BOOL",
+    "BY",
+    "BYTE",
+    "CASE",
+    "CHAR",
+    "CLASS",
+    "CONFIGURATION",
+    "CONSTANT",
+    "CONTINUE",
+    "DATE",
+    "DATE_AND_TIME",
+    "DINT",
+    "DO",
+    "DT",
+    "DWORD",
+    "ELSE",
+    "ELSIF",
+    "EN",
+    "END_ACTION",
+    "END_CASE",
+    "END_CLASS",
+    "END_CONFIGURATION",
+    "END_FOR",
+    "END_FUNCTION",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_INTERFACE",
+    "END_METHOD",
+    "END_NAMESPACE",
+    "END_PROGRAM",
+    "END_REPEAT",
+    "END_RESOURCE",
+    "END_STEP",
+    "END_STRUCT",
+    "END_TRANSITION",
+    "END_TYPE",
+    "END_VAR",
+    "END_WHILE",
+    "ENO",
+    "EVENT",
+    "EXIT",
+    "EXTENDS",
+    "FALSE",
+    "FINAL",
+    "FOR",
+    "FROM",
+    "FUNCTION",
+    "FUNCTION_BLOCK",
+    "F_EDGE",
+    "IF",
+    "IMPLEMENTS",
+    "INITIAL_STEP",
+    "INT",
+    "INTERFACE",
+    "INTERNAL",
+    "INTERVAL",
+    "LINT",
+    "LREAL",
+    "LWORD",
+    "METHOD",
+    "MOD",
+    "NAMESPACE",
+    "NON_RETAIN",
+    "NOT",
+    "NULL",
+    "OF",
+    "ON",
+    "OR",
+    "OVERRIDE",
+    "PRIORITY",
+    "PRIVATE",
+    "PROGRAM",
+    "PROTECTED",
+    "PUBLIC",
+    "READ_ONLY",
+    "READ_WRITE",
+    "REAL",
+    "REF",
+    "REF_TO",
+    "REPEAT",
+    "RESOURCE",
+    "RETAIN",
+    "RETURN",
+    "R_EDGE",
+    "SINGLE",
+    "SINT",
+    "STEP",
+    "STRING",
+    "STRUCT",
+    "SUPER",
+    "TASK",
+    "THEN",
+    "THIS",
+    "TIME",
+    "TIME_OF_DAY",
+    "TO",
+    "TOD",
+    "TRANSITION",
+    "TRUE",
+    "TYPE",
+    "UDINT",
+    "UINT",
+    "ULINT",
+    "UNTIL",
+    "USING",
+    "USINT",
+    "VAR",
+    "VAR_ACCESS",
+    "VAR_CONFIG",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+    "VAR_INPUT",
+    "VAR_IN_OUT",
+    "VAR_OUTPUT",
+    "VAR_TEMP",
+    "WCHAR",
+    "WHILE",
+    "WITH",
+    "WORD",
+    "WSTRING",
+    "XOR",
+];
+
+/// Checks an IEC 61131-3 identifier: a letter or `_`, then letters, digits and single `_`s,
+/// not ending in `_`, and no keyword or elementary type name (ignoring case).
+pub fn check_iec(name: &str) -> Result<(), String> {
+    match name.chars().next() {
+        None => return Err("the name is empty".into()),
+        Some(c) if !(c.is_ascii_alphabetic() || c == '_') => {
+            return Err(format!("a name must start with a letter or `_`, not `{c}`"))
+        }
+        Some(_) => {}
+    }
+    check_rest(name)?;
+    if name.contains("__") || name.ends_with('_') {
+        return Err("IEC 61131-3 allows neither `__` nor a trailing `_` in a name".into());
+    }
+    let upper = name.to_ascii_uppercase();
+    if IEC_KEYWORDS.contains(&upper.as_str()) {
+        return Err("it is an IEC 61131-3 keyword".into());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identifiers_accept_plain_names() {
+        for ok in ["a", "c1Home", "vac_on", "Z9", "Process", "s0", "REQ2"] {
+            assert_eq!(check_smv(ok), Ok(()), "{ok}");
+        }
+    }
+
+    #[test]
+    fn identifiers_reject_keywords_reserved_and_odd_characters() {
+        let cases = [
+            ("", "empty"),
+            ("_state", "reserved"),
+            ("1a", "start with a letter"),
+            ("a-b", "not `-`"),
+            ("a$b", "not `$`"),
+            ("vác", "not `á`"),
+            ("next", "keyword"),
+            ("X", "keyword"),
+            ("AG", "keyword"),
+            ("process", "keyword"),
+            ("TRUE", "keyword"),
+        ];
+        for (name, why) in cases {
+            let err = check_smv(name).unwrap_err();
+            assert!(err.contains(why), "{name}: {err}");
+        }
+    }
+
+    #[test]
+    fn iec_identifiers() {
+        for ok in ["a", "_a", "c1_home", "START", "Motor2"] {
+            assert_eq!(check_iec(ok), Ok(()), "{ok}");
+        }
+        for (name, why) in [
+            ("", "empty"),
+            ("2a", "start with"),
+            ("a__b", "`__`"),
+            ("a_", "trailing"),
+            ("a.b", "not `.`"),
+            ("end_if", "keyword"),
+            ("Bool", "keyword"),
+        ] {
+            let e = check_iec(name).unwrap_err();
+            assert!(e.contains(why), "{name}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_portable_core() {
+        for ok in ["a", "Z9", "vac_on", "next"] {
+            assert!(is_identifier(ok), "{ok}");
+        }
+        for bad in ["", "_a", "1x", "a-b", "vác"] {
+            assert!(!is_identifier(bad), "{bad}");
+        }
+    }
+}
