@@ -1,4 +1,6 @@
-//! Event logs for process-mining tools, by seed 002's conversion of PLC data-flow logs.
+//! Event logs for process-mining tools, by the conversion of PLC data-flow logs that the
+//! process-mining paper ("Process Mining of Programmable Logic Controllers: Input/Output Event
+//! Logs") proposes.
 //!
 //! In: the samples of a raw I/O log ([`LogReader`] with its
 //! [`Mapping`]), each with its timestamp, and a reset activity. Out: [`Event`]s grouped into
@@ -6,7 +8,7 @@
 //! flat CSV. Streaming: only the samples of the current timestamp and the values before it are
 //! kept, so memory does not grow with the log.
 //!
-//! # Conversion rules (seed 002, section V-B)
+//! # Conversion rules (the paper's section V-B)
 //! 1. An activity is one address changing to a value, written `ADDRESS VALUE` with the value
 //!    `true` or `false` (e.g. `%IX0.1 false`). Its class is `input` or `output`, the side the
 //!    mapping gives the address.
@@ -28,6 +30,68 @@
 //!   form the last trace, even when the process had not reset again when the log ended.
 //! - Timestamps are seconds; XES and CSV write them as UTC date-times counted from
 //!   1970-01-01T00:00:00Z (so `12.5` becomes `1970-01-01T00:00:12.500+00:00`).
+//!
+//! Each rule has a unit test on a small hand-made log (`src/events/tests.rs`). The reset given
+//! to `synth events --reset` may name the address or the mapping name (`"ll false"`), and may
+//! be several changes of one class joined by `+`.
+//!
+//! # Outputs
+//! XES (IEEE 1849-2016: the Concept, Time and Lifecycle extensions declared, globals, the
+//! classifiers `Activity` and `Activity and class`; every event has `concept:name`,
+//! `time:timestamp`, `lifecycle:transition=complete` and `class`), and CSV
+//! `case_id,activity,timestamp,class` (`--csv`, by default beside the XES). Both are streamed
+//! and published atomically: a bad row stops the run with `file:line: ...` and leaves no output
+//! (`--lenient` skips and counts bad rows). An output path that is the input log (e.g. `--log
+//! run.csv --out run.xes`, whose default CSV is `run.csv`) is refused.
+//!
+//! # In pm4py
+//! `.ci/install-pm4py.sh` prints the Python of a venv (`~/.cache/fbsynth/pm4py-venv`, pm4py
+//! 2.7.11.11 from wheels). `tests/pm4py_check.py LOG.xes` loads the log with `pm4py.read_xes`,
+//! discovers a Petri net with the inductive miner (`pm4py.discover_petri_net_inductive`),
+//! replays the log on it and prints `traces, events, activities, places, transitions,
+//! inductive_fitness`; `--pnml NET` also imports a PNML net (`pm4py.read_pnml`) and replays the
+//! log on it; `--replay OTHER.xes` replays another log on both nets. Any error exits 1. The
+//! integration tests `tank::pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net`
+//! and `tank::only_the_machine_net_notices_a_wrong_cycle_count` run it on the tank logs with
+//! `$PM4PY_PYTHON`; without it they are skipped with a note, except under `CI=true`, where a
+//! missing pm4py fails them, as a missing NuSMV does.
+//!
+//! # Petri nets of synthesized machines
+//! With `--ecc M.json --pnml NET`, `synth events` also writes the machine as a PNML net
+//! ([`crate::export::pnml`]) whose labels are the mapping's addresses, so they match the
+//! activities of the XES. The net assumes one `REQ` per scan and replays a log only if every
+//! output event follows the input event that, in the machine's state, causes it; merged input
+//! events and two output events in a row are not represented. The tank case
+//! (`src/cases/tank.rs`) shows what this buys: only the machine's net notices a controller
+//! that counts its cycles wrongly.
+//!
+//! # Throughput
+//! Release build, 2-core Intel Xeon VM: a random long-format log of 10^7 rows (16 signals, each
+//! row toggling one, the timestamp advancing on about half of the rows, 178 MB) becomes
+//! 6,472,634 events in 277,845 traces in 16.9 s (0.59 M rows/s; writing the 1.7 GB of XES and
+//! 0.4 GB of CSV is the bottleneck), with a peak RSS of 4.5 MB, flat in the log length. The log
+//! and the run:
+//!
+//! ```text
+//! python3 - <<'EOF'
+//! import random
+//! random.seed(1)
+//! a = [f"%IX0.{k}" for k in range(8)] + [f"%QX0.{k}" for k in range(8)]
+//! with open("big.map", "w") as m:
+//!     for i, x in enumerate(a):
+//!         m.write(f"{x} {'in' if x[1] == 'I' else 'out'} s{i}\n")
+//! v, t = [0] * 16, 0
+//! with open("big.log.csv", "w") as f:
+//!     f.write("timestamp,address,value\n")
+//!     for _ in range(10**7):
+//!         t += random.random() < 0.5
+//!         k = random.randrange(16)
+//!         v[k] ^= 1
+//!         f.write(f"{t // 100}.{t % 100:02d},{a[k]},{v[k]}\n")
+//! EOF
+//! /usr/bin/time -v synth events --log big.log.csv --map big.map --reset "%IX0.0 false" \
+//!     --out big.xes --csv big.events.csv
+//! ```
 
 pub mod csv;
 pub mod xes;
