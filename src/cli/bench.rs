@@ -202,7 +202,7 @@ pub struct BenchNoisyArgs {
 /// ([`distribution::random_logs`], skew injected per log).
 pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
     println!(
-        "samples  steps   nodes   alts  injected  N  K  R   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
+        "samples  steps   nodes   alts  injected  C  K  T   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
     );
     for &len in &args.samples {
         let mut injected = 0;
