@@ -12,5 +12,6 @@ mod events;
 mod modes;
 mod modular;
 mod noisy;
+mod pipeline;
 mod synthesis;
 mod tank;

@@ -1,0 +1,142 @@
+//! Every pipeline called as a library user calls it: one function per method, one problem
+//! type ([`Check`]), no files read back.
+
+use fbsynth::nusmv::test_support::nusmv_or_skip;
+use fbsynth::pipeline::{self, exact, modular, noisy, refine, search, Check, Problem, Recordings};
+use std::path::{Path, PathBuf};
+
+fn file(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn lamp_check(set: &fbsynth::scenario::ScenarioSet) -> Option<Check> {
+    let nusmv = nusmv_or_skip()?;
+    let problem = Problem::load(
+        &file("tests/data/closed_loop/lamp.ltl"),
+        &file("tests/data/closed_loop/lamp_plant.smv"),
+        &set.inputs,
+        &set.outputs,
+    )
+    .unwrap();
+    Some(Check::new(problem, nusmv))
+}
+
+fn lamp() -> fbsynth::scenario::ScenarioSet {
+    Recordings::files(vec![file("tests/data/closed_loop/lamp.traces")])
+        .load()
+        .unwrap()
+}
+
+#[test]
+fn exact_with_a_check_is_certified_by_nusmv_and_replays() {
+    let set = lamp();
+    let Some(check) = lamp_check(&set) else {
+        return;
+    };
+    let mut events = 0;
+    let r = exact::run(&set, Some(&check), &exact::Options::default(), &mut |_| {
+        events += 1
+    })
+    .unwrap();
+    let cert = r.certificate.expect("checked");
+    assert!(cert.report.all_hold(), "{}", cert.report.to_text());
+    assert!(!r.iterations.is_empty() && events > 0);
+    set.check(&r.synthesis.ecc).unwrap();
+    // The certificate is NuSMV's: asking again gives the same verdicts.
+    let again = pipeline::verify(&r.synthesis.ecc, &check).unwrap();
+    assert!(again.report.all_hold());
+}
+
+#[test]
+fn search_ends_with_nusmv_s_verdict_on_its_machine() {
+    let set = lamp();
+    let Some(check) = lamp_check(&set) else {
+        return;
+    };
+    let opts = search::Options {
+        threads: Some(1),
+        colonies: 1,
+        time_limit: 5.0,
+        ..search::Options::default()
+    };
+    let mut rounds = 0;
+    let r = search::run(&set, &check, &opts, None, &mut |e| {
+        if matches!(e, pipeline::Event::SearchRound(_)) {
+            rounds += 1
+        }
+    })
+    .unwrap();
+    // The final verdict is NuSMV's, on every property, whatever the search saw.
+    assert_eq!(r.verification.report.properties.len(), 2);
+    let fresh = pipeline::verify(&r.outcome.ecc, &check).unwrap();
+    assert_eq!(fresh.report.all_hold(), r.verification.report.all_hold());
+    match r.certified(&set, &opts) {
+        Ok(ecc) => set.check(ecc).unwrap(),
+        Err(e) => assert_eq!(e.class(), pipeline::Class::NoMachine, "{e}"),
+    }
+    assert!(rounds > 0);
+}
+
+#[test]
+fn noisy_and_modular_run_from_the_library() {
+    let set = Recordings::files(vec![file("tests/data/noisy/skewed.csv")])
+        .load()
+        .unwrap();
+    let opts = noisy::Options {
+        max_errors: Some(1),
+        enumerate: 2,
+        ..noisy::Options::default()
+    };
+    let r = noisy::run(&set, None, &opts, &mut |_| {}).unwrap();
+    assert!(!r.synthesis.candidates.is_empty());
+    assert!(r.verdicts.iter().all(Option::is_none));
+    for c in &r.synthesis.candidates {
+        c.corrected.check(&c.ecc).unwrap();
+    }
+    let lamps = Recordings::files(vec![file("tests/data/scenarios/lamps.traces")])
+        .load()
+        .unwrap();
+    let m = modular::run(
+        &lamps,
+        &modular::Options {
+            modules: 2,
+            ..modular::Options::default()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(m.modular.modules.len(), 2);
+}
+
+#[test]
+fn refine_learns_divergent_traces_in_process() {
+    let old = Recordings::files(vec![file("tests/data/scenarios/door.traces")])
+        .load()
+        .unwrap();
+    let new = Recordings::files(vec![file("tests/data/scenarios/door_new.traces")])
+        .load()
+        .unwrap();
+    let first = exact::run(&old, None, &exact::Options::default(), &mut |_| {})
+        .unwrap()
+        .synthesis
+        .ecc;
+    assert!(!new.divergences(&first).is_empty());
+    let out = tempfile::tempdir().unwrap();
+    let formats = [fbsynth::export::Format::Json];
+    let opts = refine::Options {
+        out: out.path(),
+        formats: &formats,
+        name: "Door",
+        exact: exact::Options::default(),
+    };
+    let refined = refine::run(&first, &new, old.clone(), None, &opts, &mut |_| {})
+        .unwrap()
+        .expect("a trace diverges");
+    assert_eq!(refined.divergent, vec![0]);
+    assert!(new.divergences(refined.ecc()).is_empty());
+    old.check(refined.ecc()).unwrap();
+    assert!(refined.traces_file.is_file());
+    // A machine that already reproduces everything needs no refinement.
+    let again = refine::run(refined.ecc(), &new, old, None, &opts, &mut |_| {}).unwrap();
+    assert!(again.is_none());
+}
