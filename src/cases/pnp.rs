@@ -100,7 +100,7 @@ const VC_EXTEND: usize = 4;
 const VACUUM_ON: usize = 5;
 const VACUUM_OFF: usize = 6;
 
-/// The ten test cases of seed 004, in its order.
+/// The ten test cases of the metaheuristic paper, in its order.
 pub const SEED_ORDERS: [&str; 10] = [
     "1", "1-2", "1-2-3", "2", "2-1", "2-3", "3", "3-2", "3-2-1", "123",
 ];

@@ -122,7 +122,7 @@ use std::path::{Path, PathBuf};
 pub const INPUTS: [&str; 3] = ["ll", "ml", "ul"];
 /// Controller outputs (valves), in interface order.
 pub const OUTPUTS: [&str; 2] = ["inlet", "outlet"];
-/// OpenPLC addresses of [`INPUTS`] and [`OUTPUTS`], as in seed 002.
+/// OpenPLC addresses of [`INPUTS`] and [`OUTPUTS`], as in the process-mining paper.
 pub const INPUT_ADDRESSES: [&str; 3] = ["%IX0.1", "%IX0.2", "%IX0.0"];
 pub const OUTPUT_ADDRESSES: [&str; 2] = ["%QX0.0", "%QX0.1"];
 /// The mapping file of the logs.
@@ -214,7 +214,7 @@ pub struct RunSpec {
     pub scans: usize,
 }
 
-/// Seed 002's three scenarios, recorded for training.
+/// The process-mining paper's three scenarios, recorded for training.
 pub const SCENARIOS: [RunSpec; 3] = [
     RunSpec {
         name: "scenario1",

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct ExperimentArgs {
-    /// The experiment: `table1` (seed 001, Table I: scenarios only; scenarios + LTL without
+    /// The experiment: `table1` (the verification-in-the-loop paper, Table I: scenarios only; scenarios + LTL without
     /// F_ce; scenarios + LTL).
     #[arg(value_parser = ["table1"])]
     pub name: String,
@@ -30,12 +30,12 @@ pub struct ExperimentArgs {
     pub time_limit: f64,
     #[arg(long, default_value = "specs/pnp.traces", value_name = "FILE")]
     pub traces: PathBuf,
-    /// Use only the first N scenarios (seed 001 used one: a single piece from track 1).
+    /// Use only the first N scenarios (the verification-in-the-loop paper used one: a single piece from track 1).
     #[arg(long, default_value_t = 1, value_name = "N")]
     pub scenarios: usize,
     #[arg(long, default_value = "specs/pnp.ltl", value_name = "FILE")]
     pub ltl: PathBuf,
-    /// Properties of the spec to use, by name (seed 001's three by default); `all` for every
+    /// Properties of the spec to use, by name (the verification-in-the-loop paper's three by default); `all` for every
     /// property of the file.
     #[arg(
         long,

@@ -22,7 +22,7 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         "tank" => {
             let files = tank::write_files(&args.out).map_err(Failure::input)?;
             println!(
-                "recorded seed 002's tank scenarios and held-out runs from the reference programs:"
+                "recorded the process-mining paper's tank scenarios and held-out runs from the reference programs:"
             );
             files
         }

@@ -101,11 +101,11 @@ pub enum Command {
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
     /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
-    /// sliced into traces at a reset activity (seed 002's conversion).
+    /// sliced into traces at a reset activity (the process-mining paper's conversion).
     Events(events::EventsArgs),
     /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
     BenchModular(bench::BenchModularArgs),
-    /// Reproduce a seed paper's experiment (`table1`: seed 001's Table I with the search).
+    /// Reproduce a paper's experiment (`table1`: the verification-in-the-loop paper's Table I with the search).
     Experiment(experiment::ExperimentArgs),
     /// Measure the search's scenario-fitness evaluations per second per thread.
     BenchSearch(bench::BenchSearchArgs),

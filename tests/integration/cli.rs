@@ -198,7 +198,7 @@ fn convert_round_trips_through_csv() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let original = std::fs::read_to_string(data("door.traces")).unwrap();
-    // Sampled logs cannot tell a repeated row from a held one: seed 000's rule 1 collapses the
+    // Sampled logs cannot tell a repeated row from a held one: the SAT reconstruction paper's rule 1 collapses the
     // passive repeat of 10/11 in scenario 2. Everything else survives.
     let expected = original.replace(
         "out=CNF[11]; in=REQ[10]; in=REQ[01]",

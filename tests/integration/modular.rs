@@ -288,7 +288,7 @@ fn distribution(file: &str) -> ScenarioSet {
 }
 
 /// The distribution station's clean logs in two modules; with the lamps and the station's
-/// actuators pinned apart, the HMI becomes a module of its own (seed 000's Fig. 6).
+/// actuators pinned apart, the HMI becomes a module of its own (the SAT reconstruction paper's Fig. 6).
 #[test]
 fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
     let clean = distribution("specs/distribution.csv");

@@ -1,4 +1,4 @@
-//! Seed 002's tank, end to end: the main job rebuilds both PLC programs from the recorded
+//! The process-mining paper's tank, end to end: the main job rebuilds both PLC programs from the recorded
 //! scenarios, NuSMV verifies them against the tank properties, and the machines agree with the
 //! programs on held-out runs; the event logs of the raw tank logs load in pm4py. NuSMV tests
 //! skip with a note where NuSMV is missing (and fail under CI=true); the pm4py test needs
