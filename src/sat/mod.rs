@@ -36,6 +36,7 @@ pub mod guards;
 pub mod modular;
 pub mod negative;
 pub mod noisy;
+pub mod solver;
 pub mod vars;
 
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
@@ -43,10 +44,11 @@ use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::ScenarioSet;
 use card::Totalizer;
-use decode::{Model, Structure};
+use decode::Structure;
+use solver::{Model, Solver};
 use std::time::{Duration, Instant};
-use varisat::{ExtendFormula, Lit, Solver, Var};
-use vars::Vars;
+use varisat::{ExtendFormula, Lit};
+use vars::{GuardModel, Vars};
 
 /// Settings of a synthesis run.
 #[derive(Debug, Clone)]
@@ -113,51 +115,11 @@ pub enum SatError {
     Bug(String),
 }
 
-/// Solves under the assumptions already set; the model when satisfiable.
-pub(crate) fn solve_model(solver: &mut Solver<'_>) -> Option<Model> {
-    if solver
-        .solve()
-        .expect("varisat does not fail without proof output")
-    {
-        Some(Model::new(&solver.model().expect("model after SAT")))
-    } else {
-        None
-    }
-}
-
-/// A clause sink that counts what it forwards.
-pub(crate) struct Counting<'a, F: ExtendFormula> {
-    pub inner: &'a mut F,
-    pub vars: usize,
-    pub clauses: usize,
-}
-
-impl<'a, F: ExtendFormula> Counting<'a, F> {
-    pub(crate) fn new(inner: &'a mut F) -> Self {
-        Counting {
-            inner,
-            vars: 0,
-            clauses: 0,
-        }
-    }
-}
-
-impl<F: ExtendFormula> ExtendFormula for Counting<'_, F> {
-    fn add_clause(&mut self, clause: &[Lit]) {
-        self.clauses += 1;
-        self.inner.add_clause(clause);
-    }
-    fn new_var(&mut self) -> Var {
-        self.vars += 1;
-        self.inner.new_var()
-    }
-}
-
 /// The incremental solver with the basic encoding for up to `c_max` states, its input
 /// alphabet (the tree's input vectors, then those counterexamples bring) and the assumption
 /// literals that keep it open for more.
 struct Encoding {
-    solver: Solver<'static>,
+    solver: Solver,
     vars: Vars,
     total_t: Totalizer,
     /// Guard literal counter (cube model only).
@@ -174,20 +136,24 @@ struct Encoding {
     alphabet: Vec<Vec<bool>>,
     in_counterexample: Vec<bool>,
     start_state: bool,
+    /// Variables and clauses of the encoding as built (bounds made on demand not counted).
     variables: usize,
     clauses: usize,
-    calls: usize,
+    /// Solver calls already counted in the synthesizer's figures.
+    calls_counted: usize,
 }
 
 impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &Options) -> Encoding {
         let mut solver = Solver::new();
-        let mut sink = Counting::new(&mut solver);
-        let vars = Vars::new(&mut sink, tree, c_max, opts.cube_slots);
+        let sink = &mut solver;
+        let vars = Vars::new(sink, tree, c_max, opts.cube_slots);
+        // Allocated in both guard models, so that both number their variables alike; only the
+        // tree-exact model constrains them.
         let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
         let tails: Vec<Lit> = (0..c_max * c_max).map(|_| sink.new_lit()).collect();
         constraints::basic(
-            &mut sink,
+            sink,
             &vars,
             tree,
             opts.algorithms,
@@ -195,24 +161,24 @@ impl Encoding {
             &sel,
             &tails,
         );
-        let (total_t, total_n) = match &vars.cubes {
-            Some(cv) => (
-                Totalizer::new(&mut sink, cv.all_en(), c_max * cv.slots),
-                Some(Totalizer::new(&mut sink, &cv.all_literals(), 200)),
+        let (total_t, total_n) = match &vars.guards {
+            GuardModel::Cubes(cv) => (
+                Totalizer::new(sink, cv.all_en(), c_max * cv.slots),
+                Some(Totalizer::new(sink, &cv.all_literals(), 200)),
             ),
-            None => (Totalizer::new(&mut sink, vars.all_t(), c_max * c_max), None),
+            GuardModel::TreeExact => (Totalizer::new(sink, vars.all_t(), c_max * c_max), None),
         };
         let degree = if opts.minimize_k {
             (0..c_max)
-                .map(|q| match &vars.cubes {
-                    Some(cv) => Totalizer::new(&mut sink, cv.en_row(q), cv.slots),
-                    None => Totalizer::new(&mut sink, vars.t_row(q), c_max),
+                .map(|q| match &vars.guards {
+                    GuardModel::Cubes(cv) => Totalizer::new(sink, cv.en_row(0, q), cv.slots),
+                    GuardModel::TreeExact => Totalizer::new(sink, vars.t_row(q), c_max),
                 })
                 .collect()
         } else {
             Vec::new()
         };
-        let (variables, clauses) = (sink.vars, sink.clauses);
+        let stats = solver.stats();
         Encoding {
             solver,
             vars,
@@ -225,10 +191,27 @@ impl Encoding {
             alphabet: tree.input_vectors.clone(),
             in_counterexample: vec![false; tree.input_vectors.len()],
             start_state: opts.start_state,
-            variables,
-            clauses,
-            calls: 0,
+            variables: stats.variables,
+            clauses: stats.clauses,
+            calls_counted: 0,
         }
+    }
+
+    /// Solver calls made since the last time this was asked.
+    fn new_calls(&mut self) -> usize {
+        let calls = self.solver.stats().calls - self.calls_counted;
+        self.calls_counted += calls;
+        calls
+    }
+
+    /// Runs `write` on the solver; adds what it writes to the encoding's size.
+    fn grow_by<T>(&mut self, write: impl FnOnce(&mut Self) -> T) -> T {
+        let before = self.solver.stats();
+        let out = write(self);
+        let after = self.solver.stats();
+        self.variables += after.variables - before.variables;
+        self.clauses += after.clauses - before.clauses;
+        out
     }
 
     /// The alphabet index of an input vector used by a counterexample, added if new.
@@ -237,12 +220,12 @@ impl Encoding {
             self.in_counterexample[u] = true;
             return InputVec(u);
         }
-        let mut sink = Counting::new(&mut self.solver);
-        let u = self.vars.add_input(&mut sink);
-        constraints::per_input(&mut sink, &self.vars, u, x, self.start_state);
-        constraints::extend_edges(&mut sink, &self.vars, u, &mut self.tails);
-        self.variables += sink.vars;
-        self.clauses += sink.clauses;
+        let u = self.grow_by(|e| {
+            let u = e.vars.add_input(&mut e.solver);
+            constraints::per_input(&mut e.solver, &e.vars, u, x, e.start_state);
+            constraints::extend_edges(&mut e.solver, &e.vars, u, &mut e.tails);
+            u
+        });
         self.alphabet.push(x.to_vec());
         self.in_counterexample.push(true);
         u
@@ -254,10 +237,7 @@ impl Encoding {
             .iter()
             .map(|s| self.counterexample_input(&s.inputs))
             .collect();
-        let mut sink = Counting::new(&mut self.solver);
-        negative::leave_lasso(&mut sink, &self.vars, neg, &ids);
-        self.variables += sink.vars;
-        self.clauses += sink.clauses;
+        self.grow_by(|e| negative::leave_lasso(&mut e.solver, &e.vars, neg, &ids));
         ids
     }
 
@@ -294,11 +274,9 @@ impl Encoding {
     }
 
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
-        self.calls += 1;
         let mut all = self.base_assumptions();
         all.extend_from_slice(assumptions);
-        self.solver.assume(&all);
-        solve_model(&mut self.solver)
+        self.solver.solve(&all)
     }
 }
 
@@ -431,9 +409,10 @@ impl<'a> Synthesizer<'a> {
             .zip(&self.negative_ids)
             .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
             .collect();
-        let decode = |m: &Model, enc: &Encoding| {
-            Structure::decode(m, &enc.vars, tree, opts.algorithms, &enc.alphabet, &indexed)
+        let decode_with = |m: &Model, vars: &Vars, alphabet: &[Vec<bool>]| {
+            Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed)
         };
+        let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
         let mut base: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
         let mut structure = decode(&model, enc);
         progress(&format!(
@@ -466,6 +445,8 @@ impl<'a> Synthesizer<'a> {
         // 3. least T. With a lower bound from an earlier call (same C, no K bound), search
         // upwards from it: every bound below it is already known to be unsatisfiable.
         let mut t = structure.transition_count();
+        let mut base_t = enc.base_assumptions();
+        base_t.extend_from_slice(&base);
         match self.t_lo {
             Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t => {
                 let mut bound = lo;
@@ -484,72 +465,69 @@ impl<'a> Synthesizer<'a> {
                 }
             }
             _ => {
-                while t > 0 {
-                    let Some(bound) = enc.total_t.at_most(t - 1) else {
-                        break;
-                    };
-                    progress(&format!("trying T = {}", t - 1));
-                    let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
-                    match enc.solve(&assume) {
-                        Some(m) => {
-                            structure = decode(&m, enc);
-                            t = structure.transition_count();
-                        }
-                        None => break,
-                    }
-                }
+                let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
+                t = enc.solver.descend(
+                    &base_t,
+                    t,
+                    0,
+                    |b| total_t.at_most(b),
+                    |b| progress(&format!("trying T = {b}")),
+                    |m| {
+                        structure = decode_with(&m, vars, alphabet);
+                        structure.transition_count()
+                    },
+                );
             }
         }
         if !opts.minimize_k {
             self.t_lo = Some((c, t));
         }
         progress(&format!("T = {t} is minimal"));
-        self.stats.solver_calls += enc.calls;
-        enc.calls = 0;
+        self.stats.solver_calls += enc.new_calls();
         self.stats.sat_seconds = t0.elapsed().as_secs_f64();
 
         // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
         // state on the fixed structure.
         let tg = Instant::now();
         let mut exact = true;
-        let states: Vec<State> = if let Some(cube_ts) = structure.cube_transitions.clone() {
-            let mut best = (structure.clone(), cube_ts);
-            let mut n = best.0.literal_count();
-            let t_bound = enc.total_t.at_most(t);
-            let start = match self.n_lo {
-                Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
-                _ => 0,
-            };
-            // Descend from the current N; stop at the known lower bound.
-            while n > start {
-                let Some(nb) = enc.total_n.as_ref().and_then(|tot| tot.at_most(n - 1)) else {
-                    break;
+        let states: Vec<State> = match (&structure.cube_transitions, &enc.total_n) {
+            (Some(_), Some(total_n)) => {
+                let n = structure.literal_count();
+                let start = match self.n_lo {
+                    Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
+                    _ => 0,
                 };
-                progress(&format!("trying N = {}", n - 1));
-                let assume: Vec<Lit> = base.iter().copied().chain(t_bound).chain([nb]).collect();
-                match enc.solve(&assume) {
-                    Some(m) => {
-                        let st = decode(&m, enc);
-                        n = st.literal_count();
-                        let ts = st.cube_transitions.clone().expect("cube model");
-                        best = (st, ts);
-                    }
-                    None => break,
-                }
+                // Descend from the current N; stop at the known lower bound.
+                base_t.extend(enc.total_t.at_most(t));
+                let (vars, alphabet) = (&enc.vars, &enc.alphabet);
+                let n = enc.solver.descend(
+                    &base_t,
+                    n,
+                    start,
+                    |b| total_n.at_most(b),
+                    |b| progress(&format!("trying N = {b}")),
+                    |m| {
+                        structure = decode_with(&m, vars, alphabet);
+                        structure.literal_count()
+                    },
+                );
+                self.n_lo = Some((c, t, n));
+                let transitions = structure.cube_transitions.clone().unwrap_or_default();
+                (0..structure.c)
+                    .zip(transitions)
+                    .map(|(q, transitions)| State {
+                        name: format!("s{q}"),
+                        algorithm: structure.algorithms[q].clone(),
+                        transitions,
+                    })
+                    .collect()
             }
-            self.n_lo = Some((c, t, n));
-            structure = best.0;
-            (0..structure.c)
-                .map(|q| State {
-                    name: format!("s{q}"),
-                    algorithm: structure.algorithms[q].clone(),
-                    transitions: best.1[q].clone(),
-                })
-                .collect()
-        } else {
-            let (states, all_exact) = guards::all_states(&structure, tree, tg + opts.guard_budget);
-            exact = all_exact;
-            states
+            _ => {
+                let (states, all_exact) =
+                    guards::all_states(&structure, tree, tg + opts.guard_budget);
+                exact = all_exact;
+                states
+            }
         };
         self.stats.guard_seconds = tg.elapsed().as_secs_f64();
         let ecc = Ecc {
