@@ -235,11 +235,6 @@ impl Encoding {
         a
     }
 
-    /// The assumption "at most `c` states".
-    fn states_at_most(&self, c: usize) -> Option<Lit> {
-        (c < self.vars.c_max).then(|| !self.vars.used(c))
-    }
-
     fn k_at_most(&mut self, k: usize) -> Lit {
         if let Some(&(_, l)) = self.k_bounds.iter().find(|(b, _)| *b == k) {
             return l;
@@ -353,21 +348,21 @@ impl<'a> Synthesizer<'a> {
         // 1. least C, growing the encoding window when exhausted.
         let (c, mut model) = loop {
             let c_max = self.enc.vars.c_max;
-            let mut found = None;
-            for c in self.c_lo..=c_max {
-                progress(&format!(
-                    "trying C = {c} ({} tree nodes, {} inputs, {} negative scenarios)",
-                    self.tree.nodes.len(),
-                    self.enc.alphabet.len(),
-                    self.negatives.len()
-                ));
-                let assume: Vec<Lit> = self.enc.states_at_most(c).into_iter().collect();
-                if let Some(m) = self.enc.solve(&assume) {
-                    found = Some((c, m));
-                    break;
-                }
-                self.c_lo = c + 1;
-            }
+            let (nodes, inputs) = (self.tree.nodes.len(), self.enc.alphabet.len());
+            let negatives = self.negatives.len();
+            let base = self.enc.base_assumptions();
+            let vars = &self.enc.vars;
+            let found = self.enc.solver.ascend(
+                self.c_lo..=c_max,
+                |c| base.iter().copied().chain(vars.states_at_most(c)).collect(),
+                |c| {
+                    progress(&format!(
+                        "trying C = {c} ({nodes} tree nodes, {inputs} inputs, {negatives} negative scenarios)"
+                    ))
+                },
+            );
+            // No machine with fewer states than the least satisfiable bound (or than the window).
+            self.c_lo = found.as_ref().map_or(self.c_lo.max(c_max + 1), |(c, _)| *c);
             match found {
                 Some(f) => break f,
                 None if c_max >= opts.max_states => {
@@ -394,7 +389,7 @@ impl<'a> Synthesizer<'a> {
             Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed)
         };
         let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
-        let mut base: Vec<Lit> = enc.states_at_most(c).into_iter().collect();
+        let mut base: Vec<Lit> = enc.vars.states_at_most(c).into_iter().collect();
         let mut structure = decode(&model, enc);
         progress(&format!(
             "C = {c} is minimal; first machine has K = {}, T = {}",

@@ -245,3 +245,39 @@ pub fn input(f: &mut impl ExtendFormula, v: &Vars, cv: &CubeVars, u: InputVec, b
         f.add_clause(&[last, !v.y(q, u, v.none())]);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use varisat::CnfFormula;
+
+    /// The first-fire gadget, exhaustively: for every value of `en`, `nf` and two killer literals,
+    /// `fire` and `nf1` are forced to `en & no killer` and `nf & !fire`.
+    #[test]
+    fn first_fire_gadget_is_exact() {
+        let mut f = CnfFormula::new();
+        let [fire, en, nf, nf1, k1, k2] = [(); 6].map(|_| f.new_lit());
+        first_fire(&mut f, [fire, en, nf, nf1], &[k1, k2]);
+        for mask in 0u32..16 {
+            let bit = |i: u32| mask >> i & 1 == 1;
+            let given = [(en, bit(0)), (nf, bit(1)), (k1, bit(2)), (k2, bit(3))];
+            let want_fire = bit(0) && !bit(2) && !bit(3);
+            let want_nf1 = bit(1) && !want_fire;
+            for (fv, nv) in [(false, false), (false, true), (true, false), (true, true)] {
+                let mut s = varisat::Solver::new();
+                s.add_formula(&f);
+                let mut assume: Vec<Lit> =
+                    given.iter().map(|&(l, v)| if v { l } else { !l }).collect();
+                assume.push(if fv { fire } else { !fire });
+                assume.push(if nv { nf1 } else { !nf1 });
+                s.assume(&assume);
+                let expect = fv == want_fire && nv == want_nf1;
+                assert_eq!(
+                    s.solve().unwrap(),
+                    expect,
+                    "mask {mask:04b} fire {fv} nf1 {nv}"
+                );
+            }
+        }
+    }
+}

@@ -7,10 +7,12 @@
 //! Every bound of a minimization (states in use, transitions, guard literals, errors, inputs read)
 //! is a solver *assumption*: a literal that says "at most `b`", usually a [`Totalizer`] output
 //! ([`super::card`]). One solver therefore serves every bound of every loop, keeping what it
-//! learnt; [`Solver::descend`] is the loop all encodings share.
+//! learnt; [`Solver::ascend`] (the least size that admits a machine) and [`Solver::descend`]
+//! (tightening a counter from a model's value) are the loops all encodings share.
 //!
 //! [`Totalizer`]: super::card::Totalizer
 
+use std::ops::RangeInclusive;
 use varisat::{ExtendFormula, Lit, Var};
 
 /// What a solver has been given and asked.
@@ -59,6 +61,23 @@ impl Solver {
         } else {
             None
         }
+    }
+
+    /// The least value `b` of `range` whose assumptions `bound(b)` are satisfiable, with its
+    /// model, by ascent (`None`: none is). `trying` hears every value before its call.
+    pub fn ascend(
+        &mut self,
+        range: RangeInclusive<usize>,
+        bound: impl Fn(usize) -> Vec<Lit>,
+        mut trying: impl FnMut(usize),
+    ) -> Option<(usize, Model)> {
+        for b in range {
+            trying(b);
+            if let Some(m) = self.solve(&bound(b)) {
+                return Some((b, m));
+            }
+        }
+        None
     }
 
     /// The least value of a quantity that a bound literal caps, by descent: `value` is the

@@ -183,6 +183,11 @@ impl Vars {
         }
     }
 
+    /// The assumption "at most `c` states" (`None`: the window has no more).
+    pub fn states_at_most(&self, c: usize) -> Option<Lit> {
+        (c < self.c_max).then(|| !self.used(c))
+    }
+
     /// Index of the `⊥` ("nothing fires") target.
     pub fn none(&self) -> usize {
         self.c_max

@@ -25,13 +25,12 @@ pub mod decode;
 pub mod vars;
 
 use super::card::Totalizer;
-use super::solver::{Model, Solver};
+use super::solver::Solver;
 use crate::ecc::modular::{Modular, ModularSize};
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use std::time::Instant;
-use varisat::Lit;
 use vars::ModVars;
 
 /// Settings of a modular synthesis run.
@@ -200,20 +199,6 @@ impl Encoding {
             total_used,
         }
     }
-
-    /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
-    fn size_at_most(&self, n: usize) -> Vec<Lit> {
-        if n >= self.vars.d.c_max {
-            return Vec::new();
-        }
-        (0..self.vars.d.modules)
-            .map(|m| !self.vars.used(m, n))
-            .collect()
-    }
-
-    fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
-        self.solver.solve(assumptions)
-    }
 }
 
 fn check_options(opts: &ModularOptions) -> Result<(), ModularError> {
@@ -248,19 +233,18 @@ pub fn synthesize_modular(
         let mut enc = Encoding::new(tree, c_max, opts);
         stats.variables += enc.solver.stats().variables;
         stats.clauses += enc.solver.stats().clauses;
-        let mut found = None;
-        for n in lo..=c_max {
-            progress(&format!(
-                "trying at most {n} states per module ({} modules, {} tree nodes)",
-                opts.modules,
-                tree.nodes.len()
-            ));
-            let assume = enc.size_at_most(n);
-            if let Some(m) = enc.solve(&assume) {
-                found = Some((n, m));
-                break;
-            }
-        }
+        let vars = &enc.vars;
+        let found = enc.solver.ascend(
+            lo..=c_max,
+            |n| vars.size_at_most(n),
+            |n| {
+                progress(&format!(
+                    "trying at most {n} states per module ({} modules, {} tree nodes)",
+                    opts.modules,
+                    tree.nodes.len()
+                ))
+            },
+        );
         match found {
             Some((n, m)) => break (enc, n, m),
             None if c_max >= opts.max_states => {
@@ -279,7 +263,7 @@ pub fn synthesize_modular(
             }
         }
     };
-    let mut base = enc.size_at_most(n);
+    let mut base = enc.vars.size_at_most(n);
     progress(&format!("largest module: {n} states (minimal)"));
 
     // 2. least A, then 3. least N', each descending from the current model's value.
@@ -346,7 +330,7 @@ pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize)
         return false;
     }
     let mut enc = Encoding::new(tree, n, opts);
-    enc.solve(&[]).is_some()
+    enc.solver.solve(&[]).is_some()
 }
 
 #[cfg(test)]

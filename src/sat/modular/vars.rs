@@ -148,6 +148,14 @@ impl ModVars {
     pub fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
         self.tr[(m * self.d.c_max + q) * self.d.c_max + t]
     }
+    /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
+    pub fn size_at_most(&self, n: usize) -> Vec<Lit> {
+        if n >= self.d.c_max {
+            return Vec::new();
+        }
+        (0..self.d.modules).map(|m| !self.used(m, n)).collect()
+    }
+
     /// Every `α`, for counting the inputs used (`A`).
     pub fn all_alpha(&self) -> &[Lit] {
         &self.alpha
