@@ -103,7 +103,7 @@ pub(super) struct Encoding {
     solver: Solver,
     vars: Vars,
     total_t: Totalizer,
-    /// Guard literal counter (cube model only).
+    /// Guard literal counter `N`: `Some` exactly in the cube model ([`GuardModel::Cubes`]).
     total_n: Option<Totalizer>,
     /// Out-degree counters, one per state (only when minimizing `K`).
     degree: Vec<Totalizer>,
@@ -466,8 +466,8 @@ impl<'a> Synthesizer<'a> {
         // state on the fixed structure.
         let tg = Instant::now();
         let mut exact = true;
-        let states: Vec<State> = match (&structure.cube_transitions, &enc.total_n) {
-            (Some(_), Some(total_n)) => {
+        let states: Vec<State> = match &enc.total_n {
+            Some(total_n) => {
                 let n = structure.literal_count();
                 let start = match self.n_lo {
                     Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
@@ -488,6 +488,7 @@ impl<'a> Synthesizer<'a> {
                     },
                 );
                 self.n_lo = Some((c, t, n));
+                // Decoded with the cube model's slots: one list of transitions per state.
                 let transitions = structure.cube_transitions.clone().unwrap_or_default();
                 (0..structure.c)
                     .zip(transitions)
@@ -498,7 +499,7 @@ impl<'a> Synthesizer<'a> {
                     })
                     .collect()
             }
-            _ => {
+            None => {
                 let (states, all_exact) =
                     guards::all_states(&structure, tree, tg + opts.guard_budget);
                 exact = all_exact;
