@@ -199,7 +199,7 @@ pub(crate) fn first_fire(
 }
 
 /// Slot `k` of state `q` of machine `m` on input vector `u` with bits `bits`: whether it fires,
-/// and whether any slot up to it does ([`first_fire`]).
+/// and whether any slot up to it does (the first-fire gadget above).
 pub fn slot_fires(
     f: &mut impl ExtendFormula,
     cv: &CubeVars,

@@ -1,7 +1,7 @@
 //! The scenarios as the search reads them: precomputed once into flat bit-mask arrays.
 //!
 //! In: a [`ScenarioSet`]. Out: [`ScenarioData`]: per step the inputs, the recorded `CNF`
-//! outputs (or [`PASSIVE`]) and the outputs before the step, as bit masks (bit `i` is input or
+//! outputs (or `PASSIVE`, no `CNF`) and the outputs before the step, as bit masks (bit `i` is input or
 //! output `i`), in one array; and per scenario its range and, for scenarios of at most 128 steps,
 //! the match masks of the bit-parallel edit distance. State labeling ([`super::labeling`]) and
 //! the fitness ([`super::fitness`]) both run on it.

@@ -3,7 +3,7 @@
 //!
 //! Numbering (all 0-based): modules `m in 0..M` (users see `m + 1`), states `q, q' in 0..N`
 //! per module, transition slots `k in 0..K` per state, tree nodes `v` as [`NodeId`], distinct
-//! input vectors `g` as [`InputVec`], input variables `x in 0..X`, outputs `z in 0..Z`. The
+//! input vectors `g` as [`InputVec`](crate::scenario::tree::InputVec), input variables `x in 0..X`, outputs `z in 0..Z`. The
 //! paper's names are kept where they exist (θ, α, `f`, `nf`, `uc`, `tr`, `p`). Each module's
 //! colouring is a [`Coloring`] view, its guards are the module's part of one [`CubeVars`].
 
