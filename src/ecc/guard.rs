@@ -66,6 +66,36 @@ impl Guard {
         }
     }
 
+    /// The literals of a conjunction of literals (`TRUE` is the empty one); `None` for any other
+    /// guard. The inverse of [`Guard::cube`].
+    pub fn as_cube(&self) -> Option<Vec<Literal>> {
+        fn literal(g: &Guard) -> Option<Literal> {
+            match g {
+                Guard::Var(v) => Some((*v, true)),
+                Guard::Not(inner) => match inner.as_ref() {
+                    Guard::Var(v) => Some((*v, false)),
+                    _ => None,
+                },
+                _ => None,
+            }
+        }
+        match self {
+            Guard::True => Some(vec![]),
+            Guard::And(parts) => parts.iter().map(literal).collect(),
+            other => Some(vec![literal(other)?]),
+        }
+    }
+
+    /// The cubes of a disjunction of conjunctions of literals (`FALSE` is the empty one);
+    /// `None` for any other guard. The inverse of [`Guard::dnf`].
+    pub fn as_dnf(&self) -> Option<Vec<Vec<Literal>>> {
+        match self {
+            Guard::False => Some(vec![]),
+            Guard::Or(parts) => parts.iter().map(Guard::as_cube).collect(),
+            other => Some(vec![other.as_cube()?]),
+        }
+    }
+
     /// Number of variable occurrences (the guard size N of the seeds).
     pub fn literal_count(&self) -> usize {
         match self {

@@ -22,7 +22,7 @@ pub mod random;
 pub mod sim;
 
 pub use guard::Guard;
-pub use sim::{replay, Fired, Mismatch, Run};
+pub use sim::{replay, Controller, Fired, Mismatch, Reactive, Run};
 
 use std::fmt;
 

@@ -16,7 +16,7 @@
 //!   `Some` outputs) needs at least one module to fire and a passive step needs all of them to
 //!   stay put: the composite is a drop-in replacement for a single ECC on scenarios.
 
-use super::{Ecc, InputId, OutputId, Run, Size};
+use super::{Controller, Ecc, InputId, OutputId, Reactive, Run, Size};
 
 /// One module: which composite inputs it reads, which outputs it owns, and its ECC over them.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -154,24 +154,17 @@ impl<'a> ModularRun<'a> {
     }
 }
 
-/// Replays a trace of `(inputs, expected CNF outputs or None)` on the composite from its
-/// initial state; the first disagreement, as for a single ECC ([`super::replay`]).
-pub fn replay_modular<'t, I>(modular: &Modular, steps: I) -> Result<(), super::Mismatch>
-where
-    I: IntoIterator<Item = (&'t [bool], Option<&'t [bool]>)>,
-{
-    let mut run = ModularRun::new(modular);
-    for (k, (x, expected)) in steps.into_iter().enumerate() {
-        let actual = run.step(x).then_some(run.outputs.as_slice());
-        if actual != expected {
-            return Err(super::Mismatch {
-                step: k,
-                expected: expected.map(|o| o.to_vec()),
-                actual: actual.map(|o| o.to_vec()),
-            });
-        }
+impl Reactive for ModularRun<'_> {
+    fn react(&mut self, x: &[bool]) -> Option<&[bool]> {
+        self.step(x).then_some(self.outputs.as_slice())
     }
-    Ok(())
+}
+
+impl Controller for Modular {
+    type Run<'a> = ModularRun<'a>;
+    fn start(&self) -> ModularRun<'_> {
+        ModularRun::new(self)
+    }
 }
 
 #[cfg(test)]
@@ -233,7 +226,7 @@ pub(crate) mod tests {
             (&[false, true], Some(&[false, true])),
             (&[false, false], Some(&[false, true])),
         ];
-        let e = replay_modular(&m, steps).unwrap_err();
+        let e = crate::ecc::replay(&m, steps).unwrap_err();
         assert_eq!((e.step, e.actual), (1, None));
     }
 

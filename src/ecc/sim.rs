@@ -67,15 +67,46 @@ pub struct Mismatch {
     pub actual: Option<Vec<bool>>,
 }
 
-/// Replays a trace of `(inputs, expected CNF outputs or None)` from the initial state and
-/// returns the first disagreement.
-pub fn replay<'t, I>(ecc: &Ecc, steps: I) -> Result<(), Mismatch>
+/// Something that reacts to `REQ`: a running ECC ([`Run`]) or a running modular composite
+/// ([`super::modular::ModularRun`]).
+pub trait Reactive {
+    /// One `REQ` with input vector `x`: the outputs emitted with `CNF`, or `None` when nothing
+    /// happened.
+    fn react(&mut self, x: &[bool]) -> Option<&[bool]>;
+}
+
+impl Reactive for Run<'_> {
+    fn react(&mut self, x: &[bool]) -> Option<&[bool]> {
+        self.step(x).map(|_| self.outputs.as_slice())
+    }
+}
+
+/// A controller a recorded trace can be replayed on: an [`Ecc`] or a
+/// [`super::modular::Modular`] composite.
+pub trait Controller {
+    type Run<'a>: Reactive
+    where
+        Self: 'a;
+    /// The controller in its initial state with its initial outputs.
+    fn start(&self) -> Self::Run<'_>;
+}
+
+impl Controller for Ecc {
+    type Run<'a> = Run<'a>;
+    fn start(&self) -> Run<'_> {
+        Run::new(self)
+    }
+}
+
+/// Replays a trace of `(inputs, expected CNF outputs or None)` on `controller` from its initial
+/// state and returns the first disagreement.
+pub fn replay<'t, I>(controller: &impl Controller, steps: I) -> Result<(), Mismatch>
 where
     I: IntoIterator<Item = (&'t [bool], Option<&'t [bool]>)>,
 {
-    let mut run = Run::new(ecc);
+    let mut run = controller.start();
     for (k, (x, expected)) in steps.into_iter().enumerate() {
-        let actual = run.step(x).map(|_| run.outputs.as_slice());
+        let actual = run.react(x);
         if actual != expected {
             return Err(Mismatch {
                 step: k,

@@ -1,13 +1,17 @@
-//! The constraint families of the basic ECC encoding, one function each.
+//! The constraint families, one function each: first those every encoding shares (written
+//! against one machine's [`Coloring`], so the basic, noisy and modular encodings use the same
+//! code), then those of the basic ECC encoding.
 //!
-//! Together they say: the nodes of the scenario tree are coloured with states so that merging
-//! nodes of one colour gives a deterministic ECC (seed 000, section IV.B; seed 004's basic
-//! model) that reproduces every scenario. Each function writes into any clause sink
+//! Together the basic families say: the nodes of the scenario tree are coloured with states so
+//! that merging nodes of one colour gives a deterministic ECC (seed 000, section IV.B; seed
+//! 004's basic model) that reproduces every scenario. Each function writes into any clause sink
 //! ([`ExtendFormula`]), so tests can inspect a [`varisat::CnfFormula`] while production writes
 //! straight into the solver. Notation: `c[v,q]` colour, `y[q,u,q']` transition, `⊥` none,
-//! `a0/a1[q,z]` algorithm, `t[q,q']` edge, `p[j,i]` BFS parent.
+//! `a0/a1[q,z]` algorithm, `t[q,q']` edge, `p[j,i]` BFS parent; for a module (seed 000,
+//! section V) `θ[z]` "owns output `z`" and `fired[w]` "fires on the tree edge into `w`".
 
-use super::vars::Vars;
+use super::cubes;
+use super::vars::{Coloring, GuardModel, Scope, Vars};
 use crate::ecc::AlgorithmKind;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
@@ -21,27 +25,162 @@ pub(crate) fn at_most_one(f: &mut impl ExtendFormula, lits: &[Lit]) {
     }
 }
 
-/// States in use form a prefix: `used[q+1] -> used[q]`; the initial state is used.
-pub fn used_prefix(f: &mut impl ExtendFormula, v: &Vars) {
-    f.add_clause(&[v.used(0)]);
-    for q in 1..v.c_max {
-        f.add_clause(&[!v.used(q), v.used(q - 1)]);
+/// The active edges `p -u-> w` of the tree (every node but the root, with its parent).
+pub(crate) fn tree_edges(
+    tree: &ScenarioTree,
+) -> impl Iterator<Item = (NodeId, InputVec, NodeId)> + '_ {
+    tree.nodes
+        .iter()
+        .enumerate()
+        .filter_map(|(w, node)| node.parent.map(|(p, u)| (p, u, NodeId(w))))
+}
+
+/// States in use form a prefix containing the initial state: `used[0]`, `used[q+1] -> used[q]`.
+pub fn used_prefix(f: &mut impl ExtendFormula, c: &Coloring) {
+    f.add_clause(&[c.used(0)]);
+    for q in 1..c.c_max {
+        f.add_clause(&[!c.used(q), c.used(q - 1)]);
     }
 }
 
 /// Every node has exactly one colour, a used one; the root has colour 0:
 /// `ALO_q c[v,q]`, `AMO_q c[v,q]`, `c[v,q] -> used[q]`, `c[root,0]`.
-pub fn coloring(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
-    for n in 0..tree.nodes.len() {
-        let node = NodeId(n);
-        let lits: Vec<Lit> = (0..v.c_max).map(|q| v.color(node, q)).collect();
+pub fn coloring(f: &mut impl ExtendFormula, c: &Coloring) {
+    for n in 0..c.nodes() {
+        let lits: Vec<Lit> = (0..c.c_max).map(|q| c.color(NodeId(n), q)).collect();
         f.add_clause(&lits);
         at_most_one(f, &lits);
-        for q in 0..v.c_max {
-            f.add_clause(&[!v.color(node, q), v.used(q)]);
+        for (q, &l) in lits.iter().enumerate() {
+            f.add_clause(&[!l, c.used(q)]);
         }
     }
-    f.add_clause(&[v.color(tree.root(), 0)]);
+    f.add_clause(&[c.color(NodeId(0), 0)]);
+}
+
+/// Passive mark `(p, u)`: nothing fires in any machine, `c[p,q] -> idle[q,u]`, where
+/// `idle(m, q, u)` is machine `m`'s literal "in state `q` nothing fires on `u`" (`y[q,u,⊥]` in
+/// the basic encoding). (The passive step's target node is merged with `p` in the tree, so
+/// "same colour" holds by construction.)
+pub fn passive_marks(
+    f: &mut impl ExtendFormula,
+    tree: &ScenarioTree,
+    machines: &[Coloring],
+    idle: impl Fn(usize, usize, InputVec) -> Lit,
+) {
+    for (p, node) in tree.nodes.iter().enumerate() {
+        for &u in &node.passive {
+            for (m, c) in machines.iter().enumerate() {
+                for q in 0..c.c_max {
+                    f.add_clause(&[!c.color(NodeId(p), q), idle(m, q, u)]);
+                }
+            }
+        }
+    }
+}
+
+/// Outputs: entering `q'` over active edge `p -u-> w` turns the outputs of `p` into those of `w`:
+/// `c[w,q'] -> (a_{z_p}[q',z] <-> z_w)`, where `a_{z_p}` is `a1` if output `z` was 1 at `p`,
+/// else `a0`. A module does so only where it fires and only for the outputs it owns:
+/// `fired[w] & c[w,q'] & θ[z] -> ...`.
+///
+/// Per state: tri algorithms forbid "flip", `a0[q,z] -> a1[q,z]`; a module's entries it never
+/// reads (of unused states, of outputs it does not own) are 0 (symmetry breaking).
+pub fn algorithms(
+    f: &mut impl ExtendFormula,
+    tree: &ScenarioTree,
+    machines: &[Coloring],
+    kind: AlgorithmKind,
+) {
+    for (p, _, w) in tree_edges(tree) {
+        let old = &tree.nodes[p.0].outputs;
+        let now = &tree.nodes[w.0].outputs;
+        for c in machines {
+            for q in 0..c.c_max {
+                for (z, (&was, &now)) in old.iter().zip(now).enumerate() {
+                    let a = c.a(q, z, was);
+                    let mut clause = vec![!c.color(w, q), if now { a } else { !a }];
+                    if let Scope::Module { owns, fires, .. } = c.scope {
+                        clause.extend([!fires[w.0], !owns[z]]);
+                    }
+                    f.add_clause(&clause);
+                }
+            }
+        }
+    }
+    for c in machines {
+        for q in 0..c.c_max {
+            for z in 0..c.outputs {
+                let (a0, a1) = (c.a0(q, z), c.a1(q, z));
+                if kind == AlgorithmKind::Tri {
+                    f.add_clause(&[!a0, a1]);
+                }
+                if let Scope::Module { owns, .. } = c.scope {
+                    for a in [a0, a1] {
+                        f.add_clause(&[c.used(q), !a]);
+                        f.add_clause(&[owns[z], !a]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// BFS symmetry breaking (Ulyantsev, Zakirzyanov, Shalyto 2015), the part independent of
+/// inputs: states are numbered in the order a breadth-first search from state 0 visits them.
+/// - `p[j,i] <-> t[i,j] & AND_{k<i} !t[k,j]` (the parent is the smallest predecessor), and
+///   `!p[j,i]` for `i >= j`;
+/// - `used[j] -> OR_{i<j} p[j,i]` for `j >= 1`;
+/// - `p[j,i] -> !p[j+1,k]` for `k < i` (parents are non-decreasing).
+///
+/// A module may leave states unused (seed 000, section V.D): `p[j,i] -> used[j]`, and state 0
+/// has no parent.
+///
+/// Sound because every used state is reachable from state 0: each colour labels a tree node,
+/// and the tree path to it consists of transitions. (Spurious `t` could only weaken it.)
+pub fn bfs_parents(f: &mut impl ExtendFormula, c: &Coloring) {
+    let n = c.c_max;
+    let module = matches!(c.scope, Scope::Module { .. });
+    // `!p[j,i]` for `i >= j`.
+    let no_later_parent = |f: &mut _, j: usize| {
+        for i in j..n {
+            ExtendFormula::add_clause(f, &[!c.parent(j, i)]);
+        }
+    };
+    for j in 1..n {
+        let mut alo = vec![!c.used(j)];
+        for i in 0..j {
+            let p = c.parent(j, i);
+            alo.push(p);
+            f.add_clause(&[!p, c.edge(i, j)]);
+            if module {
+                f.add_clause(&[!p, c.used(j)]);
+            }
+            let mut back = vec![p, !c.edge(i, j)];
+            for k in 0..i {
+                f.add_clause(&[!p, !c.edge(k, j)]);
+                back.push(c.edge(k, j));
+            }
+            f.add_clause(&back);
+        }
+        f.add_clause(&alo);
+        if !module {
+            no_later_parent(f, j);
+        }
+    }
+    // A module's units come after the loop, state 0's included: the clause order the modular
+    // encoding always had (the order steers the solver, hence which minimal controller it finds).
+    if module {
+        for j in 0..n {
+            no_later_parent(f, j);
+        }
+    }
+    for j in 1..n.saturating_sub(1) {
+        for i in 0..j {
+            for k in 0..i {
+                f.add_clause(&[!c.parent(j, i), !c.parent(j + 1, k)]);
+            }
+        }
+    }
 }
 
 /// Every `(q, u)` has exactly one target in `0..C_max ∪ {⊥}`; targets are used states.
@@ -58,26 +197,15 @@ pub fn transition_function(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
 
 /// Active edge `p -u-> w`: `c[p,q] & c[w,q'] -> y[q,u,q']` and, for propagation,
 /// `c[p,q] & y[q,u,q'] -> c[w,q']`.
+///
+/// (A module of the modular encoding may stay put on an active edge, so its edges have their
+/// own family, [`super::modular::constraints::active_edges`].)
 pub fn active_edges(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
-    for (w, node) in tree.nodes.iter().enumerate() {
-        let Some((p, u)) = node.parent else { continue };
-        let w = NodeId(w);
+    for (p, u, w) in tree_edges(tree) {
         for q in 0..v.c_max {
             for q2 in 0..v.c_max {
                 f.add_clause(&[!v.color(p, q), !v.color(w, q2), v.y(q, u, q2)]);
                 f.add_clause(&[!v.color(p, q), !v.y(q, u, q2), v.color(w, q2)]);
-            }
-        }
-    }
-}
-
-/// Passive mark `(p, u)`: nothing fires, `c[p,q] -> y[q,u,⊥]`. (The passive step's target node
-/// is merged with `p` in the tree, so "same colour" holds by construction.)
-pub fn passive_marks(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
-    for (p, node) in tree.nodes.iter().enumerate() {
-        for &u in &node.passive {
-            for q in 0..v.c_max {
-                f.add_clause(&[!v.color(NodeId(p), q), v.y(q, u, v.none())]);
             }
         }
     }
@@ -96,11 +224,9 @@ pub fn no_unexercised_transitions(
     sel: &[Lit],
 ) {
     let mut parents_on: Vec<Vec<NodeId>> = vec![Vec::new(); tree.input_vectors.len()];
-    for node in &tree.nodes {
-        if let Some((p, u)) = node.parent {
-            if !parents_on[u.0].contains(&p) {
-                parents_on[u.0].push(p);
-            }
+    for (p, u, _) in tree_edges(tree) {
+        if !parents_on[u.0].contains(&p) {
+            parents_on[u.0].push(p);
         }
     }
     for q in 0..v.c_max {
@@ -108,30 +234,6 @@ pub fn no_unexercised_transitions(
             let mut clause = vec![!sel[u], v.y(q, InputVec(u), v.none())];
             clause.extend(parents.iter().map(|&p| v.color(p, q)));
             f.add_clause(&clause);
-        }
-    }
-}
-
-/// Outputs: entering `q'` over active edge `p -u-> w` turns the outputs of `p` into those of `w`:
-/// `c[w,q'] -> (a_{z_p}[q',z] <-> z_w)`, where `a_{z_p}` is `a1` if output `z` was 1 at `p`,
-/// else `a0`. Tri algorithms also forbid "flip": `a0[q,z] -> a1[q,z]`.
-pub fn algorithms(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, kind: AlgorithmKind) {
-    for (w, node) in tree.nodes.iter().enumerate() {
-        let Some((p, _)) = node.parent else { continue };
-        let old = &tree.nodes[p.0].outputs;
-        for q in 0..v.c_max {
-            for (z, (&was, &now)) in old.iter().zip(&node.outputs).enumerate() {
-                let a = v.a(q, z, was);
-                let lit = if now { a } else { !a };
-                f.add_clause(&[!v.color(NodeId(w), q), lit]);
-            }
-        }
-    }
-    if kind == AlgorithmKind::Tri {
-        for q in 0..v.c_max {
-            for z in 0..v.outputs {
-                f.add_clause(&[!v.a0(q, z), v.a1(q, z)]);
-            }
         }
     }
 }
@@ -168,54 +270,13 @@ pub fn extend_edges(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, tails: &m
     }
 }
 
-/// BFS symmetry breaking (Ulyantsev, Zakirzyanov, Shalyto 2015), the part independent of
-/// inputs: states are numbered in the order a breadth-first search from state 0 visits them.
-/// - `p[j,i] <-> t[i,j] & AND_{k<i} !t[k,j]` (the parent is the smallest predecessor);
-/// - `used[j] -> OR_{i<j} p[j,i]` for `j >= 1`;
-/// - `p[j,i] -> !p[j+1,k]` for `k < i` (parents are non-decreasing).
-///
-/// Sound because every used state is reachable from state 0: each colour labels a tree node,
-/// and the tree path to it consists of transitions. (Spurious `t` could only weaken it.)
-pub fn bfs_parents(f: &mut impl ExtendFormula, v: &Vars) {
-    let c = v.c_max;
-    for j in 1..c {
-        let mut alo = vec![!v.used(j)];
-        for i in 0..j {
-            let p = v.p(j, i);
-            alo.push(p);
-            f.add_clause(&[!p, v.t(i, j)]);
-            let mut back = vec![p, !v.t(i, j)];
-            for k in 0..i {
-                f.add_clause(&[!p, !v.t(k, j)]);
-                back.push(v.t(k, j));
-            }
-            f.add_clause(&back);
-        }
-        f.add_clause(&alo);
-        for i in j..c {
-            f.add_clause(&[!v.p(j, i)]);
-        }
-    }
-    for j in 1..c.saturating_sub(1) {
-        for i in 0..j {
-            for k in 0..i {
-                f.add_clause(&[!v.p(j, i), !v.p(j + 1, k)]);
-            }
-        }
-    }
-    for i in 0..c {
-        for j in 0..c {
-            f.add_clause(&[v.nm(i, 0, j)]);
-        }
-    }
-}
-
 /// BFS symmetry breaking, the part of one input `u`: siblings are ordered by the smallest
 /// input leading to them.
 /// - `nm[i,u+1,j] <-> nm[i,u,j] & !y[i,u,j]`, `m[i,u,j] <-> y[i,u,j] & nm[i,u,j]`;
 /// - `p[j,i] & p[j+1,i] & m[i,u,j] -> nm[i,u,j+1]`.
 pub fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     let c = v.c_max;
+    let col = v.coloring();
     for i in 0..c {
         for j in 0..c {
             let (y, nm, nm1, m) = (
@@ -235,11 +296,21 @@ pub fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for j in 1..c.saturating_sub(1) {
         for i in 0..j {
             f.add_clause(&[
-                !v.p(j, i),
-                !v.p(j + 1, i),
+                !col.parent(j, i),
+                !col.parent(j + 1, i),
                 !v.m(i, u, j),
                 v.nm(i, u.0, j + 1),
             ]);
+        }
+    }
+}
+
+/// The start of the chain of [`bfs_input`]: before the first input nothing leads anywhere,
+/// `nm[i,0,j]`.
+pub fn bfs_inputs_start(f: &mut impl ExtendFormula, v: &Vars) {
+    for i in 0..v.c_max {
+        for j in 0..v.c_max {
+            f.add_clause(&[v.nm(i, 0, j)]);
         }
     }
 }
@@ -261,14 +332,41 @@ pub fn per_input(
     start_state: bool,
 ) {
     transition_function(f, v, u);
-    if v.cubes.is_some() {
-        super::cubes::input(f, v, u, bits);
+    if let GuardModel::Cubes(cv) = &v.guards {
+        cubes::input(f, v, cv, u, bits);
     }
     edge_of_input(f, v, u);
     bfs_input(f, v, u);
     if start_state {
         start_state_never_entered(f, v, u);
     }
+}
+
+/// The families every colouring of the tree by one ECC has, whatever labels its edges:
+/// states, colours, the families of every input, passive marks and algorithms. Active edges
+/// are the caller's (the basic and the noisy encodings differ there).
+pub fn ecc_coloring(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, start_state: bool) {
+    let c = v.coloring();
+    used_prefix(f, &c);
+    coloring(f, &c);
+    if let GuardModel::Cubes(cv) = &v.guards {
+        cubes::slots(f, cv, &c);
+    }
+    for u in 0..v.inputs {
+        per_input(f, v, InputVec(u), &tree.input_vectors[u], start_state);
+    }
+}
+
+/// The edge variables' definition and BFS symmetry breaking, last in every ECC encoding.
+pub fn ecc_edges_and_bfs(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
+    edge_definition(f, v, tails);
+    bfs_parents(f, &v.coloring());
+    bfs_inputs_start(f, v);
+}
+
+/// `y[q,u,⊥]`: the basic encoding's "nothing fires", for [`passive_marks`].
+pub fn idle(v: &Vars) -> impl Fn(usize, usize, InputVec) -> Lit + '_ {
+    move |_, q, u| v.y(q, u, v.none())
 }
 
 /// Every family of the basic encoding. `sel` and `tails` are the assumption literals of
@@ -282,21 +380,13 @@ pub fn basic(
     sel: &[Lit],
     tails: &[Lit],
 ) {
-    used_prefix(f, v);
-    coloring(f, v, tree);
-    if v.cubes.is_some() {
-        super::cubes::slots(f, v);
-    }
-    for u in 0..v.inputs {
-        per_input(f, v, InputVec(u), &tree.input_vectors[u], start_state);
-    }
+    ecc_coloring(f, v, tree, start_state);
     active_edges(f, v, tree);
-    passive_marks(f, v, tree);
+    passive_marks(f, tree, &[v.coloring()], idle(v));
     // With guards in the encoding, transitions on unrecorded inputs follow from the guards.
-    if v.cubes.is_none() {
+    if let GuardModel::TreeExact = v.guards {
         no_unexercised_transitions(f, v, tree, sel);
     }
-    algorithms(f, v, tree, kind);
-    edge_definition(f, v, tails);
-    bfs_parents(f, v);
+    algorithms(f, tree, &[v.coloring()], kind);
+    ecc_edges_and_bfs(f, v, tails);
 }

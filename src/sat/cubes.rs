@@ -1,48 +1,176 @@
-//! The cube-guard model: guards inside the encoding.
+//! The cube-guard model: guards inside the encoding, for one ECC (the basic encoding with
+//! `Options::cube_slots`) or for every module of a modular controller (seed 000, section V).
 //!
 //! In the tree-exact model the solver decides transitions only on recorded input vectors and
 //! guards are minimized afterwards, so behaviour on unrecorded inputs is outside the solver.
 //! Closed-loop verification exercises exactly those inputs. Here, as in seed 000's modular
 //! synthesis, every state has `K` ordered transition slots, each a target and a guard that is a
-//! conjunction of literals over the inputs; the first slot whose guard holds fires. The
-//! transition function `y` on every input vector of the alphabet is *derived* from the guards,
-//! so the solver's machine is the machine, on all inputs, and a counterexample rules out every
-//! machine with the same guards along it.
+//! conjunction of literals over the inputs; the first slot whose guard holds fires. In the basic
+//! encoding the transition function `y` on every input vector of the alphabet is *derived* from
+//! the guards, so the solver's machine is the machine, on all inputs, and a counterexample rules
+//! out every machine with the same guards along it.
 //!
-//! - `en[q,k+1] -> en[q,k]`, `en[q,k] -> used[q]`, `en[q,k] <-> exactly one tgt[q,k,·]`,
-//!   `tgt[q,k,q'] -> used[q']`, `!(pos[q,k,x] & neg[q,k,x])`, `pos|neg -> en`;
-//! - `fire[u,q,k] <-> en[q,k] & AND_{x: u_x=0} !pos[q,k,x] & AND_{x: u_x=1} !neg[q,k,x]`;
-//! - `nf[u,q,0]`, `nf[u,q,k+1] <-> nf[u,q,k] & !fire[u,q,k]` (first-fire order);
-//! - `nf[u,q,K] <-> y[q,u,⊥]`, and `nf[u,q,k] & fire[u,q,k] & tgt[q,k,q'] -> y[q,u,q']`.
+//! - [`slots`]: `en[q,k+1] -> en[q,k]`, `en[q,k] -> used[q]`, `en[q,k] <-> exactly one
+//!   tgt[q,k,·]`, `tgt[q,k,q'] -> used[q']`, `!(pos[q,k,x] & neg[q,k,x])`, `pos|neg -> en`
+//!   (a module's slots also say which inputs it reads:
+//!   [`crate::sat::modular::constraints::slots`]);
+//! - [`slot_fires`]: `fire[u,q,k] <-> en[q,k] & AND_{x: u_x=0} !pos[q,k,x] & AND_{x: u_x=1}
+//!   !neg[q,k,x]` and `nf[u,q,k+1] <-> nf[u,q,k] & !fire[u,q,k]` (first-fire order, with
+//!   `nf[u,q,0]` true);
+//! - [`input`] (basic encoding): `nf[u,q,K] <-> y[q,u,⊥]`, and
+//!   `nf[u,q,k] & fire[u,q,k] & tgt[q,k,q'] -> y[q,u,q']`.
 
-use super::vars::Vars;
+use super::vars::{alloc, Coloring, Vars};
 use crate::scenario::tree::InputVec;
 use varisat::{ExtendFormula, Lit};
 
-/// The per-state part: slots, targets, literal exclusivity.
-pub fn slots(f: &mut impl ExtendFormula, v: &Vars) {
-    let cv = v.cubes.as_ref().expect("cube model");
-    let c = v.c_max;
+/// Variables of the cube-guard model of `machines` machines: per machine `m` and state `q`,
+/// `slots` ordered transition slots, each with a target and a guard that is a conjunction of
+/// literals over the `bits` input variables; per input vector `u`, which slots fire.
+///
+/// Layout: machine-major everywhere. The per-input variables of several machines are allocated
+/// at once ([`Self::add_inputs`]); only a single machine's alphabet grows one vector at a time.
+#[derive(Debug, Clone)]
+pub struct CubeVars {
+    pub machines: usize,
+    pub c_max: usize,
+    pub slots: usize,
+    pub bits: usize,
+    /// Input vectors allocated so far.
+    vectors: usize,
+    /// `en[m][q][k]`: slot `k` of state `q` holds a transition.
+    en: Vec<Lit>,
+    /// `tgt[m][q][k][q']`: its target.
+    tgt: Vec<Lit>,
+    /// `pos[m][q][k][x]` / `neg[m][q][k][x]`: its guard contains `x` / `!x`.
+    pos: Vec<Lit>,
+    neg: Vec<Lit>,
+    /// `fire[m][u][q][k]`: the guard holds on `u`.
+    fire: Vec<Lit>,
+    /// `nf[m][u][q][k]`, `k in 0..=K`: no slot before `k` fires on `u`.
+    nf: Vec<Lit>,
+}
+
+impl CubeVars {
+    /// The slot variables; per-input variables come with [`Self::add_inputs`].
+    pub fn new(
+        f: &mut impl ExtendFormula,
+        machines: usize,
+        c_max: usize,
+        slots: usize,
+        bits: usize,
+    ) -> CubeVars {
+        let n = machines * c_max * slots;
+        CubeVars {
+            machines,
+            c_max,
+            slots,
+            bits,
+            vectors: 0,
+            en: alloc(f, n),
+            tgt: alloc(f, n * c_max),
+            pos: alloc(f, n * bits),
+            neg: alloc(f, n * bits),
+            fire: Vec::new(),
+            nf: Vec::new(),
+        }
+    }
+
+    /// Allocates `fire` and then `nf` of `count` more input vectors, for every machine.
+    pub fn add_inputs(&mut self, f: &mut impl ExtendFormula, count: usize) {
+        debug_assert!(
+            self.machines == 1 || self.vectors == 0,
+            "machine-major layout"
+        );
+        let per = self.machines * count * self.c_max;
+        self.fire.extend(alloc(f, per * self.slots));
+        self.nf.extend(alloc(f, per * (self.slots + 1)));
+        self.vectors += count;
+    }
+
+    fn slot(&self, m: usize, q: usize, k: usize) -> usize {
+        (m * self.c_max + q) * self.slots + k
+    }
+    fn at(&self, m: usize, u: InputVec, q: usize) -> usize {
+        (m * self.vectors + u.0) * self.c_max + q
+    }
+    pub fn en(&self, m: usize, q: usize, k: usize) -> Lit {
+        self.en[self.slot(m, q, k)]
+    }
+    pub fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
+        self.tgt[self.slot(m, q, k) * self.c_max + t]
+    }
+    pub fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+        self.pos[self.slot(m, q, k) * self.bits + x]
+    }
+    pub fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+        self.neg[self.slot(m, q, k) * self.bits + x]
+    }
+    pub fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.fire[self.at(m, u, q) * self.slots + k]
+    }
+    /// `k in 0..=K`; `nf[.., K]` says that nothing fires.
+    pub fn nf(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.nf[self.at(m, u, q) * (self.slots + 1) + k]
+    }
+    /// Every `en`, for counting transitions.
+    pub fn all_en(&self) -> &[Lit] {
+        &self.en
+    }
+    /// `en[m][q][·]`, for counting the out-degree of `q`.
+    pub fn en_row(&self, m: usize, q: usize) -> &[Lit] {
+        let s = self.slot(m, q, 0);
+        &self.en[s..s + self.slots]
+    }
+    /// Every guard literal, for counting `N`.
+    pub fn all_literals(&self) -> Vec<Lit> {
+        self.pos.iter().chain(&self.neg).copied().collect()
+    }
+    /// The literals of slot `k` of state `q` of machine `m` as a conjunction, read from a model.
+    pub(crate) fn cube(
+        &self,
+        model: &super::solver::Model,
+        m: usize,
+        q: usize,
+        k: usize,
+    ) -> Vec<(usize, bool)> {
+        (0..self.bits)
+            .filter_map(|x| {
+                if model.value(self.pos(m, q, k, x)) {
+                    Some((x, true))
+                } else if model.value(self.neg(m, q, k, x)) {
+                    Some((x, false))
+                } else {
+                    None
+                }
+            })
+            .collect()
+    }
+}
+
+/// The slots of the single ECC of the basic encoding: targets and literal exclusivity.
+pub fn slots(f: &mut impl ExtendFormula, cv: &CubeVars, machine: &Coloring) {
+    let c = cv.c_max;
     for q in 0..c {
         for k in 0..cv.slots {
-            let en = cv.en(q, k);
+            let en = cv.en(0, q, k);
             if k + 1 < cv.slots {
-                f.add_clause(&[!cv.en(q, k + 1), en]);
+                f.add_clause(&[!cv.en(0, q, k + 1), en]);
             }
-            f.add_clause(&[!en, v.used(q)]);
-            let tg: Vec<Lit> = (0..c).map(|t| cv.tgt(q, k, c, t)).collect();
+            f.add_clause(&[!en, machine.used(q)]);
+            let tg: Vec<Lit> = (0..c).map(|t| cv.tgt(0, q, k, t)).collect();
             let mut alo = vec![!en];
             alo.extend(&tg);
             f.add_clause(&alo);
             for (i, &a) in tg.iter().enumerate() {
                 f.add_clause(&[!a, en]);
-                f.add_clause(&[!a, v.used(i)]);
+                f.add_clause(&[!a, machine.used(i)]);
                 for &b in &tg[i + 1..] {
                     f.add_clause(&[!a, !b]);
                 }
             }
             for x in 0..cv.bits {
-                let (p, n) = (cv.pos(q, k, x), cv.neg(q, k, x));
+                let (p, n) = (cv.pos(0, q, k, x), cv.neg(0, q, k, x));
                 f.add_clause(&[!p, !n]);
                 f.add_clause(&[!p, en]);
                 f.add_clause(&[!n, en]);
@@ -70,28 +198,86 @@ pub(crate) fn first_fire(
     f.add_clause(&[nf1, !nf, fire]);
 }
 
-/// The part of one input vector `u` with bits `bits`: which slot fires, hence `y[·,u,·]`.
-pub fn input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, bits: &[bool]) {
-    let cv = v.cubes.as_ref().expect("cube model");
+/// Slot `k` of state `q` of machine `m` on input vector `u` with bits `bits`: whether it fires,
+/// and whether any slot up to it does (the first-fire gadget above).
+pub fn slot_fires(
+    f: &mut impl ExtendFormula,
+    cv: &CubeVars,
+    (m, u, q, k): (usize, InputVec, usize, usize),
+    bits: &[bool],
+) {
+    // The literals that make the guard false on u.
+    let killers: Vec<Lit> = bits
+        .iter()
+        .enumerate()
+        .map(|(x, &b)| {
+            if b {
+                cv.neg(m, q, k, x)
+            } else {
+                cv.pos(m, q, k, x)
+            }
+        })
+        .collect();
+    let lits = [
+        cv.fire(m, u, q, k),
+        cv.en(m, q, k),
+        cv.nf(m, u, q, k),
+        cv.nf(m, u, q, k + 1),
+    ];
+    first_fire(f, lits, &killers);
+}
+
+/// The basic encoding's part of input vector `u` with bits `bits`: which slot fires, hence
+/// `y[·,u,·]`.
+pub fn input(f: &mut impl ExtendFormula, v: &Vars, cv: &CubeVars, u: InputVec, bits: &[bool]) {
     let c = v.c_max;
     for q in 0..c {
         for k in 0..cv.slots {
-            let (fire, en) = (cv.fire(u, q, k), cv.en(q, k));
-            // The literals that make the guard false on u.
-            let killers: Vec<Lit> = bits
-                .iter()
-                .enumerate()
-                .map(|(x, &b)| if b { cv.neg(q, k, x) } else { cv.pos(q, k, x) })
-                .collect();
-            let (nf, nf1) = (cv.nf(u, q, k), cv.nf(u, q, k + 1));
-            first_fire(f, [fire, en, nf, nf1], &killers);
+            slot_fires(f, cv, (0, u, q, k), bits);
+            let (nf, fire) = (cv.nf(0, u, q, k), cv.fire(0, u, q, k));
             for t in 0..c {
-                f.add_clause(&[!nf, !fire, !cv.tgt(q, k, c, t), v.y(q, u, t)]);
+                f.add_clause(&[!nf, !fire, !cv.tgt(0, q, k, t), v.y(q, u, t)]);
             }
         }
-        f.add_clause(&[cv.nf(u, q, 0)]);
-        let last = cv.nf(u, q, cv.slots);
+        f.add_clause(&[cv.nf(0, u, q, 0)]);
+        let last = cv.nf(0, u, q, cv.slots);
         f.add_clause(&[!last, v.y(q, u, v.none())]);
         f.add_clause(&[last, !v.y(q, u, v.none())]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use varisat::CnfFormula;
+
+    /// The first-fire gadget, exhaustively: for every value of `en`, `nf` and two killer literals,
+    /// `fire` and `nf1` are forced to `en & no killer` and `nf & !fire`.
+    #[test]
+    fn first_fire_gadget_is_exact() {
+        let mut f = CnfFormula::new();
+        let [fire, en, nf, nf1, k1, k2] = [(); 6].map(|_| f.new_lit());
+        first_fire(&mut f, [fire, en, nf, nf1], &[k1, k2]);
+        for mask in 0u32..16 {
+            let bit = |i: u32| mask >> i & 1 == 1;
+            let given = [(en, bit(0)), (nf, bit(1)), (k1, bit(2)), (k2, bit(3))];
+            let want_fire = bit(0) && !bit(2) && !bit(3);
+            let want_nf1 = bit(1) && !want_fire;
+            for (fv, nv) in [(false, false), (false, true), (true, false), (true, true)] {
+                let mut s = varisat::Solver::new();
+                s.add_formula(&f);
+                let mut assume: Vec<Lit> =
+                    given.iter().map(|&(l, v)| if v { l } else { !l }).collect();
+                assume.push(if fv { fire } else { !fire });
+                assume.push(if nv { nf1 } else { !nf1 });
+                s.assume(&assume);
+                let expect = fv == want_fire && nv == want_nf1;
+                assert_eq!(
+                    s.solve().unwrap(),
+                    expect,
+                    "mask {mask:04b} fire {fv} nf1 {nv}"
+                );
+            }
+        }
     }
 }

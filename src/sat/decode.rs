@@ -1,11 +1,12 @@
 //! Reading a satisfying assignment back as an ECC *structure*: the colouring, the transition
 //! function on observed inputs, and the algorithms. Guards are made from it in [`super::guards`].
 
-use super::vars::Vars;
+use super::cubes::CubeVars;
+use super::solver::Model;
+use super::vars::{GuardModel, Vars};
 use crate::ecc::{Algorithm, AlgorithmKind, Guard, InputId, StateId, Transition, Tri};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
-use varisat::Lit;
 
 /// The machine found by the solver, before guards are minimized.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -28,49 +29,6 @@ pub struct Structure {
 
 /// A negative scenario with the alphabet index of every step's inputs.
 pub type IndexedNegative<'a> = (&'a NegativeScenario, &'a [InputVec]);
-
-/// Assignment lookup by literal.
-pub struct Model(Vec<bool>);
-
-impl Model {
-    pub fn new(lits: &[Lit]) -> Model {
-        let mut values = vec![false; lits.len() + 1];
-        for l in lits {
-            let i = l.var().index();
-            if i >= values.len() {
-                values.resize(i + 1, false);
-            }
-            values[i] = l.is_positive();
-        }
-        Model(values)
-    }
-
-    pub fn value(&self, l: Lit) -> bool {
-        self.0.get(l.var().index()).copied().unwrap_or(false) == l.is_positive()
-    }
-}
-
-/// The literals of a cube guard from its `pos`/`neg` variables over `bits` inputs, each input
-/// renamed by `id` (e.g. into a module's own numbering).
-pub(crate) fn cube_literals(
-    model: &Model,
-    bits: usize,
-    pos: impl Fn(usize) -> Lit,
-    neg: impl Fn(usize) -> Lit,
-    id: impl Fn(usize) -> InputId,
-) -> Vec<(InputId, bool)> {
-    (0..bits)
-        .filter_map(|x| {
-            if model.value(pos(x)) {
-                Some((id(x), true))
-            } else if model.value(neg(x)) {
-                Some((id(x), false))
-            } else {
-                None
-            }
-        })
-        .collect()
-}
 
 /// Runs the solver's machine along a negative scenario until it leaves it, marking every
 /// transition input and algorithm entry it uses.
@@ -118,6 +76,49 @@ fn mark_negative(
         if after != step.after {
             return;
         }
+    }
+}
+
+/// The transition in slot `k` of state `q` of machine `m` (an enabled slot), its inputs renamed
+/// by `id` (e.g. into a module's own numbering).
+pub(crate) fn cube_transition(
+    model: &Model,
+    cv: &CubeVars,
+    m: usize,
+    q: usize,
+    k: usize,
+    id: impl Fn(usize) -> InputId,
+) -> Transition {
+    let target = (0..cv.c_max)
+        .find(|&t| model.value(cv.tgt(m, q, k, t)))
+        .expect("an enabled slot has a target");
+    let lits: Vec<(InputId, bool)> = cv
+        .cube(model, m, q, k)
+        .into_iter()
+        .map(|(x, b)| (id(x), b))
+        .collect();
+    Transition {
+        target: StateId(target),
+        guard: Guard::cube(&lits),
+    }
+}
+
+/// The algorithm with entries `a0`, `a1` (per output: the new value when it was 0, 1) in the
+/// form `kind`. Every encoding excludes "flip" (`a0 = 1, a1 = 0`) for tri algorithms.
+pub(crate) fn algorithm(kind: AlgorithmKind, a0: Vec<bool>, a1: Vec<bool>) -> Algorithm {
+    match kind {
+        AlgorithmKind::Binary => Algorithm::Binary { a0, a1 },
+        AlgorithmKind::Tri => Algorithm::Tri(
+            a0.iter()
+                .zip(&a1)
+                .map(|(&x0, &x1)| match (x0, x1) {
+                    (false, false) => Tri::Zero,
+                    (true, true) => Tri::One,
+                    (false, true) => Tri::Keep,
+                    (true, false) => unreachable!("flip is excluded for tri"),
+                })
+                .collect(),
+        ),
     }
 }
 
@@ -185,47 +186,22 @@ impl Structure {
                 };
                 let a0: Vec<bool> = (0..v.outputs).map(|z| bit(z, false)).collect();
                 let a1: Vec<bool> = (0..v.outputs).map(|z| bit(z, true)).collect();
-                match kind {
-                    AlgorithmKind::Binary => Algorithm::Binary { a0, a1 },
-                    AlgorithmKind::Tri => Algorithm::Tri(
-                        a0.iter()
-                            .zip(&a1)
-                            .map(|(&x0, &x1)| match (x0, x1) {
-                                (false, false) => Tri::Zero,
-                                (true, true) => Tri::One,
-                                (false, true) => Tri::Keep,
-                                (true, false) => unreachable!("flip is excluded for tri"),
-                            })
-                            .collect(),
-                    ),
-                }
+                algorithm(kind, a0, a1)
             })
             .collect();
-        let cube_transitions = v.cubes.as_ref().map(|cv| {
-            (0..c)
-                .map(|q| {
-                    (0..cv.slots)
-                        .filter(|&k| model.value(cv.en(q, k)))
-                        .map(|k| {
-                            let target = (0..c)
-                                .find(|&t| model.value(cv.tgt(q, k, v.c_max, t)))
-                                .expect("an enabled slot has a target");
-                            let lits = cube_literals(
-                                model,
-                                cv.bits,
-                                |x| cv.pos(q, k, x),
-                                |x| cv.neg(q, k, x),
-                                InputId,
-                            );
-                            Transition {
-                                target: StateId(target),
-                                guard: Guard::cube(&lits),
-                            }
-                        })
-                        .collect()
-                })
-                .collect()
-        });
+        let cube_transitions = match &v.guards {
+            GuardModel::TreeExact => None,
+            GuardModel::Cubes(cv) => Some(
+                (0..c)
+                    .map(|q| {
+                        (0..cv.slots)
+                            .filter(|&k| model.value(cv.en(0, q, k)))
+                            .map(|k| cube_transition(model, cv, 0, q, k, InputId))
+                            .collect()
+                    })
+                    .collect(),
+            ),
+        };
         Structure {
             cube_transitions,
             care_inputs,

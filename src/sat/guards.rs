@@ -15,11 +15,12 @@
 //! guards found so far are kept (still correct, maybe not minimal), and the result says so.
 
 use super::card::Totalizer;
-use super::decode::{Model, Structure};
+use super::decode::Structure;
+use super::solver::{Model, Solver};
 use crate::ecc::{guard::Literal, Guard, InputId, State, StateId, Transition};
 use crate::scenario::tree::{NodeId, ScenarioTree};
 use std::time::Instant;
-use varisat::{ExtendFormula, Lit, Solver};
+use varisat::{ExtendFormula, Lit};
 
 /// Guards of one state, in priority order.
 #[derive(Debug, Clone)]
@@ -103,7 +104,7 @@ fn excluding(pos: &[Lit], neg: &[Lit], x: &[bool]) -> Vec<Lit> {
         .collect()
 }
 
-fn encode(f: &mut Solver, p: &GuardProblem, max_terms: &[usize]) -> GuardVars {
+fn encode(f: &mut impl ExtendFormula, p: &GuardProblem, max_terms: &[usize]) -> GuardVars {
     let k = p.targets.len();
     let before: Vec<Vec<Lit>> = (0..k)
         .map(|_| (0..k).map(|_| f.new_lit()).collect())
@@ -258,10 +259,9 @@ pub fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
             .flatten()
             .flat_map(|(_, pos, neg)| pos.iter().chain(neg).copied())
             .collect();
-        if !s.solve().expect("guard solver") {
+        let Some(mut model) = s.solve(&[]) else {
             continue;
-        }
-        let mut model = Model::new(&s.model().expect("model"));
+        };
         let mut found = decode(&model, &vars, p);
         let count = |ts: &[Transition]| ts.iter().map(|t| t.guard.literal_count()).sum::<usize>();
         let mut n = count(&found);
@@ -272,12 +272,11 @@ pub fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
                 break;
             }
             let assume: Vec<Lit> = tot.at_most(n - 1).into_iter().collect();
-            s.assume(&assume);
-            if !s.solve().expect("guard solver") {
+            let Some(m) = s.solve(&assume) else {
                 exact = true;
                 break;
-            }
-            model = Model::new(&s.model().expect("model"));
+            };
+            model = m;
             found = decode(&model, &vars, p);
             n = count(&found);
             exact = n == 0;

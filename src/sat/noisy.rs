@@ -40,16 +40,17 @@
 
 use super::card::Totalizer;
 use super::constraints;
-use super::decode::{Model, Structure};
+use super::decode::Structure;
 use super::guards;
+use super::solver::{Model, Solver};
 use super::vars::Vars;
-use super::{Counting, SatError};
+use super::SatError;
 use crate::ecc::{AlgorithmKind, Ecc, Size};
 use crate::scenario::trace_graph::TraceGraph;
 use crate::scenario::tree::{InputVec, NodeId};
 use crate::scenario::ScenarioSet;
 use std::time::{Duration, Instant};
-use varisat::{ExtendFormula, Lit, Solver};
+use varisat::{ExtendFormula, Lit};
 
 /// Settings of a noisy synthesis run.
 #[derive(Debug, Clone)]
@@ -232,35 +233,29 @@ pub fn encode(
     kind: AlgorithmKind,
 ) -> Vec<Lit> {
     let tree = &graph.tree;
-    constraints::used_prefix(f, v);
-    constraints::coloring(f, v, tree);
-    for u in 0..v.inputs {
-        constraints::per_input(f, v, InputVec(u), &tree.input_vectors[u], false);
-    }
+    constraints::ecc_coloring(f, v, tree, false);
     let e = selection(f, graph);
     selected_edges(f, v, graph, &e);
-    constraints::passive_marks(f, v, tree);
+    constraints::passive_marks(f, tree, &[v.coloring()], constraints::idle(v));
     no_unselected_transitions(f, v, graph, &e);
-    // Outputs along an edge do not depend on its label, so the basic family applies as is.
-    constraints::algorithms(f, v, tree, kind);
+    // Outputs along an edge do not depend on its label, so the shared family applies as is.
+    constraints::algorithms(f, tree, &[v.coloring()], kind);
     let tails: Vec<Lit> = (0..v.c_max * v.c_max).map(|_| f.new_lit()).collect();
     for &t in &tails {
         f.add_clause(&[!t]);
     }
-    constraints::edge_definition(f, v, &tails);
-    constraints::bfs_parents(f, v);
+    constraints::ecc_edges_and_bfs(f, v, &tails);
     e
 }
 
 /// The solver with the noisy encoding for up to `c_max` states and its counters.
 struct NoisyEncoding {
-    solver: Solver<'static>,
+    solver: Solver,
     vars: Vars,
     e: Vec<Lit>,
     total_t: Totalizer,
     degree: Vec<Totalizer>,
     errors: Totalizer,
-    calls: usize,
 }
 
 impl NoisyEncoding {
@@ -272,18 +267,18 @@ impl NoisyEncoding {
         stats: &mut NoisyStats,
     ) -> Self {
         let mut solver = Solver::new();
-        let mut sink = Counting::new(&mut solver);
-        let vars = Vars::new(&mut sink, &graph.tree, c_max, None);
-        let e = encode(&mut sink, &vars, graph, kind);
-        let total_t = Totalizer::new(&mut sink, vars.all_t(), c_max * c_max);
+        let sink = &mut solver;
+        let vars = Vars::new(sink, &graph.tree, c_max, None);
+        let e = encode(sink, &vars, graph, kind);
+        let total_t = Totalizer::new(sink, vars.all_t(), c_max * c_max);
         let degree = (0..c_max)
-            .map(|q| Totalizer::new(&mut sink, vars.t_row(q), c_max))
+            .map(|q| Totalizer::new(sink, vars.t_row(q), c_max))
             .collect();
         // The totalizer costs O(n·width) clauses: count only as far as the bound needs.
         let width = max_errors.map_or(e.len(), |m| (m + 1).min(e.len()));
-        let errors = Totalizer::new(&mut sink, &e, width);
-        stats.variables += sink.vars;
-        stats.clauses += sink.clauses;
+        let errors = Totalizer::new(sink, &e, width);
+        stats.variables += solver.stats().variables;
+        stats.clauses += solver.stats().clauses;
         NoisyEncoding {
             solver,
             vars,
@@ -291,7 +286,6 @@ impl NoisyEncoding {
             total_t,
             degree,
             errors,
-            calls: 0,
         }
     }
 
@@ -300,9 +294,11 @@ impl NoisyEncoding {
     }
 
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
-        self.calls += 1;
-        self.solver.assume(assumptions);
-        super::solve_model(&mut self.solver)
+        self.solver.solve(assumptions)
+    }
+
+    fn decode(&self, model: &Model, graph: &TraceGraph, kind: AlgorithmKind) -> Structure {
+        decode(model, &self.vars, graph, kind)
     }
 
     /// Forbids the edge choice of `used` from now on.
@@ -315,6 +311,12 @@ impl NoisyEncoding {
             .collect();
         self.solver.add_clause(&clause);
     }
+}
+
+/// The structure of a model of the noisy encoding (on the graph's node layout).
+fn decode(model: &Model, vars: &Vars, graph: &TraceGraph, kind: AlgorithmKind) -> Structure {
+    let tree = &graph.tree;
+    Structure::decode(model, vars, tree, kind, &tree.input_vectors, &[])
 }
 
 /// Seed 000's Algorithm 1 on `set`. `accept` sees every candidate as it is found (e.g. to
@@ -355,12 +357,10 @@ pub fn synthesize_noisy(
         progress(&format!("trying N = {n}"));
         let mut enc = NoisyEncoding::new(&graph, n, kind, opts.max_errors, &mut stats);
         let assume: Vec<Lit> = err_bound(&enc).into_iter().collect();
-        let sat = enc.solve(&assume).is_some();
-        stats.solver_calls += enc.calls;
-        enc.calls = 0;
-        if sat {
+        if enc.solve(&assume).is_some() {
             break enc;
         }
+        stats.solver_calls += enc.solver.stats().calls;
         n += 1;
     };
     let mut base: Vec<Lit> = err_bound(&enc).into_iter().collect();
@@ -382,35 +382,16 @@ pub fn synthesize_noisy(
     let first = enc
         .solve(&base)
         .ok_or_else(|| SatError::Bug("N, K satisfiable, then not".into()))?;
-    let mut r = Structure::decode(
-        &first,
-        &enc.vars,
-        &graph.tree,
-        kind,
-        &graph.tree.input_vectors,
-        &[],
-    )
-    .transition_count();
-    while r > 0 {
-        let Some(b) = enc.total_t.at_most(r - 1) else {
-            break;
-        };
-        progress(&format!("trying R = {}", r - 1));
-        match enc.solve(&[base.clone(), vec![b]].concat()) {
-            Some(m) => {
-                r = Structure::decode(
-                    &m,
-                    &enc.vars,
-                    &graph.tree,
-                    kind,
-                    &graph.tree.input_vectors,
-                    &[],
-                )
-                .transition_count();
-            }
-            None => break,
-        }
-    }
+    let r = enc.decode(&first, &graph, kind).transition_count();
+    let (vars, total_t) = (&enc.vars, &enc.total_t);
+    let r = enc.solver.descend(
+        &base,
+        r,
+        0,
+        |b| total_t.at_most(b),
+        |b| progress(&format!("trying R = {b}")),
+        |m| decode(&m, vars, &graph, kind).transition_count(),
+    );
     base.extend(enc.total_t.at_most(r));
     progress(&format!("R = {r} is minimal"));
     stats.minimize_seconds = t0.elapsed().as_secs_f64();
@@ -425,20 +406,14 @@ pub fn synthesize_noisy(
     // Start at the least ε: descend from a model's error count (SAT calls, one UNSAT at the
     // end) instead of climbing from 0 through one UNSAT proof per value. Nothing is skipped:
     // no choice with fewer errors exists.
-    let count = |m: &Model, e: &[Lit]| e.iter().filter(|&&l| m.value(l)).count();
-    let mut eps = match enc.solve(&base) {
-        Some(m) => count(&m, &enc.e),
+    let eps = match enc.solve(&base) {
+        Some(m) => m.count(&enc.e),
         None => return Err(SatError::Bug("N, K, R satisfiable, then not".into())),
     };
-    while eps > 0 {
-        let Some(b) = enc.errors.at_most(eps - 1) else {
-            break;
-        };
-        match enc.solve(&[base.clone(), vec![b]].concat()) {
-            Some(m) => eps = count(&m, &enc.e),
-            None => break,
-        }
-    }
+    let (e, errors) = (&enc.e, &enc.errors);
+    let mut eps = enc
+        .solver
+        .descend(&base, eps, 0, |b| errors.at_most(b), |_| {}, |m| m.count(e));
     progress(&format!("least ε = {eps}"));
     let mut calls = 0;
     let mut exhausted = false;
@@ -462,14 +437,7 @@ pub fn synthesize_noisy(
         };
         let used: Vec<bool> = enc.e.iter().map(|&l| model.value(l)).collect();
         enc.block(&used);
-        let structure = Structure::decode(
-            &model,
-            &enc.vars,
-            &graph.tree,
-            kind,
-            &graph.tree.input_vectors,
-            &[],
-        );
+        let structure = enc.decode(&model, &graph, kind);
         let (states, guards_exact) =
             guards::all_states(&structure, &graph.tree, Instant::now() + opts.guard_budget);
         let ecc = Ecc {
@@ -513,7 +481,7 @@ pub fn synthesize_noisy(
             break;
         }
     }
-    stats.solver_calls += enc.calls;
+    stats.solver_calls += enc.solver.stats().calls;
     stats.enumerate_seconds = t1.elapsed().as_secs_f64();
     Ok(NoisySynthesis {
         n,

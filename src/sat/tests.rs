@@ -1,9 +1,13 @@
 //! Known minima on tiny hand-made scenario sets: SAT at the minimum, UNSAT one below, per
 //! constraint family; encoding sizes snapshotted to catch blow-ups.
 
+use super::basic::Encoding;
 use super::*;
+use crate::ecc::AlgorithmKind;
 use crate::scenario::fbsat;
 use crate::scenario::negative::NegativeScenario;
+use crate::scenario::tree::ScenarioTree;
+use crate::scenario::ScenarioSet;
 use std::path::Path;
 
 fn set(text: &str) -> ScenarioSet {

@@ -1,12 +1,93 @@
-//! The variable registry: every Boolean variable of the encoding, allocated once, with index
-//! functions that say what each one means.
+//! The variable registry of the basic encoding: every Boolean variable, allocated once, with
+//! index functions that say what each one means; and [`Coloring`], the view of one machine's
+//! colouring variables that the shared constraint families are written against.
 //!
 //! Numbering: states `q, q' in 0..C_max` (0-based, 0 initial), tree nodes `v` as
 //! [`NodeId`], input vectors `u` as [`InputVec`], outputs `z` 0-based. The "no transition"
 //! target is written `⊥` in the doc comments and stored at index `C_max` of the target axis.
 
+use super::cubes::CubeVars;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
+
+/// The colouring variables of one machine: a whole ECC, or one module of a modular controller.
+/// Every shared constraint family ([`super::constraints`]) is written against this view, so it
+/// is written once for the basic, noisy and modular encodings.
+#[derive(Debug, Clone, Copy)]
+pub struct Coloring<'a> {
+    pub c_max: usize,
+    pub outputs: usize,
+    /// `used[q]`: state `q` exists; states in use form a prefix `0..C`.
+    pub used: &'a [Lit],
+    /// `color[v][q]`: tree node `v` is coloured with (mapped to) state `q`.
+    pub color: &'a [Lit],
+    /// `a0[q][z]` / `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0 / 1.
+    pub a0: &'a [Lit],
+    pub a1: &'a [Lit],
+    /// `edge[q][q']`: some transition leads from `q` to `q'` (the basic encoding's `t`, the
+    /// modular encoding's `tr`).
+    pub edge: &'a [Lit],
+    /// `parent[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
+    pub parent: &'a [Lit],
+    pub scope: Scope<'a>,
+}
+
+/// What part of the controller a coloured machine is.
+#[derive(Debug, Clone, Copy)]
+pub enum Scope<'a> {
+    /// The whole controller: it owns every output and fires on every active step.
+    Whole,
+    /// A module (seed 000, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
+    /// with `reads[x]` (α) and fires on the tree edge into `v` iff `fires[v]`.
+    Module {
+        owns: &'a [Lit],
+        reads: &'a [Lit],
+        fires: &'a [Lit],
+    },
+}
+
+impl Coloring<'_> {
+    pub fn used(&self, q: usize) -> Lit {
+        self.used[q]
+    }
+    pub fn color(&self, v: NodeId, q: usize) -> Lit {
+        self.color[v.0 * self.c_max + q]
+    }
+    pub fn a0(&self, q: usize, z: usize) -> Lit {
+        self.a0[q * self.outputs + z]
+    }
+    pub fn a1(&self, q: usize, z: usize) -> Lit {
+        self.a1[q * self.outputs + z]
+    }
+    /// `a0` or `a1` by the old value of the output.
+    pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
+        if old {
+            self.a1(q, z)
+        } else {
+            self.a0(q, z)
+        }
+    }
+    pub fn edge(&self, q: usize, target: usize) -> Lit {
+        self.edge[q * self.c_max + target]
+    }
+    pub fn parent(&self, j: usize, i: usize) -> Lit {
+        self.parent[j * self.c_max + i]
+    }
+    /// Number of tree nodes coloured.
+    pub fn nodes(&self) -> usize {
+        self.color.len() / self.c_max
+    }
+}
+
+/// How the basic encoding models guards.
+#[derive(Debug, Clone)]
+pub enum GuardModel {
+    /// Transitions exist on recorded inputs only; guards are minimized after solving
+    /// ([`super::guards`]).
+    TreeExact,
+    /// Guards are conjunctions inside the encoding ([`super::cubes`]).
+    Cubes(CubeVars),
+}
 
 /// All variables of the basic ECC encoding for at most `c_max` states.
 #[derive(Debug, Clone)]
@@ -15,80 +96,24 @@ pub struct Vars {
     pub nodes: usize,
     pub inputs: usize,
     pub outputs: usize,
-    /// `used[q]`: state `q` exists. States in use form a prefix `0..C`.
     used: Vec<Lit>,
-    /// `color[v][q]`: tree node `v` is coloured with (mapped to) state `q`.
     color: Vec<Lit>,
     /// `y[u][q][q']`: in state `q`, input `u` leads to `q'` (`q' = C_max` is `⊥`: nothing fires).
     /// Stored per input so the alphabet can grow (counterexamples bring new input vectors).
     y: Vec<Vec<Lit>>,
-    /// `a0[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0.
     a0: Vec<Lit>,
-    /// `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 1.
     a1: Vec<Lit>,
     /// `t[q][q']`: there is a transition from `q` to `q'` (for some input).
     t: Vec<Lit>,
-    /// `p[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
     p: Vec<Lit>,
     /// `m[u][i][j]`: `u` is the smallest input on which `i` goes to `j`.
     m: Vec<Vec<Lit>>,
     /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
     nm: Vec<Vec<Lit>>,
-    /// Guards inside the encoding (see [`super::cubes`]); `None` in the tree-exact mode.
-    pub cubes: Option<CubeVars>,
+    pub guards: GuardModel,
 }
 
-/// Variables of the cube-guard model: `slots` ordered transition slots per state, each with a
-/// target and a guard that is a conjunction of literals over the `bits` input variables.
-#[derive(Debug, Clone)]
-pub struct CubeVars {
-    pub slots: usize,
-    pub bits: usize,
-    /// `en[q][k]`: slot `k` of state `q` holds a transition.
-    en: Vec<Lit>,
-    /// `tgt[q][k][q']`: its target.
-    tgt: Vec<Lit>,
-    /// `pos[q][k][x]` / `neg[q][k][x]`: its guard contains `x` / `!x`.
-    pos: Vec<Lit>,
-    neg: Vec<Lit>,
-    /// Per input vector `u`: `fire[u][q][k]` (the guard holds), `nf[u][q][k]` (no slot before
-    /// `k` fires, `k` in `0..=slots`).
-    fire: Vec<Vec<Lit>>,
-    nf: Vec<Vec<Lit>>,
-}
-
-impl CubeVars {
-    pub fn en(&self, q: usize, k: usize) -> Lit {
-        self.en[q * self.slots + k]
-    }
-    pub fn tgt(&self, q: usize, k: usize, c_max: usize, t: usize) -> Lit {
-        self.tgt[(q * self.slots + k) * c_max + t]
-    }
-    pub fn pos(&self, q: usize, k: usize, x: usize) -> Lit {
-        self.pos[(q * self.slots + k) * self.bits + x]
-    }
-    pub fn neg(&self, q: usize, k: usize, x: usize) -> Lit {
-        self.neg[(q * self.slots + k) * self.bits + x]
-    }
-    pub fn fire(&self, u: InputVec, q: usize, k: usize) -> Lit {
-        self.fire[u.0][q * self.slots + k]
-    }
-    pub fn nf(&self, u: InputVec, q: usize, k: usize) -> Lit {
-        self.nf[u.0][q * (self.slots + 1) + k]
-    }
-    pub fn all_en(&self) -> &[Lit] {
-        &self.en
-    }
-    pub fn en_row(&self, q: usize) -> &[Lit] {
-        &self.en[q * self.slots..(q + 1) * self.slots]
-    }
-    /// Every guard literal, for counting N.
-    pub fn all_literals(&self) -> Vec<Lit> {
-        self.pos.iter().chain(&self.neg).copied().collect()
-    }
-}
-
-fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
+pub(crate) fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
     (0..n).map(|_| f.new_lit()).collect()
 }
 
@@ -116,19 +141,13 @@ impl Vars {
             p: alloc(f, c_max * c_max),
             m: Vec::new(),
             nm: vec![alloc(f, c_max * c_max)],
-            cubes: cube_slots.map(|slots| {
-                let bits = tree.input_vectors.first().map_or(0, Vec::len);
-                CubeVars {
-                    slots,
-                    bits,
-                    en: alloc(f, c_max * slots),
-                    tgt: alloc(f, c_max * slots * c_max),
-                    pos: alloc(f, c_max * slots * bits),
-                    neg: alloc(f, c_max * slots * bits),
-                    fire: Vec::new(),
-                    nf: Vec::new(),
+            guards: match cube_slots {
+                Some(slots) => {
+                    let bits = tree.input_vectors.first().map_or(0, Vec::len);
+                    GuardModel::Cubes(CubeVars::new(f, 1, c_max, slots, bits))
                 }
-            }),
+                None => GuardModel::TreeExact,
+            },
         };
         for _ in 0..tree.input_vectors.len() {
             v.add_input(f);
@@ -142,12 +161,31 @@ impl Vars {
         self.y.push(alloc(f, c * (c + 1)));
         self.m.push(alloc(f, c * c));
         self.nm.push(alloc(f, c * c));
-        if let Some(cv) = &mut self.cubes {
-            cv.fire.push(alloc(f, c * cv.slots));
-            cv.nf.push(alloc(f, c * (cv.slots + 1)));
+        if let GuardModel::Cubes(cv) = &mut self.guards {
+            cv.add_inputs(f, 1);
         }
         self.inputs += 1;
         InputVec(self.inputs - 1)
+    }
+
+    /// The machine's colouring, for the shared constraint families.
+    pub fn coloring(&self) -> Coloring<'_> {
+        Coloring {
+            c_max: self.c_max,
+            outputs: self.outputs,
+            used: &self.used,
+            color: &self.color,
+            a0: &self.a0,
+            a1: &self.a1,
+            edge: &self.t,
+            parent: &self.p,
+            scope: Scope::Whole,
+        }
+    }
+
+    /// The assumption "at most `c` states" (`None`: the window has no more).
+    pub fn states_at_most(&self, c: usize) -> Option<Lit> {
+        (c < self.c_max).then(|| !self.used(c))
     }
 
     /// Index of the `⊥` ("nothing fires") target.
@@ -164,25 +202,12 @@ impl Vars {
     pub fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
         self.y[u.0][q * (self.c_max + 1) + target]
     }
-    pub fn a0(&self, q: usize, z: usize) -> Lit {
-        self.a0[q * self.outputs + z]
-    }
-    pub fn a1(&self, q: usize, z: usize) -> Lit {
-        self.a1[q * self.outputs + z]
-    }
-    /// `a0` or `a1` by the old value of the output.
+    /// `a0` or `a1` of state `q` by the old value of output `z`.
     pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
-        if old {
-            self.a1(q, z)
-        } else {
-            self.a0(q, z)
-        }
+        self.coloring().a(q, z, old)
     }
     pub fn t(&self, q: usize, target: usize) -> Lit {
         self.t[q * self.c_max + target]
-    }
-    pub fn p(&self, j: usize, i: usize) -> Lit {
-        self.p[j * self.c_max + i]
     }
     pub fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
         self.m[u.0][i * self.c_max + j]

@@ -16,7 +16,7 @@ pub mod negative;
 pub mod trace_graph;
 pub mod tree;
 
-use crate::ecc::{bits_to_string, replay, Ecc};
+use crate::ecc::{bits_to_string, replay, Controller};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -153,9 +153,9 @@ impl ScenarioSet {
         Ok(())
     }
 
-    /// Replays every scenario on `ecc` and returns, per scenario that departs from it, the
-    /// first step where it does (conformance monitoring).
-    pub fn divergences(&self, ecc: &Ecc) -> Vec<Divergence> {
+    /// Replays every scenario on `ecc` (an ECC or a modular composite) and returns, per
+    /// scenario that departs from it, the first step where it does (conformance monitoring).
+    pub fn divergences(&self, ecc: &impl Controller) -> Vec<Divergence> {
         self.scenarios
             .iter()
             .enumerate()
@@ -175,8 +175,9 @@ impl ScenarioSet {
             .collect()
     }
 
-    /// Replays every scenario on `ecc`; the first disagreement is described with its place.
-    pub fn check(&self, ecc: &Ecc) -> Result<(), String> {
+    /// Replays every scenario on `ecc` (an ECC or a modular composite); the first disagreement
+    /// is described with its place.
+    pub fn check(&self, ecc: &impl Controller) -> Result<(), String> {
         match self.divergences(ecc).first() {
             None => Ok(()),
             Some(d) => Err(d.describe(self)),

@@ -18,7 +18,8 @@
 //! number of threads; a run that stops on a perfect machine or on `max_evaluations` repeats
 //! exactly, one stopped by the clock stops at a round that depends on the machine's speed.
 
-use super::fitness::{Evaluator, ScenarioData, ScenarioScore, Verdicts, Weights};
+use super::data::ScenarioData;
+use super::fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
 use super::machine::{input_bits, Machine, SearchState};
 use super::operators::{self, Operator};
 use super::oracle::Checker;
@@ -510,6 +511,7 @@ pub fn run(
 mod tests {
     use super::*;
     use crate::cases::pnp;
+    use crate::scenario::ScenarioSet;
 
     fn quick(seed: u64) -> Config {
         Config {
@@ -523,35 +525,41 @@ mod tests {
         }
     }
 
+    /// The first `scenarios` scenarios of the Pick-and-Place case.
+    fn pnp_scenarios(scenarios: usize) -> ScenarioSet {
+        let mut set = pnp::generate();
+        set.scenarios.truncate(scenarios);
+        set
+    }
+
+    /// A search without properties.
+    fn search(data: &ScenarioData, config: &Config) -> Outcome {
+        run(data, config, vec![], &mut |_| {}).unwrap()
+    }
+
     #[test]
     fn same_seed_same_machine_whatever_the_threads() {
-        let mut set = pnp::generate();
-        set.scenarios.truncate(2);
-        let data = ScenarioData::new(&set).unwrap();
-        let a = run(&data, &quick(5), vec![], &mut |_| {}).unwrap();
-        let b = run(
+        let data = ScenarioData::new(&pnp_scenarios(2)).unwrap();
+        let a = search(&data, &quick(5));
+        let b = search(
             &data,
             &Config {
                 threads: 1,
                 ..quick(5)
             },
-            vec![],
-            &mut |_| {},
-        )
-        .unwrap();
+        );
         assert_eq!(a.machine, b.machine);
         assert_eq!(a.ecc, b.ecc);
         assert_eq!(a.stats.evaluations, b.stats.evaluations);
-        let c = run(&data, &quick(6), vec![], &mut |_| {}).unwrap();
+        let c = search(&data, &quick(6));
         assert_ne!(a.machine, c.machine, "another seed searches elsewhere");
     }
 
     #[test]
     fn the_outcome_is_the_machine_the_scores_describe() {
-        let mut set = pnp::generate();
-        set.scenarios.truncate(1);
+        let set = pnp_scenarios(1);
         let data = ScenarioData::new(&set).unwrap();
-        let out = run(&data, &quick(1), vec![], &mut |_| {}).unwrap();
+        let out = search(&data, &quick(1));
         out.ecc.validate().unwrap();
         let mut ev = Evaluator::new(&data);
         assert_eq!(ev.evaluate(&out.machine), out.score);

@@ -1,8 +1,8 @@
 //! The fitness function: `F = c1·F_ed + c2·F_fe + c3·F_sc + c4·F_sat + c5·F_ce`
 //! (seed 004, section IV.F; seed 001, section III.B).
 //!
-//! In: the scenarios, precomputed once into [`ScenarioData`] (inputs and outputs as bit masks,
-//! one flat array), a [`Machine`], and for the verification terms the [`Verdicts`] of NuSMV.
+//! In: the scenarios, precomputed once into [`ScenarioData`] ([`super::data`]), a [`Machine`],
+//! and for the verification terms the [`Verdicts`] of NuSMV.
 //! Out: a [`ScenarioScore`] (the three scenario terms) and the weighted sum.
 //!
 //! The scenario terms, per scenario, averaged over scenarios:
@@ -19,131 +19,12 @@
 //! [`Evaluator::evaluate`] is the hot loop: it labels the states and replays every scenario on
 //! buffers it owns, so an evaluation allocates nothing once the buffers have grown.
 
+pub use super::data::{DataError, ScenarioData, MAX_OUTPUTS};
+use super::data::{StepData, PASSIVE};
 use super::labeling::{self, Counts};
-use super::machine::{input_bits, Machine};
+use super::machine::Machine;
 use crate::ecc::Tri;
 use crate::scenario::negative::NegativeScenario;
-use crate::scenario::ScenarioSet;
-use std::ops::Range;
-
-/// The symbol of a passive step (no `CNF`); output vectors use the low 31 bits.
-pub(crate) const PASSIVE: u32 = u32::MAX;
-
-/// The search supports at most this many outputs.
-pub const MAX_OUTPUTS: usize = 31;
-
-/// One step, precomputed.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct StepData {
-    /// Inputs as a bit mask.
-    pub x: u32,
-    /// Recorded `CNF` outputs as a bit mask, or [`PASSIVE`].
-    pub expected: u32,
-    /// Recorded outputs before the step.
-    pub before: u32,
-}
-
-/// The scenarios as flat bit-mask arrays.
-#[derive(Debug, Clone)]
-pub struct ScenarioData {
-    pub inputs: Vec<String>,
-    pub outputs: Vec<String>,
-    pub initial_outputs: Vec<bool>,
-    pub(crate) initial: u32,
-    pub(crate) steps: Vec<StepData>,
-    /// Range of `steps` of every scenario.
-    pub(crate) bounds: Vec<Range<usize>>,
-    /// Per scenario of at most 128 steps, Myers' match masks: for every recorded symbol, the
-    /// steps that record it. Empty for longer scenarios (they use the quadratic algorithm).
-    pub(crate) peq: Vec<Vec<(u32, u128)>>,
-}
-
-/// Why scenarios cannot be searched.
-#[derive(Debug, thiserror::Error)]
-pub enum DataError {
-    #[error("the search handles at most {max} inputs, the scenarios have {got}")]
-    TooManyInputs { max: usize, got: usize },
-    #[error("the search handles at most {max} outputs, the scenarios have {got}")]
-    TooManyOutputs { max: usize, got: usize },
-    #[error("no scenario has a step")]
-    Empty,
-}
-
-impl ScenarioData {
-    pub fn new(set: &ScenarioSet) -> Result<ScenarioData, DataError> {
-        if set.inputs.len() > super::machine::MAX_INPUTS {
-            return Err(DataError::TooManyInputs {
-                max: super::machine::MAX_INPUTS,
-                got: set.inputs.len(),
-            });
-        }
-        if set.outputs.len() > MAX_OUTPUTS {
-            return Err(DataError::TooManyOutputs {
-                max: MAX_OUTPUTS,
-                got: set.outputs.len(),
-            });
-        }
-        let initial = input_bits(&set.initial_outputs);
-        let mut steps = Vec::with_capacity(set.step_count());
-        let mut bounds = Vec::with_capacity(set.scenarios.len());
-        for sc in &set.scenarios {
-            if sc.steps.is_empty() {
-                continue;
-            }
-            let start = steps.len();
-            let mut before = initial;
-            for st in &sc.steps {
-                let expected = st.outputs.as_deref().map_or(PASSIVE, input_bits);
-                steps.push(StepData {
-                    x: input_bits(&st.inputs),
-                    expected,
-                    before,
-                });
-                if expected != PASSIVE {
-                    before = expected;
-                }
-            }
-            bounds.push(start..steps.len());
-        }
-        if steps.is_empty() {
-            return Err(DataError::Empty);
-        }
-        let peq = bounds
-            .iter()
-            .map(|r| {
-                let mut masks: Vec<(u32, u128)> = Vec::new();
-                if r.len() <= 128 {
-                    for (j, st) in steps[r.clone()].iter().enumerate() {
-                        match masks.iter_mut().find(|(c, _)| *c == st.expected) {
-                            Some((_, m)) => *m |= 1 << j,
-                            None => masks.push((st.expected, 1 << j)),
-                        }
-                    }
-                }
-                masks
-            })
-            .collect();
-        Ok(ScenarioData {
-            inputs: set.inputs.clone(),
-            outputs: set.outputs.clone(),
-            initial_outputs: set.initial_outputs.clone(),
-            initial,
-            steps,
-            bounds,
-            peq,
-        })
-    }
-
-    /// Number of steps over all scenarios.
-    pub fn step_count(&self) -> usize {
-        self.steps.len()
-    }
-
-    /// Number of (non-empty) scenarios.
-    pub fn scenario_count(&self) -> usize {
-        self.bounds.len()
-    }
-}
 
 /// The scenario terms of one machine.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -439,7 +320,7 @@ fn levenshtein(a: &[u32], b: &[StepData], row: &mut Vec<u32>) -> usize {
 mod tests {
     use super::*;
     use crate::ecc::{InputId, StateId};
-    use crate::scenario::{Origin, Scenario, Step};
+    use crate::scenario::{Origin, Scenario, ScenarioSet, Step};
     use crate::search::machine::{Group, SearchState};
 
     fn sd(expected: &[u32]) -> Vec<StepData> {

@@ -22,7 +22,7 @@
 //! "unchanged" for every output (the seed skips it; with `CNF` it is evidence for `x`). Ties go
 //! to `x`, then `0`: a state never entered keeps everything.
 
-use super::fitness::ScenarioData;
+use super::data::{ScenarioData, PASSIVE};
 use super::machine::Machine;
 use crate::ecc::Tri;
 
@@ -43,7 +43,7 @@ pub(crate) fn run(m: &Machine, data: &ScenarioData, path: &mut Vec<u32>, counts:
                 Some((_, _, t)) => {
                     s = t.0;
                     path.push(s as u32);
-                    if st.expected != super::fitness::PASSIVE {
+                    if st.expected != PASSIVE {
                         let before = st.before;
                         let after = st.expected;
                         let row = &mut counts[s * z..(s + 1) * z];

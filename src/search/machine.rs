@@ -247,8 +247,7 @@ impl Machine {
         for st in &ecc.states {
             let mut groups = Vec::new();
             for t in &st.transitions {
-                for cube in cubes(&t.guard)? {
-                    let mut cube = cube;
+                for mut cube in t.guard.as_dnf()? {
                     cube.sort();
                     if cube.windows(2).any(|w| w[0].0 == w[1].0) {
                         // x & !x: never fires; x & x: same literal twice.
@@ -274,46 +273,6 @@ impl Machine {
             inputs: ecc.inputs.len(),
             states,
         })
-    }
-}
-
-/// The guard as a list of cubes, if it is a sum of products of literals.
-fn cubes(g: &Guard) -> Option<Vec<Vec<(InputId, bool)>>> {
-    match g {
-        Guard::False => Some(vec![]),
-        Guard::Or(parts) => {
-            let mut out = Vec::new();
-            for p in parts {
-                out.push(cube(p)?);
-            }
-            Some(out)
-        }
-        other => Some(vec![cube(other)?]),
-    }
-}
-
-fn cube(g: &Guard) -> Option<Vec<(InputId, bool)>> {
-    match g {
-        Guard::True => Some(vec![]),
-        Guard::And(parts) => {
-            let mut out = Vec::new();
-            for p in parts {
-                out.push(literal(p)?);
-            }
-            Some(out)
-        }
-        other => Some(vec![literal(other)?]),
-    }
-}
-
-fn literal(g: &Guard) -> Option<(InputId, bool)> {
-    match g {
-        Guard::Var(v) => Some((*v, true)),
-        Guard::Not(inner) => match inner.as_ref() {
-            Guard::Var(v) => Some((*v, false)),
-            _ => None,
-        },
-        _ => None,
     }
 }
 

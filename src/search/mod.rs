@@ -2,15 +2,16 @@
 //! scenarios and, with properties, against NuSMV's verdicts.
 //!
 //! In: a [`ScenarioSet`](crate::scenario::ScenarioSet) (precomputed into
-//! [`fitness::ScenarioData`]), a [`algorithm::Config`], and for verification-aware search one
+//! [`data::ScenarioData`]), a [`algorithm::Config`], and for verification-aware search one
 //! [`oracle::Checker`] per colony. Out: an [`algorithm::Outcome`] whose [`Ecc`](crate::ecc::Ecc)
 //! goes through the same exporters, simulator and verifier as a SAT result.
 //!
 //! Layers, each importing only those before it:
 //! - [`machine`]: states with transition groups (significance mask + table), conversion to
 //!   and from [`Ecc`](crate::ecc::Ecc);
-//! - [`fitness`]: precomputed scenario data, the fitness terms, the allocation-free evaluator;
-//! - [`labeling`]: the `{0,1,x}` state algorithms from the scenarios (used by `fitness`);
+//! - [`data`]: the scenarios precomputed into flat bit-mask arrays;
+//! - [`labeling`]: the `{0,1,x}` state algorithms from the scenarios;
+//! - [`fitness`]: the fitness terms and the allocation-free evaluator (labels with `labeling`);
 //! - [`operators`]: the four mutations of seed 004 and seed 001's counterexample-weighted one;
 //! - [`oracle`]: verdicts from NuSMV through [`crate::verify::verify`], cached by machine;
 //! - [`algorithm`]: the parallel `(1+λ)` colonies sharing their best, seeded and repeatable.
@@ -18,6 +19,7 @@
 //! This module does not use [`crate::sat`]; the CLI joins the two paths.
 
 pub mod algorithm;
+pub mod data;
 pub mod fitness;
 pub mod labeling;
 pub mod machine;
@@ -25,5 +27,6 @@ pub mod operators;
 pub mod oracle;
 
 pub use algorithm::{run, Config, Outcome, Progress, SearchError, Stats};
-pub use fitness::{Evaluator, ScenarioData, ScenarioScore, Verdicts, Weights};
+pub use data::ScenarioData;
+pub use fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
 pub use machine::Machine;

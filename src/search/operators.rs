@@ -324,6 +324,25 @@ mod tests {
         (0..30).map(|_| Machine::random(&mut r, 5, 4, 3)).collect()
     }
 
+    /// The pairs of groups that differ between `a` and `b` (same states, same group counts).
+    fn changed_groups<'m>(a: &'m Machine, b: &'m Machine) -> Vec<(&'m Group, &'m Group)> {
+        a.states
+            .iter()
+            .zip(&b.states)
+            .flat_map(|(a, b)| a.groups.iter().zip(&b.groups))
+            .filter(|(a, b)| a != b)
+            .collect()
+    }
+
+    /// Table entries over all groups.
+    fn table_size(m: &Machine) -> usize {
+        m.states
+            .iter()
+            .flat_map(|s| &s.groups)
+            .map(|g| g.table.len())
+            .sum()
+    }
+
     #[test]
     fn change_target_moves_exactly_one_transition_to_another_state() {
         let mut r = rng();
@@ -379,13 +398,7 @@ mod tests {
             }
             tried += 1;
             c.validate().unwrap();
-            let changed: Vec<_> = m
-                .states
-                .iter()
-                .zip(&c.states)
-                .flat_map(|(a, b)| a.groups.iter().zip(&b.groups))
-                .filter(|(a, b)| a != b)
-                .collect();
+            let changed = changed_groups(&m, &c);
             assert_eq!(changed.len(), 1);
             let (a, b) = changed[0];
             assert_eq!(a.vars.len(), b.vars.len());
@@ -406,24 +419,14 @@ mod tests {
         let mut r = rng();
         for m in machines() {
             let mut c = m.clone();
-            let before: usize = m
-                .states
-                .iter()
-                .flat_map(|s| &s.groups)
-                .map(|g| g.table.len())
-                .sum();
+            let before = table_size(&m);
             // Force "add" with room for it: max 5 significant inputs.
             let mut added = false;
             for _ in 0..20 {
                 let mut t = m.clone();
                 assert!(resize_significance(&mut r, &mut t, 5));
                 t.validate().unwrap();
-                let after: usize = t
-                    .states
-                    .iter()
-                    .flat_map(|s| &s.groups)
-                    .map(|g| g.table.len())
-                    .sum();
+                let after = table_size(&t);
                 if after > before {
                     c = t;
                     added = true;
@@ -431,13 +434,7 @@ mod tests {
                 }
             }
             assert!(added);
-            let grown: Vec<_> = m
-                .states
-                .iter()
-                .zip(&c.states)
-                .flat_map(|(a, b)| a.groups.iter().zip(&b.groups))
-                .filter(|(a, b)| a != b)
-                .collect();
+            let grown = changed_groups(&m, &c);
             assert_eq!(grown.len(), 1);
             assert_eq!(grown[0].1.table.len(), 2 * grown[0].0.table.len());
             assert_eq!(behaviour(&m), behaviour(&c));

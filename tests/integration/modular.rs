@@ -7,7 +7,6 @@ use fbsynth::export::json::read_json;
 use fbsynth::export::modular::composite_smv_to_string;
 use fbsynth::nusmv::test_support::nusmv_or_skip;
 use fbsynth::nusmv::Verdict;
-use fbsynth::sat::modular::check;
 use fbsynth::scenario::{fbsat, ScenarioSet};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -112,7 +111,7 @@ fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
     let set = lamps();
     let modular = read_back(out.path(), "Line", &set);
     modular.validate().unwrap();
-    check(&set, &modular).unwrap();
+    set.check(&modular).unwrap();
     // The composite is well-formed XML naming both module types.
     let xml = std::fs::read_to_string(out.path().join("Line.fbt")).unwrap();
     let mut reader = quick_xml::Reader::from_str(&xml);
@@ -307,7 +306,7 @@ fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let free = read_back(out.path(), "SynthesizedFB", &clean);
     assert_eq!(free.modules.len(), 2);
-    assert_eq!(check(&clean, &free), Ok(()));
+    assert_eq!(clean.check(&free), Ok(()));
     let pinned = tempfile::tempdir().unwrap();
     let o = synth(&[
         "infer",
@@ -327,7 +326,7 @@ fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
     let hmi = read_back(pinned.path(), "SynthesizedFB", &clean);
     assert_eq!(hmi.modules[0].ecc.outputs, ["start_led", "reset_led"]);
     assert_eq!(hmi.modules[1].ecc.outputs.len(), 5);
-    assert_eq!(check(&clean, &hmi), Ok(()));
+    assert_eq!(clean.check(&hmi), Ok(()));
 }
 
 /// `--noisy --modules`: the traces are corrected first, then the logic is distributed.
@@ -362,5 +361,5 @@ fn noisy_then_modular_distributes_the_corrected_traces() {
         .outputs
         .iter()
         .any(|o| o == "start_led"));
-    assert_eq!(check(&corrected, &composite), Ok(()));
+    assert_eq!(corrected.check(&composite), Ok(()));
 }

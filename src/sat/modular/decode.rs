@@ -7,9 +7,9 @@
 
 use super::vars::ModVars;
 use crate::ecc::modular::{Modular, Module};
-use crate::ecc::{Algorithm, AlgorithmKind, Ecc, Guard, InputId, OutputId, Run, State, StateId};
-use crate::ecc::{Transition, Tri};
-use crate::sat::decode::{cube_literals, Model};
+use crate::ecc::{AlgorithmKind, Ecc, Guard, InputId, OutputId, Run, State, StateId};
+use crate::sat::decode::{algorithm, cube_transition};
+use crate::sat::solver::Model;
 use crate::scenario::ScenarioSet;
 use std::collections::HashSet;
 
@@ -38,23 +38,8 @@ pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind
             let states = (0..n)
                 .map(|q| {
                     let transitions = (0..d.slots)
-                        .take_while(|&k| model.value(v.en(m, q, k)))
-                        .map(|k| {
-                            let target = (0..d.c_max)
-                                .find(|&t| model.value(v.tgt(m, q, k, t)))
-                                .expect("an enabled slot has a target");
-                            let lits = cube_literals(
-                                model,
-                                d.bits,
-                                |x| v.pos(m, q, k, x),
-                                |x| v.neg(m, q, k, x),
-                                local,
-                            );
-                            Transition {
-                                target: StateId(target),
-                                guard: Guard::cube(&lits),
-                            }
-                        })
+                        .take_while(|&k| model.value(v.cubes.en(m, q, k)))
+                        .map(|k| cube_transition(model, &v.cubes, m, q, k, local))
                         .collect();
                     let a0: Vec<bool> = outputs
                         .iter()
@@ -64,22 +49,9 @@ pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind
                         .iter()
                         .map(|z| model.value(v.a1(m, q, z.0)))
                         .collect();
-                    let algorithm = match kind {
-                        AlgorithmKind::Binary => Algorithm::Binary { a0, a1 },
-                        AlgorithmKind::Tri => Algorithm::Tri(
-                            a0.iter()
-                                .zip(&a1)
-                                .map(|(&a, &b)| match (a, b) {
-                                    (false, false) => Tri::Zero,
-                                    (true, true) => Tri::One,
-                                    _ => Tri::Keep,
-                                })
-                                .collect(),
-                        ),
-                    };
                     State {
                         name: format!("s{q}"),
-                        algorithm,
+                        algorithm: algorithm(kind, a0, a1),
                         transitions,
                     }
                 })
@@ -130,20 +102,6 @@ pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
     }
 }
 
-/// The literals of a conjunction built by [`Guard::cube`].
-fn guard_literals(g: &Guard) -> Vec<(InputId, bool)> {
-    match g {
-        Guard::True => Vec::new(),
-        Guard::Var(i) => vec![(*i, true)],
-        Guard::Not(inner) => match **inner {
-            Guard::Var(i) => vec![(i, false)],
-            _ => unreachable!("decoded guards are cubes"),
-        },
-        Guard::And(parts) => parts.iter().flat_map(guard_literals).collect(),
-        _ => unreachable!("decoded guards are cubes"),
-    }
-}
-
 /// Drops guard literals one at a time, greedily, while the composite still replays every
 /// scenario: the solver only bounds the inputs a module reads, not the literals it writes, so
 /// a guard may test more than the scenarios need.
@@ -151,8 +109,10 @@ pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
     for m in 0..modular.modules.len() {
         for q in 0..modular.modules[m].ecc.states.len() {
             for k in 0..modular.modules[m].ecc.states[q].transitions.len() {
-                let mut lits =
-                    guard_literals(&modular.modules[m].ecc.states[q].transitions[k].guard);
+                let mut lits = modular.modules[m].ecc.states[q].transitions[k]
+                    .guard
+                    .as_cube()
+                    .expect("decoded guards are cubes");
                 let mut i = 0;
                 while i < lits.len() {
                     let mut fewer = lits.clone();
@@ -161,7 +121,7 @@ pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
                         &mut modular.modules[m].ecc.states[q].transitions[k].guard,
                         Guard::cube(&fewer),
                     );
-                    if super::check(set, modular).is_ok() {
+                    if set.check(modular).is_ok() {
                         lits = fewer;
                     } else {
                         modular.modules[m].ecc.states[q].transitions[k].guard = old;

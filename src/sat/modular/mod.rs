@@ -25,14 +25,12 @@ pub mod decode;
 pub mod vars;
 
 use super::card::Totalizer;
-use super::decode::Model;
-use super::Counting;
-use crate::ecc::modular::{replay_modular, Modular, ModularSize};
+use super::solver::Solver;
+use crate::ecc::modular::{Modular, ModularSize};
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::scenario::tree::ScenarioTree;
-use crate::scenario::{Divergence, ScenarioSet};
+use crate::scenario::ScenarioSet;
 use std::time::Instant;
-use varisat::{Lit, Solver};
 use vars::ModVars;
 
 /// Settings of a modular synthesis run.
@@ -180,65 +178,26 @@ enum Counter {
 
 /// The solver with the modular encoding for a window of `c_max` states per module.
 struct Encoding {
-    solver: Solver<'static>,
+    solver: Solver,
     vars: ModVars,
     total_alpha: Totalizer,
     total_used: Totalizer,
-    variables: usize,
-    clauses: usize,
-    calls: usize,
 }
 
 impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &ModularOptions) -> Encoding {
         let mut solver = Solver::new();
-        let mut sink = Counting::new(&mut solver);
-        let vars = ModVars::new(&mut sink, tree, opts.modules, c_max, opts.slots.max(1));
-        constraints::all(&mut sink, &vars, tree, opts.algorithms, &opts.pins);
-        let total_alpha = Totalizer::new(&mut sink, vars.all_alpha(), vars.all_alpha().len());
-        let total_used = Totalizer::new(&mut sink, vars.all_used(), vars.all_used().len());
-        let (variables, clauses) = (sink.vars, sink.clauses);
+        let sink = &mut solver;
+        let vars = ModVars::new(sink, tree, opts.modules, c_max, opts.slots.max(1));
+        constraints::all(sink, &vars, tree, opts.algorithms, &opts.pins);
+        let total_alpha = Totalizer::new(sink, vars.all_alpha(), vars.all_alpha().len());
+        let total_used = Totalizer::new(sink, vars.all_used(), vars.all_used().len());
         Encoding {
             solver,
             vars,
             total_alpha,
             total_used,
-            variables,
-            clauses,
-            calls: 0,
         }
-    }
-
-    fn totalizer(&self, c: Counter) -> &Totalizer {
-        match c {
-            Counter::Inputs => &self.total_alpha,
-            Counter::States => &self.total_used,
-        }
-    }
-
-    /// The value of a sum in a model.
-    fn count(&self, c: Counter, model: &Model) -> usize {
-        let lits = match c {
-            Counter::Inputs => self.vars.all_alpha(),
-            Counter::States => self.vars.all_used(),
-        };
-        lits.iter().filter(|&&l| model.value(l)).count()
-    }
-
-    /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
-    fn size_at_most(&self, n: usize) -> Vec<Lit> {
-        if n >= self.vars.d.c_max {
-            return Vec::new();
-        }
-        (0..self.vars.d.modules)
-            .map(|m| !self.vars.used(m, n))
-            .collect()
-    }
-
-    fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
-        self.calls += 1;
-        self.solver.assume(assumptions);
-        crate::sat::solve_model(&mut self.solver)
     }
 }
 
@@ -272,21 +231,20 @@ pub fn synthesize_modular(
     // 1. least largest module, growing the window when exhausted.
     let (mut enc, n, mut model) = loop {
         let mut enc = Encoding::new(tree, c_max, opts);
-        stats.variables += enc.variables;
-        stats.clauses += enc.clauses;
-        let mut found = None;
-        for n in lo..=c_max {
-            progress(&format!(
-                "trying at most {n} states per module ({} modules, {} tree nodes)",
-                opts.modules,
-                tree.nodes.len()
-            ));
-            let assume = enc.size_at_most(n);
-            if let Some(m) = enc.solve(&assume) {
-                found = Some((n, m));
-                break;
-            }
-        }
+        stats.variables += enc.solver.stats().variables;
+        stats.clauses += enc.solver.stats().clauses;
+        let vars = &enc.vars;
+        let found = enc.solver.ascend(
+            lo..=c_max,
+            |n| vars.size_at_most(n),
+            |n| {
+                progress(&format!(
+                    "trying at most {n} states per module ({} modules, {} tree nodes)",
+                    opts.modules,
+                    tree.nodes.len()
+                ))
+            },
+        );
         match found {
             Some((n, m)) => break (enc, n, m),
             None if c_max >= opts.max_states => {
@@ -299,13 +257,13 @@ pub fn synthesize_modular(
             None => {
                 // Every size inside the window is unsatisfiable.
                 lo = c_max + 1;
-                stats.solver_calls += enc.calls;
+                stats.solver_calls += enc.solver.stats().calls;
                 c_max = (c_max * 2).min(opts.max_states);
                 progress(&format!("re-encoding for up to {c_max} states per module"));
             }
         }
     };
-    let mut base = enc.size_at_most(n);
+    let mut base = enc.vars.size_at_most(n);
     progress(&format!("largest module: {n} states (minimal)"));
 
     // 2. least A, then 3. least N', each descending from the current model's value.
@@ -313,34 +271,41 @@ pub fn synthesize_modular(
         ("A (inputs used)", Counter::Inputs),
         ("N' (states used)", Counter::States),
     ] {
-        let mut value = enc.count(counter, &model);
-        while value > 0 {
-            let Some(bound) = enc.totalizer(counter).at_most(value - 1) else {
-                break;
-            };
-            progress(&format!("trying {label} = {}", value - 1));
-            let assume: Vec<Lit> = base.iter().copied().chain([bound]).collect();
-            match enc.solve(&assume) {
-                Some(m) => {
-                    value = enc.count(counter, &m);
-                    model = m;
-                }
-                None => break,
-            }
-        }
-        base.extend(enc.totalizer(counter).at_most(value));
+        let Encoding {
+            solver,
+            vars,
+            total_alpha,
+            total_used,
+        } = &mut enc;
+        let (total, lits) = match counter {
+            Counter::Inputs => (&*total_alpha, vars.all_alpha()),
+            Counter::States => (&*total_used, vars.all_used()),
+        };
+        let value = solver.descend(
+            &base,
+            model.count(lits),
+            0,
+            |b| total.at_most(b),
+            |b| progress(&format!("trying {label} = {b}")),
+            |m| {
+                let value = m.count(lits);
+                model = m;
+                value
+            },
+        );
+        base.extend(total.at_most(value));
         progress(&format!("{label} = {value} (minimal)"));
     }
-    stats.solver_calls += enc.calls;
+    stats.solver_calls += enc.solver.stats().calls;
     stats.sat_seconds = t0.elapsed().as_secs_f64();
 
     let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms);
     decode::prune_unfired(&mut modular, set);
-    if check(set, &modular).is_ok() {
+    if set.check(&modular).is_ok() {
         decode::prune_literals(&mut modular, set);
     }
     modular.validate().map_err(ModularError::Bug)?;
-    check(set, &modular)
+    set.check(&modular)
         .map_err(|m| ModularError::Bug(format!("the modular controller does not replay {m}")))?;
     for (m, zs) in opts.pins.iter().enumerate() {
         if let Some(z) = zs.iter().find(|z| modular.owner(**z) != Some(m)) {
@@ -358,27 +323,6 @@ pub fn synthesize_modular(
     })
 }
 
-/// Replays every scenario of `set` on the composite; the first disagreement with its place.
-pub fn check(set: &ScenarioSet, modular: &Modular) -> Result<(), String> {
-    for (k, sc) in set.scenarios.iter().enumerate() {
-        let steps = sc
-            .steps
-            .iter()
-            .map(|s| (s.inputs.as_slice(), s.outputs.as_deref()));
-        if let Err(m) = replay_modular(modular, steps) {
-            let d = Divergence {
-                scenario: k,
-                step: m.step,
-                inputs: sc.steps[m.step].inputs.clone(),
-                recorded: m.expected,
-                machine: m.actual,
-            };
-            return Err(d.describe(set));
-        }
-    }
-    Ok(())
-}
-
 /// Whether a modular controller whose modules have at most `n` states each reproduces the tree
 /// (the building block of the first minimization, exposed for tests of known minima).
 pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
@@ -386,7 +330,7 @@ pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize)
         return false;
     }
     let mut enc = Encoding::new(tree, n, opts);
-    enc.solve(&[]).is_some()
+    enc.solver.solve(&[]).is_some()
 }
 
 #[cfg(test)]

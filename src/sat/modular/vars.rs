@@ -3,10 +3,13 @@
 //!
 //! Numbering (all 0-based): modules `m in 0..M` (users see `m + 1`), states `q, q' in 0..N`
 //! per module, transition slots `k in 0..K` per state, tree nodes `v` as [`NodeId`], distinct
-//! input vectors `g` as [`InputVec`], input variables `x in 0..X`, outputs `z in 0..Z`. The
-//! paper's names are kept where they exist (θ, α, `f`, `nf`, `uc`, `tr`, `p`).
+//! input vectors `g` as [`InputVec`](crate::scenario::tree::InputVec), input variables `x in 0..X`, outputs `z in 0..Z`. The
+//! paper's names are kept where they exist (θ, α, `f`, `nf`, `uc`, `tr`, `p`). Each module's
+//! colouring is a [`Coloring`] view, its guards are the module's part of one [`CubeVars`].
 
-use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
+use crate::sat::cubes::CubeVars;
+use crate::sat::vars::{alloc, Coloring, Scope};
+use crate::scenario::tree::{NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
 
 /// Dimensions of the encoding.
@@ -28,7 +31,7 @@ pub struct Dims {
     pub vectors: usize,
 }
 
-/// All variables of the modular encoding.
+/// All variables of the modular encoding; per module `m` every block is contiguous.
 #[derive(Debug, Clone)]
 pub struct ModVars {
     pub d: Dims,
@@ -40,30 +43,18 @@ pub struct ModVars {
     theta: Vec<Lit>,
     /// `α[m][x]`: module `m` reads input `x`.
     alpha: Vec<Lit>,
-    /// `en[m][q][k]`: slot `k` of state `q` holds a transition.
-    en: Vec<Lit>,
-    /// `tgt[m][q][k][q']`: its target (the paper's `y`).
-    tgt: Vec<Lit>,
-    /// `pos/neg[m][q][k][x]`: its guard contains `x` / `!x` (the paper's β with α).
-    pos: Vec<Lit>,
-    neg: Vec<Lit>,
+    /// Slots (`en`, the target `tgt` is the paper's `y`, the guard `pos/neg` the paper's β with
+    /// α) and firing (`f`, `nf`) of every module.
+    pub cubes: CubeVars,
     /// `d0/d1[m][q][z]`: the algorithm of `q` sets `z` to 1 when it was 0 / 1.
     a0: Vec<Lit>,
     a1: Vec<Lit>,
-    /// `f[m][g][q][k]`: the guard of slot `k` of `q` holds on input vector `g`.
-    fire: Vec<Lit>,
-    /// `nf[m][g][q][k]`, `k in 0..=K`: no slot before `k` holds on `g`.
-    nf: Vec<Lit>,
     /// `fired[m][v]`: module `m` makes a transition on the tree edge into `v` (root unused).
     fired: Vec<Lit>,
     /// `tr[m][q][q']`: some slot of `q` leads to `q'`.
     tr: Vec<Lit>,
     /// `p[m][j][i]`: `i` is the BFS parent of `j`.
     parent: Vec<Lit>,
-}
-
-fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
-    (0..n).map(|_| f.new_lit()).collect()
 }
 
 impl ModVars {
@@ -83,25 +74,54 @@ impl ModVars {
             nodes: tree.nodes.len(),
             vectors: tree.input_vectors.len(),
         };
-        let (m, n, k) = (modules, c_max, slots);
+        let (m, n) = (modules, c_max);
+        let used = alloc(f, m * n);
+        let color = alloc(f, m * d.nodes * n);
+        let theta = alloc(f, m * d.outputs);
+        let alpha = alloc(f, m * d.bits);
+        let mut cubes = CubeVars::new(f, m, n, slots, d.bits);
+        let a0 = alloc(f, m * n * d.outputs);
+        let a1 = alloc(f, m * n * d.outputs);
+        cubes.add_inputs(f, d.vectors);
         ModVars {
-            used: alloc(f, m * n),
-            color: alloc(f, m * d.nodes * n),
-            theta: alloc(f, m * d.outputs),
-            alpha: alloc(f, m * d.bits),
-            en: alloc(f, m * n * k),
-            tgt: alloc(f, m * n * k * n),
-            pos: alloc(f, m * n * k * d.bits),
-            neg: alloc(f, m * n * k * d.bits),
-            a0: alloc(f, m * n * d.outputs),
-            a1: alloc(f, m * n * d.outputs),
-            fire: alloc(f, m * d.vectors * n * k),
-            nf: alloc(f, m * d.vectors * n * (k + 1)),
+            used,
+            color,
+            theta,
+            alpha,
+            cubes,
+            a0,
+            a1,
             fired: alloc(f, m * d.nodes),
             tr: alloc(f, m * n * n),
             parent: alloc(f, m * n * n),
             d,
         }
+    }
+
+    /// Module `m`'s colouring, for the shared constraint families.
+    pub fn module(&self, m: usize) -> Coloring<'_> {
+        let d = &self.d;
+        let (n, per_state) = (d.c_max, d.c_max * d.outputs);
+        Coloring {
+            c_max: n,
+            outputs: d.outputs,
+            used: &self.used[m * n..(m + 1) * n],
+            color: &self.color[m * d.nodes * n..(m + 1) * d.nodes * n],
+            a0: &self.a0[m * per_state..(m + 1) * per_state],
+            a1: &self.a1[m * per_state..(m + 1) * per_state],
+            edge: &self.tr[m * n * n..(m + 1) * n * n],
+            parent: &self.parent[m * n * n..(m + 1) * n * n],
+            scope: Scope::Module {
+                owns: &self.theta[m * d.outputs..(m + 1) * d.outputs],
+                reads: &self.alpha[m * d.bits..(m + 1) * d.bits],
+                fires: &self.fired[m * d.nodes..(m + 1) * d.nodes],
+            },
+        }
+    }
+
+    /// Every module's colouring, in order.
+    pub fn modules(&self) -> Vec<Coloring<'_>> {
+        (0..self.d.modules).map(|m| self.module(m)).collect()
     }
 
     pub fn used(&self, m: usize, q: usize) -> Lit {
@@ -116,43 +136,11 @@ impl ModVars {
     pub fn alpha(&self, m: usize, x: usize) -> Lit {
         self.alpha[m * self.d.bits + x]
     }
-    fn slot(&self, m: usize, q: usize, k: usize) -> usize {
-        (m * self.d.c_max + q) * self.d.slots + k
-    }
-    pub fn en(&self, m: usize, q: usize, k: usize) -> Lit {
-        self.en[self.slot(m, q, k)]
-    }
-    pub fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
-        self.tgt[self.slot(m, q, k) * self.d.c_max + t]
-    }
-    pub fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
-        self.pos[self.slot(m, q, k) * self.d.bits + x]
-    }
-    pub fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
-        self.neg[self.slot(m, q, k) * self.d.bits + x]
-    }
     pub fn a0(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a0[(m * self.d.c_max + q) * self.d.outputs + z]
     }
     pub fn a1(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a1[(m * self.d.c_max + q) * self.d.outputs + z]
-    }
-    /// `d0` or `d1` by the old value of the output.
-    pub fn a(&self, m: usize, q: usize, z: usize, old: bool) -> Lit {
-        if old {
-            self.a1(m, q, z)
-        } else {
-            self.a0(m, q, z)
-        }
-    }
-    pub fn fire(&self, m: usize, g: InputVec, q: usize, k: usize) -> Lit {
-        let d = &self.d;
-        self.fire[((m * d.vectors + g.0) * d.c_max + q) * d.slots + k]
-    }
-    /// `k in 0..=K`; `nf[.., K]` says that nothing fires.
-    pub fn nf(&self, m: usize, g: InputVec, q: usize, k: usize) -> Lit {
-        let d = &self.d;
-        self.nf[((m * d.vectors + g.0) * d.c_max + q) * (d.slots + 1) + k]
     }
     pub fn fired(&self, m: usize, v: NodeId) -> Lit {
         self.fired[m * self.d.nodes + v.0]
@@ -160,9 +148,14 @@ impl ModVars {
     pub fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
         self.tr[(m * self.d.c_max + q) * self.d.c_max + t]
     }
-    pub fn parent(&self, m: usize, j: usize, i: usize) -> Lit {
-        self.parent[(m * self.d.c_max + j) * self.d.c_max + i]
+    /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
+    pub fn size_at_most(&self, n: usize) -> Vec<Lit> {
+        if n >= self.d.c_max {
+            return Vec::new();
+        }
+        (0..self.d.modules).map(|m| !self.used(m, n)).collect()
     }
+
     /// Every `α`, for counting the inputs used (`A`).
     pub fn all_alpha(&self) -> &[Lit] {
         &self.alpha

@@ -1,0 +1,568 @@
+//! Exact synthesis of one minimal ECC from execution scenarios with the basic encoding.
+//!
+//! In: a [`ScenarioTree`] (and the [`ScenarioSet`] it came from, for the final replay) and
+//! [`Options`]. Out: a [`Synthesis`]: the ECC, its size `C, K, T, N`, and figures.
+//!
+//! The procedure is seed 000's Algorithm 1 on seed 004's basic model:
+//! 1. least number of states `C`;
+//! 2. optionally, least largest out-degree `K`;
+//! 3. least number of transitions `T`;
+//! 4. guards with the least total literal count `N`.
+//!
+//! Two guard models ([`GuardModel`]):
+//! - tree-exact (default, `synth infer`): transitions exist only on recorded inputs, `T`
+//!   counts edges `q -> q'` (each with one guard), and guards are minimized per state on the
+//!   fixed structure afterwards ([`super::guards`]); unrecorded inputs are don't-cares;
+//! - cube (`Options::cube_slots`, the main job): guards are conjunctions of literals inside the
+//!   encoding with first-fire priority ([`super::cubes`]), `T` counts transitions and `N` is
+//!   minimized on the same solver, so the machine is determined on every input. Verification
+//!   in the loop needs that: counterexamples run on inputs nobody recorded.
+//!
+//! Negative scenarios ([`super::negative`]) can be added between minimizations
+//! ([`Synthesizer`]).
+//!
+//! Steps 1-3 (and 4 in the cube model) run on *one* incremental [`Solver`]: the encoding is
+//! built for up to `C_max` states with "state in use" variables, and every bound (states, `K`,
+//! `T`, `N`) is a solver assumption on those variables or on totalizer outputs
+//! ([`super::card`]). Only if every `C <= C_max` is unsatisfiable is the encoding rebuilt for a
+//! doubled `C_max`.
+//!
+//! Every machine is replayed through the simulator on every scenario before it is returned;
+//! a mismatch is reported as [`SatError::Bug`].
+
+use super::card::Totalizer;
+use super::decode::{self, Structure};
+use super::solver::{Model, Solver};
+use super::vars::{GuardModel, Vars};
+use super::{constraints, guards, negative, SatError};
+use crate::ecc::{AlgorithmKind, Ecc, Size, State};
+use crate::scenario::negative::NegativeScenario;
+use crate::scenario::tree::{InputVec, ScenarioTree};
+use crate::scenario::ScenarioSet;
+use std::time::{Duration, Instant};
+use varisat::{ExtendFormula, Lit};
+
+/// Settings of a synthesis run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub algorithms: AlgorithmKind,
+    /// Minimize the largest out-degree `K` before `T`.
+    pub minimize_k: bool,
+    /// Give up above this many states.
+    pub max_states: usize,
+    /// State 0 is a start state no transition enters (fbSAT's convention, for comparison).
+    pub start_state: bool,
+    /// Time for guard minimization, over all states; past it the best guards so far are kept.
+    pub guard_budget: Duration,
+    /// `Some(k)`: guards are conjunctions of literals inside the encoding, at most `k`
+    /// transitions per state ([`super::cubes`]); `None`: transitions on recorded inputs only, guards
+    /// minimized afterwards (the tree-exact model).
+    pub cube_slots: Option<usize>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            algorithms: AlgorithmKind::Tri,
+            minimize_k: false,
+            max_states: 32,
+            start_state: false,
+            guard_budget: Duration::from_secs(10),
+            cube_slots: None,
+        }
+    }
+}
+
+/// The result of a synthesis run.
+#[derive(Debug, Clone)]
+pub struct Synthesis {
+    pub ecc: Ecc,
+    pub size: Size,
+    /// Whether `N` is proven minimal for the structure (guard search finished in budget).
+    pub guards_exact: bool,
+    pub stats: Stats,
+}
+
+/// Figures of a run.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Stats {
+    pub tree_nodes: usize,
+    pub distinct_inputs: usize,
+    pub passive_marks: usize,
+    pub variables: usize,
+    pub clauses: usize,
+    pub solver_calls: usize,
+    pub sat_seconds: f64,
+    pub guard_seconds: f64,
+}
+
+/// The incremental solver with the basic encoding for up to `c_max` states, its input
+/// alphabet (the tree's input vectors, then those counterexamples bring) and the assumption
+/// literals that keep it open for more.
+pub(super) struct Encoding {
+    solver: Solver,
+    vars: Vars,
+    total_t: Totalizer,
+    /// Guard literal counter `N`: `Some` exactly in the cube model ([`GuardModel::Cubes`]).
+    total_n: Option<Totalizer>,
+    /// Out-degree counters, one per state (only when minimizing `K`).
+    degree: Vec<Totalizer>,
+    /// Assumption literal "every out-degree <= K", per K, made on demand.
+    k_bounds: Vec<(usize, Lit)>,
+    /// `sel[u]` of [`constraints::no_unexercised_transitions`], per tree input.
+    sel: Vec<Lit>,
+    /// Open tails of the edge definitions, assumed false.
+    tails: Vec<Lit>,
+    /// Input vectors by alphabet index, and whether a counterexample uses each.
+    alphabet: Vec<Vec<bool>>,
+    in_counterexample: Vec<bool>,
+    start_state: bool,
+    /// Variables and clauses of the encoding as built (bounds made on demand not counted).
+    pub(super) variables: usize,
+    pub(super) clauses: usize,
+    /// Solver calls already counted in the synthesizer's figures.
+    calls_counted: usize,
+}
+
+impl Encoding {
+    pub(super) fn new(tree: &ScenarioTree, c_max: usize, opts: &Options) -> Encoding {
+        let mut solver = Solver::new();
+        let sink = &mut solver;
+        let vars = Vars::new(sink, tree, c_max, opts.cube_slots);
+        // Allocated in both guard models, so that both number their variables alike; only the
+        // tree-exact model constrains them.
+        let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
+        let tails: Vec<Lit> = (0..c_max * c_max).map(|_| sink.new_lit()).collect();
+        constraints::basic(
+            sink,
+            &vars,
+            tree,
+            opts.algorithms,
+            opts.start_state,
+            &sel,
+            &tails,
+        );
+        let (total_t, total_n) = match &vars.guards {
+            GuardModel::Cubes(cv) => (
+                Totalizer::new(sink, cv.all_en(), c_max * cv.slots),
+                Some(Totalizer::new(sink, &cv.all_literals(), 200)),
+            ),
+            GuardModel::TreeExact => (Totalizer::new(sink, vars.all_t(), c_max * c_max), None),
+        };
+        let degree = if opts.minimize_k {
+            (0..c_max)
+                .map(|q| match &vars.guards {
+                    GuardModel::Cubes(cv) => Totalizer::new(sink, cv.en_row(0, q), cv.slots),
+                    GuardModel::TreeExact => Totalizer::new(sink, vars.t_row(q), c_max),
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let stats = solver.stats();
+        Encoding {
+            solver,
+            vars,
+            total_t,
+            total_n,
+            degree,
+            k_bounds: Vec::new(),
+            sel,
+            tails,
+            alphabet: tree.input_vectors.clone(),
+            in_counterexample: vec![false; tree.input_vectors.len()],
+            start_state: opts.start_state,
+            variables: stats.variables,
+            clauses: stats.clauses,
+            calls_counted: 0,
+        }
+    }
+
+    /// Solver calls made since the last time this was asked.
+    fn new_calls(&mut self) -> usize {
+        let calls = self.solver.stats().calls - self.calls_counted;
+        self.calls_counted += calls;
+        calls
+    }
+
+    /// Runs `write` on the solver; adds what it writes to the encoding's size.
+    fn grow_by<T>(&mut self, write: impl FnOnce(&mut Self) -> T) -> T {
+        let before = self.solver.stats();
+        let out = write(self);
+        let after = self.solver.stats();
+        self.variables += after.variables - before.variables;
+        self.clauses += after.clauses - before.clauses;
+        out
+    }
+
+    /// The alphabet index of an input vector used by a counterexample, added if new.
+    fn counterexample_input(&mut self, x: &[bool]) -> InputVec {
+        if let Some(u) = self.alphabet.iter().position(|a| a == x) {
+            self.in_counterexample[u] = true;
+            return InputVec(u);
+        }
+        let u = self.grow_by(|e| {
+            let u = e.vars.add_input(&mut e.solver);
+            constraints::per_input(&mut e.solver, &e.vars, u, x, e.start_state);
+            constraints::extend_edges(&mut e.solver, &e.vars, u, &mut e.tails);
+            u
+        });
+        self.alphabet.push(x.to_vec());
+        self.in_counterexample.push(true);
+        u
+    }
+
+    fn add_negative(&mut self, neg: &NegativeScenario) -> Vec<InputVec> {
+        let ids: Vec<InputVec> = neg
+            .steps
+            .iter()
+            .map(|s| self.counterexample_input(&s.inputs))
+            .collect();
+        self.grow_by(|e| negative::leave_lasso(&mut e.solver, &e.vars, neg, &ids));
+        ids
+    }
+
+    /// Assumptions every call makes: closed edge tails, and "scenario inputs only" selectors.
+    fn base_assumptions(&self) -> Vec<Lit> {
+        let mut a: Vec<Lit> = self.tails.iter().map(|&t| !t).collect();
+        a.extend(
+            self.sel
+                .iter()
+                .zip(&self.in_counterexample)
+                .filter(|(_, &ce)| !ce)
+                .map(|(&s, _)| s),
+        );
+        a
+    }
+
+    fn k_at_most(&mut self, k: usize) -> Lit {
+        if let Some(&(_, l)) = self.k_bounds.iter().find(|(b, _)| *b == k) {
+            return l;
+        }
+        let l = self.solver.new_lit();
+        for tot in &self.degree {
+            if let Some(b) = tot.at_most(k) {
+                self.solver.add_clause(&[!l, b]);
+            }
+        }
+        self.k_bounds.push((k, l));
+        l
+    }
+
+    fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
+        let mut all = self.base_assumptions();
+        all.extend_from_slice(assumptions);
+        self.solver.solve(&all)
+    }
+}
+
+/// Exact synthesis, kept incremental across calls: negative scenarios can be added between
+/// minimizations (CEGIS), and every call continues on the same solver.
+pub struct Synthesizer<'a> {
+    set: &'a ScenarioSet,
+    tree: &'a ScenarioTree,
+    opts: Options,
+    enc: Encoding,
+    /// No machine with fewer states exists (adding constraints never lowers the minimum).
+    c_lo: usize,
+    /// `(c, t)`: with `c` states no machine has fewer than `t` transitions (likewise kept
+    /// across calls, since negative scenarios only remove machines).
+    t_lo: Option<(usize, usize)>,
+    /// `(c, t, n)`: with `c` states and `t` transitions no cube guards have fewer than `n`
+    /// literals (cube model).
+    n_lo: Option<(usize, usize, usize)>,
+    negatives: Vec<NegativeScenario>,
+    /// Alphabet indices of the steps of each negative scenario in the current encoding
+    /// (`None`: it cannot be followed at all, its first outputs are not the initial ones).
+    negative_ids: Vec<Option<Vec<InputVec>>>,
+    stats: Stats,
+}
+
+impl<'a> Synthesizer<'a> {
+    pub fn new(set: &'a ScenarioSet, tree: &'a ScenarioTree, opts: &Options) -> Synthesizer<'a> {
+        let c_max = opts.max_states.clamp(1, 8);
+        let enc = Encoding::new(tree, c_max, opts);
+        let stats = Stats {
+            tree_nodes: tree.nodes.len(),
+            distinct_inputs: tree.input_vectors.len(),
+            passive_marks: tree.passive_marks(),
+            variables: enc.variables,
+            clauses: enc.clauses,
+            ..Stats::default()
+        };
+        Synthesizer {
+            set,
+            tree,
+            opts: opts.clone(),
+            enc,
+            c_lo: 1,
+            t_lo: None,
+            n_lo: None,
+            negatives: Vec::new(),
+            negative_ids: Vec::new(),
+            stats,
+        }
+    }
+
+    /// Starts the search at known lower bounds: no machine has fewer than `c` states, and none
+    /// with `c` states has fewer than `t` transitions. The caller vouches for them, e.g. with
+    /// the minimum of the tree-exact model, which bounds the cube model from below: restricting
+    /// a cube machine to the recorded inputs gives a tree-exact machine with the same states and
+    /// no more edges.
+    pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
+        self.c_lo = self.c_lo.max(c);
+        self.t_lo = Some((c, t));
+    }
+
+    /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
+    pub fn add_negative(&mut self, neg: NegativeScenario) {
+        let (v0, c0) = (self.enc.variables, self.enc.clauses);
+        let ids = (neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs))
+            .then(|| self.enc.add_negative(&neg));
+        self.negative_ids.push(ids);
+        self.stats.variables += self.enc.variables - v0;
+        self.stats.clauses += self.enc.clauses - c0;
+        self.negatives.push(neg);
+    }
+
+    pub fn negatives(&self) -> &[NegativeScenario] {
+        &self.negatives
+    }
+
+    /// Rebuilds the encoding for a larger window of states, with every negative scenario.
+    fn grow(&mut self, c_max: usize) {
+        self.enc = Encoding::new(self.tree, c_max, &self.opts);
+        self.stats.variables += self.enc.variables;
+        self.stats.clauses += self.enc.clauses;
+        for (neg, ids) in self.negatives.iter().zip(self.negative_ids.iter_mut()) {
+            if ids.is_some() {
+                *ids = Some(self.enc.add_negative(neg));
+            }
+        }
+    }
+
+    /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards.
+    pub fn minimize(&mut self, progress: &mut dyn FnMut(&str)) -> Result<Synthesis, SatError> {
+        let t0 = Instant::now();
+        let opts = self.opts.clone();
+        // 1. least C, growing the encoding window when exhausted.
+        let (c, mut model) = loop {
+            let c_max = self.enc.vars.c_max;
+            let (nodes, inputs) = (self.tree.nodes.len(), self.enc.alphabet.len());
+            let negatives = self.negatives.len();
+            let base = self.enc.base_assumptions();
+            let vars = &self.enc.vars;
+            let found = self.enc.solver.ascend(
+                self.c_lo..=c_max,
+                |c| base.iter().copied().chain(vars.states_at_most(c)).collect(),
+                |c| {
+                    progress(&format!(
+                        "trying C = {c} ({nodes} tree nodes, {inputs} inputs, {negatives} negative scenarios)"
+                    ))
+                },
+            );
+            // No machine with fewer states than the least satisfiable bound (or than the window).
+            self.c_lo = found.as_ref().map_or(self.c_lo.max(c_max + 1), |(c, _)| *c);
+            match found {
+                Some(f) => break f,
+                None if c_max >= opts.max_states => {
+                    return Err(SatError::TooManyStates {
+                        max_states: opts.max_states,
+                    })
+                }
+                None => {
+                    let next = (c_max * 2).min(opts.max_states);
+                    progress(&format!("re-encoding for up to {next} states"));
+                    self.grow(next);
+                }
+            }
+        };
+        let enc = &mut self.enc;
+        let tree = self.tree;
+        let indexed: Vec<decode::IndexedNegative> = self
+            .negatives
+            .iter()
+            .zip(&self.negative_ids)
+            .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
+            .collect();
+        let decode_with = |m: &Model, vars: &Vars, alphabet: &[Vec<bool>]| {
+            Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed)
+        };
+        let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
+        let mut base: Vec<Lit> = enc.vars.states_at_most(c).into_iter().collect();
+        let mut structure = decode(&model, enc);
+        progress(&format!(
+            "C = {c} is minimal; first machine has K = {}, T = {}",
+            structure.max_out_degree(),
+            structure.transition_count()
+        ));
+
+        // 2. least K (optional).
+        if opts.minimize_k {
+            let mut k = structure.max_out_degree();
+            while k > 0 {
+                let l = enc.k_at_most(k - 1);
+                let assume: Vec<Lit> = base.iter().copied().chain([l]).collect();
+                progress(&format!("trying K = {}", k - 1));
+                match enc.solve(&assume) {
+                    Some(m) => {
+                        model = m;
+                        structure = decode(&model, enc);
+                        k = structure.max_out_degree();
+                    }
+                    None => break,
+                }
+            }
+            let l = enc.k_at_most(k);
+            base.push(l);
+            progress(&format!("K = {k} is minimal"));
+        }
+
+        // 3. least T. With a lower bound from an earlier call (same C, no K bound), search
+        // upwards from it: every bound below it is already known to be unsatisfiable.
+        let mut t = structure.transition_count();
+        let mut base_t = enc.base_assumptions();
+        base_t.extend_from_slice(&base);
+        match self.t_lo {
+            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t => {
+                let mut bound = lo;
+                while bound < t {
+                    let Some(b) = enc.total_t.at_most(bound) else {
+                        break;
+                    };
+                    progress(&format!("trying T = {bound}"));
+                    let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+                    if let Some(m) = enc.solve(&assume) {
+                        structure = decode(&m, enc);
+                        t = structure.transition_count();
+                        break;
+                    }
+                    bound += 1;
+                }
+            }
+            _ => {
+                let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
+                t = enc.solver.descend(
+                    &base_t,
+                    t,
+                    0,
+                    |b| total_t.at_most(b),
+                    |b| progress(&format!("trying T = {b}")),
+                    |m| {
+                        structure = decode_with(&m, vars, alphabet);
+                        structure.transition_count()
+                    },
+                );
+            }
+        }
+        if !opts.minimize_k {
+            self.t_lo = Some((c, t));
+        }
+        progress(&format!("T = {t} is minimal"));
+        self.stats.solver_calls += enc.new_calls();
+        self.stats.sat_seconds = t0.elapsed().as_secs_f64();
+
+        // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
+        // state on the fixed structure.
+        let tg = Instant::now();
+        let mut exact = true;
+        let states: Vec<State> = match &enc.total_n {
+            Some(total_n) => {
+                let n = structure.literal_count();
+                let start = match self.n_lo {
+                    Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
+                    _ => 0,
+                };
+                // Descend from the current N; stop at the known lower bound.
+                base_t.extend(enc.total_t.at_most(t));
+                let (vars, alphabet) = (&enc.vars, &enc.alphabet);
+                let n = enc.solver.descend(
+                    &base_t,
+                    n,
+                    start,
+                    |b| total_n.at_most(b),
+                    |b| progress(&format!("trying N = {b}")),
+                    |m| {
+                        structure = decode_with(&m, vars, alphabet);
+                        structure.literal_count()
+                    },
+                );
+                self.n_lo = Some((c, t, n));
+                // Decoded with the cube model's slots: one list of transitions per state.
+                let transitions = structure.cube_transitions.clone().unwrap_or_default();
+                (0..structure.c)
+                    .zip(transitions)
+                    .map(|(q, transitions)| State {
+                        name: format!("s{q}"),
+                        algorithm: structure.algorithms[q].clone(),
+                        transitions,
+                    })
+                    .collect()
+            }
+            None => {
+                let (states, all_exact) =
+                    guards::all_states(&structure, tree, tg + opts.guard_budget);
+                exact = all_exact;
+                states
+            }
+        };
+        self.stats.guard_seconds = tg.elapsed().as_secs_f64();
+        let ecc = Ecc {
+            inputs: self.set.inputs.clone(),
+            outputs: self.set.outputs.clone(),
+            initial_outputs: self.set.initial_outputs.clone(),
+            states,
+        };
+        ecc.validate().map_err(SatError::Bug)?;
+        self.set
+            .check(&ecc)
+            .map_err(|m| SatError::Bug(format!("the synthesized ECC does not replay {m}")))?;
+        if let Some(neg) = self.negatives.iter().find(|n| n.followed_by(&ecc)) {
+            return Err(SatError::Bug(format!(
+                "the synthesized ECC follows the negative scenario {}",
+                neg.label
+            )));
+        }
+        let size = ecc.size();
+        progress(&format!(
+            "guards: N = {}{}",
+            size.n,
+            if exact {
+                " (minimal)"
+            } else {
+                " (budget reached, not proven minimal)"
+            }
+        ));
+        Ok(Synthesis {
+            ecc,
+            size,
+            guards_exact: exact,
+            stats: self.stats.clone(),
+        })
+    }
+}
+
+/// Synthesizes a minimal ECC reproducing every scenario of `set`.
+/// `progress` receives one line per step of the search.
+pub fn synthesize(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    opts: &Options,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Synthesis, SatError> {
+    Synthesizer::new(set, tree, opts).minimize(progress)
+}
+
+/// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.
+/// The building block of the minimization loops, exposed for tests of known minima.
+pub fn satisfiable(tree: &ScenarioTree, opts: &Options, c: usize, t: Option<usize>) -> bool {
+    let mut enc = Encoding::new(tree, c.max(1), opts);
+    let mut assume: Vec<Lit> = Vec::new();
+    if c == 0 {
+        return false;
+    }
+    if let Some(t) = t {
+        assume.extend(enc.total_t.at_most(t));
+    }
+    enc.solve(&assume).is_some()
+}
