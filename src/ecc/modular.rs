@@ -1,4 +1,4 @@
-//! Modular controllers (seed 000, section V): `M` ECCs that share the input event and split the
+//! Modular controllers (the SAT reconstruction paper, section V): `M` ECCs that share the input event and split the
 //! outputs among them.
 //!
 //! In: module ECCs, each over a subset of the composite's inputs and owning a subset of its
@@ -37,7 +37,7 @@ pub struct Modular {
     pub modules: Vec<Module>,
 }
 
-/// Size figures of a modular controller, as seed 000 minimizes them.
+/// Size figures of a modular controller, as the SAT reconstruction paper minimizes them.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, serde::Serialize)]
 pub struct ModularSize {
     /// States of the largest module.

@@ -3,7 +3,7 @@
 //! In: a [`ScenarioTree`] (and the [`ScenarioSet`] it came from, for the final replay) and
 //! [`Options`]. Out: a [`Synthesis`]: the ECC, its size `C, K, T, N`, and figures.
 //!
-//! The procedure is seed 000's Algorithm 1 on seed 004's basic model:
+//! The procedure is the SAT reconstruction paper's Algorithm 1 on the metaheuristic paper's basic model:
 //! 1. least number of states `C`;
 //! 2. optionally, least largest out-degree `K`;
 //! 3. least number of transitions `T`;

@@ -3,11 +3,11 @@
 //! code), then those of the basic ECC encoding.
 //!
 //! Together the basic families say: the nodes of the scenario tree are coloured with states so
-//! that merging nodes of one colour gives a deterministic ECC (seed 000, section IV.B; seed
+//! that merging nodes of one colour gives a deterministic ECC (the SAT reconstruction paper, section IV.B; seed
 //! 004's basic model) that reproduces every scenario. Each function writes into any clause sink
 //! ([`ExtendFormula`]), so tests can inspect a [`varisat::CnfFormula`] while production writes
 //! straight into the solver. Notation: `c[v,q]` colour, `y[q,u,q']` transition, `⊥` none,
-//! `a0/a1[q,z]` algorithm, `t[q,q']` edge, `p[j,i]` BFS parent; for a module (seed 000,
+//! `a0/a1[q,z]` algorithm, `t[q,q']` edge, `p[j,i]` BFS parent; for a module (the SAT reconstruction paper,
 //! section V) `θ[z]` "owns output `z`" and `fired[w]` "fires on the tree edge into `w`".
 
 use super::cubes;
@@ -132,7 +132,7 @@ pub fn algorithms(
 /// - `used[j] -> OR_{i<j} p[j,i]` for `j >= 1`;
 /// - `p[j,i] -> !p[j+1,k]` for `k < i` (parents are non-decreasing).
 ///
-/// A module may leave states unused (seed 000, section V.D): `p[j,i] -> used[j]`, and state 0
+/// A module may leave states unused (the SAT reconstruction paper, section V.D): `p[j,i] -> used[j]`, and state 0
 /// has no parent.
 ///
 /// Sound because every used state is reachable from state 0: each colour labels a tree node,

@@ -1,9 +1,9 @@
 //! The cube-guard model: guards inside the encoding, for one ECC (the basic encoding with
-//! `Options::cube_slots`) or for every module of a modular controller (seed 000, section V).
+//! `Options::cube_slots`) or for every module of a modular controller (the SAT reconstruction paper, section V).
 //!
 //! In the tree-exact model the solver decides transitions only on recorded input vectors and
 //! guards are minimized afterwards, so behaviour on unrecorded inputs is outside the solver.
-//! Closed-loop verification exercises exactly those inputs. Here, as in seed 000's modular
+//! Closed-loop verification exercises exactly those inputs. Here, as in the SAT reconstruction paper's modular
 //! synthesis, every state has `K` ordered transition slots, each a target and a guard that is a
 //! conjunction of literals over the inputs; the first slot whose guard holds fires. In the basic
 //! encoding the transition function `y` on every input vector of the alphabet is *derived* from

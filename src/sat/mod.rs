@@ -26,7 +26,7 @@
 //! - [`basic`], [`noisy`], [`modular`]: the three encodings' minimization loops.
 //!
 //! # References
-//! - Seed 000 (the project's seed paper, see the README): Algorithm 1, noisy traces (section
+//! - The SAT reconstruction paper (the project's seed paper, see the README): Algorithm 1, noisy traces (section
 //!   IV), modular synthesis (section V).
 //! - V. Ulyantsev, I. Zakirzyanov, A. Shalyto. BFS-based symmetry breaking predicates for DFA
 //!   identification. LATA 2015 (the BFS families).

@@ -1,4 +1,4 @@
-//! Synthesis from noisy traces: seed 000, section IV (trace graph, alternative edges,
+//! Synthesis from noisy traces: the SAT reconstruction paper, section IV (trace graph, alternative edges,
 //! Algorithm 1).
 //!
 //! In: a [`ScenarioSet`] whose recordings may carry scan-cycle skew, laid out as a
@@ -155,7 +155,7 @@ fn edges_into(graph: &TraceGraph, e: &[Lit], w: NodeId) -> Vec<(InputVec, Option
     }
 }
 
-/// Selected active edges become transitions (seed 000, IV.B), in a compact form of the seed's
+/// Selected active edges become transitions (the SAT reconstruction paper, IV.B), in a compact form of the seed's
 /// `c[u,n1] & c[v,n2] & e_{u,v,g} -> y[n1,g,n2]`:
 /// - `c[p,q] & sel -> !y[q,g,⊥]` (something fires), and
 /// - `c[p,q] & sel & y[q,g,q'] -> c[w,q']` (and it enters the child's colour),
@@ -319,7 +319,7 @@ fn decode(model: &Model, vars: &Vars, graph: &TraceGraph, kind: AlgorithmKind) -
     Structure::decode(model, vars, tree, kind, &tree.input_vectors, &[])
 }
 
-/// Seed 000's Algorithm 1 on `set`. `accept` sees every candidate as it is found (e.g. to
+/// The SAT reconstruction paper's Algorithm 1 on `set`. `accept` sees every candidate as it is found (e.g. to
 /// check it with a model checker) and may stop the enumeration; `progress` receives one line
 /// per step of the search.
 pub fn synthesize_noisy(

@@ -37,7 +37,7 @@ pub struct Coloring<'a> {
 pub enum Scope<'a> {
     /// The whole controller: it owns every output and fires on every active step.
     Whole,
-    /// A module (seed 000, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
+    /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
     /// with `reads[x]` (α) and fires on the tree edge into `v` iff `fires[v]`.
     Module {
         owns: &'a [Lit],

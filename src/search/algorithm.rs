@@ -9,7 +9,7 @@
 //! the best child replaces the parent when it is at least as fit (neutral moves let the search
 //! drift across plateaus). A child's verification terms are computed by NuSMV with
 //! probability `p`, always when its scenario part exceeds 99% of the maximum, and otherwise
-//! inherited from its parent (seed 001, section III.B).
+//! inherited from its parent (the verification-in-the-loop paper, section III.B).
 //!
 //! Determinism: every colony has its own ChaCha generator seeded from `(seed, colony)`, the
 //! colonies run `generations_per_round` generations independently (in parallel on rayon),
@@ -53,12 +53,12 @@ pub struct Config {
     pub verify_probability: f64,
     /// Share of the scenario part's maximum above which a child is always verified.
     pub verify_threshold: f64,
-    /// Seed 001's `λ`: weight added per counterexample visit of a transition.
+    /// The verification-in-the-loop paper's `λ`: weight added per counterexample visit of a transition.
     pub counterexample_weight: f64,
     /// Probability that "add or delete transitions" touches a state.
     pub add_delete_probability: f64,
     /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
-    /// verdicts: those properties fail, the rest inherited), beyond seed 001.
+    /// verdicts: those properties fail, the rest inherited), beyond the verification-in-the-loop paper.
     pub replay_counterexamples: bool,
     pub seed: u64,
     /// Worker threads (rayon).
@@ -235,7 +235,7 @@ impl Colony<'_> {
                     &data.initial_outputs,
                     &self.eval.algorithms(),
                 );
-                // Beyond seed 001: a child that still follows a counterexample this colony
+                // Beyond the verification-in-the-loop paper: a child that still follows a counterexample this colony
                 // has seen violates that property for sure; NuSMV would only repeat it.
                 // Only with inherited verdicts: they say how many properties there are.
                 let followed: Vec<&NegativeScenario> =

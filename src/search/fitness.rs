@@ -1,5 +1,5 @@
 //! The fitness function: `F = c1·F_ed + c2·F_fe + c3·F_sc + c4·F_sat + c5·F_ce`
-//! (seed 004, section IV.F; seed 001, section III.B).
+//! (the metaheuristic paper, section IV.F; the verification-in-the-loop paper, section III.B).
 //!
 //! In: the scenarios, precomputed once into [`ScenarioData`] ([`super::data`]), a [`Machine`],
 //! and for the verification terms the [`Verdicts`] of NuSMV.
@@ -14,7 +14,7 @@
 //!   state other than the current one (the seeds want fewer; they give no normalization).
 //!
 //! The verification terms: `F_sat` = share of properties that hold; `F_ce = 1` when all hold,
-//! else `1 - 1/(1 + l/10)^(1/10)` with `l` the longest counterexample (seed 001).
+//! else `1 - 1/(1 + l/10)^(1/10)` with `l` the longest counterexample (the verification-in-the-loop paper).
 //!
 //! [`Evaluator::evaluate`] is the hot loop: it labels the states and replays every scenario on
 //! buffers it owns, so an evaluation allocates nothing once the buffers have grown.
@@ -73,7 +73,7 @@ impl Verdicts {
         }
     }
 
-    /// `F_ce` of seed 001.
+    /// `F_ce` of the verification-in-the-loop paper.
     pub fn f_ce(&self) -> f64 {
         f_ce(if self.all_hold() {
             0
@@ -83,7 +83,7 @@ impl Verdicts {
     }
 }
 
-/// Seed 001: `1` for `l_max = 0`, else `1 - 1/(1 + l_max/10)^(1/10)`, increasing in `l_max`.
+/// The verification-in-the-loop paper: `1` for `l_max = 0`, else `1 - 1/(1 + l_max/10)^(1/10)`, increasing in `l_max`.
 pub fn f_ce(l_max: usize) -> f64 {
     if l_max == 0 {
         1.0
@@ -103,7 +103,7 @@ pub struct Weights {
 }
 
 impl Default for Weights {
-    /// Seed 004's `0.9, 0.1, 0.0001`. Seed 001 gives no values for `c4, c5`, only that every
+    /// The metaheuristic paper's `0.9, 0.1, 0.0001`. The verification-in-the-loop paper gives no values for `c4, c5`, only that every
     /// ECC above `1.1` satisfies everything; `c4 = 0.1, c5 = 0.01` put a machine with all
     /// properties (`F_sat = F_ce = 1`) above every machine with a violated one once the
     /// scenarios are reproduced.

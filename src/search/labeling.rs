@@ -1,4 +1,4 @@
-//! State labeling (seed 004, section IV.E): the `{0,1,x}` algorithm of every state, deduced
+//! State labeling (the metaheuristic paper, section IV.E): the `{0,1,x}` algorithm of every state, deduced
 //! from the scenarios for a given transition structure.
 //!
 //! In: a [`Machine`] and the precomputed [`ScenarioData`]. Out: one algorithm per state.

@@ -1,4 +1,4 @@
-//! The search's representation of an ECC (seed 004, section IV.B): states with transition
+//! The search's representation of an ECC (the metaheuristic paper, section IV.B): states with transition
 //! groups.
 //!
 //! In: nothing but sizes and a random generator, or an [`Ecc`] whose guards are conjunctions.

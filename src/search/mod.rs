@@ -1,4 +1,4 @@
-//! Search-based synthesis (seeds 004 and 001): a metaheuristic that evolves ECCs against the
+//! Search-based synthesis (the metaheuristic and verification-in-the-loop papers): a metaheuristic that evolves ECCs against the
 //! scenarios and, with properties, against NuSMV's verdicts.
 //!
 //! In: a [`ScenarioSet`](crate::scenario::ScenarioSet) (precomputed into
@@ -12,7 +12,7 @@
 //! - [`data`]: the scenarios precomputed into flat bit-mask arrays;
 //! - [`labeling`]: the `{0,1,x}` state algorithms from the scenarios;
 //! - [`fitness`]: the fitness terms and the allocation-free evaluator (labels with `labeling`);
-//! - [`operators`]: the four mutations of seed 004 and seed 001's counterexample-weighted one;
+//! - [`operators`]: the four mutations of the metaheuristic paper and the verification-in-the-loop paper's counterexample-weighted one;
 //! - [`oracle`]: verdicts from NuSMV through [`crate::verify::verify`], cached by machine;
 //! - [`algorithm`]: the parallel `(1+λ)` colonies sharing their best, seeded and repeatable.
 //!

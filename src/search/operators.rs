@@ -1,5 +1,5 @@
-//! Mutation operators: the four of seed 004 (section IV.D) and the verification-aware one of
-//! seed 001 (section III.C).
+//! Mutation operators: the four of the metaheuristic paper (section IV.D) and the verification-aware one of
+//! the verification-in-the-loop paper (section III.C).
 //!
 //! In: a [`Machine`], a random generator, and for the weighted operator the input vectors of
 //! the parent's counterexamples. Out: the machine changed in place; every operator returns
@@ -24,7 +24,7 @@ pub enum Operator {
     SwapSignificance,
     /// A group gains a significant input (table doubled) or loses one (table halved).
     ResizeSignificance,
-    /// Seed 001: a transition chosen by counterexample-weighted roulette gets another target.
+    /// The verification-in-the-loop paper: a transition chosen by counterexample-weighted roulette gets another target.
     WeightedChangeTarget,
 }
 
@@ -37,7 +37,7 @@ fn other_state(rng: &mut impl Rng, states: usize, old: StateId) -> Option<StateI
     Some(StateId(if t >= old.0 { t + 1 } else { t }))
 }
 
-/// Seed 004, "change transition end state".
+/// The metaheuristic paper, "change transition end state".
 pub fn change_target(rng: &mut impl Rng, m: &mut Machine) -> bool {
     let all = m.transitions();
     if all.is_empty() {
@@ -58,7 +58,7 @@ fn retarget(rng: &mut impl Rng, m: &mut Machine, t: TransitionRef) -> bool {
     }
 }
 
-/// Seed 004, "add or delete transitions": each state is touched with probability `p` (at
+/// The metaheuristic paper, "add or delete transitions": each state is touched with probability `p` (at
 /// least one state always is). In a uniformly chosen group of the state, either an absent
 /// entry gets a uniformly chosen target, or a present entry is deleted; the choice is a fair
 /// coin unless only one of them is possible.
@@ -129,7 +129,7 @@ fn reindex(
     table
 }
 
-/// Seed 004, "change significance mask": in a uniformly chosen group with at least one
+/// The metaheuristic paper, "change significance mask": in a uniformly chosen group with at least one
 /// transition, a significant input `i` and an insignificant `j` swap roles; every entry keeps
 /// its target, now under `x_j` where it was under `x_i`.
 pub fn swap_significance(rng: &mut impl Rng, m: &mut Machine) -> bool {
@@ -164,7 +164,7 @@ pub fn swap_significance(rng: &mut impl Rng, m: &mut Machine) -> bool {
     true
 }
 
-/// Seed 004, "change significant variables set": a uniformly chosen group gains an input
+/// The metaheuristic paper, "change significant variables set": a uniformly chosen group gains an input
 /// (each old entry is copied for `x_i = 0` and `x_i = 1`; at most `max_vars` significant) or
 /// loses one (of each pair of entries that merge, the `x_i = 0` one is kept when the number of
 /// transitions kept so far is even, else the `x_i = 1` one).
@@ -253,7 +253,7 @@ pub fn visited(m: &Machine, xs: &[u32]) -> Vec<TransitionRef> {
     out
 }
 
-/// Seed 001's transition weights: 1 for every present entry, plus `lambda` per visit by a
+/// The verification-in-the-loop paper's transition weights: 1 for every present entry, plus `lambda` per visit by a
 /// replayed counterexample. In [`Machine::transitions`] order.
 pub fn weights(
     m: &Machine,
@@ -284,7 +284,7 @@ pub fn roulette(rng: &mut impl Rng, w: &[f64]) -> usize {
     w.len() - 1
 }
 
-/// Seed 001's verification-aware mutation: a transition picked by [`roulette`] over
+/// The verification-in-the-loop paper's verification-aware mutation: a transition picked by [`roulette`] over
 /// [`weights`] gets another target.
 pub fn weighted_change_target(
     rng: &mut impl Rng,

@@ -105,7 +105,7 @@ mod tests {
     use std::path::Path;
     use std::time::Duration;
 
-    /// Seed 001's setting: one Pick-and-Place scenario (a piece on track 1) and its three
+    /// The verification-in-the-loop paper's setting: one Pick-and-Place scenario (a piece on track 1) and its three
     /// properties. SAT's machine for the scenario alone is the start; the search must make
     /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
     #[test]

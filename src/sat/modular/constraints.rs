@@ -1,4 +1,4 @@
-//! The constraint families of the modular encoding (seed 000, section V), one function each.
+//! The constraint families of the modular encoding (the SAT reconstruction paper, section V), one function each.
 //!
 //! Together they say: every tree node gets one colour per module, so that each module's
 //! colouring is the run of a deterministic ECC with conjunctive guards over the module's inputs

@@ -1,4 +1,4 @@
-//! Exact synthesis of a modular controller (seed 000, section V) with SAT.
+//! Exact synthesis of a modular controller (the SAT reconstruction paper, section V) with SAT.
 //!
 //! In: a [`ScenarioSet`], its [`ScenarioTree`] and [`ModularOptions`] (number of modules `M`,
 //! transition slots `K` per state, outputs pinned to modules). Out: a [`ModularSynthesis`]:
