@@ -1,8 +1,8 @@
 //! Reading a satisfying assignment back as an ECC *structure*: the colouring, the transition
 //! function on observed inputs, and the algorithms. Guards are made from it in [`super::guards`].
 
-use super::cubes::CubeVars;
 use super::solver::Model;
+use super::vars::CubeVars;
 use super::vars::{GuardModel, Vars};
 use crate::ecc::{Algorithm, AlgorithmKind, Guard, InputId, StateId, Transition, Tri};
 use crate::scenario::negative::NegativeScenario;

@@ -6,7 +6,6 @@
 //! [`NodeId`], input vectors `u` as [`InputVec`], outputs `z` 0-based. The "no transition"
 //! target is written `⊥` in the doc comments and stored at index `C_max` of the target axis.
 
-use super::cubes::CubeVars;
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
 
@@ -222,5 +221,129 @@ impl Vars {
     /// `t[q][·]`, for counting the out-degree of `q`.
     pub fn t_row(&self, q: usize) -> &[Lit] {
         &self.t[q * self.c_max..(q + 1) * self.c_max]
+    }
+}
+
+/// Variables of the cube-guard model of `machines` machines: per machine `m` and state `q`,
+/// `slots` ordered transition slots, each with a target and a guard that is a conjunction of
+/// literals over the `bits` input variables; per input vector `u`, which slots fire.
+///
+/// Layout: machine-major everywhere. The per-input variables of several machines are allocated
+/// at once ([`Self::add_inputs`]); only a single machine's alphabet grows one vector at a time.
+#[derive(Debug, Clone)]
+pub struct CubeVars {
+    pub machines: usize,
+    pub c_max: usize,
+    pub slots: usize,
+    pub bits: usize,
+    /// Input vectors allocated so far.
+    vectors: usize,
+    /// `en[m][q][k]`: slot `k` of state `q` holds a transition.
+    en: Vec<Lit>,
+    /// `tgt[m][q][k][q']`: its target.
+    tgt: Vec<Lit>,
+    /// `pos[m][q][k][x]` / `neg[m][q][k][x]`: its guard contains `x` / `!x`.
+    pos: Vec<Lit>,
+    neg: Vec<Lit>,
+    /// `fire[m][u][q][k]`: the guard holds on `u`.
+    fire: Vec<Lit>,
+    /// `nf[m][u][q][k]`, `k in 0..=K`: no slot before `k` fires on `u`.
+    nf: Vec<Lit>,
+}
+
+impl CubeVars {
+    /// The slot variables; per-input variables come with [`Self::add_inputs`].
+    pub fn new(
+        f: &mut impl ExtendFormula,
+        machines: usize,
+        c_max: usize,
+        slots: usize,
+        bits: usize,
+    ) -> CubeVars {
+        let n = machines * c_max * slots;
+        CubeVars {
+            machines,
+            c_max,
+            slots,
+            bits,
+            vectors: 0,
+            en: alloc(f, n),
+            tgt: alloc(f, n * c_max),
+            pos: alloc(f, n * bits),
+            neg: alloc(f, n * bits),
+            fire: Vec::new(),
+            nf: Vec::new(),
+        }
+    }
+
+    /// Allocates `fire` and then `nf` of `count` more input vectors, for every machine.
+    pub fn add_inputs(&mut self, f: &mut impl ExtendFormula, count: usize) {
+        debug_assert!(
+            self.machines == 1 || self.vectors == 0,
+            "machine-major layout"
+        );
+        let per = self.machines * count * self.c_max;
+        self.fire.extend(alloc(f, per * self.slots));
+        self.nf.extend(alloc(f, per * (self.slots + 1)));
+        self.vectors += count;
+    }
+
+    fn slot(&self, m: usize, q: usize, k: usize) -> usize {
+        (m * self.c_max + q) * self.slots + k
+    }
+    fn at(&self, m: usize, u: InputVec, q: usize) -> usize {
+        (m * self.vectors + u.0) * self.c_max + q
+    }
+    pub fn en(&self, m: usize, q: usize, k: usize) -> Lit {
+        self.en[self.slot(m, q, k)]
+    }
+    pub fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
+        self.tgt[self.slot(m, q, k) * self.c_max + t]
+    }
+    pub fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+        self.pos[self.slot(m, q, k) * self.bits + x]
+    }
+    pub fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+        self.neg[self.slot(m, q, k) * self.bits + x]
+    }
+    pub fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.fire[self.at(m, u, q) * self.slots + k]
+    }
+    /// `k in 0..=K`; `nf[.., K]` says that nothing fires.
+    pub fn nf(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.nf[self.at(m, u, q) * (self.slots + 1) + k]
+    }
+    /// Every `en`, for counting transitions.
+    pub fn all_en(&self) -> &[Lit] {
+        &self.en
+    }
+    /// `en[m][q][·]`, for counting the out-degree of `q`.
+    pub fn en_row(&self, m: usize, q: usize) -> &[Lit] {
+        let s = self.slot(m, q, 0);
+        &self.en[s..s + self.slots]
+    }
+    /// Every guard literal, for counting `N`.
+    pub fn all_literals(&self) -> Vec<Lit> {
+        self.pos.iter().chain(&self.neg).copied().collect()
+    }
+    /// The literals of slot `k` of state `q` of machine `m` as a conjunction, read from a model.
+    pub(crate) fn cube(
+        &self,
+        model: &super::solver::Model,
+        m: usize,
+        q: usize,
+        k: usize,
+    ) -> Vec<(usize, bool)> {
+        (0..self.bits)
+            .filter_map(|x| {
+                if model.value(self.pos(m, q, k, x)) {
+                    Some((x, true))
+                } else if model.value(self.neg(m, q, k, x)) {
+                    Some((x, false))
+                } else {
+                    None
+                }
+            })
+            .collect()
     }
 }

@@ -7,7 +7,7 @@
 //! paper's names are kept where they exist (θ, α, `f`, `nf`, `uc`, `tr`, `p`). Each module's
 //! colouring is a [`Coloring`] view, its guards are the module's part of one [`CubeVars`].
 
-use crate::sat::cubes::CubeVars;
+use crate::sat::vars::CubeVars;
 use crate::sat::vars::{alloc, Coloring, Scope};
 use crate::scenario::tree::{NodeId, ScenarioTree};
 use varisat::{ExtendFormula, Lit};
