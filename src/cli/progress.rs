@@ -36,7 +36,7 @@ impl Progress {
 /// One line for an event.
 pub fn describe(e: &Event<'_>) -> String {
     match e {
-        Event::Solver(m) => m.to_string(),
+        Event::Solver(step) => step.to_string(),
         Event::LowerBounds { c, t, seconds } => format!(
             "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
         ),

@@ -70,7 +70,7 @@ impl Check {
 #[derive(Debug)]
 pub enum Event<'a> {
     /// A step inside a SAT minimization (solver-level detail, for verbose output).
-    Solver(&'a str),
+    Solver(crate::sat::Step),
     /// The exact loop's lower bounds, from the recorded inputs alone.
     LowerBounds { c: usize, t: usize, seconds: f64 },
     /// One candidate of the exact loop, verified by NuSMV.

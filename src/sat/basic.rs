@@ -36,6 +36,7 @@ use super::solver::{Model, Solver};
 use super::vars::{GuardModel, Vars};
 use super::{constraints, guards, negative, SatError};
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
+use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::ScenarioSet;
@@ -342,7 +343,7 @@ impl<'a> Synthesizer<'a> {
     }
 
     /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards.
-    pub fn minimize(&mut self, progress: &mut dyn FnMut(&str)) -> Result<Synthesis, SatError> {
+    pub fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
         let t0 = Instant::now();
         let opts = self.opts.clone();
         // 1. least C, growing the encoding window when exhausted.
@@ -356,9 +357,12 @@ impl<'a> Synthesizer<'a> {
                 self.c_lo..=c_max,
                 |c| base.iter().copied().chain(vars.states_at_most(c)).collect(),
                 |c| {
-                    progress(&format!(
-                        "trying C = {c} ({nodes} tree nodes, {inputs} inputs, {negatives} negative scenarios)"
-                    ))
+                    progress(Step::TryingStates {
+                        c,
+                        tree_nodes: nodes,
+                        inputs,
+                        negatives,
+                    })
                 },
             );
             // No machine with fewer states than the least satisfiable bound (or than the window).
@@ -372,7 +376,10 @@ impl<'a> Synthesizer<'a> {
                 }
                 None => {
                     let next = (c_max * 2).min(opts.max_states);
-                    progress(&format!("re-encoding for up to {next} states"));
+                    progress(Step::Reencoding {
+                        states: next,
+                        per_module: false,
+                    });
                     self.grow(next);
                 }
             }
@@ -391,11 +398,11 @@ impl<'a> Synthesizer<'a> {
         let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
         let mut base: Vec<Lit> = enc.vars.states_at_most(c).into_iter().collect();
         let mut structure = decode(&model, enc);
-        progress(&format!(
-            "C = {c} is minimal; first machine has K = {}, T = {}",
-            structure.max_out_degree(),
-            structure.transition_count()
-        ));
+        progress(Step::StatesMinimal {
+            c,
+            k: structure.max_out_degree(),
+            t: structure.transition_count(),
+        });
 
         // 2. least K (optional).
         if opts.minimize_k {
@@ -403,7 +410,10 @@ impl<'a> Synthesizer<'a> {
             while k > 0 {
                 let l = enc.k_at_most(k - 1);
                 let assume: Vec<Lit> = base.iter().copied().chain([l]).collect();
-                progress(&format!("trying K = {}", k - 1));
+                progress(Step::Trying {
+                    bound: Bound::K,
+                    value: k - 1,
+                });
                 match enc.solve(&assume) {
                     Some(m) => {
                         model = m;
@@ -415,7 +425,10 @@ impl<'a> Synthesizer<'a> {
             }
             let l = enc.k_at_most(k);
             base.push(l);
-            progress(&format!("K = {k} is minimal"));
+            progress(Step::Minimal {
+                bound: Bound::K,
+                value: k,
+            });
         }
 
         // 3. least T. With a lower bound from an earlier call (same C, no K bound), search
@@ -430,7 +443,10 @@ impl<'a> Synthesizer<'a> {
                     let Some(b) = enc.total_t.at_most(bound) else {
                         break;
                     };
-                    progress(&format!("trying T = {bound}"));
+                    progress(Step::Trying {
+                        bound: Bound::T,
+                        value: bound,
+                    });
                     let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
                     if let Some(m) = enc.solve(&assume) {
                         structure = decode(&m, enc);
@@ -447,7 +463,12 @@ impl<'a> Synthesizer<'a> {
                     t,
                     0,
                     |b| total_t.at_most(b),
-                    |b| progress(&format!("trying T = {b}")),
+                    |b| {
+                        progress(Step::Trying {
+                            bound: Bound::T,
+                            value: b,
+                        })
+                    },
                     |m| {
                         structure = decode_with(&m, vars, alphabet);
                         structure.transition_count()
@@ -458,7 +479,10 @@ impl<'a> Synthesizer<'a> {
         if !opts.minimize_k {
             self.t_lo = Some((c, t));
         }
-        progress(&format!("T = {t} is minimal"));
+        progress(Step::Minimal {
+            bound: Bound::T,
+            value: t,
+        });
         self.stats.solver_calls += enc.new_calls();
         self.stats.sat_seconds = t0.elapsed().as_secs_f64();
 
@@ -481,7 +505,12 @@ impl<'a> Synthesizer<'a> {
                     n,
                     start,
                     |b| total_n.at_most(b),
-                    |b| progress(&format!("trying N = {b}")),
+                    |b| {
+                        progress(Step::Trying {
+                            bound: Bound::N,
+                            value: b,
+                        })
+                    },
                     |m| {
                         structure = decode_with(&m, vars, alphabet);
                         structure.literal_count()
@@ -524,15 +553,7 @@ impl<'a> Synthesizer<'a> {
             )));
         }
         let size = ecc.size();
-        progress(&format!(
-            "guards: N = {}{}",
-            size.n,
-            if exact {
-                " (minimal)"
-            } else {
-                " (budget reached, not proven minimal)"
-            }
-        ));
+        progress(Step::Guards { n: size.n, exact });
         Ok(Synthesis {
             ecc,
             size,
@@ -548,7 +569,7 @@ pub fn synthesize(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     opts: &Options,
-    progress: &mut dyn FnMut(&str),
+    progress: Progress<'_>,
 ) -> Result<Synthesis, SatError> {
     Synthesizer::new(set, tree, opts).minimize(progress)
 }

@@ -43,9 +43,11 @@ pub mod modular;
 pub mod negative;
 pub mod noisy;
 pub mod solver;
+pub mod step;
 pub mod vars;
 
 pub use basic::{satisfiable, synthesize, Options, Stats, Synthesis, Synthesizer};
+pub use step::{Bound, Progress, Step};
 
 /// Why synthesis produced no machine.
 #[derive(Debug, thiserror::Error)]

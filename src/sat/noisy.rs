@@ -46,6 +46,7 @@ use super::solver::{Model, Solver};
 use super::vars::Vars;
 use super::SatError;
 use crate::ecc::{AlgorithmKind, Ecc, Size};
+use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::trace_graph::TraceGraph;
 use crate::scenario::tree::{InputVec, NodeId};
 use crate::scenario::ScenarioSet;
@@ -325,7 +326,7 @@ fn decode(model: &Model, vars: &Vars, graph: &TraceGraph, kind: AlgorithmKind) -
 pub fn synthesize_noisy(
     set: &ScenarioSet,
     opts: &NoisyOptions,
-    progress: &mut dyn FnMut(&str),
+    progress: Progress<'_>,
     accept: &mut dyn FnMut(&Candidate) -> Flow,
 ) -> Result<NoisySynthesis, SatError> {
     let t0 = Instant::now();
@@ -337,10 +338,12 @@ pub fn synthesize_noisy(
         distinct_inputs: graph.tree.input_vectors.len(),
         ..NoisyStats::default()
     };
-    progress(&format!(
-        "trace graph: {} nodes, {} distinct traces, {} alternative edges, {} distinct inputs",
-        stats.graph_nodes, stats.distinct_traces, stats.alternatives, stats.distinct_inputs
-    ));
+    progress(Step::TraceGraph {
+        nodes: stats.graph_nodes,
+        traces: stats.distinct_traces,
+        alternatives: stats.alternatives,
+        inputs: stats.distinct_inputs,
+    });
     let kind = opts.algorithms;
     let err_bound = |enc: &NoisyEncoding| opts.max_errors.and_then(|m| enc.errors.at_most(m));
 
@@ -354,7 +357,10 @@ pub fn synthesize_noisy(
                 max_states: opts.max_states,
             });
         }
-        progress(&format!("trying N = {n}"));
+        progress(Step::Trying {
+            bound: Bound::C,
+            value: n,
+        });
         let mut enc = NoisyEncoding::new(&graph, n, kind, opts.max_errors, &mut stats);
         let assume: Vec<Lit> = err_bound(&enc).into_iter().collect();
         if enc.solve(&assume).is_some() {
@@ -364,7 +370,10 @@ pub fn synthesize_noisy(
         n += 1;
     };
     let mut base: Vec<Lit> = err_bound(&enc).into_iter().collect();
-    progress(&format!("N = {n} is minimal"));
+    progress(Step::Minimal {
+        bound: Bound::C,
+        value: n,
+    });
 
     // 2. least K: ascending, as Algorithm 1 does (K = n always holds).
     let mut k = 1;
@@ -376,7 +385,10 @@ pub fn synthesize_noisy(
         k += 1;
     }
     base.extend(enc.k_at_most(k));
-    progress(&format!("K = {k} is minimal"));
+    progress(Step::Minimal {
+        bound: Bound::K,
+        value: k,
+    });
 
     // 3. least R, descending from the current model's count.
     let first = enc
@@ -389,11 +401,19 @@ pub fn synthesize_noisy(
         r,
         0,
         |b| total_t.at_most(b),
-        |b| progress(&format!("trying R = {b}")),
+        |b| {
+            progress(Step::Trying {
+                bound: Bound::T,
+                value: b,
+            })
+        },
         |m| decode(&m, vars, &graph, kind).transition_count(),
     );
     base.extend(enc.total_t.at_most(r));
-    progress(&format!("R = {r} is minimal"));
+    progress(Step::Minimal {
+        bound: Bound::T,
+        value: r,
+    });
     stats.minimize_seconds = t0.elapsed().as_secs_f64();
 
     // 4. every distinct minimal machine, by increasing ε.
@@ -414,7 +434,10 @@ pub fn synthesize_noisy(
     let mut eps = enc
         .solver
         .descend(&base, eps, 0, |b| errors.at_most(b), |_| {}, |m| m.count(e));
-    progress(&format!("least ε = {eps}"));
+    progress(Step::Minimal {
+        bound: Bound::Errors,
+        value: eps,
+    });
     let mut calls = 0;
     let mut exhausted = false;
     loop {
@@ -470,11 +493,11 @@ pub fn synthesize_noisy(
             corrected,
             guards_exact,
         };
-        progress(&format!(
-            "candidate {}: ε = {errors}, {}",
-            candidates.len() + 1,
-            candidate.size
-        ));
+        progress(Step::Candidate {
+            number: candidates.len() + 1,
+            errors,
+            size: candidate.size,
+        });
         let flow = accept(&candidate);
         candidates.push(candidate);
         if flow == Flow::Stop {

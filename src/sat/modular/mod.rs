@@ -28,6 +28,7 @@ use super::card::Totalizer;
 use super::solver::Solver;
 use crate::ecc::modular::{Modular, ModularSize};
 use crate::ecc::{AlgorithmKind, OutputId};
+use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use std::time::Instant;
@@ -218,7 +219,7 @@ pub fn synthesize_modular(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     opts: &ModularOptions,
-    progress: &mut dyn FnMut(&str),
+    progress: Progress<'_>,
 ) -> Result<ModularSynthesis, ModularError> {
     check_options(opts)?;
     let t0 = Instant::now();
@@ -238,11 +239,11 @@ pub fn synthesize_modular(
             lo..=c_max,
             |n| vars.size_at_most(n),
             |n| {
-                progress(&format!(
-                    "trying at most {n} states per module ({} modules, {} tree nodes)",
-                    opts.modules,
-                    tree.nodes.len()
-                ))
+                progress(Step::TryingModules {
+                    states: n,
+                    modules: opts.modules,
+                    tree_nodes: tree.nodes.len(),
+                })
             },
         );
         match found {
@@ -259,17 +260,20 @@ pub fn synthesize_modular(
                 lo = c_max + 1;
                 stats.solver_calls += enc.solver.stats().calls;
                 c_max = (c_max * 2).min(opts.max_states);
-                progress(&format!("re-encoding for up to {c_max} states per module"));
+                progress(Step::Reencoding {
+                    states: c_max,
+                    per_module: true,
+                });
             }
         }
     };
     let mut base = enc.vars.size_at_most(n);
-    progress(&format!("largest module: {n} states (minimal)"));
+    progress(Step::LargestModule { states: n });
 
     // 2. least A, then 3. least N', each descending from the current model's value.
     for (label, counter) in [
-        ("A (inputs used)", Counter::Inputs),
-        ("N' (states used)", Counter::States),
+        (Bound::InputsUsed, Counter::Inputs),
+        (Bound::TotalStates, Counter::States),
     ] {
         let Encoding {
             solver,
@@ -286,7 +290,12 @@ pub fn synthesize_modular(
             model.count(lits),
             0,
             |b| total.at_most(b),
-            |b| progress(&format!("trying {label} = {b}")),
+            |b| {
+                progress(Step::Trying {
+                    bound: label,
+                    value: b,
+                })
+            },
             |m| {
                 let value = m.count(lits);
                 model = m;
@@ -294,7 +303,10 @@ pub fn synthesize_modular(
             },
         );
         base.extend(total.at_most(value));
-        progress(&format!("{label} = {value} (minimal)"));
+        progress(Step::Minimal {
+            bound: label,
+            value,
+        });
     }
     stats.solver_calls += enc.solver.stats().calls;
     stats.sat_seconds = t0.elapsed().as_secs_f64();
