@@ -35,11 +35,10 @@
 //! before, or a wrong number of cells stops the reader with an [`IngestError::Row`] naming
 //! file and line. In lenient mode the row is skipped instead and counted per [`RowKind`].
 
-mod convert;
 mod mapping;
 mod reader;
 
-pub use convert::StepStream;
+pub use crate::scenario::steps::StepStream;
 pub use mapping::{Mapping, Slot};
 pub use reader::{LogFormat, LogReader, ReadStats};
 

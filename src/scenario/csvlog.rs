@@ -19,7 +19,7 @@
 //!   (rows with the same value in a contiguous block form one scenario; without it the whole
 //!   file is one scenario).
 //!
-//! # Conversion (seed 000)
+//! # Conversion (seed 000, implemented in [`super::steps`])
 //! 1. Consecutive identical rows collapse into one element.
 //! 2. While two consecutive elements have equal inputs and different outputs, the first is
 //!    dropped: the output change belongs to the input change before it (scan-cycle skew).
@@ -30,7 +30,8 @@
 //! back is lossless except for active steps that did not change the outputs (they become
 //! passive): a sampled log cannot see an event that changed nothing.
 
-use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
+pub use super::steps::{samples_to_steps, Sample};
+use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::files::csv::{parse_bool, Records};
 use std::io::Write;
 use std::path::Path;
@@ -41,13 +42,6 @@ enum Column {
     Scenario,
     Input(usize),
     Output(usize),
-}
-
-/// One sample: input and output values.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Sample {
-    pub inputs: Vec<bool>,
-    pub outputs: Vec<bool>,
 }
 
 /// Parses a CSV log into scenarios.
@@ -247,40 +241,6 @@ fn classify(
         return Err("no output columns (prefix them with 'out:')".into());
     }
     Ok((columns, inputs, outputs))
-}
-
-/// Seed 000's preprocessing of one sampled trace into scenario steps.
-pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
-    let mut elems: Vec<&Sample> = Vec::with_capacity(samples.len());
-    for s in samples {
-        // Rule 1 (collapse identical rows) and rule 2 (an output change recorded before the
-        // input change that caused it: drop the earlier element), applied until neither fires.
-        // Dropping can make the new neighbours equal or skewed again, hence the loop.
-        loop {
-            match elems.last() {
-                Some(last) if *last == s => break,
-                Some(last) if last.inputs == s.inputs && last.outputs != s.outputs => {
-                    elems.pop();
-                }
-                _ => {
-                    elems.push(s);
-                    break;
-                }
-            }
-        }
-    }
-    let mut prev = initial_outputs;
-    elems
-        .into_iter()
-        .map(|e| {
-            let changed = e.outputs != prev;
-            prev = &e.outputs;
-            Step {
-                inputs: e.inputs.clone(),
-                outputs: changed.then(|| e.outputs.clone()),
-            }
-        })
-        .collect()
 }
 
 /// Reads a CSV log file (plain or gzip).
