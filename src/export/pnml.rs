@@ -308,9 +308,7 @@ mod tests {
 
     #[test]
     fn snapshots() {
-        for (name, ecc) in samples::all() {
-            insta::assert_snapshot!(name, to_string(&ecc));
-        }
+        samples::snapshot_each_sample!(to_string);
         let tank = crate::cases::tank::Program::FillDrain.reference();
         insta::assert_snapshot!("tank1", to_string(&tank));
     }
