@@ -32,6 +32,7 @@
 
 pub use super::steps::{samples_to_steps, Sample};
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
+use crate::ecc::ident::is_identifier;
 use crate::files::csv::{parse_bool, Records};
 use std::io::Write;
 use std::path::Path;
@@ -181,7 +182,7 @@ fn classify(
         } else {
             (None, cell)
         };
-        if !super::names::is_identifier(name) {
+        if !is_identifier(name) {
             return Err(format!(
                 "column {col_no}: '{name}' is not a valid signal name"
             ));
