@@ -3,9 +3,10 @@
 //!
 //! In: paths. Out: readers that gunzip on the fly ([`open_input`]), and writers that never
 //! leave a half-written file behind ([`write_atomic`], [`AtomicFile`]). CSV cells are read in
-//! [`csv`].
+//! [`csv`], XML written in [`xml`].
 
 pub mod csv;
+pub mod xml;
 
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};

@@ -7,69 +7,111 @@
 //! `time:timestamp`, `lifecycle:transition` = `complete` and `class` = `input` or `output`.
 
 use super::{iso_time, Event, EventSink};
-use quick_xml::escape::escape;
+use crate::files::xml::XmlWriter;
 use std::io::{self, Write};
 
 /// Writes XES as the traces arrive; call [`XesWriter::finish`] to close the document.
 pub struct XesWriter<W: Write> {
-    w: W,
+    x: XmlWriter<W>,
 }
+
+/// The extensions the log declares: name, prefix, definition.
+const EXTENSIONS: [(&str, &str, &str); 3] = [
+    (
+        "Concept",
+        "concept",
+        "http://www.xes-standard.org/concept.xesext",
+    ),
+    ("Time", "time", "http://www.xes-standard.org/time.xesext"),
+    (
+        "Lifecycle",
+        "lifecycle",
+        "http://www.xes-standard.org/lifecycle.xesext",
+    ),
+];
 
 impl<W: Write> XesWriter<W> {
     /// Writes the header; `log_name` becomes the log's `concept:name`.
-    pub fn new(mut w: W, log_name: &str) -> io::Result<XesWriter<W>> {
-        write!(
-            w,
-            r#"<?xml version="1.0" encoding="UTF-8"?>
-<log xes.version="1849-2016" xes.features="" xmlns="http://www.xes-standard.org/">
-  <extension name="Concept" prefix="concept" uri="http://www.xes-standard.org/concept.xesext"/>
-  <extension name="Time" prefix="time" uri="http://www.xes-standard.org/time.xesext"/>
-  <extension name="Lifecycle" prefix="lifecycle" uri="http://www.xes-standard.org/lifecycle.xesext"/>
-  <global scope="trace">
-    <string key="concept:name" value="__INVALID__"/>
-  </global>
-  <global scope="event">
-    <string key="concept:name" value="__INVALID__"/>
-    <date key="time:timestamp" value="1970-01-01T00:00:00.000+00:00"/>
-    <string key="lifecycle:transition" value="complete"/>
-    <string key="class" value="input"/>
-  </global>
-  <classifier name="Activity" keys="concept:name"/>
-  <classifier name="Activity and class" keys="concept:name class"/>
-  <string key="concept:name" value="{}"/>
-"#,
-            escape(log_name)
+    pub fn new(w: W, log_name: &str) -> io::Result<XesWriter<W>> {
+        let mut x = XmlWriter::new(w);
+        x.declaration()?;
+        x.open(
+            0,
+            "log",
+            &[
+                ("xes.version", "1849-2016"),
+                ("xes.features", ""),
+                ("xmlns", "http://www.xes-standard.org/"),
+            ],
         )?;
-        Ok(XesWriter { w })
+        for (name, prefix, uri) in EXTENSIONS {
+            x.leaf(
+                1,
+                "extension",
+                &[("name", name), ("prefix", prefix), ("uri", uri)],
+            )?;
+        }
+        x.open(1, "global", &[("scope", "trace")])?;
+        attribute(&mut x, 2, "string", "concept:name", "__INVALID__")?;
+        x.close(1, "global")?;
+        x.open(1, "global", &[("scope", "event")])?;
+        attribute(&mut x, 2, "string", "concept:name", "__INVALID__")?;
+        attribute(
+            &mut x,
+            2,
+            "date",
+            "time:timestamp",
+            "1970-01-01T00:00:00.000+00:00",
+        )?;
+        attribute(&mut x, 2, "string", "lifecycle:transition", "complete")?;
+        attribute(&mut x, 2, "string", "class", "input")?;
+        x.close(1, "global")?;
+        for (name, keys) in [
+            ("Activity", "concept:name"),
+            ("Activity and class", "concept:name class"),
+        ] {
+            x.leaf(1, "classifier", &[("name", name), ("keys", keys)])?;
+        }
+        attribute(&mut x, 1, "string", "concept:name", log_name)?;
+        Ok(XesWriter { x })
     }
 
     /// Closes the document and returns the writer.
     pub fn finish(mut self) -> io::Result<W> {
-        writeln!(self.w, "</log>")?;
-        Ok(self.w)
+        self.x.close(0, "log")?;
+        Ok(self.x.into_inner())
     }
+}
+
+/// One XES attribute line: `<kind key=".." value=".."/>`.
+fn attribute<W: Write>(
+    x: &mut XmlWriter<W>,
+    depth: usize,
+    kind: &str,
+    key: &str,
+    value: &str,
+) -> io::Result<()> {
+    x.leaf(depth, kind, &[("key", key), ("value", value)])
 }
 
 impl<W: Write> EventSink for XesWriter<W> {
     fn begin_trace(&mut self, case: usize) -> io::Result<()> {
-        writeln!(
-            self.w,
-            "  <trace>\n    <string key=\"concept:name\" value=\"{case}\"/>"
-        )
+        self.x.open(1, "trace", &[])?;
+        attribute(&mut self.x, 2, "string", "concept:name", &case.to_string())
     }
 
     fn event(&mut self, e: &Event) -> io::Result<()> {
-        writeln!(
-            self.w,
-            "    <event>\n      <string key=\"concept:name\" value=\"{}\"/>\n      <date key=\"time:timestamp\" value=\"{}\"/>\n      <string key=\"lifecycle:transition\" value=\"complete\"/>\n      <string key=\"class\" value=\"{}\"/>\n    </event>",
-            escape(e.activity().as_str()),
-            iso_time(e.time),
-            e.class.label()
-        )
+        let x = &mut self.x;
+        x.open(2, "event", &[])?;
+        attribute(x, 3, "string", "concept:name", &e.activity())?;
+        attribute(x, 3, "date", "time:timestamp", &iso_time(e.time))?;
+        attribute(x, 3, "string", "lifecycle:transition", "complete")?;
+        attribute(x, 3, "string", "class", e.class.label())?;
+        x.close(2, "event")
     }
 
     fn end_trace(&mut self) -> io::Result<()> {
-        writeln!(self.w, "  </trace>")
+        self.x.close(1, "trace")
     }
 }
 

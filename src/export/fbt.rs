@@ -20,6 +20,7 @@
 
 use super::{check_iec_names, NameError};
 use crate::ecc::{Ecc, Guard};
+use crate::files::xml::XmlWriter;
 use crate::smv::bool_literal;
 use crate::smv::Effect;
 use std::io::{self, Write};
@@ -75,25 +76,6 @@ pub fn check_names(ecc: &Ecc, type_name: &str) -> Result<(), NameError> {
     check_iec_names(ecc, "an IEC 61499 .fbt file", type_name, &reserved)
 }
 
-/// Escapes text for a double-quoted XML attribute. Line breaks and tabs become character
-/// references, because a parser normalizes literal ones in attributes to spaces.
-pub(crate) fn attr(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\n' => out.push_str("&#10;"),
-            '\r' => out.push_str("&#13;"),
-            '\t' => out.push_str("&#9;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 /// Grid position of state `i` among `count`: as many columns as rows, filled row by row.
 fn position(i: usize, count: usize) -> (i64, i64) {
     let cols = (1..=count).find(|c| c * c >= count).unwrap_or(1);
@@ -121,8 +103,9 @@ fn algorithm_text(ecc: &Ecc, i: usize) -> Option<String> {
 pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Result<()> {
     check_names(ecc, &options.type_name)?;
     let comment = format!("Basic FB synthesized by fbsynth ({})", ecc.size());
+    let mut x = XmlWriter::new(w);
     write_head(
-        w,
+        &mut x,
         &options.type_name,
         &comment,
         &options.date,
@@ -134,8 +117,8 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
         ],
     )?;
 
-    writeln!(w, "  <BasicFB>")?;
-    writeln!(w, "    <ECC>")?;
+    x.open(1, "BasicFB", &[])?;
+    x.open(2, "ECC", &[])?;
     let count = ecc.states.len();
     let algorithms: Vec<Option<String>> = (0..count).map(|i| algorithm_text(ecc, i)).collect();
     for (i, s) in ecc.states.iter().enumerate() {
@@ -148,25 +131,24 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
             (_, true) => String::new(),
             (_, false) => s.name.clone(),
         };
-        let comment = if comment.is_empty() {
-            String::new()
-        } else {
-            format!(r#" Comment="{}""#, attr(&comment))
-        };
-        let (x, y) = position(i, count);
-        writeln!(
-            w,
-            r#"      <ECState Name="{name}"{comment} x="{x}" y="{y}">"#
-        )?;
-        match algorithms[i] {
-            Some(_) => writeln!(
-                w,
-                r#"        <ECAction Algorithm="{}" Output="CNF"/>"#,
-                algorithm_name(i)
-            )?,
-            None => writeln!(w, r#"        <ECAction Output="CNF"/>"#)?,
+        let (px, py) = position(i, count);
+        let (px, py) = (px.to_string(), py.to_string());
+        let mut attrs = vec![("Name", name.as_str())];
+        if !comment.is_empty() {
+            attrs.push(("Comment", &comment));
         }
-        writeln!(w, "      </ECState>")?;
+        attrs.extend([("x", px.as_str()), ("y", py.as_str())]);
+        x.open(3, "ECState", &attrs)?;
+        let algorithm = algorithm_name(i);
+        match algorithms[i] {
+            Some(_) => x.leaf(
+                4,
+                "ECAction",
+                &[("Algorithm", &algorithm), ("Output", "CNF")],
+            )?,
+            None => x.leaf(4, "ECAction", &[("Output", "CNF")])?,
+        }
+        x.close(3, "ECState")?;
     }
     // A label sits at the middle of its edge, or above the state for a self-loop. Labels that
     // would land on the same spot (both directions between two states, crossing diagonals) are
@@ -182,37 +164,41 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
                 (((x1 + x2) / 2, (y1 + y2) / 2), LABEL_STEP)
             };
             let k = on_spot.entry(spot).or_insert(0);
-            let (x, y) = (spot.0, spot.1 + *k * step);
+            let (lx, ly) = (spot.0.to_string(), (spot.1 + *k * step).to_string());
             *k += 1;
             let condition = match &t.guard {
                 Guard::True => "REQ".to_string(),
                 g => format!("REQ[{}]", g.display_st(&ecc.inputs)),
             };
-            writeln!(
-                w,
-                r#"      <ECTransition Source="{}" Destination="{}" Condition="{}" x="{x}" y="{y}"/>"#,
-                state_name(i),
-                state_name(j),
-                attr(&condition)
+            x.leaf(
+                3,
+                "ECTransition",
+                &[
+                    ("Source", &state_name(i)),
+                    ("Destination", &state_name(j)),
+                    ("Condition", &condition),
+                    ("x", &lx),
+                    ("y", &ly),
+                ],
             )?;
         }
     }
-    writeln!(w, "    </ECC>")?;
+    x.close(2, "ECC")?;
     for (i, text) in algorithms.iter().enumerate() {
         if let Some(text) = text {
-            writeln!(w, r#"    <Algorithm Name="{}">"#, algorithm_name(i))?;
-            writeln!(w, r#"      <ST Text="{}"/>"#, attr(text))?;
-            writeln!(w, "    </Algorithm>")?;
+            x.open(2, "Algorithm", &[("Name", &algorithm_name(i))])?;
+            x.leaf(3, "ST", &[("Text", text)])?;
+            x.close(2, "Algorithm")?;
         }
     }
-    writeln!(w, "  </BasicFB>")?;
-    writeln!(w, "</FBType>")
+    x.close(1, "BasicFB")?;
+    x.close(0, "FBType")
 }
 
 /// The XML prolog, `<FBType>` start tag, identification and `<InterfaceList>` (REQ with every
 /// input, CNF with every output, all `BOOL`): the part basic and composite types share.
 pub(crate) fn write_head(
-    w: &mut impl Write,
+    x: &mut XmlWriter<impl Write>,
     type_name: &str,
     comment: &str,
     date: &str,
@@ -220,68 +206,59 @@ pub(crate) fn write_head(
     initial_outputs: &[bool],
     [req_comment, cnf_comment]: [&str; 2],
 ) -> io::Result<()> {
-    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
-    writeln!(
-        w,
-        r#"<!DOCTYPE FBType SYSTEM "http://www.holobloc.com/xml/LibraryElement.dtd">"#
-    )?;
-    writeln!(
-        w,
-        r#"<FBType Name="{}" Comment="{}">"#,
-        attr(type_name),
-        attr(comment)
-    )?;
-    writeln!(w, r#"  <Identification Standard="61499-2"/>"#)?;
-    writeln!(
-        w,
-        r#"  <VersionInfo Organization="fbsynth" Version="1.0" Author="fbsynth" Date="{}"/>"#,
-        attr(date)
+    x.declaration()?;
+    x.doctype(r#"FBType SYSTEM "http://www.holobloc.com/xml/LibraryElement.dtd""#)?;
+    x.open(0, "FBType", &[("Name", type_name), ("Comment", comment)])?;
+    x.leaf(1, "Identification", &[("Standard", "61499-2")])?;
+    x.leaf(
+        1,
+        "VersionInfo",
+        &[
+            ("Organization", "fbsynth"),
+            ("Version", "1.0"),
+            ("Author", "fbsynth"),
+            ("Date", date),
+        ],
     )?;
 
-    writeln!(w, "  <InterfaceList>")?;
+    x.open(1, "InterfaceList", &[])?;
     let events = [
         ("EventInputs", "REQ", req_comment, inputs),
         ("EventOutputs", "CNF", cnf_comment, outputs),
     ];
     for (list, event, comment, vars) in events {
-        writeln!(w, "    <{list}>")?;
-        writeln!(
-            w,
-            r#"      <Event Name="{event}" Type="Event" Comment="{}">"#,
-            attr(comment)
+        x.open(2, list, &[])?;
+        x.open(
+            3,
+            "Event",
+            &[("Name", event), ("Type", "Event"), ("Comment", comment)],
         )?;
         for v in vars.iter() {
-            writeln!(w, r#"        <With Var="{}"/>"#, attr(v))?;
+            x.leaf(4, "With", &[("Var", v)])?;
         }
-        writeln!(w, "      </Event>")?;
-        writeln!(w, "    </{list}>")?;
+        x.close(3, "Event")?;
+        x.close(2, list)?;
     }
     // The DTD wants at least one declaration inside InputVars/OutputVars.
     if !inputs.is_empty() {
-        writeln!(w, "    <InputVars>")?;
+        x.open(2, "InputVars", &[])?;
         for v in inputs {
-            writeln!(
-                w,
-                r#"      <VarDeclaration Name="{}" Type="BOOL"/>"#,
-                attr(v)
-            )?;
+            x.leaf(3, "VarDeclaration", &[("Name", v), ("Type", "BOOL")])?;
         }
-        writeln!(w, "    </InputVars>")?;
+        x.close(2, "InputVars")?;
     }
     if !outputs.is_empty() {
-        writeln!(w, "    <OutputVars>")?;
+        x.open(2, "OutputVars", &[])?;
         for (v, &init) in outputs.iter().zip(initial_outputs) {
-            let initial = if init { r#" InitialValue="TRUE""# } else { "" };
-            writeln!(
-                w,
-                r#"      <VarDeclaration Name="{}" Type="BOOL"{initial}/>"#,
-                attr(v)
-            )?;
+            let mut attrs = vec![("Name", v.as_str()), ("Type", "BOOL")];
+            if init {
+                attrs.push(("InitialValue", "TRUE"));
+            }
+            x.leaf(3, "VarDeclaration", &attrs)?;
         }
-        writeln!(w, "    </OutputVars>")?;
+        x.close(2, "OutputVars")?;
     }
-    writeln!(w, "  </InterfaceList>")?;
-    Ok(())
+    x.close(1, "InterfaceList")
 }
 
 /// [`write_fbt`] into a string.
@@ -458,7 +435,10 @@ pub(crate) mod tests {
 
     #[test]
     fn attributes_are_escaped() {
-        assert_eq!(attr("a<b & \"c\"\n"), "a&lt;b &amp; &quot;c&quot;&#10;");
+        assert_eq!(
+            crate::files::xml::escape_attr("a<b & \"c\"\n"),
+            "a&lt;b &amp; &quot;c&quot;&#10;"
+        );
         let opts = FbtOptions {
             date: "<today> & \"now\"".into(),
             ..FbtOptions::default()
@@ -508,8 +488,6 @@ pub(crate) mod tests {
     /// One snapshot per sample ECC, named after the sample.
     #[test]
     fn snapshots() {
-        for (name, ecc) in samples::all() {
-            insta::assert_snapshot!(name, to_string(&ecc, &FbtOptions::default()).unwrap());
-        }
+        samples::snapshot_each_sample!(|ecc| to_string(ecc, &FbtOptions::default()).unwrap());
     }
 }

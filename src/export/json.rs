@@ -400,9 +400,7 @@ mod tests {
     /// One snapshot per sample ECC, named after the sample.
     #[test]
     fn snapshots() {
-        for (name, ecc) in samples::all() {
-            insta::assert_snapshot!(name, to_string(&ecc));
-        }
+        samples::snapshot_each_sample!(to_string);
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! [`crate::smv::ecc_module`]), or files written atomically by [`write_all`].
 //!
 //! The names that become code (IEC 61131-3 in `.fbt` and `.st`) are checked here with
-//! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`].
+//! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`]; both rules
+//! live in [`crate::ecc::ident`]. Files are written by [`crate::files`], as ordinary files.
 
 pub mod dot;
 pub mod fbt;

@@ -28,10 +28,11 @@
 //! owner's. Named [`crate::smv::closed_loop::CONTROLLER_MODULE`], it replaces the controller
 //! of a closed loop.
 
-use super::fbt::{attr, write_head};
+use super::fbt::write_head;
 use super::{check_iec_identifier, ExportError, Format, NameError};
 use crate::ecc::modular::Modular;
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
+use crate::files::xml::XmlWriter;
 use crate::smv::ecc_module::{self, write_ecc_module};
 use crate::smv::SmvError;
 use std::io::{self, Write};
@@ -95,8 +96,9 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
         size.inputs_used,
         size.total_states
     );
+    let mut x = XmlWriter::new(w);
     write_head(
-        w,
+        &mut x,
         stem,
         &comment,
         "",
@@ -108,94 +110,90 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
         ],
     )?;
     let count = modular.modules.len();
-    writeln!(w, "  <FBNetwork>")?;
+    x.open(1, "FBNetwork", &[])?;
     for (m, module) in modular.modules.iter().enumerate() {
         let names: Vec<&str> = module.ecc.outputs.iter().map(String::as_str).collect();
-        writeln!(
-            w,
-            r#"    <FB Name="{}" Type="{}" Comment="{}" x="{}" y="{}"/>"#,
-            instance_name(m),
-            attr(&module_type_name(stem, m)),
-            attr(&format!("outputs: {}", names.join(", "))),
-            1500,
-            300 + 800 * m
+        x.leaf(
+            2,
+            "FB",
+            &[
+                ("Name", &instance_name(m)),
+                ("Type", &module_type_name(stem, m)),
+                ("Comment", &format!("outputs: {}", names.join(", "))),
+                ("x", "1500"),
+                ("y", &(300 + 800 * m).to_string()),
+            ],
         )?;
     }
     let splits = count.saturating_sub(1);
     for i in 0..splits {
-        writeln!(
-            w,
-            r#"    <FB Name="SPLIT{}" Type="E_SPLIT" x="{}" y="{}"/>"#,
-            i + 1,
-            700,
-            300 + 800 * i
-        )?;
-        writeln!(
-            w,
-            r#"    <FB Name="MERGE{}" Type="E_MERGE" x="{}" y="{}"/>"#,
-            i + 1,
-            2600,
-            300 + 800 * i
-        )?;
+        let y = (300 + 800 * i).to_string();
+        for (name, ty, x_pos) in [("SPLIT", "E_SPLIT", "700"), ("MERGE", "E_MERGE", "2600")] {
+            x.leaf(
+                2,
+                "FB",
+                &[
+                    ("Name", &format!("{name}{}", i + 1)),
+                    ("Type", ty),
+                    ("x", x_pos),
+                    ("y", &y),
+                ],
+            )?;
+        }
     }
-    writeln!(w, "    <EventConnections>")?;
-    let conn = |w: &mut dyn Write, s: &str, d: &str| {
-        writeln!(
-            w,
-            r#"      <Connection Source="{}" Destination="{}"/>"#,
-            attr(s),
-            attr(d)
-        )
+    x.open(2, "EventConnections", &[])?;
+    let conn = |x: &mut XmlWriter<_>, s: &str, d: &str| {
+        x.leaf(3, "Connection", &[("Source", s), ("Destination", d)])
     };
     let m_ev = |m: usize, e: &str| format!("{}.{e}", instance_name(m));
     if count == 1 {
-        conn(w, "REQ", &m_ev(0, "REQ"))?;
-        conn(w, &m_ev(0, "CNF"), "CNF")?;
+        conn(&mut x, "REQ", &m_ev(0, "REQ"))?;
+        conn(&mut x, &m_ev(0, "CNF"), "CNF")?;
     } else {
         // REQ -> SPLIT1; SPLITi.EO1 -> Mi.REQ; SPLITi.EO2 -> SPLIT(i+1) or, last, M(count).
-        conn(w, "REQ", "SPLIT1.EI")?;
+        conn(&mut x, "REQ", "SPLIT1.EI")?;
         for i in 0..splits {
-            conn(w, &format!("SPLIT{}.EO1", i + 1), &m_ev(i, "REQ"))?;
+            conn(&mut x, &format!("SPLIT{}.EO1", i + 1), &m_ev(i, "REQ"))?;
             let next = if i + 1 < splits {
                 format!("SPLIT{}.EI", i + 2)
             } else {
                 m_ev(count - 1, "REQ")
             };
-            conn(w, &format!("SPLIT{}.EO2", i + 1), &next)?;
+            conn(&mut x, &format!("SPLIT{}.EO2", i + 1), &next)?;
         }
         // M1.CNF -> MERGE1.EI1; M(i+1).CNF -> MERGEi.EI2; MERGEi.EO -> MERGE(i+1).EI1 or CNF.
-        conn(w, &m_ev(0, "CNF"), "MERGE1.EI1")?;
+        conn(&mut x, &m_ev(0, "CNF"), "MERGE1.EI1")?;
         for i in 0..splits {
-            conn(w, &m_ev(i + 1, "CNF"), &format!("MERGE{}.EI2", i + 1))?;
+            conn(&mut x, &m_ev(i + 1, "CNF"), &format!("MERGE{}.EI2", i + 1))?;
             let next = if i + 1 < splits {
                 format!("MERGE{}.EI1", i + 2)
             } else {
                 "CNF".to_string()
             };
-            conn(w, &format!("MERGE{}.EO", i + 1), &next)?;
+            conn(&mut x, &format!("MERGE{}.EO", i + 1), &next)?;
         }
     }
-    writeln!(w, "    </EventConnections>")?;
+    x.close(2, "EventConnections")?;
     let wired = modular
         .modules
         .iter()
         .any(|m| !m.inputs.is_empty() || !m.outputs.is_empty());
     if wired {
-        writeln!(w, "    <DataConnections>")?;
+        x.open(2, "DataConnections", &[])?;
         for (m, module) in modular.modules.iter().enumerate() {
-            for x in &module.inputs {
-                let name = &modular.inputs[x.0];
-                conn(w, name, &format!("{}.{name}", instance_name(m)))?;
+            for i in &module.inputs {
+                let name = &modular.inputs[i.0];
+                conn(&mut x, name, &format!("{}.{name}", instance_name(m)))?;
             }
             for z in &module.outputs {
                 let name = &modular.outputs[z.0];
-                conn(w, &format!("{}.{name}", instance_name(m)), name)?;
+                conn(&mut x, &format!("{}.{name}", instance_name(m)), name)?;
             }
         }
-        writeln!(w, "    </DataConnections>")?;
+        x.close(2, "DataConnections")?;
     }
-    writeln!(w, "  </FBNetwork>")?;
-    writeln!(w, "</FBType>")
+    x.close(1, "FBNetwork")?;
+    x.close(0, "FBType")
 }
 
 /// [`write_composite_fbt`] into a string.

@@ -37,7 +37,7 @@
 //! copies from `start` prefixed `s`, and `power_up_<k>`; arcs `a<n>` in writing order.
 
 use crate::ecc::Ecc;
-use quick_xml::escape::escape;
+use crate::files::xml::XmlWriter;
 use std::collections::BTreeSet;
 use std::io::{self, Write};
 
@@ -122,48 +122,73 @@ pub fn write_pnml_labelled(
 ) -> io::Result<()> {
     let entry = entry_outputs(ecc);
     let mut arcs: Vec<(String, String)> = Vec::new();
-    let tau = |w: &mut dyn Write, id: &str| -> io::Result<()> {
-        writeln!(
-            w,
-            r#"      <transition id="{id}"><name><text>tau</text></name><toolspecific tool="ProM" version="6.4" activity="$invisible$" localNodeID="{id}"/></transition>"#
-        )
-    };
-    let labelled = |w: &mut dyn Write, id: &str, label: &str| -> io::Result<()> {
-        writeln!(
-            w,
-            r#"      <transition id="{id}"><name><text>{}</text></name></transition>"#,
-            escape(label)
-        )
-    };
-    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
-    writeln!(w, "<pnml>")?;
-    writeln!(
-        w,
-        r#"  <net id="{}" type="http://www.pnml.org/version-2009/grammar/pnmlcoremodel">"#,
-        escape(name)
+    let mut x = XmlWriter::new(w);
+    // A transition, place, ... of the page: one line each, `<id><name><text>`, then `more`.
+    fn node<W: Write>(
+        x: &mut XmlWriter<W>,
+        kind: &str,
+        id: &str,
+        label: &str,
+        more: impl FnOnce(&mut XmlWriter<W>) -> io::Result<()>,
+    ) -> io::Result<()> {
+        x.indent(3)?;
+        x.start(kind, &[("id", id)])?;
+        x.start("name", &[])?;
+        x.text_element("text", label)?;
+        x.end("name")?;
+        more(x)?;
+        x.end(kind)?;
+        x.newline()
+    }
+    fn tau<W: Write>(x: &mut XmlWriter<W>, id: &str) -> io::Result<()> {
+        node(x, "transition", id, "tau", |x| {
+            x.empty(
+                "toolspecific",
+                &[
+                    ("tool", "ProM"),
+                    ("version", "6.4"),
+                    ("activity", "$invisible$"),
+                    ("localNodeID", id),
+                ],
+            )
+        })
+    }
+    fn labelled<W: Write>(x: &mut XmlWriter<W>, id: &str, label: &str) -> io::Result<()> {
+        node(x, "transition", id, label, |_| Ok(()))
+    }
+    x.declaration()?;
+    x.open(0, "pnml", &[])?;
+    x.open(
+        1,
+        "net",
+        &[
+            ("id", name),
+            (
+                "type",
+                "http://www.pnml.org/version-2009/grammar/pnmlcoremodel",
+            ),
+        ],
     )?;
-    writeln!(w, "    <name><text>{}</text></name>", escape(name))?;
-    writeln!(w, r#"    <page id="page0">"#)?;
-    writeln!(
-        w,
-        r#"      <place id="start"><name><text>start</text></name><initialMarking><text>1</text></initialMarking></place>"#
-    )?;
+    x.indent(2)?;
+    x.start("name", &[])?;
+    x.text_element("text", name)?;
+    x.end("name")?;
+    x.newline()?;
+    x.open(2, "page", &[("id", "page0")])?;
+    node(&mut x, "place", "start", "start", |x| {
+        x.start("initialMarking", &[])?;
+        x.text_element("text", "1")?;
+        x.end("initialMarking")
+    })?;
     for (i, s) in ecc.states.iter().enumerate() {
-        writeln!(
-            w,
-            r#"      <place id="p{i}"><name><text>{}</text></name></place>"#,
-            escape(s.name.as_str())
-        )?;
+        node(&mut x, "place", &format!("p{i}"), &s.name, |_| Ok(()))?;
         for k in 0..s.transitions.len() {
-            writeln!(
-                w,
-                r#"      <place id="q{i}_{k}"><name><text>{} fired {k}</text></name></place>"#,
-                escape(s.name.as_str())
-            )?;
+            let label = format!("{} fired {k}", s.name);
+            node(&mut x, "place", &format!("q{i}_{k}"), &label, |_| Ok(()))?;
         }
     }
     // Input events of state `i` read from place `from` (`p<i>`, or `start` for state 0).
-    let input_events = |w: &mut dyn Write,
+    let input_events = |w: &mut XmlWriter<_>,
                         arcs: &mut Vec<(String, String)>,
                         i: usize,
                         from: &str|
@@ -207,16 +232,16 @@ pub fn write_pnml_labelled(
             .collect();
         let id = format!("power_up_{k}");
         if changes.is_empty() {
-            tau(w, &id)?;
+            tau(&mut x, &id)?;
         } else {
-            labelled(w, &id, &changes.join(crate::events::JOIN))?;
+            labelled(&mut x, &id, &changes.join(crate::events::JOIN))?;
         }
         arcs.push(("start".into(), id.clone()));
         arcs.push((id, format!("p{}", target.0)));
     }
-    input_events(w, &mut arcs, 0, "start")?;
+    input_events(&mut x, &mut arcs, 0, "start")?;
     for (i, s) in ecc.states.iter().enumerate() {
-        input_events(w, &mut arcs, i, &format!("p{i}"))?;
+        input_events(&mut x, &mut arcs, i, &format!("p{i}"))?;
         for (k, t) in s.transitions.iter().enumerate() {
             let outcomes: BTreeSet<Vec<(usize, bool)>> = entry[i]
                 .iter()
@@ -232,13 +257,13 @@ pub fn write_pnml_labelled(
             for (j, changes) in outcomes.iter().enumerate() {
                 let id = format!("t{i}_{k}_{j}");
                 if changes.is_empty() {
-                    tau(w, &id)?;
+                    tau(&mut x, &id)?;
                 } else {
                     let text: Vec<String> = changes
                         .iter()
                         .map(|&(z, v)| format!("{} {v}", labels.outputs[z]))
                         .collect();
-                    labelled(w, &id, &text.join(crate::events::JOIN))?;
+                    labelled(&mut x, &id, &text.join(crate::events::JOIN))?;
                 }
                 arcs.push((format!("q{i}_{k}"), id.clone()));
                 arcs.push((id, format!("p{}", t.target.0)));
@@ -246,18 +271,26 @@ pub fn write_pnml_labelled(
         }
     }
     for (n, (source, target)) in arcs.iter().enumerate() {
-        writeln!(
-            w,
-            r#"      <arc id="a{n}" source="{source}" target="{target}"/>"#
+        let id = format!("a{n}");
+        x.leaf(
+            3,
+            "arc",
+            &[("id", &id), ("source", source), ("target", target)],
         )?;
     }
-    writeln!(w, "    </page>")?;
-    writeln!(
-        w,
-        r#"    <finalmarkings><marking><place idref="p0"><text>1</text></place></marking></finalmarkings>"#
-    )?;
-    writeln!(w, "  </net>")?;
-    writeln!(w, "</pnml>")
+    x.close(2, "page")?;
+    x.indent(2)?;
+    for element in ["finalmarkings", "marking"] {
+        x.start(element, &[])?;
+    }
+    x.start("place", &[("idref", "p0")])?;
+    x.text_element("text", "1")?;
+    for element in ["place", "marking", "finalmarkings"] {
+        x.end(element)?;
+    }
+    x.newline()?;
+    x.close(1, "net")?;
+    x.close(0, "pnml")
 }
 
 /// [`write_pnml`] into a string.
@@ -275,9 +308,7 @@ mod tests {
 
     #[test]
     fn snapshots() {
-        for (name, ecc) in samples::all() {
-            insta::assert_snapshot!(name, to_string(&ecc));
-        }
+        samples::snapshot_each_sample!(to_string);
         let tank = crate::cases::tank::Program::FillDrain.reference();
         insta::assert_snapshot!("tank1", to_string(&tank));
     }

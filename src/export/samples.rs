@@ -6,6 +6,17 @@
 
 use crate::ecc::{Algorithm, Ecc, Guard, InputId, State, StateId, Transition, Tri};
 
+/// One insta snapshot per sample ECC, named after the sample, of `$emit(&ecc)`. A macro, not a
+/// function, so that the snapshot files keep the name of the emitter's test module.
+macro_rules! snapshot_each_sample {
+    ($emit:expr) => {
+        for (name, ecc) in $crate::export::samples::all() {
+            insta::assert_snapshot!(name, $emit(&ecc));
+        }
+    };
+}
+pub(crate) use snapshot_each_sample;
+
 fn var(i: usize) -> Guard {
     Guard::Var(InputId(i))
 }

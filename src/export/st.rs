@@ -122,9 +122,7 @@ mod tests {
     /// One snapshot per sample ECC, named after the sample.
     #[test]
     fn snapshots() {
-        for (name, ecc) in samples::all() {
-            insta::assert_snapshot!(name, to_string(&ecc, "Fb").unwrap());
-        }
+        samples::snapshot_each_sample!(|ecc| to_string(ecc, "Fb").unwrap());
     }
 
     #[test]

@@ -13,14 +13,13 @@ const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Reads records one at a time; see the module header.
 ///
-/// Lines are read here and their cells split by the `csv` crate, one record at a time: the
+/// Lines are read here and each record's cells are split by one reused `csv` reader: the
 /// crate's own line count skips blank lines, and every error message of a log names the line
 /// of the file. Memory holds one record, whatever the length of the file.
 pub struct Records<R: BufRead> {
     src: R,
-    builder: ::csv::ReaderBuilder,
-    /// The lines of the current record.
-    buf: Vec<u8>,
+    /// Splits the record held in its cursor; rewound for every record.
+    csv: ::csv::Reader<io::Cursor<Vec<u8>>>,
     /// Lines read so far.
     line: usize,
     record: ::csv::ByteRecord,
@@ -32,26 +31,28 @@ impl<R: BufRead> Records<R> {
         if src.fill_buf()?.starts_with(UTF8_BOM) {
             src.consume(UTF8_BOM.len());
         }
-        let mut builder = ::csv::ReaderBuilder::new();
-        builder
+        let mut csv = ::csv::ReaderBuilder::new()
             .has_headers(false)
             .flexible(true)
             .delimiter(delimiter)
-            .trim(::csv::Trim::All);
+            .from_reader(io::Cursor::new(Vec::with_capacity(256)));
+        // The first seek reads the (empty) cursor as the header row, once, so that later
+        // rewinds only reset the parser.
+        rewind(&mut csv)?;
         Ok(Records {
             src,
-            builder,
-            buf: Vec::with_capacity(256),
+            csv,
             line: 0,
             record: ::csv::ByteRecord::new(),
         })
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
-    pub fn next_record(&mut self) -> io::Result<Option<(usize, &::csv::ByteRecord)>> {
+    pub fn next_record(&mut self) -> io::Result<Option<(usize, Record<'_>)>> {
         loop {
-            self.buf.clear();
-            if self.src.read_until(b'\n', &mut self.buf)? == 0 {
+            let buf = self.csv.get_mut().get_mut();
+            buf.clear();
+            if self.src.read_until(b'\n', buf)? == 0 {
                 return Ok(None);
             }
             self.line += 1;
@@ -59,24 +60,60 @@ impl<R: BufRead> Records<R> {
             // A quoted cell may hold line breaks (RFC 4180): while a quote is open, the record
             // goes on in the next line. Doubled quotes inside a cell count twice, so the parity
             // of all quotes says whether one is open.
-            while self.buf.iter().filter(|&&b| b == b'"').count() % 2 == 1 {
-                if self.src.read_until(b'\n', &mut self.buf)? == 0 {
+            while buf.iter().filter(|&&b| b == b'"').count() % 2 == 1 {
+                if self.src.read_until(b'\n', buf)? == 0 {
                     break;
                 }
                 self.line += 1;
             }
-            if self.buf.trim_ascii().is_empty() {
+            if buf.trim_ascii().is_empty() {
                 continue;
             }
-            let mut one = self.builder.from_reader(&self.buf[..]);
-            one.read_byte_record(&mut self.record).map_err(io_error)?;
-            return Ok(Some((start, &self.record)));
+            rewind(&mut self.csv)?;
+            self.csv
+                .read_byte_record(&mut self.record)
+                .map_err(io_error)?;
+            return Ok(Some((start, Record(&self.record))));
         }
     }
 }
 
+/// One record: its cells, each trimmed of surrounding blanks.
+///
+/// Trimming on access spares the copy the `csv` crate's own trimming makes of every record.
+#[derive(Clone, Copy)]
+pub struct Record<'a>(&'a ::csv::ByteRecord);
+
+impl<'a> Record<'a> {
+    /// The number of cells.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether the record has no cells (never true for a record [`Records`] returns).
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Cell `k` (0-based), if the record has it.
+    pub fn get(&self, k: usize) -> Option<&'a [u8]> {
+        self.0.get(k).map(<[u8]>::trim_ascii)
+    }
+
+    /// The cells in order.
+    pub fn iter(&self) -> impl Iterator<Item = &'a [u8]> {
+        self.0.iter().map(<[u8]>::trim_ascii)
+    }
+}
+
+/// Points the splitter at the start of its cursor with a fresh parser state.
+fn rewind(csv: &mut ::csv::Reader<io::Cursor<Vec<u8>>>) -> io::Result<()> {
+    csv.seek_raw(io::SeekFrom::Start(0), ::csv::Position::new())
+        .map_err(io_error)
+}
+
 /// The I/O error behind a CSV error. With flexible records and byte cells, splitting a record
-/// in memory cannot fail; this keeps the error typed should a later version of the crate differ.
+/// in memory cannot fail; anything but I/O is still reported, as invalid data.
 fn io_error(e: ::csv::Error) -> io::Error {
     match e.into_kind() {
         ::csv::ErrorKind::Io(e) => e,

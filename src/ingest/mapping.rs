@@ -4,8 +4,8 @@
 //! from address or name to the signal's slot). Format in the [`super`] module header.
 
 use super::IngestError;
+use crate::ecc::ident::is_identifier;
 use crate::ecc::{InputId, OutputId};
-use crate::scenario::names::is_identifier;
 use std::collections::HashMap;
 use std::path::Path;
 

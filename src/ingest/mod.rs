@@ -13,13 +13,14 @@
 //! %QX0.0     out   motor
 //! ```
 //! One signal per line: `ADDRESS in|out NAME`, separated by whitespace. `#` starts a comment;
-//! blank lines are ignored. Names follow [`is_identifier`](crate::scenario::names::is_identifier).
+//! blank lines are ignored. Names follow [`is_identifier`](crate::ecc::ident::is_identifier).
 //! An address or a name used twice is an error naming both lines. The interface order is the
 //! file order of the `in` lines, then of the `out` lines.
 //!
 //! # Log files
-//! Both formats are CSV with `,`, told apart by their header; the file may be gzip-compressed
-//! (recognized by its magic bytes, multi-member streams accepted). Values are `0`, `1`,
+//! Both formats are CSV with `,` (quoted cells as RFC 4180 says, a leading byte order mark
+//! ignored: [`crate::files::csv`]), told apart by their header; the file may be
+//! gzip-compressed (recognized by its magic bytes, multi-member streams accepted). Values are `0`, `1`,
 //! `true`, `false` (any case). Timestamps are numbers and must not go backwards. Blank lines
 //! are ignored; line numbers count every line of the (decompressed) file.
 //! - **long**, header `timestamp,address,value`: one row per changed signal. Every signal
@@ -35,11 +36,10 @@
 //! before, or a wrong number of cells stops the reader with an [`IngestError::Row`] naming
 //! file and line. In lenient mode the row is skipped instead and counted per [`RowKind`].
 
-mod convert;
 mod mapping;
 mod reader;
 
-pub use convert::StepStream;
+pub use crate::scenario::steps::StepStream;
 pub use mapping::{Mapping, Slot};
 pub use reader::{LogFormat, LogReader, ReadStats};
 

@@ -2,10 +2,12 @@
 //!
 //! In: a log (long or wide format, plain or gzip; see the [`super`] module header) and its
 //! [`Mapping`]. Out: [`Sample`]s, one per scan (wide) or per timestamp (long), via
-//! [`Iterator`]. Holds one line and one sample at a time, whatever the log's length.
+//! [`Iterator`]. Holds one record and one sample at a time, whatever the log's length; records
+//! come from the crate's one CSV reader ([`Records`]), so quoted cells and a byte order mark
+//! are read as in every other log.
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
-use crate::files::csv::parse_bool;
+use crate::files::csv::{parse_bool, Record, Records};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
@@ -41,14 +43,19 @@ impl ReadStats {
     }
 }
 
-/// Reads samples from a log, line by line.
+/// Reads samples from a log, record by record.
 pub struct LogReader<R: BufRead = Box<dyn BufRead>> {
     file: PathBuf,
-    src: R,
-    buf: Vec<u8>,
-    /// 1-based number of the line in `buf`.
-    line: usize,
+    records: Records<R>,
     lenient: bool,
+    rows: Rows,
+    done: bool,
+    stats: ReadStats,
+}
+
+/// What the reader knows between records: the header and the signal values so far. Kept
+/// apart from [`Records`], whose current record it reads.
+struct Rows {
     format: LogFormat,
     /// Wide format: the slot of every column after the timestamp.
     columns: Vec<Slot>,
@@ -63,19 +70,18 @@ pub struct LogReader<R: BufRead = Box<dyn BufRead>> {
     last_time: Option<f64>,
     /// Timestamp of the sample last returned.
     sample_time: Option<f64>,
-    done: bool,
-    stats: ReadStats,
 }
 
 impl LogReader {
     /// Opens a log file, gunzipping it on the fly when it starts with the gzip magic bytes,
     /// and reads its header.
     pub fn open(path: &Path, mapping: &Mapping, lenient: bool) -> Result<LogReader, IngestError> {
-        let io = |source| IngestError::Io {
-            file: path.to_path_buf(),
-            source,
-        };
-        let src = crate::files::open_input(path).map_err(io)?.reader;
+        let src = crate::files::open_input(path)
+            .map_err(|source| IngestError::Io {
+                file: path.to_path_buf(),
+                source,
+            })?
+            .reader;
         LogReader::new(path.to_path_buf(), src, mapping, lenient)
     }
 }
@@ -88,12 +94,12 @@ impl<R: BufRead> LogReader<R> {
         mapping: &Mapping,
         lenient: bool,
     ) -> Result<LogReader<R>, IngestError> {
-        let mut r = LogReader {
-            file,
-            src,
-            buf: Vec::with_capacity(256),
-            line: 0,
-            lenient,
+        let io = |source| IngestError::Io {
+            file: file.clone(),
+            source,
+        };
+        let mut records = Records::new(src, b',').map_err(io)?;
+        let mut rows = Rows {
             format: LogFormat::Long,
             columns: Vec::new(),
             headers: Vec::new(),
@@ -105,16 +111,35 @@ impl<R: BufRead> LogReader<R> {
             group_time: None,
             last_time: None,
             sample_time: None,
+        };
+        let header_err = |line: usize, message: String| IngestError::Header {
+            file: file.clone(),
+            line,
+            message,
+        };
+        match records.next_record().map_err(io)? {
+            None => return Err(header_err(1, "empty log: expected a header row".into())),
+            Some((line, header)) => {
+                let cells = header
+                    .iter()
+                    .map(|c| String::from_utf8_lossy(c).into_owned())
+                    .collect();
+                rows.read_header(cells).map_err(|m| header_err(line, m))?;
+            }
+        }
+        Ok(LogReader {
+            file,
+            records,
+            lenient,
+            rows,
             done: false,
             stats: ReadStats::default(),
-        };
-        r.read_header()?;
-        Ok(r)
+        })
     }
 
     /// The detected format.
     pub fn format(&self) -> LogFormat {
-        self.format
+        self.rows.format
     }
 
     /// What has been read so far.
@@ -124,45 +149,15 @@ impl<R: BufRead> LogReader<R> {
 
     /// The timestamp of the sample the iterator returned last (`None` before the first).
     pub fn sample_time(&self) -> Option<f64> {
-        self.sample_time
+        self.rows.sample_time
     }
+}
 
-    fn header_err(&self, message: String) -> IngestError {
-        IngestError::Header {
-            file: self.file.clone(),
-            line: self.line.max(1),
-            message,
-        }
-    }
-
-    /// Reads the next non-blank line into `buf` (trimmed view via [`trim`]); false at the end.
-    fn next_line(&mut self) -> Result<bool, IngestError> {
-        loop {
-            self.buf.clear();
-            let n = self
-                .src
-                .read_until(b'\n', &mut self.buf)
-                .map_err(|source| IngestError::Io {
-                    file: self.file.clone(),
-                    source,
-                })?;
-            if n == 0 {
-                return Ok(false);
-            }
-            self.line += 1;
-            if !trim(&self.buf).is_empty() {
-                return Ok(true);
-            }
-        }
-    }
-
-    fn read_header(&mut self) -> Result<(), IngestError> {
-        if !self.next_line()? {
-            return Err(self.header_err("empty log: expected a header row".into()));
-        }
-        let text = String::from_utf8_lossy(trim(&self.buf)).into_owned();
-        let text = text.trim_start_matches('\u{feff}');
-        let cells: Vec<String> = text.split(',').map(|c| c.trim().to_string()).collect();
+impl Rows {
+    /// Takes the header row's cells: tells the format and, for a wide log, the slot of every
+    /// column. The error is the message; the caller adds the place.
+    fn read_header(&mut self, cells: Vec<String>) -> Result<(), String> {
+        let text = cells.join(",");
         let lower: Vec<String> = cells.iter().map(|c| c.to_ascii_lowercase()).collect();
         if lower == ["timestamp", "address", "value"] {
             self.format = LogFormat::Long;
@@ -170,25 +165,25 @@ impl<R: BufRead> LogReader<R> {
             return Ok(());
         }
         if lower[0] != "timestamp" && lower[0] != "time" {
-            return Err(self.header_err(format!(
+            return Err(format!(
                 "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found '{text}'"
-            )));
+            ));
         }
         self.format = LogFormat::Wide;
         let mut seen = vec![None; self.mapping.addresses().len()];
         for (k, cell) in cells.iter().enumerate().skip(1) {
             let slot = self.mapping.slot(cell.as_bytes()).ok_or_else(|| {
-                self.header_err(format!(
+                format!(
                     "column {}: '{cell}' is not an address or name of the mapping",
                     k + 1
-                ))
+                )
             })?;
             let index = self.slot_index(slot);
             if let Some(first) = seen[index].replace(k + 1) {
-                return Err(self.header_err(format!(
+                return Err(format!(
                     "column {}: '{cell}' is the same signal as column {first}",
                     k + 1
-                )));
+                ));
             }
             self.columns.push(slot);
         }
@@ -198,9 +193,9 @@ impl<R: BufRead> LogReader<R> {
                 Slot::Input(x) => &self.mapping.inputs()[x.0],
                 Slot::Output(z) => &self.mapping.outputs()[z.0],
             };
-            return Err(self.header_err(format!(
+            return Err(format!(
                 "no column for signal '{name}' ({address}) of the mapping"
-            )));
+            ));
         }
         self.headers = cells;
         Ok(())
@@ -223,23 +218,20 @@ impl<R: BufRead> LogReader<R> {
 
     /// Long format: applies one change; returns the finished sample when a new timestamp
     /// starts.
-    fn long_row(&mut self, line: &[u8]) -> Result<Option<Sample>, BadRow> {
-        let mut cells = line.split(|&b| b == b',');
-        let (Some(t), Some(a), Some(v), None) =
-            (cells.next(), cells.next(), cells.next(), cells.next())
-        else {
+    fn long_row(&mut self, row: Record<'_>) -> Result<Option<Sample>, BadRow> {
+        let [t, address, v] = [0, 1, 2].map(|k| row.get(k).unwrap_or_default());
+        if row.len() != 3 {
             return Err(BadRow::CellCount {
-                found: line.split(|&b| b == b',').count(),
+                found: row.len(),
                 expected: 3,
             });
-        };
-        let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
-        let address = trim(a);
+        }
+        let time = parse_time(t).ok_or_else(|| bad_value(&self.headers[0], t))?;
         let slot = self
             .mapping
             .slot(address)
             .ok_or_else(|| BadRow::UnknownAddress(String::from_utf8_lossy(address).into_owned()))?;
-        let value = parse_bool(trim(v)).ok_or_else(|| bad_value(&self.headers[2], v))?;
+        let value = parse_bool(v).ok_or_else(|| bad_value(&self.headers[2], v))?;
         self.check_time(time)?;
         let finished = match self.group_time {
             Some(g) if g != time => {
@@ -258,22 +250,23 @@ impl<R: BufRead> LogReader<R> {
     }
 
     /// Wide format: one row, one sample.
-    fn wide_row(&mut self, line: &[u8]) -> Result<Sample, BadRow> {
+    fn wide_row(&mut self, row: Record<'_>) -> Result<Sample, BadRow> {
         let expected = self.columns.len() + 1;
-        let found = line.split(|&b| b == b',').count();
-        if found != expected {
-            return Err(BadRow::CellCount { found, expected });
+        if row.len() != expected {
+            return Err(BadRow::CellCount {
+                found: row.len(),
+                expected,
+            });
         }
-        let mut cells = line.split(|&b| b == b',');
+        let mut cells = row.iter();
         let t = cells.next().unwrap_or_default();
-        let time = parse_time(trim(t)).ok_or_else(|| bad_value(&self.headers[0], t))?;
+        let time = parse_time(t).ok_or_else(|| bad_value(&self.headers[0], t))?;
         let mut sample = Sample {
             inputs: vec![false; self.mapping.inputs().len()],
             outputs: vec![false; self.mapping.outputs().len()],
         };
         for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
-            let value =
-                parse_bool(trim(cell)).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
+            let value = parse_bool(cell).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
             match slot {
                 Slot::Input(x) => sample.inputs[x.0] = value,
                 Slot::Output(z) => sample.outputs[z.0] = value,
@@ -291,30 +284,31 @@ impl<R: BufRead> Iterator for LogReader<R> {
 
     fn next(&mut self) -> Option<Self::Item> {
         while !self.done {
-            match self.next_line() {
-                Err(e) => {
+            let (line, record) = match self.records.next_record() {
+                Err(source) => {
                     self.done = true;
-                    return Some(Err(e));
+                    return Some(Err(IngestError::Io {
+                        file: self.file.clone(),
+                        source,
+                    }));
                 }
-                Ok(false) => {
+                Ok(None) => {
                     self.done = true;
                     // The last timestamp group of a long log ends with the file.
-                    if let Some(g) = self.group_time.take() {
-                        self.sample_time = Some(g);
+                    if let Some(g) = self.rows.group_time.take() {
+                        self.rows.sample_time = Some(g);
                         self.stats.samples += 1;
-                        return Some(Ok(self.current.clone()));
+                        return Some(Ok(self.rows.current.clone()));
                     }
                     return None;
                 }
-                Ok(true) => {}
-            }
-            self.stats.rows += 1;
-            let line = std::mem::take(&mut self.buf);
-            let row = match self.format {
-                LogFormat::Long => self.long_row(trim(&line)),
-                LogFormat::Wide => self.wide_row(trim(&line)).map(Some),
+                Ok(Some(r)) => r,
             };
-            self.buf = line;
+            self.stats.rows += 1;
+            let row = match self.rows.format {
+                LogFormat::Long => self.rows.long_row(record),
+                LogFormat::Wide => self.rows.wide_row(record).map(Some),
+            };
             match row {
                 Ok(Some(sample)) => {
                     self.stats.samples += 1;
@@ -326,7 +320,7 @@ impl<R: BufRead> Iterator for LogReader<R> {
                     self.done = true;
                     return Some(Err(IngestError::Row {
                         file: self.file.clone(),
-                        line: self.line,
+                        line,
                         problem,
                     }));
                 }
@@ -336,14 +330,10 @@ impl<R: BufRead> Iterator for LogReader<R> {
     }
 }
 
-fn trim(bytes: &[u8]) -> &[u8] {
-    bytes.trim_ascii()
-}
-
 fn bad_value(column: &str, cell: &[u8]) -> BadRow {
     BadRow::Value {
         column: column.to_string(),
-        cell: String::from_utf8_lossy(trim(cell)).into_owned(),
+        cell: String::from_utf8_lossy(cell).into_owned(),
     }
 }
 

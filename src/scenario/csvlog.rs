@@ -9,7 +9,8 @@
 //! 0.02,1,1,0,1
 //! ```
 //! - A header row, then one row per sample. Cells are separated by `,` (or `;` when the header
-//!   has no `,`). Values are `0`/`1`/`true`/`false` in any case. Blank lines are ignored.
+//!   has no `,`) and may be quoted as RFC 4180 says ([`Records`]). Values are
+//!   `0`/`1`/`true`/`false` in any case. Blank lines and a leading byte order mark are ignored.
 //! - Inputs and outputs are told apart by a prefix in the header: `in:NAME` or `out:NAME`.
 //!   Plain `NAME` headers are allowed when names files (`--input-names`/`--output-names`) say
 //!   which side a name is on; with names files, their order is the interface order and every
@@ -18,7 +19,7 @@
 //!   (rows with the same value in a contiguous block form one scenario; without it the whole
 //!   file is one scenario).
 //!
-//! # Conversion (seed 000)
+//! # Conversion (seed 000, implemented in [`super::steps`])
 //! 1. Consecutive identical rows collapse into one element.
 //! 2. While two consecutive elements have equal inputs and different outputs, the first is
 //!    dropped: the output change belongs to the input change before it (scan-cycle skew).
@@ -29,8 +30,10 @@
 //! back is lossless except for active steps that did not change the outputs (they become
 //! passive): a sampled log cannot see an event that changed nothing.
 
-use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
-use crate::files::csv::parse_bool;
+pub use super::steps::{samples_to_steps, Sample};
+use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
+use crate::ecc::ident::is_identifier;
+use crate::files::csv::{parse_bool, Records};
 use std::io::Write;
 use std::path::Path;
 
@@ -40,13 +43,6 @@ enum Column {
     Scenario,
     Input(usize),
     Output(usize),
-}
-
-/// One sample: input and output values.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Sample {
-    pub inputs: Vec<bool>,
-    pub outputs: Vec<bool>,
 }
 
 /// Parses a CSV log into scenarios.
@@ -61,26 +57,33 @@ pub fn parse(
         line,
         message,
     };
-    let mut lines = text
+    // Reading from memory fails only on what the CSV reader cannot split, reported as I/O.
+    let io = |source| ScenarioError::Io {
+        file: file.to_path_buf(),
+        source,
+    };
+    let header_line = text
+        .trim_start_matches('\u{feff}')
         .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty());
-    let (hline, header) = lines
-        .next()
-        .ok_or_else(|| err(1, "empty file: expected a header row".into()))?;
-    let sep = if header.contains(',') || !header.contains(';') {
-        ','
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("");
+    let sep = if header_line.contains(',') || !header_line.contains(';') {
+        b','
     } else {
-        ';'
+        b';'
+    };
+    let mut records = Records::new(text.as_bytes(), sep).map_err(io)?;
+    let (hline, header) = match records.next_record().map_err(io)? {
+        Some((line, cells)) => (line, cells.iter().map(lossy).collect::<Vec<String>>()),
+        None => return Err(err(1, "empty file: expected a header row".into())),
     };
     let (columns, inputs, outputs) =
-        classify(header, sep, input_names, output_names).map_err(|m| err(hline, m))?;
+        classify(&header, input_names, output_names).map_err(|m| err(hline, m))?;
 
     // Samples grouped by the scenario column.
     let mut groups: Vec<(usize, String, Vec<Sample>)> = Vec::new();
-    for (line_no, line) in lines {
-        let cells: Vec<&str> = line.split(sep).map(str::trim).collect();
+    while let Some((line_no, cells)) = records.next_record().map_err(io)? {
         if cells.len() != columns.len() {
             return Err(err(
                 line_no,
@@ -94,20 +97,21 @@ pub fn parse(
         let mut id = String::new();
         for (k, (cell, col)) in cells.iter().zip(&columns).enumerate() {
             let value = || {
-                parse_bool(cell.as_bytes()).ok_or_else(|| {
+                parse_bool(cell).ok_or_else(|| {
                     err(
                         line_no,
                         format!(
-                            "column {} ('{}'): '{cell}' is not 0/1/true/false",
+                            "column {} ('{}'): '{}' is not 0/1/true/false",
                             k + 1,
-                            header_cell(header, sep, k)
+                            header[k],
+                            lossy(cell)
                         ),
                     )
                 })
             };
             match *col {
                 Column::Time => {}
-                Column::Scenario => id = cell.to_string(),
+                Column::Scenario => id = lossy(cell),
                 Column::Input(i) => sample.inputs[i] = value()?,
                 Column::Output(o) => sample.outputs[o] = value()?,
             }
@@ -139,15 +143,15 @@ pub fn parse(
     })
 }
 
-fn header_cell(header: &str, sep: char, k: usize) -> String {
-    header.split(sep).nth(k).unwrap_or("").trim().to_string()
+/// A cell as text (the log is UTF-8 already; this only changes the type).
+fn lossy(cell: &[u8]) -> String {
+    String::from_utf8_lossy(cell).into_owned()
 }
 
 type Classified = (Vec<Column>, Vec<String>, Vec<String>);
 
 fn classify(
-    header: &str,
-    sep: char,
+    header: &[String],
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
 ) -> Result<Classified, String> {
@@ -157,7 +161,7 @@ fn classify(
     let fixed_out = output_names.is_some();
     let mut columns = Vec::new();
     let mut seen = std::collections::HashSet::new();
-    for (k, cell) in header.split(sep).map(str::trim).enumerate() {
+    for (k, cell) in header.iter().map(String::as_str).enumerate() {
         let col_no = k + 1;
         if !seen.insert(cell.to_string()) {
             return Err(format!("column {col_no}: duplicate column '{cell}'"));
@@ -178,7 +182,7 @@ fn classify(
         } else {
             (None, cell)
         };
-        if !super::names::is_identifier(name) {
+        if !is_identifier(name) {
             return Err(format!(
                 "column {col_no}: '{name}' is not a valid signal name"
             ));
@@ -238,40 +242,6 @@ fn classify(
         return Err("no output columns (prefix them with 'out:')".into());
     }
     Ok((columns, inputs, outputs))
-}
-
-/// Seed 000's preprocessing of one sampled trace into scenario steps.
-pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
-    let mut elems: Vec<&Sample> = Vec::with_capacity(samples.len());
-    for s in samples {
-        // Rule 1 (collapse identical rows) and rule 2 (an output change recorded before the
-        // input change that caused it: drop the earlier element), applied until neither fires.
-        // Dropping can make the new neighbours equal or skewed again, hence the loop.
-        loop {
-            match elems.last() {
-                Some(last) if *last == s => break,
-                Some(last) if last.inputs == s.inputs && last.outputs != s.outputs => {
-                    elems.pop();
-                }
-                _ => {
-                    elems.push(s);
-                    break;
-                }
-            }
-        }
-    }
-    let mut prev = initial_outputs;
-    elems
-        .into_iter()
-        .map(|e| {
-            let changed = e.outputs != prev;
-            prev = &e.outputs;
-            Step {
-                inputs: e.inputs.clone(),
-                outputs: changed.then(|| e.outputs.clone()),
-            }
-        })
-        .collect()
 }
 
 /// Reads a CSV log file (plain or gzip).
@@ -387,6 +357,14 @@ mod tests {
             let e = parse(Path::new("log.csv"), text, None, None).unwrap_err();
             assert_eq!(e.to_string(), msg, "for {text:?}");
         }
+    }
+
+    #[test]
+    fn quoted_cells_and_a_byte_order_mark_are_read() {
+        assert_eq!(
+            steps("\u{feff}\"in:a\",out:z\n\"1\",0\n"),
+            vec![("1".into(), None)]
+        );
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! SMV emission: an ECC as a NuSMV module ([`ecc_module`]), and the rules for the names that go
-//! into a model.
+//! into a model (kept with the other languages' in [`crate::ecc::ident`]).
 //!
 //! In: an [`Ecc`](crate::ecc::Ecc) and user-chosen names. Out: SMV text, or an error naming the
 //! identifier that cannot be used. Every name that reaches SMV code passes [`check_identifier`]

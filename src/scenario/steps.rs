@@ -1,17 +1,36 @@
-//! Seed 000's conversion of samples into scenario steps, one sample at a time.
+//! Seed 000's conversion of samples into scenario steps (rules in [`super::csvlog`]), one
+//! sample at a time: the one implementation behind both the CSV logs read whole
+//! ([`samples_to_steps`]) and the raw logs streamed by [`crate::ingest`].
 //!
 //! In: samples pushed in log order. Out: [`Step`]s, each as soon as it can no longer change.
-//! Same rules as [`samples_to_steps`](crate::scenario::csvlog::samples_to_steps); only the
-//! pending element and the last emitted outputs are kept.
+//! Only the pending element and the last emitted outputs are kept.
 //!
-//! Why one pending element suffices: the batch version keeps a stack in which neighbours
-//! always differ in their inputs (rule 1 removes equal neighbours, rule 2 removes an element
-//! whose successor has the same inputs). A new sample can therefore pop at most the top
-//! element (the one below has other inputs than the top, hence than the new sample), so
-//! every element below the top is final and can be emitted.
+//! Why one pending element suffices: the rules, applied to the whole trace, keep a stack in
+//! which neighbours always differ in their inputs (rule 1 removes equal neighbours, rule 2
+//! removes an element whose successor has the same inputs). A new sample can therefore pop at
+//! most the top element (the one below has other inputs than the top, hence than the new
+//! sample), so every element below the top is final and can be emitted. The tests check this
+//! against the stack version.
 
-use crate::scenario::csvlog::Sample;
-use crate::scenario::Step;
+use super::Step;
+
+/// One sample: input and output values.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Sample {
+    pub inputs: Vec<bool>,
+    pub outputs: Vec<bool>,
+}
+
+/// Seed 000's preprocessing of one sampled trace into scenario steps.
+pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
+    let mut stream = StepStream::new(initial_outputs.to_vec());
+    let mut steps: Vec<Step> = samples
+        .iter()
+        .filter_map(|s| stream.push(s.clone()))
+        .collect();
+    steps.extend(stream.finish());
+    steps
+}
 
 /// Push-style streaming conversion of one trace.
 #[derive(Debug, Clone)]
@@ -66,14 +85,45 @@ impl StepStream {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::csvlog::samples_to_steps;
     use proptest::prelude::*;
 
     fn convert(samples: &[Sample], initial: &[bool]) -> Vec<Step> {
-        let mut s = StepStream::new(initial.to_vec());
-        let mut steps: Vec<Step> = samples.iter().filter_map(|x| s.push(x.clone())).collect();
-        steps.extend(s.finish());
-        steps
+        samples_to_steps(samples, initial)
+    }
+
+    /// The rules applied to the whole trace with a stack, as seed 000 states them: the
+    /// reference the streaming conversion is checked against.
+    fn batch(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
+        let mut elems: Vec<&Sample> = Vec::with_capacity(samples.len());
+        for s in samples {
+            // Rule 1 (collapse identical rows) and rule 2 (drop the earlier of two elements
+            // with equal inputs), until neither fires: dropping can make the new neighbours
+            // equal or skewed again.
+            loop {
+                match elems.last() {
+                    Some(last) if *last == s => break,
+                    Some(last) if last.inputs == s.inputs && last.outputs != s.outputs => {
+                        elems.pop();
+                    }
+                    _ => {
+                        elems.push(s);
+                        break;
+                    }
+                }
+            }
+        }
+        let mut prev = initial_outputs;
+        elems
+            .into_iter()
+            .map(|e| {
+                let changed = e.outputs != prev;
+                prev = &e.outputs;
+                Step {
+                    inputs: e.inputs.clone(),
+                    outputs: changed.then(|| e.outputs.clone()),
+                }
+            })
+            .collect()
     }
 
     fn sample(bits: u8) -> Sample {
@@ -115,7 +165,7 @@ mod tests {
             initial in proptest::collection::vec(any::<bool>(), 2),
         ) {
             let samples: Vec<Sample> = bits.into_iter().map(sample).collect();
-            prop_assert_eq!(convert(&samples, &initial), samples_to_steps(&samples, &initial));
+            prop_assert_eq!(convert(&samples, &initial), batch(&samples, &initial));
         }
     }
 }
