@@ -1,0 +1,152 @@
+//! Progress of a minimization as typed steps: which bound is tried, which is proven least.
+//! The caller decides how to show them; [`std::fmt::Display`] gives the usual one-line text.
+
+use crate::ecc::Size;
+use std::fmt;
+
+/// A size the minimizations bound, in the glossary's letters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bound {
+    /// States.
+    C,
+    /// Largest out-degree.
+    K,
+    /// Transitions.
+    T,
+    /// Guard literals.
+    N,
+    /// Corrected errors of a noisy log.
+    Errors,
+    /// Modular: inputs used, summed over the modules.
+    InputsUsed,
+    /// Modular: states in all, summed over the modules.
+    TotalStates,
+}
+
+impl fmt::Display for Bound {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Bound::C => "C",
+            Bound::K => "K",
+            Bound::T => "T",
+            Bound::N => "N",
+            Bound::Errors => "ε",
+            Bound::InputsUsed => "A (inputs used)",
+            Bound::TotalStates => "N' (states used)",
+        })
+    }
+}
+
+/// One step of a minimization.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// The solver is asked for a machine with `bound <= value`.
+    Trying { bound: Bound, value: usize },
+    /// `value` is the least `bound`.
+    Minimal { bound: Bound, value: usize },
+    /// The first states bound of a single machine, with the problem's figures.
+    TryingStates {
+        c: usize,
+        tree_nodes: usize,
+        inputs: usize,
+        negatives: usize,
+    },
+    /// The least C, and the first machine's K and T.
+    StatesMinimal { c: usize, k: usize, t: usize },
+    /// Guards minimized after the structure (tree-exact model).
+    Guards { n: usize, exact: bool },
+    /// The encoding is rebuilt for a larger window of states.
+    Reencoding { states: usize, per_module: bool },
+    /// The trace graph of a noisy log.
+    TraceGraph {
+        nodes: usize,
+        traces: usize,
+        alternatives: usize,
+        inputs: usize,
+    },
+    /// A candidate of the noisy enumeration.
+    Candidate {
+        number: usize,
+        errors: usize,
+        size: Size,
+    },
+    /// Modular: the states bound per module.
+    TryingModules {
+        states: usize,
+        modules: usize,
+        tree_nodes: usize,
+    },
+    /// Modular: the least largest module.
+    LargestModule { states: usize },
+}
+
+impl fmt::Display for Step {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Step::Trying { bound, value } => write!(f, "trying {bound} = {value}"),
+            Step::Minimal {
+                bound: bound @ (Bound::InputsUsed | Bound::TotalStates),
+                value,
+            } => write!(f, "{bound} = {value} (minimal)"),
+            Step::Minimal {
+                bound: Bound::Errors,
+                value,
+            } => write!(f, "least ε = {value}"),
+            Step::Minimal { bound, value } => write!(f, "{bound} = {value} is minimal"),
+            Step::TryingStates {
+                c,
+                tree_nodes,
+                inputs,
+                negatives,
+            } => write!(
+                f,
+                "trying C = {c} ({tree_nodes} tree nodes, {inputs} inputs, {negatives} negative scenarios)"
+            ),
+            Step::StatesMinimal { c, k, t } => {
+                write!(f, "C = {c} is minimal; first machine has K = {k}, T = {t}")
+            }
+            Step::Guards { n, exact } => write!(
+                f,
+                "guards: N = {n}{}",
+                if *exact {
+                    " (minimal)"
+                } else {
+                    " (budget reached, not proven minimal)"
+                }
+            ),
+            Step::Reencoding { states, per_module } => write!(
+                f,
+                "re-encoding for up to {states} states{}",
+                if *per_module { " per module" } else { "" }
+            ),
+            Step::TraceGraph {
+                nodes,
+                traces,
+                alternatives,
+                inputs,
+            } => write!(
+                f,
+                "trace graph: {nodes} nodes, {traces} distinct traces, {alternatives} alternative edges, {inputs} distinct inputs"
+            ),
+            Step::Candidate {
+                number,
+                errors,
+                size,
+            } => write!(f, "candidate {number}: ε = {errors}, {size}"),
+            Step::TryingModules {
+                states,
+                modules,
+                tree_nodes,
+            } => write!(
+                f,
+                "trying at most {states} states per module ({modules} modules, {tree_nodes} tree nodes)"
+            ),
+            Step::LargestModule { states } => {
+                write!(f, "largest module: {states} states (minimal)")
+            }
+        }
+    }
+}
+
+/// Where a minimization reports its steps.
+pub type Progress<'a> = &'a mut dyn FnMut(Step);
