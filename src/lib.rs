@@ -4,7 +4,8 @@
 //! Start at [`pipeline`]: one function per method (exact SAT with NuSMV in the loop, search,
 //! noisy logs, modular, refinement) over one verification problem
 //! ([`verify::Problem`]). Below it, dependencies point toward the model:
-//! - [`ecc`]: the model and its simulator (pure data, no I/O);
+//! - [`ecc`]: the model and its simulator (pure data, no I/O), and the identifier and literal
+//!   rules of every language the tool writes ([`ecc::ident`]);
 //! - [`scenario`]: execution scenarios, their file formats and the scenario tree;
 //! - [`sat`]: exact synthesis with varisat (never imports `nusmv`);
 //! - [`search`]: metaheuristic synthesis with verification-aware fitness;

@@ -295,6 +295,26 @@ pub fn check_iec(name: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// `TRUE` / `FALSE`: how SMV writes a Boolean constant and NuSMV prints one in a trace.
+/// IEC 61131-3 Structured Text and 4diac spell them the same way.
+pub fn bool_literal(v: bool) -> &'static str {
+    if v {
+        "TRUE"
+    } else {
+        "FALSE"
+    }
+}
+
+/// Reads a value as NuSMV prints it in a trace: `TRUE` or `FALSE`; anything else (a number, a
+/// state name) is not a Boolean.
+pub fn parse_bool(value: &str) -> Option<bool> {
+    match value {
+        "TRUE" => Some(true),
+        "FALSE" => Some(false),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

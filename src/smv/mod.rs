@@ -12,28 +12,9 @@ pub mod plant;
 pub use ecc_module::{state_value, write_ecc_module, SmvError};
 
 pub use crate::ecc::ident::check_smv as check_identifier;
+pub use crate::ecc::ident::{bool_literal, parse_bool};
 
 use crate::ecc::Algorithm;
-
-/// `TRUE` / `FALSE`: how SMV writes a Boolean constant and NuSMV prints one in a trace.
-/// IEC 61131-3 Structured Text and 4diac spell them the same way.
-pub fn bool_literal(v: bool) -> &'static str {
-    if v {
-        "TRUE"
-    } else {
-        "FALSE"
-    }
-}
-
-/// Reads a value as NuSMV prints it in a trace: `TRUE` or `FALSE`; anything else (a number, a
-/// state name) is not a Boolean.
-pub fn parse_bool(value: &str) -> Option<bool> {
-    match value {
-        "TRUE" => Some(true),
-        "FALSE" => Some(false),
-        _ => None,
-    }
-}
 
 /// What a state's algorithm does to one output when the state is entered.
 ///
