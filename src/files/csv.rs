@@ -13,16 +13,22 @@ const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Reads records one at a time; see the module header.
 ///
-/// Lines are read here and each record's cells are split by one reused `csv` reader: the
-/// crate's own line count skips blank lines, and every error message of a log names the line
-/// of the file. Memory holds one record, whatever the length of the file.
+/// Lines are read here and each record's cells are split by `csv_core`, the parser under the
+/// `csv` crate, into buffers reused from record to record: the `csv` crate's own line count
+/// skips blank lines, and every error message of a log names the line of the file. Memory
+/// holds one record, whatever the length of the file.
 pub struct Records<R: BufRead> {
     src: R,
-    /// Splits the record held in its cursor; rewound for every record.
-    csv: ::csv::Reader<io::Cursor<Vec<u8>>>,
+    splitter: csv_core::Reader,
+    /// The record's text (one line, or more while a quoted cell holds line breaks).
+    text: Vec<u8>,
+    /// The cells, unquoted, one after the other.
+    cells: Vec<u8>,
+    /// The end of every cell in `cells`; only the first `count` are this record's.
+    ends: Vec<usize>,
+    count: usize,
     /// Lines read so far.
     line: usize,
-    record: ::csv::ByteRecord,
 }
 
 impl<R: BufRead> Records<R> {
@@ -31,28 +37,22 @@ impl<R: BufRead> Records<R> {
         if src.fill_buf()?.starts_with(UTF8_BOM) {
             src.consume(UTF8_BOM.len());
         }
-        let mut csv = ::csv::ReaderBuilder::new()
-            .has_headers(false)
-            .flexible(true)
-            .delimiter(delimiter)
-            .from_reader(io::Cursor::new(Vec::with_capacity(256)));
-        // The first seek reads the (empty) cursor as the header row, once, so that later
-        // rewinds only reset the parser.
-        rewind(&mut csv)?;
         Ok(Records {
             src,
-            csv,
+            splitter: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
+            text: Vec::with_capacity(256),
+            cells: Vec::new(),
+            ends: vec![0; 16],
+            count: 0,
             line: 0,
-            record: ::csv::ByteRecord::new(),
         })
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
     pub fn next_record(&mut self) -> io::Result<Option<(usize, Record<'_>)>> {
         loop {
-            let buf = self.csv.get_mut().get_mut();
-            buf.clear();
-            if self.src.read_until(b'\n', buf)? == 0 {
+            self.text.clear();
+            if self.src.read_until(b'\n', &mut self.text)? == 0 {
                 return Ok(None);
             }
             self.line += 1;
@@ -60,64 +60,93 @@ impl<R: BufRead> Records<R> {
             // A quoted cell may hold line breaks (RFC 4180): while a quote is open, the record
             // goes on in the next line. Doubled quotes inside a cell count twice, so the parity
             // of all quotes says whether one is open.
-            while buf.iter().filter(|&&b| b == b'"').count() % 2 == 1 {
-                if self.src.read_until(b'\n', buf)? == 0 {
+            while self.text.iter().filter(|&&b| b == b'"').count() % 2 == 1 {
+                if self.src.read_until(b'\n', &mut self.text)? == 0 {
                     break;
                 }
                 self.line += 1;
             }
-            if buf.trim_ascii().is_empty() {
+            if self.text.trim_ascii().is_empty() {
                 continue;
             }
-            rewind(&mut self.csv)?;
-            self.csv
-                .read_byte_record(&mut self.record)
-                .map_err(io_error)?;
-            return Ok(Some((start, Record(&self.record))));
+            self.split();
+            return Ok(Some((
+                start,
+                Record {
+                    cells: &self.cells,
+                    ends: &self.ends[..self.count],
+                },
+            )));
         }
+    }
+
+    /// Splits `text` into `cells` and `ends`.
+    fn split(&mut self) {
+        use csv_core::ReadRecordResult as R;
+        self.splitter.reset();
+        // Unquoted cells are never longer than the text they come from.
+        if self.cells.len() < self.text.len() + 1 {
+            self.cells.resize(self.text.len() + 1, 0);
+        }
+        let mut input: &[u8] = &self.text;
+        let (mut out, mut count) = (0, 0);
+        loop {
+            let (result, read, written, ended) =
+                self.splitter
+                    .read_record(input, &mut self.cells[out..], &mut self.ends[count..]);
+            input = &input[read..];
+            out += written;
+            count += ended;
+            match result {
+                // The text is one record: an empty input tells the parser it ended.
+                R::InputEmpty => {}
+                R::OutputFull => {
+                    let n = self.cells.len() * 2;
+                    self.cells.resize(n, 0);
+                }
+                R::OutputEndsFull => {
+                    let n = self.ends.len() * 2;
+                    self.ends.resize(n, 0);
+                }
+                R::Record | R::End => break,
+            }
+        }
+        self.count = count;
     }
 }
 
 /// One record: its cells, each trimmed of surrounding blanks.
-///
-/// Trimming on access spares the copy the `csv` crate's own trimming makes of every record.
 #[derive(Clone, Copy)]
-pub struct Record<'a>(&'a ::csv::ByteRecord);
+pub struct Record<'a> {
+    cells: &'a [u8],
+    ends: &'a [usize],
+}
 
 impl<'a> Record<'a> {
     /// The number of cells.
     pub fn len(&self) -> usize {
-        self.0.len()
+        self.ends.len()
     }
 
     /// Whether the record has no cells (never true for a record [`Records`] returns).
     pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
+        self.ends.is_empty()
     }
 
     /// Cell `k` (0-based), if the record has it.
     pub fn get(&self, k: usize) -> Option<&'a [u8]> {
-        self.0.get(k).map(<[u8]>::trim_ascii)
+        let end = *self.ends.get(k)?;
+        let start = if k == 0 { 0 } else { self.ends[k - 1] };
+        Some(self.cells[start..end].trim_ascii())
     }
 
     /// The cells in order.
-    pub fn iter(&self) -> impl Iterator<Item = &'a [u8]> {
-        self.0.iter().map(<[u8]>::trim_ascii)
-    }
-}
-
-/// Points the splitter at the start of its cursor with a fresh parser state.
-fn rewind(csv: &mut ::csv::Reader<io::Cursor<Vec<u8>>>) -> io::Result<()> {
-    csv.seek_raw(io::SeekFrom::Start(0), ::csv::Position::new())
-        .map_err(io_error)
-}
-
-/// The I/O error behind a CSV error. With flexible records and byte cells, splitting a record
-/// in memory cannot fail; anything but I/O is still reported, as invalid data.
-fn io_error(e: ::csv::Error) -> io::Error {
-    match e.into_kind() {
-        ::csv::ErrorKind::Io(e) => e,
-        other => io::Error::new(io::ErrorKind::InvalidData, format!("{other:?}")),
+    pub fn iter(&self) -> impl Iterator<Item = &'a [u8]> + use<'a> {
+        let (cells, ends) = (self.cells, self.ends);
+        ends.iter().enumerate().map(move |(k, &end)| {
+            let start = if k == 0 { 0 } else { ends[k - 1] };
+            cells[start..end].trim_ascii()
+        })
     }
 }
 
