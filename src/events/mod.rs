@@ -105,7 +105,7 @@ use std::path::Path;
 /// Joins the activities of merged changes into one activity name.
 pub const JOIN: &str = " + ";
 
-/// The two classes of seed 002: data read by the PLC, or written by it.
+/// The two classes of the process-mining paper: data read by the PLC, or written by it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EventClass {
     Input,

@@ -1,4 +1,4 @@
-//! Seed 002's conversion rules, one test each, on small hand-made logs.
+//! The process-mining paper's conversion rules, one test each, on small hand-made logs.
 
 use super::*;
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@
 //! logs `synth events` writes). Out: a PNML document ([`write_pnml`]).
 //!
 //! # Mapping
-//! The net reads an event log of seed 002's conversion: input events (`ADDRESS VALUE`, one
+//! The net reads an event log of the process-mining paper's conversion: input events (`ADDRESS VALUE`, one
 //! input changing) and output events (the outputs one ECC transition changed, joined by
 //! ` + ` in interface order). It assumes one `REQ` per scan: a machine waits in a state while
 //! no guard holds, and an input event that makes a guard hold fires it at once.

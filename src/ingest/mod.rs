@@ -1,7 +1,7 @@
 //! Streaming ingestion of raw PLC I/O data-flow logs, as a tapping device writes them.
 //!
 //! In: a mapping file ([`Mapping`]) and a log file, plain or gzip. Out: a stream of
-//! [`Sample`]s ([`LogReader`]) and, through seed 000's conversion done on the fly
+//! [`Sample`]s ([`LogReader`]) and, through the SAT reconstruction paper's conversion done on the fly
 //! ([`StepStream`]), scenario [`Step`](crate::scenario::Step)s. Memory stays constant in the
 //! log length: the log is read line by line and only the pending sample is kept.
 //!
@@ -147,7 +147,7 @@ pub enum IngestError {
     },
 }
 
-/// Streams a whole log through seed 000's conversion, handing each step to `sink` as soon as
+/// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
 /// it is final. Returns what the reader counted.
 pub fn convert_log<R: std::io::BufRead>(
     mut reader: LogReader<R>,
@@ -246,7 +246,7 @@ mod tests {
     fn a_hand_made_log_becomes_one_fbsat_scenario() {
         let dir = tempfile::tempdir().unwrap();
         let log = dir.path().join("log.csv");
-        // The motor follows start one scan late (seed 000's rule 2 joins the two), a repeated
+        // The motor follows start one scan late (the SAT reconstruction paper's rule 2 joins the two), a repeated
         // scan collapses, stop turns the motor off in the same scan.
         std::fs::write(
             &log,
@@ -280,7 +280,7 @@ mod tests {
         assert_eq!(set.outputs, ["z0", "z1"]);
         let steps = &set.scenarios[0].steps;
         assert!(!steps.is_empty() && steps.len() as u64 <= stats.samples);
-        // Seed 000's rule 2 leaves no two neighbouring steps with equal inputs.
+        // The SAT reconstruction paper's rule 2 leaves no two neighbouring steps with equal inputs.
         assert!(steps.windows(2).all(|w| w[0].inputs != w[1].inputs));
     }
 }

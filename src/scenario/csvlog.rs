@@ -1,5 +1,5 @@
 //! Sampled PLC I/O logs in CSV, as a data collector writes them, and their conversion to
-//! scenarios by the rules of seed 000 (section IV.A).
+//! scenarios by the rules of the SAT reconstruction paper (section IV.A).
 //!
 //! # Format
 //! ```text
@@ -19,7 +19,7 @@
 //!   (rows with the same value in a contiguous block form one scenario; without it the whole
 //!   file is one scenario).
 //!
-//! # Conversion (seed 000, implemented in [`super::steps`])
+//! # Conversion (the SAT reconstruction paper, implemented in [`super::steps`])
 //! 1. Consecutive identical rows collapse into one element.
 //! 2. While two consecutive elements have equal inputs and different outputs, the first is
 //!    dropped: the output change belongs to the input change before it (scan-cycle skew).

@@ -1,4 +1,4 @@
-//! Seed 000's conversion of samples into scenario steps (rules in [`super::csvlog`]), one
+//! The SAT reconstruction paper's conversion of samples into scenario steps (rules in [`super::csvlog`]), one
 //! sample at a time: the one implementation behind both the CSV logs read whole
 //! ([`samples_to_steps`]) and the raw logs streamed by [`crate::ingest`].
 //!
@@ -21,7 +21,7 @@ pub struct Sample {
     pub outputs: Vec<bool>,
 }
 
-/// Seed 000's preprocessing of one sampled trace into scenario steps.
+/// The SAT reconstruction paper's preprocessing of one sampled trace into scenario steps.
 pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
     let mut stream = StepStream::new(initial_outputs.to_vec());
     let mut steps: Vec<Step> = samples
@@ -91,7 +91,7 @@ mod tests {
         samples_to_steps(samples, initial)
     }
 
-    /// The rules applied to the whole trace with a stack, as seed 000 states them: the
+    /// The rules applied to the whole trace with a stack, as the SAT reconstruction paper states them: the
     /// reference the streaming conversion is checked against.
     fn batch(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
         let mut elems: Vec<&Sample> = Vec::with_capacity(samples.len());

@@ -1,4 +1,4 @@
-//! The trace graph of seed 000 (section IV.A): noisy scenarios laid out without merging, plus
+//! The trace graph of the SAT reconstruction paper (section IV.A): noisy scenarios laid out without merging, plus
 //! the alternative edges of its error model.
 //!
 //! In: a [`ScenarioSet`] whose scenarios may be noisy (steps from
