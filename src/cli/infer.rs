@@ -9,10 +9,9 @@ use clap::{Args, ValueEnum};
 use fbsynth::export;
 use fbsynth::pipeline::output::{self, check_exportable, check_exportable_modular};
 use fbsynth::pipeline::recordings::machine_and_scenarios;
-use fbsynth::pipeline::{exact, modular, noisy};
+use fbsynth::pipeline::{self, exact, modular, noisy};
 use fbsynth::scenario::{csvlog, fbsat, ScenarioSet};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 #[derive(Debug, Args)]
 pub struct InferArgs {
@@ -156,7 +155,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             minimize_k: args.minimize_k,
             max_states: args.max_states,
             start_state: args.start_state,
-            guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+            guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
             ..exact::SatOptions::default()
         },
         ..exact::Options::default()
@@ -204,7 +203,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         max_states: args.max_states,
         max_errors: n.max_errors,
         enumerate: n.enumerate.max(1),
-        guard_budget: Duration::from_secs_f64(args.guard_budget.max(0.0)),
+        guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
         ..noisy::Options::default()
     };
     let result = noisy::run(&set, check.as_ref(), &opts, &mut |e| progress.event(e))?;

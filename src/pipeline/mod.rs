@@ -189,11 +189,29 @@ impl Error {
     }
 }
 
+/// The longest time any option may name: a year. Longer (or infinite) values are refused
+/// rather than turned into a timer that panics or never fires.
+pub const MAX_SECONDS: f64 = 365.0 * 24.0 * 3600.0;
+
+/// A number of seconds given as option `option`: finite, not negative (positive when
+/// `positive`), at most [`MAX_SECONDS`].
+pub fn seconds(option: &str, value: f64, positive: bool) -> Result<std::time::Duration, Error> {
+    let low_ok = if positive { value > 0.0 } else { value >= 0.0 };
+    if !(value.is_finite() && low_ok && value <= MAX_SECONDS) {
+        return Err(Error::Usage(format!(
+            "{option} takes a {} number of seconds up to {MAX_SECONDS} (a year), not {value}",
+            if positive { "positive" } else { "non-negative" }
+        )));
+    }
+    Ok(std::time::Duration::from_secs_f64(value))
+}
+
 /// Locates NuSMV (`path`, else `$NUSMV`, `PATH`, the install script's cache) with a timeout
 /// per closed-loop model; fails early with the install hint.
 pub fn nusmv(path: Option<&std::path::Path>, timeout_seconds: f64) -> Result<Nusmv, Error> {
+    let timeout = seconds("--timeout", timeout_seconds, true)?;
     let mut n = Nusmv::new(crate::nusmv::locate(path)?);
-    n.timeout = std::time::Duration::from_secs_f64(timeout_seconds.max(0.1));
+    n.timeout = timeout;
     Ok(n)
 }
 

@@ -251,6 +251,8 @@ pub fn run(
     initial: Option<Vec<Machine>>,
     events: Events<'_>,
 ) -> Result<Searched, Error> {
+    // Refuse a bad limit before any work.
+    super::seconds("--time-limit", opts.time_limit, false)?;
     let data = ScenarioData::new(set)?;
     let initial = match (initial, opts.start) {
         (Some(i), _) => i,
@@ -268,7 +270,7 @@ pub fn run(
         colonies: opts.colonies.max(1),
         seed: opts.seed,
         threads: threads(opts.threads),
-        time_limit: Some(Duration::from_secs_f64(opts.time_limit.max(0.0))),
+        time_limit: Some(super::seconds("--time-limit", opts.time_limit, false)?),
         verify_probability: opts.verify_probability.clamp(0.0, 1.0),
         weights: opts.weights,
         replay_counterexamples: opts.replay_counterexamples,

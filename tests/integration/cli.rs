@@ -260,3 +260,48 @@ fn conform_finds_an_injected_divergence_and_refine_removes_it() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
 }
+
+#[test]
+fn times_that_are_not_finite_positive_seconds_are_usage_errors() {
+    let main = |extra: &[&str]| {
+        let mut args = vec![
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+            "--out",
+            "/nonexistent/never-written",
+        ];
+        args.extend_from_slice(extra);
+        synth(&args)
+    };
+    for t in ["inf", "1e300", "nan", "0", "-1"] {
+        let o = main(&[&format!("--timeout={t}")]);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "--timeout {t}: {}",
+            text(&o.stderr)
+        );
+        assert!(text(&o.stderr).contains("--timeout takes a positive number of seconds"));
+    }
+    let o = main(&[
+        "--method",
+        "search",
+        "--time-limit",
+        "inf",
+        "--nusmv",
+        "/bin/true",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("--time-limit takes a non-negative number"));
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--guard-budget",
+        "inf",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("--guard-budget"));
+}
