@@ -108,6 +108,29 @@ pub fn check(problem: Problem, nusmv: &NusmvArgs) -> Result<Check, Failure> {
     Ok(Check::new(problem, nusmv.nusmv()?))
 }
 
+/// Refuses to run when an output path names one of the input files: the atomic rename
+/// would replace the input with the result.
+pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
+    outputs: &[P],
+    inputs: &[Q],
+) -> Result<(), Failure> {
+    for out in outputs {
+        for input in inputs {
+            if fbsynth::files::same_file(out.as_ref(), input.as_ref()) {
+                return Err(Failure::msg(
+                    exit::INPUT,
+                    format!(
+                        "the output {} would overwrite the input {}; choose another output path",
+                        out.as_ref().display(),
+                        input.as_ref().display()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Parses `--format` values.
 pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
     list.iter()

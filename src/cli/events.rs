@@ -4,6 +4,7 @@ use super::Failure;
 use clap::Args;
 use fbsynth::events::{self, ResetActivity};
 use fbsynth::export::pnml::{write_pnml_labelled, Labels};
+use fbsynth::files::same_file;
 use fbsynth::ingest::Mapping;
 use std::path::{Path, PathBuf};
 
@@ -46,7 +47,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         .csv
         .clone()
         .unwrap_or_else(|| args.out.with_extension("csv"));
-    if same_path(&csv, &args.out) {
+    if same_file(&csv, &args.out) {
         return Err(Failure::msg(
             super::exit::INPUT,
             format!(
@@ -57,7 +58,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     }
     // The default CSV path of `--out log.xes` is `log.csv`, which may well be the input log.
     for out in [&args.out, &csv] {
-        if same_path(out, &args.log) {
+        if same_file(out, &args.log) {
             return Err(Failure::msg(
                 super::exit::INPUT,
                 format!(
@@ -67,6 +68,11 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
             ));
         }
     }
+    let mut outputs = vec![&args.out, &csv];
+    outputs.extend(&args.pnml);
+    let mut inputs = vec![&args.map];
+    inputs.extend(&args.ecc);
+    super::args::refuse_overwrite(&outputs, &inputs)?;
     let s = events::write_event_logs(&args.log, &mapping, &reset, args.lenient, &args.out, &csv)
         .map_err(|e| {
             let row = matches!(
@@ -92,24 +98,6 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         write_net(ecc, &mapping, pnml)?;
     }
     Ok(())
-}
-
-/// Whether two paths name the same file (the second need not exist yet): compared after
-/// resolving the folders, so `./a.csv` and `a.csv` are the same.
-fn same_path(a: &Path, b: &Path) -> bool {
-    let resolve = |p: &Path| {
-        let dir = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        std::fs::canonicalize(dir)
-            .ok()
-            .map(|d| d.join(p.file_name().unwrap_or_default()))
-    };
-    match (resolve(a), resolve(b)) {
-        (Some(x), Some(y)) => x == y,
-        _ => a == b,
-    }
 }
 
 /// Writes the Petri net of the machine in `ecc_file`, labelled with the mapping's addresses.

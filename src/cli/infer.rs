@@ -277,6 +277,18 @@ fn distribute(
 
 /// `synth convert`.
 pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
+    let mut inputs: Vec<PathBuf> = args.traces.traces.clone();
+    inputs.extend(args.traces.input_names.iter().cloned());
+    inputs.extend(args.traces.output_names.iter().cloned());
+    if let Some((i, o)) = args
+        .traces
+        .traces
+        .first()
+        .and_then(|t| fbsynth::scenario::names::default_names_files(t))
+    {
+        inputs.extend([i, o]);
+    }
+    super::args::refuse_overwrite(&[&args.output], &inputs)?;
     let set = args.traces.load()?;
     let mut buf = Vec::new();
     match args.to {

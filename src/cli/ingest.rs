@@ -30,6 +30,11 @@ pub struct IngestArgs {
 
 pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
     let start = Instant::now();
+    let (inputs_file, outputs_file) = names_files(&args.output);
+    super::args::refuse_overwrite(
+        &[&args.output, &inputs_file, &outputs_file],
+        &[&args.log, &args.map],
+    )?;
     let mapping = Mapping::read(&args.map).map_err(Failure::input)?;
     let (set, stats) = ingest::read_scenarios(&args.log, &mapping, args.lenient).map_err(|e| {
         let row = matches!(e, ingest::IngestError::Row { .. });
@@ -44,7 +49,6 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
     let mut buf = Vec::new();
     fbsat::write(&set, &mut buf).map_err(Failure::input)?;
     fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
-    let (inputs_file, outputs_file) = names_files(&args.output);
     for (file, names) in [(&inputs_file, &set.inputs), (&outputs_file, &set.outputs)] {
         let text: String = names.iter().map(|n| format!("{n}\n")).collect();
         fbsynth::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;

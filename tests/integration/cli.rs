@@ -305,3 +305,78 @@ fn times_that_are_not_finite_positive_seconds_are_usage_errors() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     assert!(text(&o.stderr).contains("--guard-budget"));
 }
+
+#[test]
+fn outputs_never_replace_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let traces = dir.path().join("door.traces");
+    std::fs::copy(data("door.traces"), &traces).unwrap();
+    std::fs::copy(data("door.inputs"), dir.path().join("door.inputs")).unwrap();
+    std::fs::copy(data("door.outputs"), dir.path().join("door.outputs")).unwrap();
+    let before = std::fs::read(&traces).unwrap();
+    let t = traces.to_str().unwrap();
+    let o = synth(&["convert", "--traces", t, "--to", "csv", "-o", t]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("would overwrite the input"));
+    let names = dir.path().join("door.inputs");
+    let o = synth(&[
+        "convert",
+        "--traces",
+        t,
+        "--to",
+        "csv",
+        "-o",
+        names.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read(&traces).unwrap(), before);
+    assert_eq!(
+        std::fs::read(&names).unwrap(),
+        std::fs::read(data("door.inputs")).unwrap()
+    );
+    // ingest: -o equal to the log or to the map.
+    let log = dir.path().join("tank.csv");
+    let map = dir.path().join("tank.map");
+    std::fs::copy("specs/tank/scenario1.csv", &log).unwrap();
+    std::fs::copy("specs/tank/tank.map", &map).unwrap();
+    for out in [&log, &map] {
+        let o = synth(&[
+            "ingest",
+            "--log",
+            log.to_str().unwrap(),
+            "--map",
+            map.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        assert!(text(&o.stderr).contains("would overwrite the input"));
+    }
+    assert_eq!(
+        std::fs::read(&log).unwrap(),
+        std::fs::read("specs/tank/scenario1.csv").unwrap()
+    );
+    assert_eq!(
+        std::fs::read(&map).unwrap(),
+        std::fs::read("specs/tank/tank.map").unwrap()
+    );
+    // events: --out equal to the map.
+    let o = synth(&[
+        "events",
+        "--log",
+        log.to_str().unwrap(),
+        "--map",
+        map.to_str().unwrap(),
+        "--reset",
+        "%IX0.1 false",
+        "--out",
+        map.to_str().unwrap(),
+        "--csv",
+        dir.path().join("e.csv").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(
+        std::fs::read(&map).unwrap(),
+        std::fs::read("specs/tank/tank.map").unwrap()
+    );
+}
