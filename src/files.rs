@@ -77,14 +77,59 @@ pub fn write_atomic_in(path: &Path, bytes: &[u8], folders: Folders) -> Result<()
 ///
 /// The published file has the mode of any file the user creates (0666 less the umask, so
 /// 0644 under the usual umask 022), not the private 0600 of a temporary file.
+///
+/// A symbolic link is followed: the file it names is replaced and the link stays. A special
+/// file (a FIFO, a device such as `/dev/null` or `/dev/stdout`) is written in place, since a
+/// rename would put a regular file where it was.
 pub struct AtomicFile {
     path: PathBuf,
+    /// Where the temporary file is renamed to: `path` with its symbolic links followed.
+    target: PathBuf,
     out: Sink,
 }
 
 enum Sink {
-    Plain(BufWriter<tempfile::NamedTempFile>),
-    Gzip(flate2::write::GzEncoder<BufWriter<tempfile::NamedTempFile>>),
+    Plain(BufWriter<Target>),
+    Gzip(flate2::write::GzEncoder<BufWriter<Target>>),
+}
+
+/// What the bytes go into.
+enum Target {
+    Temporary(tempfile::NamedTempFile),
+    Special(std::fs::File),
+}
+
+impl Write for Target {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Target::Temporary(f) => f.write(buf),
+            Target::Special(f) => f.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Target::Temporary(f) => f.flush(),
+            Target::Special(f) => f.flush(),
+        }
+    }
+}
+
+/// `path` with its symbolic links followed (also a dangling one: the file it would name).
+fn follow_links(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    // Bounded like the kernel's own limit, so a link cycle ends.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
+                Ok(t) if t.is_absolute() => p = t,
+                Ok(t) => p = p.parent().unwrap_or(Path::new(".")).join(t),
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    p
 }
 
 impl AtomicFile {
@@ -100,22 +145,26 @@ impl AtomicFile {
             path: path.to_path_buf(),
             source,
         };
-        let dir = match path.parent() {
+        let target = follow_links(path);
+        let special = std::fs::metadata(&target).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
         };
-        if folders == Folders::Create {
+        if folders == Folders::Create && !special {
             std::fs::create_dir_all(dir).map_err(err)?;
         }
-        let mut builder = tempfile::Builder::new();
-        // Asking for 0666 at creation lets the kernel apply the umask, as for any new file;
-        // tempfile's default 0600 would survive the rename.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            builder.permissions(std::fs::Permissions::from_mode(0o666));
-        }
-        let tmp = BufWriter::with_capacity(1 << 16, builder.tempfile_in(dir).map_err(err)?);
+        let file = if special {
+            Target::Special(
+                std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(&target)
+                    .map_err(err)?,
+            )
+        } else {
+            Target::Temporary(temporary_in(dir).map_err(err)?)
+        };
+        let tmp = BufWriter::with_capacity(1 << 16, file);
         let out = if path.extension().is_some_and(|e| e == "gz") {
             Sink::Gzip(flate2::write::GzEncoder::new(
                 tmp,
@@ -126,6 +175,7 @@ impl AtomicFile {
         };
         Ok(AtomicFile {
             path: path.to_path_buf(),
+            target,
             out,
         })
     }
@@ -138,9 +188,11 @@ impl AtomicFile {
         }
     }
 
-    /// Flushes, syncs and renames the temporary file over the target path.
+    /// Flushes, syncs and renames the temporary file over the target path (a special file:
+    /// flushes what was written into it).
     pub fn commit(self) -> Result<(), WriteError> {
         let path = self.path;
+        let target = self.target;
         let err = |source| WriteError {
             path: path.clone(),
             source,
@@ -149,11 +201,28 @@ impl AtomicFile {
             Sink::Plain(b) => b,
             Sink::Gzip(gz) => gz.finish().map_err(err)?,
         };
-        let tmp = buffered.into_inner().map_err(|e| err(e.into_error()))?;
-        tmp.as_file().sync_all().map_err(err)?;
-        tmp.persist(&path).map_err(|e| err(e.error))?;
+        match buffered.into_inner().map_err(|e| err(e.into_error()))? {
+            Target::Temporary(tmp) => {
+                tmp.as_file().sync_all().map_err(err)?;
+                tmp.persist(&target).map_err(|e| err(e.error))?;
+            }
+            Target::Special(mut f) => f.flush().map_err(err)?,
+        }
         Ok(())
     }
+}
+
+/// A new temporary file in `dir` that will have the mode of any file the user creates.
+fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    // Asking for 0666 at creation lets the kernel apply the umask, as for any new file;
+    // tempfile's default 0600 would survive the rename.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder.tempfile_in(dir)
 }
 
 impl Write for AtomicFile {

@@ -380,3 +380,68 @@ fn outputs_never_replace_inputs() {
         std::fs::read("specs/tank/tank.map").unwrap()
     );
 }
+
+#[test]
+fn special_outputs_stay_what_they_are() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let door = data("door.traces");
+    // A symlink: the file it names gets the result, the link stays a link.
+    let real = dir.path().join("real.csv");
+    std::fs::write(&real, "old").unwrap();
+    let link = dir.path().join("link.csv");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let o = synth(&[
+        "convert",
+        "--traces",
+        &door,
+        "--to",
+        "csv",
+        "-o",
+        link.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&real)
+        .unwrap()
+        .starts_with("scenario,"));
+    // A device: written in place, still a device.
+    let o = synth(&[
+        "convert",
+        "--traces",
+        &door,
+        "--to",
+        "csv",
+        "-o",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(std::fs::metadata("/dev/null")
+        .unwrap()
+        .file_type()
+        .is_char_device());
+    // A FIFO: the reader at its other end gets the result.
+    let fifo = dir.path().join("pipe.csv");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let o = synth(&[
+        "convert",
+        "--traces",
+        &door,
+        "--to",
+        "csv",
+        "-o",
+        fifo.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(reader.join().unwrap().starts_with("scenario,"));
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}
