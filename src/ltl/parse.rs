@@ -153,8 +153,42 @@ fn syntax(pos: usize, msg: impl Into<String>) -> LineError {
     (pos, LtlErrorKind::Syntax(msg.into()))
 }
 
+/// The most operators and parentheses one formula may hold. The parser, the formula tree and
+/// every walk over it recurse once per level; a formula beyond any real specification (a
+/// thousand nested parentheses, a hundred thousand `!`) must be refused, not overflow the stack.
+pub const MAX_OPERATORS: usize = 1000;
+
+/// Refuses a line with more than [`MAX_OPERATORS`] operators and open parentheses, at the
+/// place where the limit is passed.
+fn check_size(src: &str) -> Result<(), LineError> {
+    let code = src.split("--").next().unwrap_or("");
+    let bytes = code.as_bytes();
+    let ident = |b: u8| b.is_ascii_alphanumeric() || b == b'_' || b == b'$' || b == b'#';
+    let mut count = 0;
+    for (k, &b) in bytes.iter().enumerate() {
+        let word_op = matches!(
+            b,
+            b'X' | b'F' | b'G' | b'Y' | b'Z' | b'O' | b'H' | b'U' | b'V' | b'S' | b'T'
+        ) && (k == 0 || !ident(bytes[k - 1]))
+            && bytes.get(k + 1).is_none_or(|&n| !ident(n));
+        if matches!(b, b'!' | b'&' | b'|' | b'(' | b'>' | b'=' | b'<') || word_op {
+            count += 1;
+            if count > MAX_OPERATORS {
+                return Err(syntax(
+                    k,
+                    format!(
+                        "the formula holds more than {MAX_OPERATORS} operators and parentheses; split it into several properties"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Parses one line: `None` for a blank or comment line.
 fn parse_line(src: &str) -> Result<Option<ParsedLine>, LineError> {
+    check_size(src)?;
     let mut pairs = LineParser::parse(Rule::line, src).map_err(|e| explain(src, &e))?;
     let line = pairs.next().expect("the line rule always yields one pair");
     let Some(property) = line.into_inner().find(|p| p.as_rule() == Rule::property) else {
@@ -558,6 +592,28 @@ mod tests {
 
     fn parse(text: &str) -> Result<Vec<Property>, LtlError> {
         parse_spec(Path::new("specs/pnp.ltl"), text)
+    }
+
+    /// Formulas no specification needs are refused with a located error instead of
+    /// overflowing the stack.
+    #[test]
+    fn huge_formulas_are_refused_not_a_crash() {
+        let deep = format!("G {}a{}\n", "(".repeat(1000), ")".repeat(1000));
+        let nots = format!("G {}a\n", "!".repeat(100_000));
+        let ors = format!("G ({})\n", vec!["a"; 200_000].join(" | "));
+        let nested_10k = format!("G {}a{}\n", "(".repeat(10_000), ")".repeat(10_000));
+        for text in [deep, nots, ors, nested_10k] {
+            let e = parse(&text).unwrap_err().to_string();
+            assert!(
+                e.contains("more than 1000 operators and parentheses"),
+                "{}",
+                &e[..200.min(e.len())]
+            );
+            assert!(e.starts_with("specs/pnp.ltl:1:"), "{}", &e[..60]);
+        }
+        // Large but reasonable formulas still parse.
+        let wide = format!("G ({})\n", vec!["a"; 300].join(" | "));
+        assert_eq!(parse(&wide).unwrap().len(), 1);
     }
 
     fn error(text: &str) -> String {
