@@ -106,6 +106,12 @@ pub enum VerifyError {
     Io(#[from] std::io::Error),
     #[error("NuSMV did not finish checking the closed loop with plant {} within {seconds} s and was killed; raise --timeout SECONDS or make the plant model smaller", plant.display())]
     Timeout { seconds: f64, plant: PathBuf },
+    #[error("the closed loop with plant {} has no {what}: every property would hold vacuously, so nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", plant.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
+    Vacuous {
+        plant: PathBuf,
+        what: &'static str,
+        warning: Option<String>,
+    },
     #[error("NuSMV reported {got} verdicts for {expected} properties")]
     Count { expected: usize, got: usize },
     #[error("NuSMV reported a verdict on `{0}`, which matches none of the properties")]
@@ -293,6 +299,13 @@ pub fn verify(
             return Err(VerifyError::Model(locate_errors(
                 &errors, &model, problem, &path,
             )))
+        }
+        Err(NusmvError::Vacuous { what, warning, .. }) => {
+            return Err(VerifyError::Vacuous {
+                plant: problem.plant.file.clone(),
+                what,
+                warning,
+            })
         }
         Err(NusmvError::Timeout { seconds, .. }) => {
             return Err(VerifyError::Timeout {

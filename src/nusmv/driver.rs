@@ -188,6 +188,7 @@ impl Session {
                 stderr_tail: tail(&err),
             });
         }
+        self.check_not_vacuous(&format!("{out}\n{err}"), deadline, model)?;
         match mode {
             CheckMode::VerdictsOnly => {}
             CheckMode::FirstCounterexample => {
@@ -198,6 +199,46 @@ impl Session {
             }
         }
         Ok(results)
+    }
+
+    /// Fails when the model has no fair infinite path from an initial state. Then every LTL
+    /// property holds and NuSMV says so, at most with a warning; the question `FALSE` tells:
+    /// it is violated exactly when such a path exists.
+    fn check_not_vacuous(
+        &mut self,
+        printed: &str,
+        deadline: Instant,
+        model: &Path,
+    ) -> Result<(), NusmvError> {
+        let (out, err) = self.run("check_ltlspec -p \"FALSE\"\n", deadline, model)?;
+        let verdicts = parse_output(&out)?;
+        let holds = match &verdicts[..] {
+            [one] => one.verdict == Verdict::Holds,
+            _ => {
+                return Err(NusmvError::Crashed {
+                    status: format!("{} verdicts on the emptiness check", verdicts.len()),
+                    stderr_tail: tail(&err),
+                })
+            }
+        };
+        if !holds {
+            return Ok(());
+        }
+        // NuSMV's own words, where it printed any ("The initial states set ... is empty.").
+        let warning = printed
+            .lines()
+            .find(|l| l.contains("set of the finite state machine is empty"))
+            .map(|l| l.trim().trim_end_matches('.').to_string());
+        let what = match &warning {
+            Some(w) if w.contains("initial states") => "initial state",
+            Some(_) => "state",
+            None => "fair infinite path",
+        };
+        Err(NusmvError::Vacuous {
+            model: model.to_path_buf(),
+            what,
+            warning,
+        })
     }
 
     /// Re-checks violated properties in order with `EL_bwd` until one yields a trace (or, with

@@ -55,6 +55,15 @@ pub enum NusmvError {
     /// NuSMV printed something the output parser does not understand.
     #[error("unexpected NuSMV output: {0}")]
     Output(#[from] OutputParseError),
+    /// The model has no fair infinite path from an initial state (an `INIT`, `INVAR`, `TRANS`
+    /// or `FAIRNESS` constraint that is never satisfied), so every LTL property would hold
+    /// vacuously. `warning` is what NuSMV said about it, if anything.
+    #[error("the model `{}` has no {what}: every property would hold vacuously, so nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", model.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
+    Vacuous {
+        model: PathBuf,
+        what: &'static str,
+        warning: Option<String>,
+    },
 }
 
 fn describe_model_errors(errors: &[ModelError]) -> String {

@@ -213,3 +213,43 @@ fn pick_and_place_main_job_is_verified() {
     let set = crate::cases::pnp::generate();
     set.check(&ecc).unwrap();
 }
+
+/// A plant whose constraints no run satisfies makes every property hold vacuously: synth
+/// must refuse to call anything verified, whether the constraint empties the states
+/// (NuSMV warns) or only the fair paths (NuSMV says nothing).
+#[test]
+fn a_plant_without_runs_is_an_error_not_a_verification() {
+    let Some(n) = nusmv_or_skip() else { return };
+    for plant in ["vacuous_invar_plant.smv", "vacuous_fairness_plant.smv"] {
+        let out = tempfile::tempdir().unwrap();
+        let o = main_job(&n.path, "lamp.ltl", plant, out.path(), &[]);
+        assert_eq!(o.status.code(), Some(1), "{plant}: {}", text(&o.stdout));
+        let err = text(&o.stderr);
+        assert!(
+            err.contains(&format!("plant {DIR}/{plant} has no")) && err.contains("vacuously"),
+            "{err}"
+        );
+        assert!(!out.path().join("SynthesizedFB.json").exists());
+        assert!(!text(&o.stdout).contains("verified"));
+    }
+    // `synth verify` of a machine that holds with the real plant.
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", out.path(), &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = out.path().join("SynthesizedFB.json");
+    let o = synth(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            json.to_str().unwrap(),
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/vacuous_fairness_plant.smv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("vacuously"), "{}", text(&o.stderr));
+    assert!(!text(&o.stdout).contains("verified"));
+}
