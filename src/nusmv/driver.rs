@@ -547,7 +547,8 @@ static CTRL_C: Once = Once::new();
 
 /// Kills every NuSMV process this program started and has not reaped yet.
 ///
-/// The Ctrl-C handler installed with the first child calls this and exits with status 130.
+/// The handler of SIGINT, SIGTERM and SIGHUP installed with the first child calls this and
+/// exits with status 130.
 /// A program that installs its own Ctrl-C handler first (ours then cannot be installed)
 /// must call this from it.
 pub fn kill_all_children() {

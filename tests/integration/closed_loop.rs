@@ -253,3 +253,63 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
     assert!(text(&o.stderr).contains("vacuously"), "{}", text(&o.stderr));
     assert!(!text(&o.stdout).contains("verified"));
 }
+
+/// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.
+#[test]
+fn termination_signals_leave_no_nusmv_behind() {
+    let Some(n) = nusmv_or_skip() else { return };
+    for signal in [libc::SIGTERM, libc::SIGHUP] {
+        let out = tempfile::tempdir().unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+            .args([
+                "-q",
+                "--ltl",
+                "tests/data/closed_loop/lamp.ltl",
+                "--plant",
+                "tests/data/closed_loop/slow_plant.smv",
+                "--traces",
+                "tests/data/closed_loop/lamp.traces",
+                "--out",
+                out.path().to_str().unwrap(),
+                "--nusmv",
+                n.path.to_str().unwrap(),
+            ])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        // Wait (at most 20 s) until synth has started NuSMV on the slow plant.
+        let mut nusmv = Vec::new();
+        for _ in 0..200 {
+            // NuSMV is started by one of synth's threads; look in all of them.
+            nusmv = std::fs::read_dir(format!("/proc/{}/task", child.id()))
+                .map(|tasks| {
+                    tasks
+                        .flatten()
+                        .filter_map(|t| std::fs::read_to_string(t.path().join("children")).ok())
+                        .flat_map(|s| {
+                            s.split_whitespace()
+                                .filter_map(|p| p.parse::<u32>().ok())
+                                .collect::<Vec<_>>()
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            if !nusmv.is_empty() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+        assert!(!nusmv.is_empty(), "synth started no NuSMV");
+        // SAFETY: sending a signal to our own child process.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
+        let status = child.wait().unwrap();
+        assert!(!status.success());
+        for pid in nusmv {
+            let alive = std::fs::read_to_string(format!("/proc/{pid}/stat"))
+                .is_ok_and(|s| !s.contains(") Z "));
+            assert!(!alive, "NuSMV {pid} survived signal {signal}");
+        }
+    }
+}
