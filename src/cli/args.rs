@@ -131,6 +131,29 @@ pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
     Ok(())
 }
 
+// Bounds of the size options: far above any controller the tool is for, and below what makes
+// an encoding or a thread pool exhaust the machine (a thousand transition slots per state
+// took gigabytes).
+/// `--max-states`, `--states`: 1 to 256.
+pub fn states() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=256)
+}
+
+/// `--max-out-degree`, `--slots`: 1 to 64 transitions per state.
+pub fn per_state() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=64)
+}
+
+/// `--modules`: 1 to 64.
+pub fn modules() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=64)
+}
+
+/// `--threads`, `--colonies`: 1 to 1024.
+pub fn workers() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=1024)
+}
+
 /// Parses `--format` values.
 pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
     list.iter()

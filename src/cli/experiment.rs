@@ -23,7 +23,7 @@ pub struct ExperimentArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads per run (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::workers())]
     pub threads: Option<usize>,
     /// Seconds per run; a run without a solution by then counts with this time.
     #[arg(long, default_value_t = 120.0, value_name = "SECONDS")]
@@ -46,7 +46,7 @@ pub struct ExperimentArgs {
     #[arg(long, default_value = "smv/pnp_surrogate.smv", value_name = "FILE")]
     pub plant: PathBuf,
     /// States of every candidate.
-    #[arg(long, default_value_t = 6, value_name = "C")]
+    #[arg(long, default_value_t = 6, value_name = "C", value_parser = super::args::states())]
     pub states: usize,
     /// Where the colonies start.
     #[arg(long, value_enum, default_value_t = Start::Random)]

@@ -28,7 +28,7 @@ pub struct InferArgs {
     #[arg(long)]
     pub start_state: bool,
     /// Give up when more states than this would be needed.
-    #[arg(long, default_value_t = 32, value_name = "C")]
+    #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
     pub max_states: usize,
     /// Seconds for guard minimization; past it the best guards found so far are kept.
     #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
@@ -48,14 +48,14 @@ pub struct InferArgs {
     /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
     /// (writes `<name>.fbt/.smv/.modules.json` and `<name>_M<i>.fbt/.json/.dot`; --format is
     /// ignored).
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", value_parser = super::args::modules())]
     pub modules: Option<usize>,
     /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`
     /// (modules numbered from 1); repeatable. The solver places the other outputs.
     #[arg(long, value_name = "MODULE=OUTPUTS", requires = "modules")]
     pub pin: Vec<String>,
     /// With --modules: transition slots per state (guards are conjunctions of literals).
-    #[arg(long, default_value_t = 3, value_name = "K")]
+    #[arg(long, default_value_t = 3, value_name = "K", value_parser = super::args::per_state())]
     pub slots: usize,
     #[command(flatten)]
     pub noisy: NoisyArgs,

@@ -39,10 +39,10 @@ pub struct MainArgs {
     #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
     pub algorithms: AlgorithmsArg,
     /// Give up when more states than this would be needed.
-    #[arg(long, default_value_t = 32, value_name = "C")]
+    #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
     pub max_states: usize,
     /// Transitions per state at most (each guarded by a conjunction of input literals).
-    #[arg(long, default_value_t = exact::DEFAULT_OUT_DEGREE, value_name = "K")]
+    #[arg(long, default_value_t = exact::DEFAULT_OUT_DEGREE, value_name = "K", value_parser = super::args::per_state())]
     pub max_out_degree: usize,
     /// Give up after this many candidate controllers.
     #[arg(long, default_value_t = 500, value_name = "N")]
@@ -87,16 +87,16 @@ pub struct SearchArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (default: all cores). The result does not depend on it.
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::workers())]
     pub threads: Option<usize>,
     /// Give up after this many seconds.
     #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
     pub time_limit: f64,
     /// States of every candidate (default: 8, or the SAT machine's with --start sat).
-    #[arg(long, value_name = "C")]
+    #[arg(long, value_name = "C", value_parser = super::args::states())]
     pub states: Option<usize>,
     /// Colonies ((1+λ) strategies sharing their best).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, value_parser = super::args::workers())]
     pub colonies: usize,
     /// Where the colonies start. From random machines the search does not reproduce all ten
     /// Pick-and-Place scenarios within minutes (the published search took hours), so the main

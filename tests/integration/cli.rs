@@ -445,3 +445,39 @@ fn special_outputs_stay_what_they_are() {
     assert!(reader.join().unwrap().starts_with("scenario,"));
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
 }
+
+#[test]
+fn sizes_that_would_exhaust_the_machine_are_usage_errors() {
+    let lamp = [
+        "--ltl",
+        "tests/data/closed_loop/lamp.ltl",
+        "--plant",
+        "tests/data/closed_loop/lamp_plant.smv",
+    ];
+    for extra in [
+        &["--max-out-degree", "1000"][..],
+        &["--max-states", "100000"],
+        &["--method", "search", "--threads", "100000"],
+        &["--method", "search", "--colonies", "100000"],
+    ] {
+        let mut args = lamp.to_vec();
+        args.extend_from_slice(extra);
+        let o = synth(&args);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("is not in 1..="),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+    let lamps = data("lamps.traces");
+    for extra in [
+        &["--modules", "1000"][..],
+        &["--modules", "2", "--slots", "100000"],
+    ] {
+        let mut args = vec!["infer", "--traces", &lamps];
+        args.extend_from_slice(extra);
+        let o = synth(&args);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o.stderr));
+    }
+}
