@@ -252,7 +252,7 @@ pub fn run(
     events: Events<'_>,
 ) -> Result<Searched, Error> {
     // Refuse a bad limit before any work.
-    super::seconds("--time-limit", opts.time_limit, false)?;
+    let time_limit = super::seconds("--time-limit", opts.time_limit, false)?;
     let data = ScenarioData::new(set)?;
     let initial = match (initial, opts.start) {
         (Some(i), _) => i,
@@ -270,7 +270,7 @@ pub fn run(
         colonies: opts.colonies.max(1),
         seed: opts.seed,
         threads: threads(opts.threads),
-        time_limit: Some(super::seconds("--time-limit", opts.time_limit, false)?),
+        time_limit: Some(time_limit),
         verify_probability: opts.verify_probability.clamp(0.0, 1.0),
         weights: opts.weights,
         replay_counterexamples: opts.replay_counterexamples,

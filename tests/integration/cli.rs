@@ -306,6 +306,11 @@ fn times_that_are_not_finite_positive_seconds_are_usage_errors() {
     assert!(text(&o.stderr).contains("--guard-budget"));
 }
 
+/// The two files hold the same bytes (an input left as it was).
+fn assert_same_bytes(a: impl AsRef<Path>, b: impl AsRef<Path>) {
+    assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+}
+
 #[test]
 fn outputs_never_replace_inputs() {
     let dir = tempfile::tempdir().unwrap();
@@ -330,10 +335,7 @@ fn outputs_never_replace_inputs() {
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
     assert_eq!(std::fs::read(&traces).unwrap(), before);
-    assert_eq!(
-        std::fs::read(&names).unwrap(),
-        std::fs::read(data("door.inputs")).unwrap()
-    );
+    assert_same_bytes(&names, data("door.inputs"));
     // ingest: -o equal to the log or to the map.
     let log = dir.path().join("tank.csv");
     let map = dir.path().join("tank.map");
@@ -352,14 +354,8 @@ fn outputs_never_replace_inputs() {
         assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
         assert!(text(&o.stderr).contains("would overwrite the input"));
     }
-    assert_eq!(
-        std::fs::read(&log).unwrap(),
-        std::fs::read("specs/tank/scenario1.csv").unwrap()
-    );
-    assert_eq!(
-        std::fs::read(&map).unwrap(),
-        std::fs::read("specs/tank/tank.map").unwrap()
-    );
+    assert_same_bytes(&log, "specs/tank/scenario1.csv");
+    assert_same_bytes(&map, "specs/tank/tank.map");
     // events: --out equal to the map.
     let o = synth(&[
         "events",
@@ -375,10 +371,7 @@ fn outputs_never_replace_inputs() {
         dir.path().join("e.csv").to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
-    assert_eq!(
-        std::fs::read(&map).unwrap(),
-        std::fs::read("specs/tank/tank.map").unwrap()
-    );
+    assert_same_bytes(&map, "specs/tank/tank.map");
 }
 
 #[test]
