@@ -10,6 +10,7 @@
 //! - [`sat`]: exact synthesis with varisat (never imports `nusmv`);
 //! - [`search`]: metaheuristic synthesis with verification-aware fitness;
 //! - [`ltl`]: LTL specification files (own grammar) and evaluation on lassos;
+//! - [`plant`]: the surrogate plant as a finite-state model (the SMV subset the plants use);
 //! - [`smv`]: SMV emission of an ECC and of the closed loop;
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: the verification problem and the one verifier (closed loop, counterexamples
@@ -38,6 +39,7 @@ pub mod ingest;
 pub mod ltl;
 pub mod nusmv;
 pub mod pipeline;
+pub mod plant;
 pub mod sat;
 pub mod scenario;
 pub mod search;

@@ -1,0 +1,239 @@
+//! The surrogate plant as a finite-state model the tool itself can run: the subset of SMV the
+//! project's plants use, parsed with `grammar/smv.pest` ([`parse`]) and resolved into a
+//! [`Model`] whose every name is an index.
+//!
+//! In: the text of a plant file (`MODULE plant(params)` and nothing else). Out: a [`Model`],
+//! or a [`ModelError`] naming the file, line and construct that is outside the subset.
+//!
+//! # The subset
+//! - `VAR` / `IVAR` of type `boolean`, `lo..hi` or `{a, b, ...}` (symbolic constants or
+//!   integers); `DEFINE`; `ASSIGN` with `init(v) :=` and `next(v) :=` (a plain `v :=` is
+//!   refused);
+//! - expressions: `TRUE`/`FALSE`, integers, symbolic constants, names, `!`, `&`, `|`, `xor`,
+//!   `xnor`, `->`, `<->`, `=`, `!=`, `<`, `<=`, `>`, `>=`, `+`, `-` (also unary), `*`, `/`,
+//!   `mod`, `case ... esac`, `c ? a : b`, sets `{e1, e2}` (only as the value of `init`, `next`
+//!   or a case branch of one), `next(v)` (only inside `TRANS`);
+//! - `INIT`, `INVAR`, `TRANS`, `FAIRNESS` / `JUSTICE` (the same thing for LTL).
+//! Anything else (`FROZENVAR`, arrays, words, other modules, `COMPASSION`, CTL/LTL specs inside
+//! the plant, ...) is refused with its line.
+//!
+//! # Semantics (NuSMV's, for a module instantiated once by the closed loop)
+//! A state gives every `VAR` (and `IVAR`) a value of its domain. Initial states: every `init`
+//! assignment holds (a set means "any of"), every `INIT` and `INVAR` holds; a `VAR` without
+//! `init` is free. Successors of `s` with the controller outputs `o` (the parameters): every
+//! `next` assignment holds, evaluated on `s` and `o`; `TRANS` holds on `s`, `o` and the
+//! successor; `INVAR` holds on the successor; a `VAR` without `next` is free. A value outside a
+//! variable's domain, a division by zero or a case without a true branch is an evaluation
+//! error, as NuSMV reports it. An `IVAR` is chosen freely at every step, like a `VAR` without
+//! `init` and `next`.
+
+pub mod parse;
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Index of a variable in [`Model::vars`] (0-based, declaration order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct VarId(pub usize);
+
+/// Index of a define in [`Model::defines`] (0-based; defines are ordered so that each refers
+/// only to earlier ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct DefineId(pub usize);
+
+/// Index of a formal parameter of `MODULE plant` (0-based): a controller output, Boolean.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct ParamId(pub usize);
+
+/// A value of the subset. Symbolic constants are interned in [`Model::symbols`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Value {
+    Bool(bool),
+    Int(i64),
+    Sym(u32),
+}
+
+/// The declared type of a variable.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Type {
+    Bool,
+    /// `lo..hi`, both included.
+    Range(i64, i64),
+    /// `{a, b, 3}`: the listed values, in order.
+    Enum(Vec<Value>),
+}
+
+/// State variable (`VAR`) or input variable (`IVAR`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VarKind {
+    State,
+    Input,
+}
+
+/// A declared variable.
+#[derive(Debug, Clone)]
+pub struct Var {
+    pub name: String,
+    pub ty: Type,
+    pub kind: VarKind,
+    /// 1-based line of the declaration.
+    pub line: usize,
+    /// Every value of the type, in order (`Bool`: false, true).
+    pub domain: Vec<Value>,
+    /// `init(v) := e`, if any.
+    pub init: Option<Expr>,
+    /// `next(v) := e`, if any.
+    pub next: Option<Expr>,
+}
+
+/// A `DEFINE name := expr;`.
+#[derive(Debug, Clone)]
+pub struct Define {
+    pub name: String,
+    pub line: usize,
+    pub expr: Expr,
+}
+
+/// A constraint section entry (`INIT`, `INVAR`, `TRANS`, `FAIRNESS`/`JUSTICE`), Boolean.
+#[derive(Debug, Clone)]
+pub struct Constraint {
+    pub line: usize,
+    pub expr: Expr,
+}
+
+/// Binary operators of the subset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinOp {
+    And,
+    Or,
+    Xor,
+    Xnor,
+    Implies,
+    Iff,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+}
+
+/// An expression with every name resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expr {
+    Const(Value),
+    /// Current value of a variable.
+    Var(VarId),
+    /// `next(v)`, only inside `TRANS`.
+    Next(VarId),
+    /// A define (evaluated on the same state).
+    Define(DefineId),
+    /// A formal parameter: the controller output of the current step.
+    Param(ParamId),
+    Not(Box<Expr>),
+    /// Unary minus.
+    Neg(Box<Expr>),
+    Bin(BinOp, Box<Expr>, Box<Expr>),
+    /// `case c1 : e1; ...; esac`: the first branch whose condition holds.
+    Case(Vec<(Expr, Expr)>),
+    /// `{e1, e2, ...}`: any of the values (nondeterministic choice).
+    Set(Vec<Expr>),
+}
+
+/// The plant, resolved.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub file: PathBuf,
+    /// Formal parameters of `MODULE plant`, in order: controller outputs the plant reads.
+    pub params: Vec<String>,
+    pub vars: Vec<Var>,
+    pub defines: Vec<Define>,
+    pub init: Vec<Constraint>,
+    pub invar: Vec<Constraint>,
+    pub trans: Vec<Constraint>,
+    /// `FAIRNESS p` / `JUSTICE p`: along every fair path `p` holds infinitely often.
+    pub fairness: Vec<Constraint>,
+    /// Symbolic constants, indexed by [`Value::Sym`].
+    pub symbols: Vec<String>,
+}
+
+/// What a bare name of the plant stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Name {
+    Var(VarId),
+    Define(DefineId),
+    Param(ParamId),
+}
+
+impl Model {
+    /// The variable, define or parameter called `name`.
+    pub fn lookup(&self, name: &str) -> Option<Name> {
+        if let Some(i) = self.vars.iter().position(|v| v.name == name) {
+            return Some(Name::Var(VarId(i)));
+        }
+        if let Some(i) = self.defines.iter().position(|d| d.name == name) {
+            return Some(Name::Define(DefineId(i)));
+        }
+        self.params
+            .iter()
+            .position(|p| p == name)
+            .map(|i| Name::Param(ParamId(i)))
+    }
+
+    pub fn var(&self, v: VarId) -> &Var {
+        &self.vars[v.0]
+    }
+
+    /// The symbolic constant called `name`, if the plant uses it.
+    pub fn symbol(&self, name: &str) -> Option<Value> {
+        self.symbols
+            .iter()
+            .position(|s| s == name)
+            .map(|i| Value::Sym(i as u32))
+    }
+
+    /// A value as NuSMV prints it (`TRUE`, `3`, `idle`).
+    pub fn show(&self, v: Value) -> String {
+        match v {
+            Value::Bool(true) => "TRUE".into(),
+            Value::Bool(false) => "FALSE".into(),
+            Value::Int(i) => i.to_string(),
+            Value::Sym(s) => self.symbols[s as usize].clone(),
+        }
+    }
+}
+
+/// Why a plant file is not a [`Model`] of the subset.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error("cannot read plant {}", file.display())]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Displayed as `file:line:column: message`.
+    #[error("{}:{line}:{column}: {message}", file.display())]
+    At {
+        file: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Bool(true) => write!(f, "TRUE"),
+            Value::Bool(false) => write!(f, "FALSE"),
+            Value::Int(i) => write!(f, "{i}"),
+            Value::Sym(s) => write!(f, "#{s}"),
+        }
+    }
+}
