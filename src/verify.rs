@@ -161,6 +161,10 @@ pub struct Problem {
     pub spec_file: PathBuf,
     /// The LTL properties, in spec order.
     pub props: Vec<Property>,
+    /// The plant as a model the tool can run itself ([`crate::plant`]), or why the plant is
+    /// outside the subset it reads. Without it the properties stay outside the synthesis and
+    /// only NuSMV's counterexamples guide it.
+    pub model: Result<std::sync::Arc<crate::plant::Model>, String>,
 }
 
 /// Why a verification problem could not be read.
@@ -189,11 +193,15 @@ impl Problem {
         let plant = crate::smv::plant::read_plant(plant_file)?;
         let coupling =
             crate::smv::closed_loop::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
+        let model = crate::plant::parse::parse_file(plant_file)
+            .map(std::sync::Arc::new)
+            .map_err(|e| e.to_string());
         Ok(Problem {
             plant,
             coupling,
             spec_file: spec_file.to_path_buf(),
             props,
+            model,
         })
     }
 

@@ -9,6 +9,7 @@
 //! the loop repeats on the same solver. When the current number of states cannot leave every
 //! lasso the minimization itself moves on to more states.
 
+use super::closed_loop::ClosedLoop;
 use super::{Event, Events};
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
@@ -66,6 +67,7 @@ pub fn run(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     verifier: &mut Verifier,
+    closed: Option<&ClosedLoop>,
     config: &Config,
     events: Events<'_>,
 ) -> Result<Verified, CegisError> {
@@ -88,6 +90,10 @@ pub fn run(
     }
     let mut iterations = Vec::new();
     let mut last_failing = String::new();
+    // With properties in the encoding, candidates keep their first guards until one passes:
+    // the N descent is half the SAT time, and only the final machine needs it.
+    let mut final_pass = closed.is_none();
+    synth.set_minimize_n(final_pass);
     for number in 1..=config.max_iterations {
         let t = Instant::now();
         let synthesis = synth.minimize(&mut |m| {
@@ -109,6 +115,11 @@ pub fn run(
         };
         events(Event::Candidate(&it));
         iterations.push(it);
+        if failing.is_empty() && !final_pass {
+            final_pass = true;
+            synth.set_minimize_n(true);
+            continue;
+        }
         if failing.is_empty() {
             return Ok(Verified {
                 synthesis,
@@ -118,6 +129,30 @@ pub fn run(
             });
         }
         last_failing = failing.join(", ");
+        // Counterexamples of encoded properties become environments: the closed loop along
+        // each is required to satisfy every encoded property, whatever the machine does.
+        let mut added = 0;
+        if let Some(closed) = closed {
+            let names = verifier.problem().property_names();
+            for cx in &v.counterexamples {
+                let Some(k) = names.iter().position(|n| *n == cx.property) else {
+                    continue;
+                };
+                if !closed.encodes(k) {
+                    continue;
+                }
+                if let Some(env) = closed.environment(cx) {
+                    if synth.add_environment(&closed.spec, env).is_ok() {
+                        added += 1;
+                    }
+                }
+            }
+        }
+        if added > 0 {
+            final_pass = false;
+            synth.set_minimize_n(false);
+            continue;
+        }
         // Safety violations first: their finite prefixes are cheap and strong constraints.
         // Lassos (liveness) only once no safety property fails, one at a time: each unrolls
         // `loop length x C` steps into the solver.

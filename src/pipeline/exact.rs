@@ -150,7 +150,13 @@ pub fn run(
         max_iterations: opts.max_iterations,
         verbose: opts.verbose,
     };
-    match cegis::run(set, &tree, &mut verifier, &config, events) {
+    let closed = super::closed_loop::ClosedLoop::new(
+        &check.problem,
+        set,
+        super::closed_loop::DEFAULT_RESPONSE_BOUND,
+    )
+    .ok();
+    match cegis::run(set, &tree, &mut verifier, closed.as_ref(), &config, events) {
         Ok(v) => Ok(Exact {
             synthesis: v.synthesis,
             certificate: Some(Certificate {

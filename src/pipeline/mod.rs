@@ -26,6 +26,7 @@
 //! M modules.
 
 pub mod cegis;
+pub mod closed_loop;
 pub mod exact;
 pub mod modular;
 pub mod noisy;

@@ -14,6 +14,7 @@
 //!   `mod`, `case ... esac`, `c ? a : b`, sets `{e1, e2}` (only as the value of `init`, `next`
 //!   or a case branch of one), `next(v)` (only inside `TRANS`);
 //! - `INIT`, `INVAR`, `TRANS`, `FAIRNESS` / `JUSTICE` (the same thing for LTL).
+//!
 //! Anything else (`FROZENVAR`, arrays, words, other modules, `COMPASSION`, CTL/LTL specs inside
 //! the plant, ...) is refused with its line.
 //!

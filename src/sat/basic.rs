@@ -31,6 +31,7 @@
 //! a mismatch is reported as [`SatError::Bug`].
 
 use super::card::Totalizer;
+use super::closed_loop;
 use super::decode::{self, Structure};
 use super::solver::{Model, Solver};
 use super::vars::{GuardModel, Vars};
@@ -40,6 +41,7 @@ use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::ScenarioSet;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use varisat::{ExtendFormula, Lit};
 
@@ -213,6 +215,16 @@ impl Encoding {
         u
     }
 
+    /// The closed loop along `env` with every property of `spec` ([`closed_loop`]); needs the
+    /// cube guard model.
+    fn add_environment(&mut self, spec: &closed_loop::Spec, env: &closed_loop::Environment) {
+        self.grow_by(|e| {
+            if let GuardModel::Cubes(cv) = &e.vars.guards {
+                closed_loop::encode(&mut e.solver, &e.vars, cv, spec, env);
+            }
+        });
+    }
+
     fn add_negative(&mut self, neg: &NegativeScenario) -> Vec<InputVec> {
         let ids: Vec<InputVec> = neg
             .steps
@@ -276,6 +288,11 @@ pub struct Synthesizer<'a> {
     /// Alphabet indices of the steps of each negative scenario in the current encoding
     /// (`None`: it cannot be followed at all, its first outputs are not the initial ones).
     negative_ids: Vec<Option<Vec<InputVec>>>,
+    /// The closed loop the environments are encoded with, and the environments.
+    closed_loop: Option<Arc<closed_loop::Spec>>,
+    environments: Vec<closed_loop::Environment>,
+    /// Cube model: minimize `N` after `T` (otherwise the first guards found are kept).
+    minimize_n: bool,
     stats: Stats,
 }
 
@@ -301,6 +318,9 @@ impl<'a> Synthesizer<'a> {
             n_lo: None,
             negatives: Vec::new(),
             negative_ids: Vec::new(),
+            closed_loop: None,
+            environments: Vec::new(),
+            minimize_n: true,
             stats,
         }
     }
@@ -326,6 +346,44 @@ impl<'a> Synthesizer<'a> {
         self.negatives.push(neg);
     }
 
+    /// Requires every property of `spec` on the closed loop along `env`, for every later
+    /// [`Self::minimize`] ([`closed_loop`]). Needs the cube guard model; every call must pass
+    /// the same `spec`.
+    pub fn add_environment(
+        &mut self,
+        spec: &Arc<closed_loop::Spec>,
+        env: closed_loop::Environment,
+    ) -> Result<(), SatError> {
+        if !matches!(self.enc.vars.guards, GuardModel::Cubes(_)) {
+            return Err(SatError::Bug(
+                "closed-loop environments need the cube guard model".into(),
+            ));
+        }
+        if self.environments.contains(&env) {
+            return Err(SatError::Bug(
+                "the same environment was added twice: the loop would not progress".into(),
+            ));
+        }
+        let (v0, c0) = (self.enc.variables, self.enc.clauses);
+        self.enc.add_environment(spec, &env);
+        self.stats.variables += self.enc.variables - v0;
+        self.stats.clauses += self.enc.clauses - c0;
+        self.closed_loop = Some(spec.clone());
+        self.environments.push(env);
+        Ok(())
+    }
+
+    /// Whether [`Self::minimize`] minimizes `N` in the cube model (the default). A loop that
+    /// only needs candidates turns it off until one passes, then on for the final machine.
+    pub fn set_minimize_n(&mut self, on: bool) {
+        self.minimize_n = on;
+    }
+
+    /// How many environments are encoded.
+    pub fn environments(&self) -> usize {
+        self.environments.len()
+    }
+
     pub fn negatives(&self) -> &[NegativeScenario] {
         &self.negatives
     }
@@ -338,6 +396,11 @@ impl<'a> Synthesizer<'a> {
         for (neg, ids) in self.negatives.iter().zip(self.negative_ids.iter_mut()) {
             if ids.is_some() {
                 *ids = Some(self.enc.add_negative(neg));
+            }
+        }
+        if let Some(spec) = &self.closed_loop {
+            for env in &self.environments {
+                self.enc.add_environment(spec, env);
             }
         }
     }
@@ -392,8 +455,9 @@ impl<'a> Synthesizer<'a> {
             .zip(&self.negative_ids)
             .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
             .collect();
+        let closed = !self.environments.is_empty();
         let decode_with = |m: &Model, vars: &Vars, alphabet: &[Vec<bool>]| {
-            Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed)
+            Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed, closed)
         };
         let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
         let mut base: Vec<Lit> = enc.vars.states_at_most(c).into_iter().collect();
@@ -489,12 +553,13 @@ impl<'a> Synthesizer<'a> {
         // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
         // state on the fixed structure.
         let tg = Instant::now();
-        let mut exact = true;
+        let exact;
         let states: Vec<State> = match &enc.total_n {
             Some(total_n) => {
                 let n = structure.literal_count();
                 let start = match self.n_lo {
                     Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
+                    _ if !self.minimize_n => n,
                     _ => 0,
                 };
                 // Descend from the current N; stop at the known lower bound.
@@ -516,7 +581,10 @@ impl<'a> Synthesizer<'a> {
                         structure.literal_count()
                     },
                 );
-                self.n_lo = Some((c, t, n));
+                if self.minimize_n {
+                    self.n_lo = Some((c, t, n));
+                }
+                exact = self.minimize_n;
                 // Decoded with the cube model's slots: one list of transitions per state.
                 let transitions = structure.cube_transitions.clone().unwrap_or_default();
                 (0..structure.c)

@@ -130,6 +130,8 @@ impl Structure {
     /// machine leaves every negative scenario at some step; the decoded machine must do the
     /// same, so the transitions and algorithm entries that the solver's machine uses along each
     /// negative scenario, up to and including the step where it leaves, are kept as chosen.
+    /// With `closed_loop` (environments encoded, [`super::closed_loop`]) every entry is kept as
+    /// chosen: the closed-loop runs the solver checked may use any of them.
     pub fn decode(
         model: &Model,
         v: &Vars,
@@ -137,6 +139,7 @@ impl Structure {
         kind: AlgorithmKind,
         alphabet: &[Vec<bool>],
         negatives: &[IndexedNegative],
+        closed_loop: bool,
     ) -> Structure {
         let c = (0..v.c_max).filter(|&q| model.value(v.used(q))).count();
         let colors: Vec<usize> = (0..tree.nodes.len())
@@ -176,7 +179,7 @@ impl Structure {
                 // the output is kept.
                 let bit = |z: usize, old: bool| {
                     let (this, other) = (usize::from(old), usize::from(!old));
-                    if seen[q][z][this] {
+                    if seen[q][z][this] || closed_loop {
                         model.value(v.a(q, z, old))
                     } else if seen[q][z][other] {
                         model.value(v.a(q, z, !old))

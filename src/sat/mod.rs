@@ -35,6 +35,7 @@
 
 pub mod basic;
 pub mod card;
+pub mod closed_loop;
 pub mod constraints;
 pub mod cubes;
 pub mod decode;

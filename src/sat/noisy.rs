@@ -317,7 +317,7 @@ impl NoisyEncoding {
 /// The structure of a model of the noisy encoding (on the graph's node layout).
 fn decode(model: &Model, vars: &Vars, graph: &TraceGraph, kind: AlgorithmKind) -> Structure {
     let tree = &graph.tree;
-    Structure::decode(model, vars, tree, kind, &tree.input_vectors, &[])
+    Structure::decode(model, vars, tree, kind, &tree.input_vectors, &[], false)
 }
 
 /// The SAT reconstruction paper's Algorithm 1 on `set`. `accept` sees every candidate as it is found (e.g. to

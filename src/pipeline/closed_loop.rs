@@ -1,0 +1,168 @@
+//! The properties inside the synthesis: which properties the SAT encoding can carry for a
+//! problem, and counterexamples turned into the environments it is unrolled along
+//! ([`crate::sat::closed_loop`]).
+//!
+//! In: a [`Problem`] with a plant model the tool can run, the scenario set (the controller's
+//! interface). Out: a [`ClosedLoop`]: the encoding's [`Spec`] and, per property, whether it is
+//! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
+//! counterexamples still come back as negative scenarios.
+
+use crate::ltl::property_name;
+use crate::plant::{Model, Name, Value};
+use crate::sat::closed_loop::{self, Environment, Spec};
+use crate::scenario::ScenarioSet;
+use crate::verify::{Counterexample, Problem};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// Steps within which the encoding requires eventualities to be fulfilled when none is given.
+pub const DEFAULT_RESPONSE_BOUND: usize = 32;
+
+/// The encoding's view of a problem.
+#[derive(Debug, Clone)]
+pub struct ClosedLoop {
+    pub spec: Arc<Spec>,
+    /// Per property (spec order): `Ok(())` if encoded, else why not.
+    pub coverage: Vec<Result<(), String>>,
+}
+
+impl ClosedLoop {
+    /// The encoding's view of `problem` for a controller over `set`'s interface; `Err` says
+    /// why no property can be encoded (the plant is outside the subset, ...).
+    pub fn new(
+        problem: &Problem,
+        set: &ScenarioSet,
+        response_bound: usize,
+    ) -> Result<ClosedLoop, String> {
+        let model = problem.model.clone()?;
+        closed_loop::plant::encodable(&model)
+            .map_err(|c| format!("the plant uses {c}, which the encoding does not cover"))?;
+        let inputs = set
+            .inputs
+            .iter()
+            .map(|i| match model.lookup(i) {
+                Some(n @ (Name::Var(_) | Name::Define(_))) => Ok(n),
+                _ => Err(format!("the plant declares no '{i}'")),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let params = model
+            .params
+            .iter()
+            .map(|p| {
+                set.outputs
+                    .iter()
+                    .position(|o| o == p)
+                    .ok_or_else(|| format!("plant parameter '{p}' is not a controller output"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut spec = Spec {
+            plant: model,
+            inputs,
+            params,
+            outputs: set.outputs.clone(),
+            properties: Vec::new(),
+            response_bound,
+            initial_outputs: set.initial_outputs.clone(),
+        };
+        let coverage: Vec<Result<(), String>> = problem
+            .props
+            .iter()
+            .map(|p| {
+                if !closed_loop::property::covered(&p.formula) {
+                    return Err("past operators are not encoded".to_string());
+                }
+                if let Some(n) = p
+                    .formula
+                    .names()
+                    .into_iter()
+                    .find(|n| !closed_loop::resolves(&spec, n))
+                {
+                    return Err(format!("'{n}' is not a name of the closed loop"));
+                }
+                Ok(())
+            })
+            .collect();
+        spec.properties = problem
+            .props
+            .iter()
+            .zip(&coverage)
+            .filter(|(_, c)| c.is_ok())
+            .map(|(p, _)| p.formula.clone())
+            .collect();
+        Ok(ClosedLoop {
+            spec: Arc::new(spec),
+            coverage,
+        })
+    }
+
+    /// Whether the property at `index` (spec order) is encoded.
+    pub fn encodes(&self, index: usize) -> bool {
+        self.coverage.get(index).is_some_and(|c| c.is_ok())
+    }
+
+    /// Names of the properties that are not encoded, with the reason.
+    pub fn not_encoded(&self, problem: &Problem) -> Vec<String> {
+        problem
+            .props
+            .iter()
+            .enumerate()
+            .zip(&self.coverage)
+            .filter_map(|((k, p), c)| {
+                c.as_ref()
+                    .err()
+                    .map(|why| format!("{} ({why})", property_name(k, p)))
+            })
+            .collect()
+    }
+
+    /// The environment of a NuSMV counterexample: the plant's state at every step, read from
+    /// the trace (`plant.x` or the alias `x`). `None` if the trace lacks a variable.
+    pub fn environment(&self, cx: &Counterexample) -> Option<Environment> {
+        let model = &self.spec.plant;
+        let end = match cx.violation_at {
+            Some(k) => k + 1,
+            None => cx.states.len(),
+        };
+        let states = cx.states[..end.min(cx.states.len())]
+            .iter()
+            .map(|s| plant_state(model, s))
+            .collect::<Option<Vec<_>>>()?;
+        if states.is_empty() {
+            return None;
+        }
+        let loop_start = match cx.violation_at {
+            Some(_) => states.len() - 1,
+            None => cx.loop_start.min(states.len() - 1),
+        };
+        Some(Environment { states, loop_start })
+    }
+}
+
+fn plant_state(model: &Model, s: &BTreeMap<String, String>) -> Option<Vec<Value>> {
+    model
+        .vars
+        .iter()
+        .map(|v| {
+            let text = s
+                .get(&format!(
+                    "{}.{}",
+                    crate::smv::closed_loop::PLANT_INSTANCE,
+                    v.name
+                ))
+                .or_else(|| s.get(&v.name))?;
+            parse_value(model, text)
+        })
+        .collect()
+}
+
+fn parse_value(model: &Model, text: &str) -> Option<Value> {
+    match text {
+        "TRUE" => Some(Value::Bool(true)),
+        "FALSE" => Some(Value::Bool(false)),
+        _ => text
+            .parse::<i64>()
+            .ok()
+            .map(Value::Int)
+            .or_else(|| model.symbol(text)),
+    }
+}

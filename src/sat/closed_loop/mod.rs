@@ -1,0 +1,193 @@
+//! Properties inside the encoding: the closed loop of machine and plant, unrolled along a
+//! fixed environment, with every property required on the unrolled run.
+//!
+//! In: the cube-model variables of the basic encoding ([`Vars`], [`CubeVars`]), a [`Spec`]
+//! (the plant's [`Model`], how machine and plant are wired, the properties) and an
+//! [`Environment`] (what the plant's free variables did along one run, usually a
+//! counterexample). Out: clauses saying "on this environment, the closed loop of *the
+//! solver's machine* with the plant satisfies every property" (up to the bound explained in
+//! [`property`]).
+//!
+//! # Why this converges where negative scenarios do not
+//! A negative scenario forbids one sequence of controller outputs on one sequence of inputs;
+//! machines of the same size that fail the same way on slightly different inputs are still
+//! allowed, and there are exponentially many. Here the counterexample only contributes the
+//! *environment* (the operator's buttons, the pieces put on tracks): the plant's reaction to
+//! whatever the machine does is part of the formula, so every machine that fails on that
+//! environment is ruled out at once, however it fails. This is bounded synthesis in the
+//! counterexample-guided form (each environment is one universally quantified play, added
+//! lazily), over the explicit plant model instead of NuSMV's.
+//!
+//! # Families (one function each)
+//! - [`machine::step`]: the machine reacting to the sensors of a step;
+//! - [`plant::next_state`]: the plant's next state under the machine's outputs;
+//! - [`property::Bounded::require`]: each property on the run.
+//!
+//! Timing is the closed loop's (see [`crate::smv::closed_loop`]): at step `t` the machine reads
+//! the plant's values of step `t`, its new outputs appear at `t + 1`, and the plant's step from
+//! `t` to `t + 1` reads the outputs of step `t`.
+
+pub mod gates;
+pub mod machine;
+pub mod plant;
+pub mod property;
+
+use self::gates::{Fd, Gates, B};
+use self::machine::MachineState;
+use crate::ltl::Ltl;
+use crate::plant::{Model, Name, Value, VarKind};
+use crate::sat::vars::{CubeVars, Vars};
+use std::collections::HashMap;
+use std::sync::Arc;
+use varisat::ExtendFormula;
+
+/// How machine, plant and properties fit together, checked by the caller.
+#[derive(Debug, Clone)]
+pub struct Spec {
+    pub plant: Arc<Model>,
+    /// Per machine input (scenario order): the plant variable or define it reads.
+    pub inputs: Vec<Name>,
+    /// Per plant parameter: the machine output (index) it reads.
+    pub params: Vec<usize>,
+    /// Machine output names, as properties use them.
+    pub outputs: Vec<String>,
+    /// The properties encoded: future-only, every name resolved.
+    pub properties: Vec<Ltl>,
+    /// Steps after the environment's end within which eventualities must be fulfilled.
+    pub response_bound: usize,
+    pub initial_outputs: Vec<bool>,
+}
+
+/// What the plant's free variables did along one run: the full plant state of each step (only
+/// the free parts and the nondeterministic choices are read), as a lasso.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Environment {
+    /// Per step, the value of every plant variable ([`crate::plant::VarId`] order).
+    pub states: Vec<Vec<Value>>,
+    /// The run continues `states[loop_start..]` forever.
+    pub loop_start: usize,
+}
+
+impl Environment {
+    /// The plant state of step `t` of the infinite run.
+    pub fn at(&self, t: usize) -> &[Value] {
+        let (n, l) = (self.states.len(), self.loop_start);
+        let p = if t < n { t } else { l + (t - l) % (n - l) };
+        &self.states[p]
+    }
+}
+
+/// Figures of one encoded environment.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Unrolled {
+    pub steps: usize,
+}
+
+/// The names a property may read, for checking before anything is encoded: every machine
+/// output and every plant variable and define.
+pub fn resolves(spec: &Spec, name: &str) -> bool {
+    spec.outputs.iter().any(|o| o == name)
+        || matches!(
+            spec.plant.lookup(name),
+            Some(Name::Var(_)) | Some(Name::Define(_))
+        )
+        || spec.plant.symbol(name).is_some()
+}
+
+/// Adds the closed loop along `env` with every property of `spec` required on it.
+pub fn encode(
+    f: &mut impl ExtendFormula,
+    vars: &Vars,
+    cv: &CubeVars,
+    spec: &Spec,
+    env: &Environment,
+) -> Unrolled {
+    let model = &*spec.plant;
+    let mut g = Gates { f };
+    let n = env.states.len();
+    let deadline = n.saturating_sub(1);
+    let last = deadline + spec.response_bound;
+    let names: Vec<String> = {
+        let mut all: Vec<String> = spec.properties.iter().flat_map(|p| p.names()).collect();
+        all.sort();
+        all.dedup();
+        all
+    };
+    let env_vars: Vec<(String, usize)> = model
+        .vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.kind == VarKind::Input || (v.next.is_none() && v.init.is_none()))
+        .map(|(i, v)| (v.name.clone(), i))
+        .collect();
+    let mut state: Vec<Fd> = env.at(0).iter().map(|&v| Fd::constant(v)).collect();
+    let mut machine = MachineState::initial(vars.c_max, &spec.initial_outputs);
+    let mut atoms: Vec<HashMap<String, Fd>> = Vec::with_capacity(last + 1);
+    let mut envs: Vec<HashMap<String, Value>> = Vec::with_capacity(last + 1);
+    for t in 0..=last {
+        let params: Vec<B> = spec.params.iter().map(|&z| machine.outputs[z]).collect();
+        let mut frame = plant::Frame::new(model, &state, &params);
+        let read = |g: &mut Gates<'_, _>, name: &str, frame: &mut plant::Frame<'_>| -> Option<Fd> {
+            match model.lookup(name)? {
+                Name::Var(v) => Some(frame.state[v.0].clone()),
+                Name::Define(d) => Some(plant::eval(
+                    g,
+                    model,
+                    &crate::plant::Expr::Define(d),
+                    frame,
+                    None,
+                )),
+                Name::Param(_) => None,
+            }
+        };
+        let inputs: Vec<B> = spec
+            .inputs
+            .iter()
+            .map(|&name| {
+                let e = match name {
+                    Name::Var(v) => crate::plant::Expr::Var(v),
+                    Name::Define(d) => crate::plant::Expr::Define(d),
+                    Name::Param(p) => crate::plant::Expr::Param(p),
+                };
+                plant::boolean(&mut g, model, &e, &mut frame)
+            })
+            .collect();
+        let mut here = HashMap::new();
+        for name in &names {
+            if let Some(z) = spec.outputs.iter().position(|o| o == name) {
+                here.insert(name.clone(), Fd::of_bool(machine.outputs[z]));
+            } else if let Some(v) = read(&mut g, name, &mut frame) {
+                here.insert(name.clone(), v);
+            }
+        }
+        atoms.push(here);
+        envs.push(
+            env_vars
+                .iter()
+                .map(|(name, i)| (name.clone(), env.at(t)[*i]))
+                .collect(),
+        );
+        if t < last {
+            let next_plant = plant::next_state(&mut g, model, &mut frame, env.at(t + 1));
+            machine = machine::step(&mut g, vars, cv, &machine, &inputs);
+            state = next_plant;
+        }
+    }
+    let symbol = |name: &str| model.symbol(name);
+    let run = property::Run {
+        atoms: &atoms,
+        env: &envs,
+        env_len: n,
+        env_loop: env.loop_start,
+        symbol: &symbol,
+        deadline,
+    };
+    let mut bounded = property::Bounded::new(&run);
+    for p in &spec.properties {
+        bounded.require(&mut g, p);
+    }
+    Unrolled { steps: last + 1 }
+}
+
+#[cfg(test)]
+mod tests;

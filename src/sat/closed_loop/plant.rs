@@ -1,0 +1,224 @@
+//! The plant's step in CNF: the expressions of a [`Model`] evaluated on symbolic states.
+//!
+//! A state is one [`Fd`] per variable. The environment is fixed (see [`super::Environment`]):
+//! variables the plant leaves free (`IVAR`, a `VAR` without `next`) take the recorded value of
+//! the step, and a set `{a, b}` takes the value the environment chose if the set holds it, its
+//! first element otherwise. Everything else follows from the controller outputs, so every
+//! literal here is a function of the machine's variables.
+
+use super::gates::{Fd, Gates, B};
+use crate::plant::{BinOp, Expr, Model, Value, VarKind};
+use varisat::ExtendFormula;
+
+/// One step's view for evaluation: the state, the controller outputs the plant reads (per
+/// parameter), and the defines evaluated so far.
+pub struct Frame<'s> {
+    pub state: &'s [Fd],
+    pub params: &'s [B],
+    pub defines: Vec<Option<Fd>>,
+}
+
+impl<'s> Frame<'s> {
+    pub fn new(model: &Model, state: &'s [Fd], params: &'s [B]) -> Frame<'s> {
+        Frame {
+            state,
+            params,
+            defines: vec![None; model.defines.len()],
+        }
+    }
+}
+
+/// Evaluates `e` on `frame`; a set takes `choice` when it holds it.
+pub fn eval<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    e: &Expr,
+    frame: &mut Frame<'_>,
+    choice: Option<Value>,
+) -> Fd {
+    match e {
+        Expr::Const(v) => Fd::constant(*v),
+        Expr::Var(v) => frame.state[v.0].clone(),
+        // Only TRANS has `next`, and plants with TRANS are not encoded.
+        Expr::Next(v) => frame.state[v.0].clone(),
+        Expr::Param(p) => Fd::of_bool(frame.params[p.0]),
+        Expr::Define(d) => {
+            if let Some(v) = &frame.defines[d.0] {
+                return v.clone();
+            }
+            let v = eval(g, model, &model.defines[d.0].expr, frame, None);
+            frame.defines[d.0] = Some(v.clone());
+            v
+        }
+        Expr::Not(a) => {
+            let a = boolean(g, model, a, frame);
+            Fd::of_bool(!a)
+        }
+        Expr::Neg(a) => {
+            let a = eval(g, model, a, frame, None);
+            let pairs =
+                a.0.into_iter()
+                    .map(|(v, b)| match v {
+                        Value::Int(i) => (Value::Int(-i), b),
+                        other => (other, b),
+                    })
+                    .collect();
+            g.join(pairs)
+        }
+        Expr::Bin(op, a, b) => binary(g, model, *op, a, b, frame),
+        Expr::Case(branches) => {
+            let mut pairs = Vec::new();
+            let mut none_before = B::C(true);
+            for (c, v) in branches {
+                let c = boolean(g, model, c, frame);
+                let here = g.and2(none_before, c);
+                if here != B::C(false) {
+                    let v = eval(g, model, v, frame, choice);
+                    for (w, b) in v.0 {
+                        let both = g.and2(here, b);
+                        pairs.push((w, both));
+                    }
+                }
+                none_before = g.and2(none_before, !c);
+                if none_before == B::C(false) {
+                    break;
+                }
+            }
+            g.join(pairs)
+        }
+        Expr::Set(items) => {
+            let values: Vec<Fd> = items
+                .iter()
+                .map(|i| eval(g, model, i, frame, None))
+                .collect();
+            let Some(first) = values.first() else {
+                return Fd(Vec::new());
+            };
+            let Some(w) = choice else {
+                return first.clone();
+            };
+            let holds: Vec<B> = values.iter().map(|v| v.is(w)).collect();
+            let holds = g.or(&holds);
+            let mut pairs = vec![(w, holds)];
+            for (v, b) in &first.0 {
+                let b = g.and2(!holds, *b);
+                pairs.push((*v, b));
+            }
+            g.join(pairs)
+        }
+    }
+}
+
+/// Evaluates a Boolean expression.
+pub fn boolean<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    e: &Expr,
+    frame: &mut Frame<'_>,
+) -> B {
+    let v = eval(g, model, e, frame, None);
+    v.is(Value::Bool(true))
+}
+
+fn binary<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    op: BinOp,
+    a: &Expr,
+    b: &Expr,
+    frame: &mut Frame<'_>,
+) -> Fd {
+    use BinOp::*;
+    if matches!(op, And | Or | Xor | Xnor | Implies | Iff) {
+        let x = boolean(g, model, a, frame);
+        // Short-circuit on constants keeps untaken branches out of the formula.
+        let y = match (op, x) {
+            (And, B::C(false)) => return Fd::constant(Value::Bool(false)),
+            (Or, B::C(true)) => return Fd::constant(Value::Bool(true)),
+            (Implies, B::C(false)) => return Fd::constant(Value::Bool(true)),
+            _ => boolean(g, model, b, frame),
+        };
+        let r = match op {
+            And => g.and2(x, y),
+            Or => g.or2(x, y),
+            Implies => g.or2(!x, y),
+            Iff | Xnor => g.iff(x, y),
+            _ => !g.iff(x, y),
+        };
+        return Fd::of_bool(r);
+    }
+    let x = eval(g, model, a, frame, None);
+    let y = eval(g, model, b, frame, None);
+    let mut pairs = Vec::new();
+    for &(v, bv) in &x.0 {
+        for &(w, bw) in &y.0 {
+            let Some(r) = apply(op, v, w) else { continue };
+            let both = g.and2(bv, bw);
+            pairs.push((r, both));
+        }
+    }
+    let joined = g.join(pairs);
+    // A comparison is Boolean even where neither value occurs.
+    if matches!(op, Eq | Ne | Lt | Le | Gt | Ge) {
+        return Fd::of_bool(joined.is(Value::Bool(true)));
+    }
+    joined
+}
+
+/// `v op w` on constants; `None` where NuSMV would report an error (division by zero).
+pub fn apply(op: BinOp, v: Value, w: Value) -> Option<Value> {
+    use BinOp::*;
+    let b = Value::Bool;
+    Some(match (op, v, w) {
+        (Eq, _, _) => b(v == w),
+        (Ne, _, _) => b(v != w),
+        (Lt, Value::Int(x), Value::Int(y)) => b(x < y),
+        (Le, Value::Int(x), Value::Int(y)) => b(x <= y),
+        (Gt, Value::Int(x), Value::Int(y)) => b(x > y),
+        (Ge, Value::Int(x), Value::Int(y)) => b(x >= y),
+        (Add, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_add(y)?),
+        (Sub, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_sub(y)?),
+        (Mul, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_mul(y)?),
+        // NuSMV 2.5 truncates towards zero, like Rust.
+        (Div, Value::Int(x), Value::Int(y)) if y != 0 => Value::Int(x / y),
+        (Mod, Value::Int(x), Value::Int(y)) if y != 0 => Value::Int(x % y),
+        _ => return None,
+    })
+}
+
+/// Whether the plant is in the part of the subset this encoding covers: no `INIT`, `INVAR`,
+/// `TRANS` or `FAIRNESS` (their effect on a fixed environment is not a function of the
+/// controller). `Err` names the first construct that is not covered.
+pub fn encodable(model: &Model) -> Result<(), String> {
+    let sections = [
+        ("INIT", &model.init),
+        ("INVAR", &model.invar),
+        ("TRANS", &model.trans),
+        ("FAIRNESS", &model.fairness),
+    ];
+    for (name, cs) in sections {
+        if let Some(c) = cs.first() {
+            return Err(format!("{name} on line {}", c.line));
+        }
+    }
+    Ok(())
+}
+
+/// The plant state after the frame's state, with the frame's controller outputs and the environment's
+/// values `env_next` of the next step (every variable's value in the recorded run).
+pub fn next_state<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    frame: &mut Frame<'_>,
+    env_next: &[Value],
+) -> Vec<Fd> {
+    model
+        .vars
+        .iter()
+        .enumerate()
+        .map(|(i, var)| match (&var.next, var.kind) {
+            (Some(e), VarKind::State) => eval(g, model, e, frame, Some(env_next[i])),
+            _ => Fd::constant(env_next[i]),
+        })
+        .collect()
+}
