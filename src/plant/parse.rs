@@ -12,6 +12,8 @@
 
 mod reach;
 mod resolve;
+#[cfg(test)]
+mod tests;
 
 use super::{BinOp, Model, ModelError, VarKind};
 use pest::iterators::Pair;
