@@ -12,17 +12,24 @@
 //! - expressions: `TRUE`/`FALSE`, integers, symbolic constants, names, `!`, `&`, `|`, `xor`,
 //!   `xnor`, `->`, `<->`, `=`, `!=`, `<`, `<=`, `>`, `>=`, `+`, `-` (also unary), `*`, `/`,
 //!   `mod`, `case ... esac`, `c ? a : b`, sets `{e1, e2}` (only as the value of `init`, `next`
-//!   or a case branch of one), `next(v)` (only inside `TRANS`);
-//! - `INIT`, `INVAR`, `TRANS`, `FAIRNESS` / `JUSTICE` (the same thing for LTL).
+//!   or a case branch of one), `next(v)` of a `VAR` (only inside `TRANS` and in the value of a
+//!   `next` assignment, as NuSMV allows: `next(fills) := ... next(level) ...`), with NuSMV
+//!   2.5.4's precedence (`grammar/smv.pest` lists it);
+//! - `INIT`, `INVAR`, `TRANS`, `FAIRNESS` / `JUSTICE` (the same thing for LTL);
+//! - NuSMV's static rules: strict types (Boolean and integer never mix), no `IVAR` in `INIT`,
+//!   `INVAR` or `init(v)`, no cycle between defines, between `init` or between `next`
+//!   assignments, no constant outside a variable's domain where an assignment can produce it.
 //!
 //! Anything else (`FROZENVAR`, arrays, words, other modules, `COMPASSION`, CTL/LTL specs inside
 //! the plant, ...) is refused with its line.
 //!
 //! # Semantics (NuSMV's, for a module instantiated once by the closed loop)
 //! A state gives every `VAR` (and `IVAR`) a value of its domain. Initial states: every `init`
-//! assignment holds (a set means "any of"), every `INIT` and `INVAR` holds; a `VAR` without
-//! `init` is free. Successors of `s` with the controller outputs `o` (the parameters): every
-//! `next` assignment holds, evaluated on `s` and `o`; `TRANS` holds on `s`, `o` and the
+//! assignment holds (a set means "any of"; it may read other variables of the initial state),
+//! every `INIT` and `INVAR` holds; a `VAR` without `init` is free. Successors of `s` with the
+//! controller outputs `o` (the parameters): every `next` assignment holds, evaluated on `s`,
+//! `o` and, for each `next(y)` it reads, the successor's `y` (the parser refuses cycles, so the
+//! assignments can be evaluated in dependency order); `TRANS` holds on `s`, `o` and the
 //! successor; `INVAR` holds on the successor; a `VAR` without `next` is free. A value outside a
 //! variable's domain, a division by zero or a case without a true branch is an evaluation
 //! error, as NuSMV reports it. An `IVAR` is chosen freely at every step, like a `VAR` without
@@ -130,7 +137,7 @@ pub enum Expr {
     Const(Value),
     /// Current value of a variable.
     Var(VarId),
-    /// `next(v)`, only inside `TRANS`.
+    /// `next(v)` of a state variable, only inside `TRANS` and the value of a `next` assignment.
     Next(VarId),
     /// A define (evaluated on the same state).
     Define(DefineId),

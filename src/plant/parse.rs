@@ -1,10 +1,30 @@
-//! The parser of plant files: `grammar/smv.pest` in, [`Model`](super::Model) or a located
-//! [`ModelError`](super::ModelError) out. (Being written; nothing calls it yet.)
+//! The parser of plant files: text in, [`Model`] or a located [`ModelError`] out.
+//!
+//! Two steps. Here, `grammar/smv.pest` parses the file and its tree becomes a private syntax
+//! tree whose nodes keep their byte offsets; pest types never leave this file. A parse failure
+//! is explained in words, and a NuSMV construct outside the subset (FROZENVAR, arrays, words,
+//! other modules, function calls, ...) is named where the parse stopped. Then `resolve`
+//! turns the syntax tree into a [`Model`]: names become indices, types are checked, defines are
+//! ordered, and the rules of the subset that a grammar cannot express are enforced.
+//!
+//! Every error is a [`ModelError::At`] with the file, the 1-based line and the 1-based column
+//! (in characters) of the offending token.
 
-use super::{Model, ModelError};
+mod reach;
+mod resolve;
+#[cfg(test)]
+mod tests;
+
+use super::{BinOp, Model, ModelError, VarKind};
+use pest::iterators::Pair;
+use pest::Parser;
 use std::path::Path;
 
-/// Reads and resolves a plant file.
+#[derive(pest_derive::Parser)]
+#[grammar = "grammar/smv.pest"]
+struct SmvParser;
+
+/// Reads and parses a plant file.
 pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
     let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
         file: path.to_path_buf(),
@@ -13,12 +33,960 @@ pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
     parse_str(&text, path)
 }
 
-/// Resolves the text of a plant file.
-pub fn parse_str(_text: &str, file: &Path) -> Result<Model, ModelError> {
-    Err(ModelError::At {
-        file: file.to_path_buf(),
-        line: 1,
-        column: 1,
-        message: "the plant parser is not written yet".into(),
+/// Parses the text of a plant file; `file` names it in the model and in error messages.
+pub fn parse_str(text: &str, file: &Path) -> Result<Model, ModelError> {
+    let src = Source::new(text, file);
+    let plant = syntax(&src)?;
+    resolve::resolve(&src, plant)
+}
+
+/// The deepest that parentheses, `case`, sets, `next( )` and the `a` of `c ? a : b` may nest
+/// inside each other. Each level costs the parser a dozen stack frames; far beyond any real
+/// plant, this keeps the parse well inside the stack of a test thread.
+const MAX_NESTING: usize = 100;
+
+/// The most operators on one path from the root of an expression to a leaf (a chain `a | b |
+/// ...` counts one per operator). Every walk over an expression recurses once per level.
+const MAX_DEPTH: usize = 1000;
+
+/// The text of the plant file, with what turns a byte offset into a place.
+struct Source<'a> {
+    text: &'a str,
+    file: &'a Path,
+    /// Byte offset of the start of every line.
+    line_starts: Vec<usize>,
+}
+
+impl<'a> Source<'a> {
+    fn new(text: &'a str, file: &'a Path) -> Self {
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        Source {
+            text,
+            file,
+            line_starts,
+        }
+    }
+
+    /// 1-based line of a byte offset.
+    fn line(&self, pos: usize) -> usize {
+        self.line_starts.partition_point(|&start| start <= pos)
+    }
+
+    /// An error at a byte offset; the column counts characters, not bytes.
+    fn error(&self, pos: usize, message: impl Into<String>) -> ModelError {
+        let line = self.line(pos);
+        let start = self.line_starts[line - 1];
+        let column = self.text[start..pos].chars().count() + 1;
+        ModelError::At {
+            file: self.file.to_path_buf(),
+            line,
+            column,
+            message: message.into(),
+        }
+    }
+
+    /// The code between two offsets for a message: comments dropped, blanks collapsed, long
+    /// code shortened.
+    fn snippet(&self, start: usize, end: usize) -> String {
+        let code: Vec<&str> = self.text[start..end]
+            .lines()
+            .map(|l| l.split("--").next().unwrap_or(""))
+            .flat_map(str::split_whitespace)
+            .collect();
+        let code = code.join(" ");
+        if code.chars().count() > 40 {
+            let short: String = code.chars().take(37).collect();
+            format!("{short}...")
+        } else {
+            code
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The syntax tree: the file as written, names unresolved, every node with its byte offset.
+
+/// A plant file as written.
+struct Plant {
+    params: Vec<Ident>,
+    vars: Vec<VarDecl>,
+    defines: Vec<DefineDecl>,
+    assigns: Vec<Assign>,
+    constraints: Vec<ConstraintDecl>,
+}
+
+/// A name and the byte offset where it is written.
+struct Ident {
+    name: String,
+    pos: usize,
+}
+
+struct VarDecl {
+    name: Ident,
+    kind: VarKind,
+    ty: TypeDecl,
+}
+
+enum TypeDecl {
+    Bool,
+    Range { lo: i64, hi: i64, pos: usize },
+    Enum(Vec<EnumItem>),
+}
+
+struct EnumItem {
+    pos: usize,
+    value: EnumLit,
+}
+
+enum EnumLit {
+    Int(i64),
+    Bool(bool),
+    Sym(String),
+}
+
+struct DefineDecl {
+    name: Ident,
+    expr: Node,
+}
+
+/// Which assignment of `ASSIGN`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Target {
+    Init,
+    Next,
+}
+
+impl Target {
+    fn keyword(self) -> &'static str {
+        match self {
+            Target::Init => "init",
+            Target::Next => "next",
+        }
+    }
+}
+
+struct Assign {
+    target: Target,
+    /// Offset of the `init` / `next` keyword.
+    pos: usize,
+    var: Ident,
+    value: Node,
+}
+
+/// A constraint section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Section {
+    Init,
+    Invar,
+    Trans,
+    Fairness,
+    Justice,
+}
+
+impl Section {
+    fn keyword(self) -> &'static str {
+        match self {
+            Section::Init => "INIT",
+            Section::Invar => "INVAR",
+            Section::Trans => "TRANS",
+            Section::Fairness => "FAIRNESS",
+            Section::Justice => "JUSTICE",
+        }
+    }
+}
+
+struct ConstraintDecl {
+    section: Section,
+    /// Offset of the section keyword.
+    pos: usize,
+    expr: Node,
+}
+
+/// An expression as written, spanning `pos..end` of the text.
+struct Node {
+    pos: usize,
+    end: usize,
+    /// Operators on the longest path to a leaf (0 for a leaf).
+    depth: usize,
+    kind: NodeKind,
+}
+
+enum NodeKind {
+    Bool(bool),
+    Int(i64),
+    Name(String),
+    /// `next(e)` (the resolver accepts only a variable inside).
+    Next(Box<Node>),
+    Not(Box<Node>),
+    Neg(Box<Node>),
+    Bin {
+        op: BinOp,
+        /// Offset of the operator.
+        op_pos: usize,
+        left: Box<Node>,
+        right: Box<Node>,
+    },
+    Case(Vec<(Node, Node)>),
+    /// `c ? a : b`.
+    Ite(Box<Node>, Box<Node>, Box<Node>),
+    Set(Vec<Node>),
+}
+
+impl Node {
+    /// The operator nodes, where a chain that exceeds [`MAX_DEPTH`] is refused.
+    fn new(
+        src: &Source,
+        pos: usize,
+        end: usize,
+        op_pos: usize,
+        kind: NodeKind,
+    ) -> Result<Node, ModelError> {
+        let depth = 1 + match &kind {
+            NodeKind::Bool(_) | NodeKind::Int(_) | NodeKind::Name(_) => 0,
+            NodeKind::Next(x) | NodeKind::Not(x) | NodeKind::Neg(x) => x.depth,
+            NodeKind::Bin { left, right, .. } => left.depth.max(right.depth),
+            NodeKind::Case(branches) => branches
+                .iter()
+                .map(|(c, v)| c.depth.max(v.depth))
+                .max()
+                .unwrap_or(0),
+            NodeKind::Ite(c, a, b) => c.depth.max(a.depth).max(b.depth),
+            NodeKind::Set(items) => items.iter().map(|x| x.depth).max().unwrap_or(0),
+        };
+        if depth > MAX_DEPTH {
+            return Err(src.error(
+                op_pos,
+                format!(
+                    "the expression is more than {MAX_DEPTH} operators deep; split it with DEFINEs"
+                ),
+            ));
+        }
+        Ok(Node {
+            pos,
+            end,
+            depth,
+            kind,
+        })
+    }
+
+    fn leaf(pos: usize, end: usize, kind: NodeKind) -> Node {
+        Node {
+            pos,
+            end,
+            depth: 0,
+            kind,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// From pest's tree to the syntax tree.
+
+fn syntax(src: &Source) -> Result<Plant, ModelError> {
+    let mut pairs = SmvParser::parse(Rule::file, src.text).map_err(|e| explain(src, &e))?;
+    let file = pairs.next().expect("the file rule always yields one pair");
+    let mut plant = Plant {
+        params: Vec::new(),
+        vars: Vec::new(),
+        defines: Vec::new(),
+        assigns: Vec::new(),
+        constraints: Vec::new(),
+    };
+    for pair in file.into_inner() {
+        match pair.as_rule() {
+            Rule::header => {
+                let params = pair.into_inner().find(|p| p.as_rule() == Rule::params);
+                plant.params = params
+                    .into_iter()
+                    .flat_map(Pair::into_inner)
+                    .filter(|p| p.as_rule() == Rule::name)
+                    .map(ident)
+                    .collect();
+            }
+            Rule::section => section(src, only_child(pair), &mut plant)?,
+            Rule::EOI => {}
+            r => unreachable!("a file holds a header and sections, not {r:?}"),
+        }
+    }
+    Ok(plant)
+}
+
+fn section(src: &Source, pair: Pair<Rule>, plant: &mut Plant) -> Result<(), ModelError> {
+    let rule = pair.as_rule();
+    let pos = pair.as_span().start();
+    let mut inner = pair.into_inner();
+    let _keyword = inner.next();
+    match rule {
+        Rule::var_section | Rule::ivar_section => {
+            let kind = if rule == Rule::var_section {
+                VarKind::State
+            } else {
+                VarKind::Input
+            };
+            for decl in inner {
+                let mut parts = decl.into_inner();
+                let name = ident(parts.next().expect("a declaration has a name"));
+                let _colon = parts.next();
+                let ty = var_type(src, only_child(parts.next().expect("and a type")))?;
+                plant.vars.push(VarDecl { name, kind, ty });
+            }
+        }
+        Rule::define_section => {
+            for define in inner {
+                let mut parts = define.into_inner();
+                let name = ident(parts.next().expect("a define has a name"));
+                let _becomes = parts.next();
+                let expr = expr(src, parts.next().expect("and an expression"), 0)?;
+                plant.defines.push(DefineDecl { name, expr });
+            }
+        }
+        Rule::assign_section => {
+            for assignment in inner {
+                let mut parts = assignment.into_inner();
+                let target = parts.next().expect("an assignment has a target");
+                let pos = target.as_span().start();
+                let target_rule = target.as_rule();
+                let var = target
+                    .into_inner()
+                    .find(|p| p.as_rule() == Rule::name)
+                    .map(ident)
+                    .expect("a target names a variable");
+                let target = match target_rule {
+                    Rule::init_target => Target::Init,
+                    Rule::next_target => Target::Next,
+                    _ => {
+                        return Err(src.error(
+                            pos,
+                            format!(
+                                "'{0} := ...' (an invariant assignment) is outside the subset: \
+                                 assign init({0}) and next({0}), or use INVAR",
+                                var.name
+                            ),
+                        ))
+                    }
+                };
+                let _becomes = parts.next();
+                let value = expr(src, parts.next().expect("and a value"), 0)?;
+                plant.assigns.push(Assign {
+                    target,
+                    pos,
+                    var,
+                    value,
+                });
+            }
+        }
+        Rule::init_section
+        | Rule::invar_section
+        | Rule::trans_section
+        | Rule::fairness_section
+        | Rule::justice_section => {
+            let section = match rule {
+                Rule::init_section => Section::Init,
+                Rule::invar_section => Section::Invar,
+                Rule::trans_section => Section::Trans,
+                Rule::fairness_section => Section::Fairness,
+                _ => Section::Justice,
+            };
+            let expr = expr(
+                src,
+                inner.next().expect("a constraint has an expression"),
+                0,
+            )?;
+            plant
+                .constraints
+                .push(ConstraintDecl { section, pos, expr });
+        }
+        r => unreachable!("no section is built from rule {r:?}"),
+    }
+    Ok(())
+}
+
+fn ident(pair: Pair<Rule>) -> Ident {
+    Ident {
+        name: pair.as_str().to_string(),
+        pos: pair.as_span().start(),
+    }
+}
+
+fn only_child(pair: Pair<Rule>) -> Pair<Rule> {
+    pair.into_inner().next().expect("rule has one child")
+}
+
+fn var_type(src: &Source, pair: Pair<Rule>) -> Result<TypeDecl, ModelError> {
+    match pair.as_rule() {
+        Rule::boolean_type => Ok(TypeDecl::Bool),
+        Rule::range_type => {
+            let pos = pair.as_span().start();
+            let mut ints = pair
+                .into_inner()
+                .filter(|p| p.as_rule() == Rule::signed_int);
+            let lo = integer(src, &ints.next().expect("a range has a low end"))?;
+            let hi = integer(src, &ints.next().expect("and a high end"))?;
+            Ok(TypeDecl::Range { lo, hi, pos })
+        }
+        Rule::enum_type => {
+            let mut items = Vec::new();
+            for value in pair
+                .into_inner()
+                .filter(|p| p.as_rule() == Rule::enum_value)
+            {
+                let value = only_child(value);
+                let pos = value.as_span().start();
+                let value = match value.as_rule() {
+                    Rule::signed_int => EnumLit::Int(integer(src, &value)?),
+                    Rule::bool_lit => EnumLit::Bool(value.as_str() == "TRUE"),
+                    Rule::name => EnumLit::Sym(value.as_str().to_string()),
+                    r => unreachable!("no enumeration value is a {r:?}"),
+                };
+                items.push(EnumItem { pos, value });
+            }
+            Ok(TypeDecl::Enum(items))
+        }
+        r => unreachable!("no type is built from rule {r:?}"),
+    }
+}
+
+/// An integer literal, within NuSMV's range (a C `int`).
+fn integer(src: &Source, pair: &Pair<Rule>) -> Result<i64, ModelError> {
+    let text = pair.as_str();
+    match text.parse::<i64>() {
+        Ok(i) if i.unsigned_abs() <= i32::MAX as u64 => Ok(i),
+        _ => Err(src.error(
+            pair.as_span().start(),
+            format!(
+                "integer {text} is out of NuSMV's range (at most {} in absolute value)",
+                i32::MAX
+            ),
+        )),
+    }
+}
+
+/// Builds an expression. `nest` counts the parentheses, cases, sets and `next( )` around it.
+fn expr(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
+    let mut pair = pair;
+    // A level with a single operand is a wrapper: descend without recursing.
+    loop {
+        let mut inner = pair.clone().into_inner();
+        match (pair.as_rule(), inner.next(), inner.next()) {
+            (Rule::expr, Some(only), _) => pair = only,
+            (
+                Rule::implies
+                | Rule::iff
+                | Rule::ite
+                | Rule::or
+                | Rule::and
+                | Rule::rel
+                | Rule::sum
+                | Rule::product
+                | Rule::unary,
+                Some(only),
+                None,
+            ) => pair = only,
+            _ => break,
+        }
+    }
+    let pos = pair.as_span().start();
+    let end = pair.as_span().end();
+    let nested = |pos: usize| nesting(src, pos, nest);
+    match pair.as_rule() {
+        Rule::implies | Rule::ite => fold_right(src, pair, nest),
+        Rule::iff | Rule::or | Rule::and | Rule::rel | Rule::sum | Rule::product => {
+            let mut inner = pair.into_inner();
+            let mut acc = expr(
+                src,
+                inner.next().expect("a level starts with an operand"),
+                nest,
+            )?;
+            while let Some(op) = inner.next() {
+                let right = expr(
+                    src,
+                    inner.next().expect("an operator has a right operand"),
+                    nest,
+                )?;
+                let op_pos = op.as_span().start();
+                let (start, end) = (acc.pos, right.end);
+                let kind = NodeKind::Bin {
+                    op: bin_op(op.as_str()),
+                    op_pos,
+                    left: Box::new(acc),
+                    right: Box::new(right),
+                };
+                acc = Node::new(src, start, end, op_pos, kind)?;
+            }
+            Ok(acc)
+        }
+        Rule::unary => {
+            let mut ops: Vec<Pair<Rule>> = pair.into_inner().collect();
+            let body = ops.pop().expect("unary ends with an operand");
+            let mut acc = expr(src, body, nest)?;
+            for op in ops.iter().rev() {
+                let op_pos = op.as_span().start();
+                let operand = Box::new(acc);
+                let kind = if op.as_str() == "!" {
+                    NodeKind::Not(operand)
+                } else {
+                    NodeKind::Neg(operand)
+                };
+                acc = Node::new(src, op_pos, end, op_pos, kind)?;
+            }
+            Ok(acc)
+        }
+        Rule::bool_lit => Ok(Node::leaf(
+            pos,
+            end,
+            NodeKind::Bool(pair.as_str() == "TRUE"),
+        )),
+        Rule::integer => Ok(Node::leaf(pos, end, NodeKind::Int(integer(src, &pair)?))),
+        Rule::name => Ok(Node::leaf(
+            pos,
+            end,
+            NodeKind::Name(pair.as_str().to_string()),
+        )),
+        Rule::paren => {
+            let inner = pair
+                .into_inner()
+                .find(|p| p.as_rule() == Rule::expr)
+                .expect("parentheses hold an expression");
+            let mut node = expr(src, inner, nested(pos)?)?;
+            // The node spans its parentheses, so that messages quote them.
+            node.pos = pos;
+            node.end = end;
+            Ok(node)
+        }
+        Rule::next_expr => {
+            let inner = pair
+                .into_inner()
+                .find(|p| p.as_rule() == Rule::expr)
+                .expect("next( ) holds an expression");
+            let arg = expr(src, inner, nested(pos)?)?;
+            Node::new(src, pos, end, pos, NodeKind::Next(Box::new(arg)))
+        }
+        Rule::case_expr => {
+            let nest = nested(pos)?;
+            let mut branches = Vec::new();
+            for branch in pair.into_inner().filter(|p| p.as_rule() == Rule::branch) {
+                let mut parts = branch.into_inner().filter(|p| p.as_rule() == Rule::expr);
+                let cond = expr(src, parts.next().expect("a branch has a condition"), nest)?;
+                let value = expr(src, parts.next().expect("and a value"), nest)?;
+                branches.push((cond, value));
+            }
+            Node::new(src, pos, end, pos, NodeKind::Case(branches))
+        }
+        Rule::set_expr => {
+            let nest = nested(pos)?;
+            let items = pair
+                .into_inner()
+                .filter(|p| p.as_rule() == Rule::expr)
+                .map(|p| expr(src, p, nest))
+                .collect::<Result<Vec<_>, _>>()?;
+            Node::new(src, pos, end, pos, NodeKind::Set(items))
+        }
+        r => unreachable!("no expression is built from rule {r:?}"),
+    }
+}
+
+/// The nesting level inside a parenthesis (or case, set, `next( )`, `? :`) at `pos`.
+fn nesting(src: &Source, pos: usize, nest: usize) -> Result<usize, ModelError> {
+    if nest >= MAX_NESTING {
+        Err(src.error(
+            pos,
+            format!(
+                "expressions nest more than {MAX_NESTING} levels deep (parentheses, case, sets, \
+                 next, ? :); split them with DEFINEs"
+            ),
+        ))
+    } else {
+        Ok(nest + 1)
+    }
+}
+
+/// `a -> b -> c` is `a -> (b -> c)`; `a ? b : c ? d : e` is `a ? b : (c ? d : e)`.
+fn fold_right(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
+    let is_ite = pair.as_rule() == Rule::ite;
+    // Operands, each with the offset of the operator before it (`->` or `?`).
+    let mut operands = Vec::new();
+    let mut op_pos = 0;
+    for p in pair.into_inner() {
+        match p.as_rule() {
+            Rule::op_implies | Rule::op_question => op_pos = p.as_span().start(),
+            Rule::colon => {}
+            // The `a` of `c ? a : b` is a whole expression, nested like a parenthesis.
+            Rule::expr => {
+                let nest = nesting(src, p.as_span().start(), nest)?;
+                operands.push((op_pos, expr(src, p, nest)?));
+            }
+            _ => operands.push((op_pos, expr(src, p, nest)?)),
+        }
+    }
+    let (mut acc_op, mut acc) = operands.pop().expect("a level has an operand");
+    if is_ite {
+        // c0 ? a0 : c1 ? a1 : ... : e, the `?` before each a_i.
+        while let (Some((op_pos, then)), Some((_, cond))) = (operands.pop(), operands.pop()) {
+            let (start, end) = (cond.pos, acc.end);
+            let kind = NodeKind::Ite(Box::new(cond), Box::new(then), Box::new(acc));
+            acc = Node::new(src, start, end, op_pos, kind)?;
+        }
+    } else {
+        while let Some((op_pos, left)) = operands.pop() {
+            let (start, end) = (left.pos, acc.end);
+            let kind = NodeKind::Bin {
+                op: BinOp::Implies,
+                op_pos: acc_op,
+                left: Box::new(left),
+                right: Box::new(acc),
+            };
+            acc = Node::new(src, start, end, acc_op, kind)?;
+            acc_op = op_pos;
+        }
+    }
+    Ok(acc)
+}
+
+fn bin_op(op: &str) -> BinOp {
+    match op {
+        "<->" => BinOp::Iff,
+        "|" => BinOp::Or,
+        "xor" => BinOp::Xor,
+        "xnor" => BinOp::Xnor,
+        "&" => BinOp::And,
+        "=" => BinOp::Eq,
+        "!=" => BinOp::Ne,
+        "<" => BinOp::Lt,
+        "<=" => BinOp::Le,
+        ">" => BinOp::Gt,
+        ">=" => BinOp::Ge,
+        "+" => BinOp::Add,
+        "-" => BinOp::Sub,
+        "*" => BinOp::Mul,
+        "/" => BinOp::Div,
+        "mod" => BinOp::Mod,
+        other => unreachable!("binary operator {other:?}"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parse failures in words.
+
+/// Turns a pest failure into an error at the token where the parse stopped.
+///
+/// pest reports the rules it could have matched there; they become a list of what was
+/// expected. Before that, the token found is checked against the NuSMV constructs outside the
+/// subset, so that FROZENVAR, an array or a function call is named rather than "unexpected".
+fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
+    let pos = match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((s, _)) => s,
+    };
+    let positives = match &e.variant {
+        pest::error::ErrorVariant::ParsingError { positives, .. } => positives.as_slice(),
+        // pest's own limits (its stack guard) are the only custom errors.
+        pest::error::ErrorVariant::CustomError { message } => {
+            return src.error(
+                pos,
+                format!(
+                    "expressions nest too deeply for the parser here ({message}); split them \
+                     with DEFINEs"
+                ),
+            )
+        }
+    };
+    let tokens = tokens(src.text);
+    // The token at the failure (or the one after it), the ones before and after that.
+    let k = tokens.partition_point(|&(start, tok)| start + tok.len() <= pos);
+    let token = |i: usize| tokens.get(i).map_or("", |t| t.1);
+    let (found, after) = (token(k), token(k + 1));
+    let prev = k.checked_sub(1).map_or("", token);
+    let pos = tokens.get(k).map_or(pos, |t| t.0);
+    let expects = |rules: &[Rule]| positives.iter().any(|r| rules.contains(r));
+    let in_expression = positives.iter().any(|&r| describe(r).1 == AN_EXPRESSION)
+        || positives.iter().any(|&r| describe(r).1 == AN_OPERATOR);
+    let is_word = found.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
+
+    let refused =
+        |what: String| src.error(pos, format!("{what} is outside the subset of plant files"));
+    if let Some(what) = refused_keyword(found, after) {
+        return refused(what);
+    }
+    if expects(&[Rule::var_type]) && is_word {
+        let what = match found {
+            "array" => "an array type".to_string(),
+            "word" | "unsigned" | "signed" | "Word" => "a word type".to_string(),
+            "integer" | "real" | "Integer" | "Real" => {
+                format!("the unbounded type '{found}' (declare a range lo..hi)")
+            }
+            "process" => "a process".to_string(),
+            _ if is_keyword(found) => {
+                return src.error(pos, format!("'{found}' is a NuSMV keyword, not a type"))
+            }
+            _ => format!("a module instance ('{found}'; a plant file holds only MODULE plant)"),
+        };
+        return refused(what);
+    }
+    match found {
+        "[" => return refused("an array or bit selection ('[...]')".to_string()),
+        "<<" | ">>" | "::" | "union" | "in" => {
+            return refused(format!("the word and set operator '{found}'"))
+        }
+        "." if is_name_like(prev) => {
+            return refused(format!(
+                "a dotted name ('{prev}.{after}', a part of a module instance)"
+            ))
+        }
+        _ => {}
+    }
+    if is_word_constant(found) {
+        return refused(format!("the word constant '{found}'"));
+    }
+    if in_expression {
+        if found == "(" && is_name_like(prev) {
+            return refused(format!("the function call '{prev}(...)'"));
+        }
+        if after == "(" && found == "init" {
+            return src.error(
+                pos,
+                "init(...) is not an expression: it only names the target of an assignment",
+            );
+        }
+        if after == "(" && is_keyword(found) && !SYNTAX_KEYWORDS.contains(&found) {
+            return refused(format!("the function '{found}(...)'"));
+        }
+    }
+    if matches!(found, "init" | "next") && after == "(" && expects(&[Rule::section]) {
+        return src.error(
+            pos,
+            format!("{found}(...) := ... stands only in an ASSIGN section"),
+        );
+    }
+    if is_keyword(found) && (!SYNTAX_KEYWORDS.contains(&found) || expects(NAME_RULES)) {
+        return src.error(pos, format!("'{found}' is a NuSMV keyword, not a name"));
+    }
+
+    let mut expected: Vec<(u8, &str)> = positives.iter().map(|&r| describe(r)).collect();
+    expected.sort();
+    expected.dedup();
+    let expected: Vec<&str> = expected.into_iter().map(|(_, text)| text).collect();
+    let expected = match expected.as_slice() {
+        [] => "something else".to_string(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    };
+    let after_prev = if prev.is_empty() {
+        String::new()
+    } else {
+        format!(" after '{prev}'")
+    };
+    let found = if found.is_empty() {
+        "the end of the file".to_string()
+    } else {
+        format!("'{found}'")
+    };
+    src.error(
+        pos,
+        format!("expected {expected}{after_prev}, found {found}"),
+    )
+}
+
+const AN_EXPRESSION: &str = "an expression";
+const AN_OPERATOR: &str = "an operator";
+
+/// Rules after which a name is expected, so that a keyword there is one used as a name.
+const NAME_RULES: &[Rule] = &[
+    Rule::name,
+    Rule::var_decl,
+    Rule::define,
+    Rule::plain_target,
+    Rule::enum_value,
+];
+
+/// What a rule stands for in a message, with its rank in the list of what was expected.
+fn describe(rule: Rule) -> (u8, &'static str) {
+    match rule {
+        Rule::file | Rule::header | Rule::kw_module => (0, "'MODULE plant'"),
+        Rule::kw_plant => (
+            0,
+            "'plant' (a plant file holds one module, MODULE plant(outputs...))",
+        ),
+        Rule::params | Rule::lparen => (1, "'('"),
+        Rule::rparen => (2, "')'"),
+        Rule::lbrace => (1, "'{'"),
+        Rule::rbrace => (2, "'}'"),
+        Rule::comma => (3, "','"),
+        Rule::colon => (3, "':'"),
+        Rule::becomes => (3, "':='"),
+        Rule::dotdot => (3, "'..'"),
+        Rule::semi => (4, "';'"),
+        Rule::kw_esac => (4, "'esac'"),
+        Rule::name | Rule::plain_target => (5, "a name"),
+        Rule::integer | Rule::signed_int => (5, "an integer"),
+        Rule::enum_value => (5, "a value (a name or an integer)"),
+        Rule::var_type
+        | Rule::boolean_type
+        | Rule::range_type
+        | Rule::enum_type
+        | Rule::kw_boolean => (5, "a type (boolean, lo..hi or {a, b, ...})"),
+        Rule::var_decl => (5, "a declaration 'name : type;'"),
+        Rule::define => (5, "a definition 'name := expression;'"),
+        Rule::assignment | Rule::init_target | Rule::next_target | Rule::kw_init => {
+            (5, "an assignment 'init(v) := ...;' or 'next(v) := ...;'")
+        }
+        Rule::branch => (5, "a case branch 'condition : value;'"),
+        Rule::expr
+        | Rule::implies
+        | Rule::iff
+        | Rule::ite
+        | Rule::or
+        | Rule::and
+        | Rule::rel
+        | Rule::sum
+        | Rule::product
+        | Rule::unary
+        | Rule::primary
+        | Rule::bool_lit
+        | Rule::next_expr
+        | Rule::case_expr
+        | Rule::set_expr
+        | Rule::paren
+        | Rule::op_not
+        | Rule::op_neg
+        | Rule::kw_next
+        | Rule::kw_case => (5, AN_EXPRESSION),
+        Rule::op_implies
+        | Rule::op_iff
+        | Rule::op_question
+        | Rule::op_or
+        | Rule::op_and
+        | Rule::op_rel
+        | Rule::op_sum
+        | Rule::op_product => (6, AN_OPERATOR),
+        Rule::section
+        | Rule::var_section
+        | Rule::ivar_section
+        | Rule::define_section
+        | Rule::assign_section
+        | Rule::init_section
+        | Rule::invar_section
+        | Rule::trans_section
+        | Rule::fairness_section
+        | Rule::justice_section
+        | Rule::kw_var
+        | Rule::kw_ivar
+        | Rule::kw_define
+        | Rule::kw_assign
+        | Rule::kw_init_section
+        | Rule::kw_invar
+        | Rule::kw_trans
+        | Rule::kw_fairness
+        | Rule::kw_justice => (
+            7,
+            "a section (VAR, IVAR, DEFINE, ASSIGN, INIT, INVAR, TRANS, FAIRNESS, JUSTICE)",
+        ),
+        Rule::EOI => (8, "the end of the file"),
+        // Silent or inside atomic rules: pest never reports them.
+        Rule::WHITESPACE | Rule::COMMENT | Rule::keyword | Rule::ident_char | Rule::ident_start => {
+            (9, "something else")
+        }
+    }
+}
+
+/// The NuSMV sections and declarations outside the subset, by their keyword.
+fn refused_keyword(found: &str, after: &str) -> Option<String> {
+    Some(match found {
+        "FROZENVAR" => "FROZENVAR (declare a VAR with next(v) := v)".to_string(),
+        "COMPASSION" => "COMPASSION (strong fairness; FAIRNESS and JUSTICE are in)".to_string(),
+        "SPEC" | "CTLSPEC" | "LTLSPEC" | "INVARSPEC" | "PSLSPEC" | "COMPUTE" => {
+            format!("{found} (properties belong in the specification file, not in the plant)")
+        }
+        "MODULE" => {
+            format!("a second module ('MODULE {after}'; a plant file holds only MODULE plant)")
+        }
+        "ISA" | "CONSTANTS" | "PRED" | "PREDICATES" | "MIRROR" | "MDEFINE" | "CONSTRAINT" => {
+            found.to_string()
+        }
+        "process" => "a process".to_string(),
+        "self" => "'self' (a module's reference to itself)".to_string(),
+        _ => return None,
     })
+}
+
+/// Keywords the subset's grammar itself uses.
+const SYNTAX_KEYWORDS: &[&str] = &[
+    "MODULE", "VAR", "IVAR", "DEFINE", "ASSIGN", "INIT", "INVAR", "TRANS", "FAIRNESS", "JUSTICE",
+    "boolean", "init", "next", "case", "esac", "TRUE", "FALSE", "mod", "xor", "xnor",
+];
+
+/// NuSMV 2.5's reserved words (as in `grammar/smv.pest`).
+#[rustfmt::skip]
+const KEYWORDS: &[&str] = &[
+    "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
+    "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
+    "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
+    "INVARSPEC", "ISA", "IVAR", "Integer", "JUSTICE", "LTLSPEC", "LTLWFF", "MAX", "MDEFINE", "MIN",
+    "MIRROR", "MODULE", "NAME", "NEXTWFF", "O", "PRED", "PREDICATES", "PSLSPEC", "READ", "Real",
+    "S", "SIMPWFF", "SPEC", "T", "TRANS", "TRUE", "U", "V", "VAR", "WRITE", "Word", "X", "Y", "Z",
+    "array", "bool", "boolean", "case", "count", "esac", "extend", "in", "init", "integer", "mod",
+    "next", "of", "process", "real", "resize", "self", "signed", "sizeof", "swconst", "toint",
+    "union", "unsigned", "uwconst", "word", "word1", "xnor", "xor",
+];
+
+fn is_keyword(s: &str) -> bool {
+    KEYWORDS.contains(&s)
+}
+
+/// A token that reads as a name (keywords included).
+fn is_name_like(s: &str) -> bool {
+    s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+}
+
+/// NuSMV's word constants: `0ub4_1`, `0sd8_3`, `0b101`, ...
+fn is_word_constant(s: &str) -> bool {
+    let mut chars = s.chars();
+    chars.next() == Some('0')
+        && s.len() > 2
+        && chars.next().is_some_and(|c| "usbBoOdDhH".contains(c))
+}
+
+/// Operators and punctuation of more than one character, longest first.
+const SYMBOLS: &[&str] = &["<->", "->", ":=", "..", "!=", "<=", ">=", "<<", ">>", "::"];
+
+/// The tokens of the text with their byte offsets, as NuSMV's lexer (and the grammar) cut
+/// them; blanks and comments skipped. A number runs on over letters, so that a word constant
+/// is one token.
+fn tokens(text: &str) -> Vec<(usize, &str)> {
+    let bytes = text.as_bytes();
+    let ident = |i: usize| {
+        let c = bytes[i];
+        c.is_ascii_alphanumeric()
+            || matches!(c, b'_' | b'$' | b'#')
+            || (c == b'-' && !matches!(bytes.get(i + 1), Some(b'>' | b'-')))
+    };
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        if c.is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
+        if text[i..].starts_with("--") {
+            i = text[i..].find('\n').map_or(bytes.len(), |k| i + k);
+            continue;
+        }
+        let start = i;
+        if c.is_ascii_alphabetic() || c == b'_' {
+            while i < bytes.len() && ident(i) {
+                i += 1;
+            }
+        } else if c.is_ascii_digit() {
+            while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
+                i += 1;
+            }
+        } else if let Some(sym) = SYMBOLS.iter().find(|s| text[i..].starts_with(*s)) {
+            i += sym.len();
+        } else {
+            i += text[i..].chars().next().map_or(1, char::len_utf8);
+        }
+        out.push((start, &text[start..i]));
+    }
+    out
 }
