@@ -270,7 +270,12 @@ impl Verifier {
 
     /// Verifies `ecc` in closed loop (see [`verify`]).
     pub fn verify(&mut self, ecc: &Ecc) -> Result<Verification, VerifyError> {
-        verify(ecc, &self.problem, &mut self.session, self.workdir.path())
+        self.verify_with(ecc, CheckMode::AllCounterexamples)
+    }
+
+    /// Verifies `ecc`, asking NuSMV for the traces `mode` says (see [`verify`]).
+    pub fn verify_with(&mut self, ecc: &Ecc, mode: CheckMode) -> Result<Verification, VerifyError> {
+        verify(ecc, &self.problem, &mut self.session, self.workdir.path(), mode)
     }
 
     /// The closed-loop model of the last check, if one was written (kept for the user when
@@ -296,12 +301,13 @@ pub fn verify(
     problem: &Problem,
     session: &mut Session,
     workdir: &Path,
+    mode: CheckMode,
 ) -> Result<Verification, VerifyError> {
     let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();
-    let results = match session.check(&path, CheckMode::AllCounterexamples) {
+    let results = match session.check(&path, mode) {
         Ok(r) => r,
         Err(NusmvError::Model(errors)) => {
             return Err(VerifyError::Model(locate_errors(

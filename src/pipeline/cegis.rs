@@ -11,6 +11,7 @@
 
 use super::closed_loop::ClosedLoop;
 use super::{Event, Events};
+use crate::nusmv::CheckMode;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
@@ -82,6 +83,7 @@ pub fn run(
         let t = Instant::now();
         let lower = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
         synth.assume_lower_bounds(lower.size.c, lower.size.t);
+        synth.hint(lower.colors.clone());
         events(Event::LowerBounds {
             c: lower.size.c,
             t: lower.size.t,
@@ -102,7 +104,15 @@ pub fn run(
             }
         })?;
         let sat_seconds = t.elapsed().as_secs_f64();
-        let v = verifier.verify(&synthesis.ecc)?;
+        // With environments one counterexample per candidate is enough: each rules out every
+        // machine that fails on its environment. NuSMV's backward re-check per trace is most of
+        // its time.
+        let mode = if closed.is_some() {
+            CheckMode::FirstCounterexample
+        } else {
+            CheckMode::AllCounterexamples
+        };
+        let v = verifier.verify_with(&synthesis.ecc, mode)?;
         let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
         let it = Iteration {
             number,

@@ -84,6 +84,9 @@ pub struct Synthesis {
     /// Whether `N` is proven minimal for the structure (guard search finished in budget).
     pub guards_exact: bool,
     pub stats: Stats,
+    /// The state of every scenario tree node (a hint for the next search, see
+    /// [`Synthesizer::hint`]).
+    pub colors: Vec<usize>,
 }
 
 /// Figures of a run.
@@ -293,6 +296,8 @@ pub struct Synthesizer<'a> {
     environments: Vec<closed_loop::Environment>,
     /// Cube model: minimize `N` after `T` (otherwise the first guards found are kept).
     minimize_n: bool,
+    /// A colouring of the tree nodes to try first (see [`Self::hint`]).
+    hint: Option<Vec<usize>>,
     stats: Stats,
 }
 
@@ -321,6 +326,7 @@ impl<'a> Synthesizer<'a> {
             closed_loop: None,
             environments: Vec::new(),
             minimize_n: true,
+            hint: None,
             stats,
         }
     }
@@ -333,6 +339,11 @@ impl<'a> Synthesizer<'a> {
     pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
         self.c_lo = self.c_lo.max(c);
         self.t_lo = Some((c, t));
+        if self.c_lo > self.enc.vars.c_max && self.c_lo <= self.opts.max_states {
+            // Straight to a window that holds the bound (one spare state), rather than
+            // refuting the smaller window first.
+            self.grow((self.c_lo + 1).min(self.opts.max_states));
+        }
     }
 
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
@@ -373,6 +384,16 @@ impl<'a> Synthesizer<'a> {
         Ok(())
     }
 
+    /// A colouring of the scenario tree's nodes to try first: the next [`Self::minimize`] looks
+    /// for a machine at the least possible `C` with this colouring, then for fewer transitions
+    /// with it, before it proves minimality without it. A colouring from the tree-exact model
+    /// (or from the previous candidate) usually still fits, and searching the guards for a
+    /// fixed colouring is fast where the free search for the least `T` is not. Minimality does
+    /// not depend on it: every bound is still proven on the whole problem.
+    pub fn hint(&mut self, colors: Vec<usize>) {
+        self.hint = Some(colors);
+    }
+
     /// Whether [`Self::minimize`] minimizes `N` in the cube model (the default). A loop that
     /// only needs candidates turns it off until one passes, then on for the final machine.
     pub fn set_minimize_n(&mut self, on: bool) {
@@ -409,8 +430,36 @@ impl<'a> Synthesizer<'a> {
     pub fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
         let t0 = Instant::now();
         let opts = self.opts.clone();
+        // 0. the hint: a machine at the least C with the hinted colouring.
+        let hint = self.hint.take().filter(|h| {
+            h.len() == self.tree.nodes.len() && h.iter().all(|&q| q < self.c_lo)
+        });
+        let hint_lits = |enc: &Encoding| -> Vec<Lit> {
+            hint.iter()
+                .flat_map(|h| {
+                    h.iter()
+                        .enumerate()
+                        .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
+                })
+                .collect()
+        };
+        let mut hinted = None;
+        if hint.is_some() && self.c_lo <= self.enc.vars.c_max {
+            let mut assume: Vec<Lit> = self.enc.vars.states_at_most(self.c_lo).into_iter().collect();
+            assume.extend(hint_lits(&self.enc));
+            progress(Step::TryingStates {
+                c: self.c_lo,
+                tree_nodes: self.tree.nodes.len(),
+                inputs: self.enc.alphabet.len(),
+                negatives: self.negatives.len(),
+            });
+            hinted = self.enc.solve(&assume).map(|m| (self.c_lo, m));
+        }
         // 1. least C, growing the encoding window when exhausted.
         let (c, mut model) = loop {
+            if let Some(found) = hinted.take() {
+                break found;
+            }
             let c_max = self.enc.vars.c_max;
             let (nodes, inputs) = (self.tree.nodes.len(), self.enc.alphabet.len());
             let negatives = self.negatives.len();
@@ -500,8 +549,36 @@ impl<'a> Synthesizer<'a> {
         let mut t = structure.transition_count();
         let mut base_t = enc.base_assumptions();
         base_t.extend_from_slice(&base);
+        let t_floor = match self.t_lo {
+            Some((c0, lo)) if c0 == c && !opts.minimize_k => lo,
+            _ => 0,
+        };
+        if hint.is_some() && !opts.minimize_k {
+            // Fewer transitions with the hinted colouring first: easy calls that usually
+            // end at the minimum, so that the free search below has one bound to refute.
+            let mut hinted_base = base_t.clone();
+            hinted_base.extend(hint_lits(enc));
+            let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
+            t = enc.solver.descend(
+                &hinted_base,
+                t,
+                t_floor,
+                |b| total_t.at_most(b),
+                |b| {
+                    progress(Step::Trying {
+                        bound: Bound::T,
+                        value: b,
+                    })
+                },
+                |m| {
+                    structure = decode_with(&m, vars, alphabet);
+                    structure.transition_count()
+                },
+            );
+        }
         match self.t_lo {
-            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t => {
+            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo == t => {}
+            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t && hint.is_none() => {
                 let mut bound = lo;
                 while bound < t {
                     let Some(b) = enc.total_t.at_most(bound) else {
@@ -525,7 +602,7 @@ impl<'a> Synthesizer<'a> {
                 t = enc.solver.descend(
                     &base_t,
                     t,
-                    0,
+                    t_floor,
                     |b| total_t.at_most(b),
                     |b| {
                         progress(Step::Trying {
@@ -622,11 +699,13 @@ impl<'a> Synthesizer<'a> {
         }
         let size = ecc.size();
         progress(Step::Guards { n: size.n, exact });
+        self.hint = Some(structure.colors.clone());
         Ok(Synthesis {
             ecc,
             size,
             guards_exact: exact,
             stats: self.stats.clone(),
+            colors: structure.colors,
         })
     }
 }

@@ -7,7 +7,7 @@
 //! literal here is a function of the machine's variables.
 
 use super::gates::{Fd, Gates, B};
-use crate::plant::{BinOp, Expr, Model, Value, VarKind};
+use crate::plant::{BinOp, Expr, Model, Value, VarId, VarKind};
 use varisat::ExtendFormula;
 
 /// One step's view for evaluation: the state, the controller outputs the plant reads (per
@@ -16,6 +16,10 @@ pub struct Frame<'s> {
     pub state: &'s [Fd],
     pub params: &'s [B],
     pub defines: Vec<Option<Fd>>,
+    /// While the next state is computed: the environment's next values and the next values
+    /// found so far (a `next` assignment may read another variable's next value; the parser
+    /// refuses cycles).
+    next: Option<(&'s [Value], Vec<Option<Fd>>)>,
 }
 
 impl<'s> Frame<'s> {
@@ -24,6 +28,7 @@ impl<'s> Frame<'s> {
             state,
             params,
             defines: vec![None; model.defines.len()],
+            next: None,
         }
     }
 }
@@ -39,8 +44,9 @@ pub fn eval<F: ExtendFormula>(
     match e {
         Expr::Const(v) => Fd::constant(*v),
         Expr::Var(v) => frame.state[v.0].clone(),
-        // Only TRANS has `next`, and plants with TRANS are not encoded.
-        Expr::Next(v) => frame.state[v.0].clone(),
+        // Outside a next assignment only TRANS has `next`, and plants with TRANS are not
+        // encoded.
+        Expr::Next(v) => next_value(g, model, *v, frame).unwrap_or_else(|| frame.state[v.0].clone()),
         Expr::Param(p) => Fd::of_bool(frame.params[p.0]),
         Expr::Define(d) => {
             if let Some(v) = &frame.defines[d.0] {
@@ -204,21 +210,42 @@ pub fn encodable(model: &Model) -> Result<(), String> {
     Ok(())
 }
 
-/// The plant state after the frame's state, with the frame's controller outputs and the environment's
-/// values `env_next` of the next step (every variable's value in the recorded run).
-pub fn next_state<F: ExtendFormula>(
+/// The plant state after the frame's state, with the frame's controller outputs and
+/// the environment's values `env_next` of the next step (every variable's value in the
+/// recorded run).
+pub fn next_state<'s, F: ExtendFormula>(
     g: &mut Gates<'_, F>,
     model: &Model,
-    frame: &mut Frame<'_>,
-    env_next: &[Value],
+    frame: &mut Frame<'s>,
+    env_next: &'s [Value],
 ) -> Vec<Fd> {
-    model
-        .vars
-        .iter()
-        .enumerate()
-        .map(|(i, var)| match (&var.next, var.kind) {
-            (Some(e), VarKind::State) => eval(g, model, e, frame, Some(env_next[i])),
-            _ => Fd::constant(env_next[i]),
-        })
-        .collect()
+    frame.next = Some((env_next, vec![None; model.vars.len()]));
+    let out = (0..model.vars.len())
+        .map(|i| next_value(g, model, VarId(i), frame).expect("next context is set"))
+        .collect();
+    frame.next = None;
+    out
+}
+
+/// The next value of `v` in the frame's next context (`None` outside one).
+fn next_value<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    v: VarId,
+    frame: &mut Frame<'_>,
+) -> Option<Fd> {
+    let (env_next, done) = frame.next.as_ref()?;
+    if let Some(x) = &done[v.0] {
+        return Some(x.clone());
+    }
+    let choice = env_next[v.0];
+    let var = &model.vars[v.0];
+    let x = match (&var.next, var.kind) {
+        (Some(e), VarKind::State) => eval(g, model, e, frame, Some(choice)),
+        _ => Fd::constant(choice),
+    };
+    if let Some((_, done)) = frame.next.as_mut() {
+        done[v.0] = Some(x.clone());
+    }
+    Some(x)
 }
