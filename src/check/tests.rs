@@ -139,6 +139,57 @@ fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
 }
 
 #[test]
+fn the_state_limit_is_an_error() {
+    let (m, e) = (lamp(), toggle());
+    let coupling = Coupling::new(&m, &e.inputs, &e.outputs).unwrap();
+    let err = check(
+        &m,
+        &coupling,
+        &e,
+        &[prop("G TRUE")],
+        &Limits { max_states: 3 },
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "more than 3 reachable states: raise the limit or check with NuSMV"
+    );
+    assert!(check(
+        &m,
+        &coupling,
+        &e,
+        &[prop("G TRUE")],
+        &Limits { max_states: 8 }
+    )
+    .is_ok());
+}
+
+#[test]
+fn coupling_mistakes_are_reported() {
+    let m = lamp();
+    let e = Coupling::new(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
+    assert!(
+        e.to_string().contains("no variable or define 'lamp_off'"),
+        "{e}"
+    );
+    let e = Coupling::new(&m, &["button".into()], &["off".into()]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("plant parameter 'on' is not a controller output"),
+        "{e}"
+    );
+    let e = Coupling::new(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("'lamp' has the name of a plant variable"),
+        "{e}"
+    );
+    let c = Coupling::new(&m, &["button".into()], &["on".into()]).unwrap();
+    let e = check(&m, &c, &toggle(), &[prop("G nothing")], &Limits::default()).unwrap_err();
+    assert!(e.to_string().contains("unknown name 'nothing'"), "{e}");
+}
+
+#[test]
 fn evaluation_errors_name_the_construct_and_line() {
     let mut b = Builder::new(&[]);
     let n = b.var("n", Type::Range(0, 3));
@@ -229,16 +280,7 @@ fn successors_enumerate_sets_free_variables_and_constraints() {
 
 /// The Pick-and-Place surrogate plant (`smv/pnp_surrogate.smv`), transcribed.
 pub(super) fn pnp_plant() -> Model {
-    let outputs = [
-        "c1Extend",
-        "c1Retract",
-        "c2Extend",
-        "c2Retract",
-        "vcExtend",
-        "vacuum_on",
-        "vacuum_off",
-    ];
-    let mut b = Builder::new(&outputs);
+    let mut b = Builder::new(&crate::cases::pnp::OUTPUTS);
     let p: Vec<Expr> = (1..=3)
         .map(|k| b.var(&format!("p{k}"), Type::Bool))
         .collect();

@@ -549,31 +549,23 @@ fn out_of_domain(m: &Model, v: VarId, site: Site, value: Value) -> EvalError {
 
 /// Whether `e` reads a variable (directly, through `next` or through a define).
 fn reads_state(m: &Model, e: &Expr) -> bool {
-    match e {
-        Expr::Const(_) | Expr::Param(_) => false,
-        Expr::Var(_) | Expr::Next(_) => true,
-        Expr::Define(d) => reads_state(m, &m.defines[d.0].expr),
-        Expr::Not(a) | Expr::Neg(a) => reads_state(m, a),
-        Expr::Bin(_, a, b) => reads_state(m, a) || reads_state(m, b),
-        Expr::Case(bs) => bs
-            .iter()
-            .any(|(c, v)| reads_state(m, c) || reads_state(m, v)),
-        Expr::Set(items) => items.iter().any(|i| reads_state(m, i)),
-    }
+    reads(m, e, &|leaf| matches!(leaf, Expr::Var(_) | Expr::Next(_)))
 }
 
 /// Whether `e` reads a parameter (directly or through a define).
 pub fn reads_params(m: &Model, e: &Expr) -> bool {
+    reads(m, e, &|leaf| matches!(leaf, Expr::Param(_)))
+}
+
+/// Whether some leaf of `e`, looking into defines, satisfies `hit`.
+fn reads(m: &Model, e: &Expr, hit: &dyn Fn(&Expr) -> bool) -> bool {
     match e {
-        Expr::Const(_) | Expr::Var(_) | Expr::Next(_) => false,
-        Expr::Param(_) => true,
-        Expr::Define(d) => reads_params(m, &m.defines[d.0].expr),
-        Expr::Not(a) | Expr::Neg(a) => reads_params(m, a),
-        Expr::Bin(_, a, b) => reads_params(m, a) || reads_params(m, b),
-        Expr::Case(bs) => bs
-            .iter()
-            .any(|(c, v)| reads_params(m, c) || reads_params(m, v)),
-        Expr::Set(items) => items.iter().any(|i| reads_params(m, i)),
+        Expr::Const(_) | Expr::Var(_) | Expr::Next(_) | Expr::Param(_) => hit(e),
+        Expr::Define(d) => reads(m, &m.defines[d.0].expr, hit),
+        Expr::Not(a) | Expr::Neg(a) => reads(m, a, hit),
+        Expr::Bin(_, a, b) => reads(m, a, hit) || reads(m, b, hit),
+        Expr::Case(bs) => bs.iter().any(|(c, v)| reads(m, c, hit) || reads(m, v, hit)),
+        Expr::Set(items) => items.iter().any(|i| reads(m, i, hit)),
     }
 }
 
