@@ -404,7 +404,7 @@ const ALIVE: &str = "alive";
 /// An `-int` process prints verdicts in an order of its own, and reprints `a V b` as
 /// `!(!a U !b)`, so verdicts are matched by the names it prints under
 /// `set prop_print_method name`.
-fn nusmv_verdicts(nusmv: &Path, model: &Path) -> BTreeMap<String, bool> {
+pub(super) fn nusmv_verdicts(nusmv: &Path, model: &Path) -> BTreeMap<String, bool> {
     use std::io::Write;
     use std::process::{Command, Stdio};
     let mut child = Command::new(nusmv)
