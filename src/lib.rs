@@ -11,6 +11,8 @@
 //! - [`search`]: metaheuristic synthesis with verification-aware fitness;
 //! - [`ltl`]: LTL specification files (own grammar) and evaluation on lassos;
 //! - [`plant`]: the surrogate plant as a finite-state model (the SMV subset the plants use);
+//! - [`check`]: an in-process explicit-state model checker of the closed loop (plant model ×
+//!   ECC × LTL), fast enough to prune synthesis candidates; NuSMV stays the authority;
 //! - [`smv`]: SMV emission of an ECC and of the closed loop;
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: the verification problem and the one verifier (closed loop, counterexamples
@@ -31,6 +33,7 @@ extern crate self as fbsynth;
 #[allow(dead_code)]
 mod cases;
 
+pub mod check;
 pub mod ecc;
 pub mod events;
 pub mod export;

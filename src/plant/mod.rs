@@ -4,6 +4,8 @@
 //!
 //! In: the text of a plant file (`MODULE plant(params)` and nothing else). Out: a [`Model`],
 //! or a [`ModelError`] naming the file, line and construct that is outside the subset.
+//! [`explicit`] runs a model (initial states, successors, evaluation errors with their line);
+//! [`print`] writes it back as SMV text with the same meaning.
 //!
 //! # The subset
 //! - `VAR` / `IVAR` of type `boolean`, `lo..hi` or `{a, b, ...}` (symbolic constants or
@@ -35,7 +37,11 @@
 //! error, as NuSMV reports it. An `IVAR` is chosen freely at every step, like a `VAR` without
 //! `init` and `next`.
 
+#[cfg(test)]
+pub(crate) mod build;
+pub mod explicit;
 pub mod parse;
+pub mod print;
 
 use std::fmt;
 use std::path::PathBuf;

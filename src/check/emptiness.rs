@@ -1,0 +1,220 @@
+//! Emptiness of a generalized Büchi graph: is there a path from an initial node into a cycle
+//! that visits every acceptance set? On the fly, with Couvreur's algorithm.
+//!
+//! In: a [`Graph`] (initial nodes, successors computed on demand, acceptance marks per node)
+//! and the mask of all sets. Out: `None`, or an accepting lasso `(prefix, cycle)` of nodes:
+//! the path `prefix` followed by `cycle` forever (`cycle[0]` is a successor of the last node
+//! of `prefix`, `cycle[0]` a successor of the last node of `cycle`).
+//!
+//! # Method
+//! A depth-first search keeps the roots of the strongly connected components not yet
+//! completed, each with the union of the marks of its nodes. An edge back to a live node
+//! merges every root above it into one component, which is then strongly connected and
+//! holds a cycle: if its marks cover every set, an accepting lasso exists and the search stops
+//! before the component is complete. A completed component is dead: never entered again.
+//! Only cycles count, so dead ends and finite paths never make a graph non-empty.
+//!
+//! The lasso: the depth-first stack from an initial node to the component's root, then a
+//! cycle from the root through a node of each set and back, by breadth-first searches inside
+//! the component.
+//!
+//! # References
+//! - J.-M. Couvreur: *On-the-fly verification of linear temporal logic*, FM 1999.
+//! - J. Geldenhuys, A. Valmari: *Tarjan's algorithm makes on-the-fly LTL verification more
+//!   efficient*, TACAS 2004.
+
+use std::collections::{HashMap, VecDeque};
+
+/// A graph explored on demand. Node numbers are assigned by the graph.
+pub trait Graph {
+    type Error;
+    fn initial(&mut self) -> Result<Vec<u32>, Self::Error>;
+    /// Appends the successors of `n` to `out`.
+    fn successors(&mut self, n: u32, out: &mut Vec<u32>) -> Result<(), Self::Error>;
+    /// The acceptance sets `n` belongs to.
+    fn marks(&self, n: u32) -> u64;
+}
+
+/// An accepting lasso: `prefix` then `cycle` repeated forever.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NodeLasso {
+    pub prefix: Vec<u32>,
+    pub cycle: Vec<u32>,
+}
+
+/// The search state of a node: not seen, live with its depth-first number, or dead.
+const DEAD: u32 = u32::MAX;
+
+struct Frame {
+    node: u32,
+    succ: Vec<u32>,
+    next: usize,
+}
+
+/// The depth-first search of [`find_lasso`].
+struct Search {
+    /// Depth-first number of each node seen, or [`DEAD`].
+    number: HashMap<u32, u32>,
+    count: u32,
+    /// Roots of the components on the stack: (number, marks of the component so far).
+    roots: Vec<(u32, u64)>,
+    /// Live nodes in visiting order (the components not yet completed).
+    live: Vec<u32>,
+    stack: Vec<Frame>,
+}
+
+impl Search {
+    fn push<G: Graph>(&mut self, g: &mut G, n: u32) -> Result<(), G::Error> {
+        self.count += 1;
+        self.number.insert(n, self.count);
+        self.roots.push((self.count, g.marks(n)));
+        self.live.push(n);
+        let mut succ = Vec::new();
+        g.successors(n, &mut succ)?;
+        self.stack.push(Frame {
+            node: n,
+            succ,
+            next: 0,
+        });
+        Ok(())
+    }
+
+    /// An edge to the live node numbered `k`: merges the components above it. Returns the
+    /// merged root's number if the component now covers `all`.
+    fn merge(&mut self, k: u32, all: u64) -> Option<u32> {
+        let mut marks = 0;
+        while self.roots.last().expect("a live node has a root").0 > k {
+            marks |= self.roots.pop().expect("checked").1;
+        }
+        let root = self.roots.last_mut().expect("a live node has a root");
+        root.1 |= marks;
+        (root.1 & all == all).then_some(root.0)
+    }
+
+    /// `n` is done: if it is a root, its component is complete and dies.
+    fn pop(&mut self, n: u32) {
+        self.stack.pop();
+        let k = self.number[&n];
+        if self.roots.last().map(|r| r.0) == Some(k) {
+            self.roots.pop();
+            while let Some(&v) = self.live.last() {
+                if self.number[&v] < k {
+                    break;
+                }
+                self.live.pop();
+                self.number.insert(v, DEAD);
+            }
+        }
+    }
+}
+
+/// Searches for an accepting lasso; `all` is the mask of every acceptance set.
+pub fn find_lasso<G: Graph>(g: &mut G, all: u64) -> Result<Option<NodeLasso>, G::Error> {
+    let mut s = Search {
+        number: HashMap::new(),
+        count: 0,
+        roots: Vec::new(),
+        live: Vec::new(),
+        stack: Vec::new(),
+    };
+    for init in g.initial()? {
+        if s.number.contains_key(&init) {
+            continue;
+        }
+        s.push(g, init)?;
+        while let Some(top) = s.stack.last_mut() {
+            if top.next == top.succ.len() {
+                let n = top.node;
+                s.pop(n);
+                continue;
+            }
+            let t = top.succ[top.next];
+            top.next += 1;
+            match s.number.get(&t) {
+                None => s.push(g, t)?,
+                Some(&DEAD) => {}
+                Some(&k) => {
+                    if let Some(root) = s.merge(k, all) {
+                        return Ok(Some(lasso(g, &s, root, all)?));
+                    }
+                }
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The lasso through the component of root number `root` (see the module header).
+fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLasso, G::Error> {
+    let (stack, live, number) = (&s.stack, &s.live, &s.number);
+    let component: std::collections::HashSet<u32> =
+        live.iter().copied().filter(|v| number[v] >= root).collect();
+    let root_pos = stack
+        .iter()
+        .position(|f| number[&f.node] == root)
+        .expect("the root of a live component is on the depth-first stack");
+    let prefix: Vec<u32> = stack[..root_pos].iter().map(|f| f.node).collect();
+    let start = stack[root_pos].node;
+    let mut cycle = vec![start];
+    let mut seen = g.marks(start);
+    let mut at = start;
+    // Visit a node of each missing set, then return to the start (at least one step).
+    loop {
+        let missing = all & !seen;
+        let path = if missing == 0 {
+            bfs(g, &component, at, |_, v| v == start)?
+        } else {
+            bfs(g, &component, at, |g, v| g.marks(v) & missing != 0)?
+        };
+        let path = path.expect("a strongly connected component reaches each of its nodes");
+        let last = *path.last().expect("a path has at least one step");
+        if missing == 0 {
+            cycle.extend(&path[..path.len() - 1]);
+            return Ok(NodeLasso { prefix, cycle });
+        }
+        for &v in &path {
+            seen |= g.marks(v);
+        }
+        cycle.extend(&path);
+        at = last;
+    }
+}
+
+/// A shortest path of one or more steps from `from` to a node satisfying `goal`, inside
+/// `within`; the path lists the nodes after `from`.
+fn bfs<G: Graph>(
+    g: &mut G,
+    within: &std::collections::HashSet<u32>,
+    from: u32,
+    goal: impl Fn(&G, u32) -> bool,
+) -> Result<Option<Vec<u32>>, G::Error> {
+    let mut parent: HashMap<u32, u32> = HashMap::new();
+    let mut queue = VecDeque::from([from]);
+    let mut succ = Vec::new();
+    while let Some(v) = queue.pop_front() {
+        succ.clear();
+        g.successors(v, &mut succ)?;
+        for &w in &succ {
+            if !within.contains(&w) || parent.contains_key(&w) {
+                continue;
+            }
+            parent.insert(w, v);
+            if goal(g, w) {
+                let mut path = vec![w];
+                let mut at = w;
+                loop {
+                    let p = parent[&at];
+                    if p == from {
+                        break;
+                    }
+                    path.push(p);
+                    at = p;
+                }
+                path.reverse();
+                return Ok(Some(path));
+            }
+            queue.push_back(w);
+        }
+    }
+    Ok(None)
+}

@@ -1,0 +1,848 @@
+//! An in-process explicit-state model checker of the closed loop: plant [`Model`] × [`Ecc`] ×
+//! LTL properties, with NuSMV's semantics (NuSMV stays the authority; this one is fast enough
+//! to run on every candidate of a synthesis loop).
+//!
+//! In: a resolved plant, the [`Coupling`] of its names with a controller interface, an ECC,
+//! future-only LTL [`Property`]s and [`Limits`]. Out: one [`Verdict`] per property, each
+//! violation with a [`Lasso`] that has been re-evaluated with [`Ltl::holds_on_lasso`]; or a
+//! [`CheckError`] (a plant evaluation error with its line, too many states, no behaviour at
+//! all).
+//!
+//! # The closed loop (as `smv::closed_loop` composes it for NuSMV)
+//! A state is `(s, q, o)`: plant variables, ECC state, ECC outputs. Initially `q` is state 0,
+//! `o` the ECC's initial outputs and `s` an initial plant state under parameters `o`. REQ is
+//! TRUE at every step: `(q', o')` is the ECC's step from `(q, o)` on the inputs read from `s`
+//! (an input named `x` is the plant's variable or define `x`, evaluated on `s` and `o`), and
+//! `s'` is any plant successor of `s` under `o` whose `INVAR` holds under `o'`. Only infinite
+//! paths that visit every `FAIRNESS` condition infinitely often count: a state without a
+//! successor is not a path, as in NuSMV. A closed loop without any such path is an error
+//! ([`CheckError::NoBehaviour`]), never a list of vacuous verdicts.
+//!
+//! # Method
+//! The reachable closed loop is built once per [`check`] call (at most
+//! [`Limits::max_states`] states) and shared by the properties. Per property `φ`, `¬φ` becomes
+//! a generalized Büchi automaton ([`gba`], the tableau of Gerth, Peled, Vardi and Wolper); the
+//! product with the closed loop is explored on the fly and searched for a cycle through every
+//! acceptance set and every fairness condition ([`emptiness`], Couvreur's algorithm). Such a
+//! cycle is a run violating `φ`.
+
+mod emptiness;
+mod gba;
+#[cfg(test)]
+mod tests;
+
+use crate::ecc::{Ecc, StateId};
+use crate::ltl::{CmpOp, Ltl, Property};
+use crate::plant::explicit::{self, EvalError, Semantics};
+use crate::plant::{Model, Name, Type, Value};
+use emptiness::{find_lasso, Graph};
+use gba::Gba;
+use std::collections::{BTreeMap, HashMap};
+
+/// How the controller and the plant are wired, by index.
+#[derive(Debug, Clone)]
+pub struct Coupling {
+    /// Per ECC input (interface order): the plant variable or define it reads.
+    inputs: Vec<Name>,
+    /// Per plant parameter ([`crate::plant::ParamId`] order): the ECC output it is.
+    params: Vec<usize>,
+    /// The ECC outputs, by name (LTL atoms may name them).
+    outputs: Vec<String>,
+}
+
+impl Coupling {
+    /// Wires a controller with `inputs` and `outputs` to `model`: every input must be a
+    /// Boolean variable or a define of the plant, every plant parameter an output, and no
+    /// output may share its name with a plant variable or define (the names of the closed
+    /// loop are global).
+    pub fn new(
+        model: &Model,
+        inputs: &[String],
+        outputs: &[String],
+    ) -> Result<Coupling, CheckError> {
+        let bad = |message: String| CheckError::Coupling {
+            file: model.file.display().to_string(),
+            message,
+        };
+        let mut wired = Vec::with_capacity(inputs.len());
+        for i in inputs {
+            match model.lookup(i) {
+                Some(Name::Var(v)) if model.var(v).ty != Type::Bool => {
+                    return Err(bad(format!(
+                        "controller input '{i}' is plant variable '{}', which is not boolean",
+                        model.var(v).name
+                    )))
+                }
+                Some(n @ (Name::Var(_) | Name::Define(_))) => wired.push(n),
+                _ => {
+                    return Err(bad(format!(
+                        "the plant declares no variable or define '{i}' for the controller input of that name"
+                    )))
+                }
+            }
+        }
+        let mut params = Vec::with_capacity(model.params.len());
+        for p in &model.params {
+            match outputs.iter().position(|o| o == p) {
+                Some(z) => params.push(z),
+                None => {
+                    return Err(bad(format!(
+                        "plant parameter '{p}' is not a controller output (outputs: {})",
+                        outputs.join(" ")
+                    )))
+                }
+            }
+        }
+        for o in outputs {
+            if matches!(model.lookup(o), Some(Name::Var(_) | Name::Define(_))) {
+                return Err(bad(format!(
+                    "controller output '{o}' has the name of a plant variable or define"
+                )));
+            }
+        }
+        if outputs.len() > 64 {
+            return Err(bad(format!(
+                "{} controller outputs (the in-process checker takes at most 64)",
+                outputs.len()
+            )));
+        }
+        Ok(Coupling {
+            inputs: wired,
+            params,
+            outputs: outputs.to_vec(),
+        })
+    }
+
+    /// The plant parameters for the output bits `o` (bit `z`: output `z`).
+    fn params(&self, o: u64) -> Vec<bool> {
+        self.params.iter().map(|&z| o >> z & 1 == 1).collect()
+    }
+}
+
+/// The verdict on one property.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    Holds,
+    /// A run of the closed loop on which the property is false.
+    Violated(Lasso),
+    /// The property is outside what this checker decides (past operators, ...): ask NuSMV.
+    Unsupported(String),
+}
+
+/// A lasso-shaped run: `states[..loop_start]` followed by `states[loop_start..]` forever.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Lasso {
+    pub states: Vec<LoopState>,
+    pub loop_start: usize,
+}
+
+/// One state of the closed loop.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct LoopState {
+    /// The plant's variables, indexed by [`crate::plant::VarId`].
+    pub plant: Vec<Value>,
+    pub ctrl: StateId,
+    /// The ECC's outputs, in interface order.
+    pub outputs: Vec<bool>,
+}
+
+/// Bounds on the exploration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Most closed-loop states (or plant states, for [`behaviour`]) explored.
+    pub max_states: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_states: 1_000_000,
+        }
+    }
+}
+
+/// Why the closed loop could not be checked.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CheckError {
+    #[error("{file}: {message}")]
+    Coupling { file: String, message: String },
+    #[error("the controller: {0}")]
+    Ecc(String),
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    #[error("more than {limit} reachable states: raise the limit or check with NuSMV")]
+    TooManyStates { limit: usize },
+    /// No initial state, or no infinite path that is fair to every `FAIRNESS` condition: every
+    /// property would hold vacuously.
+    #[error("the {scope} has no {what}: every property would hold vacuously; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints")]
+    NoBehaviour {
+        scope: &'static str,
+        what: &'static str,
+    },
+    /// A property reads a name or compares values the closed loop does not have.
+    #[error("property {index} (line {line}): {message}")]
+    Property {
+        /// 0-based position in the property list.
+        index: usize,
+        line: usize,
+        message: String,
+    },
+    /// The checker contradicts itself (a counterexample that does not violate its property):
+    /// a bug, reported instead of a verdict.
+    #[error("internal error of the in-process checker: {0}")]
+    Bug(String),
+}
+
+/// Checks every property on the closed loop of `model` and `ecc`.
+pub fn check(
+    model: &Model,
+    coupling: &Coupling,
+    ecc: &Ecc,
+    props: &[Property],
+    limits: &Limits,
+) -> Result<Vec<Verdict>, CheckError> {
+    ecc.validate().map_err(CheckError::Ecc)?;
+    if ecc.inputs.len() != coupling.inputs.len() || ecc.outputs != coupling.outputs {
+        return Err(CheckError::Ecc(
+            "its interface is not the one the coupling was made for".into(),
+        ));
+    }
+    let closed = ClosedLoop::build(model, coupling, ecc, limits)?;
+    let fairness = model.fairness.len();
+    let all_fair = mask(fairness);
+    if closed.initial.is_empty() {
+        return Err(CheckError::NoBehaviour {
+            scope: "closed loop",
+            what: "initial state",
+        });
+    }
+    if find_lasso(&mut Plain(&closed), all_fair)?.is_none() {
+        return Err(CheckError::NoBehaviour {
+            scope: "closed loop",
+            what: "fair infinite path",
+        });
+    }
+    let mut verdicts = Vec::with_capacity(props.len());
+    for (index, p) in props.iter().enumerate() {
+        let gba = match Gba::of(&Ltl::Not(Box::new(p.formula.clone()))) {
+            Ok(g) => g,
+            Err(gba::Refused(why)) => {
+                verdicts.push(Verdict::Unsupported(why));
+                continue;
+            }
+        };
+        if gba.sets + fairness > 64 {
+            verdicts.push(Verdict::Unsupported(format!(
+                "{} acceptance sets and {fairness} fairness conditions (at most 64 in all)",
+                gba.sets
+            )));
+            continue;
+        }
+        let atoms = gba
+            .atoms
+            .iter()
+            .map(|a| Atom::resolve(a, model, coupling))
+            .collect::<Result<Vec<_>, String>>()
+            .map_err(|message| CheckError::Property {
+                index,
+                line: p.line,
+                message,
+            })?;
+        let labels = closed
+            .keys
+            .iter()
+            .map(|k| closed.valuation(&atoms, k))
+            .collect::<Result<Vec<u64>, _>>()
+            .map_err(|e| match e {
+                AtomError::Eval(e) => CheckError::Eval(e),
+                AtomError::Type(message) => CheckError::Property {
+                    index,
+                    line: p.line,
+                    message,
+                },
+            })?;
+        let nodes = gba.successors.len();
+        if closed.keys.len().saturating_mul(nodes.max(1)) >= u32::MAX as usize {
+            return Err(CheckError::TooManyStates {
+                limit: limits.max_states,
+            });
+        }
+        let mut product = Product {
+            closed: &closed,
+            gba: &gba,
+            labels: &labels,
+        };
+        let all = mask(gba.sets) | all_fair << gba.sets;
+        verdicts.push(match find_lasso(&mut product, all)? {
+            None => Verdict::Holds,
+            Some(l) => {
+                let nodes = nodes as u32;
+                let project = |v: &[u32]| v.iter().map(|n| n / nodes).collect::<Vec<u32>>();
+                let lasso = closed.lasso(&project(&l.prefix), &project(&l.cycle));
+                closed.confirm(&p.formula, &lasso)?;
+                Verdict::Violated(lasso)
+            }
+        });
+    }
+    Ok(verdicts)
+}
+
+/// Checks that the plant alone, its parameters chosen freely at every step, has an initial
+/// state and a fair infinite path: [`CheckError::NoBehaviour`] otherwise.
+pub fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {
+    if model.params.len() > 16 || model.fairness.len() > 64 {
+        return Err(CheckError::Coupling {
+            file: model.file.display().to_string(),
+            message: "more than 16 parameters or 64 fairness conditions".into(),
+        });
+    }
+    let mut free = FreePlant::new(model, limits);
+    let initial = free.initial()?;
+    if initial.is_empty() {
+        return Err(CheckError::NoBehaviour {
+            scope: "plant",
+            what: "initial state",
+        });
+    }
+    match find_lasso(&mut free, mask(model.fairness.len()))? {
+        Some(_) => Ok(()),
+        None => Err(CheckError::NoBehaviour {
+            scope: "plant",
+            what: "fair infinite path",
+        }),
+    }
+}
+
+fn mask(n: usize) -> u64 {
+    if n >= 64 {
+        u64::MAX
+    } else {
+        (1 << n) - 1
+    }
+}
+
+/// A closed-loop state, compactly.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct Key {
+    plant: Box<[Value]>,
+    ctrl: u32,
+    outputs: u64,
+}
+
+/// What entering a state does to the output bits: `((o & keep) | set) ^ flip`.
+#[derive(Debug, Clone, Copy)]
+struct OutputEffect {
+    keep: u64,
+    set: u64,
+    flip: u64,
+}
+
+impl OutputEffect {
+    fn of(a: &crate::ecc::Algorithm) -> OutputEffect {
+        use crate::smv::Effect;
+        let mut e = OutputEffect {
+            keep: 0,
+            set: 0,
+            flip: 0,
+        };
+        for (z, effect) in Effect::all(a).into_iter().enumerate() {
+            match effect {
+                Effect::Keep => e.keep |= 1 << z,
+                Effect::Flip => {
+                    e.keep |= 1 << z;
+                    e.flip |= 1 << z
+                }
+                Effect::Set(true) => e.set |= 1 << z,
+                Effect::Set(false) => {}
+            }
+        }
+        e
+    }
+
+    fn apply(self, o: u64) -> u64 {
+        ((o & self.keep) | self.set) ^ self.flip
+    }
+}
+
+/// The reachable closed loop, explicitly.
+struct ClosedLoop<'a> {
+    sem: Semantics<'a>,
+    coupling: &'a Coupling,
+    keys: Vec<Key>,
+    succ: Vec<Vec<u32>>,
+    initial: Vec<u32>,
+    /// Per state: the fairness conditions it satisfies.
+    fair: Vec<u64>,
+}
+
+impl<'a> ClosedLoop<'a> {
+    fn build(
+        model: &'a Model,
+        coupling: &'a Coupling,
+        ecc: &Ecc,
+        limits: &Limits,
+    ) -> Result<ClosedLoop<'a>, CheckError> {
+        let sem = Semantics::new(model);
+        let effects: Vec<OutputEffect> = ecc
+            .states
+            .iter()
+            .map(|s| OutputEffect::of(&s.algorithm))
+            .collect();
+        let o0 = ecc
+            .initial_outputs
+            .iter()
+            .enumerate()
+            .fold(0u64, |o, (z, &v)| o | (v as u64) << z);
+        let mut c = ClosedLoop {
+            sem,
+            coupling,
+            keys: Vec::new(),
+            succ: Vec::new(),
+            initial: Vec::new(),
+            fair: Vec::new(),
+        };
+        let mut index: HashMap<Key, u32> = HashMap::new();
+        let mut intern = |c: &mut ClosedLoop, key: Key| -> Result<u32, CheckError> {
+            if let Some(&i) = index.get(&key) {
+                return Ok(i);
+            }
+            if c.keys.len() >= limits.max_states {
+                return Err(CheckError::TooManyStates {
+                    limit: limits.max_states,
+                });
+            }
+            let i = c.keys.len() as u32;
+            index.insert(key.clone(), i);
+            c.keys.push(key);
+            Ok(i)
+        };
+        for s in c.sem.initial_states(&coupling.params(o0))? {
+            let key = Key {
+                plant: s.into(),
+                ctrl: 0,
+                outputs: o0,
+            };
+            let i = intern(&mut c, key)?;
+            c.initial.push(i);
+        }
+        let mut x = vec![false; coupling.inputs.len()];
+        let mut next = 0;
+        while next < c.keys.len() {
+            let key = c.keys[next].clone();
+            let params = coupling.params(key.outputs);
+            for (k, name) in coupling.inputs.iter().enumerate() {
+                x[k] = match c.sem.read(*name, &key.plant, &params)? {
+                    Value::Bool(b) => b,
+                    other => {
+                        return Err(CheckError::Coupling {
+                            file: model.file.display().to_string(),
+                            message: format!(
+                                "controller input '{}' has the value {}, not TRUE or FALSE",
+                                ecc.inputs[k],
+                                model.show(other)
+                            ),
+                        })
+                    }
+                };
+            }
+            let (q, o) = match ecc.states[key.ctrl as usize]
+                .transitions
+                .iter()
+                .find(|t| t.guard.eval(&x))
+            {
+                Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
+                None => (key.ctrl, key.outputs),
+            };
+            let next_params = coupling.params(o);
+            let mut out = Vec::new();
+            for s in c.sem.successors(&key.plant, &params, &next_params)? {
+                let i = intern(
+                    &mut c,
+                    Key {
+                        plant: s.into(),
+                        ctrl: q,
+                        outputs: o,
+                    },
+                )?;
+                out.push(i);
+            }
+            c.succ.push(out);
+            c.fair.push(c.sem.fairness(&key.plant, &params)?);
+            next += 1;
+        }
+        Ok(c)
+    }
+
+    /// The atoms' values on a state, bit `i` for atom `i`.
+    fn valuation(&self, atoms: &[Atom], k: &Key) -> Result<u64, AtomError> {
+        let params = self.coupling.params(k.outputs);
+        let mut bits = 0;
+        for (i, a) in atoms.iter().enumerate() {
+            if a.holds(self, k, &params)? {
+                bits |= 1 << i;
+            }
+        }
+        Ok(bits)
+    }
+
+    fn loop_state(&self, i: u32) -> LoopState {
+        let k = &self.keys[i as usize];
+        LoopState {
+            plant: k.plant.to_vec(),
+            ctrl: StateId(k.ctrl as usize),
+            outputs: (0..self.coupling.outputs.len())
+                .map(|z| k.outputs >> z & 1 == 1)
+                .collect(),
+        }
+    }
+
+    fn lasso(&self, prefix: &[u32], cycle: &[u32]) -> Lasso {
+        Lasso {
+            states: prefix
+                .iter()
+                .chain(cycle)
+                .map(|&i| self.loop_state(i))
+                .collect(),
+            loop_start: prefix.len(),
+        }
+    }
+
+    /// Every name of the closed loop with its value on `s`, as NuSMV prints it: outputs,
+    /// plant variables and the defines that evaluate.
+    fn names(&self, s: &LoopState) -> BTreeMap<String, String> {
+        let model = self.sem.model();
+        let params: Vec<bool> = self.coupling.params.iter().map(|&z| s.outputs[z]).collect();
+        let mut m = BTreeMap::new();
+        for (z, name) in self.coupling.outputs.iter().enumerate() {
+            m.insert(name.clone(), model.show(Value::Bool(s.outputs[z])));
+        }
+        for (v, var) in model.vars.iter().enumerate() {
+            m.insert(var.name.clone(), model.show(s.plant[v]));
+        }
+        for (d, def) in model.defines.iter().enumerate() {
+            let name = Name::Define(crate::plant::DefineId(d));
+            if let Ok(value) = self.sem.read(name, &s.plant, &params) {
+                m.insert(def.name.clone(), model.show(value));
+            }
+        }
+        m
+    }
+
+    /// Confirms that `lasso` is a fair run on which `formula` is false, by the independent
+    /// evaluation of [`Ltl::holds_on_lasso`].
+    fn confirm(&self, formula: &Ltl, lasso: &Lasso) -> Result<(), CheckError> {
+        let bug = |what: String| {
+            CheckError::Bug(format!(
+                "counterexample to `{formula}` with {} states (loop at {}): {what}",
+                lasso.states.len(),
+                lasso.loop_start
+            ))
+        };
+        let states: Vec<BTreeMap<String, String>> =
+            lasso.states.iter().map(|s| self.names(s)).collect();
+        match formula.holds_on_lasso(&states, lasso.loop_start) {
+            Ok(false) => {}
+            Ok(true) => return Err(bug("the formula holds on it".into())),
+            Err(e) => return Err(bug(format!("it cannot be evaluated: {e}"))),
+        }
+        let model = self.sem.model();
+        let mut seen = 0u64;
+        for s in &lasso.states[lasso.loop_start..] {
+            let params: Vec<bool> = self.coupling.params.iter().map(|&z| s.outputs[z]).collect();
+            seen |= self.sem.fairness(&s.plant, &params)?;
+        }
+        if seen != mask(model.fairness.len()) {
+            return Err(bug("its loop is not fair".into()));
+        }
+        Ok(())
+    }
+}
+
+/// The closed loop itself as a graph whose acceptance sets are the fairness conditions.
+struct Plain<'c, 'a>(&'c ClosedLoop<'a>);
+
+impl Graph for Plain<'_, '_> {
+    type Error = CheckError;
+    fn initial(&mut self) -> Result<Vec<u32>, CheckError> {
+        Ok(self.0.initial.clone())
+    }
+    fn successors(&mut self, n: u32, out: &mut Vec<u32>) -> Result<(), CheckError> {
+        out.extend(&self.0.succ[n as usize]);
+        Ok(())
+    }
+    fn marks(&self, n: u32) -> u64 {
+        self.0.fair[n as usize]
+    }
+}
+
+/// The product of the closed loop with the automaton of a negated property: node
+/// `s * |Q| + q`.
+struct Product<'p, 'a> {
+    closed: &'p ClosedLoop<'a>,
+    gba: &'p Gba,
+    labels: &'p [u64],
+}
+
+impl Product<'_, '_> {
+    fn nodes(&self) -> u32 {
+        self.gba.successors.len() as u32
+    }
+}
+
+impl Graph for Product<'_, '_> {
+    type Error = CheckError;
+    fn initial(&mut self) -> Result<Vec<u32>, CheckError> {
+        let mut out = Vec::new();
+        for &s in &self.closed.initial {
+            for &q in &self.gba.initial {
+                if self.gba.reads(q, self.labels[s as usize]) {
+                    out.push(s * self.nodes() + q);
+                }
+            }
+        }
+        Ok(out)
+    }
+    fn successors(&mut self, n: u32, out: &mut Vec<u32>) -> Result<(), CheckError> {
+        let (s, q) = (n / self.nodes(), n % self.nodes());
+        for &t in &self.closed.succ[s as usize] {
+            let label = self.labels[t as usize];
+            for &r in &self.gba.successors[q as usize] {
+                if self.gba.reads(r, label) {
+                    out.push(t * self.nodes() + r);
+                }
+            }
+        }
+        Ok(())
+    }
+    fn marks(&self, n: u32) -> u64 {
+        let (s, q) = (n / self.nodes(), n % self.nodes());
+        self.gba.accepting[q as usize] | self.closed.fair[s as usize] << self.gba.sets
+    }
+}
+
+/// The plant alone with free parameters, explored on demand. A node is a plant state, with
+/// the parameter bits when a constraint the next step checks (`INVAR`, `FAIRNESS`) reads them.
+struct FreePlant<'a> {
+    sem: Semantics<'a>,
+    params_in_state: bool,
+    keys: Vec<(Box<[Value]>, u64)>,
+    index: HashMap<(Box<[Value]>, u64), u32>,
+    fair: Vec<u64>,
+    limit: usize,
+}
+
+impl<'a> FreePlant<'a> {
+    fn new(model: &'a Model, limits: &Limits) -> FreePlant<'a> {
+        let params_in_state = model
+            .invar
+            .iter()
+            .chain(&model.fairness)
+            .any(|c| explicit::reads_params(model, &c.expr));
+        FreePlant {
+            sem: Semantics::new(model),
+            params_in_state,
+            keys: Vec::new(),
+            index: HashMap::new(),
+            fair: Vec::new(),
+            limit: limits.max_states,
+        }
+    }
+
+    fn all_params(&self) -> impl Iterator<Item = u64> {
+        0..1u64 << self.sem.model().params.len()
+    }
+
+    fn intern(&mut self, s: Vec<Value>, o: u64) -> Result<u32, CheckError> {
+        let key = (
+            s.into_boxed_slice(),
+            if self.params_in_state { o } else { 0 },
+        );
+        if let Some(&i) = self.index.get(&key) {
+            return Ok(i);
+        }
+        if self.keys.len() >= self.limit {
+            return Err(CheckError::TooManyStates { limit: self.limit });
+        }
+        let n = self.sem.model().params.len();
+        let fair = self
+            .sem
+            .fairness(&key.0, &explicit::params_from_bits(key.1, n))?;
+        let i = self.keys.len() as u32;
+        self.index.insert(key.clone(), i);
+        self.keys.push(key);
+        self.fair.push(fair);
+        Ok(i)
+    }
+}
+
+impl Graph for FreePlant<'_> {
+    type Error = CheckError;
+    fn initial(&mut self) -> Result<Vec<u32>, CheckError> {
+        let n = self.sem.model().params.len();
+        let mut out = Vec::new();
+        for o in self.all_params() {
+            for s in self.sem.initial_states(&explicit::params_from_bits(o, n))? {
+                let i = self.intern(s, o)?;
+                out.push(i);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        Ok(out)
+    }
+    fn successors(&mut self, node: u32, out: &mut Vec<u32>) -> Result<(), CheckError> {
+        let n = self.sem.model().params.len();
+        let (s, o) = self.keys[node as usize].clone();
+        let current: Vec<u64> = if self.params_in_state {
+            vec![o]
+        } else {
+            self.all_params().collect()
+        };
+        let next: Vec<u64> = if self.params_in_state {
+            self.all_params().collect()
+        } else {
+            vec![0]
+        };
+        for &p in &current {
+            let params = explicit::params_from_bits(p, n);
+            for &q in &next {
+                let next_params = explicit::params_from_bits(q, n);
+                for t in self.sem.successors(&s, &params, &next_params)? {
+                    let i = self.intern(t, q)?;
+                    out.push(i);
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        Ok(())
+    }
+    fn marks(&self, n: u32) -> u64 {
+        self.fair[n as usize]
+    }
+}
+
+/// Why an atom could not be evaluated on a state.
+enum AtomError {
+    Eval(EvalError),
+    Type(String),
+}
+
+impl From<EvalError> for AtomError {
+    fn from(e: EvalError) -> AtomError {
+        AtomError::Eval(e)
+    }
+}
+
+/// Where the value of a name comes from.
+#[derive(Debug, Clone, Copy)]
+enum Source {
+    Output(usize),
+    Plant(Name),
+    Const(Value),
+}
+
+/// An LTL atom resolved against the closed loop.
+#[derive(Debug, Clone)]
+enum Atom {
+    Bool(Source, String),
+    Cmp(CmpOp, Source, Source, String),
+}
+
+impl Atom {
+    fn resolve(a: &Ltl, model: &Model, coupling: &Coupling) -> Result<Atom, String> {
+        let name = |n: &str| -> Option<Source> {
+            if let Some(z) = coupling.outputs.iter().position(|o| o == n) {
+                return Some(Source::Output(z));
+            }
+            match model.lookup(n) {
+                Some(v @ (Name::Var(_) | Name::Define(_))) => Some(Source::Plant(v)),
+                _ => None,
+            }
+        };
+        let unknown = |n: &str| {
+            format!("unknown name '{n}': neither a controller output nor a variable or define of the plant")
+        };
+        match a {
+            Ltl::Atom(n) => Ok(Atom::Bool(
+                name(n).ok_or_else(|| unknown(n))?,
+                a.to_string(),
+            )),
+            Ltl::Cmp(op, l, r) => {
+                let var_left = matches!(**l, Ltl::Atom(_));
+                let operand = |side: &Ltl, is_var: bool| -> Result<Source, String> {
+                    Ok(match side {
+                        Ltl::Atom(n) if is_var => name(n).ok_or_else(|| unknown(n))?,
+                        Ltl::Atom(n) => match name(n) {
+                            Some(s) => s,
+                            None => Source::Const(
+                                model
+                                    .symbol(n)
+                                    .ok_or_else(|| format!("unknown name or constant '{n}'"))?,
+                            ),
+                        },
+                        Ltl::Int(i) => Source::Const(Value::Int(*i)),
+                        Ltl::True => Source::Const(Value::Bool(true)),
+                        Ltl::False => Source::Const(Value::Bool(false)),
+                        other => return Err(format!("'{other}' cannot be compared")),
+                    })
+                };
+                Ok(Atom::Cmp(
+                    *op,
+                    operand(l, var_left)?,
+                    operand(r, !var_left)?,
+                    a.to_string(),
+                ))
+            }
+            other => Err(format!("'{other}' is not an atom")),
+        }
+    }
+
+    fn holds(&self, c: &ClosedLoop, k: &Key, params: &[bool]) -> Result<bool, AtomError> {
+        let value = |s: Source| -> Result<Value, AtomError> {
+            Ok(match s {
+                Source::Output(z) => Value::Bool(k.outputs >> z & 1 == 1),
+                Source::Plant(n) => c.sem.read(n, &k.plant, params)?,
+                Source::Const(v) => v,
+            })
+        };
+        let model = c.sem.model();
+        match self {
+            Atom::Bool(s, text) => match value(*s)? {
+                Value::Bool(b) => Ok(b),
+                v => Err(AtomError::Type(format!(
+                    "'{text}' is {}, not TRUE or FALSE",
+                    model.show(v)
+                ))),
+            },
+            Atom::Cmp(op, l, r, text) => {
+                let (x, y) = (value(*l)?, value(*r)?);
+                match (x, y) {
+                    (Value::Int(a), Value::Int(b)) => Ok(match op {
+                        CmpOp::Eq => a == b,
+                        CmpOp::Ne => a != b,
+                        CmpOp::Lt => a < b,
+                        CmpOp::Le => a <= b,
+                        CmpOp::Gt => a > b,
+                        CmpOp::Ge => a >= b,
+                    }),
+                    _ if op.is_ordering() => Err(AtomError::Type(format!(
+                        "'{text}' orders {} and {}, which are not both integers",
+                        model.show(x),
+                        model.show(y)
+                    ))),
+                    (Value::Bool(_), Value::Bool(_))
+                    | (Value::Int(_) | Value::Sym(_), Value::Int(_) | Value::Sym(_)) => {
+                        Ok((x == y) == (*op == CmpOp::Eq))
+                    }
+                    _ => Err(AtomError::Type(format!(
+                        "'{text}' compares {} with {}",
+                        model.show(x),
+                        model.show(y)
+                    ))),
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,520 @@
+//! Tests of the in-process checker: hand-made plants with known verdicts, the Pick-and-Place
+//! plant with its reference controller, and a differential test against NuSMV on random
+//! plants, controllers and properties.
+
+use super::*;
+use crate::ecc::{Algorithm, Guard, InputId, State, Transition, Tri};
+use crate::plant::{BinOp, Constraint, Expr, ParamId, VarId};
+use std::path::Path;
+
+use crate::plant::build::*;
+
+fn prop(text: &str) -> Property {
+    crate::ltl::parse_spec(Path::new("t.ltl"), text)
+        .unwrap()
+        .remove(0)
+}
+
+/// A lamp the controller switches: `lamp` follows `on` one step later; a free button `b`.
+fn lamp() -> Model {
+    let mut b = Builder::new(&["on"]);
+    let lamp = b.var("lamp", Type::Bool);
+    let button = b.var("button", Type::Bool);
+    b.init(&lamp, bool(false));
+    let on = b.param("on");
+    b.next(&lamp, on);
+    let _ = button;
+    b.m
+}
+
+/// A toggle controller: `button` pressed switches `on`.
+fn toggle() -> Ecc {
+    let pressed = Guard::Var(InputId(0));
+    let state = |name: &str, out: Tri, target: usize| State {
+        name: name.into(),
+        algorithm: Algorithm::Tri(vec![out]),
+        transitions: vec![Transition {
+            target: StateId(target),
+            guard: pressed.clone(),
+        }],
+    };
+    Ecc {
+        inputs: vec!["button".into()],
+        outputs: vec!["on".into()],
+        initial_outputs: vec![false],
+        states: vec![state("off", Tri::Zero, 1), state("on", Tri::One, 0)],
+    }
+}
+
+fn verdicts(model: &Model, ecc: &Ecc, texts: &[&str]) -> Vec<Verdict> {
+    let coupling = Coupling::new(model, &ecc.inputs, &ecc.outputs).unwrap();
+    let props: Vec<Property> = texts.iter().map(|t| prop(t)).collect();
+    check(model, &coupling, ecc, &props, &Limits::default()).unwrap()
+}
+
+#[test]
+fn lamp_verdicts_and_counterexamples() {
+    let (m, e) = (lamp(), toggle());
+    let v = verdicts(
+        &m,
+        &e,
+        &[
+            "G (on -> X lamp)",
+            "G (lamp -> on | X !lamp)",
+            "F lamp",
+            "G !lamp",
+            "G (button & !on -> X on)",
+            "Y lamp",
+        ],
+    );
+    assert_eq!(v[0], Verdict::Holds);
+    assert_eq!(v[1], Verdict::Holds);
+    let Verdict::Violated(l) = &v[2] else {
+        panic!("F lamp is violated: the button may never be pressed")
+    };
+    assert!(l.states.iter().all(|s| s.plant[0] == Value::Bool(false)));
+    assert!(matches!(v[3], Verdict::Violated(_)));
+    assert_eq!(v[4], Verdict::Holds);
+    assert!(matches!(&v[5], Verdict::Unsupported(why) if why.contains("past")));
+}
+
+#[test]
+fn fairness_restricts_the_paths() {
+    let mut m = lamp();
+    m.fairness.push(Constraint {
+        line: 9,
+        expr: Expr::Var(VarId(1)),
+    });
+    // With the button pressed infinitely often, the lamp is lit infinitely often.
+    let v = verdicts(&m, &toggle(), &["G F lamp", "F G lamp"]);
+    assert_eq!(v[0], Verdict::Holds);
+    let Verdict::Violated(l) = &v[1] else {
+        panic!("F G lamp is violated")
+    };
+    let pressed_in_loop = l.states[l.loop_start..]
+        .iter()
+        .any(|s| s.plant[1] == Value::Bool(true));
+    assert!(pressed_in_loop, "the counterexample is a fair path");
+}
+
+#[test]
+fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
+    let falsum = || Constraint {
+        line: 1,
+        expr: bool(false),
+    };
+    let mut dead = Vec::new();
+    for what in ["INIT FALSE", "INVAR FALSE", "TRANS FALSE", "FAIRNESS FALSE"] {
+        let mut m = lamp();
+        match what {
+            "INIT FALSE" => m.init.push(falsum()),
+            "INVAR FALSE" => m.invar.push(falsum()),
+            "TRANS FALSE" => m.trans.push(falsum()),
+            _ => m.fairness.push(falsum()),
+        }
+        dead.push((what, m));
+    }
+    behaviour(&lamp(), &Limits::default()).unwrap();
+    for (what, m) in dead {
+        let e = behaviour(&m, &Limits::default()).unwrap_err();
+        assert!(matches!(e, CheckError::NoBehaviour { .. }), "{what}: {e}");
+        let coupling = Coupling::new(&m, &["button".into()], &["on".into()]).unwrap();
+        let e = check(
+            &m,
+            &coupling,
+            &toggle(),
+            &[prop("G lamp")],
+            &Limits::default(),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CheckError::NoBehaviour { .. }), "{what}: {e}");
+    }
+    // The plant may live while this controller cannot: the lamp must not stay lit.
+    let mut m = lamp();
+    m.trans.push(Constraint {
+        line: 1,
+        expr: not(Expr::Param(ParamId(0))),
+    });
+    behaviour(&m, &Limits::default()).unwrap();
+}
+
+#[test]
+fn the_state_limit_is_an_error() {
+    let (m, e) = (lamp(), toggle());
+    let coupling = Coupling::new(&m, &e.inputs, &e.outputs).unwrap();
+    let err = check(
+        &m,
+        &coupling,
+        &e,
+        &[prop("G TRUE")],
+        &Limits { max_states: 3 },
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "more than 3 reachable states: raise the limit or check with NuSMV"
+    );
+    assert!(check(
+        &m,
+        &coupling,
+        &e,
+        &[prop("G TRUE")],
+        &Limits { max_states: 8 }
+    )
+    .is_ok());
+}
+
+#[test]
+fn coupling_mistakes_are_reported() {
+    let m = lamp();
+    let e = Coupling::new(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
+    assert!(
+        e.to_string().contains("no variable or define 'lamp_off'"),
+        "{e}"
+    );
+    let e = Coupling::new(&m, &["button".into()], &["off".into()]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("plant parameter 'on' is not a controller output"),
+        "{e}"
+    );
+    let e = Coupling::new(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("'lamp' has the name of a plant variable"),
+        "{e}"
+    );
+    let c = Coupling::new(&m, &["button".into()], &["on".into()]).unwrap();
+    let e = check(&m, &c, &toggle(), &[prop("G nothing")], &Limits::default()).unwrap_err();
+    assert!(e.to_string().contains("unknown name 'nothing'"), "{e}");
+}
+
+#[test]
+fn evaluation_errors_name_the_construct_and_line() {
+    let mut b = Builder::new(&[]);
+    let n = b.var("n", Type::Range(0, 3));
+    b.init(&n, int(0));
+    b.next(&n, bin(BinOp::Add, n.clone(), int(1)));
+    let m = b.m;
+    let coupling = Coupling::new(&m, &[], &[]).unwrap();
+    let ecc = Ecc {
+        inputs: vec![],
+        outputs: vec![],
+        initial_outputs: vec![],
+        states: vec![State {
+            name: "s0".into(),
+            algorithm: Algorithm::Tri(vec![]),
+            transitions: vec![],
+        }],
+    };
+    let e = check(&m, &coupling, &ecc, &[prop("G TRUE")], &Limits::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "built.smv:2: in next(n): value 4 is outside the type of 'n'"
+    );
+
+    let mut b = Builder::new(&[]);
+    let n = b.var("n", Type::Range(0, 3));
+    let d = b.define("half", bin(BinOp::Div, int(6), n.clone()));
+    b.next(&n, case(vec![(eq(d, int(2)), int(3))]));
+    let m = b.m;
+    let sem = Semantics::new(&m);
+    let e = sem.successors(&[Value::Int(0)], &[], &[]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "built.smv:100: in DEFINE half: division by zero"
+    );
+    let e = sem.successors(&[Value::Int(1)], &[], &[]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "built.smv:2: in next(n): no condition of the case holds"
+    );
+    assert_eq!(
+        sem.successors(&[Value::Int(3)], &[], &[]).unwrap(),
+        vec![vec![Value::Int(3)]]
+    );
+}
+
+#[test]
+fn successors_enumerate_sets_free_variables_and_constraints() {
+    let mut b = Builder::new(&["u"]);
+    let x = b.var("x", Type::Range(0, 2));
+    let free = b.var("free", Type::Bool);
+    let i = b.ivar("i", Type::Bool);
+    let u = b.param("u");
+    b.init(&x, set(vec![int(0), int(1)]));
+    b.next(
+        &x,
+        case(vec![
+            (u.clone(), set(vec![int(1), int(2)])),
+            (bool(true), x.clone()),
+        ]),
+    );
+    // TRANS: the free variable copies the input.
+    b.trans(eq(next_of(&free), i.clone()));
+    // INVAR, read with the next step's parameters: x = 2 needs u.
+    b.invar(bin(BinOp::Implies, eq(x.clone(), int(2)), u));
+    // INIT reads a variable: init(free) := x = 1.
+    b.init(&free, eq(x.clone(), int(1)));
+    let m = b.m;
+    let sem = Semantics::new(&m);
+    let (f, t) = (Value::Bool(false), Value::Bool(true));
+    let init = sem.initial_states(&[false]).unwrap();
+    let expect: Vec<Vec<Value>> = vec![
+        vec![Value::Int(0), f, f],
+        vec![Value::Int(0), f, t],
+        vec![Value::Int(1), t, f],
+        vec![Value::Int(1), t, t],
+    ];
+    assert_eq!(init, expect);
+    let s = vec![Value::Int(0), f, t];
+    let succ = sem.successors(&s, &[true], &[false]).unwrap();
+    // x in {1, 2} but x = 2 violates INVAR under u = FALSE; free = i (TRUE) now.
+    assert_eq!(
+        succ,
+        vec![vec![Value::Int(1), t, f], vec![Value::Int(1), t, t]]
+    );
+    let succ = sem.successors(&s, &[true], &[true]).unwrap();
+    assert_eq!(succ.len(), 4);
+}
+
+/// The Pick-and-Place surrogate plant (`smv/pnp_surrogate.smv`), transcribed.
+pub(super) fn pnp_plant() -> Model {
+    let mut b = Builder::new(&crate::cases::pnp::OUTPUTS);
+    let p: Vec<Expr> = (1..=3)
+        .map(|k| b.var(&format!("p{k}"), Type::Bool))
+        .collect();
+    let pp: Vec<Expr> = (1..=3)
+        .map(|k| b.var(&format!("pp{k}"), Type::Bool))
+        .collect();
+    let c1pos = b.var("c1pos", Type::Range(0, 2));
+    let c2pos = b.var("c2pos", Type::Range(0, 2));
+    let vcpos = b.var("vcpos", Type::Range(0, 2));
+    let vs = b.var("vs", Type::Bool);
+    let vac = b.var("vac", Type::Bool);
+    let vp: Vec<Expr> = (1..=3)
+        .map(|k| b.var(&format!("vp{k}"), Type::Bool))
+        .collect();
+    let placed = b.var("placed", Type::Bool);
+    let dropped = b.var("dropped", Type::Bool);
+    let at = |v: &Expr, k: i64| eq(v.clone(), int(k));
+    let c1home = b.define("c1Home", at(&c1pos, 0));
+    let c1end = b.define("c1End", at(&c1pos, 2));
+    let c2home = b.define("c2Home", at(&c2pos, 0));
+    let c2end = b.define("c2End", at(&c2pos, 2));
+    let _vchome = b.define("vcHome", at(&vcpos, 0));
+    let vcend = b.define("vcEnd", at(&vcpos, 2));
+    let over1 = b.define("over1", and(vec![c1home.clone(), c2home.clone()]));
+    let over2 = b.define("over2", and(vec![c1end.clone(), c2home]));
+    let over3 = b.define("over3", and(vec![c1home, c2end.clone()]));
+    let over_v = b.define("overV", and(vec![c1end, c2end]));
+    let over = [over1, over2, over3];
+    let grip: Vec<Expr> = (0..3)
+        .map(|k| {
+            let e = and(vec![
+                vs.clone(),
+                not(vac.clone()),
+                vcend.clone(),
+                over[k].clone(),
+                pp[k].clone(),
+            ]);
+            b.define(&format!("grip{}", k + 1), e)
+        })
+        .collect();
+    let release = b.define("release", and(vec![vac.clone(), not(vs.clone())]));
+    let t = || bool(true);
+    for k in 0..3 {
+        b.init(&pp[k], bool(false));
+        b.next(
+            &pp[k],
+            case(vec![
+                (grip[k].clone(), bool(false)),
+                (pp[k].clone(), t()),
+                (t(), p[k].clone()),
+            ]),
+        );
+    }
+    let cmd = |b: &Builder, n: &str| b.param(n);
+    let cylinder = |b: &mut Builder, pos: &Expr, ext: &str, ret: &str| {
+        let (e, r) = (cmd(b, ext), cmd(b, ret));
+        b.init(pos, int(0));
+        b.next(
+            pos,
+            case(vec![
+                (
+                    and(vec![
+                        e.clone(),
+                        not(r.clone()),
+                        bin(BinOp::Lt, pos.clone(), int(2)),
+                    ]),
+                    bin(BinOp::Add, pos.clone(), int(1)),
+                ),
+                (
+                    and(vec![r, not(e), bin(BinOp::Gt, pos.clone(), int(0))]),
+                    bin(BinOp::Sub, pos.clone(), int(1)),
+                ),
+                (t(), pos.clone()),
+            ]),
+        );
+    };
+    cylinder(&mut b, &c1pos, "c1Extend", "c1Retract");
+    cylinder(&mut b, &c2pos, "c2Extend", "c2Retract");
+    let down = b.param("vcExtend");
+    b.init(&vcpos, int(0));
+    b.next(
+        &vcpos,
+        case(vec![
+            (
+                and(vec![down.clone(), bin(BinOp::Lt, vcpos.clone(), int(2))]),
+                bin(BinOp::Add, vcpos.clone(), int(1)),
+            ),
+            (
+                and(vec![not(down), bin(BinOp::Gt, vcpos.clone(), int(0))]),
+                bin(BinOp::Sub, vcpos.clone(), int(1)),
+            ),
+            (t(), vcpos.clone()),
+        ]),
+    );
+    let (on, off) = (b.param("vacuum_on"), b.param("vacuum_off"));
+    b.init(&vs, bool(false));
+    b.next(
+        &vs,
+        case(vec![
+            (and(vec![on.clone(), not(off.clone())]), t()),
+            (and(vec![off, not(on)]), bool(false)),
+            (t(), vs.clone()),
+        ]),
+    );
+    b.init(&vac, bool(false));
+    b.next(
+        &vac,
+        case(vec![
+            (not(vs.clone()), bool(false)),
+            (or(grip.clone()), t()),
+            (t(), vac.clone()),
+        ]),
+    );
+    for k in 0..3 {
+        b.init(&vp[k], bool(false));
+        b.next(&vp[k], grip[k].clone());
+    }
+    b.init(&placed, bool(false));
+    b.next(&placed, and(vec![release.clone(), over_v.clone()]));
+    b.init(&dropped, bool(false));
+    b.next(&dropped, and(vec![release, not(over_v)]));
+    b.m
+}
+
+fn pnp_props() -> Vec<Property> {
+    crate::ltl::parse_spec_file(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/specs/pnp.ltl"
+    )))
+    .unwrap()
+}
+
+#[test]
+fn pnp_reference_controller_satisfies_its_specification() {
+    let model = pnp_plant();
+    let ecc = crate::cases::pnp::reference();
+    let coupling = Coupling::new(&model, &ecc.inputs, &ecc.outputs).unwrap();
+    let props = pnp_props();
+    behaviour(&model, &Limits::default()).unwrap();
+    let start = std::time::Instant::now();
+    let v = check(&model, &coupling, &ecc, &props, &Limits::default()).unwrap();
+    eprintln!(
+        "pnp reference: {} properties in {:?}",
+        props.len(),
+        start.elapsed()
+    );
+    assert!(v.iter().all(|v| *v == Verdict::Holds), "{v:?}");
+    // The plain "every piece on track 2 is picked up" is false (track 1 starves it).
+    let v = check(
+        &model,
+        &coupling,
+        &ecc,
+        &[prop("G (pp2 -> F vp2)")],
+        &Limits::default(),
+    )
+    .unwrap();
+    assert!(matches!(v[0], Verdict::Violated(_)));
+}
+
+#[test]
+fn pnp_random_machines_check_fast() {
+    let model = pnp_plant();
+    let props = pnp_props();
+    let inputs = crate::cases::pnp::input_names();
+    let outputs = crate::cases::pnp::output_names();
+    let coupling = Coupling::new(&model, &inputs, &outputs).unwrap();
+    let mut worst = std::time::Duration::ZERO;
+    for seed in 0..5 {
+        let mut ecc = crate::ecc::random::random_ecc(seed, 8, inputs.len(), outputs.len());
+        ecc.inputs = inputs.clone();
+        ecc.outputs = outputs.clone();
+        let start = std::time::Instant::now();
+        let v = check(&model, &coupling, &ecc, &props, &Limits::default()).unwrap();
+        worst = worst.max(start.elapsed());
+        assert_eq!(v.len(), props.len());
+    }
+    eprintln!("pnp, random 8-state machines: worst {worst:?}");
+}
+
+/// The transcribed PnP plant against the shipped file in NuSMV: the reference controller and
+/// random 8-state machines get the same verdicts on every property of `specs/pnp.ltl` (and on
+/// the plain track-2 liveness, which the reference violates).
+#[test]
+fn pnp_verdicts_agree_with_nusmv_on_the_shipped_plant() {
+    let Some(nusmv) = crate::nusmv::nusmv_for_tests() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let model = pnp_plant();
+    let mut props = pnp_props();
+    props.push(Property {
+        label: Some("track2_plain".into()),
+        ..prop("G (pp2 -> F vp2)")
+    });
+    let plant_file = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/smv/pnp_surrogate.smv"
+    ));
+    let plant = crate::smv::plant::read_plant(plant_file).unwrap();
+    let mut machines = vec![crate::cases::pnp::reference()];
+    for seed in 0..3 {
+        let mut e = crate::ecc::random::random_ecc(seed, 8, 10, 7);
+        e.inputs = crate::cases::pnp::input_names();
+        e.outputs = crate::cases::pnp::output_names();
+        machines.push(e);
+    }
+    for (k, ecc) in machines.iter().enumerate() {
+        let coupling = Coupling::new(&model, &ecc.inputs, &ecc.outputs).unwrap();
+        let ours = check(&model, &coupling, ecc, &props, &Limits::default()).unwrap();
+        if k == 0 {
+            assert!(matches!(ours.last(), Some(Verdict::Violated(_))));
+        }
+        let smv_coupling = crate::smv::closed_loop::check_coupling(
+            &ecc.inputs,
+            &ecc.outputs,
+            &plant,
+            Path::new("pnp.ltl"),
+            &props,
+        )
+        .unwrap();
+        let closed = crate::smv::closed_loop::compose(ecc, &plant, &smv_coupling, &props).unwrap();
+        let file = dir.path().join(format!("pnp{k}.smv"));
+        std::fs::write(&file, closed.text).unwrap();
+        let theirs = differential::nusmv_verdicts(&nusmv.path, &file);
+        for (i, (p, v)) in props.iter().zip(&ours).enumerate() {
+            let name = crate::ltl::property_name(i, p);
+            assert_eq!(
+                *v == Verdict::Holds,
+                theirs[&name],
+                "machine {k}, property {name}: in-process {v:?}"
+            );
+        }
+    }
+}
+
+/// The differential test against NuSMV, on random triples.
+mod differential;

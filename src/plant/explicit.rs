@@ -1,0 +1,607 @@
+//! The concrete semantics of a [`Model`]: expressions evaluated on explicit states, and the
+//! initial states and successors they define (see the header of [`super`] for the rules).
+//!
+//! In: a [`Model`], a state (one [`Value`] per [`VarId`], `IVAR`s included), the parameters
+//! (one `bool` per [`ParamId`](super::ParamId), the controller outputs of the step) and, inside `TRANS`, the
+//! successor state. Out: values, sets of values, states; or an [`EvalError`] naming the
+//! construct (`next(pos)`, `DEFINE grip1`, `TRANS`, ...) and its line.
+//!
+//! Nondeterminism is enumerated: a set `{a, b}` as the value of `init`/`next` (or of a case
+//! branch of one), a `VAR` without `init`/`next` and an `IVAR` range over their choices, and
+//! `INIT`, `INVAR` and `TRANS` filter the result. An `IVAR` is part of the state here: its
+//! value at step `t` is the input of the transition from `t` to `t + 1`, which is what NuSMV
+//! means as long as it is read only in `next` and `TRANS` (as NuSMV requires).
+//!
+//! Errors are raised where an evaluation actually meets them (on a reachable state), with the
+//! line of the innermost named construct: a define's line, a constraint's line, or the
+//! declaration line of the variable whose `init`/`next` is evaluated (the model keeps no line
+//! for the assignment itself).
+
+use super::{BinOp, DefineId, Expr, Model, Name, Type, Value, Var, VarId, VarKind};
+use std::fmt;
+use std::path::PathBuf;
+
+/// A state: the value of every variable, indexed by [`VarId`].
+pub type State = Vec<Value>;
+
+/// Where an expression being evaluated comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Site {
+    /// `init(v)`.
+    Init(VarId),
+    /// `next(v)`.
+    Next(VarId),
+    /// The body of a define.
+    Define(DefineId),
+    /// The k-th `INIT` constraint (0-based in [`Model::init`]).
+    InitConstraint(usize),
+    /// The k-th `INVAR` constraint.
+    Invar(usize),
+    /// The k-th `TRANS` constraint.
+    Trans(usize),
+    /// The k-th `FAIRNESS`/`JUSTICE` constraint.
+    Fairness(usize),
+    /// An expression built by a caller (an LTL atom, a test); no line.
+    Other,
+}
+
+impl Site {
+    /// The construct as the user wrote it, and its line (0 for [`Site::Other`]).
+    fn describe(self, m: &Model) -> (String, usize) {
+        match self {
+            Site::Init(v) => (format!("init({})", m.var(v).name), m.var(v).line),
+            Site::Next(v) => (format!("next({})", m.var(v).name), m.var(v).line),
+            Site::Define(d) => (
+                format!("DEFINE {}", m.defines[d.0].name),
+                m.defines[d.0].line,
+            ),
+            Site::InitConstraint(k) => ("INIT".into(), m.init[k].line),
+            Site::Invar(k) => ("INVAR".into(), m.invar[k].line),
+            Site::Trans(k) => ("TRANS".into(), m.trans[k].line),
+            Site::Fairness(k) => ("FAIRNESS".into(), m.fairness[k].line),
+            Site::Other => ("expression".into(), 0),
+        }
+    }
+}
+
+/// What went wrong evaluating an expression.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum EvalErrorKind {
+    /// No condition of a `case` holds.
+    NoCaseBranch,
+    DivisionByZero,
+    /// `init`/`next` gives a variable a value outside its type.
+    OutOfDomain {
+        var: String,
+        value: String,
+    },
+    /// An operand of the wrong type (`3 & TRUE`, `idle < 2`, a set inside an operator, ...).
+    Type(String),
+    /// `next(v)` where there is no successor state (outside `TRANS`).
+    NextOutsideTrans(String),
+    /// More candidate successors than [`MAX_CANDIDATES`] before filtering.
+    TooManyChoices(u128),
+}
+
+/// An evaluation error, located at a construct of the plant file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub struct EvalError {
+    pub file: PathBuf,
+    /// 1-based line of the construct (0: a caller's expression).
+    pub line: usize,
+    /// `next(pos)`, `DEFINE grip1`, `TRANS`, ...
+    pub construct: String,
+    pub kind: EvalErrorKind,
+}
+
+impl fmt::Display for EvalError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}: in {}: ",
+            self.file.display(),
+            self.line,
+            self.construct
+        )?;
+        match &self.kind {
+            EvalErrorKind::NoCaseBranch => write!(f, "no condition of the case holds"),
+            EvalErrorKind::DivisionByZero => write!(f, "division by zero"),
+            EvalErrorKind::OutOfDomain { var, value } => {
+                write!(f, "value {value} is outside the type of '{var}'")
+            }
+            EvalErrorKind::Type(m) => write!(f, "{m}"),
+            EvalErrorKind::NextOutsideTrans(v) => {
+                write!(f, "next({v}) is only meaningful inside TRANS")
+            }
+            EvalErrorKind::TooManyChoices(n) => write!(
+                f,
+                "{n} candidate successors of one state (more than {MAX_CANDIDATES}): too many free variables"
+            ),
+        }
+    }
+}
+
+/// Most candidate successors (before `TRANS`/`INVAR` filtering) enumerated for one state.
+pub const MAX_CANDIDATES: u128 = 1 << 20;
+
+/// Evaluates `expr` on `state` and `params` (and `next` inside `TRANS`): every value it can
+/// take, sorted, without repetition (one value unless sets are involved).
+pub fn eval(
+    model: &Model,
+    expr: &Expr,
+    site: Site,
+    state: &[Value],
+    params: &[bool],
+    next: Option<&[Value]>,
+) -> Result<Vec<Value>, EvalError> {
+    let mut v = Env::new(model, state, params, next).values(expr, site)?;
+    v.sort();
+    v.dedup();
+    Ok(v)
+}
+
+/// Whether `value` belongs to the type of `var`.
+pub fn in_domain(var: &Var, value: Value) -> bool {
+    match (&var.ty, value) {
+        (Type::Bool, Value::Bool(_)) => true,
+        (Type::Range(lo, hi), Value::Int(i)) => *lo <= i && i <= *hi,
+        (Type::Enum(vs), v) => vs.contains(&v),
+        _ => false,
+    }
+}
+
+/// One evaluation environment: the state, parameters and successor an expression reads, with
+/// the values of the defines computed so far.
+struct Env<'a> {
+    model: &'a Model,
+    state: &'a [Value],
+    params: &'a [bool],
+    next: Option<&'a [Value]>,
+    defines: Vec<Option<Value>>,
+}
+
+impl<'a> Env<'a> {
+    fn new(
+        model: &'a Model,
+        state: &'a [Value],
+        params: &'a [bool],
+        next: Option<&'a [Value]>,
+    ) -> Env<'a> {
+        Env {
+            model,
+            state,
+            params,
+            next,
+            defines: vec![None; model.defines.len()],
+        }
+    }
+
+    fn error(&self, site: Site, kind: EvalErrorKind) -> EvalError {
+        let (construct, line) = site.describe(self.model);
+        EvalError {
+            file: self.model.file.clone(),
+            line,
+            construct,
+            kind,
+        }
+    }
+
+    fn type_error(&self, site: Site, message: String) -> EvalError {
+        self.error(site, EvalErrorKind::Type(message))
+    }
+
+    /// Every value of an expression that may be a set or a case with set branches.
+    fn values(&mut self, e: &Expr, site: Site) -> Result<Vec<Value>, EvalError> {
+        match e {
+            Expr::Set(items) => {
+                let mut out = Vec::with_capacity(items.len());
+                for item in items {
+                    out.extend(self.values(item, site)?);
+                }
+                Ok(out)
+            }
+            Expr::Case(branches) => {
+                for (c, v) in branches {
+                    if self.boolean(c, site)? {
+                        return self.values(v, site);
+                    }
+                }
+                Err(self.error(site, EvalErrorKind::NoCaseBranch))
+            }
+            _ => Ok(vec![self.value(e, site)?]),
+        }
+    }
+
+    fn boolean(&mut self, e: &Expr, site: Site) -> Result<bool, EvalError> {
+        match self.value(e, site)? {
+            Value::Bool(b) => Ok(b),
+            other => Err(self.type_error(
+                site,
+                format!("expected TRUE or FALSE, got {}", self.model.show(other)),
+            )),
+        }
+    }
+
+    fn integer(&mut self, e: &Expr, site: Site) -> Result<i64, EvalError> {
+        match self.value(e, site)? {
+            Value::Int(i) => Ok(i),
+            other => Err(self.type_error(
+                site,
+                format!("expected an integer, got {}", self.model.show(other)),
+            )),
+        }
+    }
+
+    fn define(&mut self, d: DefineId) -> Result<Value, EvalError> {
+        if let Some(v) = self.defines[d.0] {
+            return Ok(v);
+        }
+        let model = self.model;
+        let v = self.value(&model.defines[d.0].expr, Site::Define(d))?;
+        self.defines[d.0] = Some(v);
+        Ok(v)
+    }
+
+    /// The single value of an expression.
+    fn value(&mut self, e: &Expr, site: Site) -> Result<Value, EvalError> {
+        Ok(match e {
+            Expr::Const(v) => *v,
+            Expr::Var(v) => self.state[v.0],
+            Expr::Next(v) => match self.next {
+                Some(n) => n[v.0],
+                None => {
+                    let name = self.model.var(*v).name.clone();
+                    return Err(self.error(site, EvalErrorKind::NextOutsideTrans(name)));
+                }
+            },
+            Expr::Define(d) => self.define(*d)?,
+            Expr::Param(p) => Value::Bool(self.params[p.0]),
+            Expr::Not(a) => Value::Bool(!self.boolean(a, site)?),
+            Expr::Neg(a) => Value::Int(
+                self.integer(a, site)?
+                    .checked_neg()
+                    .ok_or_else(|| self.type_error(site, "integer overflow".into()))?,
+            ),
+            Expr::Case(branches) => {
+                for (c, v) in branches {
+                    if self.boolean(c, site)? {
+                        return self.value(v, site);
+                    }
+                }
+                return Err(self.error(site, EvalErrorKind::NoCaseBranch));
+            }
+            Expr::Set(_) => {
+                return Err(self.type_error(
+                    site,
+                    "a set of values is allowed only as the value of init, next or a case branch of one".into(),
+                ))
+            }
+            Expr::Bin(op, a, b) => self.binary(*op, a, b, site)?,
+        })
+    }
+
+    fn binary(&mut self, op: BinOp, a: &Expr, b: &Expr, site: Site) -> Result<Value, EvalError> {
+        use BinOp::*;
+        // `&`, `|` and `->` do not evaluate an operand that cannot change the result, so a
+        // guard like `n != 0 & 10 / n > 2` is not a division by zero.
+        match op {
+            And => {
+                return Ok(Value::Bool(
+                    self.boolean(a, site)? && self.boolean(b, site)?,
+                ))
+            }
+            Or => {
+                return Ok(Value::Bool(
+                    self.boolean(a, site)? || self.boolean(b, site)?,
+                ))
+            }
+            Implies => {
+                return Ok(Value::Bool(
+                    !self.boolean(a, site)? || self.boolean(b, site)?,
+                ))
+            }
+            Xor | Xnor | Iff => {
+                let (x, y) = (self.boolean(a, site)?, self.boolean(b, site)?);
+                return Ok(Value::Bool((x != y) == (op == Xor)));
+            }
+            Eq | Ne => {
+                let (x, y) = (self.value(a, site)?, self.value(b, site)?);
+                let comparable = matches!(
+                    (x, y),
+                    (Value::Bool(_), Value::Bool(_))
+                        | (Value::Int(_) | Value::Sym(_), Value::Int(_) | Value::Sym(_))
+                );
+                if !comparable {
+                    return Err(self.type_error(
+                        site,
+                        format!(
+                            "cannot compare {} with {}",
+                            self.model.show(x),
+                            self.model.show(y)
+                        ),
+                    ));
+                }
+                return Ok(Value::Bool((x == y) == (op == Eq)));
+            }
+            _ => {}
+        }
+        let (x, y) = (self.integer(a, site)?, self.integer(b, site)?);
+        let overflow = || self.type_error(site, "integer overflow".into());
+        Ok(match op {
+            Lt => Value::Bool(x < y),
+            Le => Value::Bool(x <= y),
+            Gt => Value::Bool(x > y),
+            Ge => Value::Bool(x >= y),
+            Add => Value::Int(x.checked_add(y).ok_or_else(overflow)?),
+            Sub => Value::Int(x.checked_sub(y).ok_or_else(overflow)?),
+            Mul => Value::Int(x.checked_mul(y).ok_or_else(overflow)?),
+            // NuSMV 2.5's default `/` and `mod` are ANSI C's (truncating), like Rust's.
+            Div | Mod if y == 0 => return Err(self.error(site, EvalErrorKind::DivisionByZero)),
+            Div => Value::Int(x.checked_div(y).ok_or_else(overflow)?),
+            Mod => Value::Int(x.checked_rem(y).ok_or_else(overflow)?),
+            And | Or | Implies | Xor | Xnor | Iff | Eq | Ne => unreachable!("handled above"),
+        })
+    }
+}
+
+/// How the initial values of one variable are found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum InitMode {
+    /// No `init`: every value of the domain.
+    Free,
+    /// `init` reads no variable: its values, computed once per parameter vector.
+    Direct,
+    /// `init` reads variables: every value of the domain, kept where `init` allows it.
+    Filter,
+}
+
+/// The semantics of one model, with what can be computed once (which `init`s read the state).
+#[derive(Debug, Clone)]
+pub struct Semantics<'m> {
+    model: &'m Model,
+    init_mode: Vec<InitMode>,
+}
+
+impl<'m> Semantics<'m> {
+    pub fn new(model: &'m Model) -> Semantics<'m> {
+        let init_mode = model
+            .vars
+            .iter()
+            .map(|v| match &v.init {
+                None => InitMode::Free,
+                Some(e) if reads_state(model, e) => InitMode::Filter,
+                Some(_) => InitMode::Direct,
+            })
+            .collect();
+        Semantics { model, init_mode }
+    }
+
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// The initial states under parameters `params`: `init` assignments, `INIT` and `INVAR`.
+    pub fn initial_states(&self, params: &[bool]) -> Result<Vec<State>, EvalError> {
+        let m = self.model;
+        let empty: State = m.vars.iter().map(|v| v.domain[0]).collect();
+        let mut choices = Vec::with_capacity(m.vars.len());
+        for (i, var) in m.vars.iter().enumerate() {
+            choices.push(match (self.init_mode[i], &var.init) {
+                (InitMode::Direct, Some(e)) => {
+                    self.checked_values(e, Site::Init(VarId(i)), &empty, params)?
+                }
+                _ => var.domain.clone(),
+            });
+        }
+        let mut out = Vec::new();
+        for s in product(m, &choices)? {
+            if self.initial_ok(&s, params)? {
+                out.push(s);
+            }
+        }
+        Ok(out)
+    }
+
+    fn initial_ok(&self, s: &[Value], params: &[bool]) -> Result<bool, EvalError> {
+        let m = self.model;
+        let mut env = Env::new(m, s, params, None);
+        for (i, var) in m.vars.iter().enumerate() {
+            if let (InitMode::Filter, Some(e)) = (self.init_mode[i], &var.init) {
+                let allowed = env.values(e, Site::Init(VarId(i)))?;
+                if let Some(bad) = allowed.iter().find(|v| !in_domain(var, **v)) {
+                    return Err(out_of_domain(m, VarId(i), Site::Init(VarId(i)), *bad));
+                }
+                if !allowed.contains(&s[i]) {
+                    return Ok(false);
+                }
+            }
+        }
+        for (k, c) in m.init.iter().enumerate() {
+            if !env.boolean(&c.expr, Site::InitConstraint(k))? {
+                return Ok(false);
+            }
+        }
+        for (k, c) in m.invar.iter().enumerate() {
+            if !env.boolean(&c.expr, Site::Invar(k))? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// The successors of `state` when the plant reads `params`: every `next` assignment and
+    /// `TRANS` hold on `state`, `params` and the successor, and `INVAR` holds on the successor
+    /// with `next_params` (the parameters of the next step: in the closed loop, the
+    /// controller's outputs change together with the plant).
+    pub fn successors(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        next_params: &[bool],
+    ) -> Result<Vec<State>, EvalError> {
+        let m = self.model;
+        let mut env = Env::new(m, state, params, None);
+        let mut choices = Vec::with_capacity(m.vars.len());
+        for (i, var) in m.vars.iter().enumerate() {
+            choices.push(match (&var.next, var.kind) {
+                (Some(e), VarKind::State) => {
+                    let site = Site::Next(VarId(i));
+                    let vs = env.values(e, site)?;
+                    if let Some(bad) = vs.iter().find(|v| !in_domain(var, **v)) {
+                        return Err(out_of_domain(m, VarId(i), site, *bad));
+                    }
+                    vs
+                }
+                _ => var.domain.clone(),
+            });
+        }
+        let mut out = Vec::new();
+        for s in product(m, &choices)? {
+            if self.transition_ok(state, params, &s, next_params)? {
+                out.push(s);
+            }
+        }
+        out.sort();
+        out.dedup();
+        Ok(out)
+    }
+
+    fn transition_ok(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        succ: &[Value],
+        next_params: &[bool],
+    ) -> Result<bool, EvalError> {
+        let m = self.model;
+        if !m.trans.is_empty() {
+            let mut env = Env::new(m, state, params, Some(succ));
+            for (k, c) in m.trans.iter().enumerate() {
+                if !env.boolean(&c.expr, Site::Trans(k))? {
+                    return Ok(false);
+                }
+            }
+        }
+        if !m.invar.is_empty() {
+            let mut env = Env::new(m, succ, next_params, None);
+            for (k, c) in m.invar.iter().enumerate() {
+                if !env.boolean(&c.expr, Site::Invar(k))? {
+                    return Ok(false);
+                }
+            }
+        }
+        Ok(true)
+    }
+
+    /// Which `FAIRNESS` constraints hold on `state` with `params`: bit `k` for constraint `k`.
+    /// At most 64 constraints (the caller checks).
+    pub fn fairness(&self, state: &[Value], params: &[bool]) -> Result<u64, EvalError> {
+        let mut env = Env::new(self.model, state, params, None);
+        let mut bits = 0u64;
+        for (k, c) in self.model.fairness.iter().enumerate() {
+            if env.boolean(&c.expr, Site::Fairness(k))? {
+                bits |= 1 << k;
+            }
+        }
+        Ok(bits)
+    }
+
+    /// The value of a variable or define on `state` with `params`.
+    pub fn read(&self, name: Name, state: &[Value], params: &[bool]) -> Result<Value, EvalError> {
+        Ok(match name {
+            Name::Var(v) => state[v.0],
+            Name::Define(d) => Env::new(self.model, state, params, None).define(d)?,
+            Name::Param(p) => Value::Bool(params[p.0]),
+        })
+    }
+
+    fn checked_values(
+        &self,
+        e: &Expr,
+        site: Site,
+        state: &[Value],
+        params: &[bool],
+    ) -> Result<Vec<Value>, EvalError> {
+        let Site::Init(v) = site else {
+            unreachable!("only init values are computed without a state")
+        };
+        let mut vs = eval(self.model, e, site, state, params, None)?;
+        if let Some(bad) = vs.iter().find(|x| !in_domain(self.model.var(v), **x)) {
+            return Err(out_of_domain(self.model, v, site, *bad));
+        }
+        vs.dedup();
+        Ok(vs)
+    }
+}
+
+fn out_of_domain(m: &Model, v: VarId, site: Site, value: Value) -> EvalError {
+    let (construct, line) = site.describe(m);
+    EvalError {
+        file: m.file.clone(),
+        line,
+        construct,
+        kind: EvalErrorKind::OutOfDomain {
+            var: m.var(v).name.clone(),
+            value: m.show(value),
+        },
+    }
+}
+
+/// Whether `e` reads a variable (directly, through `next` or through a define).
+fn reads_state(m: &Model, e: &Expr) -> bool {
+    reads(m, e, &|leaf| matches!(leaf, Expr::Var(_) | Expr::Next(_)))
+}
+
+/// Whether `e` reads a parameter (directly or through a define).
+pub fn reads_params(m: &Model, e: &Expr) -> bool {
+    reads(m, e, &|leaf| matches!(leaf, Expr::Param(_)))
+}
+
+/// Whether some leaf of `e`, looking into defines, satisfies `hit`.
+fn reads(m: &Model, e: &Expr, hit: &dyn Fn(&Expr) -> bool) -> bool {
+    match e {
+        Expr::Const(_) | Expr::Var(_) | Expr::Next(_) | Expr::Param(_) => hit(e),
+        Expr::Define(d) => reads(m, &m.defines[d.0].expr, hit),
+        Expr::Not(a) | Expr::Neg(a) => reads(m, a, hit),
+        Expr::Bin(_, a, b) => reads(m, a, hit) || reads(m, b, hit),
+        Expr::Case(bs) => bs.iter().any(|(c, v)| reads(m, c, hit) || reads(m, v, hit)),
+        Expr::Set(items) => items.iter().any(|i| reads(m, i, hit)),
+    }
+}
+
+/// Every combination of one value per variable, in lexicographic order; an error when there
+/// are more than [`MAX_CANDIDATES`].
+fn product(m: &Model, choices: &[Vec<Value>]) -> Result<Vec<State>, EvalError> {
+    let total = choices
+        .iter()
+        .fold(1u128, |n, c| n.saturating_mul(c.len() as u128));
+    if total > MAX_CANDIDATES {
+        return Err(EvalError {
+            file: m.file.clone(),
+            line: 0,
+            construct: "the variables without init/next".into(),
+            kind: EvalErrorKind::TooManyChoices(total),
+        });
+    }
+    let mut out: Vec<State> = Vec::with_capacity(total as usize);
+    let mut current: State = Vec::with_capacity(choices.len());
+    fn go(choices: &[Vec<Value>], current: &mut State, out: &mut Vec<State>) {
+        match choices.split_first() {
+            None => out.push(current.clone()),
+            Some((first, rest)) => {
+                for v in first {
+                    current.push(*v);
+                    go(rest, current, out);
+                    current.pop();
+                }
+            }
+        }
+    }
+    go(choices, &mut current, &mut out);
+    Ok(out)
+}
+
+/// A parameter vector from bits: bit `p` is parameter `p`.
+pub fn params_from_bits(bits: u64, n: usize) -> Vec<bool> {
+    (0..n).map(|p| bits >> p & 1 == 1).collect()
+}
