@@ -153,8 +153,13 @@ fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLas
         .iter()
         .position(|f| number[&f.node] == root)
         .expect("the root of a live component is on the depth-first stack");
-    let prefix: Vec<u32> = stack[..root_pos].iter().map(|f| f.node).collect();
     let start = stack[root_pos].node;
+    // The depth-first stack reaches the component by some path; the shortest one makes a
+    // counterexample a reader (and a synthesis loop) can use: fewer steps to replay.
+    let prefix = match shortest_from_initial(g, start)? {
+        Some(p) => p,
+        None => stack[..root_pos].iter().map(|f| f.node).collect(),
+    };
     let mut cycle = vec![start];
     let mut seen = g.marks(start);
     let mut at = start;
@@ -178,6 +183,40 @@ fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLas
         cycle.extend(&path);
         at = last;
     }
+}
+
+/// The nodes of a shortest path from an initial node up to, not including, `target`
+/// (empty if `target` is initial); `None` if the search finds no path (it always should).
+fn shortest_from_initial<G: Graph>(g: &mut G, target: u32) -> Result<Option<Vec<u32>>, G::Error> {
+    let inits = g.initial()?;
+    if inits.contains(&target) {
+        return Ok(Some(Vec::new()));
+    }
+    let mut parent: HashMap<u32, Option<u32>> = inits.iter().map(|&i| (i, None)).collect();
+    let mut queue: VecDeque<u32> = inits.into_iter().collect();
+    let mut succ = Vec::new();
+    while let Some(v) = queue.pop_front() {
+        succ.clear();
+        g.successors(v, &mut succ)?;
+        for &w in &succ {
+            if parent.contains_key(&w) {
+                continue;
+            }
+            parent.insert(w, Some(v));
+            if w == target {
+                let mut path = vec![v];
+                let mut at = v;
+                while let Some(Some(p)) = parent.get(&at) {
+                    path.push(*p);
+                    at = *p;
+                }
+                path.reverse();
+                return Ok(Some(path));
+            }
+            queue.push_back(w);
+        }
+    }
+    Ok(None)
 }
 
 /// A shortest path of one or more steps from `from` to a node satisfying `goal`, inside

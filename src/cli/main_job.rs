@@ -191,6 +191,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 max_iterations: args.max_iterations,
                 verbose: args.verbose,
                 keep_failed_model: Some(out.join("closed_loop.last.smv")),
+                ..exact::Options::default()
             };
             let r = exact::run(&set, Some(&check), &opts, &mut |e| progress.event(e))?;
             let certificate = r.certificate.expect("a check gives a certificate");

@@ -41,7 +41,7 @@ pub fn describe(e: &Event<'_>) -> String {
             "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
         ),
         Event::Candidate(it) => format!(
-            "iteration {}: C = {} T = {}; {}; SAT {:.2} s, NuSMV {:.2} s",
+            "iteration {}: C = {} T = {}; {}; SAT {:.2} s, {} {:.3} s",
             it.number,
             it.c,
             it.t,
@@ -55,7 +55,8 @@ pub fn describe(e: &Event<'_>) -> String {
                 )
             },
             it.sat_seconds,
-            it.nusmv_seconds
+            it.checked_by,
+            it.check_seconds
         ),
         Event::SatStart { size, seconds } => {
             format!("SAT start: {size} for the scenarios alone in {seconds:.2} s")

@@ -9,9 +9,11 @@
 //! the loop repeats on the same solver. When the current number of states cannot leave every
 //! lasso the minimization itself moves on to more states.
 
-use super::closed_loop::ClosedLoop;
+use super::closed_loop::{environment_of, ClosedLoop};
+use crate::check;
 use super::{Event, Events};
 use crate::nusmv::CheckMode;
+use crate::sat::basic::Proofs;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
@@ -26,18 +28,25 @@ pub struct Config {
     pub max_iterations: usize,
     /// Report every step of every minimization, not only one line per candidate.
     pub verbose: bool,
+    /// With the properties in the encoding: how long the final machine's `T` and `N` may take
+    /// to be proven minimal ([`Proofs::Budget`]).
+    pub proof_budget: std::time::Duration,
 }
 
 /// One iteration, for progress and for the benchmark figures.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Iteration {
     pub number: usize,
+    /// Who found the verdict: `in-process` (a counterexample, fed back at once) or `NuSMV`.
+    pub checked_by: &'static str,
     pub c: usize,
     pub t: usize,
     pub failing: Vec<String>,
     pub counterexample_length: Option<usize>,
     pub sat_seconds: f64,
     pub nusmv_seconds: f64,
+    /// Time of the check that gave the verdict (NuSMV's or the in-process checker's).
+    pub check_seconds: f64,
 }
 
 /// A verified controller.
@@ -59,6 +68,9 @@ pub enum CegisError {
     Verify(#[from] VerifyError),
     #[error("no verified controller after {iterations} candidates (raise --max-iterations); last candidate fails: {failing}")]
     Iterations { iterations: usize, failing: String },
+    /// NuSMV and the in-process checker disagree: one of them has a bug.
+    #[error("internal error (a bug in synth, please report it): NuSMV says property {property} is violated ({nusmv}), the in-process checker says it holds on the same closed loop")]
+    Disagreement { property: String, nusmv: String },
     #[error("property {property} fails, but NuSMV printed no usable counterexample (it needs every controller input and output as a Boolean in the trace), so the loop cannot continue")]
     NoCounterexample { property: String },
 }
@@ -72,7 +84,13 @@ pub fn run(
     config: &Config,
     events: Events<'_>,
 ) -> Result<Verified, CegisError> {
-    let mut synth = Synthesizer::new(set, tree, &config.sat);
+    // Candidates need no proof of minimality; the final machine gets a budget for it.
+    let (candidates, last) = if closed.is_some() {
+        (Proofs::Skip, Proofs::Budget(config.proof_budget))
+    } else {
+        (Proofs::Full, Proofs::Full)
+    };
+    let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidates);
     if config.sat.cube_slots.is_some() {
         // The tree-exact minimum (a second of SAT) bounds the cube model from below.
         let tree_exact = Options {
@@ -95,7 +113,9 @@ pub fn run(
     // With properties in the encoding, candidates keep their first guards until one passes:
     // the N descent is half the SAT time, and only the final machine needs it.
     let mut final_pass = closed.is_none();
+    let mut in_process = closed.is_some();
     synth.set_minimize_n(final_pass);
+
     for number in 1..=config.max_iterations {
         let t = Instant::now();
         let synthesis = synth.minimize(&mut |m| {
@@ -104,6 +124,66 @@ pub fn run(
             }
         })?;
         let sat_seconds = t.elapsed().as_secs_f64();
+        // The in-process checker first: a counterexample from it costs milliseconds, and
+        // NuSMV is asked only about candidates it cannot fault.
+        let mut in_process_holds: Vec<bool> = Vec::new();
+        if let (Some(closed), true) = (closed, in_process) {
+            let tc = Instant::now();
+            let problem = verifier.problem();
+            match check::check(
+                &closed.spec.plant,
+                &closed.coupling,
+                &synthesis.ecc,
+                &problem.props,
+                &check::Limits::default(),
+            ) {
+                Ok(verdicts) => {
+                    let names = problem.property_names();
+                    let mut failing = Vec::new();
+                    let mut envs = Vec::new();
+                    for (k, v) in verdicts.iter().enumerate() {
+                        in_process_holds.push(matches!(v, check::Verdict::Holds));
+                        if let check::Verdict::Violated(lasso) = v {
+                            failing.push(names[k].clone());
+                            if closed.encodes(k) {
+                                envs.push((lasso.states.len(), environment_of(lasso)));
+                            }
+                        }
+                    }
+                    let mut added = 0;
+                    let mut length = None;
+                    for (len, env) in envs {
+                        if synth.add_environment(&closed.spec, env).is_ok() {
+                            added += 1;
+                            length.get_or_insert(len);
+                        }
+                    }
+                    if added > 0 {
+                        let it = Iteration {
+                            number,
+                            checked_by: "in-process",
+                            c: synthesis.size.c,
+                            t: synthesis.size.t,
+                            failing: failing.clone(),
+                            counterexample_length: length,
+                            sat_seconds,
+                            nusmv_seconds: 0.0,
+                            check_seconds: tc.elapsed().as_secs_f64(),
+                        };
+                        events(Event::Candidate(&it));
+                        iterations.push(it);
+                        last_failing = failing.join(", ");
+                        final_pass = false;
+                        synth.set_minimize_n(false);
+                        synth.set_proofs(candidates);
+                        continue;
+                    }
+                }
+                // Too large, or no behaviour at all: NuSMV decides (and reports a vacuous
+                // plant itself).
+                Err(_) => in_process = false,
+            }
+        }
         // With environments one counterexample per candidate is enough: each rules out every
         // machine that fails on its environment. NuSMV's backward re-check per trace is most of
         // its time.
@@ -114,8 +194,20 @@ pub fn run(
         };
         let v = verifier.verify_with(&synthesis.ecc, mode)?;
         let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
+        // A property NuSMV finds violated where the in-process checker found it holding is a
+        // bug in one of them.
+        for (k, p) in v.report.properties.iter().enumerate() {
+            if !p.holds && in_process_holds.get(k) == Some(&true) {
+                return Err(CegisError::Disagreement {
+                    property: p.name.clone(),
+                    nusmv: p.verdict_line.clone(),
+                });
+            }
+        }
         let it = Iteration {
             number,
+            checked_by: "NuSMV",
+            check_seconds: v.report.nusmv_seconds,
             c: synthesis.size.c,
             t: synthesis.size.t,
             failing: failing.clone(),
@@ -128,6 +220,7 @@ pub fn run(
         if failing.is_empty() && !final_pass {
             final_pass = true;
             synth.set_minimize_n(true);
+            synth.set_proofs(last);
             continue;
         }
         if failing.is_empty() {
@@ -161,6 +254,7 @@ pub fn run(
         if added > 0 {
             final_pass = false;
             synth.set_minimize_n(false);
+            synth.set_proofs(candidates);
             continue;
         }
         // Safety violations first: their finite prefixes are cheap and strong constraints.

@@ -24,6 +24,8 @@ pub struct ClosedLoop {
     pub spec: Arc<Spec>,
     /// Per property (spec order): `Ok(())` if encoded, else why not.
     pub coverage: Vec<Result<(), String>>,
+    /// The wiring for the in-process checker ([`crate::check`]).
+    pub coupling: crate::check::Coupling,
 }
 
 impl ClosedLoop {
@@ -82,6 +84,8 @@ impl ClosedLoop {
                 Ok(())
             })
             .collect();
+        let coupling = crate::check::Coupling::new(&spec.plant, &set.inputs, &set.outputs)
+            .map_err(|e| e.to_string())?;
         spec.properties = problem
             .props
             .iter()
@@ -92,6 +96,7 @@ impl ClosedLoop {
         Ok(ClosedLoop {
             spec: Arc::new(spec),
             coverage,
+            coupling,
         })
     }
 
@@ -135,6 +140,14 @@ impl ClosedLoop {
             None => cx.loop_start.min(states.len() - 1),
         };
         Some(Environment { states, loop_start })
+    }
+}
+
+/// The environment of an in-process counterexample.
+pub fn environment_of(lasso: &crate::check::Lasso) -> Environment {
+    Environment {
+        states: lasso.states.iter().map(|s| s.plant.clone()).collect(),
+        loop_start: lasso.loop_start,
     }
 }
 

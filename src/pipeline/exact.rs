@@ -79,6 +79,9 @@ pub struct Options {
     /// With a check: where to keep the closed-loop model of the last candidate when the
     /// loop fails (so the user can read what NuSMV choked on).
     pub keep_failed_model: Option<PathBuf>,
+    /// With a check and the properties inside the encoding: the time the final machine's `T`
+    /// and `N` may take to be proven minimal (past it they are reported as not proven).
+    pub proof_budget: std::time::Duration,
 }
 
 impl Default for Options {
@@ -88,9 +91,13 @@ impl Default for Options {
             max_iterations: 500,
             verbose: false,
             keep_failed_model: None,
+            proof_budget: DEFAULT_PROOF_BUDGET,
         }
     }
 }
+
+/// The default of [`Options::proof_budget`].
+pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
 pub const DEFAULT_OUT_DEGREE: usize = 6;
@@ -149,6 +156,7 @@ pub fn run(
         sat: opts.sat(true),
         max_iterations: opts.max_iterations,
         verbose: opts.verbose,
+        proof_budget: opts.proof_budget,
     };
     let closed = super::closed_loop::ClosedLoop::new(
         &check.problem,

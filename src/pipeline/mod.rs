@@ -180,6 +180,7 @@ impl Error {
             | Error::NoMachine(_) => Class::NoMachine,
             Error::Sat(SatError::Bug(_))
             | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
+            | Error::Cegis(cegis::CegisError::Disagreement { .. })
             | Error::Modular(ModularError::Bug(_))
             | Error::Bug(_) => Class::Bug,
             Error::Modular(ModularError::NoModules) | Error::Pin(_) | Error::Usage(_) => {

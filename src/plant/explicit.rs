@@ -442,8 +442,15 @@ impl<'m> Semantics<'m> {
         let m = self.model;
         let mut env = Env::new(m, state, params, None);
         let mut choices = Vec::with_capacity(m.vars.len());
+        // Assignments that read another variable's next value are checked on each candidate
+        // successor instead (NuSMV allows `next(fills) := ... next(level) ...`).
+        let mut later = Vec::new();
         for (i, var) in m.vars.iter().enumerate() {
             choices.push(match (&var.next, var.kind) {
+                (Some(e), VarKind::State) if reads_next(m, e) => {
+                    later.push((i, e));
+                    var.domain.clone()
+                }
                 (Some(e), VarKind::State) => {
                     let site = Site::Next(VarId(i));
                     let vs = env.values(e, site)?;
@@ -456,7 +463,20 @@ impl<'m> Semantics<'m> {
             });
         }
         let mut out = Vec::new();
-        for s in product(m, &choices)? {
+        'candidates: for s in product(m, &choices)? {
+            if !later.is_empty() {
+                let mut env = Env::new(m, state, params, Some(&s));
+                for &(i, e) in &later {
+                    let site = Site::Next(VarId(i));
+                    let vs = env.values(e, site)?;
+                    if let Some(bad) = vs.iter().find(|v| !in_domain(&m.vars[i], **v)) {
+                        return Err(out_of_domain(m, VarId(i), site, *bad));
+                    }
+                    if !vs.contains(&s[i]) {
+                        continue 'candidates;
+                    }
+                }
+            }
             if self.transition_ok(state, params, &s, next_params)? {
                 out.push(s);
             }
@@ -550,6 +570,11 @@ fn out_of_domain(m: &Model, v: VarId, site: Site, value: Value) -> EvalError {
 /// Whether `e` reads a variable (directly, through `next` or through a define).
 fn reads_state(m: &Model, e: &Expr) -> bool {
     reads(m, e, &|leaf| matches!(leaf, Expr::Var(_) | Expr::Next(_)))
+}
+
+/// Whether `e` reads a next value (directly or through a define).
+fn reads_next(m: &Model, e: &Expr) -> bool {
+    reads(m, e, &|leaf| matches!(leaf, Expr::Next(_)))
 }
 
 /// Whether `e` reads a parameter (directly or through a define).

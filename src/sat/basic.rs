@@ -33,7 +33,7 @@
 use super::card::Totalizer;
 use super::closed_loop;
 use super::decode::{self, Structure};
-use super::solver::{Model, Solver};
+use super::solver::{Bounded, Model, Solver};
 use super::vars::{GuardModel, Vars};
 use super::{constraints, guards, negative, SatError};
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
@@ -83,6 +83,8 @@ pub struct Synthesis {
     pub size: Size,
     /// Whether `N` is proven minimal for the structure (guard search finished in budget).
     pub guards_exact: bool,
+    /// Whether `T` is proven minimal for `C` (see [`Proofs`]).
+    pub transitions_exact: bool,
     pub stats: Stats,
     /// The state of every scenario tree node (a hint for the next search, see
     /// [`Synthesizer::hint`]).
@@ -132,7 +134,15 @@ pub(super) struct Encoding {
 
 impl Encoding {
     pub(super) fn new(tree: &ScenarioTree, c_max: usize, opts: &Options) -> Encoding {
+        Encoding::build(tree, c_max, opts, false)
+    }
+
+    /// The encoding; with `keep`, the solver keeps a copy of the clauses for budgeted proofs.
+    fn build(tree: &ScenarioTree, c_max: usize, opts: &Options, keep: bool) -> Encoding {
         let mut solver = Solver::new();
+        if keep {
+            solver.keep_clauses();
+        }
         let sink = &mut solver;
         let vars = Vars::new(sink, tree, c_max, opts.cube_slots);
         // Allocated in both guard models, so that both number their variables alike; only the
@@ -272,6 +282,21 @@ impl Encoding {
     }
 }
 
+/// How hard [`Synthesizer::minimize`] works to prove `T` minimal once a machine is found.
+/// With the properties inside the encoding ([`super::closed_loop`]) proving that no machine
+/// with one transition fewer exists can take minutes where finding the machine took a
+/// second, so a loop that only needs candidates skips it and the final machine gets a budget.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Proofs {
+    /// Every bound proven (the default).
+    Full,
+    /// Fewest transitions with the colouring found (or hinted) only; nothing proven.
+    Skip,
+    /// As `Full`, but the refutation that ends the descent is tried on a fresh solver for this
+    /// long; if it does not finish, `T` is reported as not proven minimal.
+    Budget(Duration),
+}
+
 /// Exact synthesis, kept incremental across calls: negative scenarios can be added between
 /// minimizations (CEGIS), and every call continues on the same solver.
 pub struct Synthesizer<'a> {
@@ -298,13 +323,25 @@ pub struct Synthesizer<'a> {
     minimize_n: bool,
     /// A colouring of the tree nodes to try first (see [`Self::hint`]).
     hint: Option<Vec<usize>>,
+    proofs: Proofs,
     stats: Stats,
 }
 
 impl<'a> Synthesizer<'a> {
     pub fn new(set: &'a ScenarioSet, tree: &'a ScenarioTree, opts: &Options) -> Synthesizer<'a> {
+        Synthesizer::with_proofs(set, tree, opts, Proofs::Full)
+    }
+
+    /// A synthesizer that starts with `proofs` (see [`Self::set_proofs`]); anything but `Full`
+    /// keeps a copy of the clauses for budgeted proofs from the start.
+    pub fn with_proofs(
+        set: &'a ScenarioSet,
+        tree: &'a ScenarioTree,
+        opts: &Options,
+        proofs: Proofs,
+    ) -> Synthesizer<'a> {
         let c_max = opts.max_states.clamp(1, 8);
-        let enc = Encoding::new(tree, c_max, opts);
+        let enc = Encoding::build(tree, c_max, opts, proofs != Proofs::Full);
         let stats = Stats {
             tree_nodes: tree.nodes.len(),
             distinct_inputs: tree.input_vectors.len(),
@@ -327,6 +364,7 @@ impl<'a> Synthesizer<'a> {
             environments: Vec::new(),
             minimize_n: true,
             hint: None,
+            proofs,
             stats,
         }
     }
@@ -394,6 +432,16 @@ impl<'a> Synthesizer<'a> {
         self.hint = Some(colors);
     }
 
+    /// How hard the next [`Self::minimize`] calls work to prove `T` minimal ([`Proofs`]).
+    /// Anything but `Full` keeps a copy of the clauses for the budgeted proof, from the next
+    /// encoding built on.
+    pub fn set_proofs(&mut self, proofs: Proofs) {
+        self.proofs = proofs;
+        if matches!(proofs, Proofs::Budget(_)) && !self.enc.solver.keeps_clauses() {
+            self.grow(self.enc.vars.c_max);
+        }
+    }
+
     /// Whether [`Self::minimize`] minimizes `N` in the cube model (the default). A loop that
     /// only needs candidates turns it off until one passes, then on for the final machine.
     pub fn set_minimize_n(&mut self, on: bool) {
@@ -411,7 +459,12 @@ impl<'a> Synthesizer<'a> {
 
     /// Rebuilds the encoding for a larger window of states, with every negative scenario.
     fn grow(&mut self, c_max: usize) {
-        self.enc = Encoding::new(self.tree, c_max, &self.opts);
+        self.enc = Encoding::build(
+            self.tree,
+            c_max,
+            &self.opts,
+            self.proofs != Proofs::Full || self.enc.solver.keeps_clauses(),
+        );
         self.stats.variables += self.enc.variables;
         self.stats.clauses += self.enc.clauses;
         for (neg, ids) in self.negatives.iter().zip(self.negative_ids.iter_mut()) {
@@ -553,6 +606,21 @@ impl<'a> Synthesizer<'a> {
             Some((c0, lo)) if c0 == c && !opts.minimize_k => lo,
             _ => 0,
         };
+        // Without proofs, the colouring just found serves as the hint when none was given.
+        let hint = match (&hint, self.proofs) {
+            (None, Proofs::Skip) => Some(structure.colors.clone()),
+            _ => hint,
+        };
+        let hint_lits = |enc: &Encoding| -> Vec<Lit> {
+            hint.iter()
+                .flat_map(|h| {
+                    h.iter()
+                        .enumerate()
+                        .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
+                })
+                .collect()
+        };
+        let mut transitions_exact = true;
         if hint.is_some() && !opts.minimize_k {
             // Fewer transitions with the hinted colouring first: easy calls that usually
             // end at the minimum, so that the free search below has one bound to refute.
@@ -578,6 +646,37 @@ impl<'a> Synthesizer<'a> {
         }
         match self.t_lo {
             Some((c0, lo)) if c0 == c && !opts.minimize_k && lo == t => {}
+            _ if self.proofs == Proofs::Skip => transitions_exact = false,
+            _ if matches!(self.proofs, Proofs::Budget(_)) => {
+                let Proofs::Budget(budget) = self.proofs else {
+                    unreachable!()
+                };
+                let deadline = Instant::now() + budget;
+                loop {
+                    if t <= t_floor {
+                        break;
+                    }
+                    let Some(b) = enc.total_t.at_most(t - 1) else {
+                        break;
+                    };
+                    progress(Step::Trying {
+                        bound: Bound::T,
+                        value: t - 1,
+                    });
+                    let assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
+                    match enc.solver.solve_within(&assume, deadline) {
+                        Bounded::Sat(m) => {
+                            structure = decode(&m, enc);
+                            t = structure.transition_count();
+                        }
+                        Bounded::Unsat => break,
+                        Bounded::Unknown => {
+                            transitions_exact = false;
+                            break;
+                        }
+                    }
+                }
+            }
             Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t && hint.is_none() => {
                 let mut bound = lo;
                 while bound < t {
@@ -617,7 +716,7 @@ impl<'a> Synthesizer<'a> {
                 );
             }
         }
-        if !opts.minimize_k {
+        if !opts.minimize_k && transitions_exact {
             self.t_lo = Some((c, t));
         }
         progress(Step::Minimal {
@@ -641,8 +740,15 @@ impl<'a> Synthesizer<'a> {
                 };
                 // Descend from the current N; stop at the known lower bound.
                 base_t.extend(enc.total_t.at_most(t));
+                if self.proofs != Proofs::Full {
+                    // The least N for this colouring: the free descent is the same kind of
+                    // proof the budget above gave up on.
+                    base_t.extend(structure.colors.iter().enumerate().map(|(v, &q)| {
+                        enc.vars.color(crate::scenario::tree::NodeId(v), q)
+                    }));
+                }
                 let (vars, alphabet) = (&enc.vars, &enc.alphabet);
-                let n = enc.solver.descend(
+                let mut n = enc.solver.descend(
                     &base_t,
                     n,
                     start,
@@ -658,10 +764,39 @@ impl<'a> Synthesizer<'a> {
                         structure.literal_count()
                     },
                 );
-                if self.minimize_n {
+                let mut n_exact = self.minimize_n && self.proofs == Proofs::Full;
+                if let (true, Proofs::Budget(budget)) = (self.minimize_n, self.proofs) {
+                    // Fewer literals with any colouring, within the budget.
+                    let deadline = Instant::now() + budget;
+                    let mut free: Vec<Lit> = enc.base_assumptions();
+                    free.extend_from_slice(&base);
+                    free.extend(enc.total_t.at_most(t));
+                    n_exact = loop {
+                        if n <= start {
+                            break true;
+                        }
+                        let Some(b) = total_n.at_most(n - 1) else {
+                            break true;
+                        };
+                        progress(Step::Trying {
+                            bound: Bound::N,
+                            value: n - 1,
+                        });
+                        let assume: Vec<Lit> = free.iter().copied().chain([b]).collect();
+                        match enc.solver.solve_within(&assume, deadline) {
+                            Bounded::Sat(m) => {
+                                structure = decode(&m, enc);
+                                n = structure.literal_count();
+                            }
+                            Bounded::Unsat => break true,
+                            Bounded::Unknown => break false,
+                        }
+                    };
+                }
+                if n_exact {
                     self.n_lo = Some((c, t, n));
                 }
-                exact = self.minimize_n;
+                exact = n_exact;
                 // Decoded with the cube model's slots: one list of transitions per state.
                 let transitions = structure.cube_transitions.clone().unwrap_or_default();
                 (0..structure.c)
@@ -704,6 +839,7 @@ impl<'a> Synthesizer<'a> {
             ecc,
             size,
             guards_exact: exact,
+            transitions_exact,
             stats: self.stats.clone(),
             colors: structure.colors,
         })

@@ -27,6 +27,34 @@ pub struct SolverStats {
 pub struct Solver {
     inner: varisat::Solver<'static>,
     stats: SolverStats,
+    /// Every clause given, when kept (see [`Solver::keep_clauses`]).
+    log: Option<varisat::CnfFormula>,
+}
+
+/// The outcome of a solve with a time budget.
+pub enum Bounded {
+    Sat(Model),
+    Unsat,
+    /// The budget ran out first.
+    Unknown,
+}
+
+/// Stops a solver at a deadline: varisat's solve loop has no interrupt, but it stops when a
+/// proof processor fails.
+struct Deadline(std::time::Instant);
+
+impl varisat::checker::ProofProcessor for Deadline {
+    fn process_step(
+        &mut self,
+        _step: &varisat::checker::CheckedProofStep,
+        _data: varisat::checker::CheckerData,
+    ) -> Result<(), anyhow::Error> {
+        if std::time::Instant::now() > self.0 {
+            Err(anyhow::anyhow!("time budget exhausted"))
+        } else {
+            Ok(())
+        }
+    }
 }
 
 impl Default for Solver {
@@ -40,6 +68,41 @@ impl Solver {
         Solver {
             inner: varisat::Solver::new(),
             stats: SolverStats::default(),
+            log: None,
+        }
+    }
+
+    /// Keeps a copy of every clause from now on, for [`Self::solve_within`]. Call before any
+    /// clause is given.
+    pub fn keep_clauses(&mut self) {
+        self.log = Some(varisat::CnfFormula::new());
+    }
+
+    /// Whether [`Self::keep_clauses`] was called.
+    pub fn keeps_clauses(&self) -> bool {
+        self.log.is_some()
+    }
+
+    /// Solves the clauses kept so far under `assumptions` on a fresh solver that gives up at
+    /// `deadline` (`Unknown`), so that a proof that may take minutes can be tried for seconds.
+    /// The incremental solver is untouched. `Unknown` without kept clauses.
+    pub fn solve_within(&mut self, assumptions: &[Lit], deadline: std::time::Instant) -> Bounded {
+        let Some(log) = &self.log else {
+            return Bounded::Unknown;
+        };
+        self.stats.calls += 1;
+        let mut stop = Deadline(deadline);
+        let mut fresh = varisat::Solver::new();
+        fresh.add_proof_processor(&mut stop);
+        fresh.add_formula(log);
+        fresh.assume(assumptions);
+        match fresh.solve() {
+            Ok(true) => match fresh.model() {
+                Some(m) => Bounded::Sat(Model::new(&m)),
+                None => Bounded::Unknown,
+            },
+            Ok(false) => Bounded::Unsat,
+            Err(_) => Bounded::Unknown,
         }
     }
 
@@ -113,10 +176,17 @@ impl ExtendFormula for Solver {
     fn add_clause(&mut self, clause: &[Lit]) {
         self.stats.clauses += 1;
         self.inner.add_clause(clause);
+        if let Some(log) = &mut self.log {
+            log.add_clause(clause);
+        }
     }
     fn new_var(&mut self) -> Var {
         self.stats.variables += 1;
-        self.inner.new_var()
+        let v = self.inner.new_var();
+        if let Some(log) = &mut self.log {
+            log.set_var_count(log.var_count().max(v.index() + 1));
+        }
+        v
     }
 }
 
