@@ -275,7 +275,13 @@ impl Verifier {
 
     /// Verifies `ecc`, asking NuSMV for the traces `mode` says (see [`verify`]).
     pub fn verify_with(&mut self, ecc: &Ecc, mode: CheckMode) -> Result<Verification, VerifyError> {
-        verify(ecc, &self.problem, &mut self.session, self.workdir.path(), mode)
+        verify(
+            ecc,
+            &self.problem,
+            &mut self.session,
+            self.workdir.path(),
+            mode,
+        )
     }
 
     /// The closed-loop model of the last check, if one was written (kept for the user when

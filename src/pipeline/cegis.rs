@@ -10,8 +10,8 @@
 //! lasso the minimization itself moves on to more states.
 
 use super::closed_loop::{environment_of, ClosedLoop};
-use crate::check;
 use super::{Event, Events};
+use crate::check;
 use crate::nusmv::CheckMode;
 use crate::sat::basic::Proofs;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
@@ -112,7 +112,10 @@ pub fn run(
     let mut last_failing = String::new();
     // With properties in the encoding, candidates keep their first guards until one passes:
     // the N descent is half the SAT time, and only the final machine needs it.
-    let mut final_pass = closed.is_none();
+    // The first candidate is minimized as the final one would be: on recordings that show
+    // enough, it is the answer, and minimal guards generalize best where nothing was recorded.
+    let mut final_pass = true;
+    synth.set_proofs(Proofs::Full);
     let mut in_process = closed.is_some();
     synth.set_minimize_n(final_pass);
 

@@ -97,7 +97,7 @@ impl Default for Options {
 }
 
 /// The default of [`Options::proof_budget`].
-pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_secs(10);
+pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_secs(2);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
 pub const DEFAULT_OUT_DEGREE: usize = 6;

@@ -282,6 +282,9 @@ impl Encoding {
     }
 }
 
+/// Hints kept by a [`Synthesizer`] (the colourings of its latest machines).
+const MAX_HINTS: usize = 6;
+
 /// How hard [`Synthesizer::minimize`] works to prove `T` minimal once a machine is found.
 /// With the properties inside the encoding ([`super::closed_loop`]) proving that no machine
 /// with one transition fewer exists can take minutes where finding the machine took a
@@ -321,8 +324,8 @@ pub struct Synthesizer<'a> {
     environments: Vec<closed_loop::Environment>,
     /// Cube model: minimize `N` after `T` (otherwise the first guards found are kept).
     minimize_n: bool,
-    /// A colouring of the tree nodes to try first (see [`Self::hint`]).
-    hint: Option<Vec<usize>>,
+    /// Colourings of the tree nodes to try first, newest last (see [`Self::hint`]).
+    hints: Vec<Vec<usize>>,
     proofs: Proofs,
     stats: Stats,
 }
@@ -363,7 +366,7 @@ impl<'a> Synthesizer<'a> {
             closed_loop: None,
             environments: Vec::new(),
             minimize_n: true,
-            hint: None,
+            hints: Vec::new(),
             proofs,
             stats,
         }
@@ -429,7 +432,12 @@ impl<'a> Synthesizer<'a> {
     /// fixed colouring is fast where the free search for the least `T` is not. Minimality does
     /// not depend on it: every bound is still proven on the whole problem.
     pub fn hint(&mut self, colors: Vec<usize>) {
-        self.hint = Some(colors);
+        self.hints.retain(|h| *h != colors);
+        self.hints.push(colors);
+        // The newest few: each refuted hint costs a solver call.
+        if self.hints.len() > MAX_HINTS {
+            self.hints.remove(0);
+        }
     }
 
     /// How hard the next [`Self::minimize`] calls work to prove `T` minimal ([`Proofs`]).
@@ -483,30 +491,43 @@ impl<'a> Synthesizer<'a> {
     pub fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
         let t0 = Instant::now();
         let opts = self.opts.clone();
-        // 0. the hint: a machine at the least C with the hinted colouring.
-        let hint = self.hint.take().filter(|h| {
-            h.len() == self.tree.nodes.len() && h.iter().all(|&q| q < self.c_lo)
-        });
-        let hint_lits = |enc: &Encoding| -> Vec<Lit> {
-            hint.iter()
-                .flat_map(|h| {
-                    h.iter()
-                        .enumerate()
-                        .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
-                })
+        // 0. the hints, newest first: a machine at the least C with a hinted colouring.
+        let usable: Vec<Vec<usize>> = self
+            .hints
+            .iter()
+            .rev()
+            .filter(|h| h.len() == self.tree.nodes.len() && h.iter().all(|&q| q < self.c_lo))
+            .cloned()
+            .collect();
+        let colouring = |enc: &Encoding, h: &[usize]| -> Vec<Lit> {
+            h.iter()
+                .enumerate()
+                .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
                 .collect()
         };
         let mut hinted = None;
-        if hint.is_some() && self.c_lo <= self.enc.vars.c_max {
-            let mut assume: Vec<Lit> = self.enc.vars.states_at_most(self.c_lo).into_iter().collect();
-            assume.extend(hint_lits(&self.enc));
-            progress(Step::TryingStates {
-                c: self.c_lo,
-                tree_nodes: self.tree.nodes.len(),
-                inputs: self.enc.alphabet.len(),
-                negatives: self.negatives.len(),
-            });
-            hinted = self.enc.solve(&assume).map(|m| (self.c_lo, m));
+        let mut hint: Option<Vec<usize>> = None;
+        if self.c_lo <= self.enc.vars.c_max {
+            for h in usable {
+                let mut assume: Vec<Lit> = self
+                    .enc
+                    .vars
+                    .states_at_most(self.c_lo)
+                    .into_iter()
+                    .collect();
+                assume.extend(colouring(&self.enc, &h));
+                progress(Step::TryingStates {
+                    c: self.c_lo,
+                    tree_nodes: self.tree.nodes.len(),
+                    inputs: self.enc.alphabet.len(),
+                    negatives: self.negatives.len(),
+                });
+                if let Some(m) = self.enc.solve(&assume) {
+                    hinted = Some((self.c_lo, m));
+                    hint = Some(h);
+                    break;
+                }
+            }
         }
         // 1. least C, growing the encoding window when exhausted.
         let (c, mut model) = loop {
@@ -743,9 +764,13 @@ impl<'a> Synthesizer<'a> {
                 if self.proofs != Proofs::Full {
                     // The least N for this colouring: the free descent is the same kind of
                     // proof the budget above gave up on.
-                    base_t.extend(structure.colors.iter().enumerate().map(|(v, &q)| {
-                        enc.vars.color(crate::scenario::tree::NodeId(v), q)
-                    }));
+                    base_t.extend(
+                        structure
+                            .colors
+                            .iter()
+                            .enumerate()
+                            .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q)),
+                    );
                 }
                 let (vars, alphabet) = (&enc.vars, &enc.alphabet);
                 let mut n = enc.solver.descend(
@@ -834,7 +859,7 @@ impl<'a> Synthesizer<'a> {
         }
         let size = ecc.size();
         progress(Step::Guards { n: size.n, exact });
-        self.hint = Some(structure.colors.clone());
+        self.hint(structure.colors.clone());
         Ok(Synthesis {
             ecc,
             size,

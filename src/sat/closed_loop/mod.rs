@@ -94,6 +94,17 @@ pub fn resolves(spec: &Spec, name: &str) -> bool {
         || spec.plant.symbol(name).is_some()
 }
 
+/// The plant's free variables: `IVAR`s and `VAR`s without `init` and `next`, whose values are
+/// the environment's alone.
+pub fn environment_names(model: &Model) -> Vec<String> {
+    model
+        .vars
+        .iter()
+        .filter(|v| v.kind == VarKind::Input || (v.next.is_none() && v.init.is_none()))
+        .map(|v| v.name.clone())
+        .collect()
+}
+
 /// Adds the closed loop along `env` with every property of `spec` required on it.
 pub fn encode(
     f: &mut impl ExtendFormula,
@@ -113,12 +124,12 @@ pub fn encode(
         all.dedup();
         all
     };
-    let env_vars: Vec<(String, usize)> = model
-        .vars
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| v.kind == VarKind::Input || (v.next.is_none() && v.init.is_none()))
-        .map(|(i, v)| (v.name.clone(), i))
+    let env_vars: Vec<(String, usize)> = environment_names(model)
+        .into_iter()
+        .filter_map(|n| match model.lookup(&n) {
+            Some(Name::Var(v)) => Some((n, v.0)),
+            _ => None,
+        })
         .collect();
     let mut state: Vec<Fd> = env.at(0).iter().map(|&v| Fd::constant(v)).collect();
     let mut machine = MachineState::initial(vars.c_max, &spec.initial_outputs);

@@ -46,7 +46,9 @@ pub fn eval<F: ExtendFormula>(
         Expr::Var(v) => frame.state[v.0].clone(),
         // Outside a next assignment only TRANS has `next`, and plants with TRANS are not
         // encoded.
-        Expr::Next(v) => next_value(g, model, *v, frame).unwrap_or_else(|| frame.state[v.0].clone()),
+        Expr::Next(v) => {
+            next_value(g, model, *v, frame).unwrap_or_else(|| frame.state[v.0].clone())
+        }
         Expr::Param(p) => Fd::of_bool(frame.params[p.0]),
         Expr::Define(d) => {
             if let Some(v) = &frame.defines[d.0] {

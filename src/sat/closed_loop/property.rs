@@ -52,6 +52,35 @@ impl Run<'_> {
     }
 }
 
+/// Whether the formula is a safety property once its environment-only subformulas are read
+/// as constants: in negation normal form no `F` or `U` (an eventuality) outside them. Only
+/// such properties are encoded by default.
+pub fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
+    fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> bool {
+        use Ltl::*;
+        if f.is_future_only() && f.names().iter().all(|n| env(n)) {
+            return true;
+        }
+        match f {
+            True | False | Atom(_) | Int(_) | Cmp(..) => true,
+            Not(a) => walk(a, !pos, env),
+            And(a, b) | Or(a, b) => walk(a, pos, env) && walk(b, pos, env),
+            Implies(a, b) => walk(a, !pos, env) && walk(b, pos, env),
+            Iff(a, b) | Xnor(a, b) | Xor(a, b) => {
+                walk(a, pos, env) && walk(a, !pos, env) && walk(b, pos, env) && walk(b, !pos, env)
+            }
+            X(a) => walk(a, pos, env),
+            // F and U are eventualities in positive position, G and V in negative.
+            F(a) => !pos && walk(a, pos, env),
+            G(a) => pos && walk(a, pos, env),
+            U(a, b) => !pos && walk(a, pos, env) && walk(b, pos, env),
+            V(a, b) => pos && walk(a, pos, env) && walk(b, pos, env),
+            Y(_) | Z(_) | H(_) | O(_) | S(..) | T(..) => false,
+        }
+    }
+    walk(f, true, env)
+}
+
 /// Whether the encoding covers the formula: no past operators.
 pub fn covered(f: &Ltl) -> bool {
     f.is_future_only()
