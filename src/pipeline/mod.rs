@@ -15,6 +15,7 @@
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
 //! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
+//! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
 //!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
 //! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
@@ -27,6 +28,7 @@
 
 pub mod cegis;
 pub mod exact;
+pub mod explain;
 pub mod modular;
 pub mod noisy;
 pub mod output;
@@ -140,6 +142,8 @@ pub enum Error {
     SearchData(#[from] crate::search::fitness::DataError),
     #[error(transparent)]
     Cegis(#[from] cegis::CegisError),
+    #[error(transparent)]
+    RecordingsViolate(#[from] explain::RecordingsViolate),
     #[error(transparent)]
     Export(#[from] crate::export::ExportError),
     #[error(transparent)]
