@@ -8,6 +8,7 @@ use super::progress::Progress;
 use super::show::{print_files, verified_line};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
+use fbsynth::pipeline::explain::{self, Explanation};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
 use fbsynth::pipeline::recordings::{read_ecc, stem};
 use fbsynth::pipeline::{self, exact, search};
@@ -169,6 +170,10 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         ltl.display(),
         plant_file.display()
     ));
+    // Before any synthesis: recordings that violate a property leave no machine to find.
+    let explained =
+        explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
+    progress.line(&recordings_line(&explained, problem.props.len()));
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let out = out_dir(&args.out, &stem(ltl));
@@ -271,6 +276,19 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     println!("{closing}");
     print_files(&out, &files);
     Ok(())
+}
+
+/// The progress line after the recordings were checked against the properties.
+fn recordings_line(e: &Explanation, properties: usize) -> String {
+    let mut line = format!(
+        "checked {} of {properties} properties on the recordings, none violated",
+        e.checked
+    );
+    if !e.undecidable.is_empty() {
+        let names: Vec<&str> = e.undecidable.iter().map(|u| u.property.as_str()).collect();
+        line.push_str(&format!(" ({} read names not recorded)", names.join(", ")));
+    }
+    line
 }
 
 /// `synth verify`.
