@@ -10,7 +10,7 @@
 //!
 //! | method | function | result |
 //! |---|---|---|
-//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] | [`exact::Exact`] |
+//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] (with a time limit: [`limit::exact_within`]) | [`exact::Exact`] |
 //! | metaheuristic search with verification-aware fitness | [`search::run`] | [`search::Searched`] |
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
@@ -29,6 +29,7 @@
 pub mod cegis;
 pub mod exact;
 pub mod explain;
+pub mod limit;
 pub mod modular;
 pub mod noisy;
 pub mod output;
@@ -165,6 +166,9 @@ pub enum Error {
     /// No machine within the limits given.
     #[error("{0}")]
     NoMachine(String),
+    /// The time limit passed before a machine was verified.
+    #[error("time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): {so_far}")]
+    TimeLimit { seconds: f64, so_far: limit::SoFar },
     /// A broken invariant.
     #[error("{0}")]
     Bug(String),
@@ -180,7 +184,8 @@ impl Error {
             | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
             | Error::Modular(ModularError::NoController { .. })
-            | Error::NoMachine(_) => Class::NoMachine,
+            | Error::NoMachine(_)
+            | Error::TimeLimit { .. } => Class::NoMachine,
             Error::Sat(SatError::Bug(_))
             | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
             | Error::Modular(ModularError::Bug(_))

@@ -294,7 +294,7 @@ fn times_that_are_not_finite_positive_seconds_are_usage_errors() {
         "/bin/true",
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
-    assert!(text(&o.stderr).contains("--time-limit takes a non-negative number"));
+    assert!(text(&o.stderr).contains("--time-limit takes a positive number"));
     let o = synth(&[
         "infer",
         "--traces",

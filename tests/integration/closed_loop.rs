@@ -260,6 +260,28 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
     }
 }
 
+/// `--time-limit` ends the exact loop wherever it is (exit 3), says what was found by then,
+/// and writes nothing.
+#[test]
+fn the_time_limit_ends_the_main_job_with_what_was_found() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(
+        &n.path,
+        "lamp.ltl",
+        "lamp_plant.smv",
+        out.path(),
+        &["--time-limit", "0.001"],
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("time limit of 0.001 s reached before a verified machine (raise --time-limit SECONDS): no candidate yet"),
+        "{err}"
+    );
+    assert!(!out.path().join("SynthesizedFB.json").exists());
+}
+
 /// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.
 #[test]
 fn termination_signals_leave_no_nusmv_behind() {
