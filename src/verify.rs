@@ -106,7 +106,7 @@ pub enum VerifyError {
     Io(#[from] std::io::Error),
     #[error("NuSMV did not finish checking the closed loop with plant {} within {seconds} s and was killed; raise --timeout SECONDS or make the plant model smaller", plant.display())]
     Timeout { seconds: f64, plant: PathBuf },
-    #[error("the closed loop with plant {} has no {what}: every property would hold vacuously, so nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", plant.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
+    #[error("the closed loop with plant {} has no {what}: the plant allows no behaviour, so every property would hold vacuously and nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", plant.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
     Vacuous {
         plant: PathBuf,
         what: &'static str,

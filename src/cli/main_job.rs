@@ -8,9 +8,10 @@ use super::progress::Progress;
 use super::show::{print_files, verified_line};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
+use fbsynth::pipeline::explain::{self, Explanation};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
 use fbsynth::pipeline::recordings::{read_ecc, stem};
-use fbsynth::pipeline::{self, exact, search};
+use fbsynth::pipeline::{self, exact, limit, search};
 use std::path::PathBuf;
 
 /// Arguments of the main job (no subcommand).
@@ -47,6 +48,10 @@ pub struct MainArgs {
     /// Give up after this many candidate controllers.
     #[arg(long, default_value_t = 500, value_name = "N")]
     pub max_iterations: usize,
+    /// Give up after this many seconds of synthesis and verification, with either method
+    /// (exit 3, saying what was found by then).
+    #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
+    pub time_limit: f64,
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
@@ -89,9 +94,6 @@ pub struct SearchArgs {
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, value_parser = super::args::workers())]
     pub threads: Option<usize>,
-    /// Give up after this many seconds.
-    #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
-    pub time_limit: f64,
     /// States of every candidate (default: 8, or the SAT machine's with --start sat).
     #[arg(long, value_name = "C", value_parser = super::args::states())]
     pub states: Option<usize>,
@@ -133,6 +135,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             "the main job needs --ltl FILE and --plant FILE (or use a subcommand: synth --help)",
         ));
     };
+    let time_limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
     let traces = if args.traces.is_empty() {
         let default = ltl.with_file_name(format!("{}.traces", stem(ltl)));
         if !default.is_file() {
@@ -169,6 +172,10 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         ltl.display(),
         plant_file.display()
     ));
+    // Before any synthesis: recordings that violate a property leave no machine to find.
+    let explained =
+        explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
+    progress.line(&recordings_line(&explained, problem.props.len()));
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let out = out_dir(&args.out, &stem(ltl));
@@ -193,7 +200,13 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 keep_failed_model: Some(out.join("closed_loop.last.smv")),
                 ..exact::Options::default()
             };
-            let r = exact::run(&set, Some(&check), &opts, &mut |e| progress.event(e))?;
+            let r =
+                limit::exact_within(&set, &check, &opts, time_limit, &mut |e| progress.event(e));
+            if let Err(pipeline::Error::TimeLimit { .. }) = &r {
+                // The loop's thread is still running: its NuSMV must not outlive us.
+                fbsynth::nusmv::kill_all_children();
+            }
+            let r = r?;
             let certificate = r.certificate.expect("a check gives a certificate");
             let sat_total: f64 = r.iterations.iter().map(|i| i.sat_seconds).sum();
             let nusmv_total: f64 = r.iterations.iter().map(|i| i.nusmv_seconds).sum();
@@ -226,7 +239,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             let opts = search::Options {
                 seed: s.seed,
                 threads: s.threads,
-                time_limit: s.time_limit,
+                time_limit: args.time_limit,
                 states: s.states,
                 colonies: s.colonies,
                 start: s.start.into(),
@@ -272,6 +285,19 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     println!("{closing}");
     print_files(&out, &files);
     Ok(())
+}
+
+/// The progress line after the recordings were checked against the properties.
+fn recordings_line(e: &Explanation, properties: usize) -> String {
+    let mut line = format!(
+        "checked {} of {properties} properties on the recordings, none violated",
+        e.checked
+    );
+    if !e.undecidable.is_empty() {
+        let names: Vec<&str> = e.undecidable.iter().map(|u| u.property.as_str()).collect();
+        line.push_str(&format!(" ({} read names not recorded)", names.join(", ")));
+    }
+    line
 }
 
 /// `synth verify`.

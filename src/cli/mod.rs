@@ -39,7 +39,8 @@ Exit codes:
   0   success
   1   bad input (file, line and step are named) or a failed check
   2   command-line usage error
-  3   no machine exists within the given limits (e.g. --max-states)
+  3   no machine exists within the given limits (--max-states, --max-iterations,
+      --time-limit)
   70  internal error: a bug in synth, please report it";
 
 const ABOUT: &str =

@@ -3,7 +3,9 @@
 //! In: the text of a specification file. Out: a list of [`Property`] (label, formula, line),
 //! checked before NuSMV ever runs, so that a mistake is reported at the line of the user's file.
 //! A formula can then be printed as NuSMV text ([`Ltl::to_smv`]) or evaluated on a lasso-shaped
-//! run ([`Ltl::holds_on_lasso`]), which is how a counterexample's real loop point is chosen.
+//! run ([`Ltl::holds_on_lasso`]), which is how a counterexample's real loop point is chosen, or
+//! in three values on a finite prefix ([`Ltl::truth_on_prefix`]), which is how recordings that
+//! already violate a property are found.
 //!
 //! # File format
 //! ```text
@@ -35,9 +37,11 @@
 //! Two deliberate departures from NuSMV's lexer, which reads `a->b` as the name `a-` followed by
 //! `>`, and `a--b` as one name: here `->` is always an implication and `--` always a comment.
 
+mod finite;
 mod lasso;
 mod parse;
 
+pub use finite::{NotEvaluable, Truth};
 pub use lasso::EvalError;
 pub use parse::{parse_spec, parse_spec_file, LtlError, LtlErrorKind};
 

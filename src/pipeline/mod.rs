@@ -10,11 +10,12 @@
 //!
 //! | method | function | result |
 //! |---|---|---|
-//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] | [`exact::Exact`] |
+//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] (with a time limit: [`limit::exact_within`]) | [`exact::Exact`] |
 //! | metaheuristic search with verification-aware fitness | [`search::run`] | [`search::Searched`] |
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
 //! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
+//! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
 //!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
 //! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
@@ -28,6 +29,8 @@
 pub mod cegis;
 pub mod closed_loop;
 pub mod exact;
+pub mod explain;
+pub mod limit;
 pub mod modular;
 pub mod noisy;
 pub mod output;
@@ -142,6 +145,8 @@ pub enum Error {
     #[error(transparent)]
     Cegis(#[from] cegis::CegisError),
     #[error(transparent)]
+    RecordingsViolate(#[from] explain::RecordingsViolate),
+    #[error(transparent)]
     Export(#[from] crate::export::ExportError),
     #[error(transparent)]
     Json(#[from] crate::export::json::JsonError),
@@ -162,6 +167,9 @@ pub enum Error {
     /// No machine within the limits given.
     #[error("{0}")]
     NoMachine(String),
+    /// The time limit passed before a machine was verified.
+    #[error("time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): {so_far}")]
+    TimeLimit { seconds: f64, so_far: limit::SoFar },
     /// A broken invariant.
     #[error("{0}")]
     Bug(String),
@@ -177,7 +185,8 @@ impl Error {
             | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
             | Error::Modular(ModularError::NoController { .. })
-            | Error::NoMachine(_) => Class::NoMachine,
+            | Error::NoMachine(_)
+            | Error::TimeLimit { .. } => Class::NoMachine,
             Error::Sat(SatError::Bug(_))
             | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
             | Error::Cegis(cegis::CegisError::Disagreement { .. })

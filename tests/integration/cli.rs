@@ -294,7 +294,7 @@ fn times_that_are_not_finite_positive_seconds_are_usage_errors() {
         "/bin/true",
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
-    assert!(text(&o.stderr).contains("--time-limit takes a non-negative number"));
+    assert!(text(&o.stderr).contains("--time-limit takes a positive number"));
     let o = synth(&[
         "infer",
         "--traces",
@@ -473,4 +473,59 @@ fn sizes_that_would_exhaust_the_machine_are_usage_errors() {
         let o = synth(&args);
         assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o.stderr));
     }
+}
+
+/// Recordings that already violate a property end the main job before any synthesis, and
+/// before NuSMV is needed: the message names the property with its line, and the file, line
+/// and step of the first violating state, plain or gzipped (fbSAT's CRLF layout).
+#[test]
+fn recordings_that_violate_a_property_are_refused_before_synthesis() {
+    let dir = "tests/data/explain";
+    let main = |traces: &str| {
+        synth(&[
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            traces,
+            "--input-names",
+            &format!("{dir}/input-names"),
+            "--output-names",
+            &format!("{dir}/output-names"),
+            "--out",
+            "/nonexistent/never-written",
+            "--nusmv",
+            "/nonexistent/NuSMV",
+        ])
+    };
+    let expected = |file: &str| {
+        format!(
+            "error: the recordings violate property up_before_moving (specs/pnp.ltl:17): first at \
+             {file}:3 step 5 (its inputs with the outputs after step 4); 2 of the 15 states the \
+             recordings show violate it; no controller that reproduces them can satisfy it\n"
+        )
+    };
+    let plain = format!("{dir}/diagonal.traces");
+    let o = main(&plain);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).ends_with(&expected(&plain)),
+        "{}",
+        text(&o.stderr)
+    );
+
+    let tmp = tempfile::tempdir().unwrap();
+    let gz = tmp.path().join("diagonal.gz");
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut enc, &std::fs::read(&plain).unwrap()).unwrap();
+    std::fs::write(&gz, enc.finish().unwrap()).unwrap();
+    let gz = gz.to_str().unwrap();
+    let o = main(gz);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).ends_with(&expected(gz)),
+        "{}",
+        text(&o.stderr)
+    );
 }

@@ -221,32 +221,65 @@ fn pick_and_place_main_job_is_verified() {
 }
 
 /// A plant whose constraints no run satisfies makes every property hold vacuously: synth
-/// must refuse to call anything verified, whether the constraint empties the states
-/// (NuSMV warns) or only the fair paths (NuSMV says nothing).
+/// must refuse to call anything verified, whether the constraint empties the initial states
+/// (INIT), all states (INVAR; NuSMV warns for both), the transitions (TRANS) or only the fair
+/// paths (FAIRNESS; NuSMV says nothing). The main job and `synth verify` both say so.
 #[test]
 fn a_plant_without_runs_is_an_error_not_a_verification() {
     let Some(n) = nusmv_or_skip() else { return };
-    for plant in ["vacuous_invar_plant.smv", "vacuous_fairness_plant.smv"] {
-        let out = tempfile::tempdir().unwrap();
-        let o = main_job(&n.path, "lamp.ltl", plant, out.path(), &[]);
+    const PLANTS: [&str; 4] = [
+        "vacuous_init_plant.smv",
+        "vacuous_invar_plant.smv",
+        "vacuous_trans_plant.smv",
+        "vacuous_fairness_plant.smv",
+    ];
+    let no_behaviour = |plant: &str, o: &Output| {
         assert_eq!(o.status.code(), Some(1), "{plant}: {}", text(&o.stdout));
         let err = text(&o.stderr);
         assert!(
-            err.contains(&format!("plant {DIR}/{plant} has no")) && err.contains("vacuously"),
-            "{err}"
+            err.contains(&format!("plant {DIR}/{plant} has no"))
+                && err.contains("the plant allows no behaviour")
+                && err.contains("vacuously"),
+            "{plant}: {err}"
         );
+        assert!(!text(&o.stdout).contains("verified"), "{plant}");
+    };
+    for plant in PLANTS {
+        let out = tempfile::tempdir().unwrap();
+        let o = main_job(&n.path, "lamp.ltl", plant, out.path(), &[]);
+        no_behaviour(plant, &o);
         assert!(!out.path().join("SynthesizedFB.json").exists());
-        assert!(!text(&o.stdout).contains("verified"));
     }
     // `synth verify` of a machine that holds with the real plant.
     let out = tempfile::tempdir().unwrap();
     let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", out.path(), &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let json = out.path().join("SynthesizedFB.json");
-    let o = verify_lamp_with(&n.path, &json, "vacuous_fairness_plant.smv");
-    assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o.stderr).contains("vacuously"), "{}", text(&o.stderr));
-    assert!(!text(&o.stdout).contains("verified"));
+    for plant in PLANTS {
+        no_behaviour(plant, &verify_lamp_with(&n.path, &json, plant));
+    }
+}
+
+/// `--time-limit` ends the exact loop wherever it is (exit 3), says what was found by then,
+/// and writes nothing.
+#[test]
+fn the_time_limit_ends_the_main_job_with_what_was_found() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(
+        &n.path,
+        "lamp.ltl",
+        "lamp_plant.smv",
+        out.path(),
+        &["--time-limit", "0.001"],
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("time limit of 0.001 s reached before a verified machine (raise --time-limit SECONDS): no candidate yet"),
+        "{err}"
+    );
+    assert!(!out.path().join("SynthesizedFB.json").exists());
 }
 
 /// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.

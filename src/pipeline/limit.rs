@@ -1,0 +1,114 @@
+//! A time limit on exact synthesis with NuSMV in the loop ([`exact::run`]).
+//!
+//! In: what [`exact::run`] takes, and a limit. Out: its result, or, when the limit passes
+//! first, [`Error::TimeLimit`] saying what had been found by then (the lower bounds, the
+//! candidates and what the last one failed).
+//!
+//! The loop runs on a thread of its own and sends its events here; this thread forwards them
+//! to the caller and waits for the result until the deadline. So the limit holds whatever the
+//! loop is doing, a SAT call or a NuSMV check, without a check inside either. When the limit
+//! passes the loop's thread is left to end with the process: a command line that gives up
+//! exits (after killing NuSMV, [`crate::nusmv::kill_all_children`]); a long-lived caller
+//! should know that the thread still computes until its current SAT call returns.
+
+use super::cegis::Iteration;
+use super::exact::{self, Exact};
+use super::{Check, Error, Event, Events};
+use crate::scenario::ScenarioSet;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// An event of the loop, owned so that it can cross threads.
+enum Message {
+    Solver(crate::sat::Step),
+    LowerBounds { c: usize, t: usize, seconds: f64 },
+    Candidate(Iteration),
+    Done(Box<Result<Exact, Error>>),
+}
+
+/// What the loop had found when the limit passed.
+#[derive(Debug, Clone, Default)]
+pub struct SoFar {
+    /// Lower bounds on C and T from the recorded inputs alone.
+    pub lower_bounds: Option<(usize, usize)>,
+    /// Candidates checked by NuSMV (none verified), the last one last.
+    pub candidates: Vec<Iteration>,
+}
+
+impl std::fmt::Display for SoFar {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let bounds = self
+            .lower_bounds
+            .map(|(c, t)| format!("lower bounds C >= {c}, T >= {t}"));
+        match (self.candidates.last(), bounds) {
+            (None, None) => write!(f, "no candidate yet, lower bounds not yet known"),
+            (None, Some(b)) => write!(f, "no candidate yet ({b})"),
+            (Some(last), _) => write!(
+                f,
+                "{} candidate{}, none verified; the last, C = {} T = {}, fails {}",
+                self.candidates.len(),
+                if self.candidates.len() == 1 { "" } else { "s" },
+                last.c,
+                last.t,
+                last.failing.join(", ")
+            ),
+        }
+    }
+}
+
+/// [`exact::run`] with `check`, given up after `limit`.
+pub fn exact_within(
+    set: &ScenarioSet,
+    check: &Check,
+    opts: &exact::Options,
+    limit: Duration,
+    events: Events<'_>,
+) -> Result<Exact, Error> {
+    let deadline = Instant::now() + limit;
+    let (tx, rx) = mpsc::channel();
+    {
+        let (set, check, opts) = (set.clone(), check.clone(), opts.clone());
+        std::thread::spawn(move || {
+            let forward = tx.clone();
+            let result = exact::run(&set, Some(&check), &opts, &mut |e| {
+                let m = match e {
+                    Event::Solver(s) => Message::Solver(s),
+                    Event::LowerBounds { c, t, seconds } => Message::LowerBounds { c, t, seconds },
+                    Event::Candidate(it) => Message::Candidate(it.clone()),
+                    // The exact loop emits nothing else.
+                    _ => return,
+                };
+                // The receiver is gone once the limit passed: nobody listens any more.
+                let _ = forward.send(m);
+            });
+            let _ = tx.send(Message::Done(Box::new(result)));
+        });
+    }
+    let mut so_far = SoFar::default();
+    loop {
+        let wait = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(wait) {
+            Ok(Message::Solver(s)) => events(Event::Solver(s)),
+            Ok(Message::LowerBounds { c, t, seconds }) => {
+                so_far.lower_bounds = Some((c, t));
+                events(Event::LowerBounds { c, t, seconds });
+            }
+            Ok(Message::Candidate(it)) => {
+                events(Event::Candidate(&it));
+                so_far.candidates.push(it);
+            }
+            Ok(Message::Done(result)) => return *result,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                return Err(Error::TimeLimit {
+                    seconds: limit.as_secs_f64(),
+                    so_far,
+                })
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(Error::Bug(
+                    "the synthesis thread ended without a result".into(),
+                ))
+            }
+        }
+    }
+}
