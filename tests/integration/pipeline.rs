@@ -140,3 +140,39 @@ fn refine_learns_divergent_traces_in_process() {
     let again = refine::run(refined.ecc(), &new, old, None, &opts, &mut |_| {}).unwrap();
     assert!(again.is_none());
 }
+
+/// Safety properties that demand behaviour the recording lacks: the loop gets it from the
+/// properties inside the encoding (environments from the in-process checker's
+/// counterexamples), and NuSMV certifies the result.
+#[test]
+fn properties_inside_the_encoding_supply_unrecorded_behaviour() {
+    let set = lamp();
+    let Some(nusmv) = nusmv_or_skip() else {
+        return;
+    };
+    let problem = Problem::load(
+        &file("tests/data/closed_loop/lamp_safety.ltl"),
+        &file("tests/data/closed_loop/lamp_plant.smv"),
+        &set.inputs,
+        &set.outputs,
+    )
+    .unwrap();
+    assert!(problem.model.is_ok(), "{:?}", problem.model.as_ref().err());
+    let check = Check::new(problem, nusmv);
+    // The recording alone: the lamp never goes out.
+    let alone = exact::run(&set, None, &exact::Options::default(), &mut |_| {}).unwrap();
+    assert!(!pipeline::verify(&alone.synthesis.ecc, &check)
+        .unwrap()
+        .report
+        .all_hold());
+    let r = exact::run(&set, Some(&check), &exact::Options::default(), &mut |_| {}).unwrap();
+    let cert = r.certificate.expect("checked");
+    assert!(cert.report.all_hold(), "{}", cert.report.to_text());
+    set.check(&r.synthesis.ecc).unwrap();
+    assert!(
+        r.iterations.iter().any(|i| i.checked_by == "in-process"),
+        "the in-process checker found no counterexample: {:?}",
+        r.iterations
+    );
+    assert_eq!(r.iterations.last().unwrap().checked_by, "NuSMV");
+}
