@@ -31,6 +31,21 @@ pub fn is_identifier(name: &str) -> bool {
     name.starts_with(|c: char| c.is_ascii_alphabetic()) && name.chars().all(word_char)
 }
 
+/// NuSMV 2.5's reserved words as its lexer lists them: none can be a name in a file the
+/// tool reads (LTL specifications, plants). [`SMV_KEYWORDS`] is the rule for names it writes.
+#[rustfmt::skip]
+pub const NUSMV_LEXER_KEYWORDS: &[&str] = &[
+    "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
+    "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
+    "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
+    "INVARSPEC", "ISA", "IVAR", "Integer", "JUSTICE", "LTLSPEC", "LTLWFF", "MAX", "MDEFINE", "MIN",
+    "MIRROR", "MODULE", "NAME", "NEXTWFF", "O", "PRED", "PREDICATES", "PSLSPEC", "READ", "Real",
+    "S", "SIMPWFF", "SPEC", "T", "TRANS", "TRUE", "U", "V", "VAR", "WRITE", "Word", "X", "Y", "Z",
+    "array", "bool", "boolean", "case", "count", "esac", "extend", "in", "init", "integer", "mod",
+    "next", "of", "process", "real", "resize", "self", "signed", "sizeof", "swconst", "toint",
+    "union", "unsigned", "uwconst", "word", "word1", "xnor", "xor",
+];
+
 /// Words NuSMV 2.5/2.6 reserves (case-sensitive), plus the LTL/CTL operator letters, which
 /// NuSMV's lexer also treats as keywords.
 pub const SMV_KEYWORDS: &[&str] = &[

@@ -6,6 +6,7 @@
 //! and column, and the source line.
 
 use super::{default_name, CmpOp, Ltl, Property};
+use crate::ecc::ident::NUSMV_LEXER_KEYWORDS;
 use pest::iterators::Pair;
 use pest::Parser;
 use std::collections::BTreeMap;
@@ -237,22 +238,8 @@ fn is_identifier(s: &str) -> bool {
         && !is_keyword(s)
 }
 
-/// NuSMV 2.5's reserved words (its lexer's keyword list): none can be a name.
-#[rustfmt::skip]
-const KEYWORDS: &[&str] = &[
-    "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
-    "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
-    "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
-    "INVARSPEC", "ISA", "IVAR", "Integer", "JUSTICE", "LTLSPEC", "LTLWFF", "MAX", "MDEFINE", "MIN",
-    "MIRROR", "MODULE", "NAME", "NEXTWFF", "O", "PRED", "PREDICATES", "PSLSPEC", "READ", "Real",
-    "S", "SIMPWFF", "SPEC", "T", "TRANS", "TRUE", "U", "V", "VAR", "WRITE", "Word", "X", "Y", "Z",
-    "array", "bool", "boolean", "case", "count", "esac", "extend", "in", "init", "integer", "mod",
-    "next", "of", "process", "real", "resize", "self", "signed", "sizeof", "swconst", "toint",
-    "union", "unsigned", "uwconst", "word", "word1", "xnor", "xor",
-];
-
 fn is_keyword(s: &str) -> bool {
-    KEYWORDS.contains(&s)
+    NUSMV_LEXER_KEYWORDS.contains(&s)
 }
 
 /// Builds a formula that stands where a Boolean formula is expected (not a bare integer).

@@ -915,22 +915,8 @@ const SYNTAX_KEYWORDS: &[&str] = &[
     "boolean", "init", "next", "case", "esac", "TRUE", "FALSE", "mod", "xor", "xnor",
 ];
 
-/// NuSMV 2.5's reserved words (as in `grammar/smv.pest`).
-#[rustfmt::skip]
-const KEYWORDS: &[&str] = &[
-    "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
-    "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
-    "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
-    "INVARSPEC", "ISA", "IVAR", "Integer", "JUSTICE", "LTLSPEC", "LTLWFF", "MAX", "MDEFINE", "MIN",
-    "MIRROR", "MODULE", "NAME", "NEXTWFF", "O", "PRED", "PREDICATES", "PSLSPEC", "READ", "Real",
-    "S", "SIMPWFF", "SPEC", "T", "TRANS", "TRUE", "U", "V", "VAR", "WRITE", "Word", "X", "Y", "Z",
-    "array", "bool", "boolean", "case", "count", "esac", "extend", "in", "init", "integer", "mod",
-    "next", "of", "process", "real", "resize", "self", "signed", "sizeof", "swconst", "toint",
-    "union", "unsigned", "uwconst", "word", "word1", "xnor", "xor",
-];
-
 fn is_keyword(s: &str) -> bool {
-    KEYWORDS.contains(&s)
+    crate::ecc::ident::NUSMV_LEXER_KEYWORDS.contains(&s)
 }
 
 /// A token that reads as a name (keywords included).
