@@ -647,22 +647,13 @@ impl<'a> Synthesizer<'a> {
             // end at the minimum, so that the free search below has one bound to refute.
             let mut hinted_base = base_t.clone();
             hinted_base.extend(hint_lits(enc));
-            let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
-            t = enc.solver.descend(
+            t = descend_t(
+                enc,
                 &hinted_base,
-                t,
-                t_floor,
-                |b| total_t.at_most(b),
-                |b| {
-                    progress(Step::Trying {
-                        bound: Bound::T,
-                        value: b,
-                    })
-                },
-                |m| {
-                    structure = decode_with(&m, vars, alphabet);
-                    structure.transition_count()
-                },
+                (t, t_floor),
+                &mut structure,
+                &decode_with,
+                progress,
             );
         }
         match self.t_lo {
@@ -718,22 +709,13 @@ impl<'a> Synthesizer<'a> {
                 }
             }
             _ => {
-                let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
-                t = enc.solver.descend(
+                t = descend_t(
+                    enc,
                     &base_t,
-                    t,
-                    t_floor,
-                    |b| total_t.at_most(b),
-                    |b| {
-                        progress(Step::Trying {
-                            bound: Bound::T,
-                            value: b,
-                        })
-                    },
-                    |m| {
-                        structure = decode_with(&m, vars, alphabet);
-                        structure.transition_count()
-                    },
+                    (t, t_floor),
+                    &mut structure,
+                    &decode_with,
+                    progress,
                 );
             }
         }
@@ -869,6 +851,38 @@ impl<'a> Synthesizer<'a> {
             colors: structure.colors,
         })
     }
+}
+
+/// Decodes a model of an encoding with its alphabet.
+type Decoder<'a> = dyn Fn(&Model, &Vars, &[Vec<bool>]) -> Structure + 'a;
+
+/// The least `T` from `t` down to `floor` under `base` ([`Solver::descend`] on the transition
+/// counter); `structure` ends as the machine of the last model found.
+fn descend_t(
+    enc: &mut Encoding,
+    base: &[Lit],
+    (t, floor): (usize, usize),
+    structure: &mut Structure,
+    decode_with: &Decoder<'_>,
+    progress: Progress<'_>,
+) -> usize {
+    let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
+    enc.solver.descend(
+        base,
+        t,
+        floor,
+        |b| total_t.at_most(b),
+        |b| {
+            progress(Step::Trying {
+                bound: Bound::T,
+                value: b,
+            })
+        },
+        |m| {
+            *structure = decode_with(&m, vars, alphabet);
+            structure.transition_count()
+        },
+    )
 }
 
 /// Synthesizes a minimal ECC reproducing every scenario of `set`.
