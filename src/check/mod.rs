@@ -117,6 +117,22 @@ impl Coupling {
     fn params(&self, o: u64) -> Vec<bool> {
         self.params.iter().map(|&z| o >> z & 1 == 1).collect()
     }
+
+    /// The controller's inputs (interface order) on a state of the closed loop.
+    pub fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
+        let sem = Semantics::new(model);
+        let params: Vec<bool> = self.params.iter().map(|&z| s.outputs[z]).collect();
+        self.inputs
+            .iter()
+            .map(|name| match sem.read(*name, &s.plant, &params)? {
+                Value::Bool(b) => Ok(b),
+                other => Err(CheckError::Coupling {
+                    file: model.file.display().to_string(),
+                    message: format!("a controller input has the value {}", model.show(other)),
+                }),
+            })
+            .collect()
+    }
 }
 
 /// The verdict on one property.
