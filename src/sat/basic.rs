@@ -282,6 +282,10 @@ impl Encoding {
     }
 }
 
+/// How long a candidate ([`Proofs::Skip`]) may look for fewer transitions than its colouring
+/// gives, down to the proven bound: a refutation in closed loop can take minutes.
+const CANDIDATE_T_BUDGET: Duration = Duration::from_millis(1500);
+
 /// Hints kept by a [`Synthesizer`] (the colourings of its latest machines).
 const MAX_HINTS: usize = 6;
 
@@ -326,6 +330,11 @@ pub struct Synthesizer<'a> {
     minimize_n: bool,
     /// Colourings of the tree nodes to try first, newest last (see [`Self::hint`]).
     hints: Vec<Vec<usize>>,
+    /// The size of the latest machine (where the next candidate's search starts).
+    last: Option<Size>,
+    /// `(c, b)`: a free search for at most `b` transitions with `c` states gave up at its
+    /// deadline.
+    t_timed_out: Option<(usize, usize)>,
     proofs: Proofs,
     stats: Stats,
 }
@@ -367,6 +376,8 @@ impl<'a> Synthesizer<'a> {
             environments: Vec::new(),
             minimize_n: true,
             hints: Vec::new(),
+            last: None,
+            t_timed_out: None,
             proofs,
             stats,
         }
@@ -627,6 +638,55 @@ impl<'a> Synthesizer<'a> {
             Some((c0, lo)) if c0 == c && !opts.minimize_k => lo,
             _ => 0,
         };
+        // Without proofs and without a hint that fits, the free machine just found has many
+        // more transitions than needed; one bounded call at the last candidate's count (or
+        // the proven bound) usually finds a machine near the least, where descending one
+        // transition at a time from the free machine takes dozens of calls.
+        // Without proofs the first machine found has many more transitions than needed (the
+        // transitions are free even with a hinted colouring); one bounded call just above the
+        // latest machine's count usually lands near the least, where descending one transition
+        // at a time takes dozens of calls. With the hint the call is cheap; without, it is a
+        // free search and gets a deadline.
+        let mut hinted_floor = t_floor;
+        if self.proofs == Proofs::Skip && !opts.minimize_k {
+            let target = match (self.t_lo, self.last) {
+                (Some((c0, lo)), Some(last)) if c0 == c && last.c == c => Some(lo.max(last.t) + 1),
+                (_, Some(last)) if last.c == c => Some(last.t + 1),
+                _ => None,
+            };
+            if let Some((target, b)) = target
+                .filter(|&b| b < t)
+                .and_then(|b| Some((b, enc.total_t.at_most(b)?)))
+            {
+                progress(Step::Trying {
+                    bound: Bound::T,
+                    value: target,
+                });
+                let mut assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
+                let found = match &hint {
+                    Some(h) => {
+                        assume.extend(colouring(enc, h));
+                        enc.solver.solve(&assume)
+                    }
+                    None => match enc
+                        .solver
+                        .solve_within(&assume, Instant::now() + CANDIDATE_T_BUDGET)
+                    {
+                        Bounded::Sat(m) => Some(m),
+                        _ => None,
+                    },
+                };
+                match found {
+                    Some(m) => {
+                        structure = decode(&m, enc);
+                        t = structure.transition_count();
+                    }
+                    // Proven for the hinted colouring only: its descent below stops above.
+                    None if hint.is_some() => hinted_floor = target + 1,
+                    None => {}
+                }
+            }
+        }
         // Without proofs, the colouring just found serves as the hint when none was given.
         let hint = match (&hint, self.proofs) {
             (None, Proofs::Skip) => Some(structure.colors.clone()),
@@ -650,7 +710,7 @@ impl<'a> Synthesizer<'a> {
             t = descend_t(
                 enc,
                 &hinted_base,
-                (t, t_floor),
+                (t, hinted_floor.max(t_floor)),
                 &mut structure,
                 &decode_with,
                 progress,
@@ -658,36 +718,45 @@ impl<'a> Synthesizer<'a> {
         }
         match self.t_lo {
             Some((c0, lo)) if c0 == c && !opts.minimize_k && lo == t => {}
-            _ if self.proofs == Proofs::Skip => transitions_exact = false,
+            // Without proofs, fewer transitions with any colouring only down to a proven
+            // bound: every step there finds a machine, and the step that fails (if the loop's
+            // constraints need more) proves a bound that later calls keep.
+            // A bound that timed out once is not tried again: the loop only adds constraints.
+            _ if self.proofs == Proofs::Skip => match self.t_lo {
+                Some((c0, lo)) if c0 == c && !opts.minimize_k && lo > 0 && lo < t => {
+                    let floor = match self.t_timed_out {
+                        Some((c1, b)) if c1 == c => lo.max(b + 1),
+                        _ => lo,
+                    };
+                    (t, transitions_exact) = descend_t_within(
+                        enc,
+                        &base_t,
+                        (t, floor),
+                        Instant::now() + CANDIDATE_T_BUDGET,
+                        &mut structure,
+                        &decode_with,
+                        progress,
+                    );
+                    if !transitions_exact {
+                        self.t_timed_out = Some((c, t - 1));
+                    }
+                    transitions_exact &= floor == lo;
+                }
+                _ => transitions_exact = false,
+            },
             _ if matches!(self.proofs, Proofs::Budget(_)) => {
                 let Proofs::Budget(budget) = self.proofs else {
                     unreachable!()
                 };
-                let deadline = Instant::now() + budget;
-                loop {
-                    if t <= t_floor {
-                        break;
-                    }
-                    let Some(b) = enc.total_t.at_most(t - 1) else {
-                        break;
-                    };
-                    progress(Step::Trying {
-                        bound: Bound::T,
-                        value: t - 1,
-                    });
-                    let assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
-                    match enc.solver.solve_within(&assume, deadline) {
-                        Bounded::Sat(m) => {
-                            structure = decode(&m, enc);
-                            t = structure.transition_count();
-                        }
-                        Bounded::Unsat => break,
-                        Bounded::Unknown => {
-                            transitions_exact = false;
-                            break;
-                        }
-                    }
-                }
+                (t, transitions_exact) = descend_t_within(
+                    enc,
+                    &base_t,
+                    (t, t_floor),
+                    Instant::now() + budget,
+                    &mut structure,
+                    &decode_with,
+                    progress,
+                );
             }
             Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t && hint.is_none() => {
                 let mut bound = lo;
@@ -722,6 +791,7 @@ impl<'a> Synthesizer<'a> {
         if !opts.minimize_k && transitions_exact {
             self.t_lo = Some((c, t));
         }
+
         progress(Step::Minimal {
             bound: Bound::T,
             value: t,
@@ -753,6 +823,33 @@ impl<'a> Synthesizer<'a> {
                             .enumerate()
                             .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q)),
                     );
+                }
+                // Straight to the latest machine's N: near it is where this one usually ends.
+                let mut n = n;
+                let mut start = start;
+                // (One literal more per extra transition.)
+                let target = self
+                    .last
+                    .filter(|l| l.c == c && l.t <= t)
+                    .map(|l| l.n + (t - l.t))
+                    .filter(|&b| b < n && b >= start);
+                if let Some(target) = target {
+                    if self.minimize_n {
+                        if let Some(b) = total_n.at_most(target) {
+                            progress(Step::Trying {
+                                bound: Bound::N,
+                                value: target,
+                            });
+                            let assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
+                            match enc.solver.solve(&assume) {
+                                Some(m) => {
+                                    structure = decode(&m, enc);
+                                    n = structure.literal_count();
+                                }
+                                None => start = target + 1,
+                            }
+                        }
+                    }
                 }
                 let (vars, alphabet) = (&enc.vars, &enc.alphabet);
                 let mut n = enc.solver.descend(
@@ -840,6 +937,7 @@ impl<'a> Synthesizer<'a> {
             )));
         }
         let size = ecc.size();
+        self.last = Some(size);
         progress(Step::Guards { n: size.n, exact });
         self.hint(structure.colors.clone());
         Ok(Synthesis {
@@ -883,6 +981,38 @@ fn descend_t(
             structure.transition_count()
         },
     )
+}
+
+/// As [`descend_t`], each call on a fresh solver that gives up at `deadline`; also says
+/// whether the result is proven least (`false`: the deadline came first).
+fn descend_t_within(
+    enc: &mut Encoding,
+    base: &[Lit],
+    (mut t, floor): (usize, usize),
+    deadline: Instant,
+    structure: &mut Structure,
+    decode_with: &Decoder<'_>,
+    progress: Progress<'_>,
+) -> (usize, bool) {
+    while t > floor {
+        let Some(b) = enc.total_t.at_most(t - 1) else {
+            break;
+        };
+        progress(Step::Trying {
+            bound: Bound::T,
+            value: t - 1,
+        });
+        let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+        match enc.solver.solve_within(&assume, deadline) {
+            Bounded::Sat(m) => {
+                *structure = decode_with(&m, &enc.vars, &enc.alphabet);
+                t = structure.transition_count();
+            }
+            Bounded::Unsat => break,
+            Bounded::Unknown => return (t, false),
+        }
+    }
+    (t, true)
 }
 
 /// Synthesizes a minimal ECC reproducing every scenario of `set`.

@@ -111,7 +111,7 @@ impl fmt::Display for Step {
                 if *exact {
                     " (minimal)"
                 } else {
-                    " (budget reached, not proven minimal)"
+                    " (not proven minimal)"
                 }
             ),
             Step::Reencoding { states, per_module } => write!(
