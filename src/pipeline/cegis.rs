@@ -9,7 +9,7 @@
 //! the loop repeats on the same solver. When the current number of states cannot leave every
 //! lasso the minimization itself moves on to more states.
 
-use super::closed_loop::{environment_of, ClosedLoop};
+use super::closed_loop::{environment_of, negative_of, ClosedLoop};
 use super::{Event, Events};
 use crate::check;
 use crate::nusmv::CheckMode;
@@ -33,11 +33,16 @@ pub struct Config {
     pub proof_budget: std::time::Duration,
 }
 
+/// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
+/// NuSMV verified just before (which is then the result, with that verdict).
+pub const UNCHANGED: &str = "unchanged";
+
 /// One iteration, for progress and for the benchmark figures.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Iteration {
     pub number: usize,
-    /// Who found the verdict: `in-process` (a counterexample, fed back at once) or `NuSMV`.
+    /// Who found the verdict: `in-process` (a counterexample, fed back at once), `NuSMV`, or
+    /// [`UNCHANGED`].
     pub checked_by: &'static str,
     pub c: usize,
     pub t: usize,
@@ -84,6 +89,131 @@ pub fn run(
     config: &Config,
     events: Events<'_>,
 ) -> Result<Verified, CegisError> {
+    std::thread::scope(|scope| {
+        let mut lower = LowerBound::none();
+        if config.sat.cube_slots.is_some() {
+            lower = LowerBound::start(scope, set, tree, &config.sat, config.verbose, events)?;
+        }
+        iterate(set, tree, verifier, closed, config, &mut lower, events)
+    })
+}
+
+/// The tree-exact minimum, which bounds the cube model from below: restricting a cube
+/// machine to the recorded inputs gives a tree-exact machine with the same states and no
+/// more edges. Its `C` (and a machine with its colouring, the first hint) takes a fraction of a
+/// second; proving its `T` minimal takes longer and runs on a second core while the loop
+/// looks for candidates, which do not need it. Only the final pass waits for it.
+/// How long the tree-exact descent on the main thread may look for fewer transitions.
+const TREE_EXACT_BUDGET: std::time::Duration = std::time::Duration::from_millis(300);
+
+/// The least `T` of the tree-exact model at its least `C`, with the colouring of a machine
+/// there when it is not the first one's.
+type LeastT = Result<(usize, Option<Vec<usize>>), SatError>;
+
+struct LowerBound<'scope> {
+    c: usize,
+    started: Instant,
+    hint: Option<Vec<usize>>,
+    proof: Option<std::thread::ScopedJoinHandle<'scope, LeastT>>,
+}
+
+impl<'scope> LowerBound<'scope> {
+    fn none() -> LowerBound<'scope> {
+        LowerBound {
+            c: 0,
+            started: Instant::now(),
+            hint: None,
+            proof: None,
+        }
+    }
+
+    fn start<'env>(
+        scope: &'scope std::thread::Scope<'scope, 'env>,
+        set: &'env ScenarioSet,
+        tree: &'env ScenarioTree,
+        sat: &Options,
+        verbose: bool,
+        events: Events<'_>,
+    ) -> Result<LowerBound<'scope>, SatError> {
+        let started = Instant::now();
+        let tree_exact = Options {
+            cube_slots: None,
+            minimize_k: false,
+            ..sat.clone()
+        };
+        // Least C proven; T the least found within a moment (the refutation that would prove
+        // it is left to the thread below).
+        let first =
+            Synthesizer::with_proofs(set, tree, &tree_exact, Proofs::Budget(TREE_EXACT_BUDGET))
+                .minimize(&mut |m| {
+                    if verbose {
+                        events(Event::Solver(m))
+                    }
+                })?;
+        let (c, t) = (first.size.c, first.size.t);
+        let proof = scope.spawn(move || {
+            // Usually the first machine's T is the least: one refutation proves it.
+            if t > 0 && !crate::sat::satisfiable(tree, &tree_exact, c, Some(t - 1)) {
+                return Ok((t, None));
+            }
+            let least = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
+            Ok((least.size.t, Some(least.colors)))
+        });
+        Ok(LowerBound {
+            c,
+            started,
+            hint: Some(first.colors),
+            proof: Some(proof),
+        })
+    }
+
+    /// Hands what is known so far to `synth`: the least C and the first colouring.
+    fn seed(&mut self, synth: &mut Synthesizer<'_>) {
+        if let Some(h) = self.hint.take() {
+            synth.assume_lower_bounds(self.c, 0);
+            synth.hint(h);
+        }
+    }
+
+    /// Hands the proven minimum to `synth` once it is there: the bound on `T` and the
+    /// colouring of a machine at that bound. With `wait`, waits for it.
+    fn settle(
+        &mut self,
+        synth: &mut Synthesizer<'_>,
+        wait: bool,
+        events: Events<'_>,
+    ) -> Result<(), SatError> {
+        if !wait && self.proof.as_ref().is_some_and(|p| !p.is_finished()) {
+            return Ok(());
+        }
+        let Some(proof) = self.proof.take() else {
+            return Ok(());
+        };
+        let (t, colors) = proof
+            .join()
+            .map_err(|_| SatError::Bug("the lower-bound proof panicked".into()))??;
+        synth.assume_lower_bounds(self.c, t);
+        if let Some(colors) = colors {
+            synth.hint(colors);
+        }
+        events(Event::LowerBounds {
+            c: self.c,
+            t,
+            seconds: self.started.elapsed().as_secs_f64(),
+        });
+        Ok(())
+    }
+}
+
+fn iterate(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    verifier: &mut Verifier,
+    closed: Option<&ClosedLoop>,
+    config: &Config,
+    lower: &mut LowerBound<'_>,
+    events: Events<'_>,
+) -> Result<Verified, CegisError> {
     // Candidates need no proof of minimality; the final machine gets a budget for it.
     let (candidates, last) = if closed.is_some() {
         (Proofs::Skip, Proofs::Budget(config.proof_budget))
@@ -91,35 +221,21 @@ pub fn run(
         (Proofs::Full, Proofs::Full)
     };
     let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidates);
-    if config.sat.cube_slots.is_some() {
-        // The tree-exact minimum (a second of SAT) bounds the cube model from below.
-        let tree_exact = Options {
-            cube_slots: None,
-            minimize_k: false,
-            ..config.sat.clone()
-        };
-        let t = Instant::now();
-        let lower = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
-        synth.assume_lower_bounds(lower.size.c, lower.size.t);
-        synth.hint(lower.colors.clone());
-        events(Event::LowerBounds {
-            c: lower.size.c,
-            t: lower.size.t,
-            seconds: t.elapsed().as_secs_f64(),
-        });
-    }
+    lower.seed(&mut synth);
     let mut iterations = Vec::new();
     let mut last_failing = String::new();
-    // With properties in the encoding, candidates keep their first guards until one passes:
-    // the N descent is half the SAT time, and only the final machine needs it.
-    // The first candidate is minimized as the final one would be: on recordings that show
-    // enough, it is the answer, and minimal guards generalize best where nothing was recorded.
-    let mut final_pass = true;
-    synth.set_proofs(Proofs::Full);
+    // Candidates are minimized for their own colouring only (cheap); once one passes, the
+    // final pass tries to prove it minimal within the budget, and is checked again if that
+    // changed it. Without the closed loop every candidate gets full proofs.
+    let mut final_pass = closed.is_none();
     let mut in_process = closed.is_some();
-    synth.set_minimize_n(final_pass);
+    synth.set_minimize_n(true);
 
+    // The last candidate NuSMV passed: if the final pass finds no smaller machine, its report
+    // stands.
+    let mut passed: Option<(crate::ecc::Ecc, Report, String)> = None;
     for number in 1..=config.max_iterations {
+        lower.settle(&mut synth, final_pass, events)?;
         let t = Instant::now();
         let synthesis = synth.minimize(&mut |m| {
             if config.verbose {
@@ -127,6 +243,29 @@ pub fn run(
             }
         })?;
         let sat_seconds = t.elapsed().as_secs_f64();
+        if let Some((ecc, report, model_text)) = passed.take() {
+            if final_pass && ecc == synthesis.ecc {
+                let it = Iteration {
+                    number,
+                    checked_by: UNCHANGED,
+                    c: synthesis.size.c,
+                    t: synthesis.size.t,
+                    failing: Vec::new(),
+                    counterexample_length: None,
+                    sat_seconds,
+                    nusmv_seconds: 0.0,
+                    check_seconds: 0.0,
+                };
+                events(Event::Candidate(&it));
+                iterations.push(it);
+                return Ok(Verified {
+                    synthesis,
+                    report,
+                    iterations,
+                    model_text,
+                });
+            }
+        }
         // The in-process checker first: a counterexample from it costs milliseconds, and
         // NuSMV is asked only about candidates it cannot fault.
         let mut in_process_holds: Vec<bool> = Vec::new();
@@ -161,6 +300,34 @@ pub fn run(
                             length.get_or_insert(len);
                         }
                     }
+                    // Without a new environment, the lassos of the properties the encoding
+                    // does not carry come back as negative scenarios, as NuSMV's would.
+                    if added == 0 {
+                        for (k, v) in verdicts.iter().enumerate() {
+                            let check::Verdict::Violated(lasso) = v else {
+                                continue;
+                            };
+                            if closed.encodes(k) {
+                                continue;
+                            }
+                            let neg = negative_of(closed, lasso, &names[k]).map_err(|e| {
+                                SatError::Bug(format!("in-process counterexample: {e}"))
+                            })?;
+                            if !neg.followed_by(&synthesis.ecc) {
+                                return Err(SatError::Bug(format!(
+                                    "the candidate does not follow its own in-process {}",
+                                    neg.label
+                                ))
+                                .into());
+                            }
+                            if synth.negatives().contains(&neg) {
+                                continue;
+                            }
+                            length.get_or_insert(lasso.states.len());
+                            synth.add_negative(neg);
+                            added += 1;
+                        }
+                    }
                     if added > 0 {
                         let it = Iteration {
                             number,
@@ -177,7 +344,6 @@ pub fn run(
                         iterations.push(it);
                         last_failing = failing.join(", ");
                         final_pass = false;
-                        synth.set_minimize_n(false);
                         synth.set_proofs(candidates);
                         continue;
                     }
@@ -221,8 +387,8 @@ pub fn run(
         events(Event::Candidate(&it));
         iterations.push(it);
         if failing.is_empty() && !final_pass {
+            passed = Some((synthesis.ecc.clone(), v.report, v.model.text));
             final_pass = true;
-            synth.set_minimize_n(true);
             synth.set_proofs(last);
             continue;
         }
@@ -256,7 +422,6 @@ pub fn run(
         }
         if added > 0 {
             final_pass = false;
-            synth.set_minimize_n(false);
             synth.set_proofs(candidates);
             continue;
         }
@@ -294,6 +459,10 @@ pub fn run(
                 .into());
             }
             synth.add_negative(neg);
+        }
+        if closed.is_some() {
+            final_pass = false;
+            synth.set_proofs(candidates);
         }
     }
     Err(CegisError::Iterations {
