@@ -52,6 +52,11 @@ pub struct MainArgs {
     /// (exit 3, saying what was found by then).
     #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
     pub time_limit: f64,
+    /// Seconds the final machine's transition and literal counts may take to be proven
+    /// minimal once it is verified; past it the result says "not proven minimal". 0 skips the
+    /// proof.
+    #[arg(long, default_value_t = exact::DEFAULT_PROOF_BUDGET.as_secs_f64(), value_name = "SECONDS")]
+    pub proof_budget: f64,
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
@@ -136,6 +141,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         ));
     };
     let time_limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
+    let proof_budget = pipeline::seconds("--proof-budget", args.proof_budget, false)?;
     let traces = if args.traces.is_empty() {
         let default = ltl.with_file_name(format!("{}.traces", stem(ltl)));
         if !default.is_file() {
@@ -198,7 +204,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 max_iterations: args.max_iterations,
                 verbose: args.verbose,
                 keep_failed_model: Some(out.join("closed_loop.last.smv")),
-                ..exact::Options::default()
+                proof_budget,
             };
             let r =
                 limit::exact_within(&set, &check, &opts, time_limit, &mut |e| progress.event(e));
@@ -212,6 +218,8 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             let nusmv_total: f64 = r.iterations.iter().map(|i| i.nusmv_seconds).sum();
             let summary = serde_json::json!({
                 "size": r.synthesis.size,
+                "transitions_proven_minimal": r.synthesis.transitions_exact,
+                "guards_proven_minimal": r.synthesis.guards_exact,
                 "iterations": r.iterations,
                 "report": certificate.report,
                 "sat_seconds": sat_total,
@@ -219,12 +227,28 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 "total_seconds": progress.elapsed(),
             });
             let n = r.iterations.len();
+            // C is always proven least; T and N only when the proof fit in the budget.
+            let unproven: Vec<&str> = [
+                (!r.synthesis.transitions_exact).then_some("T"),
+                (!r.synthesis.guards_exact).then_some("N"),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             let closing = format!(
-                "{n} candidate{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
+                "{n} candidate{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s){}",
                 if n == 1 { "" } else { "s" },
                 progress.elapsed(),
                 sat_total,
-                nusmv_total
+                nusmv_total,
+                if unproven.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        "\n{} not proven minimal within the proof budget (--proof-budget SECONDS to try longer)",
+                        unproven.join(" and ")
+                    )
+                }
             );
             (
                 r.synthesis.ecc,

@@ -40,6 +40,10 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::LowerBounds { c, t, seconds } => format!(
             "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
         ),
+        Event::Candidate(it) if it.checked_by == fbsynth::pipeline::cegis::UNCHANGED => format!(
+            "iteration {}: C = {} T = {}; no smaller machine, the verified candidate is the result; SAT {:.2} s",
+            it.number, it.c, it.t, it.sat_seconds
+        ),
         Event::Candidate(it) => format!(
             "iteration {}: C = {} T = {}; {}; SAT {:.2} s, {} {:.3} s",
             it.number,

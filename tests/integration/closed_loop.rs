@@ -163,14 +163,14 @@ fn nusmv_timeout_is_one_clear_error() {
     let o = main_job(
         &n.path,
         "lamp.ltl",
-        "slow_plant.smv",
+        "slow_frozen_plant.smv",
         out.path(),
         &["--timeout", "1"],
     );
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         text(&o.stderr).trim(),
-        "error: NuSMV did not finish checking the closed loop with plant tests/data/closed_loop/slow_plant.smv within 1 s and was killed; raise --timeout SECONDS or make the plant model smaller"
+        "error: NuSMV did not finish checking the closed loop with plant tests/data/closed_loop/slow_frozen_plant.smv within 1 s and was killed; raise --timeout SECONDS or make the plant model smaller"
     );
 }
 
@@ -294,7 +294,7 @@ fn termination_signals_leave_no_nusmv_behind() {
                 "--ltl",
                 "tests/data/closed_loop/lamp.ltl",
                 "--plant",
-                "tests/data/closed_loop/slow_plant.smv",
+                "tests/data/closed_loop/slow_frozen_plant.smv",
                 "--traces",
                 "tests/data/closed_loop/lamp.traces",
                 "--out",
