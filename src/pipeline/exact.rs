@@ -100,7 +100,7 @@ impl Default for Options {
 /// Proving the literal count minimal in closed loop usually takes longer than the whole
 /// synthesis (Pick-and-Place: N = 18 in 19 s, after 1.7 s for the machine), so by default the
 /// final pass only looks briefly for a smaller machine.
-pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_secs(1);
+pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
 pub const DEFAULT_OUT_DEGREE: usize = 6;
