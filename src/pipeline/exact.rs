@@ -35,16 +35,12 @@
 //! from NuSMV.
 //!
 //! # Measured (see the README's benchmark table for the commands)
-//! - Pick-and-Place, main job, three runs: one candidate each time, C 8, T 13, N 18, 10.00 to
-//!   11.50 s in all, of which SAT 90-92 % (finding T = 13 and proving N = 18 minimal) and NuSMV
-//!   62-68 ms. On these scenarios the first candidate at the lower bounds is already verified.
-//!   Where candidates fail (the lamp fixture in `tests/data/closed_loop/`, or this main job
-//!   before the lower bounds were used: 3 candidates, 21-24 s), one check costs about 1-1.3 s
-//!   instead of 65 ms, because NuSMV is then asked for a counterexample of *every* violated
-//!   property (one `EL_bwd` re-check each); that keeps the number of candidates small. For
-//!   comparison, the verification-in-the-loop paper's search needed 164 / 563 / 1575 s (min /
-//!   mean / max) on 16 cores, with 0.1-0.2 s per NuSMV check; the target here was 30 s on 2
-//!   cores.
+//! - Pick-and-Place, main job (`synth bench`, three runs): 3 candidates, C 8, T 13, N 18,
+//!   2.5-2.6 s in all. The first candidate fails three liveness properties; the in-process
+//!   checker's lasso becomes a negative scenario, the second candidate is verified by NuSMV
+//!   (0.1-0.2 s), and the final pass (0.5 s budget) finds nothing smaller. For comparison, the
+//!   verification-in-the-loop paper's search needed 164 / 563 / 1575 s (min / mean / max) on
+//!   16 cores.
 //! - fbSAT's Pick-and-Place scenario sets with `binary` algorithms: with `--start-state` the
 //!   published minimal sizes come out exactly (tests-1: C 6, T 8; tests-10: C 8, T 15). Without
 //!   it one state fewer is enough (tests-1: C 5, T 7; tests-10: C 7, T 12): fbSAT's initial
