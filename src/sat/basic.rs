@@ -638,10 +638,6 @@ impl<'a> Synthesizer<'a> {
             Some((c0, lo)) if c0 == c && !opts.minimize_k => lo,
             _ => 0,
         };
-        // Without proofs and without a hint that fits, the free machine just found has many
-        // more transitions than needed; one bounded call at the last candidate's count (or
-        // the proven bound) usually finds a machine near the least, where descending one
-        // transition at a time from the free machine takes dozens of calls.
         // Without proofs the first machine found has many more transitions than needed (the
         // transitions are free even with a hinted colouring); one bounded call just above the
         // latest machine's count usually lands near the least, where descending one transition
