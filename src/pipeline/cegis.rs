@@ -76,6 +76,13 @@ pub enum CegisError {
     /// NuSMV and the in-process checker disagree: one of them has a bug.
     #[error("internal error (a bug in synth, please report it): NuSMV says property {property} is violated ({nusmv}), the in-process checker says it holds on the same closed loop")]
     Disagreement { property: String, nusmv: String },
+    /// Counterexamples found on the way rule out every machine within the state limit.
+    #[error("no ECC with at most {max_states} states reproduces the scenarios and avoids every counterexample found so far ({counterexamples}; the last candidate failed {failing}): these properties may not be satisfiable with this plant and these recordings; otherwise raise --max-states")]
+    Exhausted {
+        max_states: usize,
+        counterexamples: usize,
+        failing: String,
+    },
     #[error("property {property} fails, but NuSMV printed no usable counterexample (it needs every controller input and output as a Boolean in the trace), so the loop cannot continue")]
     NoCounterexample { property: String },
 }
@@ -237,11 +244,22 @@ fn iterate(
     for number in 1..=config.max_iterations {
         lower.settle(&mut synth, final_pass, events)?;
         let t = Instant::now();
-        let synthesis = synth.minimize(&mut |m| {
+        let synthesis = match synth.minimize(&mut |m| {
             if config.verbose {
                 events(Event::Solver(m))
             }
-        })?;
+        }) {
+            Err(SatError::TooManyStates { max_states })
+                if synth.negatives().len() + synth.environments() > 0 =>
+            {
+                return Err(CegisError::Exhausted {
+                    max_states,
+                    counterexamples: synth.negatives().len() + synth.environments(),
+                    failing: last_failing,
+                })
+            }
+            r => r?,
+        };
         let sat_seconds = t.elapsed().as_secs_f64();
         if let Some((ecc, report, model_text)) = passed.take() {
             if final_pass && ecc == synthesis.ecc {

@@ -184,6 +184,7 @@ impl Error {
             Error::Sat(SatError::TooManyStates { .. })
             | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
+            | Error::Cegis(cegis::CegisError::Exhausted { .. })
             | Error::Modular(ModularError::NoController { .. })
             | Error::NoMachine(_)
             | Error::TimeLimit { .. } => Class::NoMachine,

@@ -156,6 +156,25 @@ fn bad_plants_and_specs_are_reported_with_file_and_line() {
     }
 }
 
+/// On this plant the lamp's timer may never fire, so `goes_out` cannot hold: the first
+/// counterexample rules out every machine, and the error says so instead of asking for more
+/// states. Nothing is written.
+#[test]
+fn properties_no_machine_can_satisfy_are_named() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("res");
+    let o = main_job(&n.path, "lamp.ltl", "slow_plant.smv", &dir, &[]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("avoids every counterexample found so far")
+            && e.contains("the last candidate failed goes_out"),
+        "{e}"
+    );
+    assert!(!dir.exists());
+}
+
 #[test]
 fn nusmv_timeout_is_one_clear_error() {
     let Some(n) = nusmv_or_skip() else { return };
