@@ -331,13 +331,9 @@ fn iterate(
                             let neg = negative_of(closed, lasso, &names[k]).map_err(|e| {
                                 SatError::Bug(format!("in-process counterexample: {e}"))
                             })?;
-                            if !neg.followed_by(&synthesis.ecc) {
-                                return Err(SatError::Bug(format!(
-                                    "the candidate does not follow its own in-process {}",
-                                    neg.label
-                                ))
-                                .into());
-                            }
+                            follows_own(&neg, &synthesis.ecc, || {
+                                format!("in-process {}", neg.label)
+                            })?;
                             if synth.negatives().contains(&neg) {
                                 continue;
                             }
@@ -467,15 +463,9 @@ fn iterate(
             });
         }
         for neg in negs {
-            if !neg.followed_by(&synthesis.ecc) {
-                // The candidate does not reproduce its own counterexample: the SMV emission
-                // and the simulator disagree. Continuing would loop forever.
-                return Err(SatError::Bug(format!(
-                    "the candidate does not follow its own {} in the simulator",
-                    neg.label
-                ))
-                .into());
-            }
+            follows_own(&neg, &synthesis.ecc, || {
+                format!("{} in the simulator", neg.label)
+            })?;
             synth.add_negative(neg);
         }
         if closed.is_some() {
@@ -487,4 +477,20 @@ fn iterate(
         iterations: config.max_iterations,
         failing: last_failing,
     })
+}
+
+/// A candidate must follow its own counterexample; if it does not, the checker that found it
+/// and the simulator disagree, and feeding it back would loop forever. `what` names it.
+fn follows_own(
+    neg: &crate::scenario::negative::NegativeScenario,
+    ecc: &crate::ecc::Ecc,
+    what: impl FnOnce() -> String,
+) -> Result<(), SatError> {
+    if neg.followed_by(ecc) {
+        return Ok(());
+    }
+    Err(SatError::Bug(format!(
+        "the candidate does not follow its own {}",
+        what()
+    )))
 }
