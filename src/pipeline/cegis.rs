@@ -14,6 +14,7 @@ use super::{Event, Events};
 use crate::check;
 use crate::nusmv::CheckMode;
 use crate::sat::basic::Proofs;
+use crate::sat::solver::Bounded;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
@@ -240,10 +241,40 @@ fn iterate(
 
     // The last candidate NuSMV passed: if the final pass finds no smaller machine, its report
     // stands.
-    let mut passed: Option<(crate::ecc::Ecc, Report, String)> = None;
+    let mut passed: Option<(Synthesis, Report, String)> = None;
     for number in 1..=config.max_iterations {
         lower.settle(&mut synth, final_pass, events)?;
         let t = Instant::now();
+        if let (true, Some((p, _, _))) = (final_pass, &passed) {
+            // The final pass asks first whether anything smaller exists at all: two bounded
+            // refutations, where searching again costs seconds and usually ends at the same
+            // size with another machine that would need checking again.
+            let Proofs::Budget(budget) = last else {
+                unreachable!("the final pass of the closed loop has a budget")
+            };
+            let (fewer_t, fewer_n) = synth.smaller_exists(p.size, budget);
+            let sat = |b: &Bounded| matches!(b, Bounded::Sat(_));
+            if !sat(&fewer_t) && !sat(&fewer_n) {
+                let (before, report, model_text) = passed.take().expect("checked above");
+                let synthesis = Synthesis {
+                    transitions_exact: matches!(fewer_t, Bounded::Unsat),
+                    guards_exact: matches!(fewer_n, Bounded::Unsat),
+                    ..before
+                };
+                let it = unchanged(number, &synthesis, t.elapsed().as_secs_f64());
+                events(Event::Candidate(&it));
+                iterations.push(it);
+                return Ok(Verified {
+                    synthesis,
+                    report,
+                    iterations,
+                    model_text,
+                });
+            }
+            // Something smaller exists: search for it from the machine that passed, not from
+            // the lower bound's colouring the line above may have just handed over.
+            synth.hint(p.colors.clone());
+        }
         let synthesis = match synth.minimize(&mut |m| {
             if config.verbose {
                 events(Event::Solver(m))
@@ -261,19 +292,19 @@ fn iterate(
             r => r?,
         };
         let sat_seconds = t.elapsed().as_secs_f64();
-        if let Some((ecc, report, model_text)) = passed.take() {
-            if final_pass && ecc == synthesis.ecc {
-                let it = Iteration {
-                    number,
-                    checked_by: UNCHANGED,
-                    c: synthesis.size.c,
-                    t: synthesis.size.t,
-                    failing: Vec::new(),
-                    counterexample_length: None,
-                    sat_seconds,
-                    nusmv_seconds: 0.0,
-                    check_seconds: 0.0,
+        if let Some((before, report, model_text)) = passed.take() {
+            // A machine no smaller than the one NuSMV passed is not worth another check: the
+            // verified one stands, with what the final pass proved about its size (same C, T
+            // and N, so the same bounds).
+            if final_pass && !smaller(&synthesis.size, &before.size) {
+                let synthesis = Synthesis {
+                    transitions_exact: synthesis.transitions_exact
+                        && synthesis.size.t == before.size.t,
+                    guards_exact: synthesis.guards_exact && synthesis.size.n == before.size.n,
+                    stats: synthesis.stats,
+                    ..before
                 };
+                let it = unchanged(number, &synthesis, sat_seconds);
                 events(Event::Candidate(&it));
                 iterations.push(it);
                 return Ok(Verified {
@@ -401,7 +432,7 @@ fn iterate(
         events(Event::Candidate(&it));
         iterations.push(it);
         if failing.is_empty() && !final_pass {
-            passed = Some((synthesis.ecc.clone(), v.report, v.model.text));
+            passed = Some((synthesis.clone(), v.report, v.model.text));
             final_pass = true;
             synth.set_proofs(last);
             continue;
@@ -477,6 +508,26 @@ fn iterate(
         iterations: config.max_iterations,
         failing: last_failing,
     })
+}
+
+/// The iteration of a final pass that kept the verified candidate.
+fn unchanged(number: usize, synthesis: &Synthesis, sat_seconds: f64) -> Iteration {
+    Iteration {
+        number,
+        checked_by: UNCHANGED,
+        c: synthesis.size.c,
+        t: synthesis.size.t,
+        failing: Vec::new(),
+        counterexample_length: None,
+        sat_seconds,
+        nusmv_seconds: 0.0,
+        check_seconds: 0.0,
+    }
+}
+
+/// Whether `a` is a smaller machine than `b`: fewer states, then transitions, then literals.
+fn smaller(a: &crate::ecc::Size, b: &crate::ecc::Size) -> bool {
+    (a.c, a.t, a.n) < (b.c, b.t, b.n)
 }
 
 /// A candidate must follow its own counterexample; if it does not, the checker that found it

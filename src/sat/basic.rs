@@ -390,7 +390,11 @@ impl<'a> Synthesizer<'a> {
     /// no more edges.
     pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
         self.c_lo = self.c_lo.max(c);
-        self.t_lo = Some((c, t));
+        // A bound proven on the loop's constraints may already be higher.
+        self.t_lo = match self.t_lo {
+            Some((c0, t0)) if c0 == c && t0 > t => Some((c0, t0)),
+            _ => Some((c, t)),
+        };
         if self.c_lo > self.enc.vars.c_max && self.c_lo <= self.opts.max_states {
             // Straight to a window that holds the bound (one spare state), rather than
             // refuting the smaller window first.
@@ -496,6 +500,47 @@ impl<'a> Synthesizer<'a> {
                 self.enc.add_environment(spec, env);
             }
         }
+    }
+
+    /// Whether a machine smaller than one of `size` exists, each question tried on a fresh
+    /// solver for `budget`: with `size.c` states and fewer than `size.t` transitions, and with
+    /// at most `size.t` transitions and fewer than `size.n` guard literals. `Sat` carries no
+    /// machine the caller can use directly (run [`Self::minimize`] for it); `Unknown` when the
+    /// budget ran out or the encoding keeps no clauses for such proofs.
+    pub fn smaller_exists(&mut self, size: Size, budget: Duration) -> (Bounded, Bounded) {
+        let t_known = self.t_lo == Some((size.c, size.t));
+        let n_known = self.n_lo == Some((size.c, size.t, size.n));
+        let enc = &mut self.enc;
+        let mut base = enc.base_assumptions();
+        base.extend(enc.vars.states_at_most(size.c));
+        let fewer_t = match size.t.checked_sub(1).map(|b| enc.total_t.at_most(b)) {
+            _ if t_known => Bounded::Unsat,
+            None => Bounded::Unsat,
+            Some(None) => Bounded::Unknown,
+            Some(Some(b)) => {
+                let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+                enc.solver.solve_within(&assume, Instant::now() + budget)
+            }
+        };
+        let fewer_n = match (&enc.total_n, size.n.checked_sub(1)) {
+            _ if n_known => Bounded::Unsat,
+            (_, None) => Bounded::Unsat,
+            (None, _) => Bounded::Unknown,
+            (Some(total_n), Some(n)) => match total_n.at_most(n) {
+                Some(bn) => {
+                    let assume: Vec<Lit> = base
+                        .iter()
+                        .copied()
+                        .chain(enc.total_t.at_most(size.t))
+                        .chain([bn])
+                        .collect();
+                    enc.solver.solve_within(&assume, Instant::now() + budget)
+                }
+                None => Bounded::Unknown,
+            },
+        };
+        self.stats.solver_calls += enc.new_calls();
+        (fewer_t, fewer_n)
     }
 
     /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards.
@@ -643,11 +688,20 @@ impl<'a> Synthesizer<'a> {
         // latest machine's count usually lands near the least, where descending one transition
         // at a time takes dozens of calls. With the hint the call is cheap; without, it is a
         // free search and gets a deadline.
+        // With a budget (the final pass) the hint is the colouring of the latest machine, which
+        // nothing added since has ruled out: straight to its T.
         let mut hinted_floor = t_floor;
-        if self.proofs == Proofs::Skip && !opts.minimize_k {
+        let jump = match self.proofs {
+            Proofs::Skip => Some(1),
+            Proofs::Budget(_) if hint.is_some() => Some(0),
+            _ => None,
+        };
+        if let (Some(jump), false) = (jump, opts.minimize_k) {
             let target = match (self.t_lo, self.last) {
-                (Some((c0, lo)), Some(last)) if c0 == c && last.c == c => Some(lo.max(last.t) + 1),
-                (_, Some(last)) if last.c == c => Some(last.t + 1),
+                (Some((c0, lo)), Some(last)) if c0 == c && last.c == c => {
+                    Some(lo.max(last.t) + jump)
+                }
+                (_, Some(last)) if last.c == c => Some(last.t + jump),
                 _ => None,
             };
             if let Some((target, b)) = target

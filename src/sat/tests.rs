@@ -231,3 +231,38 @@ fn finite_negative_prefix_forbids_reproducing_it() {
     // The first machine (guard on the first input only, or TRUE) may well have done it.
     let _ = first;
 }
+
+#[test]
+fn smaller_exists_refutes_below_the_minimum_and_finds_above_it() {
+    // Two scenarios from the same state to different targets (as above), in the cube model.
+    let text = "2\nin=REQ[10]; out=CNF[10];\nin=REQ[01]; out=CNF[01]; in=REQ[10]; out=CNF[11];\n";
+    let s = set(text);
+    let tree = ScenarioTree::build(&s).unwrap();
+    let o = Options {
+        cube_slots: Some(3),
+        ..opts(AlgorithmKind::Tri)
+    };
+    let least = synthesize(&s, &tree, &o, &mut |_| {}).unwrap();
+    assert!(least.transitions_exact && least.guards_exact);
+    let mut synth = Synthesizer::with_proofs(&s, &tree, &o, basic::Proofs::Skip);
+    synth.minimize(&mut |_| {}).unwrap();
+    let budget = std::time::Duration::from_secs(30);
+    let (t, n) = synth.smaller_exists(least.size, budget);
+    assert!(
+        matches!(t, solver::Bounded::Unsat),
+        "fewer transitions than the least"
+    );
+    assert!(
+        matches!(n, solver::Bounded::Unsat),
+        "fewer literals than the least"
+    );
+    // One transition and two literals more than needed: both questions find a machine.
+    let larger = crate::ecc::Size {
+        t: least.size.t + 1,
+        n: least.size.n + 2,
+        ..least.size
+    };
+    let (t, n) = synth.smaller_exists(larger, budget);
+    assert!(matches!(t, solver::Bounded::Sat(_)));
+    assert!(matches!(n, solver::Bounded::Sat(_)));
+}
