@@ -234,18 +234,30 @@ impl Ltl {
 
     /// The largest number of past operators on one path from the root to a leaf.
     pub fn past_depth(&self) -> usize {
+        self.depth(&|f| {
+            matches!(
+                f,
+                Ltl::Y(_) | Ltl::Z(_) | Ltl::H(_) | Ltl::O(_) | Ltl::S(..) | Ltl::T(..)
+            )
+        })
+    }
+
+    /// The largest number of `X` on one path from the root to a leaf: how many steps past a
+    /// position the formula reads, apart from `G F U V`.
+    pub fn next_depth(&self) -> usize {
+        self.depth(&|f| matches!(f, Ltl::X(_)))
+    }
+
+    /// The largest number of subformulas `counts` on one path from the root to a leaf.
+    fn depth(&self, counts: &dyn Fn(&Ltl) -> bool) -> usize {
         let (a, b) = self.children();
         let below = [a, b]
             .into_iter()
             .flatten()
-            .map(Ltl::past_depth)
+            .map(|c| c.depth(counts))
             .max()
             .unwrap_or(0);
-        let here = matches!(
-            self,
-            Ltl::Y(_) | Ltl::Z(_) | Ltl::H(_) | Ltl::O(_) | Ltl::S(..) | Ltl::T(..)
-        );
-        below + usize::from(here)
+        below + usize::from(counts(self))
     }
 
     /// NuSMV text of the formula, with parentheses where NuSMV's precedence needs them (and

@@ -53,7 +53,8 @@ pub struct Spec {
     pub outputs: Vec<String>,
     /// The properties encoded: future-only, every name resolved.
     pub properties: Vec<Ltl>,
-    /// Steps after the environment's end within which eventualities must be fulfilled.
+    /// Steps unrolled after the environment's end: within them eventualities must be
+    /// fulfilled, and safety properties are required on them too.
     pub response_bound: usize,
     pub initial_outputs: Vec<bool>,
 }
