@@ -7,12 +7,7 @@ mod cases;
 mod cli;
 
 fn main() {
-    // Like other command-line tools, end quietly when the reader of stdout goes away
-    // (`synth ... | head`) instead of failing on the broken pipe.
-    #[cfg(unix)]
-    // SAFETY: setting a signal disposition to its default before any thread starts.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    // SIGPIPE stays ignored (Rust's default): a broken pipe is an error where it happens (NuSMV
+    // gone before reading its input), and stdout ignores it (`out!` in `cli`).
     std::process::exit(cli::run());
 }

@@ -107,9 +107,9 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     let set = Recordings::files(vec![args.pnp.clone()]).load()?;
     let check = Check::new(problem(ltl, plant_file, &set.inputs, &set.outputs)?, nusmv);
     let opts = exact::Options::default();
-    println!();
-    println!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per candidate (median) |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    out!();
+    out!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per candidate (median) |");
+    out!("|---|---|---|---|---|---|---|---|---|");
     for run in 1..=args.cegis_runs {
         let t = Instant::now();
         let v = exact::run(&set, Some(&check), &opts, &mut |_| {})?;
@@ -118,7 +118,7 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
         let nus: Vec<f64> = v.iterations.iter().map(|i| i.nusmv_seconds).collect();
         let (_, med, _) = stats(nus.clone());
         let s = v.synthesis.size;
-        println!(
+        out!(
             "| {run} | {} | {} | {} | {} | {total:.2} | {sat:.2} ({:.0}%) | {:.2} | {:.0} |",
             v.iterations.len(),
             s.c,
@@ -145,8 +145,8 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             ),
         ));
     }
-    println!("| case | steps | C | K | T | N | min s | median s | max s |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    out!("| case | steps | C | K | T | N | min s | median s | max s |");
+    out!("|---|---|---|---|---|---|---|---|---|");
     for case in all {
         let set = case.traces.load()?;
         let mut times = Vec::with_capacity(runs);
@@ -160,7 +160,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
 
         let s = size.expect("runs >= 1");
         let (lo, med, hi) = stats(times);
-        println!(
+        out!(
             "| {} | {} | {} | {} | {} | {} | {lo:.3} | {med:.3} | {hi:.3} |",
             case.name,
             set.step_count(),
@@ -201,7 +201,7 @@ pub struct BenchNoisyArgs {
 /// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
 /// ([`distribution::random_logs`], skew injected per log).
 pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
-    println!(
+    out!(
         "samples  steps   nodes   alts  injected  C  K  T   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
     );
     for &len in &args.samples {
@@ -228,7 +228,7 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::with_code(exit::BUG, e))?
             .synthesis;
         let total = t.elapsed().as_secs_f64();
-        println!(
+        out!(
             "{:<8} {:<7} {:<7} {:<5} {:<9} {:<2} {:<2} {:<3} {:<9} {:<9} {:<10} {:<11.2} {:<12.2} {:.2}",
             len,
             set.step_count(),
@@ -268,7 +268,7 @@ pub struct BenchModularArgs {
 pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
     let recordings = args.traces.recordings();
     let set = recordings.load()?;
-    println!(
+    out!(
         "{}: {} scenarios, {} steps, {} tree nodes, {} inputs, {} outputs; K = {} slots, {} runs",
         recordings.show(),
         set.scenarios.len(),
@@ -279,9 +279,9 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
         args.slots,
         args.runs.max(1)
     );
-    println!();
-    println!("| M | largest | A | N' | transitions | variables | clauses | solver calls | time min / median / max (s) |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    out!();
+    out!("| M | largest | A | N' | transitions | variables | clauses | solver calls | time min / median / max (s) |");
+    out!("|---|---|---|---|---|---|---|---|---|");
     for modules in 1..=args.max_modules {
         let opts = modular::Options {
             modules,
@@ -299,7 +299,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
         times.sort_by(f64::total_cmp);
         let r = last.expect("at least one run");
         let t: usize = r.size.modules.iter().map(|s| s.t).sum();
-        println!(
+        out!(
             "| {modules} | {} | {} | {} | {t} | {} | {} | {} | {:.2} / {:.2} / {:.2} |",
             r.size.max_states,
             r.size.inputs_used,
@@ -378,15 +378,15 @@ pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Failure> {
             .collect()
     });
     let total: f64 = per_thread.iter().sum();
-    println!(
+    out!(
         "scenario fitness on {} ({} scenarios, {} steps), {} states:",
         args.traces.display(),
         data.scenario_count(),
         data.step_count(),
         args.states
     );
-    println!("  1 thread:  {one:.0} evaluations/s");
-    println!(
+    out!("  1 thread:  {one:.0} evaluations/s");
+    out!(
         "  {n} threads: {total:.0} evaluations/s in all, {:.0} per thread",
         total / n as f64
     );

@@ -47,16 +47,16 @@ fn report(ecc: &Ecc, set: &ScenarioSet) -> usize {
         match divergences.iter().find(|d| d.scenario == k) {
             None => {
                 agreeing_steps += sc.steps.len();
-                println!("{}: agrees on all {} steps", sc.origin, sc.steps.len());
+                out!("{}: agrees on all {} steps", sc.origin, sc.steps.len());
             }
             Some(d) => {
                 agreeing_steps += d.step;
-                println!("{}: DIVERGES: {}", sc.origin, d.describe_step());
+                out!("{}: DIVERGES: {}", sc.origin, d.describe_step());
             }
         }
     }
     let steps = set.step_count().max(1);
-    println!(
+    out!(
         "agreement: {} of {} traces reproduced; {} of {} steps before the first divergence ({:.1}%)",
         set.scenarios.len() - divergences.len(),
         set.scenarios.len(),
@@ -107,7 +107,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
         progress.event(e)
     })?
     .expect("a divergent trace was found above");
-    println!(
+    out!(
         "refining: {} training scenarios + {} divergent traces -> {}",
         refined.training_scenarios,
         refined.divergent.len(),
@@ -115,17 +115,17 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
     );
     let s = refined.exact.synthesis.size;
     if let Some(cert) = &refined.exact.certificate {
-        println!(
+        out!(
             "verified: all {} properties hold (NuSMV)",
             cert.report.properties.len()
         );
     }
-    println!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
-    println!("wrote:");
+    out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    out!("wrote:");
     for f in &refined.files {
-        println!("  {}", f.display());
+        out!("  {}", f.display());
     }
-    println!("after refinement, on the new recordings:");
+    out!("after refinement, on the new recordings:");
     report(refined.ecc(), &set);
     Ok(())
 }

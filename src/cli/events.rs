@@ -86,14 +86,14 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
             }
             f
         })?;
-    println!(
+    out!(
         "rows {}, samples {}, skipped {}; {} events in {} traces ({} of them the reset '{}')",
         s.rows, s.samples, s.skipped, s.events, s.traces, s.resets, reset
     );
     if s.resets == 0 && s.events > 0 {
         eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");
     }
-    println!("wrote {}, {}", args.out.display(), csv.display());
+    out!("wrote {}, {}", args.out.display(), csv.display());
     if let (Some(ecc), Some(pnml)) = (&args.ecc, &args.pnml) {
         write_net(ecc, &mapping, pnml)?;
     }
@@ -136,7 +136,7 @@ fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Fail
     let mut buf = Vec::new();
     write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
     fbsynth::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
-    println!(
+    out!(
         "wrote {} (Petri net of {}: {} places)",
         pnml.display(),
         ecc_file.display(),

@@ -195,24 +195,24 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
         }
         rows.push((cfg, results));
     }
-    println!();
-    println!(
+    out!();
+    out!(
         "| # | Configuration | min, s | mean, s | median, s | max, s | solved | satisfied all LTL |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    out!("|---|---|---|---|---|---|---|---|");
     for (cfg, results) in &rows {
         let mut times: Vec<f64> = results.iter().map(|r| r.seconds).collect();
         let (min, mean, median, max) = stats(&mut times);
         let n = results.len();
         let solved = results.iter().filter(|r| r.solved).count();
         let all = results.iter().filter(|r| r.all_hold).count();
-        println!(
+        out!(
             "| {cfg} | {} | {min:.1} | {mean:.1} | {median:.1} | {max:.1} | {solved}/{n} | {:.0}% ({all}/{n}) |",
             labels[*cfg],
             100.0 * all as f64 / n as f64
         );
     }
-    println!();
+    out!();
     for (cfg, results) in &rows {
         let n = results.len();
         let per: Vec<String> = names
@@ -222,7 +222,7 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
                 format!("{p} {ok}/{n}")
             })
             .collect();
-        println!("config {cfg}: {}", per.join(", "));
+        out!("config {cfg}: {}", per.join(", "));
     }
     Ok(())
 }

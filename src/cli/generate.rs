@@ -21,14 +21,14 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     let files = match args.case.as_str() {
         "tank" => {
             let files = tank::write_files(&args.out).map_err(Failure::input)?;
-            println!(
+            out!(
                 "recorded the process-mining paper's tank scenarios and held-out runs from the reference programs:"
             );
             files
         }
         "distribution" => {
             let (files, injected) = distribution::write_files(&args.out).map_err(Failure::input)?;
-            println!(
+            out!(
                 "recorded {} use cases and {} held-out runs of the distribution station; \
                  {injected} scan-cycle errors injected (rate {}, seed {}):",
                 distribution::use_cases().len(),
@@ -41,7 +41,7 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         _ => {
             let files = pnp::write_files(&args.out).map_err(Failure::input)?;
             let set = pnp::generate();
-            println!(
+            out!(
                 "recorded {} work-piece orders ({} steps) from the reference controller:",
                 set.scenarios.len(),
                 set.step_count()
@@ -50,7 +50,7 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         }
     };
     for f in files {
-        println!("  {}", f.display());
+        out!("  {}", f.display());
     }
     Ok(())
 }

@@ -162,7 +162,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     };
     let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))?.synthesis;
     let s = result.size;
-    println!(
+    out!(
         "C = {}  K = {}  T = {}  N = {}{}",
         s.c,
         s.k,
@@ -174,7 +174,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             " (N not proven minimal)"
         }
     );
-    println!(
+    out!(
         "time {:.2} s (SAT {:.2} s, guards {:.2} s); replayed {} scenarios: all reproduced",
         progress.elapsed(),
         result.stats.sat_seconds,
@@ -208,8 +208,8 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     };
     let result = noisy::run(&set, check.as_ref(), &opts, &mut |e| progress.event(e))?;
     let table = output::write_noisy(&out, &args.name, &formats, &result, progress.elapsed())?;
-    print!("{table}");
-    println!("results in {}", out.display());
+    out_raw!("{table}");
+    out!("results in {}", out.display());
     let verified = result.first_verified();
     // Correct the traces first, then distribute the logic.
     if let Some(m) = args.modules {
@@ -217,7 +217,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         let c = &result.synthesis.candidates[chosen - 1];
         let dir = out.join("modular");
         output::create_dir(&dir)?;
-        println!(
+        out!(
             "modular synthesis (M = {m}) on the corrected traces of candidate {chosen} (ε = {}):",
             c.errors
         );
@@ -226,7 +226,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     match (check.is_some(), verified) {
         (false, _) => Ok(()),
         (true, Some(k)) => {
-            println!("first verified candidate: {k} (NuSMV: every property holds)");
+            out!("first verified candidate: {k} (NuSMV: every property holds)");
             Ok(())
         }
         (true, None) => Err(Failure::msg(
@@ -256,14 +256,14 @@ fn distribute(
     check_exportable_modular(set, &args.name, modules)?;
     let result = modular::run(set, &opts, &mut |e| progress.event(e))?;
     let s = &result.size;
-    println!(
+    out!(
         "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
         modules, s.max_states, s.inputs_used, s.total_states
     );
     for line in describe_modules(&result.modular) {
-        println!("  {line}");
+        out!("  {line}");
     }
-    println!(
+    out!(
         "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the composite: all reproduced",
         progress.elapsed(),
         result.stats.sat_seconds,
@@ -297,7 +297,7 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
     }
     .map_err(Failure::input)?;
     fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
-    println!(
+    out!(
         "wrote {} scenarios ({} steps) to {}",
         set.scenarios.len(),
         set.step_count(),
@@ -312,7 +312,7 @@ pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
     let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
     set.check(&ecc)
         .map_err(|m| Failure::msg(exit::INPUT, format!("not reproduced: {m}")))?;
-    println!(
+    out!(
         "replayed {} scenarios ({} steps): all reproduced by {}",
         set.scenarios.len(),
         set.step_count(),

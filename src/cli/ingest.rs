@@ -54,12 +54,12 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
         fbsynth::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
     }
     report(&stats, secs);
-    println!(
+    out!(
         "steps:   {} ({} with CNF)",
         set.step_count(),
         set.active_count()
     );
-    println!(
+    out!(
         "wrote {}, {}, {}",
         args.output.display(),
         inputs_file.display(),
@@ -83,15 +83,15 @@ fn names_files(out: &Path) -> (PathBuf, PathBuf) {
 }
 
 fn report(stats: &ReadStats, secs: f64) {
-    println!("rows:    {}", stats.rows);
-    println!("samples: {}", stats.samples);
+    out!("rows:    {}", stats.rows);
+    out!("samples: {}", stats.samples);
     for kind in RowKind::ALL {
         let n = stats.skipped(kind);
         if n > 0 {
-            println!("skipped: {n} rows ({})", kind.label());
+            out!("skipped: {n} rows ({})", kind.label());
         }
     }
-    println!(
+    out!(
         "time:    {secs:.2} s ({:.2} M rows/s)",
         stats.rows as f64 / secs.max(1e-9) / 1e6
     );
@@ -147,7 +147,7 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
         }
     };
     let size = tmp.as_file().metadata().map_err(io)?.len();
-    println!(
+    out!(
         "generated {} rows ({:.1} MB{}) in {:.2} s; peak RSS so far {}",
         args.rows,
         size as f64 / 1e6,
@@ -167,8 +167,8 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
     .map_err(Failure::input)?;
     let secs = start.elapsed().as_secs_f64();
     report(&stats, secs);
-    println!("steps:   {steps} ({active} with CNF)");
-    println!("peak RSS: {}", peak_rss());
+    out!("steps:   {steps} ({active} with CNF)");
+    out!("peak RSS: {}", peak_rss());
     Ok(())
 }
 

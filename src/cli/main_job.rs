@@ -300,13 +300,13 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         }
     };
     let files = write_verified(&out, &formats, &ecc, &certificate, &provenance, &summary)?;
-    println!(
+    out!(
         "{}",
         verified_line(certificate.report.properties.len(), set.scenarios.len())
     );
     let s = size;
-    println!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
-    println!("{closing}");
+    out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    out!("{closing}");
     print_files(&out, &files);
     Ok(())
 }
@@ -330,9 +330,9 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     let problem = problem(&args.ltl, &args.plant, &ecc.inputs, &ecc.outputs)?;
     let check = check(problem, &args.nusmv)?;
     let report = pipeline::verify(&ecc, &check)?.report;
-    print!("{}", report.to_text());
+    out_raw!("{}", report.to_text());
     if report.all_hold() {
-        println!("verified: all {} properties hold", report.properties.len());
+        out!("verified: all {} properties hold", report.properties.len());
         Ok(())
     } else {
         Err(Failure::msg(

@@ -5,6 +5,24 @@
 //! command file parses its arguments, calls the library and prints. Command files never
 //! import each other: what they share is here, in [`args`] and in [`progress`].
 
+/// `println!` for the results on stdout, which survives a reader that went away (`synth ... |
+/// head`): the run goes on and finishes its files. A panic there, or death by SIGPIPE (which
+/// would also hit synth when NuSMV dies with its input unread), would leave them half-written.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `print!` likewise ([`out!`]).
+macro_rules! out_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod args;
 mod bench;
 mod conform;

@@ -5,17 +5,17 @@ use std::path::{Path, PathBuf};
 
 /// The list of files written, on stdout.
 pub fn print_written(files: &[PathBuf]) {
-    println!("wrote:");
+    out!("wrote:");
     for f in files {
-        println!("  {}", f.display());
+        out!("  {}", f.display());
     }
 }
 
 /// The closing lines of a verified run: where the results are.
 pub fn print_files(out: &Path, files: &[PathBuf]) {
-    println!("results in {}:", out.display());
+    out!("results in {}:", out.display());
     for f in files {
-        println!("  {}", f.display());
+        out!("  {}", f.display());
     }
 }
 

@@ -382,9 +382,13 @@ impl Session {
             Ok(status) => status.to_string(),
             Err(e) => format!("could not be reaped: {e}"),
         };
+        let stderr_tail = match tail(&process.stderr_text) {
+            t if t.trim().is_empty() => "it printed nothing on stderr".to_string(),
+            t => t,
+        };
         NusmvError::Crashed {
             status,
-            stderr_tail: tail(&process.stderr_text),
+            stderr_tail,
         }
     }
 }

@@ -360,3 +360,48 @@ fn termination_signals_leave_no_nusmv_behind() {
         }
     }
 }
+
+/// A NuSMV that dies at once (here: a script that exits before reading its input) is a located
+/// error, not a silent death of synth by SIGPIPE; and the run's temporary folder is gone.
+#[test]
+fn a_nusmv_that_dies_at_once_is_an_error_not_a_silent_death() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("NuSMV");
+    std::fs::write(&fake, "#!/bin/sh\nexit 3\n").unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "--ltl",
+            &format!("{DIR}/lamp.ltl"),
+            "--plant",
+            &format!("{DIR}/slow_frozen_plant.smv"),
+            "--traces",
+            &format!("{DIR}/lamp.traces"),
+            "--out",
+            out.to_str().unwrap(),
+            "--nusmv",
+            fake.to_str().unwrap(),
+        ])
+        .env("TMPDIR", &tmp)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let err = text(&run.stderr);
+    assert!(
+        run.status.code().is_some(),
+        "synth died by a signal: {:?}; stderr: {err}",
+        run.status
+    );
+    assert!(!run.status.success());
+    assert!(
+        err.contains("NuSMV failed (exit status: 3): it printed nothing"),
+        "{err}"
+    );
+    assert!(!out.join("SynthesizedFB.json").exists());
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().flatten().collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
