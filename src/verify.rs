@@ -440,7 +440,21 @@ fn locate_errors(
 fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
     // NuSMV's last printed state repeats the loop start: drop it.
     let n = t.states.len().saturating_sub(1).max(1);
-    let states: Vec<BTreeMap<String, String>> = t.states[..n.min(t.states.len())].to_vec();
+    // The inputs NuSMV prints before state `i + 1` (IVARs, and defines over them) are those of
+    // the step from state `i`: what the controller reads at step `i`.
+    let states: Vec<BTreeMap<String, String>> = t.states[..n.min(t.states.len())]
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let mut s = s.clone();
+            if let Some(input) = t.inputs.get(i + 1) {
+                for (k, v) in input {
+                    s.entry(k.clone()).or_insert_with(|| v.clone());
+                }
+            }
+            s
+        })
+        .collect();
     let candidates: Vec<usize> = t.loop_starts.iter().copied().filter(|&l| l < n).collect();
     let violating = candidates
         .iter()

@@ -88,7 +88,13 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         })?;
     out!(
         "rows {}, samples {}, skipped {}; {} events in {} traces ({} of them the reset '{}')",
-        s.rows, s.samples, s.skipped, s.events, s.traces, s.resets, reset
+        s.rows,
+        s.samples,
+        s.skipped,
+        s.events,
+        s.traces,
+        s.resets,
+        reset
     );
     if s.resets == 0 && s.events > 0 {
         eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");

@@ -258,7 +258,10 @@ fn distribute(
     let s = &result.size;
     out!(
         "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
-        modules, s.max_states, s.inputs_used, s.total_states
+        modules,
+        s.max_states,
+        s.inputs_used,
+        s.total_states
     );
     for line in describe_modules(&result.modular) {
         out!("  {line}");
