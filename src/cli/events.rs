@@ -73,6 +73,11 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     let mut inputs = vec![&args.map];
     inputs.extend(&args.ecc);
     super::args::refuse_overwrite(&outputs, &inputs)?;
+    // The net first: when it cannot be made, nothing is written.
+    let net = match (&args.ecc, &args.pnml) {
+        (Some(ecc), Some(pnml)) => Some((net_of(ecc, &mapping)?, ecc, pnml)),
+        _ => None,
+    };
     let s = events::write_event_logs(&args.log, &mapping, &reset, args.lenient, &args.out, &csv)
         .map_err(|e| {
             let row = matches!(
@@ -100,14 +105,20 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");
     }
     out!("wrote {}, {}", args.out.display(), csv.display());
-    if let (Some(ecc), Some(pnml)) = (&args.ecc, &args.pnml) {
-        write_net(ecc, &mapping, pnml)?;
+    if let Some(((bytes, places), ecc_file, pnml)) = net {
+        fbsynth::files::write_atomic(pnml, &bytes).map_err(Failure::input)?;
+        out!(
+            "wrote {} (Petri net of {}: {places} places)",
+            pnml.display(),
+            ecc_file.display(),
+        );
     }
     Ok(())
 }
 
-/// Writes the Petri net of the machine in `ecc_file`, labelled with the mapping's addresses.
-fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Failure> {
+/// The PNML text of the Petri net of the machine in `ecc_file`, labelled with the mapping's
+/// addresses, and its number of places.
+fn net_of(ecc_file: &Path, mapping: &Mapping) -> Result<(Vec<u8>, usize), Failure> {
     let text = std::fs::read_to_string(ecc_file)
         .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
     let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
@@ -141,12 +152,5 @@ fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Fail
         .unwrap_or_default();
     let mut buf = Vec::new();
     write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
-    fbsynth::files::write_atomic(pnml, &buf).map_err(Failure::input)?;
-    out!(
-        "wrote {} (Petri net of {}: {} places)",
-        pnml.display(),
-        ecc_file.display(),
-        ecc.states.len()
-    );
-    Ok(())
+    Ok((buf, ecc.states.len()))
 }

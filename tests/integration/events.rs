@@ -99,3 +99,35 @@ fn errors_name_their_place_and_leave_no_output() {
         .unwrap()
         .contains("maybe"));
 }
+
+/// A Petri net that cannot be written (here: the machine names a signal the mapping lacks) is
+/// found out before anything is written: no event log is left behind without its net.
+#[test]
+fn a_net_that_fails_leaves_no_event_logs() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.map"), MAP).unwrap();
+    std::fs::write(
+        dir.path().join("t.csv"),
+        "timestamp,address,value\n0,%QX0.0,1\n1,%IX0.1,1\n",
+    )
+    .unwrap();
+    let ecc = r#"{"inputs":["ll","xx"],"outputs":["inlet"],"initial_outputs":"0",
+        "states":[{"name":"s0","algorithm":"x"}],"transitions":[]}"#;
+    std::fs::write(dir.path().join("m.json"), ecc).unwrap();
+    let o = synth(
+        dir.path(),
+        &[
+            "events", "--log", "t.csv", "--map", "t.map", "--reset", "ll false", "--out", "o.xes",
+            "--ecc", "m.json", "--pnml", "o.pnml",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("'xx' is not in the mapping"),
+        "{}",
+        text(&o.stderr)
+    );
+    for f in ["o.xes", "o.csv", "o.pnml"] {
+        assert!(!dir.path().join(f).exists(), "{f} was written");
+    }
+}
