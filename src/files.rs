@@ -6,10 +6,49 @@
 //! [`csv`], XML written in [`xml`].
 
 pub mod csv;
+pub mod result_set;
 pub mod xml;
+
+pub use result_set::{ResultSet, ResultSetError};
 
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
+
+/// Paths removed when a termination signal ends the program ([`crate::signals`]): staging
+/// folders and work folders that a destructor would otherwise have removed.
+static TEMPORARIES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes `path` (a file or a folder with its content) if a termination signal ends the
+/// program before [`keep_on_signal`].
+pub fn remove_on_signal(path: &Path) {
+    TEMPORARIES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(path.to_path_buf());
+    crate::signals::on_termination(remove_temporaries);
+}
+
+/// Forgets `path` for [`remove_on_signal`]: it is gone, or it is a result now.
+pub fn keep_on_signal(path: &Path) {
+    TEMPORARIES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|p| p != path);
+}
+
+fn remove_temporaries() {
+    let paths = TEMPORARIES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone();
+    for p in paths {
+        if std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_dir()) {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
 
 /// The first two bytes of every gzip member (RFC 1952).
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];

@@ -46,5 +46,6 @@ pub mod plant;
 pub mod sat;
 pub mod scenario;
 pub mod search;
+pub mod signals;
 pub mod smv;
 pub mod verify;

@@ -256,10 +256,12 @@ impl Verifier {
         problem: std::sync::Arc<Problem>,
         nusmv: &crate::nusmv::Nusmv,
     ) -> Result<Verifier, VerifyError> {
+        let workdir = tempfile::tempdir()?;
+        crate::files::remove_on_signal(workdir.path());
         Ok(Verifier {
             problem,
             session: nusmv.session(),
-            workdir: tempfile::tempdir()?,
+            workdir,
         })
     }
 
@@ -299,6 +301,13 @@ pub struct Verification {
     pub counterexamples: Vec<Counterexample>,
     /// The composed model (kept for the user or for error reports).
     pub model: ClosedLoop,
+}
+
+impl Drop for Verifier {
+    fn drop(&mut self) {
+        // The work folder goes with its TempDir right after this.
+        crate::files::keep_on_signal(self.workdir.path());
+    }
 }
 
 /// Verifies `ecc` in closed loop; `workdir` receives the model file.

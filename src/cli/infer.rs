@@ -7,6 +7,7 @@ use super::show::{describe_modules, print_written};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
 use fbsynth::export;
+use fbsynth::files::ResultSet;
 use fbsynth::pipeline::output::{self, check_exportable, check_exportable_modular};
 use fbsynth::pipeline::recordings::machine_and_scenarios;
 use fbsynth::pipeline::{self, exact, modular, noisy};
@@ -125,11 +126,20 @@ fn report_loaded(progress: &Progress, set: &ScenarioSet) {
     ));
 }
 
-/// The output folder (`--out`, default `out/<stem of the first trace>`), created.
-fn infer_out(args: &InferArgs) -> Result<PathBuf, Failure> {
+/// The output folder (`--out`, default `out/<stem of the first trace>`), taken for this run
+/// before the search, so that a second run into it stops at once.
+fn infer_out(args: &InferArgs) -> Result<ResultSet, Failure> {
     let out = out_dir(&args.out, &args.traces.recordings().stem());
-    output::create_dir(&out)?;
-    Ok(out)
+    ResultSet::open(&out).map_err(Failure::input)
+}
+
+/// Publishes the staged results; the published paths of `staged`.
+fn publish(results: ResultSet, staged: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
+    let files = staged.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    Ok(files)
 }
 
 /// `synth infer`.
@@ -141,14 +151,17 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         let progress = Progress::new(args.quiet);
         let set = args.traces.load()?;
         report_loaded(&progress, &set);
-        let out = infer_out(args)?;
-        return distribute(args, m, &set, &out, &progress);
+        let results = infer_out(args)?;
+        let staged = distribute(args, m, &set, results.staging(), &progress)?;
+        print_written(&publish(results, &staged)?);
+        return Ok(());
     }
     let progress = Progress::new(args.quiet);
     let set = args.traces.load()?;
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
+    let results = infer_out(args)?;
     let opts = exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
@@ -181,10 +194,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
-    let out = infer_out(args)?;
-    let files =
-        export::write_all(&result.ecc, &out, &args.name, &formats).map_err(Failure::input)?;
-    print_written(&files);
+    let staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
+        .map_err(Failure::input)?;
+    print_written(&publish(results, &staged)?);
     Ok(())
 }
 
@@ -197,7 +209,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     let n = &args.noisy;
     let check = optional_check(&n.ltl, &n.plant, &set, &n.nusmv)?;
     let out = out_dir(&args.out, &args.traces.recordings().stem());
-    output::create_dir(&out)?;
+    let results = infer_out(args)?;
     let opts = noisy::Options {
         algorithms: args.algorithms.into(),
         max_states: args.max_states,
@@ -207,22 +219,33 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         ..noisy::Options::default()
     };
     let result = noisy::run(&set, check.as_ref(), &opts, &mut |e| progress.event(e))?;
-    let table = output::write_noisy(&out, &args.name, &formats, &result, progress.elapsed())?;
+    let table = output::write_noisy(
+        results.staging(),
+        &args.name,
+        &formats,
+        &result,
+        progress.elapsed(),
+    )?;
     out_raw!("{table}");
-    out!("results in {}", out.display());
     let verified = result.first_verified();
     // Correct the traces first, then distribute the logic.
+    let mut modular = Vec::new();
     if let Some(m) = args.modules {
         let chosen = verified.unwrap_or(1);
         let c = &result.synthesis.candidates[chosen - 1];
-        let dir = out.join("modular");
+        let dir = results.staging().join("modular");
         output::create_dir(&dir)?;
         out!(
             "modular synthesis (M = {m}) on the corrected traces of candidate {chosen} (ε = {}):",
             c.errors
         );
-        distribute(args, m, &c.corrected, &dir, &progress)?;
+        modular = distribute(args, m, &c.corrected, &dir, &progress)?;
     }
+    let modular = publish(results, &modular)?;
+    if !modular.is_empty() {
+        print_written(&modular);
+    }
+    out!("results in {}", out.display());
     match (check.is_some(), verified) {
         (false, _) => Ok(()),
         (true, Some(k)) => {
@@ -237,14 +260,14 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
 }
 
 /// Modular synthesis of `set` into `out` (also the second stage of `--noisy --modules`, on
-/// the corrected traces).
+/// the corrected traces); the files written.
 fn distribute(
     args: &InferArgs,
     modules: usize,
     set: &ScenarioSet,
     out: &Path,
     progress: &Progress,
-) -> Result<(), Failure> {
+) -> Result<Vec<PathBuf>, Failure> {
     let opts = modular::Options {
         modules,
         slots: args.slots,
@@ -272,10 +295,7 @@ fn distribute(
         result.stats.sat_seconds,
         set.scenarios.len()
     );
-    let files =
-        export::modular::write_modular(&result.modular, out, &args.name).map_err(Failure::input)?;
-    print_written(&files);
-    Ok(())
+    export::modular::write_modular(&result.modular, out, &args.name).map_err(Failure::input)
 }
 
 /// `synth convert`.

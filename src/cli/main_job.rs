@@ -8,6 +8,7 @@ use super::progress::Progress;
 use super::show::{print_files, verified_line};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
+use fbsynth::files::ResultSet;
 use fbsynth::pipeline::explain::{self, Explanation};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
 use fbsynth::pipeline::recordings::{read_ecc, stem};
@@ -185,6 +186,8 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats)?;
     let out = out_dir(&args.out, &stem(ltl));
+    // Taken before the search: a second run into the same folder stops now, not at the end.
+    let results = ResultSet::open(&out).map_err(Failure::input)?;
     let check = check(problem, &args.nusmv)?;
     let provenance = Provenance {
         name: &args.name,
@@ -299,7 +302,18 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             (ecc.clone(), ecc.size(), certificate, summary, closing)
         }
     };
-    let files = write_verified(&out, &formats, &ecc, &certificate, &provenance, &summary)?;
+    let staged = write_verified(
+        results.staging(),
+        &formats,
+        &ecc,
+        &certificate,
+        &provenance,
+        &summary,
+    )?;
+    let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
     out!(
         "{}",
         verified_line(certificate.report.properties.len(), set.scenarios.len())

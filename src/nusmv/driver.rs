@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
-use std::sync::{Arc, Mutex, Once};
+use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -547,14 +547,11 @@ fn tail(text: &str) -> String {
 /// remembers that it was reaped and then sends none, so a reused process id is never hit.
 static CHILDREN: Mutex<BTreeMap<u64, Arc<Mutex<Child>>>> = Mutex::new(BTreeMap::new());
 static NEXT_CHILD: AtomicU64 = AtomicU64::new(0);
-static CTRL_C: Once = Once::new();
 
 /// Kills every NuSMV process this program started and has not reaped yet.
 ///
-/// The handler of SIGINT, SIGTERM and SIGHUP installed with the first child calls this and
-/// exits with status 130.
-/// A program that installs its own Ctrl-C handler first (ours then cannot be installed)
-/// must call this from it.
+/// Registered with [`crate::signals`] when the first child starts: SIGINT, SIGTERM and SIGHUP
+/// call it before the program exits with status 130.
 pub fn kill_all_children() {
     let children = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
     for child in children.values() {
@@ -565,13 +562,7 @@ pub fn kill_all_children() {
 }
 
 fn install_ctrl_c_handler() {
-    CTRL_C.call_once(|| {
-        // Fails only when the program has a handler already; see kill_all_children.
-        let _ = ctrlc::set_handler(|| {
-            kill_all_children();
-            std::process::exit(130);
-        });
-    });
+    crate::signals::on_termination(kill_all_children);
 }
 
 /// A registered child process: killed and reaped when dropped.

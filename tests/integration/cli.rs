@@ -529,3 +529,78 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
         text(&o.stderr)
     );
 }
+
+/// A result folder holds one result: a second run with fewer formats removes the files of the
+/// first that it does not write again (the user's own files stay), and nothing of a run is
+/// left in the folder but its results (no staging folder).
+#[test]
+fn a_result_folder_holds_one_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = |formats: &str| {
+        synth(&[
+            "infer",
+            "-q",
+            "--traces",
+            &data("door.traces"),
+            "--format",
+            formats,
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let o = run("json,fbt,st");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(out.join("SynthesizedFB.fbt").is_file());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = run("json");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with(".synth.lock") && n != ".synth-files")
+        .collect();
+    names.sort();
+    assert_eq!(names, ["SynthesizedFB.json", "notes.txt"]);
+}
+
+/// A second run into a folder another run is writing stops at once with a clear message
+/// (exit 1) instead of mixing the files of two machines.
+#[test]
+fn a_second_run_into_a_busy_folder_stops() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(out.join(".synth.lock"))
+        .unwrap();
+    // SAFETY: flock on a descriptor this test owns, as a concurrent run would hold it.
+    assert_eq!(
+        unsafe {
+            libc::flock(
+                std::os::unix::io::AsRawFd::as_raw_fd(&lock),
+                libc::LOCK_EX | libc::LOCK_NB,
+            )
+        },
+        0
+    );
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        &data("door.traces"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("another synth run is writing into"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!out.join("SynthesizedFB.json").exists());
+}

@@ -307,6 +307,7 @@ fn termination_signals_leave_no_nusmv_behind() {
     let Some(n) = nusmv_or_skip() else { return };
     for signal in [libc::SIGTERM, libc::SIGHUP] {
         let out = tempfile::tempdir().unwrap();
+        let tmp = tempfile::tempdir().unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
             .args([
                 "-q",
@@ -322,6 +323,7 @@ fn termination_signals_leave_no_nusmv_behind() {
                 n.path.to_str().unwrap(),
             ])
             .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("TMPDIR", tmp.path())
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -358,6 +360,14 @@ fn termination_signals_leave_no_nusmv_behind() {
                 .is_ok_and(|s| !s.contains(") Z "));
             assert!(!alive, "NuSMV {pid} survived signal {signal}");
         }
+        // Neither NuSMV's work folder nor the staging folder of the results is left.
+        let left: Vec<_> = std::fs::read_dir(tmp.path())
+            .unwrap()
+            .chain(std::fs::read_dir(out.path()).unwrap())
+            .flatten()
+            .map(|e| e.path())
+            .collect();
+        assert!(left.is_empty(), "left after signal {signal}: {left:?}");
     }
 }
 

@@ -1,0 +1,277 @@
+//! A result set: the files one run writes into its output folder, published together.
+//!
+//! A run takes its output folder when it starts ([`ResultSet::open`]): it creates it, locks
+//! it (`.synth.lock`, an advisory `flock`, so a second run into the same folder stops at once
+//! instead of mixing its files with the first run's), and makes a staging folder inside it
+//! (`.synth-staging-*`). Writers write into [`ResultSet::staging`]; nothing appears in the
+//! output folder until [`ResultSet::publish`] moves every staged file into place, one rename
+//! each (all on the same file system, after every file was written in full). Files that the
+//! previous run published there (listed in `.synth-files`) and this one did not write are
+//! removed, so the folder never holds files of two different results. A run that fails, or
+//! is interrupted by a signal, leaves the folder as it was.
+
+use super::{write_atomic, WriteError};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+/// The lock file inside an output folder.
+pub const LOCK: &str = ".synth.lock";
+/// The list of files the last run published into an output folder.
+pub const MANIFEST: &str = ".synth-files";
+
+/// An output folder taken by this run.
+pub struct ResultSet {
+    out: PathBuf,
+    /// This run made the folder: a run that publishes nothing removes it again.
+    created: bool,
+    /// This run made the lock file: a run that publishes nothing removes it again.
+    lock_created: bool,
+    published: bool,
+    staging: tempfile::TempDir,
+    // Held for the whole run: the lock goes with the file.
+    _lock: std::fs::File,
+}
+
+/// Why an output folder cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultSetError {
+    #[error("another synth run is writing into {} (it holds {}); wait for it to finish or give another output folder", .out.display(), .out.join(LOCK).display())]
+    Busy { out: PathBuf },
+    #[error(transparent)]
+    Write(#[from] WriteError),
+}
+
+impl ResultSet {
+    /// Creates `out` if needed, locks it for this run and makes the staging folder.
+    pub fn open(out: &Path) -> Result<ResultSet, ResultSetError> {
+        let err = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| WriteError { path, source }
+        };
+        let created = !out.exists();
+        std::fs::create_dir_all(out).map_err(err(out))?;
+        let lock_path = out.join(LOCK);
+        let lock_created = !lock_path.exists();
+        let lock = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(err(&lock_path))?;
+        lock_exclusively(&lock, out)?;
+        if lock_created {
+            super::remove_on_signal(&lock_path);
+        }
+        let staging = tempfile::Builder::new()
+            .prefix(".synth-staging-")
+            .tempdir_in(out)
+            .map_err(err(out))?;
+        super::remove_on_signal(staging.path());
+        Ok(ResultSet {
+            out: out.to_path_buf(),
+            created,
+            lock_created,
+            published: false,
+            staging,
+            _lock: lock,
+        })
+    }
+
+    /// The folder to write the results into.
+    pub fn staging(&self) -> &Path {
+        self.staging.path()
+    }
+
+    /// Where a file written at `staged` (inside [`Self::staging`]) is after publishing.
+    pub fn published(&self, staged: &Path) -> PathBuf {
+        match staged.strip_prefix(self.staging.path()) {
+            Ok(rel) => self.out.join(rel),
+            Err(_) => staged.to_path_buf(),
+        }
+    }
+
+    /// Moves every staged file into the output folder, removes what the previous run
+    /// published and this one did not, and records the new list. Returns the files published
+    /// (relative to the output folder, sorted).
+    pub fn publish(mut self) -> Result<Vec<PathBuf>, WriteError> {
+        self.published = true;
+        let mut files = Vec::new();
+        walk(self.staging.path(), Path::new(""), &mut files).map_err(|source| WriteError {
+            path: self.staging.path().to_path_buf(),
+            source,
+        })?;
+        files.sort();
+        for rel in &files {
+            let to = self.out.join(rel);
+            let err = |source| WriteError {
+                path: to.clone(),
+                source,
+            };
+            if let Some(dir) = to.parent() {
+                std::fs::create_dir_all(dir).map_err(err)?;
+            }
+            std::fs::rename(self.staging.path().join(rel), &to).map_err(err)?;
+        }
+        let manifest = self.out.join(MANIFEST);
+        let now: BTreeSet<&PathBuf> = files.iter().collect();
+        if let Ok(before) = std::fs::read_to_string(&manifest) {
+            for line in before.lines() {
+                let rel = PathBuf::from(line);
+                // Only plain relative names inside the folder: the manifest is ours, but it is
+                // a file in a user's folder.
+                let inside = rel
+                    .components()
+                    .all(|c| matches!(c, std::path::Component::Normal(_)));
+                if inside && !now.contains(&rel) {
+                    let old = self.out.join(&rel);
+                    if std::fs::symlink_metadata(&old).is_ok_and(|m| m.is_file()) {
+                        let _ = std::fs::remove_file(&old);
+                    }
+                }
+            }
+        }
+        let list: String = files.iter().map(|f| format!("{}\n", f.display())).collect();
+        write_atomic(&manifest, list.as_bytes())?;
+        Ok(files)
+    }
+}
+
+impl Drop for ResultSet {
+    fn drop(&mut self) {
+        // The staging folder goes with its TempDir right after this.
+        super::keep_on_signal(self.staging.path());
+        super::keep_on_signal(&self.out.join(LOCK));
+        if self.published {
+            return;
+        }
+        // A failed run leaves nothing: no lock file it made, no folder it made
+        // (remove_dir fails, as it should, if anything else is in it).
+        if self.lock_created {
+            let _ = std::fs::remove_file(self.out.join(LOCK));
+        }
+        if self.created {
+            let _ = std::fs::remove_dir_all(self.staging.path());
+            let _ = std::fs::remove_dir(&self.out);
+        }
+    }
+}
+
+fn walk(dir: &Path, rel: &Path, files: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let rel = rel.join(entry.file_name());
+        if entry.file_type()?.is_dir() {
+            walk(&entry.path(), &rel, files)?;
+        } else {
+            files.push(rel);
+        }
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn lock_exclusively(file: &std::fs::File, out: &Path) -> Result<(), ResultSetError> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a file descriptor this function borrows for the call.
+    let r = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+    if r == 0 {
+        return Ok(());
+    }
+    let e = std::io::Error::last_os_error();
+    match e.raw_os_error() {
+        Some(libc::EWOULDBLOCK) => Err(ResultSetError::Busy {
+            out: out.to_path_buf(),
+        }),
+        _ => Err(ResultSetError::Write(WriteError {
+            path: out.join(LOCK),
+            source: e,
+        })),
+    }
+}
+
+#[cfg(not(unix))]
+fn lock_exclusively(_: &std::fs::File, _: &Path) -> Result<(), ResultSetError> {
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nothing_appears_before_publish_and_stale_files_go() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let set = ResultSet::open(&out).unwrap();
+        write_atomic(&set.staging().join("a.json"), b"1").unwrap();
+        write_atomic(&set.staging().join("b.fbt"), b"2").unwrap();
+        assert!(!out.join("a.json").exists());
+        assert_eq!(
+            set.published(&set.staging().join("a.json")),
+            out.join("a.json")
+        );
+        let files = set.publish().unwrap();
+        assert_eq!(files, [PathBuf::from("a.json"), PathBuf::from("b.fbt")]);
+        assert_eq!(std::fs::read(out.join("b.fbt")).unwrap(), b"2");
+        // A user's own file stays; the previous run's b.fbt goes with a run that lacks it.
+        std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        let set = ResultSet::open(&out).unwrap();
+        write_atomic(&set.staging().join("a.json"), b"3").unwrap();
+        set.publish().unwrap();
+        assert_eq!(std::fs::read(out.join("a.json")).unwrap(), b"3");
+        assert!(!out.join("b.fbt").exists());
+        assert!(out.join("notes.txt").exists());
+        let left: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(".synth-staging"))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+    }
+
+    #[test]
+    fn a_failed_run_removes_the_folder_it_made() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("new");
+        let set = ResultSet::open(&out).unwrap();
+        write_atomic(&set.staging().join("a.json"), b"1").unwrap();
+        drop(set);
+        assert!(!out.exists());
+    }
+
+    #[test]
+    fn a_second_run_into_a_taken_folder_stops() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = ResultSet::open(dir.path()).unwrap();
+        let second = ResultSet::open(dir.path());
+        assert!(
+            matches!(second, Err(ResultSetError::Busy { .. })),
+            "the folder is taken"
+        );
+        drop(first);
+        assert!(ResultSet::open(dir.path()).is_ok());
+    }
+
+    #[test]
+    fn a_dropped_set_leaves_the_folder_as_it_was() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.json"), "old").unwrap();
+        let set = ResultSet::open(dir.path()).unwrap();
+        write_atomic(&set.staging().join("a.json"), b"new").unwrap();
+        drop(set);
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("a.json")).unwrap(),
+            "old"
+        );
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(
+            names.iter().all(|n| !n.starts_with(".synth-staging")),
+            "{names:?}"
+        );
+    }
+}
