@@ -258,6 +258,12 @@ impl Verifier {
     ) -> Result<Verifier, VerifyError> {
         let workdir = tempfile::tempdir()?;
         crate::files::remove_on_signal(workdir.path());
+        // The models written there are the user's plant and properties: for their eyes only.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(workdir.path(), std::fs::Permissions::from_mode(0o700))?;
+        }
         Ok(Verifier {
             problem,
             session: nusmv.session(),
@@ -268,6 +274,11 @@ impl Verifier {
     /// The problem this verifier checks against.
     pub fn problem(&self) -> &Problem {
         &self.problem
+    }
+
+    /// The folder the models are written into (0700).
+    pub fn workdir(&self) -> &Path {
+        self.workdir.path()
     }
 
     /// Verifies `ecc` in closed loop (see [`verify`]).
@@ -553,5 +564,36 @@ impl Counterexample {
             loop_start,
             label: format!("counterexample of {}", self.property),
         })
+    }
+}
+
+#[cfg(test)]
+mod workdir_tests {
+    use super::*;
+
+    /// The closed-loop models hold the user's plant and properties: the folder NuSMV reads
+    /// them from is the user's alone.
+    #[cfg(unix)]
+    #[test]
+    fn the_work_folder_is_private() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let spec = dir.path().join("s.ltl");
+        std::fs::write(&spec, "G !lamp\n").unwrap();
+        let plant =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/closed_loop/lamp_plant.smv");
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let problem = Problem::load(
+            &spec,
+            &plant,
+            &names(&["button", "timeout"]),
+            &names(&["lamp"]),
+        )
+        .unwrap();
+        // No NuSMV is started before the first check.
+        let nusmv = crate::nusmv::Nusmv::new(PathBuf::from("/nonexistent/NuSMV"));
+        let v = Verifier::new(std::sync::Arc::new(problem), &nusmv).unwrap();
+        let mode = std::fs::metadata(v.workdir()).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o700);
     }
 }

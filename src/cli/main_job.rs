@@ -201,7 +201,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 sat: exact::SatOptions {
                     algorithms: args.algorithms.into(),
                     max_states: args.max_states,
-                    cube_slots: Some(args.max_out_degree.max(1)),
+                    cube_slots: Some(args.max_out_degree),
                     ..exact::SatOptions::default()
                 },
                 max_iterations: args.max_iterations,

@@ -449,6 +449,7 @@ fn sizes_that_would_exhaust_the_machine_are_usage_errors() {
     ];
     for extra in [
         &["--max-out-degree", "1000"][..],
+        &["--max-out-degree", "0"],
         &["--max-states", "100000"],
         &["--method", "search", "--threads", "100000"],
         &["--method", "search", "--colonies", "100000"],
