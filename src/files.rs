@@ -50,6 +50,12 @@ fn remove_temporaries() {
     }
 }
 
+/// The longest line (its line break not counted) that any reader of a user's text file
+/// accepts: 1 MiB. Real lines of the formats read here (log rows, mapping and names lines,
+/// formulas) are a few hundred bytes; the cap keeps a file with no line break at all (a
+/// corrupted log, `/dev/zero`) from filling memory before the error is found.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
 /// The first two bytes of every gzip member (RFC 1952).
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
@@ -77,6 +83,110 @@ pub fn open_input(path: &Path) -> std::io::Result<Input> {
         Box::new(raw)
     };
     Ok(Input { reader, gzip })
+}
+
+/// Why the text of a user's file could not be read (the file is named by [`FileReadError`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// A line holds more than `limit` bytes, its line break not counted.
+    #[error("line {line} is longer than {limit} bytes")]
+    LineTooLong { line: usize, limit: usize },
+    /// A CSV record that quoted line breaks spread over several lines holds more than `limit`
+    /// bytes: most likely a quote that is never closed.
+    #[error("the record from line {first} to line {line} is longer than {limit} bytes (is a quote left open?)")]
+    RecordTooLong {
+        first: usize,
+        line: usize,
+        limit: usize,
+    },
+}
+
+impl ReadError {
+    /// The line the problem is on, if it is on one.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            ReadError::Io(_) => None,
+            ReadError::LineTooLong { line, .. } | ReadError::RecordTooLong { line, .. } => {
+                Some(*line)
+            }
+        }
+    }
+
+    /// The error with the file it is about.
+    pub fn at(self, file: &Path) -> FileReadError {
+        FileReadError {
+            file: file.to_path_buf(),
+            error: self,
+        }
+    }
+}
+
+/// A [`ReadError`] in a named file: displayed `FILE:LINE: ...` when the problem is on a line,
+/// `FILE: ...` otherwise.
+#[derive(Debug, thiserror::Error)]
+pub struct FileReadError {
+    pub file: PathBuf,
+    #[source]
+    pub error: ReadError,
+}
+
+impl std::fmt::Display for FileReadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let file = self.file.display();
+        match self.error.line() {
+            Some(line) => write!(f, "{file}:{line}: {}", self.error),
+            None => write!(f, "{file}: {}", self.error),
+        }
+    }
+}
+
+/// What [`read_line`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum LineRead {
+    /// The input had ended: nothing was appended.
+    End,
+    /// A line was appended (with its line break, unless it is the last line and has none).
+    Line,
+    /// The unit passed `limit`: stop reading it.
+    TooLong,
+}
+
+/// Appends the next line of `src`, its line break included, to `buf`, whose bytes from `from`
+/// on are the unit being read (one line, or a record that quoted line breaks spread over
+/// several). [`LineRead::TooLong`] when the unit would hold more than `limit` bytes, its final
+/// line break (LF or CRLF) not counted; by then at most `limit + 2` bytes of it are in `buf`,
+/// however long the line in `src`.
+pub(crate) fn read_line(
+    src: &mut impl BufRead,
+    buf: &mut Vec<u8>,
+    from: usize,
+    limit: usize,
+) -> std::io::Result<LineRead> {
+    use std::io::Read;
+    // Two bytes past the limit leave room for the CRLF of a line that ends right at it.
+    let room = limit.saturating_add(2).saturating_sub(buf.len() - from);
+    if room == 0 {
+        // The unit is full; a further line could only make it longer.
+        return Ok(match src.fill_buf()?.is_empty() {
+            true => LineRead::End,
+            false => LineRead::TooLong,
+        });
+    }
+    if (&mut *src).take(room as u64).read_until(b'\n', buf)? == 0 {
+        return Ok(LineRead::End);
+    }
+    let unit = &buf[from..];
+    let end = match unit {
+        [.., b'\r', b'\n'] => 2,
+        [.., b'\n'] => 1,
+        _ => 0,
+    };
+    Ok(match unit.len() - end > limit {
+        true => LineRead::TooLong,
+        false => LineRead::Line,
+    })
 }
 
 /// A file that could not be written, with its path.

@@ -4,8 +4,10 @@
 //! and its delimiter. Out: records of trimmed cells, each with the line it starts on, and the
 //! Boolean values the cells hold ([`parse_bool`]). Quoting follows RFC 4180 (the `csv` crate);
 //! a UTF-8 byte order mark before the first record is dropped, as spreadsheet programs write
-//! one; blank lines, even ones holding only spaces, are skipped.
+//! one; blank lines, even ones holding only spaces, are skipped. A record longer than
+//! [`MAX_LINE_BYTES`] is an error naming its line, found after reading at most that much of it.
 
+use super::{read_line, LineRead, ReadError, MAX_LINE_BYTES};
 use std::io::{self, BufRead};
 
 /// The UTF-8 encoding of U+FEFF, which some programs put before the first byte of text.
@@ -16,7 +18,8 @@ const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 /// Lines are read here and each record's cells are split by `csv_core`, the parser under the
 /// `csv` crate, into buffers reused from record to record: the `csv` crate's own line count
 /// skips blank lines, and every error message of a log names the line of the file. Memory
-/// holds one record, whatever the length of the file.
+/// holds one record, whatever the length of the file, and a record holds at most
+/// [`MAX_LINE_BYTES`], whatever the length of a line.
 pub struct Records<R: BufRead> {
     src: R,
     splitter: csv_core::Reader,
@@ -49,34 +52,57 @@ impl<R: BufRead> Records<R> {
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
-    pub fn next_record(&mut self) -> io::Result<Option<(usize, Record<'_>)>> {
+    pub fn next_record(&mut self) -> Result<Option<(usize, Record<'_>)>, ReadError> {
         loop {
             self.text.clear();
-            if self.src.read_until(b'\n', &mut self.text)? == 0 {
+            let first = self.line + 1;
+            if !self.next_line(first)? {
                 return Ok(None);
             }
-            self.line += 1;
-            let start = self.line;
             // A quoted cell may hold line breaks (RFC 4180): while a quote is open, the record
             // goes on in the next line. Doubled quotes inside a cell count twice, so the parity
-            // of all quotes says whether one is open.
-            while self.text.iter().filter(|&&b| b == b'"').count() % 2 == 1 {
-                if self.src.read_until(b'\n', &mut self.text)? == 0 {
+            // of all quotes says whether one is open; only the new line's quotes are counted,
+            // so a record of many lines is read in linear time.
+            let mut open = odd_quotes(&self.text);
+            while open {
+                let seen = self.text.len();
+                if !self.next_line(first)? {
                     break;
                 }
-                self.line += 1;
+                open ^= odd_quotes(&self.text[seen..]);
             }
             if self.text.trim_ascii().is_empty() {
                 continue;
             }
             self.split();
             return Ok(Some((
-                start,
+                first,
                 Record {
                     cells: &self.cells,
                     ends: &self.ends[..self.count],
                 },
             )));
+        }
+    }
+
+    /// Appends the next line to the record begun on line `first`; `false` at the end of the
+    /// input.
+    fn next_line(&mut self, first: usize) -> Result<bool, ReadError> {
+        let limit = MAX_LINE_BYTES;
+        match read_line(&mut self.src, &mut self.text, 0, limit)? {
+            LineRead::End => Ok(false),
+            LineRead::Line => {
+                self.line += 1;
+                Ok(true)
+            }
+            LineRead::TooLong => {
+                self.line += 1;
+                let line = self.line;
+                Err(match first == line {
+                    true => ReadError::LineTooLong { line, limit },
+                    false => ReadError::RecordTooLong { first, line, limit },
+                })
+            }
         }
     }
 
@@ -113,6 +139,10 @@ impl<R: BufRead> Records<R> {
         }
         self.count = count;
     }
+}
+
+fn odd_quotes(text: &[u8]) -> bool {
+    text.iter().filter(|&&b| b == b'"').count() % 2 == 1
 }
 
 /// One record: its cells, each trimmed of surrounding blanks.
@@ -197,6 +227,57 @@ mod tests {
             ]
         );
         assert!(read("", b',').is_empty());
+    }
+
+    /// The error of the first record that is not read, as text (`None` when every record of
+    /// `src` reads).
+    fn first_error(src: impl BufRead) -> Option<String> {
+        let mut records = Records::new(src, b',').unwrap();
+        loop {
+            match records.next_record() {
+                Ok(Some(_)) => {}
+                Ok(None) => return None,
+                Err(e) => return Some(e.to_string()),
+            }
+        }
+    }
+
+    #[test]
+    fn a_line_over_the_limit_is_an_error_naming_it() {
+        use std::io::Read;
+        let limit = crate::files::MAX_LINE_BYTES;
+        // Generated in memory: twice the limit without a line break on line 3.
+        let zeros = || io::BufReader::new(io::repeat(b'0').take(2 * limit as u64));
+        assert_eq!(
+            first_error(b"a,b\n1,2\n".chain(zeros())).as_deref(),
+            Some(format!("line 3 is longer than {limit} bytes").as_str())
+        );
+        // A line of exactly the limit, then its break (LF or CRLF), is still read.
+        let line = |n: usize, end: &'static [u8]| {
+            io::BufReader::new(io::repeat(b'0').take(n as u64))
+                .chain(end)
+                .chain(&b"2\n"[..])
+        };
+        assert_eq!(first_error(line(limit, b"\n")), None);
+        assert_eq!(first_error(line(limit, b"\r\n")), None);
+        assert_eq!(
+            first_error(line(limit + 1, b"\n")).as_deref(),
+            Some(format!("line 1 is longer than {limit} bytes").as_str())
+        );
+    }
+
+    #[test]
+    fn an_open_quote_cannot_swallow_the_file() {
+        use std::io::Read;
+        let limit = crate::files::MAX_LINE_BYTES;
+        // Short lines after a quote that never closes: each line is fine, the record is not.
+        // A million of them also shows the quote count does not restart on every line.
+        let lines = io::BufReader::new(io::repeat(b'\n').take(limit as u64 + 10));
+        let got = first_error(b"a,b\n\"x,\n".chain(lines)).unwrap();
+        let want = format!(
+            "the record from line 2 to line {limit} is longer than {limit} bytes (is a quote left open?)"
+        );
+        assert_eq!(got, want);
     }
 
     #[test]

@@ -22,7 +22,10 @@
 //! ignored: [`crate::files::csv`]), told apart by their header; the file may be
 //! gzip-compressed (recognized by its magic bytes, multi-member streams accepted). Values are `0`, `1`,
 //! `true`, `false` (any case). Timestamps are numbers and must not go backwards. Blank lines
-//! are ignored; line numbers count every line of the (decompressed) file.
+//! are ignored; line numbers count every line of the (decompressed) file. A line (or a record
+//! whose quoted cells span lines) longer than [`MAX_LINE_BYTES`](crate::files::MAX_LINE_BYTES)
+//! is an [`IngestError::Read`], in lenient mode too: nothing after it can be trusted to be a
+//! row.
 //! - **long**, header `timestamp,address,value`: one row per changed signal. Every signal
 //!   starts at 0 and keeps its value until a row changes it. Rows with the same timestamp form
 //!   one sample, emitted once a later timestamp (or the end of the file) is seen.
@@ -145,6 +148,9 @@ pub enum IngestError {
         line: usize,
         problem: BadRow,
     },
+    /// A line longer than the limit, in the log or the mapping.
+    #[error(transparent)]
+    Read(#[from] crate::files::FileReadError),
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as

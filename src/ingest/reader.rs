@@ -8,6 +8,7 @@
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
 use crate::files::csv::{parse_bool, Record, Records};
+use crate::files::ReadError;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
@@ -99,6 +100,7 @@ impl<R: BufRead> LogReader<R> {
             source,
         };
         let mut records = Records::new(src, b',').map_err(io)?;
+        let read = |e| read_error(&file, e);
         let mut rows = Rows {
             format: LogFormat::Long,
             columns: Vec::new(),
@@ -117,7 +119,7 @@ impl<R: BufRead> LogReader<R> {
             line,
             message,
         };
-        match records.next_record().map_err(io)? {
+        match records.next_record().map_err(read)? {
             None => return Err(header_err(1, "empty log: expected a header row".into())),
             Some((line, header)) => {
                 let cells = header
@@ -285,12 +287,9 @@ impl<R: BufRead> Iterator for LogReader<R> {
     fn next(&mut self) -> Option<Self::Item> {
         while !self.done {
             let (line, record) = match self.records.next_record() {
-                Err(source) => {
+                Err(e) => {
                     self.done = true;
-                    return Some(Err(IngestError::Io {
-                        file: self.file.clone(),
-                        source,
-                    }));
+                    return Some(Err(read_error(&self.file, e)));
                 }
                 Ok(None) => {
                     self.done = true;
@@ -327,6 +326,18 @@ impl<R: BufRead> Iterator for LogReader<R> {
             }
         }
         None
+    }
+}
+
+/// A failed read of the log: an I/O error (a broken gzip stream, say) stays
+/// [`IngestError::Io`].
+fn read_error(file: &Path, e: ReadError) -> IngestError {
+    match e {
+        ReadError::Io(source) => IngestError::Io {
+            file: file.to_path_buf(),
+            source,
+        },
+        e => IngestError::Read(e.at(file)),
     }
 }
 

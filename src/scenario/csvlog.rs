@@ -57,11 +57,12 @@ pub fn parse(
         line,
         message,
     };
-    // Reading from memory fails only on what the CSV reader cannot split, reported as I/O.
+    // Reading from memory fails only on a line over the limit.
     let io = |source| ScenarioError::Io {
         file: file.to_path_buf(),
         source,
     };
+    let read = |e: crate::files::ReadError| ScenarioError::Read(e.at(file));
     let header_line = text
         .trim_start_matches('\u{feff}')
         .lines()
@@ -74,7 +75,7 @@ pub fn parse(
         b';'
     };
     let mut records = Records::new(text.as_bytes(), sep).map_err(io)?;
-    let (hline, header) = match records.next_record().map_err(io)? {
+    let (hline, header) = match records.next_record().map_err(read)? {
         Some((line, cells)) => (line, cells.iter().map(lossy).collect::<Vec<String>>()),
         None => return Err(err(1, "empty file: expected a header row".into())),
     };
@@ -83,7 +84,7 @@ pub fn parse(
 
     // Samples grouped by the scenario column.
     let mut groups: Vec<(usize, String, Vec<Sample>)> = Vec::new();
-    while let Some((line_no, cells)) = records.next_record().map_err(io)? {
+    while let Some((line_no, cells)) = records.next_record().map_err(read)? {
         if cells.len() != columns.len() {
             return Err(err(
                 line_no,

@@ -71,6 +71,9 @@ pub enum ScenarioError {
     },
     #[error("{file}: not a valid gzip stream: {message}")]
     Gzip { file: PathBuf, message: String },
+    /// A line over the limit, or a file too large to read.
+    #[error(transparent)]
+    Read(#[from] crate::files::FileReadError),
     #[error("{file}:{line}: {message}")]
     Syntax {
         file: PathBuf,

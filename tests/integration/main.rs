@@ -9,6 +9,7 @@ mod cli;
 mod closed_loop;
 mod common;
 mod events;
+mod limits;
 mod modes;
 mod modular;
 mod noisy;
