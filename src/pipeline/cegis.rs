@@ -262,14 +262,7 @@ fn iterate(
                     ..before
                 };
                 let it = unchanged(number, &synthesis, t.elapsed().as_secs_f64());
-                events(Event::Candidate(&it));
-                iterations.push(it);
-                return Ok(Verified {
-                    synthesis,
-                    report,
-                    iterations,
-                    model_text,
-                });
+                return Ok(kept(synthesis, report, model_text, iterations, it, events));
             }
             // Something smaller exists: search for it from the machine that passed, not from
             // the lower bound's colouring the line above may have just handed over.
@@ -305,14 +298,7 @@ fn iterate(
                     ..before
                 };
                 let it = unchanged(number, &synthesis, sat_seconds);
-                events(Event::Candidate(&it));
-                iterations.push(it);
-                return Ok(Verified {
-                    synthesis,
-                    report,
-                    iterations,
-                    model_text,
-                });
+                return Ok(kept(synthesis, report, model_text, iterations, it, events));
             }
         }
         // The in-process checker first: a counterexample from it costs milliseconds, and
@@ -508,6 +494,26 @@ fn iterate(
         iterations: config.max_iterations,
         failing: last_failing,
     })
+}
+
+/// The result when the final pass keeps the verified candidate: its iteration reported and
+/// appended.
+fn kept(
+    synthesis: Synthesis,
+    report: Report,
+    model_text: String,
+    mut iterations: Vec<Iteration>,
+    it: Iteration,
+    events: Events<'_>,
+) -> Verified {
+    events(Event::Candidate(&it));
+    iterations.push(it);
+    Verified {
+        synthesis,
+        report,
+        iterations,
+        model_text,
+    }
 }
 
 /// The iteration of a final pass that kept the verified candidate.
