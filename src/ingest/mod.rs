@@ -151,25 +151,72 @@ pub enum IngestError {
     /// A line longer than the limit, in the log or the mapping.
     #[error(transparent)]
     Read(#[from] crate::files::FileReadError),
+    /// The scenario file could not be written.
+    #[error(transparent)]
+    Write(#[from] crate::files::WriteError),
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
-/// it is final. Returns what the reader counted.
-pub fn convert_log<R: std::io::BufRead>(
+/// it is final; the first error of the log or of `sink` stops it. Returns what the reader
+/// counted.
+pub fn convert_log<R: std::io::BufRead, E: From<IngestError>>(
     mut reader: LogReader<R>,
     initial_outputs: Vec<bool>,
-    mut sink: impl FnMut(crate::scenario::Step),
-) -> Result<ReadStats, IngestError> {
+    mut sink: impl FnMut(crate::scenario::Step) -> Result<(), E>,
+) -> Result<ReadStats, E> {
     let mut steps = StepStream::new(initial_outputs);
     for sample in reader.by_ref() {
         if let Some(step) = steps.push(sample?) {
-            sink(step);
+            sink(step)?;
         }
     }
     if let Some(step) = steps.finish() {
-        sink(step);
+        sink(step)?;
     }
     Ok(reader.stats().clone())
+}
+
+/// What [`write_scenario`] read and wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Written {
+    pub stats: ReadStats,
+    /// Steps written, and those of them with a `CNF`.
+    pub steps: u64,
+    pub active: u64,
+}
+
+/// `synth ingest`: converts the log file `log` into an fbSAT scenario file `out` with one
+/// scenario (initial outputs all 0, as the log formats assume), written step by step as the
+/// log is read, so memory does not grow with the log; `out` is published atomically (`.gz`
+/// compresses) and not touched when the log has a bad row.
+pub fn write_scenario(
+    log: &std::path::Path,
+    mapping: &Mapping,
+    lenient: bool,
+    out: &std::path::Path,
+) -> Result<Written, IngestError> {
+    let reader = LogReader::open(log, mapping, lenient)?;
+    let file = crate::files::AtomicFile::create(out)?;
+    let write_err = |source| {
+        IngestError::Write(crate::files::WriteError {
+            path: out.to_path_buf(),
+            source,
+        })
+    };
+    let mut w = crate::scenario::fbsat::ScenarioWriter::new(file, 1).map_err(write_err)?;
+    let (mut steps, mut active) = (0, 0);
+    let stats = convert_log(reader, vec![false; mapping.outputs().len()], |step| {
+        steps += 1;
+        active += u64::from(step.outputs.is_some());
+        w.step(&step).map_err(write_err)
+    })?;
+    w.end_scenario().map_err(write_err)?;
+    w.into_inner().commit()?;
+    Ok(Written {
+        stats,
+        steps,
+        active,
+    })
 }
 
 /// Reads a log file into a scenario set with one scenario for the whole log (initial outputs
@@ -183,7 +230,10 @@ pub fn read_scenarios(
     let reader = LogReader::open(log, mapping, lenient)?;
     let initial = vec![false; mapping.outputs().len()];
     let mut steps = Vec::new();
-    let stats = convert_log(reader, initial.clone(), |s| steps.push(s))?;
+    let stats = convert_log(reader, initial.clone(), |s| {
+        steps.push(s);
+        Ok::<(), IngestError>(())
+    })?;
     let set = ScenarioSet {
         inputs: mapping.inputs().to_vec(),
         outputs: mapping.outputs().to_vec(),

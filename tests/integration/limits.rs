@@ -1,6 +1,7 @@
 //! Inputs without end, through the binary: a line longer than the limit, or a file that never
 //! ends (`/dev/zero`), stops a command with exit 1 and the file and line, after reading no more
-//! than the limit, and leaves no output.
+//! than the limit, and leaves no output; a long log is ingested in memory that does not grow
+//! with it.
 
 use fbsynth::files::MAX_LINE_BYTES;
 use std::path::Path;
@@ -214,4 +215,41 @@ fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
             )
         );
     }
+}
+
+#[test]
+fn ingest_of_a_million_rows_fits_in_64_mb_of_address_space() {
+    let dir = tempfile::tempdir().unwrap();
+    let dir = dir.path();
+    let mut log = std::io::BufWriter::new(std::fs::File::create(dir.join("big.csv")).unwrap());
+    let map = fbsynth::ingest::write_random_log(&mut log, 8, 8, 1_000_000, 1).unwrap();
+    drop(log);
+    std::fs::write(dir.join("big.map"), map).unwrap();
+    // The ingested scenario alone would take about 40 MB if it were held in memory; streamed,
+    // the run needs about 12 MB (debug build, most of it the mapped binary).
+    let o = Command::new("sh")
+        .args(["-c", "ulimit -v 65536 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "ingest",
+            "--log",
+            "big.csv",
+            "--map",
+            "big.map",
+            "-o",
+            "big.traces",
+        ])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{:?}: {}", o.status, stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let steps: usize = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("steps:"))
+        .and_then(|l| l.split_whitespace().next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no step count in {stdout}"));
+    let scenario = std::fs::read_to_string(dir.join("big.traces")).unwrap();
+    assert!(scenario.starts_with("1\nin=REQ["), "{}", &scenario[..40]);
+    assert_eq!(scenario.matches("in=REQ[").count(), steps);
 }
