@@ -35,8 +35,9 @@
 //! In the long format, the address column may also hold a name of the mapping.
 //!
 //! # Bad rows
-//! An unparsable value or timestamp, an unknown address, a timestamp smaller than the one
-//! before, or a wrong number of cells stops the reader with an [`IngestError::Row`] naming
+//! An unparsable value or timestamp, a timestamp beyond [`MAX_TIMESTAMP`] seconds either side
+//! of 0, an unknown address, a timestamp smaller than the one before, or a wrong number of
+//! cells stops the reader with an [`IngestError::Row`] naming
 //! file and line. In lenient mode the row is skipped instead and counted per [`RowKind`].
 
 mod mapping;
@@ -50,11 +51,20 @@ pub use crate::scenario::csvlog::Sample;
 use std::fmt;
 use std::path::PathBuf;
 
+/// The largest timestamp accepted either side of 0, in seconds: about 285,000 years, below
+/// 2^53 milliseconds, so every accepted timestamp keeps its milliseconds exactly (in a double,
+/// and in the integer count `synth events` writes dates from) and two scans a millisecond
+/// apart stay apart. Unix times in seconds and in milliseconds fit; `1e20` does not, and would
+/// otherwise be merged with its neighbours or turned into a date clamped to the year 292 million.
+pub const MAX_TIMESTAMP: f64 = 9e12;
+
 /// What is wrong with a data row.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BadRow {
     /// A cell that is not a value (`0/1/true/false`) or, in the timestamp column, a number.
     Value { column: String, cell: String },
+    /// A timestamp beyond [`MAX_TIMESTAMP`] either side of 0.
+    TimeRange { column: String, cell: String },
     /// An address (long format) that the mapping does not know.
     UnknownAddress(String),
     /// A timestamp smaller than the one before.
@@ -67,6 +77,7 @@ pub enum BadRow {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RowKind {
     Value,
+    TimeRange,
     UnknownAddress,
     TimeBackwards,
     CellCount,
@@ -74,8 +85,9 @@ pub enum RowKind {
 
 impl RowKind {
     /// Every kind, in the order reports list them.
-    pub const ALL: [RowKind; 4] = [
+    pub const ALL: [RowKind; 5] = [
         RowKind::Value,
+        RowKind::TimeRange,
         RowKind::UnknownAddress,
         RowKind::TimeBackwards,
         RowKind::CellCount,
@@ -85,6 +97,7 @@ impl RowKind {
     pub fn label(self) -> &'static str {
         match self {
             RowKind::Value => "unparsable value",
+            RowKind::TimeRange => "timestamp out of range",
             RowKind::UnknownAddress => "unknown address",
             RowKind::TimeBackwards => "time going backwards",
             RowKind::CellCount => "wrong cell count",
@@ -97,6 +110,7 @@ impl BadRow {
     pub fn kind(&self) -> RowKind {
         match self {
             BadRow::Value { .. } => RowKind::Value,
+            BadRow::TimeRange { .. } => RowKind::TimeRange,
             BadRow::UnknownAddress(_) => RowKind::UnknownAddress,
             BadRow::TimeBackwards { .. } => RowKind::TimeBackwards,
             BadRow::CellCount { .. } => RowKind::CellCount,
@@ -110,6 +124,10 @@ impl fmt::Display for BadRow {
             BadRow::Value { column, cell } => {
                 write!(f, "column '{column}': cannot read '{cell}'")
             }
+            BadRow::TimeRange { column, cell } => write!(
+                f,
+                "column '{column}': '{cell}' is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0"
+            ),
             BadRow::UnknownAddress(a) => write!(f, "unknown address '{a}' (not in the mapping)"),
             BadRow::TimeBackwards { time, previous } => {
                 write!(f, "time goes backwards: {time} after {previous}")
