@@ -198,7 +198,7 @@ pub fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Writes the fbSAT format step by step, as [`write`] does, for scenarios too long to hold in
+/// Writes the fbSAT format step by step, as [`write()`] does, for scenarios too long to hold in
 /// memory (a raw log of any length is one scenario): the number of scenarios first, then
 /// [`ScenarioWriter::step`] for each step and [`ScenarioWriter::end_scenario`] after each
 /// scenario.
