@@ -56,6 +56,10 @@ fn remove_temporaries() {
 /// corrupted log, `/dev/zero`) from filling memory before the error is found.
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
+/// The largest file that is read whole into memory (scenario files, machines, mapping, names,
+/// LTL and plant files): 1 GiB, far more than any of them holds in practice.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+
 /// The first two bytes of every gzip member (RFC 1952).
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
@@ -101,16 +105,22 @@ pub enum ReadError {
         line: usize,
         limit: usize,
     },
+    /// A file read whole holds more than `limit` bytes (after gunzipping).
+    #[error("larger than {}, the most read from one file", bytes(*limit))]
+    TooLarge { limit: u64 },
+    /// A byte sequence that is not UTF-8, first on `line`.
+    #[error("not UTF-8 text")]
+    NotUtf8 { line: usize },
 }
 
 impl ReadError {
     /// The line the problem is on, if it is on one.
     pub fn line(&self) -> Option<usize> {
         match self {
-            ReadError::Io(_) => None,
-            ReadError::LineTooLong { line, .. } | ReadError::RecordTooLong { line, .. } => {
-                Some(*line)
-            }
+            ReadError::Io(_) | ReadError::TooLarge { .. } => None,
+            ReadError::LineTooLong { line, .. }
+            | ReadError::RecordTooLong { line, .. }
+            | ReadError::NotUtf8 { line } => Some(*line),
         }
     }
 
@@ -187,6 +197,90 @@ pub(crate) fn read_line(
         true => LineRead::TooLong,
         false => LineRead::Line,
     })
+}
+
+/// `1073741824 bytes (1 GiB)`: a size in bytes, and in MiB or GiB when it is a whole number of
+/// them.
+fn bytes(n: u64) -> String {
+    match n {
+        0 => "0 bytes".into(),
+        _ if n.is_multiple_of(1 << 30) => format!("{n} bytes ({} GiB)", n >> 30),
+        _ if n.is_multiple_of(1 << 20) => format!("{n} bytes ({} MiB)", n >> 20),
+        _ => format!("{n} bytes"),
+    }
+}
+
+/// Reads all of `src`, refusing more than `max_file` bytes and, with `max_line`, a line longer
+/// than that (its line break not counted). Either is found having read at most a line past
+/// the limit, so an endless input ends in an error, not in all of memory.
+pub fn read_all(
+    mut src: impl BufRead,
+    max_line: Option<usize>,
+    max_file: u64,
+) -> Result<Vec<u8>, ReadError> {
+    use std::io::Read;
+    let mut all = Vec::new();
+    match max_line {
+        // Files whose one line may be long (an fbSAT scenario, a JSON machine).
+        None => {
+            // Exactly the limit, then a look for more: a Vec grown to the limit and one byte
+            // would double to twice the limit.
+            (&mut src).take(max_file).read_to_end(&mut all)?;
+            if !src.fill_buf()?.is_empty() {
+                return Err(ReadError::TooLarge { limit: max_file });
+            }
+        }
+        Some(limit) => {
+            let mut line = 0;
+            loop {
+                let from = all.len();
+                match read_line(&mut src, &mut all, from, limit)? {
+                    LineRead::End => break,
+                    LineRead::Line => line += 1,
+                    LineRead::TooLong => {
+                        return Err(ReadError::LineTooLong {
+                            line: line + 1,
+                            limit,
+                        })
+                    }
+                }
+                if all.len() as u64 > max_file {
+                    return Err(ReadError::TooLarge { limit: max_file });
+                }
+            }
+        }
+    }
+    Ok(all)
+}
+
+/// The bytes as text, or the line of the first byte that is not UTF-8.
+pub fn utf8_text(bytes: Vec<u8>) -> Result<String, ReadError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..valid]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        ReadError::NotUtf8 { line }
+    })
+}
+
+/// Reads a user's text file whole (not gunzipped), with the limits of [`read_all`]: at most
+/// [`MAX_FILE_BYTES`], and lines of at most `max_line` bytes when given. A regular file over
+/// the size limit is refused before it is read.
+pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, FileReadError> {
+    let read = || -> Result<String, ReadError> {
+        let file = std::fs::File::open(path)?;
+        let meta = file.metadata()?;
+        if meta.is_file() && meta.len() > MAX_FILE_BYTES {
+            return Err(ReadError::TooLarge {
+                limit: MAX_FILE_BYTES,
+            });
+        }
+        let src = BufReader::with_capacity(1 << 16, file);
+        utf8_text(read_all(src, max_line, MAX_FILE_BYTES)?)
+    };
+    read().map_err(|e| e.at(path))
 }
 
 /// A file that could not be written, with its path.
@@ -438,6 +532,36 @@ mod tests {
             input.reader.read_to_string(&mut got).unwrap();
             assert_eq!(got, text);
         }
+    }
+
+    #[test]
+    fn read_all_stops_just_past_its_limits() {
+        use std::io::repeat;
+        // An endless input: only the limits end the reading.
+        let endless = || BufReader::new(repeat(b'0'));
+        let e = read_all(endless(), None, 1000).unwrap_err();
+        assert!(matches!(e, ReadError::TooLarge { limit: 1000 }), "{e}");
+        assert_eq!(
+            e.to_string(),
+            "larger than 1000 bytes, the most read from one file"
+        );
+        let e = read_all(endless(), Some(10), 1000).unwrap_err();
+        assert!(
+            matches!(e, ReadError::LineTooLong { line: 1, limit: 10 }),
+            "{e}"
+        );
+        let lines = || BufReader::new(repeat(b'\n'));
+        let e = read_all(lines(), Some(10), 1000).unwrap_err();
+        assert!(matches!(e, ReadError::TooLarge { limit: 1000 }), "{e}");
+        let e = read_all(&b"short\r\nten bytes.\r\n11 bytes...\n"[..], Some(10), 1000);
+        assert!(
+            matches!(e, Err(ReadError::LineTooLong { line: 3, limit: 10 })),
+            "{e:?}"
+        );
+        // Exactly at both limits is still read.
+        let text = b"ten bytes.\nten bytes.";
+        assert_eq!(read_all(&text[..], Some(10), 21).unwrap(), text);
+        assert_eq!(read_all(&text[..], None, 21).unwrap(), text);
     }
 
     #[test]

@@ -119,8 +119,8 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
 /// The PNML text of the Petri net of the machine in `ecc_file`, labelled with the mapping's
 /// addresses, and its number of places.
 fn net_of(ecc_file: &Path, mapping: &Mapping) -> Result<(Vec<u8>, usize), Failure> {
-    let text = std::fs::read_to_string(ecc_file)
-        .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
+    // Machines may be written as one line of JSON: only the file's size is limited.
+    let text = fbsynth::files::read_text(ecc_file, None).map_err(Failure::input)?;
     let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
     let address = |name: &String| -> Result<String, Failure> {
         mapping

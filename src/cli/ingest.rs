@@ -4,7 +4,6 @@
 use super::Failure;
 use clap::Args;
 use fbsynth::ingest::{self, LogReader, Mapping, ReadStats, RowKind};
-use fbsynth::scenario::fbsat;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -36,29 +35,26 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
         &[&args.log, &args.map],
     )?;
     let mapping = Mapping::read(&args.map).map_err(Failure::input)?;
-    let (set, stats) = ingest::read_scenarios(&args.log, &mapping, args.lenient).map_err(|e| {
-        let row = matches!(e, ingest::IngestError::Row { .. });
-        let mut f = Failure::input(e);
-        if row {
-            f.message
-                .push_str("\n(--lenient skips bad rows and counts them instead)");
-        }
-        f
-    })?;
+    let written =
+        ingest::write_scenario(&args.log, &mapping, args.lenient, &args.output).map_err(|e| {
+            let row = matches!(e, ingest::IngestError::Row { .. });
+            let mut f = Failure::input(e);
+            if row {
+                f.message
+                    .push_str("\n(--lenient skips bad rows and counts them instead)");
+            }
+            f
+        })?;
     let secs = start.elapsed().as_secs_f64();
-    let mut buf = Vec::new();
-    fbsat::write(&set, &mut buf).map_err(Failure::input)?;
-    fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
-    for (file, names) in [(&inputs_file, &set.inputs), (&outputs_file, &set.outputs)] {
+    for (file, names) in [
+        (&inputs_file, mapping.inputs()),
+        (&outputs_file, mapping.outputs()),
+    ] {
         let text: String = names.iter().map(|n| format!("{n}\n")).collect();
         fbsynth::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
     }
-    report(&stats, secs);
-    out!(
-        "steps:   {} ({} with CNF)",
-        set.step_count(),
-        set.active_count()
-    );
+    report(&written.stats, secs);
+    out!("steps:   {} ({} with CNF)", written.steps, written.active);
     out!(
         "wrote {}, {}, {}",
         args.output.display(),
@@ -163,6 +159,7 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
     let stats = ingest::convert_log(reader, vec![false; mapping.outputs().len()], |s| {
         steps += 1;
         active += u64::from(s.outputs.is_some());
+        Ok::<(), ingest::IngestError>(())
     })
     .map_err(Failure::input)?;
     let secs = start.elapsed().as_secs_f64();

@@ -123,10 +123,7 @@ impl Mapping {
 
     /// Reads a mapping file.
     pub fn read(file: &Path) -> Result<Mapping, IngestError> {
-        let text = std::fs::read_to_string(file).map_err(|e| IngestError::Io {
-            file: file.to_path_buf(),
-            source: e,
-        })?;
+        let text = crate::files::read_text(file, Some(crate::files::MAX_LINE_BYTES))?;
         Mapping::parse(file, &text)
     }
 
@@ -180,6 +177,15 @@ mod tests {
         assert_eq!(m.slot(b"%IX0.2"), Some(Slot::Input(InputId(1))));
         assert_eq!(m.slot(b"valve"), Some(Slot::Output(OutputId(0))));
         assert_eq!(m.slot(b"%IX9.9"), None);
+    }
+
+    #[test]
+    fn a_mapping_file_that_is_not_utf8_names_the_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.map");
+        std::fs::write(&path, b"%IX0.1 in a\n%QX0.0 out \xff\n").unwrap();
+        let got = Mapping::read(&path).unwrap_err().to_string();
+        assert_eq!(got, format!("{}:2: not UTF-8 text", path.display()));
     }
 
     #[test]

@@ -35,8 +35,9 @@
 //! In the long format, the address column may also hold a name of the mapping.
 //!
 //! # Bad rows
-//! An unparsable value or timestamp, an unknown address, a timestamp smaller than the one
-//! before, or a wrong number of cells stops the reader with an [`IngestError::Row`] naming
+//! An unparsable value or timestamp, a timestamp beyond [`MAX_TIMESTAMP`] seconds either side
+//! of 0, an unknown address, a timestamp smaller than the one before, or a wrong number of
+//! cells stops the reader with an [`IngestError::Row`] naming
 //! file and line. In lenient mode the row is skipped instead and counted per [`RowKind`].
 
 mod mapping;
@@ -50,11 +51,20 @@ pub use crate::scenario::csvlog::Sample;
 use std::fmt;
 use std::path::PathBuf;
 
+/// The largest timestamp accepted either side of 0, in seconds: about 285,000 years, below
+/// 2^53 milliseconds, so every accepted timestamp keeps its milliseconds exactly (in a double,
+/// and in the integer count `synth events` writes dates from) and two scans a millisecond
+/// apart stay apart. Unix times in seconds and in milliseconds fit; `1e20` does not, and would
+/// otherwise be merged with its neighbours or turned into a date clamped to the year 292 million.
+pub const MAX_TIMESTAMP: f64 = 9e12;
+
 /// What is wrong with a data row.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BadRow {
     /// A cell that is not a value (`0/1/true/false`) or, in the timestamp column, a number.
     Value { column: String, cell: String },
+    /// A timestamp beyond [`MAX_TIMESTAMP`] either side of 0.
+    TimeRange { column: String, cell: String },
     /// An address (long format) that the mapping does not know.
     UnknownAddress(String),
     /// A timestamp smaller than the one before.
@@ -67,6 +77,7 @@ pub enum BadRow {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RowKind {
     Value,
+    TimeRange,
     UnknownAddress,
     TimeBackwards,
     CellCount,
@@ -74,8 +85,9 @@ pub enum RowKind {
 
 impl RowKind {
     /// Every kind, in the order reports list them.
-    pub const ALL: [RowKind; 4] = [
+    pub const ALL: [RowKind; 5] = [
         RowKind::Value,
+        RowKind::TimeRange,
         RowKind::UnknownAddress,
         RowKind::TimeBackwards,
         RowKind::CellCount,
@@ -85,6 +97,7 @@ impl RowKind {
     pub fn label(self) -> &'static str {
         match self {
             RowKind::Value => "unparsable value",
+            RowKind::TimeRange => "timestamp out of range",
             RowKind::UnknownAddress => "unknown address",
             RowKind::TimeBackwards => "time going backwards",
             RowKind::CellCount => "wrong cell count",
@@ -97,6 +110,7 @@ impl BadRow {
     pub fn kind(&self) -> RowKind {
         match self {
             BadRow::Value { .. } => RowKind::Value,
+            BadRow::TimeRange { .. } => RowKind::TimeRange,
             BadRow::UnknownAddress(_) => RowKind::UnknownAddress,
             BadRow::TimeBackwards { .. } => RowKind::TimeBackwards,
             BadRow::CellCount { .. } => RowKind::CellCount,
@@ -110,6 +124,10 @@ impl fmt::Display for BadRow {
             BadRow::Value { column, cell } => {
                 write!(f, "column '{column}': cannot read '{cell}'")
             }
+            BadRow::TimeRange { column, cell } => write!(
+                f,
+                "column '{column}': '{cell}' is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0"
+            ),
             BadRow::UnknownAddress(a) => write!(f, "unknown address '{a}' (not in the mapping)"),
             BadRow::TimeBackwards { time, previous } => {
                 write!(f, "time goes backwards: {time} after {previous}")
@@ -151,25 +169,72 @@ pub enum IngestError {
     /// A line longer than the limit, in the log or the mapping.
     #[error(transparent)]
     Read(#[from] crate::files::FileReadError),
+    /// The scenario file could not be written.
+    #[error(transparent)]
+    Write(#[from] crate::files::WriteError),
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
-/// it is final. Returns what the reader counted.
-pub fn convert_log<R: std::io::BufRead>(
+/// it is final; the first error of the log or of `sink` stops it. Returns what the reader
+/// counted.
+pub fn convert_log<R: std::io::BufRead, E: From<IngestError>>(
     mut reader: LogReader<R>,
     initial_outputs: Vec<bool>,
-    mut sink: impl FnMut(crate::scenario::Step),
-) -> Result<ReadStats, IngestError> {
+    mut sink: impl FnMut(crate::scenario::Step) -> Result<(), E>,
+) -> Result<ReadStats, E> {
     let mut steps = StepStream::new(initial_outputs);
     for sample in reader.by_ref() {
         if let Some(step) = steps.push(sample?) {
-            sink(step);
+            sink(step)?;
         }
     }
     if let Some(step) = steps.finish() {
-        sink(step);
+        sink(step)?;
     }
     Ok(reader.stats().clone())
+}
+
+/// What [`write_scenario`] read and wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Written {
+    pub stats: ReadStats,
+    /// Steps written, and those of them with a `CNF`.
+    pub steps: u64,
+    pub active: u64,
+}
+
+/// `synth ingest`: converts the log file `log` into an fbSAT scenario file `out` with one
+/// scenario (initial outputs all 0, as the log formats assume), written step by step as the
+/// log is read, so memory does not grow with the log; `out` is published atomically (`.gz`
+/// compresses) and not touched when the log has a bad row.
+pub fn write_scenario(
+    log: &std::path::Path,
+    mapping: &Mapping,
+    lenient: bool,
+    out: &std::path::Path,
+) -> Result<Written, IngestError> {
+    let reader = LogReader::open(log, mapping, lenient)?;
+    let file = crate::files::AtomicFile::create(out)?;
+    let write_err = |source| {
+        IngestError::Write(crate::files::WriteError {
+            path: out.to_path_buf(),
+            source,
+        })
+    };
+    let mut w = crate::scenario::fbsat::ScenarioWriter::new(file, 1).map_err(write_err)?;
+    let (mut steps, mut active) = (0, 0);
+    let stats = convert_log(reader, vec![false; mapping.outputs().len()], |step| {
+        steps += 1;
+        active += u64::from(step.outputs.is_some());
+        w.step(&step).map_err(write_err)
+    })?;
+    w.end_scenario().map_err(write_err)?;
+    w.into_inner().commit()?;
+    Ok(Written {
+        stats,
+        steps,
+        active,
+    })
 }
 
 /// Reads a log file into a scenario set with one scenario for the whole log (initial outputs
@@ -183,7 +248,10 @@ pub fn read_scenarios(
     let reader = LogReader::open(log, mapping, lenient)?;
     let initial = vec![false; mapping.outputs().len()];
     let mut steps = Vec::new();
-    let stats = convert_log(reader, initial.clone(), |s| steps.push(s))?;
+    let stats = convert_log(reader, initial.clone(), |s| {
+        steps.push(s);
+        Ok::<(), IngestError>(())
+    })?;
     let set = ScenarioSet {
         inputs: mapping.inputs().to_vec(),
         outputs: mapping.outputs().to_vec(),

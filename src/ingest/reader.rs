@@ -6,7 +6,7 @@
 //! come from the crate's one CSV reader ([`Records`]), so quoted cells and a byte order mark
 //! are read as in every other log.
 
-use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
+use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot, MAX_TIMESTAMP};
 use crate::files::csv::{parse_bool, Record, Records};
 use crate::files::ReadError;
 use std::io::BufRead;
@@ -29,7 +29,7 @@ pub struct ReadStats {
     /// Samples produced.
     pub samples: u64,
     /// Skipped rows per kind, indexed like [`RowKind::ALL`] (lenient mode only).
-    pub skipped: [u64; 4],
+    pub skipped: [u64; 5],
 }
 
 impl ReadStats {
@@ -228,7 +228,7 @@ impl Rows {
                 expected: 3,
             });
         }
-        let time = parse_time(t).ok_or_else(|| bad_value(&self.headers[0], t))?;
+        let time = parse_time(&self.headers[0], t)?;
         let slot = self
             .mapping
             .slot(address)
@@ -262,7 +262,7 @@ impl Rows {
         }
         let mut cells = row.iter();
         let t = cells.next().unwrap_or_default();
-        let time = parse_time(t).ok_or_else(|| bad_value(&self.headers[0], t))?;
+        let time = parse_time(&self.headers[0], t)?;
         let mut sample = Sample {
             inputs: vec![false; self.mapping.inputs().len()],
             outputs: vec![false; self.mapping.outputs().len()],
@@ -348,12 +348,19 @@ fn bad_value(column: &str, cell: &[u8]) -> BadRow {
     }
 }
 
-fn parse_time(cell: &[u8]) -> Option<f64> {
-    std::str::from_utf8(cell)
-        .ok()?
-        .parse::<f64>()
+fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
+    let time = std::str::from_utf8(cell)
         .ok()
+        .and_then(|c| c.parse::<f64>().ok())
         .filter(|t| t.is_finite())
+        .ok_or_else(|| bad_value(column, cell))?;
+    match time.abs() <= MAX_TIMESTAMP {
+        true => Ok(time),
+        false => Err(BadRow::TimeRange {
+            column: column.to_string(),
+            cell: String::from_utf8_lossy(cell).into_owned(),
+        }),
+    }
 }
 
 #[cfg(test)]
@@ -475,11 +482,37 @@ mod tests {
             ),
             (wide, "0,1,0,0\n", "l.csv:3: time goes backwards: 0 after 1"),
             (wide, "2,1,0\n", "l.csv:3: 3 cells, the header has 4"),
+            (
+                long,
+                "1e20,a,1\n",
+                "l.csv:3: column 'timestamp': '1e20' is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0",
+            ),
+            (
+                wide,
+                "-9000000000001,1,0,0\n",
+                "l.csv:3: column 'timestamp': '-9000000000001' is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0",
+            ),
         ];
         for (head, row, want) in cases {
             let got = read(&format!("{head}{row}"), false).unwrap_err();
             assert_eq!(got, want);
         }
+    }
+
+    #[test]
+    fn timestamps_in_range_are_read_whatever_their_epoch() {
+        // Unix times in seconds and in milliseconds, and the range's ends.
+        let log = "timestamp,address,value\n\
+                   -9e12,a,1\n\
+                   1764659000.25,b,1\n\
+                   1764659000250,z,1\n\
+                   9e12,a,0\n\
+                   9.1e12,b,0\n";
+        assert_eq!(read(log, true).unwrap(), ["10/0", "11/0", "11/1", "01/1"]);
+        let mut r = reader(log, true).unwrap();
+        r.by_ref().for_each(drop);
+        assert_eq!(r.stats().skipped(RowKind::TimeRange), 1);
+        assert_eq!(r.stats().skipped_total(), 1);
     }
 
     #[test]

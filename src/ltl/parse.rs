@@ -26,6 +26,9 @@ pub enum LtlError {
         #[source]
         source: std::io::Error,
     },
+    /// A line over the limit, or a file too large to read.
+    #[error(transparent)]
+    Read(crate::files::FileReadError),
     #[error("{}: no property (the file holds only comments and blank lines)", file.display())]
     Empty { file: PathBuf },
     /// A problem at a place in the file. Displayed as `file:line:column: message`, then the
@@ -71,9 +74,13 @@ impl fmt::Display for Caret<'_> {
 
 /// Reads and parses a specification file.
 pub fn parse_spec_file(path: &Path) -> Result<Vec<Property>, LtlError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LtlError::Io {
-        path: path.to_path_buf(),
-        source,
+    use crate::files::{read_text, ReadError, MAX_LINE_BYTES};
+    let text = read_text(path, Some(MAX_LINE_BYTES)).map_err(|e| match e.error {
+        ReadError::Io(source) => LtlError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        _ => LtlError::Read(e),
     })?;
     parse_spec(path, &text)
 }

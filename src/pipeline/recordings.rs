@@ -98,8 +98,8 @@ pub fn stem(path: &Path) -> String {
 
 /// Reads a machine from its JSON file.
 pub fn read_ecc(path: &Path) -> Result<Ecc, Error> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+    // Machines may be written as one line of JSON: only the file's size is limited.
+    let text = crate::files::read_text(path, None).map_err(|e| Error::Input(e.to_string()))?;
     Ok(crate::export::json::read_json(&text, path)?)
 }
 

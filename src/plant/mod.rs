@@ -231,6 +231,9 @@ pub enum ModelError {
         #[source]
         source: std::io::Error,
     },
+    /// A line over the limit, or a file too large to read.
+    #[error(transparent)]
+    Read(crate::files::FileReadError),
     /// Displayed as `file:line:column: message`.
     #[error("{}:{line}:{column}: {message}", file.display())]
     At {

@@ -26,9 +26,13 @@ struct SmvParser;
 
 /// Reads and parses a plant file.
 pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-        file: path.to_path_buf(),
-        source,
+    use crate::files::{read_text, ReadError, MAX_LINE_BYTES};
+    let text = read_text(path, Some(MAX_LINE_BYTES)).map_err(|e| match e.error {
+        ReadError::Io(source) => ModelError::Io {
+            file: path.to_path_buf(),
+            source,
+        },
+        _ => ModelError::Read(e),
     })?;
     parse_str(&text, path)
 }

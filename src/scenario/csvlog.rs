@@ -251,7 +251,8 @@ pub fn read(
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
 ) -> Result<ScenarioSet, ScenarioError> {
-    parse(file, &read_text(file)?, input_names, output_names)
+    let text = read_text(file, Some(crate::files::MAX_LINE_BYTES))?;
+    parse(file, &text, input_names, output_names)
 }
 
 /// Writes scenarios as a CSV log: `scenario` column, `in:`/`out:` prefixed signals, one row

@@ -182,27 +182,62 @@ pub fn read(
     inputs: Option<Vec<String>>,
     outputs: Option<Vec<String>>,
 ) -> Result<ScenarioSet, ScenarioError> {
-    parse(file, &read_text(file)?, inputs, outputs)
+    // One scenario is one line, as long as the recording: only the file's size is limited.
+    parse(file, &read_text(file, None)?, inputs, outputs)
 }
 
 /// Writes scenarios in the fbSAT format (LF line ends, `; ` separators).
 pub fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
-    writeln!(w, "{}", set.scenarios.len())?;
+    let mut out = ScenarioWriter::new(w, set.scenarios.len())?;
     for sc in &set.scenarios {
-        let mut first = true;
         for step in &sc.steps {
-            if !first {
-                write!(w, "; ")?;
-            }
-            first = false;
-            write!(w, "in={INPUT_EVENT}[{}]", bits_to_string(&step.inputs))?;
-            if let Some(o) = &step.outputs {
-                write!(w, "; out={OUTPUT_EVENT}[{}]", bits_to_string(o))?;
-            }
+            out.step(step)?;
         }
-        writeln!(w, ";")?;
+        out.end_scenario()?;
     }
     Ok(())
+}
+
+/// Writes the fbSAT format step by step, as [`write()`] does, for scenarios too long to hold in
+/// memory (a raw log of any length is one scenario): the number of scenarios first, then
+/// [`ScenarioWriter::step`] for each step and [`ScenarioWriter::end_scenario`] after each
+/// scenario.
+pub struct ScenarioWriter<W: Write> {
+    w: W,
+    /// Whether the scenario being written has no step yet.
+    fresh: bool,
+}
+
+impl<W: Write> ScenarioWriter<W> {
+    /// Writes line 1: the number of scenarios that will follow.
+    pub fn new(mut w: W, scenarios: usize) -> std::io::Result<ScenarioWriter<W>> {
+        writeln!(w, "{scenarios}")?;
+        Ok(ScenarioWriter { w, fresh: true })
+    }
+
+    /// Appends a step to the scenario being written.
+    pub fn step(&mut self, step: &Step) -> std::io::Result<()> {
+        if !self.fresh {
+            write!(self.w, "; ")?;
+        }
+        self.fresh = false;
+        write!(self.w, "in={INPUT_EVENT}[{}]", bits_to_string(&step.inputs))?;
+        if let Some(o) = &step.outputs {
+            write!(self.w, "; out={OUTPUT_EVENT}[{}]", bits_to_string(o))?;
+        }
+        Ok(())
+    }
+
+    /// Ends the scenario's line.
+    pub fn end_scenario(&mut self) -> std::io::Result<()> {
+        self.fresh = true;
+        writeln!(self.w, ";")
+    }
+
+    /// The writer, for the caller to flush or commit.
+    pub fn into_inner(self) -> W {
+        self.w
+    }
 }
 
 #[cfg(test)]

@@ -230,29 +230,25 @@ impl Divergence {
 }
 
 /// Reads a whole file, transparently gunzipping it when it starts with the gzip magic bytes.
-pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
-    use std::io::Read;
-    let mut input = crate::files::open_input(path).map_err(|e| ScenarioError::Io {
+/// At most [`MAX_FILE_BYTES`](crate::files::MAX_FILE_BYTES) are read (after gunzipping), and
+/// lines of at most `max_line` bytes when given.
+pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, ScenarioError> {
+    use crate::files::{read_all, utf8_text, ReadError, MAX_FILE_BYTES};
+    let input = crate::files::open_input(path).map_err(|e| ScenarioError::Io {
         file: path.to_path_buf(),
         source: e,
     })?;
-    let mut raw = Vec::new();
-    input
-        .reader
-        .read_to_end(&mut raw)
-        .map_err(|e| match input.gzip {
-            true => ScenarioError::Gzip {
-                file: path.to_path_buf(),
-                message: e.to_string(),
-            },
-            false => ScenarioError::Io {
-                file: path.to_path_buf(),
-                source: e,
-            },
-        })?;
-    String::from_utf8(raw).map_err(|e| ScenarioError::Syntax {
-        file: path.to_path_buf(),
-        line: 1,
-        message: format!("not UTF-8 text ({e})"),
+    let gzip = input.gzip;
+    let text = read_all(input.reader, max_line, MAX_FILE_BYTES).and_then(utf8_text);
+    text.map_err(|e| match e {
+        ReadError::Io(e) if gzip => ScenarioError::Gzip {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        },
+        ReadError::Io(e) => ScenarioError::Io {
+            file: path.to_path_buf(),
+            source: e,
+        },
+        e => ScenarioError::Read(e.at(path)),
     })
 }

@@ -30,12 +30,9 @@ pub struct Plant {
 /// A plant file that does not follow the coupling convention.
 #[derive(Debug, thiserror::Error)]
 pub enum PlantError {
-    #[error("{file}: {source}")]
-    Io {
-        file: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file cannot be read, has a line over the limit or is too large.
+    #[error(transparent)]
+    Read(#[from] crate::files::FileReadError),
     #[error("{file}:{line}: {message}")]
     At {
         file: PathBuf,
@@ -242,10 +239,7 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
 
 /// Reads and scans a plant file.
 pub fn read_plant(file: &Path) -> Result<Plant, PlantError> {
-    let text = std::fs::read_to_string(file).map_err(|e| PlantError::Io {
-        file: file.to_path_buf(),
-        source: e,
-    })?;
+    let text = crate::files::read_text(file, Some(crate::files::MAX_LINE_BYTES))?;
     parse_plant(file, &text)
 }
 

@@ -131,3 +131,27 @@ fn a_net_that_fails_leaves_no_event_logs() {
         assert!(!dir.path().join(f).exists(), "{f} was written");
     }
 }
+
+#[test]
+fn a_timestamp_out_of_range_is_refused_not_clamped() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.map"), MAP).unwrap();
+    std::fs::write(
+        dir.path().join("far.csv"),
+        "timestamp,address,value\n0,%QX0.0,1\n1e20,%IX0.1,1\n",
+    )
+    .unwrap();
+    let o = synth(
+        dir.path(),
+        &[
+            "events", "--log", "far.csv", "--map", "t.map", "--reset", "ll false", "--out", "t.xes",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(
+        text(&o.stderr).starts_with("error: far.csv:3: column 'timestamp': '1e20' is out of range"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!dir.path().join("t.xes").exists());
+}
