@@ -19,7 +19,7 @@
 //!   as negative scenarios);
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, PNML;
 //! - [`ingest`] and [`events`]: raw PLC I/O logs to scenarios and to process-mining event logs;
-//! - [`files`]: atomic writing.
+//! - [`files`]: reading user files (gzip, byte order mark) and atomic writing.
 //!
 //! The `synth` command line and the benchmark cases (plant simulations with their reference
 //! controllers) are not part of the library: they live beside the binary and the tests.

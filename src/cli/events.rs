@@ -108,8 +108,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
 
 /// Writes the Petri net of the machine in `ecc_file`, labelled with the mapping's addresses.
 fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Failure> {
-    let text = std::fs::read_to_string(ecc_file)
-        .map_err(|e| Failure::msg(super::exit::INPUT, format!("{}: {e}", ecc_file.display())))?;
+    let text = fbsynth::files::read_text(ecc_file).map_err(Failure::input)?;
     let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
     let address = |name: &String| -> Result<String, Failure> {
         mapping

@@ -3,13 +3,11 @@
 //! In: a byte stream (a file, possibly gunzipped by [`super::open_input`], or text in memory)
 //! and its delimiter. Out: records of trimmed cells, each with the line it starts on, and the
 //! Boolean values the cells hold ([`parse_bool`]). Quoting follows RFC 4180 (the `csv` crate);
-//! a UTF-8 byte order mark before the first record is dropped, as spreadsheet programs write
-//! one; blank lines, even ones holding only spaces, are skipped.
+//! a UTF-8 byte order mark before the first record is dropped (by `csv_core`; a file has lost
+//! it already in [`super::open_input`]); blank lines, even ones holding only spaces, are
+//! skipped.
 
 use std::io::{self, BufRead};
-
-/// The UTF-8 encoding of U+FEFF, which some programs put before the first byte of text.
-const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Reads records one at a time; see the module header.
 ///
@@ -33,11 +31,8 @@ pub struct Records<R: BufRead> {
 
 impl<R: BufRead> Records<R> {
     /// A reader over `src` whose cells are separated by `delimiter` (e.g. `b','`).
-    pub fn new(mut src: R, delimiter: u8) -> io::Result<Records<R>> {
-        if src.fill_buf()?.starts_with(UTF8_BOM) {
-            src.consume(UTF8_BOM.len());
-        }
-        Ok(Records {
+    pub fn new(src: R, delimiter: u8) -> Records<R> {
+        Records {
             src,
             splitter: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
             text: Vec::with_capacity(256),
@@ -45,7 +40,7 @@ impl<R: BufRead> Records<R> {
             ends: vec![0; 16],
             count: 0,
             line: 0,
-        })
+        }
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
@@ -167,7 +162,7 @@ mod tests {
     use super::*;
 
     fn read(text: &str, delimiter: u8) -> Vec<(usize, Vec<String>)> {
-        let mut records = Records::new(text.as_bytes(), delimiter).unwrap();
+        let mut records = Records::new(text.as_bytes(), delimiter);
         let mut out = Vec::new();
         while let Some((line, r)) = records.next_record().unwrap() {
             let cells = r.iter().map(|c| String::from_utf8_lossy(c).into_owned());

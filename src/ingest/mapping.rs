@@ -123,11 +123,7 @@ impl Mapping {
 
     /// Reads a mapping file.
     pub fn read(file: &Path) -> Result<Mapping, IngestError> {
-        let text = std::fs::read_to_string(file).map_err(|e| IngestError::Io {
-            file: file.to_path_buf(),
-            source: e,
-        })?;
-        Mapping::parse(file, &text)
+        Mapping::parse(file, &crate::files::read_text(file)?)
     }
 
     fn add(&mut self, address: String, name: String, slot: Slot) {

@@ -18,8 +18,8 @@
 //! file order of the `in` lines, then of the `out` lines.
 //!
 //! # Log files
-//! Both formats are CSV with `,` (quoted cells as RFC 4180 says, a leading byte order mark
-//! ignored: [`crate::files::csv`]), told apart by their header; the file may be
+//! Both formats are CSV with `,` (quoted cells as RFC 4180 says: [`crate::files::csv`]; a
+//! leading byte order mark ignored: [`crate::files::open_input`]), told apart by their header; the file may be
 //! gzip-compressed (recognized by its magic bytes, multi-member streams accepted). Values are `0`, `1`,
 //! `true`, `false` (any case). Timestamps are numbers and must not go backwards. Blank lines
 //! are ignored; line numbers count every line of the (decompressed) file.
@@ -121,6 +121,8 @@ impl fmt::Display for BadRow {
 /// An error while ingesting a log, always with its place.
 #[derive(Debug, thiserror::Error)]
 pub enum IngestError {
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     #[error("{file}: {source}")]
     Io {
         file: PathBuf,

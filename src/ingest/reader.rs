@@ -3,8 +3,8 @@
 //! In: a log (long or wide format, plain or gzip; see the [`super`] module header) and its
 //! [`Mapping`]. Out: [`Sample`]s, one per scan (wide) or per timestamp (long), via
 //! [`Iterator`]. Holds one record and one sample at a time, whatever the log's length; records
-//! come from the crate's one CSV reader ([`Records`]), so quoted cells and a byte order mark
-//! are read as in every other log.
+//! come from the crate's one CSV reader ([`Records`]), so quoted cells are read as in every
+//! other log.
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
 use crate::files::csv::{parse_bool, Record, Records};
@@ -98,7 +98,7 @@ impl<R: BufRead> LogReader<R> {
             file: file.clone(),
             source,
         };
-        let mut records = Records::new(src, b',').map_err(io)?;
+        let mut records = Records::new(src, b',');
         let mut rows = Rows {
             format: LogFormat::Long,
             columns: Vec::new(),

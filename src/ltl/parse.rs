@@ -20,12 +20,8 @@ struct LineParser;
 /// Why a specification file was rejected.
 #[derive(Debug, thiserror::Error)]
 pub enum LtlError {
-    #[error("cannot read LTL specification {}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     #[error("{}: no property (the file holds only comments and blank lines)", file.display())]
     Empty { file: PathBuf },
     /// A problem at a place in the file. Displayed as `file:line:column: message`, then the
@@ -71,11 +67,7 @@ impl fmt::Display for Caret<'_> {
 
 /// Reads and parses a specification file.
 pub fn parse_spec_file(path: &Path) -> Result<Vec<Property>, LtlError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LtlError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_spec(path, &text)
+    parse_spec(path, &crate::files::read_text(path)?)
 }
 
 /// Parses the text of a specification file; `file` is only used in error messages.
@@ -793,7 +785,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("missing.ltl");
         let e = parse_spec_file(&path).unwrap_err();
-        assert!(matches!(&e, LtlError::Io { path: p, .. } if *p == path));
+        assert!(matches!(&e, LtlError::Read(r) if r.path() == path));
         assert!(e.to_string().contains("missing.ltl"));
     }
 

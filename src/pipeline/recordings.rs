@@ -98,8 +98,7 @@ pub fn stem(path: &Path) -> String {
 
 /// Reads a machine from its JSON file.
 pub fn read_ecc(path: &Path) -> Result<Ecc, Error> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+    let text = crate::files::read_text(path)?;
     Ok(crate::export::json::read_json(&text, path)?)
 }
 

@@ -225,12 +225,8 @@ impl Model {
 /// Why a plant file is not a [`Model`] of the subset.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
-    #[error("cannot read plant {}", file.display())]
-    Io {
-        file: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     /// Displayed as `file:line:column: message`.
     #[error("{}:{line}:{column}: {message}", file.display())]
     At {

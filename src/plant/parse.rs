@@ -26,11 +26,7 @@ struct SmvParser;
 
 /// Reads and parses a plant file.
 pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
-    parse_str(&text, path)
+    parse_str(&crate::files::read_text(path)?, path)
 }
 
 /// Parses the text of a plant file; `file` names it in the model and in error messages.

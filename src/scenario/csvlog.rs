@@ -31,7 +31,7 @@
 //! passive): a sampled log cannot see an event that changed nothing.
 
 pub use super::steps::{samples_to_steps, Sample};
-use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
+use super::{Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::ident::is_identifier;
 use crate::files::csv::{parse_bool, Records};
 use std::io::Write;
@@ -63,7 +63,6 @@ pub fn parse(
         source,
     };
     let header_line = text
-        .trim_start_matches('\u{feff}')
         .lines()
         .map(str::trim)
         .find(|l| !l.is_empty())
@@ -73,7 +72,7 @@ pub fn parse(
     } else {
         b';'
     };
-    let mut records = Records::new(text.as_bytes(), sep).map_err(io)?;
+    let mut records = Records::new(text.as_bytes(), sep);
     let (hline, header) = match records.next_record().map_err(io)? {
         Some((line, cells)) => (line, cells.iter().map(lossy).collect::<Vec<String>>()),
         None => return Err(err(1, "empty file: expected a header row".into())),
@@ -250,7 +249,12 @@ pub fn read(
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
 ) -> Result<ScenarioSet, ScenarioError> {
-    parse(file, &read_text(file)?, input_names, output_names)
+    parse(
+        file,
+        &crate::files::read_text(file)?,
+        input_names,
+        output_names,
+    )
 }
 
 /// Writes scenarios as a CSV log: `scenario` column, `in:`/`out:` prefixed signals, one row

@@ -10,7 +10,7 @@
 //! `out` is an active step; an `in` followed by another `in` (or ending the line) is passive.
 //! Files may be gzip-compressed and use LF or CRLF line ends.
 
-use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
+use super::{Origin, Scenario, ScenarioError, ScenarioSet, Step};
 use crate::ecc::{bits_from_str, bits_to_string};
 use std::io::Write;
 use std::path::Path;
@@ -182,7 +182,7 @@ pub fn read(
     inputs: Option<Vec<String>>,
     outputs: Option<Vec<String>>,
 ) -> Result<ScenarioSet, ScenarioError> {
-    parse(file, &read_text(file)?, inputs, outputs)
+    parse(file, &crate::files::read_text(file)?, inputs, outputs)
 }
 
 /// Writes scenarios in the fbSAT format (LF line ends, `; ` separators).

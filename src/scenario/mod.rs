@@ -19,7 +19,7 @@ pub mod tree;
 
 use crate::ecc::{bits_to_string, replay, Controller};
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// One `REQ` of a scenario.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -69,8 +69,8 @@ pub enum ScenarioError {
         #[source]
         source: std::io::Error,
     },
-    #[error("{file}: not a valid gzip stream: {message}")]
-    Gzip { file: PathBuf, message: String },
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     #[error("{file}:{line}: {message}")]
     Syntax {
         file: PathBuf,
@@ -224,32 +224,4 @@ impl Divergence {
             show(&self.machine)
         )
     }
-}
-
-/// Reads a whole file, transparently gunzipping it when it starts with the gzip magic bytes.
-pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
-    use std::io::Read;
-    let mut input = crate::files::open_input(path).map_err(|e| ScenarioError::Io {
-        file: path.to_path_buf(),
-        source: e,
-    })?;
-    let mut raw = Vec::new();
-    input
-        .reader
-        .read_to_end(&mut raw)
-        .map_err(|e| match input.gzip {
-            true => ScenarioError::Gzip {
-                file: path.to_path_buf(),
-                message: e.to_string(),
-            },
-            false => ScenarioError::Io {
-                file: path.to_path_buf(),
-                source: e,
-            },
-        })?;
-    String::from_utf8(raw).map_err(|e| ScenarioError::Syntax {
-        file: path.to_path_buf(),
-        line: 1,
-        message: format!("not UTF-8 text ({e})"),
-    })
 }

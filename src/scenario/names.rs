@@ -48,11 +48,7 @@ pub fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError
 
 /// Reads a names file.
 pub fn read_names(file: &Path) -> Result<Vec<String>, ScenarioError> {
-    let text = std::fs::read_to_string(file).map_err(|e| ScenarioError::Io {
-        file: file.to_path_buf(),
-        source: e,
-    })?;
-    parse_names(file, &text)
+    parse_names(file, &crate::files::read_text(file)?)
 }
 
 /// Default names files beside a trace file: `<stem>.inputs` / `<stem>.outputs`, else

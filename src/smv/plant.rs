@@ -30,12 +30,8 @@ pub struct Plant {
 /// A plant file that does not follow the coupling convention.
 #[derive(Debug, thiserror::Error)]
 pub enum PlantError {
-    #[error("{file}: {source}")]
-    Io {
-        file: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     #[error("{file}:{line}: {message}")]
     At {
         file: PathBuf,
@@ -242,11 +238,7 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
 
 /// Reads and scans a plant file.
 pub fn read_plant(file: &Path) -> Result<Plant, PlantError> {
-    let text = std::fs::read_to_string(file).map_err(|e| PlantError::Io {
-        file: file.to_path_buf(),
-        source: e,
-    })?;
-    parse_plant(file, &text)
+    parse_plant(file, &crate::files::read_text(file)?)
 }
 
 #[cfg(test)]

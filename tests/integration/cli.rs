@@ -529,3 +529,187 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
         text(&o.stderr)
     );
 }
+
+/// A copy of `file` in `dir` under `name`, with a UTF-8 byte order mark in front, as Windows
+/// editors and spreadsheet programs save text.
+fn with_bom(file: impl AsRef<Path>, dir: &Path, name: &str) -> PathBuf {
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(std::fs::read(file).unwrap());
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// `synth convert --traces TRACES ... --to TO`: the bytes written.
+fn converted(traces: &Path, names: Option<(&Path, &Path)>, to: &str, dir: &Path) -> Vec<u8> {
+    let out = dir.join(format!("converted.{to}"));
+    let mut args = vec!["convert", "--traces", traces.to_str().unwrap()];
+    if let Some((i, o)) = names {
+        args.extend(["--input-names", i.to_str().unwrap()]);
+        args.extend(["--output-names", o.to_str().unwrap()]);
+    }
+    args.extend(["--to", to, "-o", out.to_str().unwrap()]);
+    let o = synth(&args);
+    assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+    std::fs::read(out).unwrap()
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_scenario_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let traces = with_bom(data("door.traces"), dir.path(), "door.traces");
+    for ext in ["inputs", "outputs"] {
+        std::fs::copy(
+            data(&format!("door.{ext}")),
+            dir.path().join(format!("door.{ext}")),
+        )
+        .unwrap();
+    }
+    let plain = Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces"));
+    assert_eq!(
+        converted(&traces, None, "csv", dir.path()),
+        converted(&plain, None, "csv", dir.path())
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_names_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = with_bom(data("door.inputs"), dir.path(), "in.names");
+    let outputs = with_bom(data("door.outputs"), dir.path(), "out.names");
+    let door = Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces"));
+    assert_eq!(
+        converted(&door, Some((&inputs, &outputs)), "csv", dir.path()),
+        converted(&door, None, "csv", dir.path())
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_json_machines() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = infer_door(dir.path());
+    let marked = with_bom(&json, dir.path(), "marked.json");
+    for ecc in [&json, &marked] {
+        let o = synth(&[
+            "replay",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--traces",
+            &data("door.traces"),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        assert!(text(&o.stdout).contains("all reproduced"));
+    }
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_mapping_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = with_bom("specs/tank/tank.map", dir.path(), "tank.map");
+    let log = with_bom("specs/tank/scenario1.csv", dir.path(), "tank.csv");
+    let ingest = |map: &str, log: &str, out: &str| {
+        let out = dir.path().join(out);
+        let o = synth(&[
+            "ingest",
+            "--log",
+            log,
+            "--map",
+            map,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        std::fs::read(out).unwrap()
+    };
+    assert_eq!(
+        ingest(map.to_str().unwrap(), log.to_str().unwrap(), "a.traces"),
+        ingest(
+            "specs/tank/tank.map",
+            "specs/tank/scenario1.csv",
+            "b.traces"
+        )
+    );
+}
+
+/// The main job reads the LTL file before anything needs NuSMV: recordings that violate a
+/// property are refused in the same words, the property's line counted the same.
+#[test]
+fn a_byte_order_mark_is_ignored_in_ltl_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let ltl = with_bom("specs/pnp.ltl", dir.path(), "pnp.ltl");
+    let main = |ltl: &str| {
+        let o = synth(&[
+            "--ltl",
+            ltl,
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            "tests/data/explain/diagonal.traces",
+            "--input-names",
+            "tests/data/explain/input-names",
+            "--output-names",
+            "tests/data/explain/output-names",
+            "--out",
+            "/nonexistent/never-written",
+            "--nusmv",
+            "/nonexistent/NuSMV",
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        text(&o.stderr).replace(ltl, "LTL")
+    };
+    let plain = main("specs/pnp.ltl");
+    assert!(
+        plain.contains("property up_before_moving (LTL:17)"),
+        "{plain}"
+    );
+    assert_eq!(main(ltl.to_str().unwrap()), plain);
+}
+
+/// NuSMV reads the plant as synth copied it into the closed loop: `verify` gives the same
+/// verdicts with a marked plant.
+#[test]
+fn a_byte_order_mark_is_ignored_in_plants() {
+    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let lamp = "tests/data/closed_loop/lamp";
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        &format!("{lamp}.traces"),
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = dir.path().join("SynthesizedFB.json");
+    let verify = |ecc: &Path, ltl: &Path, plant: &Path| {
+        let o = synth(&[
+            "verify",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--ltl",
+            ltl.to_str().unwrap(),
+            "--plant",
+            plant.to_str().unwrap(),
+            "--nusmv",
+            nusmv.path.to_str().unwrap(),
+        ]);
+        (o.status.code(), text(&o.stdout))
+    };
+    let plain = verify(
+        &json,
+        Path::new(&format!("{lamp}.ltl")),
+        Path::new(&format!("{lamp}_plant.smv")),
+    );
+    assert!(plain.1.contains("HOLDS    lights"), "{}", plain.1);
+    let marked = verify(
+        &json,
+        Path::new(&format!("{lamp}.ltl")),
+        &with_bom(format!("{lamp}_plant.smv"), dir.path(), "plant.smv"),
+    );
+    assert_eq!(marked, plain);
+}

@@ -455,7 +455,7 @@ fn an_unreadable_file_names_its_path() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("missing.smv");
     let e = parse_file(&path).unwrap_err();
-    assert!(matches!(&e, ModelError::Io { file, .. } if *file == path));
+    assert!(matches!(&e, ModelError::Read(r) if r.path() == path));
     assert!(e.to_string().contains("missing.smv"));
 }
 
