@@ -124,8 +124,9 @@ fn write_net(ecc_file: &Path, mapping: &Mapping, pnml: &Path) -> Result<(), Fail
                 Failure::msg(
                     super::exit::INPUT,
                     format!(
-                        "{}: signal '{name}' is not in the mapping",
-                        ecc_file.display()
+                        "{}: signal {} is not in the mapping",
+                        ecc_file.display(),
+                        fbsynth::quote::quote(name)
                     ),
                 )
             })

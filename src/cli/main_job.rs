@@ -337,7 +337,15 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     } else {
         Err(Failure::msg(
             exit::INPUT,
-            format!("not verified: {} violated", report.failing().join(", ")),
+            format!(
+                "not verified: {} violated",
+                report
+                    .failing()
+                    .iter()
+                    .map(|name| fbsynth::quote::cut(name).to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         ))
     }
 }

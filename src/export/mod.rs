@@ -80,7 +80,10 @@ impl fmt::Display for Format {
 
 /// A format name that is not one of [`Format::ALL`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown export format `{given}`; valid formats: json, fbt, smv, dot, st")]
+#[error(
+    "unknown export format {}; valid formats: json, fbt, smv, dot, st",
+    crate::quote::backquote(given)
+)]
 pub struct UnknownFormat {
     pub given: String,
 }
@@ -205,7 +208,10 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
 
 /// A name that cannot be used in an exported program.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{role} `{name}` cannot be used in {format}: {reason}")]
+#[error(
+    "{role} {} cannot be used in {format}: {reason}",
+    crate::quote::backquote(name)
+)]
 pub struct NameError {
     /// Where the name comes from: `type name`, `input 3`, `output 1` (1-based).
     pub role: String,

@@ -43,6 +43,7 @@ pub use crate::scenario::steps::StepStream;
 pub use mapping::{Mapping, Slot};
 pub use reader::{LogFormat, LogReader, ReadStats};
 
+use crate::quote::quote;
 pub use crate::scenario::csvlog::Sample;
 use std::fmt;
 use std::path::PathBuf;
@@ -105,9 +106,11 @@ impl fmt::Display for BadRow {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BadRow::Value { column, cell } => {
-                write!(f, "column '{column}': cannot read '{cell}'")
+                write!(f, "column {}: cannot read {}", quote(column), quote(cell))
             }
-            BadRow::UnknownAddress(a) => write!(f, "unknown address '{a}' (not in the mapping)"),
+            BadRow::UnknownAddress(a) => {
+                write!(f, "unknown address {} (not in the mapping)", quote(a))
+            }
             BadRow::TimeBackwards { time, previous } => {
                 write!(f, "time goes backwards: {time} after {previous}")
             }

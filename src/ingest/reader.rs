@@ -8,6 +8,7 @@
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot};
 use crate::files::csv::{parse_bool, Record, Records};
+use crate::quote::quote;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
@@ -166,7 +167,8 @@ impl Rows {
         }
         if lower[0] != "timestamp" && lower[0] != "time" {
             return Err(format!(
-                "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found '{text}'"
+                "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found {}",
+                quote(&text)
             ));
         }
         self.format = LogFormat::Wide;
@@ -174,15 +176,17 @@ impl Rows {
         for (k, cell) in cells.iter().enumerate().skip(1) {
             let slot = self.mapping.slot(cell.as_bytes()).ok_or_else(|| {
                 format!(
-                    "column {}: '{cell}' is not an address or name of the mapping",
-                    k + 1
+                    "column {}: {} is not an address or name of the mapping",
+                    k + 1,
+                    quote(cell)
                 )
             })?;
             let index = self.slot_index(slot);
             if let Some(first) = seen[index].replace(k + 1) {
                 return Err(format!(
-                    "column {}: '{cell}' is the same signal as column {first}",
-                    k + 1
+                    "column {}: {} is the same signal as column {first}",
+                    k + 1,
+                    quote(cell)
                 ));
             }
             self.columns.push(slot);
@@ -194,7 +198,9 @@ impl Rows {
                 Slot::Output(z) => &self.mapping.outputs()[z.0],
             };
             return Err(format!(
-                "no column for signal '{name}' ({address}) of the mapping"
+                "no column for signal {} ({}) of the mapping",
+                quote(name),
+                crate::quote::cut(address)
             ));
         }
         self.headers = cells;

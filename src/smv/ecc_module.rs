@@ -31,7 +31,10 @@ use std::io::{self, Write};
 #[derive(Debug, thiserror::Error)]
 pub enum SmvError {
     /// A name cannot be used verbatim in SMV code.
-    #[error("{role} `{name}` cannot be used in the SMV model: {reason}")]
+    #[error(
+        "{role} {} cannot be used in the SMV model: {reason}",
+        crate::quote::backquote(name)
+    )]
     Identifier {
         /// Where the name comes from: `module name`, `input 3`, `output 1` (1-based).
         role: String,

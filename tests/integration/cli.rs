@@ -713,3 +713,189 @@ fn a_byte_order_mark_is_ignored_in_plants() {
     );
     assert_eq!(marked, plain);
 }
+
+/// A token of a million characters, as a broken export or a runaway logger writes one.
+fn giant() -> String {
+    "a".repeat(1_000_000)
+}
+
+/// The run failed with exit code 1, in a message of at most a few KB that still names
+/// `place` (file and line) and shows the token's length, not the token.
+fn assert_short_error(o: &Output, place: &str) {
+    let stderr = text(&o.stderr);
+    let head: String = stderr.chars().take(600).collect();
+    assert_eq!(o.status.code(), Some(1), "{head}");
+    assert!(
+        stderr.len() < 4096,
+        "{} bytes of stderr: {head}",
+        stderr.len()
+    );
+    assert!(stderr.contains(place), "{place} not in {stderr}");
+    assert!(stderr.contains("characters)"), "{stderr}");
+}
+
+#[test]
+fn giant_tokens_in_scenario_files_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let traces = dir.path().join("t.traces");
+    std::fs::write(&traces, format!("1\nin=REQ[{}];\n", giant())).unwrap();
+    let t = traces.to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        t,
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_short_error(&o, &format!("{t}:2: step 1"));
+}
+
+#[test]
+fn giant_tokens_in_csv_logs_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.csv");
+    std::fs::write(&log, format!("in:a,out:z\n0,0\n{},1\n", giant())).unwrap();
+    let l = log.to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        l,
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_short_error(&o, &format!("{l}:3: column 1"));
+}
+
+#[test]
+fn giant_tokens_in_names_files_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in.names");
+    std::fs::write(&inputs, format!("start\nstop 1{}\n", giant())).unwrap();
+    let i = inputs.to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--input-names",
+        i,
+        "--output-names",
+        &data("door.outputs"),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_short_error(&o, &format!("{i}:2:"));
+}
+
+#[test]
+fn giant_tokens_in_ltl_files_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let ltl = dir.path().join("lamp.ltl");
+    let l = ltl.to_str().unwrap();
+    let main = || {
+        synth(&[
+            "--ltl",
+            l,
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+            "/nonexistent/never-written",
+            "--nusmv",
+            "/nonexistent/NuSMV",
+        ])
+    };
+    // An unexpected token, shown with the line around it and a caret under it.
+    std::fs::write(&ltl, format!("-- lamp\nG (lamp {} & button)\n", giant())).unwrap();
+    let o = main();
+    assert_short_error(&o, &format!("{l}:2:9: syntax error"));
+    // A label, which is a name that no file limits.
+    std::fs::write(&ltl, format!("-- lamp\n1{}: G lamp\n", giant())).unwrap();
+    assert_short_error(&main(), &format!("{l}:2:1: "));
+}
+
+#[test]
+fn giant_tokens_in_mappings_and_logs_for_ingest_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("tank.map");
+    let m = map.to_str().unwrap();
+    let out = dir.path().join("out.traces");
+    let ingest = |log: &str| {
+        synth(&[
+            "ingest",
+            "--log",
+            log,
+            "--map",
+            m,
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    std::fs::write(&map, format!("%IX0.1 in ll\n%QX0.0 out 1{}\n", giant())).unwrap();
+    assert_short_error(&ingest("specs/tank/scenario1.csv"), &format!("{m}:2: "));
+    std::fs::copy("specs/tank/tank.map", &map).unwrap();
+    let log = dir.path().join("log.csv");
+    let l = log.to_str().unwrap();
+    std::fs::write(&log, format!("timestamp,address,value\n0,{},1\n", giant())).unwrap();
+    assert_short_error(&ingest(l), &format!("{l}:2: unknown address"));
+    assert!(!out.exists());
+}
+
+#[test]
+fn giant_tokens_in_json_machines_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = infer_door(dir.path());
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let bad = dir.path().join("bad.json");
+    let b = bad.to_str().unwrap();
+    let replay = || synth(&["replay", "--ecc", b, "--traces", &data("door.traces")]);
+    // A name the contract refuses, and a field serde does not know (it quotes the key).
+    doc["inputs"][0] = format!("1{}", giant()).into();
+    std::fs::write(&bad, doc.to_string()).unwrap();
+    assert_short_error(&replay(), &format!("{b}: inputs[0]: "));
+    let mut object = doc.as_object().unwrap().clone();
+    object.remove("inputs");
+    object.insert(giant(), 1.into());
+    std::fs::write(&bad, serde_json::Value::Object(object).to_string()).unwrap();
+    assert_short_error(&replay(), &format!("{b}:1:"));
+}
+
+#[test]
+fn giant_tokens_in_plants_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let lamp = std::fs::read_to_string("tests/data/closed_loop/lamp_plant.smv").unwrap();
+    let plant = dir.path().join("plant.smv");
+    let p = plant.to_str().unwrap();
+    let main = |nusmv: &str| {
+        synth(&[
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            p,
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+            dir.path().join("out").to_str().unwrap(),
+            "--nusmv",
+            nusmv,
+        ])
+    };
+    // The coupling check reads the plant before NuSMV is needed.
+    let parameter = lamp.replace(
+        "MODULE plant(lamp)",
+        &format!("MODULE plant(lamp, {})", giant()),
+    );
+    std::fs::write(&plant, parameter).unwrap();
+    assert_short_error(
+        &main("/nonexistent/NuSMV"),
+        &format!("{p}:2: plant parameter"),
+    );
+    // NuSMV quotes the token it cannot parse.
+    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+        return;
+    };
+    let token = lamp.replace("TRUE       : 2;", &format!("TRUE       : 2 {};", giant()));
+    std::fs::write(&plant, token).unwrap();
+    assert_short_error(&main(nusmv.path.to_str().unwrap()), &format!("{p}:11: "));
+}
