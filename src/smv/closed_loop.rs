@@ -302,3 +302,18 @@ pub fn compose_controller(
         spec_lines,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::ident::{check_block_name, CLOSED_LOOP_MODULES};
+
+    #[test]
+    fn no_block_takes_the_name_of_a_closed_loop_module() {
+        // The plant file's module is `plant`, like its instance.
+        for module in ["main", CONTROLLER_MODULE, PLANT_INSTANCE] {
+            assert!(CLOSED_LOOP_MODULES.contains(&module), "{module}");
+            assert!(check_block_name(module).is_err(), "{module}");
+        }
+    }
+}

@@ -899,3 +899,49 @@ fn giant_tokens_in_plants_are_not_echoed() {
     std::fs::write(&plant, token).unwrap();
     assert_short_error(&main(nusmv.path.to_str().unwrap()), &format!("{p}:11: "));
 }
+
+/// A `--name` that NuSMV, an ST compiler or the closed loop would refuse is a usage error
+/// before anything is read or written, naming the option and why.
+#[test]
+fn block_names_an_export_would_refuse_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, why) in [
+        ("main", "NuSMV's top module"),
+        ("ECC", "closed-loop model"),
+        ("plant", "closed-loop model"),
+        ("VAR", "NuSMV keyword"),
+        ("esac", "NuSMV keyword"),
+        ("MAX", "NuSMV keyword"),
+        ("END_VAR", "IEC 61131-3 keyword"),
+        ("state", "its own members"),
+    ] {
+        let out = dir.path().join(name);
+        let o = synth(&[
+            "infer",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--name",
+            name,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert!(
+            stderr.contains("'--name <NAME>'") && stderr.contains(why),
+            "{stderr}"
+        );
+        assert!(!out.exists(), "{name}");
+    }
+    let o = synth(&[
+        "--ltl",
+        "tests/data/closed_loop/lamp.ltl",
+        "--plant",
+        "tests/data/closed_loop/lamp_plant.smv",
+        "--name",
+        "main",
+        "--out",
+        dir.path().join("main_job").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+}
