@@ -150,6 +150,13 @@ pub enum IngestError {
         line: usize,
         problem: BadRow,
     },
+    /// A log whose header is followed by no sample: a scenario needs at least one step.
+    /// `skipped` counts the bad rows that lenient mode skipped.
+    #[error("{}: the log has no data rows{}", file.display(), match skipped {
+        0 => String::new(),
+        n => format!(" that could be read ({n} bad rows skipped)"),
+    })]
+    NoData { file: PathBuf, skipped: u64 },
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
@@ -172,7 +179,8 @@ pub fn convert_log<R: std::io::BufRead>(
 }
 
 /// Reads a log file into a scenario set with one scenario for the whole log (initial outputs
-/// all 0, as the log formats assume).
+/// all 0, as the log formats assume). A log without a sample is an [`IngestError::NoData`]:
+/// a scenario of no step is no scenario file `synth infer` reads.
 pub fn read_scenarios(
     log: &std::path::Path,
     mapping: &Mapping,
@@ -183,6 +191,12 @@ pub fn read_scenarios(
     let initial = vec![false; mapping.outputs().len()];
     let mut steps = Vec::new();
     let stats = convert_log(reader, initial.clone(), |s| steps.push(s))?;
+    if steps.is_empty() {
+        return Err(IngestError::NoData {
+            file: log.to_path_buf(),
+            skipped: stats.skipped_total(),
+        });
+    }
     let set = ScenarioSet {
         inputs: mapping.inputs().to_vec(),
         outputs: mapping.outputs().to_vec(),
@@ -268,6 +282,29 @@ mod tests {
             String::from_utf8(text).unwrap(),
             "1\nin=REQ[00]; in=REQ[10]; out=CNF[1]; in=REQ[11]; out=CNF[0];\n"
         );
+    }
+
+    #[test]
+    fn a_log_without_data_rows_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("log.csv");
+        let mapping = Mapping::parse(Path::new("m.map"), "%IX0.0 in a\n%QX0.0 out z\n").unwrap();
+        for (text, lenient, why) in [
+            ("timestamp,address,value\n", false, "no data rows"),
+            ("time,a,z\n\n  \n", false, "no data rows"),
+            (
+                "timestamp,address,value\n0,%IX0.0,maybe\n",
+                true,
+                "no data rows that could be read (1 bad rows skipped)",
+            ),
+        ] {
+            std::fs::write(&log, text).unwrap();
+            let e = read_scenarios(&log, &mapping, lenient).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("{}: the log has {why}", log.display())
+            );
+        }
     }
 
     #[test]

@@ -945,3 +945,37 @@ fn block_names_an_export_would_refuse_are_usage_errors() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
 }
+
+/// A log with a header and no data row has no scenario in it: ingest says so and writes no
+/// scenario file that `synth infer` would refuse.
+#[test]
+fn ingest_refuses_a_log_without_data_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    for (file, log) in [
+        ("long.csv", "timestamp,address,value\n"),
+        (
+            "wide.csv",
+            "timestamp,%IX0.1,%IX0.2,%IX0.0,%QX0.0,%QX0.1\n\n",
+        ),
+    ] {
+        let path = dir.path().join(file);
+        std::fs::write(&path, log).unwrap();
+        let out = dir.path().join("out/tank.traces");
+        let o = synth(&[
+            "ingest",
+            "--log",
+            path.to_str().unwrap(),
+            "--map",
+            "specs/tank/tank.map",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert_eq!(
+            stderr,
+            format!("error: {}: the log has no data rows\n", path.display())
+        );
+        assert!(files_in(&dir.path().join("out")).is_empty(), "{file}");
+    }
+}
