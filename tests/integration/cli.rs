@@ -734,11 +734,11 @@ fn assert_short_error(o: &Output, place: &str) {
     assert!(stderr.contains("characters)"), "{stderr}");
 }
 
-#[test]
-fn giant_tokens_in_scenario_files_are_not_echoed() {
+/// `synth infer` of a trace file `name` holding `content` fails at `place` (after the path).
+fn assert_infer_is_short(name: &str, content: &str, place: &str) {
     let dir = tempfile::tempdir().unwrap();
-    let traces = dir.path().join("t.traces");
-    std::fs::write(&traces, format!("1\nin=REQ[{}];\n", giant())).unwrap();
+    let traces = dir.path().join(name);
+    std::fs::write(&traces, content).unwrap();
     let t = traces.to_str().unwrap();
     let o = synth(&[
         "infer",
@@ -747,23 +747,19 @@ fn giant_tokens_in_scenario_files_are_not_echoed() {
         "--out",
         dir.path().to_str().unwrap(),
     ]);
-    assert_short_error(&o, &format!("{t}:2: step 1"));
+    assert_short_error(&o, &format!("{t}:{place}"));
+}
+
+#[test]
+fn giant_tokens_in_scenario_files_are_not_echoed() {
+    let content = format!("1\nin=REQ[{}];\n", giant());
+    assert_infer_is_short("t.traces", &content, "2: step 1");
 }
 
 #[test]
 fn giant_tokens_in_csv_logs_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("log.csv");
-    std::fs::write(&log, format!("in:a,out:z\n0,0\n{},1\n", giant())).unwrap();
-    let l = log.to_str().unwrap();
-    let o = synth(&[
-        "infer",
-        "--traces",
-        l,
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
-    assert_short_error(&o, &format!("{l}:3: column 1"));
+    let content = format!("in:a,out:z\n0,0\n{},1\n", giant());
+    assert_infer_is_short("log.csv", &content, "3: column 1");
 }
 
 #[test]
