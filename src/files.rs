@@ -1,9 +1,10 @@
 //! Reading and writing the files a user names: one place for how a file is opened (gzip or
 //! not) and for how a result is published (atomically, as an ordinary file).
 //!
-//! In: paths. Out: readers that gunzip on the fly ([`open_input`]), and writers that never
-//! leave a half-written file behind ([`write_atomic`], [`AtomicFile`]). CSV cells are read in
-//! [`csv`], XML written in [`xml`].
+//! In: paths. Out: readers that gunzip on the fly and drop a leading UTF-8 byte order mark
+//! ([`open_input`], and [`read_text`] for a whole text file), and writers that never leave a
+//! half-written file behind ([`write_atomic`], [`AtomicFile`]). CSV cells are read in [`csv`],
+//! XML written in [`xml`].
 
 pub mod csv;
 pub mod result_set;
@@ -11,7 +12,7 @@ pub mod xml;
 
 pub use result_set::{ResultSet, ResultSetError};
 
-use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// Paths removed when a termination signal ends the program ([`crate::signals`]): staging
@@ -63,9 +64,13 @@ pub const MAX_FILE_BYTES: u64 = 1 << 30;
 /// The first two bytes of every gzip member (RFC 1952).
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
+/// The UTF-8 encoding of U+FEFF, which Windows editors and spreadsheet programs put before
+/// the first character of a text file.
+pub const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
 /// A file opened for reading by [`open_input`].
 pub struct Input {
-    /// The content, decompressed when the file is gzip.
+    /// The content, decompressed when the file is gzip, without a leading byte order mark.
     pub reader: Box<dyn BufRead>,
     /// Whether the file started with gzip's magic bytes (an error while reading is then
     /// likely a broken gzip stream).
@@ -73,7 +78,9 @@ pub struct Input {
 }
 
 /// Opens `path` for reading, gunzipping it on the fly when it starts with the gzip magic
-/// bytes (whatever its name; multi-member streams are read to the end).
+/// bytes (whatever its name; multi-member streams are read to the end). A UTF-8 byte order
+/// mark at the start of the (decompressed) content is dropped: every reader of the crate
+/// comes here, so no parser sees one.
 pub fn open_input(path: &Path) -> std::io::Result<Input> {
     let file = std::fs::File::open(path)?;
     let mut raw = BufReader::with_capacity(1 << 16, file);
@@ -81,12 +88,65 @@ pub fn open_input(path: &Path) -> std::io::Result<Input> {
     let reader: Box<dyn BufRead> = if gzip {
         Box::new(BufReader::with_capacity(
             1 << 16,
-            flate2::bufread::MultiGzDecoder::new(raw),
+            WithoutBom::new(flate2::bufread::MultiGzDecoder::new(raw)),
         ))
     } else {
-        Box::new(raw)
+        Box::new(BufReader::with_capacity(1 << 16, WithoutBom::new(raw)))
     };
     Ok(Input { reader, gzip })
+}
+
+/// A reader that passes on what `inner` yields less a UTF-8 byte order mark at its start.
+///
+/// The check waits for the first read, so that a broken gzip stream fails while the caller
+/// reads (and knows to call it a gzip error), not while the file is opened; and it gathers
+/// three bytes first, since a decoder or a pipe may hand them over one at a time.
+struct WithoutBom<R> {
+    inner: R,
+    /// The first bytes of `inner`, until they are handed on.
+    head: [u8; 3],
+    head_len: usize,
+    /// How much of `head` was handed on (or skipped, when it is the mark).
+    head_pos: usize,
+    checked: bool,
+}
+
+impl<R: Read> WithoutBom<R> {
+    fn new(inner: R) -> WithoutBom<R> {
+        WithoutBom {
+            inner,
+            head: [0; 3],
+            head_len: 0,
+            head_pos: 0,
+            checked: false,
+        }
+    }
+}
+
+impl<R: Read> Read for WithoutBom<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if !self.checked {
+            while self.head_len < self.head.len() {
+                match self.inner.read(&mut self.head[self.head_len..]) {
+                    Ok(0) => break,
+                    Ok(n) => self.head_len += n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                    Err(e) => return Err(e),
+                }
+            }
+            self.checked = true;
+            if self.head[..self.head_len] == *UTF8_BOM {
+                self.head_pos = self.head_len;
+            }
+        }
+        if self.head_pos < self.head_len {
+            let n = (self.head_len - self.head_pos).min(buf.len());
+            buf[..n].copy_from_slice(&self.head[self.head_pos..self.head_pos + n]);
+            self.head_pos += n;
+            return Ok(n);
+        }
+        self.inner.read(buf)
+    }
 }
 
 /// Why the text of a user's file could not be read (the file is named by [`FileReadError`]).
@@ -108,6 +168,9 @@ pub enum ReadError {
     /// A file read whole holds more than `limit` bytes (after gunzipping).
     #[error("larger than {}, the most read from one file", bytes(*limit))]
     TooLarge { limit: u64 },
+    /// A gzip file whose stream is broken (truncated, corrupted).
+    #[error("not a valid gzip stream: {message}")]
+    Gzip { message: String },
     /// A byte sequence that is not UTF-8, first on `line`.
     #[error("not UTF-8 text")]
     NotUtf8 { line: usize },
@@ -117,7 +180,7 @@ impl ReadError {
     /// The line the problem is on, if it is on one.
     pub fn line(&self) -> Option<usize> {
         match self {
-            ReadError::Io(_) | ReadError::TooLarge { .. } => None,
+            ReadError::Io(_) | ReadError::TooLarge { .. } | ReadError::Gzip { .. } => None,
             ReadError::LineTooLong { line, .. }
             | ReadError::RecordTooLong { line, .. }
             | ReadError::NotUtf8 { line } => Some(*line),
@@ -265,20 +328,28 @@ pub fn utf8_text(bytes: Vec<u8>) -> Result<String, ReadError> {
     })
 }
 
-/// Reads a user's text file whole (not gunzipped), with the limits of [`read_all`]: at most
-/// [`MAX_FILE_BYTES`], and lines of at most `max_line` bytes when given. A regular file over
-/// the size limit is refused before it is read.
+/// Reads a user's text file whole through [`open_input`] (gunzipped when it is gzip, without a
+/// leading byte order mark), with the limits of [`read_all`]: at most [`MAX_FILE_BYTES`] of
+/// text, and lines of at most `max_line` bytes when given. A plain file over the size limit is
+/// refused before it is read.
 pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, FileReadError> {
     let read = || -> Result<String, ReadError> {
-        let file = std::fs::File::open(path)?;
-        let meta = file.metadata()?;
-        if meta.is_file() && meta.len() > MAX_FILE_BYTES {
-            return Err(ReadError::TooLarge {
-                limit: MAX_FILE_BYTES,
-            });
+        let input = open_input(path)?;
+        if !input.gzip {
+            let meta = std::fs::metadata(path)?;
+            if meta.is_file() && meta.len() > MAX_FILE_BYTES {
+                return Err(ReadError::TooLarge {
+                    limit: MAX_FILE_BYTES,
+                });
+            }
         }
-        let src = BufReader::with_capacity(1 << 16, file);
-        utf8_text(read_all(src, max_line, MAX_FILE_BYTES)?)
+        let all = read_all(input.reader, max_line, MAX_FILE_BYTES).map_err(|e| match e {
+            ReadError::Io(e) if input.gzip => ReadError::Gzip {
+                message: e.to_string(),
+            },
+            e => e,
+        })?;
+        utf8_text(all)
     };
     read().map_err(|e| e.at(path))
 }
@@ -562,6 +633,73 @@ mod tests {
         let text = b"ten bytes.\nten bytes.";
         assert_eq!(read_all(&text[..], Some(10), 21).unwrap(), text);
         assert_eq!(read_all(&text[..], None, 21).unwrap(), text);
+    }
+
+    #[test]
+    fn one_leading_byte_order_mark_is_dropped_plain_or_gzip() {
+        let dir = tempfile::tempdir().unwrap();
+        let plain = dir.path().join("marked.txt");
+        std::fs::write(&plain, b"\xEF\xBB\xBF\xEF\xBB\xBF1\n").unwrap();
+        let packed = dir.path().join("marked.gz");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(b"\xEF\xBB\xBFin:a\n").unwrap();
+        std::fs::write(&packed, gz.finish().unwrap()).unwrap();
+        let short = dir.path().join("short.txt");
+        std::fs::write(&short, b"\xEF\xBB").unwrap();
+        for (path, want) in [
+            (&plain, &b"\xEF\xBB\xBF1\n"[..]),
+            (&packed, b"in:a\n"),
+            (&short, b"\xEF\xBB"),
+        ] {
+            let mut got = Vec::new();
+            open_input(path)
+                .unwrap()
+                .reader
+                .read_to_end(&mut got)
+                .unwrap();
+            assert_eq!(got, want, "{}", path.display());
+        }
+        assert_eq!(read_text(&packed, None).unwrap(), "in:a\n");
+    }
+
+    /// A reader that hands over one byte per call, as a pipe or a decoder may.
+    struct Trickle<'a>(&'a [u8]);
+
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.0.len().min(buf.len()).min(1);
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn a_byte_order_mark_read_a_byte_at_a_time_is_dropped() {
+        for (input, want) in [
+            (&b"\xEF\xBB\xBFab"[..], &b"ab"[..]),
+            (b"\xEFab", b"\xEFab"),
+            (b"a", b"a"),
+            (b"", b""),
+        ] {
+            let mut got = Vec::new();
+            WithoutBom::new(Trickle(input))
+                .read_to_end(&mut got)
+                .unwrap();
+            assert_eq!(got, want, "{input:?}");
+        }
+    }
+
+    #[test]
+    fn text_that_is_not_utf8_names_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("latin1.txt");
+        std::fs::write(&path, b"a\nb\n\xE9t\xE9\n").unwrap();
+        let e = read_text(&path, None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!("{}:3: not UTF-8 text", path.display())
+        );
     }
 
     #[test]

@@ -19,7 +19,8 @@
 //!   as negative scenarios);
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, PNML;
 //! - [`ingest`] and [`events`]: raw PLC I/O logs to scenarios and to process-mining event logs;
-//! - [`files`]: atomic writing.
+//! - [`files`]: reading user files (gzip, byte order mark) and atomic writing;
+//! - [`quote`]: user input quoted in messages, cut when it is long.
 //!
 //! The `synth` command line and the benchmark cases (plant simulations with their reference
 //! controllers) are not part of the library: they live beside the binary and the tests.
@@ -43,6 +44,7 @@ pub mod ltl;
 pub mod nusmv;
 pub mod pipeline;
 pub mod plant;
+pub mod quote;
 pub mod sat;
 pub mod scenario;
 pub mod search;

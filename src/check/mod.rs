@@ -69,14 +69,16 @@ impl Coupling {
             match model.lookup(i) {
                 Some(Name::Var(v)) if model.var(v).ty != Type::Bool => {
                     return Err(bad(format!(
-                        "controller input '{i}' is plant variable '{}', which is not boolean",
-                        model.var(v).name
+                        "controller input {} is plant variable {}, which is not boolean",
+                        crate::quote::quote(i),
+                        crate::quote::quote(&model.var(v).name)
                     )))
                 }
                 Some(n @ (Name::Var(_) | Name::Define(_))) => wired.push(n),
                 _ => {
                     return Err(bad(format!(
-                        "the plant declares no variable or define '{i}' for the controller input of that name"
+                        "the plant declares no variable or define {} for the controller input of that name",
+                        crate::quote::quote(i)
                     )))
                 }
             }

@@ -154,6 +154,12 @@ pub fn workers() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=1024)
 }
 
+/// `--name`: a block name every export can use ([`fbsynth::ecc::ident::check_block_name`]),
+/// refused before anything is read.
+pub fn block_name(name: &str) -> Result<String, String> {
+    fbsynth::ecc::ident::check_block_name(name).map(|()| name.to_string())
+}
+
 /// Parses `--format` values.
 pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
     list.iter()

@@ -136,8 +136,9 @@ fn net_of(ecc_file: &Path, mapping: &Mapping) -> Result<(Vec<u8>, usize), Failur
                 Failure::msg(
                     super::exit::INPUT,
                     format!(
-                        "{}: signal '{name}' is not in the mapping",
-                        ecc_file.display()
+                        "{}: signal {} is not in the mapping",
+                        ecc_file.display(),
+                        fbsynth::quote::quote(name)
                     ),
                 )
             })

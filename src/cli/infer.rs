@@ -40,8 +40,9 @@ pub struct InferArgs {
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
-    /// Name of the function block type in the exports.
-    #[arg(long, default_value = "SynthesizedFB")]
+    /// Name of the function block type in the exports (an identifier, no keyword of SMV or
+    /// IEC 61131-3, none of main, ECC, plant, REQ, CNF, state).
+    #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
     pub name: String,
     /// No progress lines on stderr.
     #[arg(long, short)]

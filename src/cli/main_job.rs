@@ -61,8 +61,9 @@ pub struct MainArgs {
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
-    /// Name of the function block type in the exports.
-    #[arg(long, default_value = "SynthesizedFB")]
+    /// Name of the function block type in the exports (an identifier, no keyword of SMV or
+    /// IEC 61131-3, none of main, ECC, plant, REQ, CNF, state).
+    #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
     pub name: String,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
@@ -351,7 +352,15 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     } else {
         Err(Failure::msg(
             exit::INPUT,
-            format!("not verified: {} violated", report.failing().join(", ")),
+            format!(
+                "not verified: {} violated",
+                report
+                    .failing()
+                    .iter()
+                    .map(|name| fbsynth::quote::cut(name).to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         ))
     }
 }

@@ -5,10 +5,14 @@
 //! the name came from). Three rules, from loosest to strictest per language:
 //! - [`is_identifier`]: the portable core `[A-Za-z][A-Za-z0-9_]*` that every names file,
 //!   mapping and CSV header must follow;
-//! - [`check_smv`]: the core, and no NuSMV keyword ([`SMV_KEYWORDS`], case-sensitive); names
-//!   starting with `_` are kept for generated identifiers;
+//! - [`check_smv`]: the core, and no NuSMV keyword ([`SMV_KEYWORDS`] and
+//!   [`NUSMV_LEXER_KEYWORDS`], case-sensitive); names starting with `_` are kept for generated
+//!   identifiers;
 //! - [`check_iec`]: an IEC 61131-3 identifier (`.fbt`, `.st`): a letter or `_` first, no `__`,
 //!   no trailing `_`, and no keyword ([`IEC_KEYWORDS`], ignoring case).
+//!
+//! The block's own name, which every export uses, follows both, and [`check_block_name`] adds
+//! the names the exporters write themselves.
 
 /// Letters A-Z a-z, digits and `_`: the characters every rule allows after the first.
 fn word_char(c: char) -> bool {
@@ -32,7 +36,7 @@ pub fn is_identifier(name: &str) -> bool {
 }
 
 /// NuSMV 2.5's reserved words as its lexer lists them: none can be a name in a file the
-/// tool reads (LTL specifications, plants). [`SMV_KEYWORDS`] is the rule for names it writes.
+/// tool reads (LTL specifications, plants), nor in one it writes ([`check_smv`]).
 #[rustfmt::skip]
 pub const NUSMV_LEXER_KEYWORDS: &[&str] = &[
     "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
@@ -47,7 +51,8 @@ pub const NUSMV_LEXER_KEYWORDS: &[&str] = &[
 ];
 
 /// Words NuSMV 2.5/2.6 reserves (case-sensitive), plus the LTL/CTL operator letters, which
-/// NuSMV's lexer also treats as keywords.
+/// NuSMV's lexer also treats as keywords. [`check_smv`] refuses these and
+/// [`NUSMV_LEXER_KEYWORDS`].
 pub const SMV_KEYWORDS: &[&str] = &[
     "MODULE",
     "VAR",
@@ -135,7 +140,8 @@ pub const SMV_KEYWORDS: &[&str] = &[
 ///
 /// SMV itself allows `[A-Za-z_][A-Za-z0-9_$#-]*`; we accept only the portable core
 /// `[A-Za-z][A-Za-z0-9_]*`, which is also a legal IEC 61131-3 identifier in almost all cases,
-/// and reject NuSMV keywords (case-sensitive, as NuSMV is). Names starting with `_` are reserved
+/// and reject NuSMV keywords (case-sensitive, as NuSMV is; NuSMV 2.5.4 reports a syntax error
+/// at `MAX` or `Integer` used as a name). Names starting with `_` are reserved
 /// for identifiers the emitters generate, so generated names never collide with user names.
 /// The error says why the name is rejected; the caller adds where the name came from.
 pub fn check_smv(name: &str) -> Result<(), String> {
@@ -152,8 +158,35 @@ pub fn check_smv(name: &str) -> Result<(), String> {
         Some(_) => {}
     }
     check_rest(name)?;
-    if SMV_KEYWORDS.contains(&name) {
+    if SMV_KEYWORDS.contains(&name) || NUSMV_LEXER_KEYWORDS.contains(&name) {
         return Err("it is a NuSMV keyword".into());
+    }
+    Ok(())
+}
+
+/// The modules of the closed loop synth composes: `main` (NuSMV's top module, which takes no
+/// parameters) over the controller `ECC` and the plant file's `plant`. A block by one of these
+/// names could not stand beside them.
+pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", "ECC", "plant"];
+
+/// Names the exported function block declares itself: its events, and the state variable of
+/// the Structured Text block (compared ignoring case, as ST does).
+pub const BLOCK_MEMBERS: [&str; 3] = ["REQ", "CNF", "state"];
+
+/// Checks the name of the block itself (`--name`), which names the SMV module, the Structured
+/// Text function block and the IEC 61499 type: it must pass [`check_smv`] and [`check_iec`],
+/// and be none of [`CLOSED_LOOP_MODULES`] and [`BLOCK_MEMBERS`].
+pub fn check_block_name(name: &str) -> Result<(), String> {
+    check_smv(name)?;
+    check_iec(name)?;
+    if name == "main" {
+        return Err("it is NuSMV's top module, which takes no parameters".into());
+    }
+    if CLOSED_LOOP_MODULES.contains(&name) {
+        return Err("the closed-loop model synth writes has a module of that name".into());
+    }
+    if BLOCK_MEMBERS.iter().any(|m| m.eq_ignore_ascii_case(name)) {
+        return Err("the exported block uses this name for one of its own members".into());
     }
     Ok(())
 }
@@ -358,6 +391,41 @@ mod tests {
         ];
         for (name, why) in cases {
             let err = check_smv(name).unwrap_err();
+            assert!(err.contains(why), "{name}: {err}");
+        }
+    }
+
+    #[test]
+    fn every_word_of_nusmvs_lexer_is_refused() {
+        for word in [
+            "MAX", "MIN", "IN", "Integer", "Real", "Word", "READ", "WRITE", "COMPID",
+        ] {
+            let err = check_smv(word).unwrap_err();
+            assert!(err.contains("keyword"), "{word}: {err}");
+        }
+    }
+
+    #[test]
+    fn block_names_that_an_export_would_refuse() {
+        for ok in ["SynthesizedFB", "Pnp", "Lamp2", "ECC1", "mainFB"] {
+            assert_eq!(check_block_name(ok), Ok(()), "{ok}");
+        }
+        for (name, why) in [
+            ("main", "NuSMV's top module"),
+            ("ECC", "closed-loop model"),
+            ("plant", "closed-loop model"),
+            ("VAR", "NuSMV keyword"),
+            ("esac", "NuSMV keyword"),
+            ("MAX", "NuSMV keyword"),
+            ("IF", "IEC 61131-3 keyword"),
+            ("End_Var", "IEC 61131-3 keyword"),
+            ("Fb_", "trailing"),
+            ("State", "its own members"),
+            ("req", "its own members"),
+            ("_x", "reserved"),
+            ("", "empty"),
+        ] {
+            let err = check_block_name(name).unwrap_err();
             assert!(err.contains(why), "{name}: {err}");
         }
     }

@@ -162,7 +162,7 @@ pub enum EventsError {
     #[error(transparent)]
     Log(#[from] IngestError),
     /// The `--reset` activity cannot be read; `text` is the whole argument.
-    #[error("reset activity '{text}': {message}")]
+    #[error("reset activity {}: {message}", crate::quote::quote(text))]
     Reset { text: String, message: String },
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),
@@ -197,15 +197,21 @@ impl ResetActivity {
             let words: Vec<&str> = part.split_whitespace().collect();
             let [key, value] = words[..] else {
                 return Err(err(format!(
-                    "'{}' is not 'ADDRESS VALUE' (e.g. '%IX0.1 false')",
-                    part.trim()
+                    "{} is not 'ADDRESS VALUE' (e.g. '%IX0.1 false')",
+                    crate::quote::quote(part.trim())
                 )));
             };
-            let slot = mapping
-                .slot(key.as_bytes())
-                .ok_or_else(|| err(format!("'{key}' is not an address or name of the mapping")))?;
+            let slot = mapping.slot(key.as_bytes()).ok_or_else(|| {
+                err(format!(
+                    "{} is not an address or name of the mapping",
+                    crate::quote::quote(key)
+                ))
+            })?;
             let Some(value) = crate::files::csv::parse_bool(value.as_bytes()) else {
-                return Err(err(format!("'{value}' is not true, false, 1 or 0")));
+                return Err(err(format!(
+                    "{} is not true, false, 1 or 0",
+                    crate::quote::quote(value)
+                )));
             };
             let (c, address) = match slot {
                 Slot::Input(_) => (EventClass::Input, address_of(mapping, slot)),

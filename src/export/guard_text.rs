@@ -26,7 +26,7 @@ pub const MAX_DEPTH: usize = 100;
 pub enum GuardTextError {
     #[error("column {column}: expected {expected}")]
     Syntax { column: usize, expected: String },
-    #[error("column {column}: unknown input `{name}`")]
+    #[error("column {column}: unknown input {}", crate::quote::backquote(name))]
     UnknownInput { column: usize, name: String },
     #[error("column {column}: the guard nests deeper than {MAX_DEPTH} levels")]
     TooDeep { column: usize },

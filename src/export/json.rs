@@ -42,6 +42,7 @@
 use super::guard_text::{parse_guard, GuardTextError};
 use crate::ecc::{bits_from_str, bits_to_string, Algorithm, AlgorithmKind, Ecc, State};
 use crate::ecc::{StateId, Transition, Tri};
+use crate::quote::backquote;
 use crate::smv::check_identifier;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -104,9 +105,9 @@ pub enum JsonError {
 pub enum ContentProblem {
     #[error("the ECC has no states")]
     NoStates,
-    #[error("`{name}` cannot be used as a name: {reason}")]
+    #[error("{} cannot be used as a name: {reason}", backquote(name))]
     BadName { name: String, reason: String },
-    #[error("`{name}` is already the name of {first}")]
+    #[error("{} is already the name of {first}", backquote(name))]
     DuplicateName { name: String, first: String },
     #[error("has {found} symbols but there are {expected} outputs")]
     Length { found: usize, expected: usize },
@@ -188,7 +189,9 @@ pub fn read_json(text: &str, file: &Path) -> Result<Ecc, JsonError> {
         file: file.to_path_buf(),
         line: e.line(),
         column: e.column(),
-        message: strip_position(&e.to_string(), e.line(), e.column()),
+        // serde_json quotes the key or string it did not expect, whatever its length.
+        message: crate::quote::message(&strip_position(&e.to_string(), e.line(), e.column()))
+            .to_string(),
     })?;
     let fail = |at: String, problem: ContentProblem| JsonError::Content {
         file: file.to_path_buf(),

@@ -80,7 +80,10 @@ impl fmt::Display for Format {
 
 /// A format name that is not one of [`Format::ALL`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown export format `{given}`; valid formats: json, fbt, smv, dot, st")]
+#[error(
+    "unknown export format {}; valid formats: json, fbt, smv, dot, st",
+    crate::quote::backquote(given)
+)]
 pub struct UnknownFormat {
     pub given: String,
 }
@@ -205,7 +208,10 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
 
 /// A name that cannot be used in an exported program.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{role} `{name}` cannot be used in {format}: {reason}")]
+#[error(
+    "{role} {} cannot be used in {format}: {reason}",
+    crate::quote::backquote(name)
+)]
 pub struct NameError {
     /// Where the name comes from: `type name`, `input 3`, `output 1` (1-based).
     pub role: String,
@@ -223,7 +229,7 @@ impl From<NameError> for io::Error {
 
 /// Checks the block name and every interface name of `ecc` for a format with IEC 61131-3
 /// names: each an IEC identifier, none equal to a name the emitter generates (`reserved`), and
-/// all distinct, everything ignoring case.
+/// the interface names distinct, everything ignoring case.
 pub(crate) fn check_iec_names(
     ecc: &Ecc,
     format: &'static str,
@@ -238,6 +244,13 @@ pub(crate) fn check_iec_names(
     };
     check_iec_identifier(block_name).map_err(|r| bad("type name".into(), block_name, r))?;
     let reserved: Vec<String> = reserved.iter().map(|r| r.to_ascii_uppercase()).collect();
+    if reserved.contains(&block_name.to_ascii_uppercase()) {
+        return Err(bad(
+            "type name".into(),
+            block_name,
+            "the exported block uses this name itself".into(),
+        ));
+    }
     let mut seen: HashMap<String, String> = HashMap::new();
     let named = (ecc.inputs.iter().enumerate()).map(|(i, n)| (format!("input {}", i + 1), n));
     let named = named

@@ -13,18 +13,16 @@
 //! edge or a timer reproduces [`Run::step`](crate::ecc::Run::step) call by call.
 
 use super::{check_iec_names, NameError};
+use crate::ecc::ident::BLOCK_MEMBERS;
 use crate::ecc::Ecc;
 use crate::smv::bool_literal;
 use crate::smv::Effect;
 use std::io::{self, Write};
 
-/// Names the function block declares itself.
-const RESERVED: [&str; 3] = ["REQ", "CNF", "state"];
-
 /// Checks the block name and the interface names (IEC identifiers, distinct ignoring case,
 /// none of `REQ`, `CNF`, `state`).
 pub fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
-    let reserved: Vec<String> = RESERVED.iter().map(|r| r.to_string()).collect();
+    let reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
     check_iec_names(ecc, "Structured Text", block_name, &reserved)
 }
 

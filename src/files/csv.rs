@@ -3,15 +3,13 @@
 //! In: a byte stream (a file, possibly gunzipped by [`super::open_input`], or text in memory)
 //! and its delimiter. Out: records of trimmed cells, each with the line it starts on, and the
 //! Boolean values the cells hold ([`parse_bool`]). Quoting follows RFC 4180 (the `csv` crate);
-//! a UTF-8 byte order mark before the first record is dropped, as spreadsheet programs write
-//! one; blank lines, even ones holding only spaces, are skipped. A record longer than
-//! [`MAX_LINE_BYTES`] is an error naming its line, found after reading at most that much of it.
+//! a UTF-8 byte order mark before the first record is dropped (by `csv_core`; a file has lost
+//! it already in [`super::open_input`]); blank lines, even ones holding only spaces, are
+//! skipped. A record longer than [`MAX_LINE_BYTES`] is an error naming its line, found after
+//! reading at most that much of it.
 
 use super::{read_line, LineRead, ReadError, MAX_LINE_BYTES};
-use std::io::{self, BufRead};
-
-/// The UTF-8 encoding of U+FEFF, which some programs put before the first byte of text.
-const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+use std::io::BufRead;
 
 /// Reads records one at a time; see the module header.
 ///
@@ -36,11 +34,8 @@ pub struct Records<R: BufRead> {
 
 impl<R: BufRead> Records<R> {
     /// A reader over `src` whose cells are separated by `delimiter` (e.g. `b','`).
-    pub fn new(mut src: R, delimiter: u8) -> io::Result<Records<R>> {
-        if src.fill_buf()?.starts_with(UTF8_BOM) {
-            src.consume(UTF8_BOM.len());
-        }
-        Ok(Records {
+    pub fn new(src: R, delimiter: u8) -> Records<R> {
+        Records {
             src,
             splitter: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
             text: Vec::with_capacity(256),
@@ -48,7 +43,7 @@ impl<R: BufRead> Records<R> {
             ends: vec![0; 16],
             count: 0,
             line: 0,
-        })
+        }
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
@@ -197,7 +192,7 @@ mod tests {
     use super::*;
 
     fn read(text: &str, delimiter: u8) -> Vec<(usize, Vec<String>)> {
-        let mut records = Records::new(text.as_bytes(), delimiter).unwrap();
+        let mut records = Records::new(text.as_bytes(), delimiter);
         let mut out = Vec::new();
         while let Some((line, r)) = records.next_record().unwrap() {
             let cells = r.iter().map(|c| String::from_utf8_lossy(c).into_owned());
@@ -232,7 +227,7 @@ mod tests {
     /// The error of the first record that is not read, as text (`None` when every record of
     /// `src` reads).
     fn first_error(src: impl BufRead) -> Option<String> {
-        let mut records = Records::new(src, b',').unwrap();
+        let mut records = Records::new(src, b',');
         loop {
             match records.next_record() {
                 Ok(Some(_)) => {}
@@ -247,14 +242,14 @@ mod tests {
         use std::io::Read;
         let limit = crate::files::MAX_LINE_BYTES;
         // Generated in memory: twice the limit without a line break on line 3.
-        let zeros = || io::BufReader::new(io::repeat(b'0').take(2 * limit as u64));
+        let zeros = || std::io::BufReader::new(std::io::repeat(b'0').take(2 * limit as u64));
         assert_eq!(
             first_error(b"a,b\n1,2\n".chain(zeros())).as_deref(),
             Some(format!("line 3 is longer than {limit} bytes").as_str())
         );
         // A line of exactly the limit, then its break (LF or CRLF), is still read.
         let line = |n: usize, end: &'static [u8]| {
-            io::BufReader::new(io::repeat(b'0').take(n as u64))
+            std::io::BufReader::new(std::io::repeat(b'0').take(n as u64))
                 .chain(end)
                 .chain(&b"2\n"[..])
         };
@@ -272,7 +267,7 @@ mod tests {
         let limit = crate::files::MAX_LINE_BYTES;
         // Short lines after a quote that never closes: each line is fine, the record is not.
         // A million of them also shows the quote count does not restart on every line.
-        let lines = io::BufReader::new(io::repeat(b'\n').take(limit as u64 + 10));
+        let lines = std::io::BufReader::new(std::io::repeat(b'\n').take(limit as u64 + 10));
         let got = first_error(b"a,b\n\"x,\n".chain(lines)).unwrap();
         let want = format!(
             "the record from line 2 to line {limit} is longer than {limit} bytes (is a quote left open?)"

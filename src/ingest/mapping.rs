@@ -6,6 +6,7 @@
 use super::IngestError;
 use crate::ecc::ident::is_identifier;
 use crate::ecc::{InputId, OutputId};
+use crate::quote::quote;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -57,30 +58,37 @@ impl Mapping {
             let [address, side, name] = words[..] else {
                 return Err(err(
                     line,
-                    format!("expected 'ADDRESS in|out NAME', found '{content}'"),
+                    format!("expected 'ADDRESS in|out NAME', found {}", quote(content)),
                 ));
             };
             if address.contains(',') {
-                return Err(err(line, format!("address '{address}' contains ','")));
+                return Err(err(
+                    line,
+                    format!("address {} contains ','", quote(address)),
+                ));
             }
             if !is_identifier(name) {
                 return Err(err(
                     line,
                     format!(
-                        "'{name}' is not a valid name (letters, digits and '_', starting with a letter)"
+                        "{} is not a valid name (letters, digits and '_', starting with a letter)",
+                        quote(name)
                     ),
                 ));
             }
             if let Some(first) = seen_addr.insert(address.to_string(), line) {
                 return Err(err(
                     line,
-                    format!("duplicate address '{address}' (first on line {first})"),
+                    format!(
+                        "duplicate address {} (first on line {first})",
+                        quote(address)
+                    ),
                 ));
             }
             if let Some(first) = seen_name.insert(name.to_string(), line) {
                 return Err(err(
                     line,
-                    format!("duplicate name '{name}' (first on line {first})"),
+                    format!("duplicate name {} (first on line {first})", quote(name)),
                 ));
             }
             match side {
@@ -89,7 +97,10 @@ impl Mapping {
                 _ => {
                     return Err(err(
                         line,
-                        format!("expected 'in' or 'out' after the address, found '{side}'"),
+                        format!(
+                            "expected 'in' or 'out' after the address, found {}",
+                            quote(side)
+                        ),
                     ))
                 }
             }
@@ -112,7 +123,10 @@ impl Mapping {
                 Some(addr_line) if addr_line != name_line => {
                     return Err(err(
                         *addr_line.max(name_line),
-                        format!("'{name}' is both an address (line {addr_line}) and the name of another signal (line {name_line})"),
+                        format!(
+                            "{} is both an address (line {addr_line}) and the name of another signal (line {name_line})",
+                            quote(name)
+                        ),
                     ));
                 }
                 _ => {}

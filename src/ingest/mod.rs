@@ -18,8 +18,8 @@
 //! file order of the `in` lines, then of the `out` lines.
 //!
 //! # Log files
-//! Both formats are CSV with `,` (quoted cells as RFC 4180 says, a leading byte order mark
-//! ignored: [`crate::files::csv`]), told apart by their header; the file may be
+//! Both formats are CSV with `,` (quoted cells as RFC 4180 says: [`crate::files::csv`]; a
+//! leading byte order mark ignored: [`crate::files::open_input`]), told apart by their header; the file may be
 //! gzip-compressed (recognized by its magic bytes, multi-member streams accepted). Values are `0`, `1`,
 //! `true`, `false` (any case). Timestamps are numbers and must not go backwards. Blank lines
 //! are ignored; line numbers count every line of the (decompressed) file. A line (or a record
@@ -47,6 +47,7 @@ pub use crate::scenario::steps::StepStream;
 pub use mapping::{Mapping, Slot};
 pub use reader::{LogFormat, LogReader, ReadStats};
 
+use crate::quote::quote;
 pub use crate::scenario::csvlog::Sample;
 use std::fmt;
 use std::path::PathBuf;
@@ -122,13 +123,17 @@ impl fmt::Display for BadRow {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BadRow::Value { column, cell } => {
-                write!(f, "column '{column}': cannot read '{cell}'")
+                write!(f, "column {}: cannot read {}", quote(column), quote(cell))
+            }
+            BadRow::UnknownAddress(a) => {
+                write!(f, "unknown address {} (not in the mapping)", quote(a))
             }
             BadRow::TimeRange { column, cell } => write!(
                 f,
-                "column '{column}': '{cell}' is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0"
+                "column {}: {} is out of range: timestamps are seconds within ±9e12 (about 285,000 years) of 0",
+                quote(column),
+                quote(cell)
             ),
-            BadRow::UnknownAddress(a) => write!(f, "unknown address '{a}' (not in the mapping)"),
             BadRow::TimeBackwards { time, previous } => {
                 write!(f, "time goes backwards: {time} after {previous}")
             }
@@ -172,6 +177,13 @@ pub enum IngestError {
     /// The scenario file could not be written.
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),
+    /// A log whose header is followed by no sample: a scenario needs at least one step.
+    /// `skipped` counts the bad rows that lenient mode skipped.
+    #[error("{}: the log has no data rows{}", file.display(), match skipped {
+        0 => String::new(),
+        n => format!(" that could be read ({n} bad rows skipped)"),
+    })]
+    NoData { file: PathBuf, skipped: u64 },
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
@@ -228,6 +240,13 @@ pub fn write_scenario(
         active += u64::from(step.outputs.is_some());
         w.step(&step).map_err(write_err)
     })?;
+    // Dropping the writer drops the unfinished file: nothing is left at `out`.
+    if steps == 0 {
+        return Err(IngestError::NoData {
+            file: log.to_path_buf(),
+            skipped: stats.skipped_total(),
+        });
+    }
     w.end_scenario().map_err(write_err)?;
     w.into_inner().commit()?;
     Ok(Written {
@@ -238,7 +257,8 @@ pub fn write_scenario(
 }
 
 /// Reads a log file into a scenario set with one scenario for the whole log (initial outputs
-/// all 0, as the log formats assume).
+/// all 0, as the log formats assume). A log without a sample is an [`IngestError::NoData`]:
+/// a scenario of no step is no scenario file `synth infer` reads.
 pub fn read_scenarios(
     log: &std::path::Path,
     mapping: &Mapping,
@@ -252,6 +272,12 @@ pub fn read_scenarios(
         steps.push(s);
         Ok::<(), IngestError>(())
     })?;
+    if steps.is_empty() {
+        return Err(IngestError::NoData {
+            file: log.to_path_buf(),
+            skipped: stats.skipped_total(),
+        });
+    }
     let set = ScenarioSet {
         inputs: mapping.inputs().to_vec(),
         outputs: mapping.outputs().to_vec(),
@@ -337,6 +363,29 @@ mod tests {
             String::from_utf8(text).unwrap(),
             "1\nin=REQ[00]; in=REQ[10]; out=CNF[1]; in=REQ[11]; out=CNF[0];\n"
         );
+    }
+
+    #[test]
+    fn a_log_without_data_rows_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("log.csv");
+        let mapping = Mapping::parse(Path::new("m.map"), "%IX0.0 in a\n%QX0.0 out z\n").unwrap();
+        for (text, lenient, why) in [
+            ("timestamp,address,value\n", false, "no data rows"),
+            ("time,a,z\n\n  \n", false, "no data rows"),
+            (
+                "timestamp,address,value\n0,%IX0.0,maybe\n",
+                true,
+                "no data rows that could be read (1 bad rows skipped)",
+            ),
+        ] {
+            std::fs::write(&log, text).unwrap();
+            let e = read_scenarios(&log, &mapping, lenient).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("{}: the log has {why}", log.display())
+            );
+        }
     }
 
     #[test]

@@ -3,12 +3,13 @@
 //! In: a log (long or wide format, plain or gzip; see the [`super`] module header) and its
 //! [`Mapping`]. Out: [`Sample`]s, one per scan (wide) or per timestamp (long), via
 //! [`Iterator`]. Holds one record and one sample at a time, whatever the log's length; records
-//! come from the crate's one CSV reader ([`Records`]), so quoted cells and a byte order mark
-//! are read as in every other log.
+//! come from the crate's one CSV reader ([`Records`]), so quoted cells are read as in every
+//! other log.
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot, MAX_TIMESTAMP};
 use crate::files::csv::{parse_bool, Record, Records};
 use crate::files::ReadError;
+use crate::quote::quote;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
@@ -95,11 +96,7 @@ impl<R: BufRead> LogReader<R> {
         mapping: &Mapping,
         lenient: bool,
     ) -> Result<LogReader<R>, IngestError> {
-        let io = |source| IngestError::Io {
-            file: file.clone(),
-            source,
-        };
-        let mut records = Records::new(src, b',').map_err(io)?;
+        let mut records = Records::new(src, b',');
         let read = |e| read_error(&file, e);
         let mut rows = Rows {
             format: LogFormat::Long,
@@ -168,7 +165,8 @@ impl Rows {
         }
         if lower[0] != "timestamp" && lower[0] != "time" {
             return Err(format!(
-                "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found '{text}'"
+                "expected 'timestamp,address,value' (long format) or 'timestamp,<signal>,...' (wide format), found {}",
+                quote(&text)
             ));
         }
         self.format = LogFormat::Wide;
@@ -176,15 +174,17 @@ impl Rows {
         for (k, cell) in cells.iter().enumerate().skip(1) {
             let slot = self.mapping.slot(cell.as_bytes()).ok_or_else(|| {
                 format!(
-                    "column {}: '{cell}' is not an address or name of the mapping",
-                    k + 1
+                    "column {}: {} is not an address or name of the mapping",
+                    k + 1,
+                    quote(cell)
                 )
             })?;
             let index = self.slot_index(slot);
             if let Some(first) = seen[index].replace(k + 1) {
                 return Err(format!(
-                    "column {}: '{cell}' is the same signal as column {first}",
-                    k + 1
+                    "column {}: {} is the same signal as column {first}",
+                    k + 1,
+                    quote(cell)
                 ));
             }
             self.columns.push(slot);
@@ -196,7 +196,9 @@ impl Rows {
                 Slot::Output(z) => &self.mapping.outputs()[z.0],
             };
             return Err(format!(
-                "no column for signal '{name}' ({address}) of the mapping"
+                "no column for signal {} ({}) of the mapping",
+                quote(name),
+                crate::quote::cut(address)
             ));
         }
         self.headers = cells;

@@ -81,10 +81,10 @@ impl Truth {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum NotEvaluable {
     /// A name with no recorded column (a name of the plant, for instance).
-    #[error("'{0}' is not recorded")]
+    #[error("{} is not recorded", crate::quote::quote(.0))]
     Name(String),
     /// A comparison other than an equality of Boolean names and constants.
-    #[error("the comparison '{0}' is not over recorded Boolean values")]
+    #[error("the comparison {} is not over recorded Boolean values", crate::quote::quote(.0))]
     Comparison(String),
     /// An [`Ltl::Int`] outside a comparison (the parser never builds one).
     #[error("integer {0} used as a formula")]

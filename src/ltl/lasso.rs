@@ -37,15 +37,23 @@ pub enum EvalError {
     Empty,
     #[error("loop start {loop_start} is outside the lasso of {len} states")]
     LoopStart { loop_start: usize, len: usize },
-    #[error("state {state} has no value for '{name}'")]
+    #[error("state {state} has no value for {}", crate::quote::quote(name))]
     Missing { name: String, state: usize },
-    #[error("state {state}: '{name}' is {value}, not TRUE or FALSE")]
+    #[error(
+        "state {state}: {} is {}, not TRUE or FALSE",
+        crate::quote::quote(name),
+        crate::quote::cut(value)
+    )]
     NotBoolean {
         name: String,
         value: String,
         state: usize,
     },
-    #[error("state {state}: '{operand}' is {value}, not an integer, in a '{op}' comparison")]
+    #[error(
+        "state {state}: {} is {}, not an integer, in a '{op}' comparison",
+        crate::quote::quote(operand),
+        crate::quote::cut(value)
+    )]
     NotInteger {
         operand: String,
         value: String,

@@ -3,10 +3,11 @@
 //! Each line is parsed on its own with the `line` rule of `grammar/ltl.pest`; the parse tree is
 //! then turned into [`Ltl`], checking what the grammar leaves open (keywords used as names,
 //! comparison operands, integer range, labels). Every error carries the file, the 1-based line
-//! and column, and the source line.
+//! and column, and the source line (shown around the column: [`crate::quote`]).
 
 use super::{default_name, CmpOp, Ltl, Property};
 use crate::ecc::ident::NUSMV_LEXER_KEYWORDS;
+use crate::quote::{around, quote};
 use pest::iterators::Pair;
 use pest::Parser;
 use std::collections::BTreeMap;
@@ -32,8 +33,8 @@ pub enum LtlError {
     #[error("{}: no property (the file holds only comments and blank lines)", file.display())]
     Empty { file: PathBuf },
     /// A problem at a place in the file. Displayed as `file:line:column: message`, then the
-    /// source line and a caret under the column.
-    #[error("{}:{line}:{column}: {kind}\n  {source_line}\n  {}", file.display(), Caret(source_line, *column))]
+    /// source line (the part around the column, when it is long) and a caret under the column.
+    #[error("{}:{line}:{column}: {kind}\n{}", file.display(), Pointed(source_line, *column))]
     At {
         file: PathBuf,
         /// 1-based line.
@@ -52,20 +53,26 @@ pub enum LtlErrorKind {
     /// The formula does not parse, or breaks a rule of the format (the message says which).
     #[error("syntax error: {0}")]
     Syntax(String),
-    #[error("illegal label '{0}': a label is an identifier [A-Za-z_][A-Za-z0-9_$#-]*, not a NuSMV keyword")]
+    #[error("illegal label {}: a label is an identifier [A-Za-z_][A-Za-z0-9_$#-]*, not a NuSMV keyword", quote(.0))]
     IllegalLabel(String),
-    #[error("duplicate label '{label}' (first used on line {first_line})")]
+    #[error("duplicate label {} (first used on line {first_line})", quote(label))]
     DuplicateLabel { label: String, first_line: usize },
-    #[error("label '{label}' is the default name of the unlabelled property on line {line}")]
+    #[error(
+        "label {} is the default name of the unlabelled property on line {line}",
+        quote(label)
+    )]
     LabelClash { label: String, line: usize },
 }
 
-/// A caret under a 1-based character column of a line, keeping the line's tabs for alignment.
-struct Caret<'a>(&'a str, usize);
+/// A line, indented, and a caret under its 1-based character column on the next line,
+/// keeping the line's tabs for alignment.
+struct Pointed<'a>(&'a str, usize);
 
-impl fmt::Display for Caret<'_> {
+impl fmt::Display for Pointed<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for c in self.0.chars().take(self.1.saturating_sub(1)) {
+        let (line, column) = around(self.0, self.1);
+        write!(f, "  {line}\n  ")?;
+        for c in line.chars().take(column.saturating_sub(1)) {
             f.write_str(if c == '\t' { "\t" } else { " " })?;
         }
         f.write_str("^")
@@ -344,7 +351,8 @@ fn build(p: Pair<Rule>) -> Result<Ltl, LineError> {
                 _ => Err(syntax(
                     pos,
                     format!(
-                        "integer {text} is out of NuSMV's range (at most {})",
+                        "integer {} is out of NuSMV's range (at most {})",
+                        crate::quote::cut(text),
                         i32::MAX
                     ),
                 )),
@@ -486,7 +494,7 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
             ":" => "expected formula after the label".to_string(),
             "=" | "!=" => format!("expected a name, an integer, TRUE or FALSE after '{prev}'"),
             "<" | "<=" | ">" | ">=" => format!("expected a name or an integer after '{prev}'"),
-            _ => format!("expected formula after '{prev}'"),
+            _ => format!("expected formula after {}", quote(prev)),
         };
         return syntax(pos, msg);
     }
@@ -519,7 +527,11 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
             };
             syntax(
                 pos,
-                format!("expected {expected} after '{prev}', found '{found}'"),
+                format!(
+                    "expected {expected} after {}, found {}",
+                    quote(prev),
+                    quote(found)
+                ),
             )
         }
     }
@@ -787,6 +799,29 @@ mod tests {
             LtlErrorKind::Syntax("expected formula after '&'".into())
         );
         assert_eq!(source_line, "  G (b &");
+    }
+
+    /// A line of megabytes is shown around the column, the token cut to its start.
+    #[test]
+    fn giant_lines_and_tokens_are_cut_in_messages() {
+        let giant = "a".repeat(1_000_000);
+        let e = error(&format!("G (b {giant} & c)"));
+        assert!(e.len() < 600, "{} bytes: {}", e.len(), &e[..600]);
+        let expected = format!(
+            "specs/pnp.ltl:1:6: syntax error: expected an operator or ')' after 'b', found '{}…' \
+             (1000000 characters)\n  G (b {}…\n       ^",
+            &giant[..40],
+            &giant[..60]
+        );
+        assert_eq!(e, expected);
+        // The place is at the end of the line: the caret stays under it.
+        let e = error(&format!("G ({giant} & b"));
+        let expected = format!(
+            "specs/pnp.ltl:1:1000008: syntax error: missing ')' for the '(' at column 3\n  …{} & b\n  {}^",
+            &giant[..56],
+            " ".repeat(61)
+        );
+        assert_eq!(e, expected);
     }
 
     #[test]

@@ -537,7 +537,12 @@ fn timeout(limit: Duration, model: &Path) -> NusmvError {
 fn tail(text: &str) -> String {
     const LINES: usize = 12;
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
-    lines[lines.len().saturating_sub(LINES)..].join("\n")
+    // NuSMV echoes the tokens of the model, which a plant file can make megabytes long.
+    let last: Vec<String> = lines[lines.len().saturating_sub(LINES)..]
+        .iter()
+        .map(|l| crate::quote::message(l).to_string())
+        .collect();
+    last.join("\n")
 }
 
 // ---------------------------------------------------------------------------------------

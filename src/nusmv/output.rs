@@ -72,7 +72,9 @@ pub struct ModelError {
 
 impl fmt::Display for ModelError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: {}", self.file, self.line, self.message)
+        // NuSMV quotes the token it choked on, however long the plant file made it.
+        let message = crate::quote::message(&self.message);
+        write!(f, "{}:{}: {message}", self.file, self.line)
     }
 }
 

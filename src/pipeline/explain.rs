@@ -134,7 +134,7 @@ impl fmt::Display for RecordingsViolate {
         let one = |v: &RecordedViolation| {
             format!(
                 "{} ({}:{}): first at {}; {}",
-                v.property,
+                crate::quote::cut(&v.property),
                 self.spec_file.display(),
                 v.line,
                 v.first,

@@ -158,6 +158,8 @@ pub enum Error {
     Io(#[from] std::io::Error),
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
     /// Bad input described in words (the place is in the text).
     #[error("{0}")]
     Input(String),

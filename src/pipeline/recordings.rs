@@ -50,7 +50,8 @@ impl Recordings {
         if let (Some(i), Some(o)) = (&inputs, &outputs) {
             if let Some(n) = i.iter().find(|n| o.contains(n)) {
                 return Err(Error::Input(format!(
-                    "'{n}' is named both as an input and as an output"
+                    "{} is named both as an input and as an output",
+                    crate::quote::quote(n)
                 )));
             }
         }
@@ -111,13 +112,14 @@ pub fn machine_and_scenarios(
     let ecc = read_ecc(ecc_file)?;
     let set = recordings.load()?;
     if set.inputs != ecc.inputs || set.outputs != ecc.outputs {
+        let list = |names: &[String]| crate::quote::cut(&names.join(" ")).to_string();
         return Err(Error::Input(format!(
             "{} has inputs [{}] and outputs [{}], the scenarios [{}] and [{}]",
             ecc_file.display(),
-            ecc.inputs.join(" "),
-            ecc.outputs.join(" "),
-            set.inputs.join(" "),
-            set.outputs.join(" ")
+            list(&ecc.inputs),
+            list(&ecc.outputs),
+            list(&set.inputs),
+            list(&set.outputs)
         )));
     }
     Ok((ecc, set))

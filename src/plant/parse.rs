@@ -16,6 +16,7 @@ mod resolve;
 mod tests;
 
 use super::{BinOp, Model, ModelError, VarKind};
+use crate::quote::{cut, quote};
 use pest::iterators::Pair;
 use pest::Parser;
 use std::path::Path;
@@ -91,20 +92,14 @@ impl<'a> Source<'a> {
     }
 
     /// The code between two offsets for a message: comments dropped, blanks collapsed, long
-    /// code shortened.
+    /// code cut ([`cut`]).
     fn snippet(&self, start: usize, end: usize) -> String {
         let code: Vec<&str> = self.text[start..end]
             .lines()
             .map(|l| l.split("--").next().unwrap_or(""))
             .flat_map(str::split_whitespace)
             .collect();
-        let code = code.join(" ");
-        if code.chars().count() > 40 {
-            let short: String = code.chars().take(37).collect();
-            format!("{short}...")
-        } else {
-            code
-        }
+        cut(&code.join(" ")).to_string()
     }
 }
 
@@ -365,7 +360,7 @@ fn section(src: &Source, pair: Pair<Rule>, plant: &mut Plant) -> Result<(), Mode
                             format!(
                                 "'{0} := ...' (an invariant assignment) is outside the subset: \
                                  assign init({0}) and next({0}), or use INVAR",
-                                var.name
+                                cut(&var.name)
                             ),
                         ))
                     }
@@ -723,7 +718,10 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
             _ if is_keyword(found) => {
                 return src.error(pos, format!("'{found}' is a NuSMV keyword, not a type"))
             }
-            _ => format!("a module instance ('{found}'; a plant file holds only MODULE plant)"),
+            _ => format!(
+                "a module instance ({}; a plant file holds only MODULE plant)",
+                quote(found)
+            ),
         };
         return refused(what);
     }
@@ -734,17 +732,18 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
         }
         "." if is_name_like(prev) => {
             return refused(format!(
-                "a dotted name ('{prev}.{after}', a part of a module instance)"
+                "a dotted name ({}, a part of a module instance)",
+                quote(&format!("{prev}.{after}"))
             ))
         }
         _ => {}
     }
     if is_word_constant(found) {
-        return refused(format!("the word constant '{found}'"));
+        return refused(format!("the word constant {}", quote(found)));
     }
     if in_expression {
         if found == "(" && is_name_like(prev) {
-            return refused(format!("the function call '{prev}(...)'"));
+            return refused(format!("the function call '{}(...)'", cut(prev)));
         }
         if after == "(" && found == "init" {
             return src.error(
@@ -778,12 +777,12 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
     let after_prev = if prev.is_empty() {
         String::new()
     } else {
-        format!(" after '{prev}'")
+        format!(" after {}", quote(prev))
     };
     let found = if found.is_empty() {
         "the end of the file".to_string()
     } else {
-        format!("'{found}'")
+        quote(found).to_string()
     };
     src.error(
         pos,
@@ -902,7 +901,10 @@ fn refused_keyword(found: &str, after: &str) -> Option<String> {
             format!("{found} (properties belong in the specification file, not in the plant)")
         }
         "MODULE" => {
-            format!("a second module ('MODULE {after}'; a plant file holds only MODULE plant)")
+            format!(
+                "a second module ('MODULE {}'; a plant file holds only MODULE plant)",
+                cut(after)
+            )
         }
         "ISA" | "CONSTANTS" | "PRED" | "PREDICATES" | "MIRROR" | "MDEFINE" | "CONSTRAINT" => {
             found.to_string()

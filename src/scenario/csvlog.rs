@@ -34,6 +34,7 @@ pub use super::steps::{samples_to_steps, Sample};
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::ident::is_identifier;
 use crate::files::csv::{parse_bool, Records};
+use crate::quote::quote;
 use std::io::Write;
 use std::path::Path;
 
@@ -58,13 +59,8 @@ pub fn parse(
         message,
     };
     // Reading from memory fails only on a line over the limit.
-    let io = |source| ScenarioError::Io {
-        file: file.to_path_buf(),
-        source,
-    };
     let read = |e: crate::files::ReadError| ScenarioError::Read(e.at(file));
     let header_line = text
-        .trim_start_matches('\u{feff}')
         .lines()
         .map(str::trim)
         .find(|l| !l.is_empty())
@@ -74,7 +70,7 @@ pub fn parse(
     } else {
         b';'
     };
-    let mut records = Records::new(text.as_bytes(), sep).map_err(io)?;
+    let mut records = Records::new(text.as_bytes(), sep);
     let (hline, header) = match records.next_record().map_err(read)? {
         Some((line, cells)) => (line, cells.iter().map(lossy).collect::<Vec<String>>()),
         None => return Err(err(1, "empty file: expected a header row".into())),
@@ -102,10 +98,10 @@ pub fn parse(
                     err(
                         line_no,
                         format!(
-                            "column {} ('{}'): '{}' is not 0/1/true/false",
+                            "column {} ({}): {} is not 0/1/true/false",
                             k + 1,
-                            header[k],
-                            lossy(cell)
+                            quote(&header[k]),
+                            quote(&lossy(cell))
                         ),
                     )
                 })
@@ -165,7 +161,7 @@ fn classify(
     for (k, cell) in header.iter().map(String::as_str).enumerate() {
         let col_no = k + 1;
         if !seen.insert(cell.to_string()) {
-            return Err(format!("column {col_no}: duplicate column '{cell}'"));
+            return Err(format!("column {col_no}: duplicate column {}", quote(cell)));
         }
         let lower = cell.to_ascii_lowercase();
         if lower == "time" || lower == "timestamp" {
@@ -185,7 +181,8 @@ fn classify(
         };
         if !is_identifier(name) {
             return Err(format!(
-                "column {col_no}: '{name}' is not a valid signal name"
+                "column {col_no}: {} is not a valid signal name",
+                quote(name)
             ));
         }
         let in_pos = inputs.iter().position(|n| n == name);
@@ -203,22 +200,28 @@ fn classify(
             }
             (Some(true), None, _) => {
                 return Err(format!(
-                    "column {col_no}: input '{name}' is not in the input names file"
+                    "column {col_no}: input {} is not in the input names file",
+                    quote(name)
                 ))
             }
             (Some(false), _, None) => {
                 return Err(format!(
-                    "column {col_no}: output '{name}' is not in the output names file"
+                    "column {col_no}: output {} is not in the output names file",
+                    quote(name)
                 ))
             }
             (None, Some(_), Some(_)) => {
                 return Err(format!(
-                    "column {col_no}: '{name}' is listed both as an input and as an output"
+                    "column {col_no}: {} is listed both as an input and as an output",
+                    quote(name)
                 ))
             }
             (None, None, None) => {
                 return Err(format!(
-                    "column {col_no}: unknown signal '{name}': write 'in:{name}' or 'out:{name}' in the header, or list it in a names file"
+                    "column {col_no}: unknown signal {}: write {} or {} in the header, or list it in a names file",
+                    quote(name),
+                    quote(&format!("in:{name}")),
+                    quote(&format!("out:{name}"))
                 ))
             }
         };
@@ -232,7 +235,10 @@ fn classify(
                 Column::Output(i)
             };
             if !columns.contains(&want) {
-                return Err(format!("no column for signal '{n}' of the names file"));
+                return Err(format!(
+                    "no column for signal {} of the names file",
+                    quote(n)
+                ));
             }
         }
     }

@@ -12,6 +12,7 @@
 
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet, Step};
 use crate::ecc::{bits_from_str, bits_to_string};
+use crate::quote::quote;
 use std::io::Write;
 use std::path::Path;
 
@@ -41,7 +42,10 @@ pub fn parse(
     let declared: usize = count_text.parse().map_err(|_| {
         syntax(
             count_line,
-            format!("expected the number of scenarios, found '{count_text}'"),
+            format!(
+                "expected the number of scenarios, found {}",
+                quote(count_text)
+            ),
         )
     })?;
 
@@ -95,7 +99,8 @@ fn parse_line(
         };
         let (kind, rest) = action.split_once('=').ok_or_else(|| {
             err(format!(
-                "expected in=EVENT[bits] or out=EVENT[bits], found '{action}'"
+                "expected in=EVENT[bits] or out=EVENT[bits], found {}",
+                quote(action)
             ))
         })?;
         let (event, bits) = rest
@@ -104,17 +109,19 @@ fn parse_line(
             .and_then(|r| r.split_once('['))
             .ok_or_else(|| {
                 err(format!(
-                    "expected EVENT[bits] after '{kind}=', found '{rest}'"
+                    "expected EVENT[bits] after {}, found {}",
+                    quote(&format!("{kind}=")),
+                    quote(rest)
                 ))
             })?;
         let values = bits_from_str(bits.trim())
-            .ok_or_else(|| err(format!("bits must be 0 or 1, found '{bits}'")))?;
+            .ok_or_else(|| err(format!("bits must be 0 or 1, found {}", quote(bits))))?;
         match kind.trim() {
             "in" => {
                 if event.trim() != INPUT_EVENT {
                     return Err(err(format!(
-                        "unknown input event '{}' (only {INPUT_EVENT} is supported)",
-                        event.trim()
+                        "unknown input event {} (only {INPUT_EVENT} is supported)",
+                        quote(event.trim())
                     )));
                 }
                 check_width(&mut widths.0, values.len(), "input").map_err(err)?;
@@ -127,8 +134,8 @@ fn parse_line(
             "out" => {
                 if event.trim() != OUTPUT_EVENT {
                     return Err(err(format!(
-                        "unknown output event '{}' (only {OUTPUT_EVENT} is supported)",
-                        event.trim()
+                        "unknown output event {} (only {OUTPUT_EVENT} is supported)",
+                        quote(event.trim())
                     )));
                 }
                 check_width(&mut widths.1, values.len(), "output").map_err(err)?;
@@ -144,7 +151,8 @@ fn parse_line(
             }
             other => {
                 return Err(err(format!(
-                    "unknown action '{other}' (expected 'in' or 'out')"
+                    "unknown action {} (expected 'in' or 'out')",
+                    quote(other)
                 )))
             }
         }

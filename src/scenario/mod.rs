@@ -229,26 +229,20 @@ impl Divergence {
     }
 }
 
-/// Reads a whole file, transparently gunzipping it when it starts with the gzip magic bytes.
-/// At most [`MAX_FILE_BYTES`](crate::files::MAX_FILE_BYTES) are read (after gunzipping), and
-/// lines of at most `max_line` bytes when given.
+/// Reads a whole file with [`crate::files::read_text`] (gunzipped when it is gzip): at most
+/// [`MAX_FILE_BYTES`](crate::files::MAX_FILE_BYTES), and lines of at most `max_line` bytes
+/// when given.
 pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, ScenarioError> {
-    use crate::files::{read_all, utf8_text, ReadError, MAX_FILE_BYTES};
-    let input = crate::files::open_input(path).map_err(|e| ScenarioError::Io {
-        file: path.to_path_buf(),
-        source: e,
-    })?;
-    let gzip = input.gzip;
-    let text = read_all(input.reader, max_line, MAX_FILE_BYTES).and_then(utf8_text);
-    text.map_err(|e| match e {
-        ReadError::Io(e) if gzip => ScenarioError::Gzip {
+    use crate::files::ReadError;
+    crate::files::read_text(path, max_line).map_err(|e| match e.error {
+        ReadError::Io(source) => ScenarioError::Io {
             file: path.to_path_buf(),
-            message: e.to_string(),
+            source,
         },
-        ReadError::Io(e) => ScenarioError::Io {
+        ReadError::Gzip { message } => ScenarioError::Gzip {
             file: path.to_path_buf(),
-            source: e,
+            message,
         },
-        e => ScenarioError::Read(e.at(path)),
+        _ => ScenarioError::Read(e),
     })
 }

@@ -5,6 +5,7 @@
 //! target languages are checked where those languages are emitted.)
 
 use super::ScenarioError;
+use crate::quote::quote;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -22,7 +23,8 @@ pub fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError
                     file: file.to_path_buf(),
                     line: line_no,
                     message: format!(
-                        "'{word}' is not a valid name (letters, digits and '_', starting with a letter)"
+                        "{} is not a valid name (letters, digits and '_', starting with a letter)",
+                        quote(word)
                     ),
                 });
             }
@@ -30,7 +32,7 @@ pub fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError
                 return Err(ScenarioError::Names {
                     file: file.to_path_buf(),
                     line: line_no,
-                    message: format!("duplicate name '{word}' (first on line {first})"),
+                    message: format!("duplicate name {} (first on line {first})", quote(word)),
                 });
             }
             names.push(word.to_string());

@@ -27,6 +27,7 @@ use super::plant::Plant;
 use super::{check_identifier, SmvError};
 use crate::ecc::Ecc;
 use crate::ltl::{property_name, Property};
+use crate::quote::{cut, quote};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -81,13 +82,21 @@ pub fn check_coupling(
     };
     let pf = plant.file.as_path();
     for n in inputs.iter().chain(outputs) {
-        check_identifier(n)
-            .map_err(|m| at(pf, plant.module_line, format!("controller name '{n}': {m}")))?;
+        check_identifier(n).map_err(|m| {
+            at(
+                pf,
+                plant.module_line,
+                format!("controller name {}: {m}", quote(n)),
+            )
+        })?;
         if RESERVED.contains(&n.as_str()) {
             return Err(at(
                 pf,
                 plant.module_line,
-                format!("controller name '{n}' is reserved by the closed loop"),
+                format!(
+                    "controller name {} is reserved by the closed loop",
+                    quote(n)
+                ),
             ));
         }
     }
@@ -97,9 +106,9 @@ pub fn check_coupling(
                 pf,
                 p.line,
                 format!(
-                    "plant parameter '{}' is not a controller output (outputs: {})",
-                    p.name,
-                    outputs.join(" ")
+                    "plant parameter {} is not a controller output (outputs: {})",
+                    quote(&p.name),
+                    cut(&outputs.join(" "))
                 ),
             ));
         }
@@ -113,7 +122,7 @@ pub fn check_coupling(
             return Err(at(
                 pf,
                 d.line,
-                format!("the name '{}' is reserved by the closed loop", d.name),
+                format!("the name {} is reserved by the closed loop", quote(&d.name)),
             ));
         }
         if outputs.contains(&d.name) {
@@ -121,12 +130,13 @@ pub fn check_coupling(
                 pf,
                 d.line,
                 format!(
-                    "the plant declares '{}', which is a controller output: in the closed loop a name belongs to one side",
-                    d.name
+                    "the plant declares {}, which is a controller output: in the closed loop a name belongs to one side",
+                    quote(&d.name)
                 ),
             ));
         }
-        check_identifier(&d.name).map_err(|m| at(pf, d.line, format!("'{}': {m}", d.name)))?;
+        check_identifier(&d.name)
+            .map_err(|m| at(pf, d.line, format!("{}: {m}", quote(&d.name))))?;
         names.insert(d.name.clone(), Binding::Plant);
     }
     for i in inputs {
@@ -134,7 +144,10 @@ pub fn check_coupling(
             return Err(at(
                 pf,
                 plant.module_line,
-                format!("module plant declares no variable or define '{i}' for the controller input of that name"),
+                format!(
+                    "module plant declares no variable or define {} for the controller input of that name",
+                    quote(i)
+                ),
             ));
         }
     }
@@ -143,7 +156,7 @@ pub fn check_coupling(
             return Err(at(
                 spec_file,
                 p.line,
-                format!("property name '{}': {m}", property_name(k, p)),
+                format!("property name {}: {m}", quote(&property_name(k, p))),
             ));
         }
         for n in p.formula.names() {
@@ -152,7 +165,8 @@ pub fn check_coupling(
                     spec_file,
                     p.line,
                     format!(
-                        "unknown name '{n}': neither a controller output nor a variable or define of module plant in {}",
+                        "unknown name {}: neither a controller output nor a variable or define of module plant in {}",
+                        quote(&n),
                         pf.display()
                     ),
                 ));
@@ -286,5 +300,20 @@ pub fn compose_controller(
         plant_first,
         plant_lines,
         spec_lines,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::ident::{check_block_name, CLOSED_LOOP_MODULES};
+
+    #[test]
+    fn no_block_takes_the_name_of_a_closed_loop_module() {
+        // The plant file's module is `plant`, like its instance.
+        for module in ["main", CONTROLLER_MODULE, PLANT_INSTANCE] {
+            assert!(CLOSED_LOOP_MODULES.contains(&module), "{module}");
+            assert!(check_block_name(module).is_err(), "{module}");
+        }
     }
 }

@@ -31,7 +31,10 @@ use std::io::{self, Write};
 #[derive(Debug, thiserror::Error)]
 pub enum SmvError {
     /// A name cannot be used verbatim in SMV code.
-    #[error("{role} `{name}` cannot be used in the SMV model: {reason}")]
+    #[error(
+        "{role} {} cannot be used in the SMV model: {reason}",
+        crate::quote::backquote(name)
+    )]
     Identifier {
         /// Where the name comes from: `module name`, `input 3`, `output 1` (1-based).
         role: String,
@@ -61,7 +64,8 @@ fn state_values(ecc: &Ecc) -> Vec<String> {
 
 /// Checks every name the module would contain: module name, inputs and outputs must pass
 /// [`check_identifier`], be distinct, and differ from `REQ`, `CNF` and the state values
-/// (NuSMV resolves a variable and an enumeration constant of the same name ambiguously).
+/// (NuSMV resolves a variable and an enumeration constant of the same name ambiguously); the
+/// module is not `main`, NuSMV's top module.
 pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
     let bad = |role: String, name: &str, reason: String| SmvError::Identifier {
         role,
@@ -69,6 +73,10 @@ pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
         reason,
     };
     check_identifier(module_name).map_err(|r| bad("module name".into(), module_name, r))?;
+    if module_name == "main" {
+        let why = "it is NuSMV's top module, which takes no parameters";
+        return Err(bad("module name".into(), module_name, why.into()));
+    }
     let constants = state_values(ecc);
     let mut seen: HashMap<&str, String> = HashMap::new();
     let named = ecc
@@ -256,6 +264,11 @@ mod tests {
         assert_eq!(
             name_error(&e, "next"),
             "module name `next` cannot be used in the SMV model: it is a NuSMV keyword"
+        );
+        assert_eq!(
+            name_error(&e, "main"),
+            "module name `main` cannot be used in the SMV model: it is NuSMV's top module, which \
+             takes no parameters"
         );
         let mut bad = e.clone();
         bad.inputs[1] = "_x".into();

@@ -605,3 +605,449 @@ fn a_second_run_into_a_busy_folder_stops() {
     );
     assert!(!out.join("SynthesizedFB.json").exists());
 }
+
+/// A copy of `file` in `dir` under `name`, with a UTF-8 byte order mark in front, as Windows
+/// editors and spreadsheet programs save text.
+fn with_bom(file: impl AsRef<Path>, dir: &Path, name: &str) -> PathBuf {
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(std::fs::read(file).unwrap());
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// `synth convert --traces TRACES ... --to TO`: the bytes written.
+fn converted(traces: &Path, names: Option<(&Path, &Path)>, to: &str, dir: &Path) -> Vec<u8> {
+    let out = dir.join(format!("converted.{to}"));
+    let mut args = vec!["convert", "--traces", traces.to_str().unwrap()];
+    if let Some((i, o)) = names {
+        args.extend(["--input-names", i.to_str().unwrap()]);
+        args.extend(["--output-names", o.to_str().unwrap()]);
+    }
+    args.extend(["--to", to, "-o", out.to_str().unwrap()]);
+    let o = synth(&args);
+    assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+    std::fs::read(out).unwrap()
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_scenario_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let traces = with_bom(data("door.traces"), dir.path(), "door.traces");
+    for ext in ["inputs", "outputs"] {
+        std::fs::copy(
+            data(&format!("door.{ext}")),
+            dir.path().join(format!("door.{ext}")),
+        )
+        .unwrap();
+    }
+    let plain = Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces"));
+    assert_eq!(
+        converted(&traces, None, "csv", dir.path()),
+        converted(&plain, None, "csv", dir.path())
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_names_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = with_bom(data("door.inputs"), dir.path(), "in.names");
+    let outputs = with_bom(data("door.outputs"), dir.path(), "out.names");
+    let door = Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces"));
+    assert_eq!(
+        converted(&door, Some((&inputs, &outputs)), "csv", dir.path()),
+        converted(&door, None, "csv", dir.path())
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_json_machines() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = infer_door(dir.path());
+    let marked = with_bom(&json, dir.path(), "marked.json");
+    for ecc in [&json, &marked] {
+        let o = synth(&[
+            "replay",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--traces",
+            &data("door.traces"),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        assert!(text(&o.stdout).contains("all reproduced"));
+    }
+}
+
+#[test]
+fn a_byte_order_mark_is_ignored_in_mapping_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = with_bom("specs/tank/tank.map", dir.path(), "tank.map");
+    let log = with_bom("specs/tank/scenario1.csv", dir.path(), "tank.csv");
+    let ingest = |map: &str, log: &str, out: &str| {
+        let out = dir.path().join(out);
+        let o = synth(&[
+            "ingest",
+            "--log",
+            log,
+            "--map",
+            map,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        std::fs::read(out).unwrap()
+    };
+    assert_eq!(
+        ingest(map.to_str().unwrap(), log.to_str().unwrap(), "a.traces"),
+        ingest(
+            "specs/tank/tank.map",
+            "specs/tank/scenario1.csv",
+            "b.traces"
+        )
+    );
+}
+
+/// The main job reads the LTL file before anything needs NuSMV: recordings that violate a
+/// property are refused in the same words, the property's line counted the same.
+#[test]
+fn a_byte_order_mark_is_ignored_in_ltl_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let ltl = with_bom("specs/pnp.ltl", dir.path(), "pnp.ltl");
+    let main = |ltl: &str| {
+        let o = synth(&[
+            "--ltl",
+            ltl,
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            "tests/data/explain/diagonal.traces",
+            "--input-names",
+            "tests/data/explain/input-names",
+            "--output-names",
+            "tests/data/explain/output-names",
+            "--out",
+            "/nonexistent/never-written",
+            "--nusmv",
+            "/nonexistent/NuSMV",
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        text(&o.stderr).replace(ltl, "LTL")
+    };
+    let plain = main("specs/pnp.ltl");
+    assert!(
+        plain.contains("property up_before_moving (LTL:17)"),
+        "{plain}"
+    );
+    assert_eq!(main(ltl.to_str().unwrap()), plain);
+}
+
+/// NuSMV reads the plant as synth copied it into the closed loop: `verify` gives the same
+/// verdicts with a marked plant.
+#[test]
+fn a_byte_order_mark_is_ignored_in_plants() {
+    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let lamp = "tests/data/closed_loop/lamp";
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        &format!("{lamp}.traces"),
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = dir.path().join("SynthesizedFB.json");
+    let verify = |ecc: &Path, ltl: &Path, plant: &Path| {
+        let o = synth(&[
+            "verify",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--ltl",
+            ltl.to_str().unwrap(),
+            "--plant",
+            plant.to_str().unwrap(),
+            "--nusmv",
+            nusmv.path.to_str().unwrap(),
+        ]);
+        (o.status.code(), text(&o.stdout))
+    };
+    let plain = verify(
+        &json,
+        Path::new(&format!("{lamp}.ltl")),
+        Path::new(&format!("{lamp}_plant.smv")),
+    );
+    assert!(plain.1.contains("HOLDS    lights"), "{}", plain.1);
+    let marked = verify(
+        &json,
+        Path::new(&format!("{lamp}.ltl")),
+        &with_bom(format!("{lamp}_plant.smv"), dir.path(), "plant.smv"),
+    );
+    assert_eq!(marked, plain);
+}
+
+/// A token of a million characters, as a broken export or a runaway logger writes one.
+fn giant() -> String {
+    "a".repeat(1_000_000)
+}
+
+/// The run failed with exit code 1, in a message of at most a few KB that still names
+/// `place` (file and line) and shows the token's length, not the token.
+fn assert_short_error(o: &Output, place: &str) {
+    let stderr = text(&o.stderr);
+    let head: String = stderr.chars().take(600).collect();
+    assert_eq!(o.status.code(), Some(1), "{head}");
+    assert!(
+        stderr.len() < 4096,
+        "{} bytes of stderr: {head}",
+        stderr.len()
+    );
+    assert!(stderr.contains(place), "{place} not in {stderr}");
+    assert!(stderr.contains("characters)"), "{stderr}");
+}
+
+/// `synth infer` of a trace file `name` holding `content` fails at `place` (after the path).
+fn assert_infer_is_short(name: &str, content: &str, place: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let traces = dir.path().join(name);
+    std::fs::write(&traces, content).unwrap();
+    let t = traces.to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        t,
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_short_error(&o, &format!("{t}:{place}"));
+}
+
+#[test]
+fn giant_tokens_in_scenario_files_are_not_echoed() {
+    let content = format!("1\nin=REQ[{}];\n", giant());
+    assert_infer_is_short("t.traces", &content, "2: step 1");
+}
+
+#[test]
+fn giant_tokens_in_csv_logs_are_not_echoed() {
+    let content = format!("in:a,out:z\n0,0\n{},1\n", giant());
+    assert_infer_is_short("log.csv", &content, "3: column 1");
+}
+
+#[test]
+fn giant_tokens_in_names_files_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in.names");
+    std::fs::write(&inputs, format!("start\nstop 1{}\n", giant())).unwrap();
+    let i = inputs.to_str().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--input-names",
+        i,
+        "--output-names",
+        &data("door.outputs"),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_short_error(&o, &format!("{i}:2:"));
+}
+
+#[test]
+fn giant_tokens_in_ltl_files_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let ltl = dir.path().join("lamp.ltl");
+    let l = ltl.to_str().unwrap();
+    let main = || {
+        synth(&[
+            "--ltl",
+            l,
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+            "/nonexistent/never-written",
+            "--nusmv",
+            "/nonexistent/NuSMV",
+        ])
+    };
+    // An unexpected token, shown with the line around it and a caret under it.
+    std::fs::write(&ltl, format!("-- lamp\nG (lamp {} & button)\n", giant())).unwrap();
+    let o = main();
+    assert_short_error(&o, &format!("{l}:2:9: syntax error"));
+    // A label, which is a name that no file limits.
+    std::fs::write(&ltl, format!("-- lamp\n1{}: G lamp\n", giant())).unwrap();
+    assert_short_error(&main(), &format!("{l}:2:1: "));
+}
+
+#[test]
+fn giant_tokens_in_mappings_and_logs_for_ingest_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("tank.map");
+    let m = map.to_str().unwrap();
+    let out = dir.path().join("out.traces");
+    let ingest = |log: &str| {
+        synth(&[
+            "ingest",
+            "--log",
+            log,
+            "--map",
+            m,
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    std::fs::write(&map, format!("%IX0.1 in ll\n%QX0.0 out 1{}\n", giant())).unwrap();
+    assert_short_error(&ingest("specs/tank/scenario1.csv"), &format!("{m}:2: "));
+    std::fs::copy("specs/tank/tank.map", &map).unwrap();
+    let log = dir.path().join("log.csv");
+    let l = log.to_str().unwrap();
+    std::fs::write(&log, format!("timestamp,address,value\n0,{},1\n", giant())).unwrap();
+    assert_short_error(&ingest(l), &format!("{l}:2: unknown address"));
+    assert!(!out.exists());
+}
+
+#[test]
+fn giant_tokens_in_json_machines_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = infer_door(dir.path());
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let bad = dir.path().join("bad.json");
+    let b = bad.to_str().unwrap();
+    let replay = || synth(&["replay", "--ecc", b, "--traces", &data("door.traces")]);
+    // A name the contract refuses, and a field serde does not know (it quotes the key).
+    doc["inputs"][0] = format!("1{}", giant()).into();
+    std::fs::write(&bad, doc.to_string()).unwrap();
+    assert_short_error(&replay(), &format!("{b}: inputs[0]: "));
+    let mut object = doc.as_object().unwrap().clone();
+    object.remove("inputs");
+    object.insert(giant(), 1.into());
+    std::fs::write(&bad, serde_json::Value::Object(object).to_string()).unwrap();
+    assert_short_error(&replay(), &format!("{b}:1:"));
+}
+
+#[test]
+fn giant_tokens_in_plants_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let lamp = std::fs::read_to_string("tests/data/closed_loop/lamp_plant.smv").unwrap();
+    let plant = dir.path().join("plant.smv");
+    let p = plant.to_str().unwrap();
+    let main = |nusmv: &str| {
+        synth(&[
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            p,
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+            dir.path().join("out").to_str().unwrap(),
+            "--nusmv",
+            nusmv,
+        ])
+    };
+    // The coupling check reads the plant before NuSMV is needed.
+    let parameter = lamp.replace(
+        "MODULE plant(lamp)",
+        &format!("MODULE plant(lamp, {})", giant()),
+    );
+    std::fs::write(&plant, parameter).unwrap();
+    assert_short_error(
+        &main("/nonexistent/NuSMV"),
+        &format!("{p}:2: plant parameter"),
+    );
+    // NuSMV quotes the token it cannot parse.
+    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+        return;
+    };
+    let token = lamp.replace("TRUE       : 2;", &format!("TRUE       : 2 {};", giant()));
+    std::fs::write(&plant, token).unwrap();
+    assert_short_error(&main(nusmv.path.to_str().unwrap()), &format!("{p}:11: "));
+}
+
+/// A `--name` that NuSMV, an ST compiler or the closed loop would refuse is a usage error
+/// before anything is read or written, naming the option and why.
+#[test]
+fn block_names_an_export_would_refuse_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, why) in [
+        ("main", "NuSMV's top module"),
+        ("ECC", "closed-loop model"),
+        ("plant", "closed-loop model"),
+        ("VAR", "NuSMV keyword"),
+        ("esac", "NuSMV keyword"),
+        ("MAX", "NuSMV keyword"),
+        ("END_VAR", "IEC 61131-3 keyword"),
+        ("state", "its own members"),
+    ] {
+        let out = dir.path().join(name);
+        let o = synth(&[
+            "infer",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--name",
+            name,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert!(
+            stderr.contains("'--name <NAME>'") && stderr.contains(why),
+            "{stderr}"
+        );
+        assert!(!out.exists(), "{name}");
+    }
+    let o = synth(&[
+        "--ltl",
+        "tests/data/closed_loop/lamp.ltl",
+        "--plant",
+        "tests/data/closed_loop/lamp_plant.smv",
+        "--name",
+        "main",
+        "--out",
+        dir.path().join("main_job").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+}
+
+/// A log with a header and no data row has no scenario in it: ingest says so and writes no
+/// scenario file that `synth infer` would refuse.
+#[test]
+fn ingest_refuses_a_log_without_data_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    for (file, log) in [
+        ("long.csv", "timestamp,address,value\n"),
+        (
+            "wide.csv",
+            "timestamp,%IX0.1,%IX0.2,%IX0.0,%QX0.0,%QX0.1\n\n",
+        ),
+    ] {
+        let path = dir.path().join(file);
+        std::fs::write(&path, log).unwrap();
+        let out = dir.path().join("out/tank.traces");
+        let o = synth(&[
+            "ingest",
+            "--log",
+            path.to_str().unwrap(),
+            "--map",
+            "specs/tank/tank.map",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert_eq!(
+            stderr,
+            format!("error: {}: the log has no data rows\n", path.display())
+        );
+        assert!(files_in(&dir.path().join("out")).is_empty(), "{file}");
+    }
+}

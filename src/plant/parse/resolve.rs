@@ -22,6 +22,7 @@ use crate::plant::{
     BinOp, Constraint, Define, DefineId, Expr, Model, ModelError, ParamId, Type, Value, Var, VarId,
     VarKind,
 };
+use crate::quote::{cut, message, quote};
 use std::collections::{BTreeSet, HashMap};
 
 /// The most values a range type may have.
@@ -129,8 +130,8 @@ impl Place<'_> {
 
     fn describe(self) -> String {
         match self {
-            Place::Define(name) => format!("DEFINE {name}"),
-            Place::Assign(target, var) => format!("{}({var})", target.keyword()),
+            Place::Define(name) => format!("DEFINE {}", cut(name)),
+            Place::Assign(target, var) => format!("{}({})", target.keyword(), cut(var)),
             Place::Constraint(section) => section.keyword().to_string(),
         }
     }
@@ -275,14 +276,15 @@ impl Resolver<'_> {
                 (Some(d), _) => d,
             };
             if let Some(&(first, first_pos)) = self.names.get(name) {
+                let shown = quote(name);
                 let line = self.src.line(first_pos);
                 let (what_first, what_now) = (self.what(first), self.what_declared(decl, plant));
                 let message = if matches!(first, Decl::Symbol(_)) || matches!(decl, Decl::Symbol(_))
                 {
-                    format!("'{name}' is both {what_now} here and {what_first} on line {line}")
+                    format!("{shown} is both {what_now} here and {what_first} on line {line}")
                 } else {
                     format!(
-                        "'{name}' is declared twice: {what_first} on line {line} and {what_now} here"
+                        "{shown} is declared twice: {what_first} on line {line} and {what_now} here"
                     )
                 };
                 return Err(self.error(pos, message));
@@ -307,20 +309,21 @@ impl Resolver<'_> {
     fn variables(&mut self, plant: &Plant) -> Result<(), ModelError> {
         for v in &plant.vars {
             let name = &v.name.name;
+            let shown = quote(name);
             let (ty, domain) = match &v.ty {
                 TypeDecl::Bool => (Type::Bool, vec![Value::Bool(false), Value::Bool(true)]),
                 &TypeDecl::Range { lo, hi, pos } => {
                     if lo > hi {
                         return Err(self.error(
                             pos,
-                            format!("the range {lo}..{hi} of '{name}' is empty ({lo} > {hi})"),
+                            format!("the range {lo}..{hi} of {shown} is empty ({lo} > {hi})"),
                         ));
                     }
                     if hi - lo + 1 > MAX_RANGE_VALUES {
                         return Err(self.error(
                             pos,
                             format!(
-                                "the range {lo}..{hi} of '{name}' has {} values; at most \
+                                "the range {lo}..{hi} of {shown} has {} values; at most \
                                  {MAX_RANGE_VALUES} are supported",
                                 hi - lo + 1
                             ),
@@ -343,7 +346,7 @@ impl Resolver<'_> {
                                     item.pos,
                                     format!(
                                         "{b} cannot be a value of an enumeration (type of \
-                                         '{name}'); declare a boolean instead"
+                                         {shown}); declare a boolean instead"
                                     ),
                                 ));
                             }
@@ -352,7 +355,7 @@ impl Resolver<'_> {
                             return Err(self.error(
                                 item.pos,
                                 format!(
-                                    "the value {} appears twice in the type of '{name}'",
+                                    "the value {} appears twice in the type of {shown}",
                                     self.show(value)
                                 ),
                             ));
@@ -378,7 +381,7 @@ impl Resolver<'_> {
 
     fn show(&self, v: Value) -> String {
         match v {
-            Value::Sym(s) => self.symbols[s as usize].clone(),
+            Value::Sym(s) => cut(&self.symbols[s as usize]).to_string(),
             v => v.to_string(),
         }
     }
@@ -390,7 +393,7 @@ impl Resolver<'_> {
             Type::Range(lo, hi) => format!("{lo}..{hi}"),
             Type::Enum(values) => {
                 let values: Vec<String> = values.iter().map(|&v| self.show(v)).collect();
-                format!("{{{}}}", values.join(", "))
+                message(&format!("{{{}}}", values.join(", "))).to_string()
             }
         }
     }
@@ -422,9 +425,9 @@ impl Resolver<'_> {
             self.error(
                 first.pos,
                 format!(
-                    "define '{}' depends on itself: {}",
-                    first.name,
-                    names.join(" -> ")
+                    "define {} depends on itself: {}",
+                    quote(&first.name),
+                    message(&names.join(" -> "))
                 ),
             )
         })?;
@@ -474,6 +477,7 @@ impl Resolver<'_> {
         assigned: &mut HashMap<(Target, VarId), usize>,
     ) -> Result<(), ModelError> {
         let name = &a.var.name;
+        let (shown, bare) = (quote(name), cut(name));
         let keyword = a.target.keyword();
         let v = match self.names.get(name.as_str()) {
             Some(&(Decl::Var(v), _)) => v,
@@ -481,7 +485,7 @@ impl Resolver<'_> {
                 return Err(self.error(
                     a.var.pos,
                     format!(
-                        "{keyword}({name}): '{name}' is {}, and only variables are assigned",
+                        "{keyword}({bare}): {shown} is {}, and only variables are assigned",
                         self.what(decl)
                     ),
                 ))
@@ -492,7 +496,7 @@ impl Resolver<'_> {
             return Err(self.error(
                 a.var.pos,
                 format!(
-                    "{keyword}({name}): '{name}' is an input variable (IVAR), chosen freely at \
+                    "{keyword}({bare}): {shown} is an input variable (IVAR), chosen freely at \
                      every step; only a VAR is assigned"
                 ),
             ));
@@ -501,7 +505,7 @@ impl Resolver<'_> {
             return Err(self.error(
                 a.pos,
                 format!(
-                    "{keyword}({name}) is assigned twice (first on line {})",
+                    "{keyword}({bare}) is assigned twice (first on line {})",
                     self.src.line(first)
                 ),
             ));
@@ -574,8 +578,8 @@ impl Resolver<'_> {
                 node.pos,
                 place,
                 format!(
-                    "'{}' has type {}, but the value `{}` is {}",
-                    v.name,
+                    "{} has type {}, but the value `{}` is {}",
+                    quote(&v.name),
                     self.show_type(&v.ty),
                     self.text(node),
                     ty.describe()
@@ -590,10 +594,10 @@ impl Resolver<'_> {
                     node.pos,
                     place,
                     format!(
-                        "the value {} is outside the type {} of '{}'",
+                        "the value {} is outside the type {} of {}",
                         self.show(c),
                         self.show_type(&v.ty),
-                        v.name
+                        quote(&v.name)
                     ),
                 ));
             }
@@ -633,15 +637,16 @@ impl Resolver<'_> {
 
     fn unknown(&self, ident: &Ident) -> ModelError {
         let name = &ident.name;
+        let shown = quote(name);
         let hint = if name.contains('-') {
-            format!(" (NuSMV reads '{name}' as one name: put blanks around '-' to subtract)")
+            format!(" (NuSMV reads {shown} as one name: put blanks around '-' to subtract)")
         } else {
             String::new()
         };
         self.error(
             ident.pos,
             format!(
-                "unknown name '{name}': no parameter, variable, define or symbolic constant of \
+                "unknown name {shown}: no parameter, variable, define or symbolic constant of \
                  the plant{hint}"
             ),
         )
@@ -738,15 +743,15 @@ impl Resolver<'_> {
         };
         let input_refused = |var: VarId, through: Option<&str>| {
             let through = through
-                .map(|d| format!(" through define '{d}'"))
+                .map(|d| format!(" through define {}", quote(d)))
                 .unwrap_or_default();
             self.error_in(
                 pos,
                 place,
                 format!(
-                    "input variable '{}' is read{through}; NuSMV refuses input variables in \
+                    "input variable {} is read{through}; NuSMV refuses input variables in \
                      INIT, INVAR and init()",
-                    self.vars[var.0].name
+                    quote(&self.vars[var.0].name)
                 ),
             )
         };
@@ -789,6 +794,7 @@ impl Resolver<'_> {
             ));
         };
         let refuse = |why: String| Err(self.error_in(arg.pos, place, why));
+        let (shown, bare) = (quote(name), cut(name));
         match self.names.get(name.as_str()) {
             None => Err(self.unknown(&Ident {
                 name: name.clone(),
@@ -798,18 +804,18 @@ impl Resolver<'_> {
                 Ok((Expr::Next(v), self.var_ty[v.0]))
             }
             Some(&(Decl::Var(_), _)) => refuse(format!(
-                "next({name}): '{name}' is an input variable, which has no next value in NuSMV"
+                "next({bare}): {shown} is an input variable, which has no next value in NuSMV"
             )),
             Some(&(Decl::Define(_), _)) => refuse(format!(
-                "next({name}) of a define is outside the subset: write it with next() of the \
-                 variables '{name}' reads"
+                "next({bare}) of a define is outside the subset: write it with next() of the \
+                 variables {shown} reads"
             )),
             Some(&(Decl::Param(_), _)) => refuse(format!(
-                "next({name}): '{name}' is a parameter (a controller output), which the plant \
+                "next({bare}): {shown} is a parameter (a controller output), which the plant \
                  sees only at the current step"
             )),
             Some(&(Decl::Symbol(_), _)) => refuse(format!(
-                "next({name}): '{name}' is a symbolic constant, not a variable"
+                "next({bare}): {shown} is a symbolic constant, not a variable"
             )),
         }
     }

@@ -724,3 +724,27 @@ fn constraints_keep_their_section_and_line() {
     };
     assert_eq!(**left, Expr::Next(VarId(0)));
 }
+
+/// A plant file may hold one token of megabytes; a message shows its start and its length.
+#[test]
+fn giant_tokens_are_cut_in_messages() {
+    let giant = "a".repeat(1_000_000);
+    let plants = [
+        // Unknown name in an expression.
+        format!("MODULE plant(x)\nVAR v : boolean;\nINIT v = {giant}"),
+        // A name declared twice.
+        format!("MODULE plant(x)\nVAR {giant} : boolean;\n  {giant} : 0..1;"),
+        // A token the grammar does not expect.
+        format!("MODULE plant(x)\nVAR v : boolean;\nINIT v {giant}"),
+        // A value of the wrong type, shown as code.
+        format!(
+            "MODULE plant(x)\nVAR v : boolean;\nASSIGN init(v) := 1 + {};",
+            "1 + ".repeat(100_000) + "1"
+        ),
+    ];
+    for text in plants {
+        let e = error(&text);
+        assert!(e.len() < 400, "{} bytes: {}", e.len(), &e[..400]);
+        assert!(e.starts_with("plant.smv:3:"), "{e}");
+    }
+}

@@ -1,0 +1,145 @@
+//! User input quoted in messages: short text whole, long text cut.
+//!
+//! In: a token, name, cell or line taken from a file the user gave. Out: something to put in
+//! an error message ([`quote`], [`backquote`], [`cut`], [`message`] for another library's
+//! message, and [`around`] for a line with a caret under a column), never much longer than a
+//! line of a terminal. A file may hold one 50 MB token,
+//! and a message that echoed it whole once wrote 50 MB to stderr; every message that shows
+//! user input goes through here, so none can.
+
+use std::fmt;
+
+/// Text of at most this many characters is shown whole.
+pub const WHOLE: usize = 60;
+
+/// Longer text shows this many characters, then `…` and its length.
+pub const SHOWN: usize = 40;
+
+/// A message of another library is shown whole up to this many characters.
+pub const MESSAGE: usize = 300;
+
+/// Text as a message shows it; see [`quote`].
+#[derive(Debug, Clone, Copy)]
+pub struct Quoted<'a> {
+    text: &'a str,
+    mark: &'static str,
+    whole: usize,
+    shown: usize,
+}
+
+/// `'text'`, or for text longer than [`WHOLE`] characters its first [`SHOWN`] ones:
+/// `'abc…' (123456 characters)`.
+pub fn quote(text: &str) -> Quoted<'_> {
+    Quoted {
+        text,
+        mark: "'",
+        whole: WHOLE,
+        shown: SHOWN,
+    }
+}
+
+/// Like [`quote`], between backquotes: `` `text` ``.
+pub fn backquote(text: &str) -> Quoted<'_> {
+    Quoted {
+        mark: "`",
+        ..quote(text)
+    }
+}
+
+/// Like [`quote`], without quotes: for text that a message shows as it is (a number, a list).
+pub fn cut(text: &str) -> Quoted<'_> {
+    Quoted {
+        mark: "",
+        ..quote(text)
+    }
+}
+
+/// A whole message of another library (serde, pest), which may quote the input it choked on
+/// whatever its length: up to [`MESSAGE`] characters whole, else cut like [`cut`].
+pub fn message(text: &str) -> Quoted<'_> {
+    Quoted {
+        text,
+        mark: "",
+        whole: MESSAGE,
+        shown: MESSAGE,
+    }
+}
+
+/// The byte offset of the `n`th character of `text`, or its length when it is shorter.
+fn offset_of_char(text: &str, n: usize) -> usize {
+    text.char_indices().nth(n).map_or(text.len(), |(i, _)| i)
+}
+
+impl fmt::Display for Quoted<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = self.mark;
+        if self.text.char_indices().nth(self.whole).is_none() {
+            return write!(f, "{m}{}{m}", self.text);
+        }
+        let shown = &self.text[..offset_of_char(self.text, self.shown)];
+        let n = self.text.chars().count();
+        write!(f, "{m}{shown}…{m} ({n} characters)")
+    }
+}
+
+/// A line as an error message shows it under the place it points to: the whole line when it
+/// has at most 2 × [`WHOLE`] characters, otherwise [`WHOLE`] characters on each side of the
+/// 1-based character `column`, with `…` where the line goes on. Returns the text and the
+/// column in it.
+pub fn around(line: &str, column: usize) -> (String, usize) {
+    let len = line.chars().count();
+    if len <= 2 * WHOLE {
+        return (line.to_string(), column);
+    }
+    let at = column.saturating_sub(1).min(len);
+    let first = at.saturating_sub(WHOLE);
+    let last = (at + WHOLE).min(len);
+    let (start, end) = (offset_of_char(line, first), offset_of_char(line, last));
+    let mut shown = String::new();
+    let mut column = at - first + 1;
+    if first > 0 {
+        shown.push('…');
+        column += 1;
+    }
+    shown.push_str(&line[start..end]);
+    if last < len {
+        shown.push('…');
+    }
+    (shown, column)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_text_is_shown_whole_and_long_text_cut_with_its_length() {
+        assert_eq!(quote("REQ01").to_string(), "'REQ01'");
+        assert_eq!(backquote("a_b").to_string(), "`a_b`");
+        let edge = "é".repeat(WHOLE);
+        assert_eq!(quote(&edge).to_string(), format!("'{edge}'"));
+        let long = "é".repeat(WHOLE + 1);
+        assert_eq!(
+            quote(&long).to_string(),
+            format!("'{}…' ({} characters)", "é".repeat(SHOWN), WHOLE + 1)
+        );
+        assert_eq!(
+            cut(&"x".repeat(1_000_000)).to_string(),
+            format!("{}… (1000000 characters)", "x".repeat(SHOWN))
+        );
+    }
+
+    #[test]
+    fn a_long_line_is_shown_around_its_column() {
+        assert_eq!(around("G (a b)", 6), ("G (a b)".to_string(), 6));
+        let line = format!("G ({} b)", "a".repeat(10_000));
+        let column = 10_005;
+        let (shown, at) = around(&line, column);
+        assert_eq!(shown.chars().nth(at - 1), Some('b'));
+        assert!(shown.starts_with('…') && shown.ends_with("a b)"), "{shown}");
+        assert!(shown.chars().count() <= 2 * WHOLE + 2);
+        let (shown, at) = around(&line, 1);
+        assert_eq!((at, shown.chars().next()), (1, Some('G')));
+        assert!(shown.ends_with('…'));
+    }
+}
