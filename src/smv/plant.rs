@@ -118,6 +118,16 @@ const SECTIONS: &[&str] = &[
     "ISA",
 ];
 
+/// Sections that state properties rather than model the plant.
+const SPECS: &[&str] = &[
+    "SPEC",
+    "CTLSPEC",
+    "LTLSPEC",
+    "INVARSPEC",
+    "PSLSPEC",
+    "COMPUTE",
+];
+
 /// Scans a plant file.
 pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
     let at = |line: usize, message: String| PlantError::At {
@@ -139,10 +149,10 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
                 let Some((Tok::Ident(name), _)) = toks.get(k + 1) else {
                     return Err(at(line, "MODULE without a name".into()));
                 };
-                if name == "main" {
+                if name == "main" || name == super::closed_loop::CONTROLLER_MODULE {
                     return Err(at(
                         line,
-                        "the plant file must not define MODULE main: synth generates it to connect the plant to the controller".into(),
+                        format!("the plant file must not define MODULE {name}: synth generates it to connect the plant to the controller"),
                     ));
                 }
                 in_plant = name == "plant";
@@ -184,6 +194,22 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
                     });
                 }
                 continue;
+            }
+            // A specification in the plant would be checked with the user's properties, and
+            // its verdicts would be taken for theirs.
+            Tok::Ident(w) if depth == 0 && SPECS.contains(&w.as_str()) => {
+                return Err(at(
+                    line,
+                    format!("the plant file must not hold a specification ({w}): properties go in the LTL file given with --ltl"),
+                ));
+            }
+            // NuSMV runs processes interleaved, so the closed loop would not be the
+            // synchronous scan cycle the controller is synthesized for.
+            Tok::Ident(w) if w == "process" => {
+                return Err(at(
+                    line,
+                    "the plant must not instantiate a process: the closed loop is synchronous (one scan per step), NuSMV would interleave processes".into(),
+                ));
             }
             Tok::Ident(w) if depth == 0 && SECTIONS.contains(&w.as_str()) => {
                 section = SECTIONS[SECTIONS.iter().position(|s| s == w).expect("member")];
@@ -286,7 +312,32 @@ ASSIGN
         assert!(e
             .to_string()
             .starts_with("p.smv:1: the plant file must not define MODULE main"));
+        let e = parse_plant(Path::new("p.smv"), "MODULE ECC(a)\nVAR x : boolean;\n").unwrap_err();
+        assert!(e
+            .to_string()
+            .starts_with("p.smv:1: the plant file must not define MODULE ECC"));
         let e = parse_plant(Path::new("p.smv"), "MODULE other\n").unwrap_err();
         assert!(e.to_string().starts_with("p.smv:1: no MODULE plant(...)"));
+    }
+
+    #[test]
+    fn specifications_and_processes_are_refused_at_their_line() {
+        for (spec, line) in [("LTLSPEC G x", 3), ("CTLSPEC AG x", 3), ("INVARSPEC x", 3)] {
+            let text = format!("MODULE plant(a)\nVAR x : boolean;\n{spec}\n");
+            let e = parse_plant(Path::new("p.smv"), &text).unwrap_err();
+            assert!(
+                e.to_string().starts_with(&format!(
+                    "p.smv:{line}: the plant file must not hold a specification"
+                )),
+                "{e}"
+            );
+        }
+        let text = "MODULE m\nVAR y : boolean;\nMODULE plant(a)\nVAR\n  p : process m;\n";
+        let e = parse_plant(Path::new("p.smv"), text).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("p.smv:5: the plant must not instantiate a process"),
+            "{e}"
+        );
     }
 }

@@ -110,6 +110,23 @@ fn scenarios_alone_do_not_make_the_lamp_go_out() {
 
 /// (plant, spec, expected start of the error message)
 const BAD: &[(&str, &str, &str)] = &[
+    // Refused before NuSMV runs: each would give a verdict or message about synth's own
+    // model rather than the user's file (issue item 16).
+    (
+        "ecc_module_plant.smv",
+        "lamp.ltl",
+        "error: tests/data/closed_loop/ecc_module_plant.smv:16: the plant file must not define MODULE ECC",
+    ),
+    (
+        "spec_plant.smv",
+        "lamp.ltl",
+        "error: tests/data/closed_loop/spec_plant.smv:16: the plant file must not hold a specification (LTLSPEC)",
+    ),
+    (
+        "process_plant.smv",
+        "lamp.ltl",
+        "error: tests/data/closed_loop/process_plant.smv:7: the plant must not instantiate a process",
+    ),
     (
         "broken_plant.smv",
         "lamp.ltl",
