@@ -70,15 +70,38 @@ fn offset_of_char(text: &str, n: usize) -> usize {
     text.char_indices().nth(n).map_or(text.len(), |(i, _)| i)
 }
 
+/// Whether `c` would act on a terminal instead of showing: C0 and C1 controls and DEL, but
+/// not the line break and tab that other tools' messages hold.
+fn acts_on_terminal(c: char) -> bool {
+    c.is_control() && c != '\n' && c != '\t'
+}
+
+/// Writes `text` with every control character as its Rust escape (`\u{1b}`): a file or
+/// another program could otherwise move the cursor, recolour or retitle the terminal, or
+/// clear the screen the message is on.
+fn write_visible(f: &mut fmt::Formatter<'_>, text: &str) -> fmt::Result {
+    let mut rest = text;
+    while let Some(at) = rest.find(acts_on_terminal) {
+        let c = rest[at..].chars().next().expect("found at a char boundary");
+        write!(f, "{}{}", &rest[..at], c.escape_unicode())?;
+        rest = &rest[at + c.len_utf8()..];
+    }
+    f.write_str(rest)
+}
+
 impl fmt::Display for Quoted<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let m = self.mark;
         if self.text.char_indices().nth(self.whole).is_none() {
-            return write!(f, "{m}{}{m}", self.text);
+            f.write_str(m)?;
+            write_visible(f, self.text)?;
+            return f.write_str(m);
         }
         let shown = &self.text[..offset_of_char(self.text, self.shown)];
         let n = self.text.chars().count();
-        write!(f, "{m}{shown}…{m} ({n} characters)")
+        f.write_str(m)?;
+        write_visible(f, shown)?;
+        write!(f, "…{m} ({n} characters)")
     }
 }
 
@@ -87,6 +110,12 @@ impl fmt::Display for Quoted<'_> {
 /// 1-based character `column`, with `…` where the line goes on. Returns the text and the
 /// column in it.
 pub fn around(line: &str, column: usize) -> (String, usize) {
+    // One character for one keeps the caret under its column.
+    let visible: String = line
+        .chars()
+        .map(|c| if acts_on_terminal(c) { '\u{FFFD}' } else { c })
+        .collect();
+    let line = visible.as_str();
     let len = line.chars().count();
     if len <= 2 * WHOLE {
         return (line.to_string(), column);
@@ -127,6 +156,18 @@ mod tests {
             cut(&"x".repeat(1_000_000)).to_string(),
             format!("{}… (1000000 characters)", "x".repeat(SHOWN))
         );
+    }
+
+    #[test]
+    fn control_characters_are_shown_not_sent_to_the_terminal() {
+        assert_eq!(
+            message("\u{1b}[31mred\u{7}\tok\n").to_string(),
+            "\\u{1b}[31mred\\u{7}\tok\n"
+        );
+        assert_eq!(quote("a\u{9b}b").to_string(), "'a\\u{9b}b'");
+        let long = format!("\u{1b}{}", "x".repeat(100));
+        assert!(quote(&long).to_string().starts_with("'\\u{1b}xxx"));
+        assert_eq!(around("a\u{1b}b", 3), ("a\u{FFFD}b".to_string(), 3));
     }
 
     #[test]

@@ -390,6 +390,35 @@ fn termination_signals_leave_no_nusmv_behind() {
 
 /// A NuSMV that dies at once (here: a script that exits before reading its input) is a located
 /// error, not a silent death of synth by SIGPIPE; and the run's temporary folder is gone.
+/// What a broken NuSMV prints is shown, not sent to the terminal: escape sequences in its
+/// output cannot recolour, retitle or clear the user's screen (issue item 18).
+#[test]
+fn garbage_from_nusmv_is_shown_escaped() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("NuSMV");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\nprintf '\\033[2J\\033]0;owned\\007 broken\\n' >&2\nexit 3\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let o = main_job(
+        &fake,
+        "lamp.ltl",
+        "lamp_plant.smv",
+        &dir.path().join("out"),
+        &[],
+    );
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{err:?}");
+    assert!(
+        err.contains("NuSMV failed (exit status: 3): \\u{1b}[2J\\u{1b}]0;owned\\u{7} broken"),
+        "{err}"
+    );
+}
+
 #[test]
 fn a_nusmv_that_dies_at_once_is_an_error_not_a_silent_death() {
     use std::os::unix::fs::PermissionsExt;
