@@ -161,7 +161,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let set = args.traces.load()?;
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats)?;
+    check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
     let results = infer_out(args)?;
     let opts = exact::Options {
         sat: exact::SatOptions {
@@ -206,7 +206,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     let progress = Progress::new(args.quiet);
     let set = args.traces.load()?;
     let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats)?;
+    check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
     let n = &args.noisy;
     let check = optional_check(&n.ltl, &n.plant, &set, &n.nusmv)?;
     let out = out_dir(&args.out, &args.traces.recordings().stem());

@@ -185,7 +185,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
     progress.line(&recordings_line(&explained, problem.props.len()));
     let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats)?;
+    check_exportable(&set, &args.name, &formats, &recordings)?;
     let out = out_dir(&args.out, &stem(ltl));
     // Taken before the search: a second run into the same folder stops now, not at the end.
     let results = ResultSet::open(&out).map_err(Failure::input)?;

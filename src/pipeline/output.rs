@@ -5,6 +5,7 @@
 
 use super::exact::Certificate;
 use super::noisy::Noisy;
+use super::recordings::Recordings;
 use super::Error;
 use crate::ecc::modular::{Modular, Module};
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, InputId, OutputId, State};
@@ -38,12 +39,48 @@ fn probe(set: &ScenarioSet, outputs: &[OutputId]) -> Ecc {
 }
 
 /// Checks up front, before any search, that the interface names and the block name can be
-/// written in every requested format: an empty machine over the interface must export.
-pub fn check_exportable(set: &ScenarioSet, name: &str, formats: &[Format]) -> Result<(), Error> {
+/// written in every requested format: an empty machine over the interface must export. An
+/// interface name that cannot is reported where `recordings` wrote it (its names file and
+/// line), since that is where the user renames it.
+pub fn check_exportable(
+    set: &ScenarioSet,
+    name: &str,
+    formats: &[Format],
+    recordings: &Recordings,
+) -> Result<(), Error> {
     let all: Vec<OutputId> = (0..set.outputs.len()).map(OutputId).collect();
     let dir = tempfile::tempdir()?;
-    export::write_all(&probe(set, &all), dir.path(), name, formats)?;
-    Ok(())
+    match export::write_all(&probe(set, &all), dir.path(), name, formats) {
+        Ok(_) => Ok(()),
+        Err(e) => Err(locate_name_error(e, recordings)),
+    }
+}
+
+/// An export error about an interface name, prefixed with the place the name was written.
+fn locate_name_error(e: export::ExportError, recordings: &Recordings) -> Error {
+    use crate::smv::SmvError;
+    let (role, format, message) = match &e {
+        export::ExportError::Name { format, source } => {
+            (source.role.as_str(), *format, source.to_string())
+        }
+        export::ExportError::Smv(source @ SmvError::Identifier { role, .. }) => {
+            (role.as_str(), Format::Smv, source.to_string())
+        }
+        _ => return e.into(),
+    };
+    let place = match role.split_once(' ') {
+        Some(("input", n)) => n.parse::<usize>().ok().map(|n| (false, n)),
+        Some(("output", n)) => n.parse::<usize>().ok().map(|n| (true, n)),
+        _ => None,
+    }
+    .and_then(|(output, n)| recordings.name_place(output, n.checked_sub(1)?));
+    match place {
+        Some(place) => Error::Input(format!(
+            "{place}: {message} (rename it there, or leave {} out of --format)",
+            format.extension()
+        )),
+        None => e.into(),
+    }
 }
 
 /// Checks before a modular search that the block name and the interface can be exported: a

@@ -31,12 +31,12 @@ impl Recordings {
         }
     }
 
-    /// Reads every trace file into one scenario set.
-    pub fn load(&self) -> Result<ScenarioSet, Error> {
-        let Some(first) = self.traces.first() else {
-            return Err(Error::Usage("no trace file given".into()));
-        };
-        let defaults = names::default_names_files(first);
+    /// The names files read: those given, else the defaults beside the first trace file.
+    fn names_files(&self) -> (Option<PathBuf>, Option<PathBuf>) {
+        let defaults = self
+            .traces
+            .first()
+            .and_then(|t| names::default_names_files(t));
         let in_file = self
             .input_names
             .clone()
@@ -45,6 +45,35 @@ impl Recordings {
             .output_names
             .clone()
             .or_else(|| defaults.as_ref().map(|d| d.1.clone()));
+        (in_file, out_file)
+    }
+
+    /// Where the name of input (or, with `output`, output) `index` (0-based) was written:
+    /// `FILE:LINE` in its names file, or the header of the first trace file when that is a
+    /// CSV log and no names file is read. `None` for names nobody wrote (fbSAT traces without
+    /// names files).
+    pub fn name_place(&self, output: bool, index: usize) -> Option<String> {
+        let (in_file, out_file) = self.names_files();
+        if let Some(file) = if output { out_file } else { in_file } {
+            // The file was read once already; a line is found the way parse_names counts.
+            let text = crate::files::read_text(&file, Some(crate::files::MAX_LINE_BYTES)).ok()?;
+            let line = text
+                .lines()
+                .enumerate()
+                .flat_map(|(i, l)| l.split_whitespace().map(move |_| i + 1))
+                .nth(index)?;
+            return Some(format!("{}:{line}", file.display()));
+        }
+        let first = self.traces.first()?;
+        is_csv(first).then(|| format!("{}: header", first.display()))
+    }
+
+    /// Reads every trace file into one scenario set.
+    pub fn load(&self) -> Result<ScenarioSet, Error> {
+        if self.traces.is_empty() {
+            return Err(Error::Usage("no trace file given".into()));
+        }
+        let (in_file, out_file) = self.names_files();
         let inputs = in_file.as_deref().map(names::read_names).transpose()?;
         let outputs = out_file.as_deref().map(names::read_names).transpose()?;
         if let (Some(i), Some(o)) = (&inputs, &outputs) {

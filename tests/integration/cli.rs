@@ -1051,3 +1051,34 @@ fn ingest_refuses_a_log_without_data_rows() {
         assert!(files_in(&dir.path().join("out")).is_empty(), "{file}");
     }
 }
+
+/// An interface name that an export cannot use is reported in the names file, at its line,
+/// before any search: that is where the user renames it (issue item 18).
+#[test]
+fn export_name_errors_name_the_names_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in.names");
+    std::fs::write(&inputs, "start\nEND_VAR\n").unwrap();
+    let i = inputs.to_str().unwrap();
+    let out = dir.path().join("out");
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--input-names",
+        i,
+        "--output-names",
+        &data("door.outputs"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains(&format!(
+            "\nerror: {i}:2: input 2 `END_VAR` cannot be used in an IEC 61499 .fbt file"
+        )),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!out.exists());
+}
