@@ -561,8 +561,37 @@ pub fn kill_all_children() {
     let children = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
     for child in children.values() {
         let mut child = child.lock().unwrap_or_else(|e| e.into_inner());
+        kill_group(&child);
         let _ = child.kill();
         let _ = child.wait();
+    }
+}
+
+/// Kills the process group that `child` leads (see [`Tracked::spawn`]): a wrapper script's
+/// NuSMV, or anything else it started, goes with it instead of holding the pipes open.
+///
+/// Only while the child is not reaped (running, or a zombie) is the group id surely its own,
+/// so that is checked first, without reaping; the caller holds the child's lock, under which
+/// alone children are reaped.
+fn kill_group(child: &Child) {
+    let Ok(pid) = libc::pid_t::try_from(child.id()) else {
+        return;
+    };
+    // SAFETY: waitid only writes into `info`, which lives for the call.
+    let unreaped = unsafe {
+        let mut info: libc::siginfo_t = std::mem::zeroed();
+        libc::waitid(
+            libc::P_PID,
+            pid as libc::id_t,
+            &mut info,
+            libc::WEXITED | libc::WNOHANG | libc::WNOWAIT,
+        ) == 0
+    };
+    if unreaped {
+        // SAFETY: a plain kill(2) of the group this program created for the child.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+        }
     }
 }
 
@@ -583,11 +612,15 @@ struct Tracked {
 impl Tracked {
     /// Spawns `command` with all three streams piped and registers it.
     fn spawn(mut command: Command) -> io::Result<Tracked> {
+        use std::os::unix::process::CommandExt;
         install_ctrl_c_handler();
         command
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
+            .stderr(Stdio::piped())
+            // Its own process group, killed as one: see `kill_group`. (A Ctrl-C at the
+            // terminal then reaches synth alone, whose handler kills the group.)
+            .process_group(0);
         let mut registry = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
         // Spawning under the lock: a Ctrl-C in between cannot miss the new child.
         let mut child = command.spawn()?;
@@ -624,6 +657,7 @@ impl Tracked {
     /// Kills the child unless it has exited already, and reaps it; the status tells which.
     fn kill_and_reap(&mut self) -> io::Result<ExitStatus> {
         let mut child = self.lock();
+        kill_group(&child);
         let _ = child.kill();
         let status = child.wait();
         drop(child);

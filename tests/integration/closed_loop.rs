@@ -192,6 +192,64 @@ fn properties_no_machine_can_satisfy_are_named() {
     assert!(!dir.exists());
 }
 
+/// On a timeout NuSMV is killed with everything it started: a wrapper script's own child
+/// (here a `sleep` standing for the real NuSMV) does not outlive synth (issue item 7).
+#[test]
+fn a_timeout_kills_what_nusmv_started_too() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("NuSMV");
+    let pid_file = dir.path().join("child.pid");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\nsleep 1000 &\necho $! > \"$CHILD_PID_FILE\"\nwait\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "-q",
+            "--ltl",
+            &format!("{DIR}/lamp.ltl"),
+            "--plant",
+            &format!("{DIR}/lamp_plant.smv"),
+            "--traces",
+            &format!("{DIR}/lamp.traces"),
+            "--out",
+            dir.path().join("out").to_str().unwrap(),
+            "--timeout",
+            "1",
+            "--nusmv",
+            fake.to_str().unwrap(),
+        ])
+        .env("CHILD_PID_FILE", &pid_file)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("within 1 s and was killed"),
+        "{}",
+        text(&o.stderr)
+    );
+    let pid: i32 = std::fs::read_to_string(&pid_file)
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    // The killed sleep is reparented and reaped by init: give that a moment.
+    let gone = (0..50).any(|_| {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        // SAFETY: signal 0 only asks whether the process exists.
+        unsafe { libc::kill(pid, 0) != 0 }
+    });
+    if !gone {
+        // SAFETY: cleaning up after a failed test.
+        unsafe { libc::kill(pid, libc::SIGKILL) };
+    }
+    assert!(gone, "NuSMV's child {pid} outlived synth");
+}
+
 #[test]
 fn nusmv_timeout_is_one_clear_error() {
     let Some(n) = nusmv_or_skip() else { return };
