@@ -44,6 +44,8 @@ pub struct PropertyReport {
 pub struct Report {
     pub properties: Vec<PropertyReport>,
     pub nusmv_seconds: f64,
+    /// What NuSMV printed on stderr that no verdict accounts for ([`Session::warnings`]).
+    pub nusmv_warnings: Vec<String>,
 }
 
 impl Report {
@@ -72,7 +74,17 @@ impl Report {
                 p.verdict_line
             ));
         }
+        for w in self.warning_lines() {
+            s.push_str(&w);
+            s.push('\n');
+        }
         s
+    }
+
+    /// A line per NuSMV warning, as reports show them.
+    pub fn warning_lines(&self) -> impl Iterator<Item = String> + '_ {
+        (self.nusmv_warnings.iter())
+            .map(|w| format!("NuSMV WARNING (read it: it may change a verdict): {w}"))
     }
 }
 
@@ -387,6 +399,7 @@ pub fn verify(
         report: Report {
             properties,
             nusmv_seconds,
+            nusmv_warnings: session.warnings().to_vec(),
         },
         counterexamples,
         model,

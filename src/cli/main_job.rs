@@ -319,6 +319,9 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         "{}",
         verified_line(certificate.report.properties.len(), set.scenarios.len())
     );
+    for w in certificate.report.warning_lines() {
+        out!("{w}");
+    }
     let s = size;
     out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
     out!("{closing}");

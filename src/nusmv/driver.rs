@@ -122,6 +122,8 @@ pub struct Session {
     models_in_process: usize,
     restart_every: usize,
     next_marker: u64,
+    /// See [`Session::warnings`].
+    warnings: Vec<String>,
 }
 
 /// Text NuSMV echoes after a model's commands; a number follows, then `==`.
@@ -139,7 +141,15 @@ impl Session {
             models_in_process: 0,
             restart_every: Self::DEFAULT_RESTART_EVERY,
             next_marker: 0,
+            warnings: Vec::new(),
         }
+    }
+
+    /// What NuSMV printed on stderr while checking the last model that no verdict or error
+    /// accounts for (a warning of a newer or patched NuSMV, say): reports show it, since it
+    /// may change what a verdict means.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Replaces the process after `models` models (at least 1).
@@ -167,6 +177,7 @@ impl Session {
         }
         self.ensure_process()?;
         self.models_in_process += 1;
+        self.warnings.clear();
         let deadline = Instant::now() + self.nusmv.timeout;
         let (out, err) = self.run(
             &format!(
@@ -189,6 +200,7 @@ impl Session {
             });
         }
         self.check_not_vacuous(&format!("{out}\n{err}"), deadline, model)?;
+        self.warnings = unexplained(&err);
         match mode {
             CheckMode::VerdictsOnly => {}
             CheckMode::FirstCounterexample => {
@@ -533,12 +545,34 @@ fn timeout(limit: Duration, model: &Path) -> NusmvError {
     }
 }
 
+/// The lines of NuSMV's stderr that nothing here understands, each cut to a line of a
+/// terminal, at most [`TAIL_LINES`] of them. The empty-state-set warning is understood: the
+/// emptiness check turns it into an error whenever it matters.
+fn unexplained(stderr: &str) -> Vec<String> {
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .filter(|l| !l.contains("set of the finite state machine is empty"))
+        .collect();
+    let mut shown: Vec<String> = lines
+        .iter()
+        .take(TAIL_LINES)
+        .map(|l| crate::quote::message(l.trim()).to_string())
+        .collect();
+    if lines.len() > TAIL_LINES {
+        shown.push(format!("({} more lines)", lines.len() - TAIL_LINES));
+    }
+    shown
+}
+
+/// Lines of another program's stderr shown at most.
+const TAIL_LINES: usize = 12;
+
 /// The last lines of a stderr text, enough to see why a process failed.
 fn tail(text: &str) -> String {
-    const LINES: usize = 12;
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     // NuSMV echoes the tokens of the model, which a plant file can make megabytes long.
-    let last: Vec<String> = lines[lines.len().saturating_sub(LINES)..]
+    let last: Vec<String> = lines[lines.len().saturating_sub(TAIL_LINES)..]
         .iter()
         .map(|l| crate::quote::message(l).to_string())
         .collect();
@@ -727,6 +761,16 @@ mod tests {
                 "{bad}"
             );
         }
+    }
+
+    #[test]
+    fn unexplained_stderr_lines_are_kept_for_the_report() {
+        let err = "\n*** WARNING: something new\n\nWARNING *** The initial states set of the finite state machine is empty. ***\n";
+        assert_eq!(unexplained(err), ["*** WARNING: something new"]);
+        let many: String = (1..=20).map(|i| format!("w{i}\n")).collect();
+        let shown = unexplained(&many);
+        assert_eq!(shown.len(), TAIL_LINES + 1);
+        assert_eq!(shown.last().unwrap(), "(8 more lines)");
     }
 
     #[test]

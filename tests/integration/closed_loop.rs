@@ -250,6 +250,33 @@ fn a_timeout_kills_what_nusmv_started_too() {
     assert!(gone, "NuSMV's child {pid} outlived synth");
 }
 
+/// A warning NuSMV prints while it checks a model is shown with the verdicts, on stdout and
+/// in verification.txt, not dropped (issue item 1): here a wrapper around the real NuSMV
+/// warns for every model it reads.
+#[test]
+fn nusmv_warnings_are_shown_with_the_verdicts() {
+    use std::os::unix::fs::PermissionsExt;
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let wrapper = dir.path().join("NuSMV");
+    std::fs::write(
+        &wrapper,
+        format!(
+            "#!/bin/sh\nwhile IFS= read -r line; do\n  printf '%s\\n' \"$line\"\n  case \"$line\" in read_model*) echo '*** WARNING: made up' >&2;; esac\ndone | exec '{}' \"$@\"\n",
+            n.path.display()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&wrapper, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.path().join("out");
+    let o = main_job(&wrapper, "lamp.ltl", "lamp_plant.smv", &out, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let shown = "NuSMV WARNING (read it: it may change a verdict): *** WARNING: made up";
+    assert!(text(&o.stdout).contains(shown), "{}", text(&o.stdout));
+    let report = std::fs::read_to_string(out.join("verification.txt")).unwrap();
+    assert!(report.contains(shown), "{report}");
+}
+
 #[test]
 fn nusmv_timeout_is_one_clear_error() {
     let Some(n) = nusmv_or_skip() else { return };
