@@ -97,11 +97,17 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
         .unwrap_or_else(|| PathBuf::from("out/refined"));
     let formats = parse_formats(&["json", "fbt", "smv", "dot", "st"].map(String::from))?;
     let progress = Progress::new(false);
+    // One result in the folder, published whole at the end, as `infer` does.
+    let results = fbsynth::files::ResultSet::open(&out).map_err(Failure::input)?;
     let opts = refine::Options {
-        out: &out,
+        out: results.staging(),
         formats: &formats,
         name: "SynthesizedFB",
-        exact: exact::Options::default(),
+        exact: exact::Options {
+            // The model NuSMV failed on is kept for the user, beside the results.
+            keep_failed_model: check.is_some().then(|| out.join("closed_loop.last.smv")),
+            ..exact::Options::default()
+        },
     };
     let refined = refine::run(&ecc, &set, training, check.as_ref(), &opts, &mut |e| {
         progress.event(e)
@@ -111,7 +117,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
         "refining: {} training scenarios + {} divergent traces -> {}",
         refined.training_scenarios,
         refined.divergent.len(),
-        refined.traces_file.display()
+        results.published(&refined.traces_file).display()
     );
     let s = refined.exact.synthesis.size;
     if let Some(cert) = &refined.exact.certificate {
@@ -119,10 +125,17 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             "verified: all {} properties hold (NuSMV)",
             cert.report.properties.len()
         );
+        for w in cert.report.warning_lines() {
+            out!("{w}");
+        }
     }
     out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    let files: Vec<PathBuf> = refined.files.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(fbsynth::pipeline::Error::from(e)))?;
     out!("wrote:");
-    for f in &refined.files {
+    for f in &files {
         out!("  {}", f.display());
     }
     out!("after refinement, on the new recordings:");

@@ -250,6 +250,32 @@ fn conform_finds_an_injected_divergence_and_refine_removes_it() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("after refinement, on the new recordings:\ntests/data/scenarios/door_new.traces:2: agrees on all 4 steps"));
+    // One result, published whole: the listed files and the learned traces, no staging.
+    let names: Vec<String> = std::fs::read_dir(&refined)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.iter().all(|n| !n.starts_with(".synth-staging")),
+        "{names:?}"
+    );
+    for f in [
+        "SynthesizedFB.fbt",
+        "refined.traces",
+        "refined.inputs",
+        ".synth-files",
+    ] {
+        assert!(names.iter().any(|n| n == f), "{f} not in {names:?}");
+    }
+    for f in ["SynthesizedFB.json", "refined.traces"] {
+        let shown = refined.join(f);
+        assert!(
+            text(&o.stdout).contains(shown.to_str().unwrap()),
+            "{}",
+            text(&o.stdout)
+        );
+    }
     // The refined machine still reproduces the training scenarios.
     let o = synth(&[
         "replay",
