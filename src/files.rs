@@ -400,6 +400,17 @@ pub struct AtomicFile {
     /// Where the temporary file is renamed to: `path` with its symbolic links followed.
     target: PathBuf,
     out: Sink,
+    /// Removes the temporary file on a termination signal until it is renamed or dropped.
+    _on_signal: Option<RemovedOnSignal>,
+}
+
+/// [`remove_on_signal`] for as long as this lives.
+struct RemovedOnSignal(PathBuf);
+
+impl Drop for RemovedOnSignal {
+    fn drop(&mut self) {
+        keep_on_signal(&self.0);
+    }
 }
 
 enum Sink {
@@ -468,6 +479,7 @@ impl AtomicFile {
         if folders == Folders::Create && !special {
             std::fs::create_dir_all(dir).map_err(err)?;
         }
+        let mut on_signal = None;
         let file = if special {
             Target::Special(
                 std::fs::OpenOptions::new()
@@ -476,7 +488,11 @@ impl AtomicFile {
                     .map_err(err)?,
             )
         } else {
-            Target::Temporary(temporary_in(dir).map_err(err)?)
+            let tmp = temporary_in(dir).map_err(err)?;
+            // A long stream (ingest, events) may be interrupted: no hidden `.tmp*` stays.
+            remove_on_signal(tmp.path());
+            on_signal = Some(RemovedOnSignal(tmp.path().to_path_buf()));
+            Target::Temporary(tmp)
         };
         let tmp = BufWriter::with_capacity(1 << 16, file);
         let out = if path.extension().is_some_and(|e| e == "gz") {
@@ -491,6 +507,7 @@ impl AtomicFile {
             path: path.to_path_buf(),
             target,
             out,
+            _on_signal: on_signal,
         })
     }
 

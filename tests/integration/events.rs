@@ -155,3 +155,53 @@ fn a_timestamp_out_of_range_is_refused_not_clamped() {
     );
     assert!(!dir.path().join("t.xes").exists());
 }
+
+/// A run stopped by a signal while it streams leaves no hidden temporary file beside its
+/// outputs (issue item 12). The log is a FIFO that this test keeps open, so the run is
+/// surely mid-stream when the signal comes.
+#[test]
+fn a_signal_mid_stream_leaves_no_temporary_file() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.map"), MAP).unwrap();
+    let fifo = dir.path().join("log.csv");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: mkfifo reads the NUL-terminated path only.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let out = dir.path().join("o");
+    std::fs::create_dir(&out).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "events", "--log", "log.csv", "--map", "t.map", "--reset", "ll false", "--out",
+            "o/t.xes",
+        ])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut log = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+    writeln!(log, "timestamp,address,value").unwrap();
+    for t in 0..1000 {
+        writeln!(log, "{t},%IX0.1,{}", t % 2).unwrap();
+    }
+    log.flush().unwrap();
+    let temporaries = || -> Vec<String> {
+        std::fs::read_dir(&out)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect()
+    };
+    let started = (0..100).any(|_| {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        !temporaries().is_empty()
+    });
+    // SAFETY: a signal to the child this test started and has not reaped.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let status = child.wait().unwrap();
+    drop(log);
+    assert!(started, "no temporary output appeared");
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert_eq!(temporaries(), Vec::<String>::new());
+}
