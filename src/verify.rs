@@ -12,6 +12,7 @@
 //! property (its tableau variables are not printed).
 
 use crate::ecc::Ecc;
+use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
 use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
@@ -103,6 +104,53 @@ pub struct Counterexample {
     pub confirmed: bool,
     /// Controller state names (`s0`, ...) along the lasso, when the trace shows them.
     pub controller_states: Vec<Option<String>>,
+}
+
+impl Counterexample {
+    /// The run as signals to show ([`crate::export::waveform`]): the controller's `inputs`,
+    /// its `outputs` and state, then the plant's own variables, in the order NuSMV names them.
+    pub fn waveform(&self, inputs: &[String], outputs: &[String]) -> Waveform {
+        use crate::export::waveform::{Group, Signal, Value};
+        let along = |key: &str| -> Vec<Value> {
+            (self.states.iter())
+                .map(|s| s.get(key).map_or(Value::Unknown, |v| Value::parse(v)))
+                .collect()
+        };
+        let signal = |group, name: &str, key: &str| Signal {
+            group,
+            name: name.to_string(),
+            values: along(key),
+        };
+        let mut signals: Vec<Signal> = Vec::new();
+        signals.extend(inputs.iter().map(|n| signal(Group::Input, n, n)));
+        signals.extend(outputs.iter().map(|n| signal(Group::Output, n, n)));
+        signals.push(Signal {
+            group: Group::State,
+            name: "state".into(),
+            values: (self.controller_states.iter())
+                .map(|s| {
+                    s.as_deref()
+                        .map_or(Value::Unknown, |v| Value::Text(v.into()))
+                })
+                .collect(),
+        });
+        let plant: std::collections::BTreeSet<&str> = (self.states.iter())
+            .flat_map(|s| s.keys())
+            .filter_map(|k| k.strip_prefix("plant."))
+            .filter(|k| !inputs.iter().any(|i| i == k))
+            .collect();
+        signals.extend(
+            plant
+                .into_iter()
+                .map(|n| signal(Group::Plant, n, &format!("plant.{n}"))),
+        );
+        Waveform {
+            title: self.property.clone(),
+            signals,
+            steps: self.states.len(),
+            loop_start: self.loop_start,
+        }
+    }
 }
 
 /// Why a verification could not give verdicts.

@@ -15,6 +15,7 @@ pub mod json;
 pub mod modular;
 pub mod pnml;
 pub mod st;
+pub mod waveform;
 
 #[cfg(test)]
 pub(crate) mod samples;

@@ -106,6 +106,93 @@ fn scenarios_alone_do_not_make_the_lamp_go_out() {
         text(&v.stdout)
     );
     assert!(text(&v.stderr).contains("not verified: goes_out violated"));
+    // Why it fails, shown: a table on stdout and, with --out, a waveform as VCD and SVG.
+    let cx = out.path().join("cx");
+    let v = synth(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            json.to_str().unwrap(),
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+            "--out",
+            cx.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(v.status.code(), Some(1), "{}", text(&v.stderr));
+    let stdout = text(&v.stdout);
+    assert!(stdout.contains("counterexample of goes_out ("), "{stdout}");
+    for f in ["closed_loop.smv", "goes_out.vcd", "goes_out.svg"] {
+        assert!(cx.join(f).is_file(), "{f} missing; {stdout}");
+    }
+    // The table's lamp row, and the loop marks under the step numbers.
+    let row = |name: &str| -> Vec<String> {
+        let line = stdout
+            .lines()
+            .find(|l| l.split_whitespace().take(2).eq(name.split(' ')))
+            .unwrap_or_else(|| panic!("no row {name} in {stdout}"));
+        line.split_whitespace().skip(2).map(String::from).collect()
+    };
+    let lamp_row = row("out lamp");
+    let loop_start = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("loop"))
+        .map(|l| lamp_row.len() - l.matches('^').count())
+        .unwrap();
+    let vcd_lamp = vcd_values(&cx.join("goes_out.vcd"), &["closed_loop", "out", "lamp"]);
+    // The VCD holds the lasso and its loop once more.
+    assert_eq!(
+        vcd_lamp.len(),
+        2 * lamp_row.len() - loop_start,
+        "{vcd_lamp:?}"
+    );
+    assert_eq!(vcd_lamp[..lamp_row.len()], lamp_row[..], "{stdout}");
+    // A run that violates `G (lamp -> F !lamp)` keeps the lamp on for ever: all through the loop.
+    assert!(
+        vcd_lamp[loop_start..].iter().all(|v| v == "1"),
+        "{vcd_lamp:?}"
+    );
+    let svg = std::fs::read_to_string(cx.join("goes_out.svg")).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&svg);
+    let mut elements = 0;
+    loop {
+        match reader.read_event() {
+            Ok(quick_xml::events::Event::Eof) => break,
+            Ok(quick_xml::events::Event::Start(_) | quick_xml::events::Event::Empty(_)) => {
+                elements += 1
+            }
+            Ok(_) => {}
+            Err(e) => panic!("goes_out.svg is not XML: {e}"),
+        }
+    }
+    assert!(elements > 10 && svg.contains(">out lamp</text>"), "{svg}");
+}
+
+/// The values (`0`, `1`, or a number) of the VCD variable at `path` at every time step from 0
+/// to the last timestamp, read with the `vcd` crate.
+fn vcd_values(file: &Path, path: &[&str]) -> Vec<String> {
+    let text = std::fs::read(file).unwrap();
+    let mut parser = vcd::Parser::new(&text[..]);
+    let header = parser.parse_header().unwrap();
+    let code = header.find_var(path).expect("variable in the VCD").code;
+    let (mut values, mut now, mut value) = (Vec::new(), 0u64, String::from("x"));
+    for command in parser {
+        match command.unwrap() {
+            vcd::Command::Timestamp(t) => {
+                while now < t {
+                    values.push(value.clone());
+                    now += 1;
+                }
+            }
+            vcd::Command::ChangeScalar(c, v) if c == code => value = v.to_string(),
+            vcd::Command::ChangeVector(c, v) if c == code => value = v.to_string(),
+            _ => {}
+        }
+    }
+    values
 }
 
 /// (plant, spec, expected start of the error message)
