@@ -143,6 +143,22 @@ fn publish(results: ResultSet, staged: &[PathBuf]) -> Result<Vec<PathBuf>, Failu
     Ok(files)
 }
 
+/// A contradiction in recordings read as exact: most often a scan-cycle glitch of the logger,
+/// which `--noisy` corrects, so the message says so.
+fn suggest_noisy(e: pipeline::Error) -> Failure {
+    use fbsynth::scenario::ScenarioError;
+    match e {
+        pipeline::Error::Scenario(ScenarioError::Contradiction(_)) => Failure::msg(
+            exit::INPUT,
+            format!(
+                "{e}\nhint: if the recording has scan-cycle glitches (outputs logged a scan early \
+                 or late), `synth infer --noisy --max-errors N` corrects up to N samples"
+            ),
+        ),
+        e => e.into(),
+    }
+}
+
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     if args.noisy.noisy {
@@ -174,7 +190,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         },
         ..exact::Options::default()
     };
-    let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))?.synthesis;
+    let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))
+        .map_err(suggest_noisy)?
+        .synthesis;
     let s = result.size;
     out!(
         "C = {}  K = {}  T = {}  N = {}{}",

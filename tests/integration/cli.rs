@@ -1108,3 +1108,31 @@ fn export_name_errors_name_the_names_file_and_line() {
     );
     assert!(!out.exists());
 }
+
+/// Recordings that contradict each other, read as exact, point at `--noisy` (issue 12,
+/// guidance): a logger's scan-cycle glitch is the usual cause.
+#[test]
+fn a_contradiction_suggests_noisy_synthesis() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("glitch.csv");
+    std::fs::write(&log, "scenario,in:a,out:z\n1,0,0\n1,1,1\n2,0,0\n2,1,0\n").unwrap();
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        log.to_str().unwrap(),
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.starts_with("error: contradictory scenarios: "),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("\nhint: if the recording has scan-cycle glitches"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("--noisy --max-errors N"), "{stderr}");
+}
