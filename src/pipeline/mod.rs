@@ -183,7 +183,7 @@ impl Error {
         use crate::sat::modular::ModularError;
         use crate::sat::SatError;
         match self {
-            Error::Sat(SatError::TooManyStates { .. })
+            Error::Sat(SatError::TooManyStates { .. } | SatError::TooFewErrors { .. })
             | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
             | Error::Cegis(cegis::CegisError::Exhausted { .. })

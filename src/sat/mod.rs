@@ -57,6 +57,13 @@ pub enum SatError {
         "no ECC with at most {max_states} states reproduces the scenarios (raise --max-states)"
     )]
     TooManyStates { max_states: usize },
+    /// Noisy synthesis within an error bound: the bound is the likelier culprit, since the
+    /// glitches a bound leaves uncorrected contradict the recordings for every number of states.
+    #[error("no ECC with at most {max_states} states reproduces the recordings with at most {max_errors} corrected samples: raise --max-errors (a log with more scan-cycle glitches needs more corrections), or --max-states")]
+    TooFewErrors {
+        max_states: usize,
+        max_errors: usize,
+    },
     #[error("internal error (a bug in synth, please report it): {0}")]
     Bug(String),
 }

@@ -353,8 +353,14 @@ pub fn synthesize_noisy(
     let mut n = 1;
     let mut enc = loop {
         if n > opts.max_states {
-            return Err(SatError::TooManyStates {
-                max_states: opts.max_states,
+            return Err(match opts.max_errors {
+                Some(max_errors) => SatError::TooFewErrors {
+                    max_states: opts.max_states,
+                    max_errors,
+                },
+                None => SatError::TooManyStates {
+                    max_states: opts.max_states,
+                },
             });
         }
         progress(Step::Trying {
@@ -595,7 +601,10 @@ mod tests {
             &mut |_| {},
             &mut |_| Flow::Continue,
         );
-        assert!(matches!(none, Err(SatError::TooManyStates { .. })));
+        assert!(
+            matches!(none, Err(SatError::TooFewErrors { max_errors: 0, .. })),
+            "{none:?}"
+        );
     }
 
     #[test]

@@ -1136,3 +1136,32 @@ fn a_contradiction_suggests_noisy_synthesis() {
     );
     assert!(stderr.contains("--noisy --max-errors N"), "{stderr}");
 }
+
+/// Noisy synthesis that finds no machine within an error bound says to raise the bound, not
+/// only --max-states, which cannot help when uncorrected glitches contradict every machine
+/// (issue 12, guidance).
+#[test]
+fn too_few_errors_allowed_says_raise_max_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("glitch.csv");
+    std::fs::write(&log, "scenario,in:a,out:z\n1,0,0\n1,1,1\n2,0,0\n2,1,0\n").unwrap();
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--noisy",
+        "--max-errors",
+        "0",
+        "--max-states",
+        "3",
+        "--traces",
+        log.to_str().unwrap(),
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("with at most 0 corrected samples: raise --max-errors"),
+        "{stderr}"
+    );
+}
