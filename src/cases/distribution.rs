@@ -565,6 +565,7 @@ pub fn to_scenarios(logs: &[Vec<Sample>], file: &str) -> ScenarioSet {
                 origin: Origin {
                     file: PathBuf::from(file),
                     line,
+                    rows: None,
                 },
                 steps: csvlog::samples_to_steps(log, &initial),
             };

@@ -477,6 +477,7 @@ pub fn generate() -> ScenarioSet {
             origin: Origin {
                 file: PathBuf::from(TRACES_FILE),
                 line: k + 2,
+                rows: None,
             },
             steps: record(order, IDLE_AFTER)
                 .unwrap_or_else(|e| panic!("the reference controller fails a seed order: {e}")),

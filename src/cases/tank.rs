@@ -404,6 +404,7 @@ pub fn training_set(program: Program) -> ScenarioSet {
             origin: Origin {
                 file: PathBuf::from(format!("{stem}.traces")),
                 line: k + 2,
+                rows: None,
             },
             steps: steps(&record(s)),
         })

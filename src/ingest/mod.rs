@@ -286,6 +286,7 @@ pub fn read_scenarios(
             origin: Origin {
                 file: log.to_path_buf(),
                 line: 1,
+                rows: None,
             },
             steps,
         }],

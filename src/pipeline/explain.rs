@@ -341,6 +341,7 @@ mod tests {
                     origin: Origin {
                         file: "t.traces".into(),
                         line: k + 2,
+                        rows: None,
                     },
                     steps: steps
                         .iter()

@@ -79,7 +79,7 @@ pub fn parse(
         classify(&header, input_names, output_names).map_err(|m| err(hline, m))?;
 
     // Samples grouped by the scenario column.
-    let mut groups: Vec<(usize, String, Vec<Sample>)> = Vec::new();
+    let mut groups: Vec<(usize, String, Vec<(Sample, usize)>)> = Vec::new();
     while let Some((line_no, cells)) = records.next_record().map_err(read)? {
         if cells.len() != columns.len() {
             return Err(err(
@@ -114,8 +114,8 @@ pub fn parse(
             }
         }
         match groups.last_mut() {
-            Some((_, last, samples)) if *last == id => samples.push(sample),
-            _ => groups.push((line_no, id, vec![sample])),
+            Some((_, last, samples)) if *last == id => samples.push((sample, line_no)),
+            _ => groups.push((line_no, id, vec![(sample, line_no)])),
         }
     }
     if groups.is_empty() {
@@ -124,12 +124,29 @@ pub fn parse(
     let initial = vec![false; outputs.len()];
     let scenarios = groups
         .into_iter()
-        .map(|(line, _, samples)| Scenario {
-            origin: Origin {
-                file: file.to_path_buf(),
-                line,
-            },
-            steps: samples_to_steps(&samples, &initial),
+        .map(|(line, _, samples)| {
+            // The stream the other readers use, with each step's row kept for messages.
+            let mut stream = super::steps::StepStream::new(initial.clone());
+            let (mut steps, mut rows) = (Vec::new(), Vec::new());
+            let tagged = samples
+                .into_iter()
+                .filter_map(|(s, l)| stream.push_tagged(s, l));
+            for (step, row) in tagged
+                .collect::<Vec<_>>()
+                .into_iter()
+                .chain(stream.finish_tagged())
+            {
+                steps.push(step);
+                rows.push(row);
+            }
+            Scenario {
+                origin: Origin {
+                    file: file.to_path_buf(),
+                    line,
+                    rows: Some(rows.into()),
+                },
+                steps,
+            }
         })
         .collect();
     Ok(ScenarioSet {

@@ -168,6 +168,7 @@ fn parse_line(
         origin: Origin {
             file: file.to_path_buf(),
             line: line_no,
+            rows: None,
         },
         steps,
     })

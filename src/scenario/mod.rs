@@ -35,6 +35,25 @@ pub struct Origin {
     pub file: PathBuf,
     /// 1-based line of the file where the scenario starts.
     pub line: usize,
+    /// The line of each step, when steps are rows of a CSV log (one row may hold a step the
+    /// conversion kept, others are merged or dropped); `None` when a scenario is one line.
+    pub rows: Option<std::sync::Arc<[usize]>>,
+}
+
+impl Origin {
+    /// Where step `step` (1-based) of the scenario is: `FILE:ROW (step K of the scenario
+    /// from line L)` for a CSV log, `FILE:LINE step K` otherwise.
+    pub fn step(&self, step: usize) -> String {
+        let row = (self.rows.as_ref()).and_then(|r| r.get(step.checked_sub(1)?));
+        match row {
+            Some(row) => format!(
+                "{}:{row} (step {step} of the scenario from line {})",
+                self.file.display(),
+                self.line
+            ),
+            None => format!("{self} step {step}"),
+        }
+    }
 }
 
 impl fmt::Display for Origin {
@@ -102,7 +121,7 @@ pub enum ScenarioError {
 
 /// Two scenarios that answer the same input history differently.
 #[derive(Debug, thiserror::Error)]
-#[error("contradictory scenarios: {first} step {first_step} {first_says}, but {second} step {second_step} {second_says} after the same input history")]
+#[error("contradictory scenarios: {} {first_says}, but {} {second_says} after the same input history", first.step(*first_step), second.step(*second_step))]
 pub struct Contradiction {
     pub first: Origin,
     pub first_step: usize,

@@ -36,6 +36,8 @@ pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Ste
 #[derive(Debug, Clone)]
 pub struct StepStream {
     pending: Option<Sample>,
+    /// The tag (a line) given with the pending sample.
+    pending_tag: usize,
     /// Outputs of the last emitted element (initially the initial outputs): a step is active
     /// when its outputs differ from these.
     prev: Vec<bool>,
@@ -46,12 +48,19 @@ impl StepStream {
     pub fn new(initial_outputs: Vec<bool>) -> StepStream {
         StepStream {
             pending: None,
+            pending_tag: 0,
             prev: initial_outputs,
         }
     }
 
     /// Takes the next sample; returns a step that became final, if any.
     pub fn push(&mut self, sample: Sample) -> Option<Step> {
+        self.push_tagged(sample, 0).map(|(step, _)| step)
+    }
+
+    /// [`StepStream::push`] of a sample with a tag (its line), returned with the step the
+    /// sample became: the first of repeated samples, the last of skewed ones.
+    pub fn push_tagged(&mut self, sample: Sample, tag: usize) -> Option<(Step, usize)> {
         match &self.pending {
             // Rule 1: a repeated sample adds nothing.
             Some(p) if *p == sample => None,
@@ -59,15 +68,25 @@ impl StepStream {
             // change that made the pending element, so the pending one is dropped.
             Some(p) if p.inputs == sample.inputs => {
                 self.pending = Some(sample);
+                self.pending_tag = tag;
                 None
             }
-            _ => self.pending.replace(sample).map(|e| self.emit(e)),
+            _ => {
+                let before = std::mem::replace(&mut self.pending_tag, tag);
+                (self.pending.replace(sample)).map(|e| (self.emit(e), before))
+            }
         }
     }
 
     /// Ends the trace; returns the last step, if any.
     pub fn finish(&mut self) -> Option<Step> {
-        self.pending.take().map(|e| self.emit(e))
+        self.finish_tagged().map(|(step, _)| step)
+    }
+
+    /// [`StepStream::finish`] with the tag of the last step.
+    pub fn finish_tagged(&mut self) -> Option<(Step, usize)> {
+        let tag = self.pending_tag;
+        self.pending.take().map(|e| (self.emit(e), tag))
     }
 
     fn emit(&mut self, e: Sample) -> Step {
@@ -86,6 +105,23 @@ impl StepStream {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// A step keeps the line of the first of repeated samples and of the last of skewed ones.
+    #[test]
+    fn tags_follow_the_sample_each_step_came_from() {
+        let s = |i: bool, o: bool| Sample {
+            inputs: vec![i],
+            outputs: vec![o],
+        };
+        let mut stream = StepStream::new(vec![false]);
+        let rows = [s(false, false), s(false, false), s(true, false), s(true, true)];
+        let mut tags: Vec<usize> = (rows.into_iter().zip(10..))
+            .filter_map(|(r, line)| stream.push_tagged(r, line))
+            .map(|(_, t)| t)
+            .collect();
+        tags.extend(stream.finish_tagged().map(|(_, t)| t));
+        assert_eq!(tags, [10, 13]);
+    }
 
     fn convert(samples: &[Sample], initial: &[bool]) -> Vec<Step> {
         samples_to_steps(samples, initial)

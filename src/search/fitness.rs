@@ -419,6 +419,7 @@ mod tests {
                 origin: Origin {
                     file: "t".into(),
                     line: 1,
+                    rows: None,
                 },
                 steps,
             }],

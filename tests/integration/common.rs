@@ -30,6 +30,7 @@ pub fn record(ecc: &Ecc, seed: u64, runs: usize, len: usize) -> ScenarioSet {
                 origin: Origin {
                     file: PathBuf::from("random"),
                     line: r + 2,
+                    rows: None,
                 },
                 steps,
             }

@@ -49,6 +49,7 @@ fn idle_recording() -> ScenarioSet {
             origin: Origin {
                 file: "idle".into(),
                 line: 1,
+                rows: None,
             },
             steps: vec![
                 Step {

@@ -24,6 +24,7 @@ pub(crate) fn record(m: &Modular, runs: &[Vec<Vec<bool>>]) -> ScenarioSet {
                 origin: Origin {
                     file: "recorded".into(),
                     line: i + 1,
+                    rows: None,
                 },
                 steps,
             }
@@ -168,6 +169,7 @@ fn active_step_without_change_is_reproduced() {
             origin: Origin {
                 file: "t".into(),
                 line: 1,
+                rows: None,
             },
             steps: vec![
                 Step {
