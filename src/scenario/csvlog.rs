@@ -79,7 +79,9 @@ pub fn parse(
         classify(&header, input_names, output_names).map_err(|m| err(hline, m))?;
 
     // Samples grouped by the scenario column.
-    let mut groups: Vec<(usize, String, Vec<(Sample, usize)>)> = Vec::new();
+    // Per scenario: its first line, its id, and its samples with their lines.
+    type Group = (usize, String, Vec<(Sample, usize)>);
+    let mut groups: Vec<Group> = Vec::new();
     while let Some((line_no, cells)) = records.next_record().map_err(read)? {
         if cells.len() != columns.len() {
             return Err(err(
