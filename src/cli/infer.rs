@@ -143,18 +143,23 @@ fn publish(results: ResultSet, staged: &[PathBuf]) -> Result<Vec<PathBuf>, Failu
     Ok(files)
 }
 
+/// Said when exact synthesis fails on a contradiction, or climbs to
+/// [`GLITCH_HINT_STATES`] states.
+const NOISY_HINT: &str = "hint: if the recording has scan-cycle glitches (outputs logged a scan early or late), `synth infer --noisy --max-errors N` corrects up to N samples";
+
+/// The number of states from which exact synthesis hints at `--noisy`: more than the
+/// controllers of the shipped cases need (at most 9), and where each further C starts to take
+/// long.
+const GLITCH_HINT_STATES: usize = 10;
+
 /// A contradiction in recordings read as exact: most often a scan-cycle glitch of the logger,
 /// which `--noisy` corrects, so the message says so.
 fn suggest_noisy(e: pipeline::Error) -> Failure {
     use fbsynth::scenario::ScenarioError;
     match e {
-        pipeline::Error::Scenario(ScenarioError::Contradiction(_)) => Failure::msg(
-            exit::INPUT,
-            format!(
-                "{e}\nhint: if the recording has scan-cycle glitches (outputs logged a scan early \
-                 or late), `synth infer --noisy --max-errors N` corrects up to N samples"
-            ),
-        ),
+        pipeline::Error::Scenario(ScenarioError::Contradiction(_)) => {
+            Failure::msg(exit::INPUT, format!("{e}\n{NOISY_HINT}"))
+        }
         e => e.into(),
     }
 }
@@ -190,9 +195,25 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         },
         ..exact::Options::default()
     };
-    let result = exact::run(&set, None, &opts, &mut |e| progress.event(e))
-        .map_err(suggest_noisy)?
-        .synthesis;
+    let mut hinted = false;
+    let result = exact::run(&set, None, &opts, &mut |e| {
+        let c = match &e {
+            pipeline::Event::Solver(fbsynth::sat::Step::TryingStates { c, .. }) => Some(*c),
+            pipeline::Event::Solver(fbsynth::sat::Step::Trying {
+                bound: fbsynth::sat::Bound::C,
+                value,
+            }) => Some(*value),
+            _ => None,
+        };
+        progress.event(e);
+        // Glitches in a log read as exact each cost states: a climb this high is the sign.
+        if c.is_some_and(|c| c >= GLITCH_HINT_STATES) && !hinted {
+            hinted = true;
+            progress.line(NOISY_HINT);
+        }
+    })
+    .map_err(suggest_noisy)?
+    .synthesis;
     let s = result.size;
     out!(
         "C = {}  K = {}  T = {}  N = {}{}",

@@ -114,7 +114,12 @@ mod tests {
             outputs: vec![o],
         };
         let mut stream = StepStream::new(vec![false]);
-        let rows = [s(false, false), s(false, false), s(true, false), s(true, true)];
+        let rows = [
+            s(false, false),
+            s(false, false),
+            s(true, false),
+            s(true, true),
+        ];
         let mut tags: Vec<usize> = (rows.into_iter().zip(10..))
             .filter_map(|(r, line)| stream.push_tagged(r, line))
             .map(|(_, t)| t)

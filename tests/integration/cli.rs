@@ -1165,3 +1165,33 @@ fn too_few_errors_allowed_says_raise_max_errors() {
         "{stderr}"
     );
 }
+
+/// A glitchy log read as exact makes the number of states climb; from 10 states on, exact
+/// synthesis says that `--noisy` may be what the log needs (issue 12, guidance).
+#[test]
+fn a_climbing_number_of_states_suggests_noisy_synthesis() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--max-states",
+        "10",
+        "--traces",
+        "specs/distribution_noisy.csv",
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{stderr}");
+    let hint = stderr
+        .lines()
+        .position(|l| l.contains("] hint: if the recording has scan-cycle glitches"))
+        .expect("a hint");
+    assert!(
+        stderr
+            .lines()
+            .nth(hint - 1)
+            .unwrap()
+            .contains("trying C = 10"),
+        "{stderr}"
+    );
+}
