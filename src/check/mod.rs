@@ -21,9 +21,9 @@
 //! # Method
 //! The reachable closed loop is built once per [`check`] call (at most
 //! [`Limits::max_states`] states) and shared by the properties. Per property `φ`, `¬φ` becomes
-//! a generalized Büchi automaton ([`gba`], the tableau of Gerth, Peled, Vardi and Wolper); the
+//! a generalized Büchi automaton (`gba`, the tableau of Gerth, Peled, Vardi and Wolper); the
 //! product with the closed loop is explored on the fly and searched for a cycle through every
-//! acceptance set and every fairness condition ([`emptiness`], Couvreur's algorithm). Such a
+//! acceptance set and every fairness condition (`emptiness`, Couvreur's algorithm). Such a
 //! cycle is a run violating `φ`.
 
 mod emptiness;

@@ -5,7 +5,7 @@
 //! In: the text of a plant file (`MODULE plant(params)` and nothing else). Out: a [`Model`],
 //! or a [`ModelError`] naming the file, line and construct that is outside the subset.
 //! [`explicit`] runs a model (initial states, successors, evaluation errors with their line);
-//! [`print`] writes it back as SMV text with the same meaning.
+//! [`print`](mod@print) writes it back as SMV text with the same meaning.
 //!
 //! # The subset
 //! - `VAR` / `IVAR` of type `boolean`, `lo..hi` or `{a, b, ...}` (symbolic constants or
