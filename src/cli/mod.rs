@@ -26,6 +26,7 @@ macro_rules! out_raw {
 mod args;
 mod bench;
 mod conform;
+mod diff;
 mod events;
 mod experiment;
 mod generate;
@@ -105,6 +106,9 @@ pub enum Command {
     Conform(conform::ConformArgs),
     /// Replay scenarios on a machine (JSON) and report the first step it does not reproduce.
     Replay(infer::ReplayArgs),
+    /// Compare two machines (JSON): "equivalent", or the shortest input sequence on which
+    /// they answer differently (exit 1).
+    Diff(diff::DiffArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -195,6 +199,7 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
+        Some(Command::Diff(a)) => diff::diff(&a),
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),

@@ -15,6 +15,7 @@
 //! Numbering: states, inputs and outputs are 0-based everywhere inside the crate. Exports name
 //! states `s0..s{C-1}` (the `.fbt` export calls state 0 `START`, as 4diac expects).
 
+pub mod diff;
 pub mod guard;
 pub mod ident;
 pub mod modular;

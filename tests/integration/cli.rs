@@ -1195,3 +1195,62 @@ fn a_climbing_number_of_states_suggests_noisy_synthesis() {
         "{stderr}"
     );
 }
+
+/// `synth diff`: a machine and a renumbered copy are equivalent; a copy with one transition
+/// led elsewhere differs on a sequence the command prints (issue 15).
+#[test]
+fn diff_tells_a_renumbered_copy_from_a_changed_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = "specs/distribution_reference.json";
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(reference).unwrap()).unwrap();
+    let c = doc["states"].as_array().unwrap().len();
+    // State i > 0 becomes state c - i; the initial state stays first.
+    let new = |i: u64| if i == 0 { 0 } else { c as u64 - i };
+    let mut renumbered = doc.clone();
+    let states = doc["states"].as_array().unwrap();
+    let mut reordered = states.clone();
+    for (i, s) in states.iter().enumerate() {
+        reordered[new(i as u64) as usize] = s.clone();
+    }
+    renumbered["states"] = reordered.into();
+    for t in renumbered["transitions"].as_array_mut().unwrap() {
+        for end in ["from", "to"] {
+            t[end] = new(t[end].as_u64().unwrap()).into();
+        }
+    }
+    let copy = dir.path().join("renumbered.json");
+    std::fs::write(&copy, renumbered.to_string()).unwrap();
+    let o = synth(&["diff", reference, copy.to_str().unwrap()]);
+    assert!(o.status.success(), "{}{}", text(&o.stdout), text(&o.stderr));
+    assert!(
+        text(&o.stdout).starts_with("equivalent: "),
+        "{}",
+        text(&o.stdout)
+    );
+
+    let mut changed = doc.clone();
+    let to = changed["transitions"][0]["to"].as_u64().unwrap();
+    changed["transitions"][0]["to"] = ((to + 1) % c as u64).into();
+    let other = dir.path().join("changed.json");
+    std::fs::write(&other, changed.to_string()).unwrap();
+    let o = synth(&["diff", reference, other.to_str().unwrap()]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{stdout}{}", text(&o.stderr));
+    assert!(stdout.starts_with("different: after "), "{stdout}");
+    // A sequence is printed, and two different answers to it (ecc::diff replays them).
+    let inputs: Vec<&str> = stdout
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("step "))
+        .map(|l| l.split_whitespace().nth(2).unwrap())
+        .collect();
+    assert!(!inputs.is_empty(), "{stdout}");
+    let answer = |machine: &str| {
+        stdout
+            .lines()
+            .find_map(|l| l.trim().strip_prefix(&format!("{machine} answers ")))
+            .unwrap()
+            .to_string()
+    };
+    assert_ne!(answer(reference), answer(other.to_str().unwrap()));
+}

@@ -1,0 +1,194 @@
+//! Whether two machines over one interface behave alike, and if not, the shortest input
+//! sequence that tells them apart.
+//!
+//! In: two [`Ecc`]s with the same inputs and outputs. Out: [`Difference`] (or `None` for
+//! equivalent machines): the inputs of each `REQ` from the initial states, and what each
+//! machine answers to the last one. Behaviour is what [`Run::step`] shows a recording: per
+//! `REQ`, `CNF` with the output values, or nothing.
+//!
+//! The search is breadth-first over pairs of configurations (state and output values of each
+//! machine), so the sequence found is a shortest one; every input vector is tried in each
+//! pair, which bounds the interface to [`MAX_INPUTS`] inputs.
+
+use super::sim::Run;
+use super::{Ecc, StateId};
+use std::collections::{HashMap, VecDeque};
+
+/// Inputs the search enumerates at most (2^16 input vectors per configuration pair).
+pub const MAX_INPUTS: usize = 16;
+
+/// Two machines that answer one input sequence differently.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Difference {
+    /// The input vector of each `REQ`, from the initial states.
+    pub inputs: Vec<Vec<bool>>,
+    /// What each machine answers to the last `REQ`: `CNF` outputs, or `None` for nothing.
+    pub first: Option<Vec<bool>>,
+    pub second: Option<Vec<bool>>,
+}
+
+/// Why two machines cannot be compared.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DiffError {
+    #[error("the machines have different interfaces: inputs [{0}] and [{1}]")]
+    Inputs(String, String),
+    #[error("the machines have different interfaces: outputs [{0}] and [{1}]")]
+    Outputs(String, String),
+    #[error("{0} inputs are too many to compare every input vector (at most {MAX_INPUTS})")]
+    TooManyInputs(usize),
+}
+
+/// One machine's configuration: state and output values.
+type Config = (StateId, Vec<bool>);
+
+/// The shortest input sequence on which `a` and `b` answer differently, or `None` when they
+/// are equivalent.
+pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
+    if a.inputs != b.inputs {
+        return Err(DiffError::Inputs(a.inputs.join(" "), b.inputs.join(" ")));
+    }
+    if a.outputs != b.outputs {
+        return Err(DiffError::Outputs(a.outputs.join(" "), b.outputs.join(" ")));
+    }
+    let n = a.inputs.len();
+    if n > MAX_INPUTS {
+        return Err(DiffError::TooManyInputs(n));
+    }
+    let vectors: Vec<Vec<bool>> = (0..1u32 << n)
+        .map(|v| (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect())
+        .collect();
+    let start: (Config, Config) = (
+        (StateId(0), a.initial_outputs.clone()),
+        (StateId(0), b.initial_outputs.clone()),
+    );
+    if a.initial_outputs != b.initial_outputs {
+        // Told apart before any REQ: the first CNF of either shows it, or the initial values
+        // themselves when both stay silent. Reported on the empty sequence.
+        return Ok(Some(Difference {
+            inputs: Vec::new(),
+            first: Some(a.initial_outputs.clone()),
+            second: Some(b.initial_outputs.clone()),
+        }));
+    }
+    // Each pair reached, with the pair and input vector it was reached from.
+    let mut parent: HashMap<(Config, Config), Option<((Config, Config), usize)>> = HashMap::new();
+    parent.insert(start.clone(), None);
+    let mut queue = VecDeque::from([start]);
+    while let Some(pair) = queue.pop_front() {
+        for (k, x) in vectors.iter().enumerate() {
+            let (mut ra, mut rb) = (run_at(a, &pair.0), run_at(b, &pair.1));
+            let oa = ra.step(x).map(|_| ra.outputs.clone());
+            let ob = rb.step(x).map(|_| rb.outputs.clone());
+            if oa != ob {
+                let mut inputs = vec![x.clone()];
+                let mut at = &pair;
+                while let Some(Some((before, v))) = parent.get(at) {
+                    inputs.push(vectors[*v].clone());
+                    at = before;
+                }
+                inputs.reverse();
+                return Ok(Some(Difference {
+                    inputs,
+                    first: oa,
+                    second: ob,
+                }));
+            }
+            let next = ((ra.state, ra.outputs), (rb.state, rb.outputs));
+            if !parent.contains_key(&next) {
+                parent.insert(next.clone(), Some((pair.clone(), k)));
+                queue.push_back(next);
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// A run of `ecc` resumed in configuration `c`.
+fn run_at<'a>(ecc: &'a Ecc, c: &Config) -> Run<'a> {
+    let mut run = Run::new(ecc);
+    run.state = c.0;
+    run.outputs.clone_from(&c.1);
+    run
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::random::random_ecc;
+    use crate::ecc::{replay, Reactive};
+
+    /// A copy of `ecc` with its states in another order (state 0 stays initial).
+    fn renumbered(ecc: &Ecc) -> Ecc {
+        let c = ecc.states.len();
+        // State i becomes state new[i]: 0 stays, the others reversed.
+        let new = |i: usize| if i == 0 { 0 } else { c - i };
+        let mut states = ecc.states.clone();
+        for (i, s) in ecc.states.iter().enumerate() {
+            let mut s = s.clone();
+            for t in &mut s.transitions {
+                t.target = StateId(new(t.target.0));
+            }
+            states[new(i)] = s;
+        }
+        Ecc {
+            states,
+            ..ecc.clone()
+        }
+    }
+
+    #[test]
+    fn a_machine_and_its_renumbered_copy_are_equivalent() {
+        for seed in 0..20 {
+            let ecc = random_ecc(seed, 5, 3, 2);
+            assert_eq!(difference(&ecc, &renumbered(&ecc)), Ok(None), "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn a_changed_target_is_found_and_the_sequence_shows_it() {
+        let mut found = 0;
+        for seed in 0..20 {
+            let a = random_ecc(seed, 5, 3, 2);
+            let mut b = a.clone();
+            let Some(t) = b.states.iter_mut().flat_map(|s| &mut s.transitions).next() else {
+                continue;
+            };
+            t.target = StateId((t.target.0 + 1) % a.states.len());
+            let Some(d) = difference(&a, &b).unwrap() else {
+                // A changed target may lead to a state that behaves the same.
+                continue;
+            };
+            found += 1;
+            // Replaying the sequence shows exactly the reported answers.
+            let answers = |m: &Ecc| {
+                let mut run = Run::new(m);
+                let mut last = None;
+                for x in &d.inputs {
+                    last = run.react(x).map(<[bool]>::to_vec);
+                }
+                last
+            };
+            assert_eq!(answers(&a), d.first, "seed {seed}");
+            assert_eq!(answers(&b), d.second, "seed {seed}");
+            assert_ne!(d.first, d.second);
+            // Every shorter prefix is answered alike.
+            let steps: Vec<(&[bool], Option<Vec<bool>>)> = {
+                let mut run = Run::new(&a);
+                (d.inputs.iter())
+                    .map(|x| (x.as_slice(), run.react(x).map(<[bool]>::to_vec)))
+                    .collect()
+            };
+            let prefix = &steps[..steps.len() - 1];
+            assert!(replay(&b, prefix.iter().map(|(x, o)| (*x, o.as_deref()))).is_ok());
+        }
+        assert!(found >= 10, "only {found} of 20 changes were visible");
+    }
+
+    #[test]
+    fn other_interfaces_are_refused() {
+        let a = random_ecc(1, 3, 3, 2);
+        let mut b = a.clone();
+        b.inputs[0] = "other".into();
+        assert!(matches!(difference(&a, &b), Err(DiffError::Inputs(..))));
+    }
+}
