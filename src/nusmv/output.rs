@@ -416,6 +416,27 @@ mod tests {
         assert_eq!(results[0].verdict_line, "-- specification  G x  is false");
     }
 
+    /// Output cut off after any line (NuSMV killed, a pipe closed) still parses: the last
+    /// line needs no line break.
+    #[test]
+    fn output_may_end_without_a_line_break_after_any_line() {
+        let text = "-- specification  G x  is false\n\
+                    -- as demonstrated by the following execution sequence\n\
+                    Trace Type: Counterexample \n\
+                    -> State: 1.1 <-\n  x = FALSE\n-> Input: 1.2 <-\n  i = TRUE\n\
+                    -- Loop starts here\n-> State: 1.2 <-\n  x = TRUE\n";
+        let lines: Vec<&str> = text.split_inclusive('\n').collect();
+        for k in 1..=lines.len() {
+            let cut = lines[..k].concat();
+            let cut = cut.strip_suffix('\n').unwrap();
+            match parse_output(cut) {
+                Ok(results) => assert_eq!(results.len(), 1, "{cut:?}"),
+                // Cut between an input section or a loop marker and its state.
+                Err(e) => assert!(matches!(k, 6..=8) && e.line <= k, "{cut:?}: {e}"),
+            }
+        }
+    }
+
     #[test]
     fn unknown_lines_are_errors_with_their_position() {
         let text = "-- specification  G x  is true\nsomething else\n";
