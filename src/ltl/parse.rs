@@ -507,7 +507,16 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
     pos = pos.min(code.len());
     let positives = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => positives.as_slice(),
-        pest::error::ErrorVariant::CustomError { .. } => &[],
+        // pest's own limits (its stack guard) are the only custom errors.
+        pest::error::ErrorVariant::CustomError { message } => {
+            return syntax(
+                pos,
+                format!(
+                    "the formula nests too deeply for the parser here ({message}); split it into \
+                     several properties"
+                ),
+            )
+        }
     };
     let operand_expected = positives.iter().any(|r| {
         matches!(
@@ -693,6 +702,29 @@ mod tests {
             .unwrap()
             .join()
             .unwrap();
+    }
+
+    /// pest stops at its stack guard rather than overflow; the message says so instead of
+    /// blaming a parenthesis, as it once did ("expected an operator ... found '('").
+    #[test]
+    fn parentheses_beyond_the_stack_are_refused_as_too_deep() {
+        let text = format!("G {}a{}\n", "(".repeat(998), ")".repeat(998));
+        let e = std::thread::Builder::new()
+            .stack_size(128 << 10)
+            .spawn(move || parse(&text).unwrap_err().to_string())
+            .unwrap()
+            .join()
+            .unwrap();
+        assert!(
+            e.contains("nests too deeply for the parser here (stack limit reached)"),
+            "{}",
+            crate::quote::cut(&e)
+        );
+        assert!(
+            e.starts_with("specs/pnp.ltl:1:"),
+            "{}",
+            crate::quote::cut(&e)
+        );
     }
 
     fn error(text: &str) -> String {
