@@ -550,7 +550,10 @@ fn a_huge_integer_is_quoted_cut() {
     ] {
         let e = error(&text);
         assert!(e.len() < 200, "{}", &e[..200]);
-        assert!(e.contains("(100000 characters) is out of NuSMV's range"), "{e}");
+        assert!(
+            e.contains("(100000 characters) is out of NuSMV's range"),
+            "{e}"
+        );
     }
 }
 
