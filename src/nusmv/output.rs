@@ -437,6 +437,20 @@ mod tests {
         }
     }
 
+    /// A long run of blanks in a verdict line is read in linear time: looking ahead from each
+    /// blank for the `is true` that ends the line took 4 s for 40,000 blanks (debug build),
+    /// and would take hours for a megabyte.
+    #[test]
+    fn blanks_in_a_verdict_line_take_linear_time() {
+        let blanks = " ".repeat(200_000);
+        let text = format!("-- specification  G (x{blanks}| y)  is true\n");
+        let t = std::time::Instant::now();
+        let results = parse_output(&text).unwrap();
+        assert!(t.elapsed().as_secs_f64() < 5.0, "{:?}", t.elapsed());
+        assert_eq!(results[0].formula, format!("G (x{blanks}| y)"));
+        assert_eq!(results[0].verdict, Verdict::Holds);
+    }
+
     #[test]
     fn unknown_lines_are_errors_with_their_position() {
         let text = "-- specification  G x  is true\nsomething else\n";
