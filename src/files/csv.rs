@@ -3,12 +3,12 @@
 //! In: a byte stream (a file, possibly gunzipped by [`super::open_input`], or text in memory)
 //! and its delimiter. Out: records of trimmed cells, each with the line it starts on, and the
 //! Boolean values the cells hold ([`parse_bool`]). Quoting follows RFC 4180 (the `csv` crate);
-//! a UTF-8 byte order mark before the first record is dropped (by `csv_core`; a file has lost
-//! it already in [`super::open_input`]); blank lines, even ones holding only spaces, are
-//! skipped. A record longer than [`MAX_LINE_BYTES`] is an error naming its line, found after
-//! reading at most that much of it.
+//! a UTF-8 byte order mark at the start of a record is dropped (by `csv_core`; a file has lost
+//! the one at its start already in [`super::open_input`]); blank lines, even ones holding only
+//! spaces or a byte order mark, are skipped. A record longer than [`MAX_LINE_BYTES`] is an
+//! error naming its line, found after reading at most that much of it.
 
-use super::{read_line, LineRead, ReadError, MAX_LINE_BYTES};
+use super::{read_line, LineRead, ReadError, MAX_LINE_BYTES, UTF8_BOM};
 use std::io::BufRead;
 
 /// Reads records one at a time; see the module header.
@@ -66,7 +66,10 @@ impl<R: BufRead> Records<R> {
                 }
                 open ^= odd_quotes(&self.text[seen..]);
             }
-            if self.text.trim_ascii().is_empty() {
+            // csv_core drops a byte order mark at the start of every record (it is reset for
+            // each): a line that holds nothing else is blank too.
+            let content = self.text.strip_prefix(UTF8_BOM).unwrap_or(&self.text);
+            if content.trim_ascii().is_empty() {
                 continue;
             }
             self.split();
@@ -222,6 +225,22 @@ mod tests {
             ]
         );
         assert!(read("", b',').is_empty());
+    }
+
+    /// csv_core drops a byte order mark at the start of every record; a line that held only
+    /// one (and blanks) is blank, not a record without cells, which a log's header row once
+    /// was: reading its first cell panicked.
+    #[test]
+    fn a_line_of_only_a_byte_order_mark_is_blank() {
+        let text = "\n\u{feff}\n\u{feff}  \r\na,\u{feff}b\n\u{feff}c\n";
+        assert_eq!(
+            read(text, b','),
+            [
+                (4, vec!["a".to_string(), "\u{feff}b".into()]),
+                (5, vec!["c".to_string()]),
+            ]
+        );
+        assert!(read("\u{feff}", b',').is_empty());
     }
 
     /// The error of the first record that is not read, as text (`None` when every record of

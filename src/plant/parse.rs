@@ -454,7 +454,8 @@ fn integer(src: &Source, pair: &Pair<Rule>) -> Result<i64, ModelError> {
         _ => Err(src.error(
             pair.as_span().start(),
             format!(
-                "integer {text} is out of NuSMV's range (at most {} in absolute value)",
+                "integer {} is out of NuSMV's range (at most {} in absolute value)",
+                cut(text),
                 i32::MAX
             ),
         )),

@@ -14,5 +14,6 @@ mod modes;
 mod modular;
 mod noisy;
 mod pipeline;
+mod robustness;
 mod synthesis;
 mod tank;

@@ -540,6 +540,23 @@ fn huge_expressions_are_refused_not_a_crash() {
     }
 }
 
+/// An integer of any length is quoted cut, like every token of the file.
+#[test]
+fn a_huge_integer_is_quoted_cut() {
+    let digits = "1".repeat(100_000);
+    for text in [
+        format!("MODULE plant\nVAR x : 0..{digits};"),
+        format!("MODULE plant\nVAR x : boolean;\nINIT x = {digits}"),
+    ] {
+        let e = error(&text);
+        assert!(e.len() < 200, "{}", &e[..200]);
+        assert!(
+            e.contains("(100000 characters) is out of NuSMV's range"),
+            "{e}"
+        );
+    }
+}
+
 /// The deepest expressions the limits let through are resolved (and their constants checked)
 /// within half the stack of a test thread.
 #[test]
