@@ -41,6 +41,9 @@ pub enum DiffError {
 /// One machine's configuration: state and output values.
 type Config = (StateId, Vec<bool>);
 
+/// A configuration pair reached, and the pair and input vector (index) it was reached from.
+type Parents = HashMap<(Config, Config), Option<((Config, Config), usize)>>;
+
 /// The shortest input sequence on which `a` and `b` answer differently, or `None` when they
 /// are equivalent.
 pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
@@ -70,8 +73,7 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
             second: Some(b.initial_outputs.clone()),
         }));
     }
-    // Each pair reached, with the pair and input vector it was reached from.
-    let mut parent: HashMap<(Config, Config), Option<((Config, Config), usize)>> = HashMap::new();
+    let mut parent = Parents::new();
     parent.insert(start.clone(), None);
     let mut queue = VecDeque::from([start]);
     while let Some(pair) = queue.pop_front() {
