@@ -2,7 +2,7 @@
 
 use super::{exit, Failure};
 use fbsynth::ecc::bits_to_string;
-use fbsynth::ecc::diff::difference;
+use fbsynth::ecc::diff::{difference, structure, Structure};
 use fbsynth::pipeline::recordings::read_ecc;
 use std::path::PathBuf;
 
@@ -17,17 +17,20 @@ pub struct DiffArgs {
 }
 
 /// `synth diff A.json B.json`: "equivalent" (exit 0), or the shortest input sequence from the
-/// initial states on which they answer differently, step by step (exit 1).
+/// initial states on which they answer differently, step by step (exit 1); then the states
+/// matched up and what differs between matched states.
 pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
     let a = read_ecc(&args.first)?;
     let b = read_ecc(&args.second)?;
     let found = difference(&a, &b).map_err(|e| Failure::msg(exit::INPUT, e.to_string()))?;
+    let matched = structure(&a, &b).map_err(|e| Failure::msg(exit::INPUT, e.to_string()))?;
     let Some(d) = found else {
         out!(
             "equivalent: {} and {} answer every input sequence alike",
             args.first.display(),
             args.second.display()
         );
+        print_structure(&matched);
         return Ok(());
     };
     let answer = |o: &Option<Vec<bool>>| match o {
@@ -55,5 +58,44 @@ pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
     }
     out!("  {} answers {}", args.first.display(), answer(&d.first));
     out!("  {} answers {}", args.second.display(), answer(&d.second));
+    print_structure(&matched);
     Err(Failure::msg(exit::INPUT, "the machines differ"))
+}
+
+/// The states matched up (first machine's state ~ second's), then every change per pair.
+fn print_structure(s: &Structure) {
+    let pairs: Vec<String> = (s.pairs.iter())
+        .map(|p| format!("{}~{}", p.first, p.second))
+        .collect();
+    let changed = s.pairs.iter().filter(|p| !p.changes.is_empty()).count();
+    out!(
+        "structure: {} state pair{} ({}); {}",
+        s.pairs.len(),
+        if s.pairs.len() == 1 { "" } else { "s" },
+        pairs.join(" "),
+        match changed {
+            0 => "no change".to_string(),
+            n => format!("{n} with changes (first machine, then second):"),
+        }
+    );
+    for p in s.pairs.iter().filter(|p| !p.changes.is_empty()) {
+        for c in &p.changes {
+            out!("  {}~{}: {c}", p.first, p.second);
+        }
+    }
+    let list = |v: &[fbsynth::ecc::StateId]| {
+        v.iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    if !s.unmatched_first.is_empty() {
+        out!("  only in the first machine: {}", list(&s.unmatched_first));
+    }
+    if !s.unmatched_second.is_empty() {
+        out!(
+            "  only in the second machine: {}",
+            list(&s.unmatched_second)
+        );
+    }
 }

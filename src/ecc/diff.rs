@@ -38,6 +38,20 @@ pub enum DiffError {
     TooManyInputs(usize),
 }
 
+/// Refuses machines over other interfaces, or too many inputs to enumerate.
+fn difference_interface(a: &Ecc, b: &Ecc) -> Result<(), DiffError> {
+    if a.inputs != b.inputs {
+        return Err(DiffError::Inputs(a.inputs.join(" "), b.inputs.join(" ")));
+    }
+    if a.outputs != b.outputs {
+        return Err(DiffError::Outputs(a.outputs.join(" "), b.outputs.join(" ")));
+    }
+    match a.inputs.len() {
+        n if n > MAX_INPUTS => Err(DiffError::TooManyInputs(n)),
+        _ => Ok(()),
+    }
+}
+
 /// One machine's configuration: state and output values.
 type Config = (StateId, Vec<bool>);
 
@@ -47,16 +61,8 @@ type Parents = HashMap<(Config, Config), Option<((Config, Config), usize)>>;
 /// The shortest input sequence on which `a` and `b` answer differently, or `None` when they
 /// are equivalent.
 pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
-    if a.inputs != b.inputs {
-        return Err(DiffError::Inputs(a.inputs.join(" "), b.inputs.join(" ")));
-    }
-    if a.outputs != b.outputs {
-        return Err(DiffError::Outputs(a.outputs.join(" "), b.outputs.join(" ")));
-    }
+    difference_interface(a, b)?;
     let n = a.inputs.len();
-    if n > MAX_INPUTS {
-        return Err(DiffError::TooManyInputs(n));
-    }
     let vectors: Vec<Vec<bool>> = (0..1u32 << n)
         .map(|v| (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect())
         .collect();
@@ -103,6 +109,118 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
         }
     }
     Ok(None)
+}
+
+/// Two states put side by side by [`structure`], with what differs between them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StatePair {
+    pub first: StateId,
+    pub second: StateId,
+    /// One line per difference (algorithm, transitions by priority), empty when alike.
+    pub changes: Vec<String>,
+}
+
+/// The states of two machines matched up, for reviewing one against the other.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Structure {
+    /// Matched states, in the order the matching reached them.
+    pub pairs: Vec<StatePair>,
+    /// States of either machine that no state of the other was matched to.
+    pub unmatched_first: Vec<StateId>,
+    pub unmatched_second: Vec<StateId>,
+}
+
+/// Matches the states of `a` and `b` (same interface, checked by [`difference`]): the initial
+/// states, then, breadth-first, the states both machines enter on one input vector from a
+/// matched pair, then those their transitions of equal priority lead to, each state at its
+/// first match. A transition is compared by its priority,
+/// its guard and its target seen through the matching.
+pub fn structure(a: &Ecc, b: &Ecc) -> Result<Structure, DiffError> {
+    difference_interface(a, b)?;
+    let n = a.inputs.len();
+    let mut to_second: Vec<Option<StateId>> = vec![None; a.states.len()];
+    let mut to_first: Vec<Option<StateId>> = vec![None; b.states.len()];
+    let mut order = vec![(StateId(0), StateId(0))];
+    to_second[0] = Some(StateId(0));
+    to_first[0] = Some(StateId(0));
+    let mut candidates = Vec::new();
+    let mut k = 0;
+    while k < order.len() {
+        let (sa, sb) = order[k];
+        k += 1;
+        for v in 0..1u32 << n {
+            let x: Vec<bool> = (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect();
+            let fire = |e: &Ecc, s: StateId| {
+                (e.states[s.0].transitions.iter())
+                    .find(|t| t.guard.eval(&x))
+                    .map(|t| t.target)
+            };
+            if let (Some(ta), Some(tb)) = (fire(a, sa), fire(b, sb)) {
+                candidates.push((ta, tb));
+            }
+        }
+        // Then transitions of equal priority, which also reach the targets of transitions
+        // that never fire (a guard covered by the ones before it).
+        let (xa, xb) = (&a.states[sa.0].transitions, &b.states[sb.0].transitions);
+        candidates.extend(xa.iter().zip(xb).map(|(ta, tb)| (ta.target, tb.target)));
+        for (ta, tb) in candidates.drain(..) {
+            if to_second[ta.0].is_none() && to_first[tb.0].is_none() {
+                to_second[ta.0] = Some(tb);
+                to_first[tb.0] = Some(ta);
+                order.push((ta, tb));
+            }
+        }
+    }
+    let name = |s: Option<StateId>| s.map_or("an unmatched state".to_string(), |s| s.to_string());
+    let pairs = order
+        .iter()
+        .map(|&(sa, sb)| {
+            let (x, y) = (a.state(sa), b.state(sb));
+            let mut changes = Vec::new();
+            if x.algorithm != y.algorithm {
+                changes.push(format!(
+                    "algorithm {} became {}",
+                    x.algorithm.to_strings().join("/"),
+                    y.algorithm.to_strings().join("/")
+                ));
+            }
+            let shown = |t: Option<&super::Transition>, e: &Ecc, target: Option<StateId>| {
+                t.map(|t| format!("{} -> {}", t.guard.display(&e.inputs), name(target)))
+            };
+            for i in 0..x.transitions.len().max(y.transitions.len()) {
+                let ta = x.transitions.get(i);
+                let tb = y.transitions.get(i);
+                // A's transition written in B's numbering, to compare like with like.
+                let left = shown(ta, a, ta.and_then(|t| to_second[t.target.0]));
+                let right = shown(tb, b, tb.map(|t| t.target));
+                if left != right {
+                    let quoted = |t: Option<String>| t.map_or("none".into(), |t| format!("`{t}`"));
+                    changes.push(format!(
+                        "transition {}: {} became {}",
+                        i + 1,
+                        quoted(left),
+                        quoted(right)
+                    ));
+                }
+            }
+            StatePair {
+                first: sa,
+                second: sb,
+                changes,
+            }
+        })
+        .collect();
+    let unmatched = |m: &[Option<StateId>]| {
+        (0..m.len())
+            .filter(|&i| m[i].is_none())
+            .map(StateId)
+            .collect()
+    };
+    Ok(Structure {
+        pairs,
+        unmatched_first: unmatched(&to_second),
+        unmatched_second: unmatched(&to_first),
+    })
 }
 
 /// A run of `ecc` resumed in configuration `c`.
@@ -184,6 +302,41 @@ mod tests {
             assert!(replay(&b, prefix.iter().map(|(x, o)| (*x, o.as_deref()))).is_ok());
         }
         assert!(found >= 10, "only {found} of 20 changes were visible");
+    }
+
+    #[test]
+    fn a_renumbered_copy_matches_state_for_state_without_change() {
+        for seed in 0..20 {
+            let ecc = random_ecc(seed, 5, 3, 2);
+            let s = structure(&ecc, &renumbered(&ecc)).unwrap();
+            assert!(
+                s.pairs.iter().all(|p| p.changes.is_empty()),
+                "seed {seed}: {s:?}"
+            );
+            let c = ecc.states.len();
+            for p in &s.pairs {
+                let expected = if p.first.0 == 0 { 0 } else { c - p.first.0 };
+                assert_eq!(p.second.0, expected, "seed {seed}");
+            }
+            assert_eq!(s.unmatched_first.len(), s.unmatched_second.len());
+        }
+    }
+
+    #[test]
+    fn a_changed_target_is_one_change_of_its_state() {
+        let a = random_ecc(3, 4, 2, 1);
+        let mut b = a.clone();
+        let (state, index) = (0..b.states.len())
+            .find_map(|s| (!b.states[s].transitions.is_empty()).then_some((s, 0)))
+            .unwrap();
+        let t = &mut b.states[state].transitions[index];
+        t.target = StateId((t.target.0 + 1) % a.states.len());
+        let s = structure(&a, &b).unwrap();
+        let changed: Vec<&StatePair> = s.pairs.iter().filter(|p| !p.changes.is_empty()).collect();
+        assert!(!changed.is_empty(), "{s:?}");
+        assert!(changed.iter().any(
+            |p| p.first.0 == state && p.changes.iter().any(|c| c.starts_with("transition 1: "))
+        ));
     }
 
     #[test]

@@ -1253,4 +1253,7 @@ fn diff_tells_a_renumbered_copy_from_a_changed_machine() {
             .to_string()
     };
     assert_ne!(answer(reference), answer(other.to_str().unwrap()));
+    // The structure shows the one transition led elsewhere.
+    assert!(stdout.contains("1 with changes"), "{stdout}");
+    assert!(stdout.contains(": transition 1: `"), "{stdout}");
 }
