@@ -1114,20 +1114,22 @@ fn export_name_errors_name_the_names_file_and_line() {
 #[test]
 fn a_contradiction_suggests_noisy_synthesis() {
     let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("glitch.csv");
-    std::fs::write(&log, "scenario,in:a,out:z\n1,0,0\n1,1,1\n2,0,0\n2,1,0\n").unwrap();
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--traces",
-        log.to_str().unwrap(),
-        "--out",
-        dir.path().join("out").to_str().unwrap(),
-    ]);
+    let (log, o) = infer_glitchy_log(dir.path(), &[]);
     let stderr = text(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
+    // Both samples by their CSV rows.
+    let at = |row: usize, first: usize| {
+        format!(
+            "{}:{row} (step 2 of the scenario from line {first})",
+            log.display()
+        )
+    };
     assert!(
-        stderr.starts_with("error: contradictory scenarios: "),
+        stderr.starts_with(&format!(
+            "error: contradictory scenarios: {} answers inputs 1 with CNF[1], but {} ignores",
+            at(3, 2),
+            at(5, 4)
+        )),
         "{stderr}"
     );
     assert!(
@@ -1137,27 +1139,32 @@ fn a_contradiction_suggests_noisy_synthesis() {
     assert!(stderr.contains("--noisy --max-errors N"), "{stderr}");
 }
 
+/// `synth infer -q ARGS` of a CSV log, written into `dir`, whose two scenarios answer one
+/// input history differently; the log's path and the run.
+fn infer_glitchy_log(dir: &Path, args: &[&str]) -> (PathBuf, Output) {
+    let log = dir.join("glitch.csv");
+    std::fs::write(&log, "scenario,in:a,out:z\n1,0,0\n1,1,1\n2,0,0\n2,1,0\n").unwrap();
+    let out = dir.join("out");
+    let mut all = vec!["infer", "-q"];
+    all.extend_from_slice(args);
+    all.extend([
+        "--traces",
+        log.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let o = synth(&all);
+    (log, o)
+}
+
 /// Noisy synthesis that finds no machine within an error bound says to raise the bound, not
 /// only --max-states, which cannot help when uncorrected glitches contradict every machine
 /// (issue 12, guidance).
 #[test]
 fn too_few_errors_allowed_says_raise_max_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("glitch.csv");
-    std::fs::write(&log, "scenario,in:a,out:z\n1,0,0\n1,1,1\n2,0,0\n2,1,0\n").unwrap();
-    let o = synth(&[
-        "infer",
-        "-q",
-        "--noisy",
-        "--max-errors",
-        "0",
-        "--max-states",
-        "3",
-        "--traces",
-        log.to_str().unwrap(),
-        "--out",
-        dir.path().join("out").to_str().unwrap(),
-    ]);
+    let noisy = ["--noisy", "--max-errors", "0", "--max-states", "3"];
+    let (_, o) = infer_glitchy_log(dir.path(), &noisy);
     let stderr = text(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{stderr}");
     assert!(
