@@ -108,12 +108,6 @@ const SECTIONS: &[&str] = &[
     "FAIRNESS",
     "JUSTICE",
     "COMPASSION",
-    "SPEC",
-    "CTLSPEC",
-    "LTLSPEC",
-    "INVARSPEC",
-    "PSLSPEC",
-    "COMPUTE",
     "CONSTANTS",
     "ISA",
 ];
