@@ -273,6 +273,23 @@ fn not_integer(pos: usize, f: Ltl) -> Result<Ltl, LineError> {
     }
 }
 
+/// A level of the precedence climb: a formula of that level, or with one operand and no
+/// operator, just the level below.
+fn is_level(rule: Rule) -> bool {
+    matches!(
+        rule,
+        Rule::formula
+            | Rule::implies
+            | Rule::iff
+            | Rule::or
+            | Rule::and
+            | Rule::binary
+            | Rule::unary
+            | Rule::cmp
+            | Rule::primary
+    )
+}
+
 /// The node below `p` that does something: levels with one operand and no operator, and
 /// parentheses, only wrap it. Found in a loop, so that nested parentheses cost no stack:
 /// recursing through the nine levels of each one, the thousand the size limit lets through
@@ -283,20 +300,7 @@ fn innermost(mut p: Pair<Rule>) -> (Pair<Rule>, bool) {
     loop {
         let mut inner = p.clone().into_inner();
         let next = match (p.as_rule(), inner.next(), inner.next(), inner.next()) {
-            (
-                Rule::formula
-                | Rule::implies
-                | Rule::iff
-                | Rule::or
-                | Rule::and
-                | Rule::binary
-                | Rule::unary
-                | Rule::cmp
-                | Rule::primary,
-                Some(only),
-                None,
-                _,
-            ) => {
+            (rule, Some(only), None, _) if is_level(rule) => {
                 through_unary |= p.as_rule() == Rule::unary;
                 only
             }
@@ -519,23 +523,11 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
         }
     };
     let operand_expected = positives.iter().any(|r| {
-        matches!(
-            r,
-            Rule::formula
-                | Rule::implies
-                | Rule::iff
-                | Rule::or
-                | Rule::and
-                | Rule::binary
-                | Rule::unary
-                | Rule::cmp
-                | Rule::primary
-                | Rule::op_not
-                | Rule::op_unary
-                | Rule::name
-                | Rule::integer
-                | Rule::constant
-        )
+        is_level(*r)
+            || matches!(
+                r,
+                Rule::op_not | Rule::op_unary | Rule::name | Rule::integer | Rule::constant
+            )
     });
     let (prev_pos, prev) = token_before(code, pos);
     let found = token_at(code, pos);
