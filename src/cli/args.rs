@@ -144,6 +144,56 @@ pub fn per_state() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=64)
 }
 
+/// `--rivals`: 0 to 100 rival machines.
+pub fn rivals() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(0..=100)
+}
+
+/// `--ambiguity-depth`: 1 to 1000 steps.
+pub fn depth() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=1000)
+}
+
+/// The ambiguity check after exact synthesis (`synth infer`, `synth next-recording`).
+#[derive(Debug, clap::Args, Clone)]
+pub struct AmbiguityArgs {
+    /// Skip the check whether another machine with as many states fits the recordings.
+    #[arg(long)]
+    pub no_ambiguity: bool,
+    /// Rival machines to list at most (each answers some sequence differently from the
+    /// machine and from the rivals before it).
+    #[arg(long, default_value_t = 1, value_name = "N", value_parser = rivals())]
+    pub rivals: usize,
+    /// The longest distinguishing sequence looked for, in steps (default: the number
+    /// of states).
+    #[arg(long, value_name = "STEPS", value_parser = depth())]
+    pub ambiguity_depth: Option<usize>,
+    /// Seconds for each rival's search; past it the verdict is "unknown".
+    #[arg(long, default_value_t = 20.0, value_name = "SECONDS")]
+    pub ambiguity_budget: f64,
+    /// Distinguishing sequences over every input vector (at most 10 inputs), not only the
+    /// input combinations the recordings show.
+    #[arg(long)]
+    pub all_inputs: bool,
+}
+
+impl AmbiguityArgs {
+    /// The pipeline's options.
+    pub fn options(
+        &self,
+        algorithms: fbsynth::ecc::AlgorithmKind,
+    ) -> Result<fbsynth::pipeline::ambiguity::Options, super::Failure> {
+        Ok(fbsynth::pipeline::ambiguity::Options {
+            algorithms,
+            rivals: self.rivals,
+            depth: self.ambiguity_depth,
+            all_inputs: self.all_inputs,
+            polish: std::time::Duration::from_secs(1),
+            budget: fbsynth::pipeline::seconds("--ambiguity-budget", self.ambiguity_budget, false)?,
+        })
+    }
+}
+
 /// `--modules`: 1 to 64.
 pub fn modules() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=64)

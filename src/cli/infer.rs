@@ -1,7 +1,9 @@
 //! `synth infer` (exact, noisy or modular synthesis from recordings), `synth convert` and
 //! `synth replay`.
 
-use super::args::{optional_check, out_dir, parse_formats, AlgorithmsArg, NusmvArgs, TraceArgs};
+use super::args::{
+    optional_check, out_dir, parse_formats, AlgorithmsArg, AmbiguityArgs, NusmvArgs, TraceArgs,
+};
 use super::progress::Progress;
 use super::show::{describe_modules, print_written};
 use super::{exit, Failure};
@@ -61,6 +63,8 @@ pub struct InferArgs {
     pub slots: usize,
     #[command(flatten)]
     pub noisy: NoisyArgs,
+    #[command(flatten)]
+    pub ambiguity: AmbiguityArgs,
 }
 
 /// The options of `synth infer` that only `--noisy` reads.
@@ -234,8 +238,19 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
-    let staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
+    let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
+    if !args.ambiguity.no_ambiguity {
+        let (_, files) = super::ambiguity::report(
+            &set,
+            &result.ecc,
+            &args.ambiguity,
+            args.algorithms,
+            &progress,
+            results.staging(),
+        )?;
+        staged.extend(files);
+    }
     print_written(&publish(results, &staged)?);
     Ok(())
 }

@@ -23,6 +23,7 @@ macro_rules! out_raw {
     }};
 }
 
+mod ambiguity;
 mod args;
 mod bench;
 mod conform;
@@ -109,6 +110,9 @@ pub enum Command {
     /// Compare two machines (JSON): "equivalent", or the shortest input sequence on which
     /// they answer differently (exit 1).
     Diff(diff::DiffArgs),
+    /// What to record next: input sequences (from the initial state or a recorded prefix) on
+    /// which the machines that fit the recordings answer differently, as a plan.
+    NextRecording(ambiguity::NextRecordingArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -197,6 +201,7 @@ pub fn run() -> i32 {
     };
     let result = match cli.command {
         Some(Command::Infer(a)) => infer::infer(&a),
+        Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),

@@ -52,8 +52,7 @@ fn difference_interface(a: &Ecc, b: &Ecc) -> Result<(), DiffError> {
     }
 }
 
-/// One machine's configuration: state and output values.
-type Config = (StateId, Vec<bool>);
+type Config = Configuration;
 
 /// A configuration pair reached, and the pair and input vector (index) it was reached from.
 type Parents = HashMap<(Config, Config), Option<((Config, Config), usize)>>;
@@ -79,9 +78,31 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
             second: Some(b.initial_outputs.clone()),
         }));
     }
+    Ok(difference_from(a, b, &[start], &vectors).map(|(_, d)| d))
+}
+
+/// One machine's configuration: state and output values.
+pub type Configuration = (StateId, Vec<bool>);
+
+/// The shortest input sequence over `vectors` on which `a` and `b` answer differently, from
+/// any of the configuration pairs `starts`; with the index of the start it begins at (the
+/// earliest in `starts` among the shortest). `None` when no such sequence exists.
+pub fn difference_from(
+    a: &Ecc,
+    b: &Ecc,
+    starts: &[(Configuration, Configuration)],
+    vectors: &[Vec<bool>],
+) -> Option<(usize, Difference)> {
     let mut parent = Parents::new();
-    parent.insert(start.clone(), None);
-    let mut queue = VecDeque::from([start]);
+    let mut origin: HashMap<(Config, Config), usize> = HashMap::new();
+    let mut queue = VecDeque::new();
+    for (i, start) in starts.iter().enumerate() {
+        if !parent.contains_key(start) {
+            parent.insert(start.clone(), None);
+            origin.insert(start.clone(), i);
+            queue.push_back(start.clone());
+        }
+    }
     while let Some(pair) = queue.pop_front() {
         for (k, x) in vectors.iter().enumerate() {
             let (mut ra, mut rb) = (run_at(a, &pair.0), run_at(b, &pair.1));
@@ -95,11 +116,12 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
                     at = before;
                 }
                 inputs.reverse();
-                return Ok(Some(Difference {
+                let diff = Difference {
                     inputs,
                     first: oa,
                     second: ob,
-                }));
+                };
+                return Some((origin[at], diff));
             }
             let next = ((ra.state, ra.outputs), (rb.state, rb.outputs));
             if !parent.contains_key(&next) {
@@ -108,7 +130,7 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
             }
         }
     }
-    Ok(None)
+    None
 }
 
 /// Two states put side by side by [`structure`], with what differs between them.

@@ -15,6 +15,7 @@
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
 //! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
+//! | how far the recordings determine the machine: rivals and distinguishing sequences | [`ambiguity::check`] | [`ambiguity::Ambiguity`] |
 //! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
 //!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
@@ -26,6 +27,7 @@
 //! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,
 //! M modules.
 
+pub mod ambiguity;
 pub mod cegis;
 pub mod closed_loop;
 pub mod exact;

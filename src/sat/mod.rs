@@ -33,6 +33,7 @@
 //! - O. Bailleux, Y. Boufkhad. Efficient CNF encoding of Boolean cardinality constraints.
 //!   CP 2003 (the totalizer).
 
+pub mod ambiguity;
 pub mod basic;
 pub mod card;
 pub mod closed_loop;

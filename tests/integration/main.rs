@@ -5,6 +5,7 @@
 #[allow(dead_code)]
 mod cases;
 
+mod ambiguity;
 mod cli;
 mod closed_loop;
 mod common;

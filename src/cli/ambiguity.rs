@@ -1,0 +1,217 @@
+//! The ambiguity report of `synth infer` (unique or ambiguous, with rivals) and `synth
+//! next-recording` (what to record next so that the rivals found are told apart).
+
+use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
+use super::progress::Progress;
+use super::show::print_written;
+use super::{exit, Failure};
+use clap::Args;
+use fbsynth::ecc::{bits_to_string, Ecc};
+use fbsynth::export;
+use fbsynth::files::ResultSet;
+use fbsynth::pipeline::ambiguity::{self, Ambiguity, Verdict};
+use fbsynth::pipeline::{self, exact};
+use fbsynth::scenario::tree::ScenarioTree;
+use fbsynth::scenario::ScenarioSet;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Runs the check on `machine` (minimal for `set`), prints the verdict and every rival, and
+/// writes `rival<k>.json` and `ambiguity.txt` into `dir`; the files written.
+pub fn report(
+    set: &ScenarioSet,
+    machine: &Ecc,
+    args: &AmbiguityArgs,
+    algorithms: AlgorithmsArg,
+    progress: &Progress,
+    dir: &Path,
+) -> Result<(Ambiguity, Vec<PathBuf>), Failure> {
+    let tree = ScenarioTree::build(set).map_err(pipeline::Error::from)?;
+    progress.line(&format!(
+        "ambiguity: looking for up to {} other machines with {} states that fit the recordings",
+        args.rivals,
+        machine.states.len()
+    ));
+    let found = ambiguity::check(set, &tree, machine, &args.options(algorithms.into())?)?;
+    let text = describe(set, machine, &found);
+    out_raw!("{text}");
+    let mut files = Vec::new();
+    for (k, r) in found.rivals.iter().enumerate() {
+        let path = dir.join(format!("rival{}.json", k + 1));
+        fbsynth::files::write_atomic(&path, export::json::to_string(&r.ecc).as_bytes())
+            .map_err(Failure::input)?;
+        files.push(path);
+    }
+    let path = dir.join("ambiguity.txt");
+    fbsynth::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
+    files.push(path);
+    Ok((found, files))
+}
+
+/// The verdict and every rival with its sequence, as printed and written to `ambiguity.txt`.
+pub fn describe(set: &ScenarioSet, machine: &Ecc, a: &Ambiguity) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{}", a.summary());
+    if !a.rivals.is_empty() {
+        let _ = writeln!(
+            s,
+            "  inputs: {}; outputs: {}",
+            set.inputs.join(" "),
+            set.outputs.join(" ")
+        );
+    }
+    for (k, r) in a.rivals.iter().enumerate() {
+        let name = format!("rival {} (rival{}.json)", k + 1, k + 1);
+        let _ = writeln!(s, "  {name}: {}", r.ecc.size());
+        for line in r.describe(set, machine, &format!("rival {}", k + 1)) {
+            let _ = writeln!(s, "    {line}");
+        }
+    }
+    if a.verdict == Verdict::Ambiguous {
+        let _ = writeln!(
+            s,
+            "  to tell them apart, record the sequences above on the machine in service (`synth next-recording` writes them as a plan)"
+        );
+    }
+    s
+}
+
+#[derive(Debug, Args)]
+pub struct NextRecordingArgs {
+    #[command(flatten)]
+    pub traces: TraceArgs,
+    /// The machine inferred from the recordings (JSON, as `synth infer` wrote it); default:
+    /// infer it now.
+    #[arg(long, value_name = "FILE")]
+    pub ecc: Option<PathBuf>,
+    /// Form of the state output algorithms.
+    #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
+    pub algorithms: AlgorithmsArg,
+    #[command(flatten)]
+    pub ambiguity: AmbiguityArgs,
+    /// Output folder for `plan.csv`, `plan.txt`, the rivals and the machine they rival
+    /// (`machine.json`). Default: `out/<stem of the first trace file>-next`.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// No progress lines on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `synth next-recording`: the sequences that tell the rivals apart, as a plan.
+pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
+    let progress = Progress::new(args.quiet);
+    let recordings = args.traces.recordings();
+    let set = args.traces.load()?;
+    let out = super::args::out_dir(&args.out, &format!("{}-next", recordings.stem()));
+    let results = ResultSet::open(&out).map_err(Failure::input)?;
+    let machine = match &args.ecc {
+        Some(file) => {
+            let (ecc, set2) = pipeline::recordings::machine_and_scenarios(file, &recordings)?;
+            set2.check(&ecc).map_err(|m| {
+                Failure::msg(
+                    exit::INPUT,
+                    format!("{}: does not reproduce the recordings: {m}", file.display()),
+                )
+            })?;
+            ecc
+        }
+        None => {
+            let opts = exact::Options {
+                sat: exact::SatOptions {
+                    algorithms: args.algorithms.into(),
+                    ..exact::SatOptions::default()
+                },
+                ..exact::Options::default()
+            };
+            exact::run(&set, None, &opts, &mut |e| progress.event(e))?
+                .synthesis
+                .ecc
+        }
+    };
+    let mut amb_args = args.ambiguity.clone();
+    amb_args.no_ambiguity = false;
+    let (found, mut files) = report(
+        &set,
+        &machine,
+        &amb_args,
+        args.algorithms,
+        &progress,
+        results.staging(),
+    )?;
+    let (csv, txt) = plan(&set, &machine, &found);
+    let json = export::json::to_string(&machine);
+    for (name, text) in [("plan.csv", csv), ("plan.txt", txt), ("machine.json", json)] {
+        let path = results.staging().join(name);
+        fbsynth::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
+        files.push(path);
+    }
+    let published: Vec<PathBuf> = files.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    match found.verdict {
+        Verdict::Unique => {
+            out!("nothing to record: the recordings determine the machine within the bounds above")
+        }
+        Verdict::Unknown => out!("no plan: the check found no answer within the budget"),
+        Verdict::Ambiguous => out!(
+            "plan: {} sequences, {} steps to record in all",
+            found.rivals.len(),
+            found
+                .rivals
+                .iter()
+                .map(|r| r.inputs(&set).len())
+                .sum::<usize>()
+        ),
+    }
+    print_written(&published);
+    Ok(())
+}
+
+/// The plan as a CSV (one row per step to apply: `scenario`, `step`, `phase` (`replay` for the
+/// recorded prefix, `probe` after it), the inputs, and what the machine and the rival would
+/// answer) and as a table.
+fn plan(set: &ScenarioSet, machine: &Ecc, found: &Ambiguity) -> (String, String) {
+    let mut csv = String::from("scenario,step,phase");
+    for x in &set.inputs {
+        let _ = write!(csv, ",in:{x}");
+    }
+    csv.push_str(",expect_machine,expect_rival\n");
+    let mut txt = String::new();
+    let answer = |o: &Option<Vec<bool>>| match o {
+        Some(z) => bits_to_string(z),
+        None => "-".to_string(),
+    };
+    for (k, r) in found.rivals.iter().enumerate() {
+        let answers = r.answers(set, machine);
+        let _ = writeln!(
+            txt,
+            "sequence {}: {} steps ({} to reproduce a recording, {} new), tells rival {} apart",
+            k + 1,
+            answers.len(),
+            r.start.step,
+            answers.len() - r.start.step,
+            k + 1
+        );
+        for (i, a) in answers.iter().enumerate() {
+            let phase = if a.recorded { "replay" } else { "probe" };
+            let _ = write!(csv, "{},{},{phase}", k + 1, i + 1);
+            for &b in &a.inputs {
+                let _ = write!(csv, ",{}", u8::from(b));
+            }
+            let _ = writeln!(csv, ",{},{}", answer(&a.machine), answer(&a.rival));
+            if !a.recorded {
+                let _ = writeln!(
+                    txt,
+                    "  {:>4}  {}  machine {:<12} rival {}",
+                    i + 1,
+                    bits_to_string(&a.inputs),
+                    answer(&a.machine),
+                    answer(&a.rival)
+                );
+            }
+        }
+    }
+    (csv, txt)
+}

@@ -1,0 +1,341 @@
+//! How far the recordings determine the machine: "unique", or "ambiguous" with rivals.
+//!
+//! In: the [`ScenarioSet`], the minimal machine found for it, and [`Options`]. Out: an
+//! [`Ambiguity`]: the rivals found ([`crate::sat::ambiguity`]), each a machine with the same
+//! number of states that reproduces every recording, with the shortest input sequence on which
+//! it answers differently from every machine before it, and the recorded prefix to reproduce
+//! first.
+//!
+//! "Unique" is a bounded claim and is worded as one: no machine with at most `C` states
+//! reproduces the recordings and answers differently on a sequence of at most `depth`
+//! alphabet vectors started at a recorded point. The alphabet is the recorded input
+//! combinations (sequences the plant can produce), or every input vector when asked.
+//!
+//! Every rival is replayed on every scenario, and its difference is recomputed by the
+//! breadth-first search of [`crate::ecc::diff`]; a disagreement with the solver is a bug.
+
+use super::Error;
+use crate::ecc::diff::{difference_from, Configuration, Difference};
+use crate::ecc::{AlgorithmKind, Ecc, Run};
+use crate::sat::ambiguity::{self, node_states, Outcome, Query};
+use crate::sat::SatError;
+use crate::scenario::tree::{NodeId, ScenarioTree};
+use crate::scenario::ScenarioSet;
+use std::time::{Duration, Instant};
+
+/// Settings of the ambiguity check.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub algorithms: AlgorithmKind,
+    /// Rivals to list at most (each differs from the machine and from every rival before it).
+    pub rivals: usize,
+    /// The longest distinguishing sequence looked for; `None`: the default, `C`.
+    pub depth: Option<usize>,
+    /// Sequences over every input vector, not only the recorded ones (at most
+    /// [`MAX_ALL_INPUTS`] inputs).
+    pub all_inputs: bool,
+    /// Time for each rival's search.
+    pub budget: Duration,
+    /// Time to make each rival found smaller (fewer transitions, then guard literals).
+    pub polish: Duration,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            algorithms: AlgorithmKind::Tri,
+            rivals: 1,
+            depth: None,
+            all_inputs: false,
+            budget: Duration::from_secs(10),
+            polish: Duration::from_secs(2),
+        }
+    }
+}
+
+/// The most inputs for which [`Options::all_inputs`] enumerates every vector.
+pub const MAX_ALL_INPUTS: usize = 10;
+
+/// Where a distinguishing sequence starts: after the first `step` steps of scenario
+/// `scenario` (0-based index; `step` 0 is the initial state).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Start {
+    pub scenario: usize,
+    pub step: usize,
+}
+
+/// A second machine that fits the recordings as well, and where it differs.
+#[derive(Debug, Clone)]
+pub struct Rival {
+    pub ecc: Ecc,
+    pub start: Start,
+    /// The sequence after the prefix; `first` is the minimal machine's answer to its last
+    /// step, `second` the rival's.
+    pub difference: Difference,
+}
+
+/// The verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// No rival within the bounds.
+    Unique,
+    /// At least one rival.
+    Ambiguous,
+    /// The budget ran out before the first answer.
+    Unknown,
+}
+
+/// The result of [`check`].
+#[derive(Debug, Clone)]
+pub struct Ambiguity {
+    pub verdict: Verdict,
+    pub rivals: Vec<Rival>,
+    /// Whether the list is complete within the bounds (the last search found no further
+    /// rival), rather than cut by [`Options::rivals`] or the budget.
+    pub complete: bool,
+    /// The bounds of a rival: states, transitions, guard literals.
+    pub states: usize,
+    /// At most this many transitions per state.
+    pub per_state: usize,
+    pub depth: usize,
+    pub alphabet: usize,
+    pub all_inputs: bool,
+    pub seconds: f64,
+}
+
+impl Ambiguity {
+    /// The verdict line: `unique (...)`, `ambiguous: ...` or `unknown (...)`.
+    pub fn summary(&self) -> String {
+        let over = if self.all_inputs {
+            format!("any of the {} input vectors", self.alphabet)
+        } else {
+            format!("the {} recorded input combinations", self.alphabet)
+        };
+        let size = format!(
+            "{} states (at most {} transitions per state)",
+            self.states, self.per_state
+        );
+        match self.verdict {
+            Verdict::Unique => format!(
+                "unique: no other machine with {size} reproduces the recordings and answers differently within {} steps of a recorded point (inputs: {over}; {:.2} s)",
+                self.depth, self.seconds
+            ),
+            Verdict::Ambiguous => format!(
+                "ambiguous: {}{} other machine{} with {size} reproduce{} the recordings but answer{} differently (inputs: {over}; {:.2} s)",
+                if self.complete { "" } else { "at least " },
+                self.rivals.len(),
+                if self.rivals.len() == 1 { "" } else { "s" },
+                if self.rivals.len() == 1 { "s" } else { "" },
+                if self.rivals.len() == 1 { "s" } else { "" },
+                self.seconds
+            ),
+            Verdict::Unknown => format!(
+                "unknown: no answer within the budget ({:.2} s); raise --ambiguity-budget",
+                self.seconds
+            ),
+        }
+    }
+}
+
+/// The alphabet of the check: the tree's vectors, then (with `all_inputs`) every other one.
+fn alphabet(tree: &ScenarioTree, inputs: usize, all_inputs: bool) -> Result<Vec<Vec<bool>>, Error> {
+    let mut out = tree.input_vectors.clone();
+    if all_inputs {
+        if inputs > MAX_ALL_INPUTS {
+            return Err(Error::Usage(format!(
+                "{inputs} inputs are too many to try every input vector (at most {MAX_ALL_INPUTS}); check over the recorded input combinations instead"
+            )));
+        }
+        for v in 0..1u32 << inputs {
+            let x: Vec<bool> = (0..inputs)
+                .map(|i| v >> (inputs - 1 - i) & 1 == 1)
+                .collect();
+            if !out.contains(&x) {
+                out.push(x);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Looks for rivals of `machine` (minimal for `set`, replaying it).
+pub fn check(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    machine: &Ecc,
+    opts: &Options,
+) -> Result<Ambiguity, Error> {
+    let t0 = Instant::now();
+    let size = machine.size();
+    let states = size.c;
+    let depth = opts.depth.unwrap_or(states).max(1);
+    let alphabet = alphabet(tree, set.inputs.len(), opts.all_inputs)?;
+    let query = Query {
+        tree,
+        kind: opts.algorithms,
+        states,
+        slots: size.k.max(1),
+        polish: opts.polish,
+        alphabet: alphabet.clone(),
+        depth,
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+    };
+    let mut known: Vec<Ecc> = vec![machine.clone()];
+    let mut rivals: Vec<Rival> = Vec::new();
+    let mut verdict = Verdict::Unique;
+    let mut complete = true;
+    while rivals.len() < opts.rivals {
+        let refs: Vec<&Ecc> = known.iter().collect();
+        match ambiguity::rival(&query, &refs, Instant::now() + opts.budget) {
+            Outcome::None => break,
+            Outcome::Unknown => {
+                if rivals.is_empty() {
+                    verdict = Verdict::Unknown;
+                }
+                complete = false;
+                break;
+            }
+            Outcome::Rival(ecc) => {
+                set.check(&ecc).map_err(|m| {
+                    SatError::Bug(format!("a rival does not reproduce the recordings: {m}"))
+                })?;
+                let rival = told_apart(tree, machine, ecc, &alphabet)?;
+                verdict = Verdict::Ambiguous;
+                known.push(rival.ecc.clone());
+                rivals.push(rival);
+            }
+        }
+    }
+    if rivals.len() == opts.rivals && opts.rivals > 0 {
+        complete = false;
+    }
+    if opts.rivals == 0 {
+        verdict = Verdict::Unknown;
+        complete = false;
+    }
+    Ok(Ambiguity {
+        verdict,
+        rivals,
+        complete,
+        states,
+        per_state: query.slots,
+        depth,
+        alphabet: alphabet.len(),
+        all_inputs: opts.all_inputs,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// The rival with the shortest sequence, from a recorded point, on which it answers
+/// differently from the minimal machine.
+fn told_apart(
+    tree: &ScenarioTree,
+    machine: &Ecc,
+    ecc: Ecc,
+    alphabet: &[Vec<bool>],
+) -> Result<Rival, Error> {
+    // Recorded points by depth, so that among the shortest sequences the shortest prefix wins.
+    let mut nodes: Vec<NodeId> = (0..tree.nodes.len()).map(NodeId).collect();
+    nodes.sort_by_key(|v| tree.witness[v.0].1);
+    let (rival_at, at) = (node_states(&ecc, tree), node_states(machine, tree));
+    let starts: Vec<(Configuration, Configuration)> = nodes
+        .iter()
+        .map(|v| {
+            let z = tree.nodes[v.0].outputs.clone();
+            ((at[v.0], z.clone()), (rival_at[v.0], z))
+        })
+        .collect();
+    let (i, difference) = difference_from(machine, &ecc, &starts, alphabet).ok_or_else(|| {
+        SatError::Bug("the solver's rival answers every sequence as the machine does".into())
+    })?;
+    let (scenario, step) = tree.witness[nodes[i].0];
+    Ok(Rival {
+        ecc,
+        start: Start { scenario, step },
+        difference,
+    })
+}
+
+/// One step of a rival's sequence as both machines answer it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Answer {
+    pub inputs: Vec<bool>,
+    /// `CNF` with the outputs, or `None`.
+    pub machine: Option<Vec<bool>>,
+    pub rival: Option<Vec<bool>>,
+    /// Part of the recorded prefix (both machines answer as recorded).
+    pub recorded: bool,
+}
+
+impl Rival {
+    /// Every input vector to apply from the initial state: the recorded prefix, then the
+    /// distinguishing sequence.
+    pub fn inputs(&self, set: &ScenarioSet) -> Vec<Vec<bool>> {
+        let prefix = &set.scenarios[self.start.scenario].steps[..self.start.step];
+        prefix
+            .iter()
+            .map(|s| s.inputs.clone())
+            .chain(self.difference.inputs.iter().cloned())
+            .collect()
+    }
+
+    /// Both machines' answers along [`Self::inputs`].
+    pub fn answers(&self, set: &ScenarioSet, machine: &Ecc) -> Vec<Answer> {
+        let (mut a, mut b) = (Run::new(machine), Run::new(&self.ecc));
+        self.inputs(set)
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| Answer {
+                machine: a.step(&x).map(|_| a.outputs.clone()),
+                rival: b.step(&x).map(|_| b.outputs.clone()),
+                recorded: i < self.start.step,
+                inputs: x,
+            })
+            .collect()
+    }
+
+    /// A readable account: where to start, then the sequence with both answers.
+    pub fn describe(&self, set: &ScenarioSet, machine: &Ecc, name: &str) -> Vec<String> {
+        let origin = &set.scenarios[self.start.scenario].origin;
+        let mut lines = vec![match self.start.step {
+            0 => "from the initial state, apply:".to_string(),
+            k => format!(
+                "reproduce steps 1-{k} of the scenario at {}:{} (scenario {}), then apply:",
+                origin.file.display(),
+                origin.line,
+                self.start.scenario + 1
+            ),
+        }];
+        let answer = |o: &Option<Vec<bool>>| match o {
+            Some(z) => format!("CNF {}", crate::ecc::bits_to_string(z)),
+            None => "no CNF".to_string(),
+        };
+        lines.push(format!(
+            "  {:>4}  {:<w$}  {:<14}  {}",
+            "step",
+            "inputs",
+            "this machine",
+            name,
+            w = set.inputs.len().max(6)
+        ));
+        let answers = self.answers(set, machine);
+        for (k, a) in answers.iter().enumerate().skip(self.start.step) {
+            lines.push(format!(
+                "  {:>4}  {:<w$}  {:<14}  {}{}",
+                k - self.start.step + 1,
+                crate::ecc::bits_to_string(&a.inputs),
+                answer(&a.machine),
+                answer(&a.rival),
+                if a.machine != a.rival {
+                    "   <- differs"
+                } else {
+                    ""
+                },
+                w = set.inputs.len().max(6)
+            ));
+        }
+        lines
+    }
+}

@@ -1,0 +1,154 @@
+//! The ambiguity report of `synth infer` and the plan of `synth next-recording` on the shipped
+//! cases: every rival replays the recordings, and the plan's sequence tells it apart from the
+//! machine.
+
+use fbsynth::ecc::{Ecc, Run};
+use fbsynth::export::json::read_json;
+use fbsynth::pipeline::Recordings;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn synth(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run synth")
+}
+
+fn machine(path: &Path) -> Ecc {
+    read_json(&std::fs::read_to_string(path).unwrap(), path).unwrap()
+}
+
+fn recordings(traces: &str) -> fbsynth::scenario::ScenarioSet {
+    Recordings::files(vec![PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(traces)])
+        .load()
+        .unwrap()
+}
+
+/// Runs `next-recording` on `traces`; checks that the machine and every rival replay the
+/// recordings and that each planned sequence makes them answer as the plan expects, differently
+/// at its last step. Returns stdout.
+fn plan_tells_rivals_apart(traces: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("next");
+    let o = synth(&[
+        "next-recording",
+        "-q",
+        "--traces",
+        traces,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(stdout.contains("ambiguous"), "{stdout}");
+    let set = recordings(traces);
+    let m = machine(&out.join("machine.json"));
+    let r = machine(&out.join("rival1.json"));
+    set.check(&m).unwrap();
+    set.check(&r).unwrap();
+    let plan = std::fs::read_to_string(out.join("plan.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = plan
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .filter(|c: &Vec<&str>| c[0] == "1")
+        .collect();
+    assert!(!rows.is_empty(), "{plan}");
+    let (mut a, mut b) = (Run::new(&m), Run::new(&r));
+    let answer = |run: &Run, fired: bool| {
+        if fired {
+            run.outputs
+                .iter()
+                .map(|&v| if v { '1' } else { '0' })
+                .collect()
+        } else {
+            "-".to_string()
+        }
+    };
+    let n = set.inputs.len();
+    let mut last = (String::new(), String::new());
+    for row in &rows {
+        let x: Vec<bool> = row[3..3 + n].iter().map(|v| *v == "1").collect();
+        let fa = a.step(&x).is_some();
+        let fb = b.step(&x).is_some();
+        last = (answer(&a, fa), answer(&b, fb));
+        assert_eq!(last.0, row[3 + n], "{plan}");
+        assert_eq!(last.1, row[4 + n], "{plan}");
+    }
+    assert_ne!(last.0, last.1, "the last step must tell them apart: {plan}");
+    stdout
+}
+
+#[test]
+fn pnp_scenarios_are_ambiguous_and_the_plan_tells_the_rival_apart() {
+    plan_tells_rivals_apart("specs/pnp.traces");
+}
+
+#[test]
+fn distribution_logs_are_ambiguous_and_the_plan_tells_the_rival_apart() {
+    plan_tells_rivals_apart("specs/distribution.csv");
+}
+
+#[test]
+fn tank_logs_are_ambiguous_and_the_plan_tells_the_rival_apart() {
+    plan_tells_rivals_apart("specs/tank2.traces");
+}
+
+#[test]
+fn infer_says_unique_when_no_rival_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        "specs/tank1.traces",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("unique: no other machine with 2 states"),
+        "{stdout}"
+    );
+    assert!(!out.join("rival1.json").exists());
+    assert!(out.join("ambiguity.txt").exists());
+}
+
+#[test]
+fn infer_reports_rivals_with_their_sequences() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--traces",
+        "specs/tank2.traces",
+        "--rivals",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{stdout}");
+    assert!(stdout.contains("ambiguous"), "{stdout}");
+    assert!(stdout.contains("<- differs"), "{stdout}");
+    let set = recordings("specs/tank2.traces");
+    for k in 1..=2 {
+        let r = machine(&out.join(format!("rival{k}.json")));
+        set.check(&r).unwrap();
+        assert_eq!(r.states.len(), 8);
+    }
+    // The second rival differs from the first too: they are not the same machine.
+    assert_ne!(
+        machine(&out.join("rival1.json")),
+        machine(&out.join("rival2.json"))
+    );
+}
