@@ -33,6 +33,7 @@ mod experiment;
 mod generate;
 mod infer;
 mod ingest;
+mod learn;
 mod main_job;
 mod progress;
 mod show;
@@ -113,6 +114,10 @@ pub enum Command {
     /// What to record next: input sequences (from the initial state or a recorded prefix) on
     /// which the machines that fit the recordings answer differently, as a plan.
     NextRecording(ambiguity::NextRecordingArgs),
+    /// Active learning against a machine that answers (JSON, or a case's reference): infer,
+    /// find a rival, record the sequence that tells them apart, until unique; compared with
+    /// random recordings of the same length.
+    Learn(learn::LearnArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -202,6 +207,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
+        Some(Command::Learn(a)) => learn::learn(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),

@@ -139,7 +139,11 @@ impl Ambiguity {
 }
 
 /// The alphabet of the check: the tree's vectors, then (with `all_inputs`) every other one.
-fn alphabet(tree: &ScenarioTree, inputs: usize, all_inputs: bool) -> Result<Vec<Vec<bool>>, Error> {
+pub fn alphabet(
+    tree: &ScenarioTree,
+    inputs: usize,
+    all_inputs: bool,
+) -> Result<Vec<Vec<bool>>, Error> {
     let mut out = tree.input_vectors.clone();
     if all_inputs {
         if inputs > MAX_ALL_INPUTS {

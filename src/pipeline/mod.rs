@@ -27,6 +27,7 @@
 //! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,
 //! M modules.
 
+pub mod active;
 pub mod ambiguity;
 pub mod cegis;
 pub mod closed_loop;

@@ -152,3 +152,70 @@ fn infer_reports_rivals_with_their_sequences() {
         machine(&out.join("rival2.json"))
     );
 }
+
+#[test]
+fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let learned = dir.path().join("learned.json");
+    let reference = dir.path().join("reference.json");
+    let ecc = crate::cases::tank::Program::Cycles.reference();
+    std::fs::write(&reference, fbsynth::export::json::to_string(&ecc)).unwrap();
+    let o = synth(&[
+        "learn",
+        "-q",
+        "--oracle",
+        "case:tank2",
+        "--traces",
+        "specs/tank2.traces",
+        "--all-inputs",
+        "--passive-runs",
+        "1",
+        "--out",
+        learned.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        stdout.contains("; unique; equivalent to the oracle"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("passive (seed 1)"), "{stdout}");
+    let d = synth(&[
+        "diff",
+        learned.to_str().unwrap(),
+        reference.to_str().unwrap(),
+    ]);
+    assert!(d.status.success(), "{}", String::from_utf8_lossy(&d.stdout));
+    assert!(String::from_utf8_lossy(&d.stdout).contains("equivalent"));
+    // The loop recorded something: the shipped recordings alone leave the machine ambiguous.
+    let rounds: usize = stdout
+        .split("active: ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert!(rounds > 1, "{stdout}");
+}
+
+#[test]
+fn an_oracle_with_another_interface_is_refused() {
+    let o = synth(&[
+        "learn",
+        "-q",
+        "--oracle",
+        "case:pnp",
+        "--traces",
+        "specs/tank2.traces",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("interface"));
+}

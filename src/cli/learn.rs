@@ -1,0 +1,175 @@
+//! `synth learn`: the active loop against an oracle (a JSON machine or a shipped case's
+//! reference controller), and passive learning from random recordings of the same length.
+
+use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
+use super::progress::Progress;
+use super::{exit, Failure};
+use clap::Args;
+use fbsynth::ecc::diff::{difference, difference_from};
+use fbsynth::ecc::{Ecc, StateId};
+use fbsynth::pipeline::active::{self, Options};
+use fbsynth::pipeline::ambiguity::{alphabet, Verdict};
+use fbsynth::scenario::tree::ScenarioTree;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct LearnArgs {
+    /// The machine that answers: a JSON machine, or a shipped case's reference controller
+    /// (`case:pnp`, `case:distribution`, `case:tank1`, `case:tank2`).
+    #[arg(long, value_name = "FILE|case:NAME")]
+    pub oracle: String,
+    /// The initial recordings (the oracle must reproduce them).
+    #[command(flatten)]
+    pub traces: TraceArgs,
+    /// Form of the state output algorithms.
+    #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
+    pub algorithms: AlgorithmsArg,
+    #[command(flatten)]
+    pub ambiguity: AmbiguityArgs,
+    /// Stop after this many rounds.
+    #[arg(long, default_value_t = 50, value_name = "N", value_parser = super::args::rivals())]
+    pub max_rounds: usize,
+    /// Random recordings for the passive comparison (seeds 1..=N; 0: no comparison).
+    #[arg(long, default_value_t = 5, value_name = "N", value_parser = super::args::rivals())]
+    pub passive_runs: usize,
+    /// Write the final machine here (JSON).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// No progress lines on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// The oracle named by `--oracle`.
+fn oracle(name: &str) -> Result<Ecc, Failure> {
+    use crate::cases::{distribution, pnp, tank};
+    Ok(match name {
+        "case:pnp" => pnp::reference(),
+        "case:distribution" => distribution::reference(),
+        "case:tank1" => tank::Program::FillDrain.reference(),
+        "case:tank2" => tank::Program::Cycles.reference(),
+        n if n.starts_with("case:") => {
+            return Err(Failure::msg(
+                exit::USAGE,
+                format!(
+                    "unknown case {n:?}: case:pnp, case:distribution, case:tank1 or case:tank2"
+                ),
+            ))
+        }
+        file => {
+            let path = PathBuf::from(file);
+            let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
+            fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)?
+        }
+    })
+}
+
+/// `synth learn`.
+pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
+    let progress = Progress::new(args.quiet);
+    let oracle = oracle(&args.oracle)?;
+    let initial = args.traces.load()?;
+    if initial.inputs != oracle.inputs || initial.outputs != oracle.outputs {
+        return Err(Failure::msg(
+            exit::INPUT,
+            format!(
+                "the oracle's interface ({} / {}) is not the recordings' ({} / {})",
+                oracle.inputs.join(" "),
+                oracle.outputs.join(" "),
+                initial.inputs.join(" "),
+                initial.outputs.join(" ")
+            ),
+        ));
+    }
+    if let Some(out) = &args.out {
+        super::args::refuse_overwrite(&[out], &args.traces.traces)?;
+    }
+    let opts = Options {
+        ambiguity: args.ambiguity.options(args.algorithms.into())?,
+        max_rounds: args.max_rounds.max(1),
+    };
+    let initial_steps = initial.step_count();
+    let mut round = 0;
+    let learned = active::learn(&initial, &oracle, &opts, &mut |r| {
+        round += 1;
+        progress.line(&format!(
+            "round {round}: C = {}, {:?}; {} steps recorded",
+            r.states, r.verdict, r.recorded_steps
+        ));
+    })?;
+    let tree = ScenarioTree::build(&learned.recordings).map_err(fbsynth::pipeline::Error::from)?;
+    let letters = alphabet(&tree, initial.inputs.len(), opts.ambiguity.all_inputs)?;
+    let verdict = |m: &Ecc| -> String {
+        let full = match difference(m, &oracle) {
+            Ok(None) => "equivalent to the oracle".to_string(),
+            Ok(Some(d)) => format!("differs from the oracle after {} steps", d.inputs.len()),
+            Err(e) => format!("not compared on every input vector ({e})"),
+        };
+        let start = (
+            (StateId(0), m.initial_outputs.clone()),
+            (StateId(0), oracle.initial_outputs.clone()),
+        );
+        let over = match difference_from(m, &oracle, &[start], &letters) {
+            None => "agrees on every sequence of the alphabet",
+            Some(_) => "disagrees on some sequence of the alphabet",
+        };
+        format!("{full}; {over}")
+    };
+    out!(
+        "active: {} rounds, {} steps recorded beyond the initial {}; C = {}; {}; {}",
+        learned.rounds.len(),
+        learned.recorded_steps,
+        initial_steps,
+        learned.machine.states.len(),
+        match learned.rounds.last().map(|r| r.verdict) {
+            Some(Verdict::Unique) => "unique",
+            Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
+            _ => "no verdict within the budget",
+        },
+        verdict(&learned.machine)
+    );
+    let length = learned
+        .recordings
+        .scenarios
+        .iter()
+        .skip(initial.scenarios.len())
+        .map(|s| s.steps.len())
+        .max()
+        .unwrap_or(1);
+    let mut equivalent = 0;
+    for seed in 1..=args.passive_runs as u64 {
+        let m = active::passive(
+            &initial,
+            &oracle,
+            &letters,
+            learned.recorded_steps,
+            length,
+            seed,
+            &opts,
+        )?;
+        let v = verdict(&m);
+        if v.starts_with("equivalent") {
+            equivalent += 1;
+        }
+        out!(
+            "passive (seed {seed}): {} random steps in scenarios of {length}; C = {}; {v}",
+            learned.recorded_steps,
+            m.states.len()
+        );
+    }
+    if args.passive_runs > 0 {
+        out!(
+            "passive: {equivalent} of {} random recordings of equal length give a machine equivalent to the oracle",
+            args.passive_runs
+        );
+    }
+    if let Some(out) = &args.out {
+        fbsynth::files::write_atomic(
+            out,
+            fbsynth::export::json::to_string(&learned.machine).as_bytes(),
+        )
+        .map_err(Failure::input)?;
+        out!("wrote {}", out.display());
+    }
+    Ok(())
+}
