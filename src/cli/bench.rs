@@ -400,3 +400,49 @@ pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Failure> {
     );
     Ok(())
 }
+
+#[derive(Debug, Args)]
+pub struct BenchAmbiguityArgs {
+    /// Runs per case; the table shows min / median / max.
+    #[arg(long, default_value_t = 3)]
+    pub runs: usize,
+}
+
+/// The shipped cases' recordings the ambiguity benchmark reads.
+const AMBIGUITY_CASES: [&str; 4] = [
+    "specs/pnp.traces",
+    "specs/distribution.csv",
+    "specs/tank1.traces",
+    "specs/tank2.traces",
+];
+
+/// `synth bench-ambiguity`: the time of the ambiguity check (one rival, default depth) after
+/// `synth infer`'s machine, on each shipped case.
+pub fn bench_ambiguity(args: &BenchAmbiguityArgs) -> Result<(), Failure> {
+    use fbsynth::pipeline::ambiguity;
+    use fbsynth::scenario::tree::ScenarioTree;
+    out!("| recordings | C | verdict | min s | median s | max s |");
+    out!("|---|---|---|---|---|---|");
+    for file in AMBIGUITY_CASES {
+        let set = Recordings::files(vec![PathBuf::from(file)]).load()?;
+        let machine = exact::run(&set, None, &exact::Options::default(), &mut |_| {})?
+            .synthesis
+            .ecc;
+        let tree = ScenarioTree::build(&set).map_err(pipeline::Error::from)?;
+        let mut times = Vec::new();
+        let mut verdict = None;
+        for _ in 0..args.runs.max(1) {
+            let t = Instant::now();
+            let a = ambiguity::check(&set, &tree, &machine, &ambiguity::Options::default())?;
+            times.push(t.elapsed().as_secs_f64());
+            verdict = Some(a.verdict);
+        }
+        let (lo, med, hi) = stats(times);
+        out!(
+            "| {file} | {} | {:?} | {lo:.3} | {med:.3} | {hi:.3} |",
+            machine.states.len(),
+            verdict.expect("runs >= 1")
+        );
+    }
+    Ok(())
+}

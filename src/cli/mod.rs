@@ -141,6 +141,8 @@ pub enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Measure the search's scenario-fitness evaluations per second per thread.
     BenchSearch(bench::BenchSearchArgs),
+    /// Measure the ambiguity check of `synth infer` on each shipped case.
+    BenchAmbiguity(bench::BenchAmbiguityArgs),
     /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
     BenchNoisy(bench::BenchNoisyArgs),
 }
@@ -208,6 +210,7 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
         Some(Command::Learn(a)) => learn::learn(&a),
+        Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),
