@@ -144,8 +144,13 @@ pub fn per_state() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=64)
 }
 
-/// `--rivals`: 0 to 100 rival machines.
+/// `--rivals`: 1 to 100 rival machines.
 pub fn rivals() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=100)
+}
+
+/// `--passive-runs`: 0 to 100.
+pub fn runs() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(0..=100)
 }
 
@@ -175,6 +180,10 @@ pub struct AmbiguityArgs {
     /// input combinations the recordings show.
     #[arg(long)]
     pub all_inputs: bool,
+    /// States a rival may have beyond the machine's (0: exactly as many); a machine in service
+    /// may need more states than the recordings show.
+    #[arg(long, default_value_t = 0, value_name = "E", value_parser = runs())]
+    pub extra_states: usize,
 }
 
 impl AmbiguityArgs {
@@ -189,6 +198,7 @@ impl AmbiguityArgs {
             depth: self.ambiguity_depth,
             all_inputs: self.all_inputs,
             polish: std::time::Duration::from_secs(1),
+            extra_states: self.extra_states,
             budget: fbsynth::pipeline::seconds("--ambiguity-budget", self.ambiguity_budget, false)?,
         })
     }

@@ -30,7 +30,7 @@ pub struct LearnArgs {
     #[arg(long, default_value_t = 50, value_name = "N", value_parser = super::args::rivals())]
     pub max_rounds: usize,
     /// Random recordings for the passive comparison (seeds 1..=N; 0: no comparison).
-    #[arg(long, default_value_t = 5, value_name = "N", value_parser = super::args::rivals())]
+    #[arg(long, default_value_t = 5, value_name = "N", value_parser = super::args::runs())]
     pub passive_runs: usize,
     /// Write the final machine here (JSON).
     #[arg(long, value_name = "FILE")]
@@ -92,9 +92,14 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
     let mut round = 0;
     let learned = active::learn(&initial, &oracle, &opts, &mut |r| {
         round += 1;
+        let verdict = match r.verdict {
+            Verdict::Unique => "unique",
+            Verdict::Ambiguous => "ambiguous",
+            Verdict::Unknown => "unknown",
+        };
         progress.line(&format!(
-            "round {round}: C = {}, {:?}; {} steps recorded",
-            r.states, r.verdict, r.recorded_steps
+            "round {round}: C = {}, {verdict}; {} steps recorded",
+            r.states, r.recorded_steps
         ));
     })?;
     let tree = ScenarioTree::build(&learned.recordings).map_err(fbsynth::pipeline::Error::from)?;

@@ -27,7 +27,8 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone)]
 pub struct Options {
     pub algorithms: AlgorithmKind,
-    /// Rivals to list at most (each differs from the machine and from every rival before it).
+    /// Rivals to list at most, at least 1 (each differs from the machine and from every
+    /// rival before it).
     pub rivals: usize,
     /// The longest distinguishing sequence looked for; `None`: the default, `C`.
     pub depth: Option<usize>,
@@ -38,6 +39,9 @@ pub struct Options {
     pub budget: Duration,
     /// Time to make each rival found smaller (fewer transitions, then guard literals).
     pub polish: Duration,
+    /// States a rival may have beyond the machine's: a machine in service may need more
+    /// states than the recordings show, and only a rival with more can say so.
+    pub extra_states: usize,
 }
 
 impl Default for Options {
@@ -49,6 +53,7 @@ impl Default for Options {
             all_inputs: false,
             budget: Duration::from_secs(10),
             polish: Duration::from_secs(2),
+            extra_states: 0,
         }
     }
 }
@@ -96,6 +101,7 @@ pub struct Ambiguity {
     pub complete: bool,
     /// The bounds of a rival: states, transitions, guard literals.
     pub states: usize,
+    pub extra_states: usize,
     /// At most this many transitions per state.
     pub per_state: usize,
     pub depth: usize,
@@ -113,9 +119,14 @@ impl Ambiguity {
             format!("the {} recorded input combinations", self.alphabet)
         };
         let size = format!(
-            "{} states (at most {} transitions per state)",
-            self.states, self.per_state
-        );
+            "{} {} states (at most {} transition{} per state)",
+            if self.extra_states > 0 { "at most" } else { "" },
+            self.states,
+            self.per_state,
+            if self.per_state == 1 { "" } else { "s" }
+        )
+        .trim_start()
+        .to_string();
         match self.verdict {
             Verdict::Unique => format!(
                 "unique: no other machine with {size} reproduces the recordings and answers differently within {} steps of a recorded point (inputs: {over}; {:.2} s)",
@@ -172,7 +183,7 @@ pub fn check(
 ) -> Result<Ambiguity, Error> {
     let t0 = Instant::now();
     let size = machine.size();
-    let states = size.c;
+    let states = size.c + opts.extra_states;
     let depth = opts.depth.unwrap_or(states).max(1);
     let alphabet = alphabet(tree, set.inputs.len(), opts.all_inputs)?;
     let query = Query {
@@ -181,7 +192,12 @@ pub fn check(
         states,
         slots: size.k.max(1),
         polish: opts.polish,
-        alphabet: alphabet.clone(),
+        // Over every vector the steps' inputs are free bits (see the encoding).
+        alphabet: match opts.all_inputs {
+            true => tree.input_vectors.clone(),
+            false => alphabet.clone(),
+        },
+        every_vector: opts.all_inputs,
         depth,
         inputs: set.inputs.clone(),
         outputs: set.outputs.clone(),
@@ -190,7 +206,8 @@ pub fn check(
     let mut rivals: Vec<Rival> = Vec::new();
     let mut verdict = Verdict::Unique;
     let mut complete = true;
-    while rivals.len() < opts.rivals {
+    let limit = opts.rivals.max(1);
+    while rivals.len() < limit {
         let refs: Vec<&Ecc> = known.iter().collect();
         match ambiguity::rival(&query, &refs, Instant::now() + opts.budget) {
             Outcome::None => break,
@@ -212,11 +229,7 @@ pub fn check(
             }
         }
     }
-    if rivals.len() == opts.rivals && opts.rivals > 0 {
-        complete = false;
-    }
-    if opts.rivals == 0 {
-        verdict = Verdict::Unknown;
+    if rivals.len() == limit {
         complete = false;
     }
     Ok(Ambiguity {
@@ -224,6 +237,7 @@ pub fn check(
         rivals,
         complete,
         states,
+        extra_states: opts.extra_states,
         per_state: query.slots,
         depth,
         alphabet: alphabet.len(),

@@ -32,7 +32,7 @@ use super::constraints;
 use super::decode;
 use super::solver::{Bounded, Model, Solver};
 use super::vars::{GuardModel, Vars};
-use crate::ecc::{AlgorithmKind, Ecc, InputId, State, StateId};
+use crate::ecc::{AlgorithmKind, Ecc, Guard, InputId, State, StateId};
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use std::time::Instant;
 use varisat::{ExtendFormula, Lit};
@@ -48,8 +48,11 @@ pub struct Query<'a> {
     /// Time to make a rival found smaller (fewer transitions, then fewer guard literals).
     pub polish: std::time::Duration,
     /// The input vectors distinguishing sequences may use; the tree's vectors come first, in
-    /// the tree's order.
+    /// the tree's order. Ignored with `every_vector`.
     pub alphabet: Vec<Vec<bool>>,
+    /// Sequences over every input vector: each step's input is a vector of free bits and both
+    /// machines' guards are evaluated on it, instead of a choice among the alphabet.
+    pub every_vector: bool,
     /// The longest distinguishing sequence looked for.
     pub depth: usize,
     /// Names for the decoded rival.
@@ -106,7 +109,11 @@ fn encode_rival(f: &mut impl ExtendFormula, q: &Query) -> (Vars, [Counter; 2]) {
     let sel: Vec<Lit> = (0..v.inputs).map(|_| f.new_lit()).collect();
     let mut tails: Vec<Lit> = (0..q.states * q.states).map(|_| f.new_lit()).collect();
     constraints::basic(f, &v, q.tree, q.kind, false, &sel, &tails);
-    for bits in &q.alphabet[q.tree.input_vectors.len()..] {
+    let extra = match q.every_vector {
+        true => &[][..],
+        false => &q.alphabet[q.tree.input_vectors.len()..],
+    };
+    for bits in extra {
         let u = v.add_input(f);
         constraints::per_input(f, &v, u, bits, false);
         constraints::extend_edges(f, &v, u, &mut tails);
@@ -169,20 +176,23 @@ fn distinguishing_path(s: &mut impl ExtendFormula, q: &Query, v: &Vars, fixed: &
     let (c, cf, nz) = (q.states, fixed.states.len(), v.outputs);
     let at = node_states(fixed, q.tree);
     // `fixed`'s move on every (state, alphabet vector): target, or None.
-    let moves: Vec<Vec<Option<usize>>> = (0..cf)
-        .map(|p| {
-            q.alphabet
-                .iter()
-                .map(|x| {
-                    fixed.states[p]
-                        .transitions
-                        .iter()
-                        .find(|t| t.guard.eval(x))
-                        .map(|t| t.target.0)
-                })
-                .collect()
-        })
-        .collect();
+    let moves: Vec<Vec<Option<usize>>> = match q.every_vector {
+        true => Vec::new(),
+        false => (0..cf)
+            .map(|p| {
+                q.alphabet
+                    .iter()
+                    .map(|x| {
+                        fixed.states[p]
+                            .transitions
+                            .iter()
+                            .find(|t| t.guard.eval(x))
+                            .map(|t| t.target.0)
+                    })
+                    .collect()
+            })
+            .collect(),
+    };
     let start = config(s, c, cf, nz);
     start_at_some_node(s, q, v, &at, &start);
     let depth = q.depth.max(1);
@@ -195,19 +205,34 @@ fn distinguishing_path(s: &mut impl ExtendFormula, q: &Query, v: &Vars, fixed: &
             s.add_clause(&[!live[t + 1], live[t]]);
         }
     }
+    let bits = q.inputs.len();
     let mut before = start;
     for t in 0..depth {
-        let x: Vec<Lit> = (0..q.alphabet.len()).map(|_| s.new_lit()).collect();
-        let mut clause = vec![!live[t]];
-        clause.extend(&x);
-        s.add_clause(&clause);
+        let x: Vec<Lit> = match q.every_vector {
+            true => (0..bits).map(|_| s.new_lit()).collect(),
+            false => {
+                let x: Vec<Lit> = (0..q.alphabet.len()).map(|_| s.new_lit()).collect();
+                let mut clause = vec![!live[t]];
+                clause.extend(&x);
+                s.add_clause(&clause);
+                x
+            }
+        };
         let after = config(s, c, cf, nz);
         let step = Step {
             live: live[t],
             stop: stop[t],
-            x: &x,
+            fires_f: s.new_lit(),
+            fires_m: s.new_lit(),
         };
-        step_fixed_and_rival(s, v, fixed, &moves, &step, &before, &after);
+        if q.every_vector {
+            fixed_moves_on_bits(s, fixed, &step, &x, &before, &after);
+            rival_moves_on_bits(s, v, &step, &x, &before, &after);
+        } else {
+            fixed_moves_on_alphabet(s, &moves, &step, &x, &before, &after);
+            rival_moves_on_alphabet(s, v, &step, &x, &before, &after);
+        }
+        outputs_and_difference(s, v, fixed, &step, &before, &after);
         before = after;
     }
 }
@@ -235,46 +260,186 @@ fn start_at_some_node(
 }
 
 /// The literals of one step: whether the path still runs, whether this is the step of the
-/// difference, and the input chosen (one of `x`).
-struct Step<'a> {
+/// difference, and whether each machine answers (`CNF`).
+struct Step {
     live: Lit,
     stop: Lit,
-    x: &'a [Lit],
+    fires_f: Lit,
+    fires_m: Lit,
 }
 
-/// Both machines' moves on one step, their agreement before the difference and their
+/// The fixed machine's move on the alphabet vector chosen (one of `x`): a table.
+fn fixed_moves_on_alphabet(
+    s: &mut impl ExtendFormula,
+    moves: &[Vec<Option<usize>>],
+    step: &Step,
+    x: &[Lit],
+    before: &Config,
+    after: &Config,
+) {
+    for (p, row) in moves.iter().enumerate() {
+        for (u, mv) in row.iter().enumerate() {
+            let pre = [!step.live, !before.f[p], !x[u]];
+            let (fires, target) = match *mv {
+                Some(target) => (step.fires_f, target),
+                None => (!step.fires_f, p),
+            };
+            s.add_clause(&[pre[0], pre[1], pre[2], fires]);
+            s.add_clause(&[pre[0], pre[1], pre[2], after.f[target]]);
+        }
+    }
+}
+
+/// The rival's move on the alphabet vector chosen: its transition function `y`.
+fn rival_moves_on_alphabet(
+    s: &mut impl ExtendFormula,
+    v: &Vars,
+    step: &Step,
+    x: &[Lit],
+    before: &Config,
+    after: &Config,
+) {
+    for m in 0..v.c_max {
+        for (u, &xu) in x.iter().enumerate() {
+            let pre = [!step.live, !before.m[m], !xu];
+            for target in 0..v.c_max {
+                let y = v.y(m, InputVec(u), target);
+                s.add_clause(&[pre[0], pre[1], pre[2], !y, step.fires_m]);
+                s.add_clause(&[pre[0], pre[1], pre[2], !y, after.m[target]]);
+            }
+            let none = v.y(m, InputVec(u), v.none());
+            s.add_clause(&[pre[0], pre[1], pre[2], !none, !step.fires_m]);
+            s.add_clause(&[pre[0], pre[1], pre[2], !none, after.m[m]]);
+        }
+    }
+}
+
+/// A literal equivalent to `g` on the input bits `x` (Tseitin).
+fn guard_lit(s: &mut impl ExtendFormula, g: &Guard, x: &[Lit]) -> Lit {
+    match g {
+        Guard::Var(i) => x[i.0],
+        Guard::Not(h) => !guard_lit(s, h, x),
+        Guard::True | Guard::False => {
+            let l = s.new_lit();
+            s.add_clause(&[if matches!(g, Guard::True) { l } else { !l }]);
+            l
+        }
+        Guard::And(gs) | Guard::Or(gs) => {
+            let parts: Vec<Lit> = gs.iter().map(|h| guard_lit(s, h, x)).collect();
+            let l = s.new_lit();
+            // An Or is the negation of the And of the negations.
+            let (out, sign) = match g {
+                Guard::And(_) => (l, true),
+                _ => (!l, false),
+            };
+            let parts: Vec<Lit> = parts.iter().map(|&p| if sign { p } else { !p }).collect();
+            for &p in &parts {
+                s.add_clause(&[!out, p]);
+            }
+            let mut clause: Vec<Lit> = parts.iter().map(|&p| !p).collect();
+            clause.push(out);
+            s.add_clause(&clause);
+            l
+        }
+    }
+}
+
+/// The fixed machine's move on free input bits: its guards evaluated on them, first fires.
+fn fixed_moves_on_bits(
+    s: &mut impl ExtendFormula,
+    fixed: &Ecc,
+    step: &Step,
+    x: &[Lit],
+    before: &Config,
+    after: &Config,
+) {
+    for (p, state) in fixed.states.iter().enumerate() {
+        let holds: Vec<Lit> = state
+            .transitions
+            .iter()
+            .map(|t| guard_lit(s, &t.guard, x))
+            .collect();
+        // `live & in p & none of the earlier guards & this one -> target, CNF`.
+        let mut earlier = vec![!step.live, !before.f[p]];
+        for (t, &h) in state.transitions.iter().zip(&holds) {
+            for concl in [step.fires_f, after.f[t.target.0]] {
+                let mut clause = earlier.clone();
+                clause.extend([!h, concl]);
+                s.add_clause(&clause);
+            }
+            earlier.push(h);
+        }
+        for concl in [!step.fires_f, after.f[p]] {
+            let mut clause = earlier.clone();
+            clause.push(concl);
+            s.add_clause(&clause);
+        }
+    }
+}
+
+/// The rival's move on free input bits: its cube guards (slots) evaluated on them, first fires.
+fn rival_moves_on_bits(
+    s: &mut impl ExtendFormula,
+    v: &Vars,
+    step: &Step,
+    x: &[Lit],
+    before: &Config,
+    after: &Config,
+) {
+    let GuardModel::Cubes(cv) = &v.guards else {
+        unreachable!("the rival is encoded in the cube model")
+    };
+    for m in 0..v.c_max {
+        let mut earlier = vec![!step.live, !before.m[m]];
+        for k in 0..cv.slots {
+            // fire <-> en & no literal of the cube is false on x.
+            let fire = s.new_lit();
+            let en = cv.en(0, m, k);
+            s.add_clause(&[!fire, en]);
+            let mut converse = vec![fire, !en];
+            for (b, &xb) in x.iter().enumerate() {
+                let (pos, neg) = (cv.pos(0, m, k, b), cv.neg(0, m, k, b));
+                s.add_clause(&[!fire, !pos, xb]);
+                s.add_clause(&[!fire, !neg, !xb]);
+                // bad: this literal is false on x.
+                let bad = s.new_lit();
+                s.add_clause(&[!bad, pos, neg]);
+                s.add_clause(&[!bad, pos, xb]);
+                s.add_clause(&[!bad, neg, !xb]);
+                converse.push(bad);
+            }
+            s.add_clause(&converse);
+            for target in 0..v.c_max {
+                for concl in [step.fires_m, after.m[target]] {
+                    let mut clause = earlier.clone();
+                    clause.extend([!fire, !cv.tgt(0, m, k, target), concl]);
+                    s.add_clause(&clause);
+                }
+            }
+            earlier.push(fire);
+        }
+        for concl in [!step.fires_m, after.m[m]] {
+            let mut clause = earlier.clone();
+            clause.push(concl);
+            s.add_clause(&clause);
+        }
+    }
+}
+
+/// Both machines' outputs after the step, their agreement before the difference and their
 /// disagreement at it. `after.z` holds the common outputs after a step that agrees.
-fn step_fixed_and_rival(
+fn outputs_and_difference(
     s: &mut impl ExtendFormula,
     v: &Vars,
     fixed: &Ecc,
-    moves: &[Vec<Option<usize>>],
     step: &Step,
     before: &Config,
     after: &Config,
 ) {
     let (c, nz) = (v.c_max, v.outputs);
-    let fires_f = s.new_lit();
-    let fires_m = s.new_lit();
+    let (fires_f, fires_m, live) = (step.fires_f, step.fires_m, step.live);
     let zf: Vec<Lit> = (0..nz).map(|_| s.new_lit()).collect();
     let zm: Vec<Lit> = (0..nz).map(|_| s.new_lit()).collect();
-    let live = step.live;
-    // The fixed machine: a table.
-    for (p, row) in moves.iter().enumerate() {
-        for (u, mv) in row.iter().enumerate() {
-            let pre = [!live, !before.f[p], !step.x[u]];
-            match *mv {
-                Some(target) => {
-                    s.add_clause(&[pre[0], pre[1], pre[2], fires_f]);
-                    s.add_clause(&[pre[0], pre[1], pre[2], after.f[target]]);
-                }
-                None => {
-                    s.add_clause(&[pre[0], pre[1], pre[2], !fires_f]);
-                    s.add_clause(&[pre[0], pre[1], pre[2], after.f[p]]);
-                }
-            }
-        }
-    }
     for (p, state) in fixed.states.iter().enumerate() {
         for (z, (&zb, &zn)) in before.z.iter().zip(&zf).enumerate() {
             for old in [false, true] {
@@ -285,20 +450,7 @@ fn step_fixed_and_rival(
             }
         }
     }
-    // The rival: `y` and its algorithms.
-    for m in 0..c {
-        for (u, &xu) in step.x.iter().enumerate() {
-            let pre = [!live, !before.m[m], !xu];
-            for target in 0..c {
-                let y = v.y(m, InputVec(u), target);
-                s.add_clause(&[pre[0], pre[1], pre[2], !y, fires_m]);
-                s.add_clause(&[pre[0], pre[1], pre[2], !y, after.m[target]]);
-            }
-            let none = v.y(m, InputVec(u), v.none());
-            s.add_clause(&[pre[0], pre[1], pre[2], !none, !fires_m]);
-            s.add_clause(&[pre[0], pre[1], pre[2], !none, after.m[m]]);
-        }
-    }
+    // The rival's algorithms.
     for m in 0..c {
         for (z, (&zb, &zn)) in before.z.iter().zip(&zm).enumerate() {
             for old in [false, true] {
@@ -372,5 +524,46 @@ fn decode_rival(model: &Model, q: &Query, v: &Vars) -> Ecc {
         outputs: q.outputs.clone(),
         initial_outputs: q.tree.nodes[0].outputs.clone(),
         states,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Tseitin literal of a guard is forced to the guard's value on every input vector.
+    #[test]
+    fn guard_literals_agree_with_evaluation() {
+        let var = |i| Guard::Var(InputId(i));
+        let not = |g| Guard::Not(Box::new(g));
+        let g = Guard::Or(vec![
+            Guard::And(vec![var(0), not(var(1))]),
+            var(2),
+            Guard::False,
+        ]);
+        for guard in [
+            g.clone(),
+            not(g),
+            Guard::True,
+            Guard::And(vec![var(1), var(2)]),
+        ] {
+            for v in 0..8u32 {
+                let bits: Vec<bool> = (0..3).map(|i| v >> i & 1 == 1).collect();
+                let mut s = Solver::new();
+                let x: Vec<Lit> = (0..3).map(|_| s.new_lit()).collect();
+                let l = guard_lit(&mut s, &guard, &x);
+                let assume: Vec<Lit> = x
+                    .iter()
+                    .zip(&bits)
+                    .map(|(&l, &b)| if b { l } else { !l })
+                    .collect();
+                let m = s.solve(&assume).unwrap();
+                assert_eq!(m.value(l), guard.eval(&bits), "{guard:?} on {bits:?}");
+                // And the other value is impossible.
+                let mut other = assume.clone();
+                other.push(if guard.eval(&bits) { !l } else { l });
+                assert!(s.solve(&other).is_none(), "{guard:?} on {bits:?}");
+            }
+        }
     }
 }

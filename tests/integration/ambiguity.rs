@@ -29,17 +29,19 @@ fn recordings(traces: &str) -> fbsynth::scenario::ScenarioSet {
 /// Runs `next-recording` on `traces`; checks that the machine and every rival replay the
 /// recordings and that each planned sequence makes them answer as the plan expects, differently
 /// at its last step. Returns stdout.
-fn plan_tells_rivals_apart(traces: &str) -> String {
+fn plan_tells_rivals_apart(traces: &str, more: &[&str]) -> String {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("next");
-    let o = synth(&[
+    let mut args = vec![
         "next-recording",
         "-q",
         "--traces",
         traces,
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend(more);
+    let o = synth(&args);
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     assert!(
         o.status.success(),
@@ -49,55 +51,70 @@ fn plan_tells_rivals_apart(traces: &str) -> String {
     assert!(stdout.contains("ambiguous"), "{stdout}");
     let set = recordings(traces);
     let m = machine(&out.join("machine.json"));
-    let r = machine(&out.join("rival1.json"));
     set.check(&m).unwrap();
-    set.check(&r).unwrap();
     let plan = std::fs::read_to_string(out.join("plan.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = plan
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
-        .filter(|c: &Vec<&str>| c[0] == "1")
-        .collect();
-    assert!(!rows.is_empty(), "{plan}");
-    let (mut a, mut b) = (Run::new(&m), Run::new(&r));
-    let answer = |run: &Run, fired: bool| {
-        if fired {
-            run.outputs
-                .iter()
-                .map(|&v| if v { '1' } else { '0' })
-                .collect()
-        } else {
-            "-".to_string()
+    let mut k = 1;
+    while out.join(format!("rival{k}.json")).exists() {
+        let r = machine(&out.join(format!("rival{k}.json")));
+        set.check(&r).unwrap();
+        let rows: Vec<Vec<&str>> = plan
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .filter(|c: &Vec<&str>| c[0] == k.to_string())
+            .collect();
+        assert!(!rows.is_empty(), "{plan}");
+        let (mut a, mut b) = (Run::new(&m), Run::new(&r));
+        let answer = |run: &Run, fired: bool| {
+            if fired {
+                run.outputs
+                    .iter()
+                    .map(|&v| if v { '1' } else { '0' })
+                    .collect()
+            } else {
+                "-".to_string()
+            }
+        };
+        let n = set.inputs.len();
+        let mut last = (String::new(), String::new());
+        for row in &rows {
+            let x: Vec<bool> = row[3..3 + n].iter().map(|v| *v == "1").collect();
+            let fa = a.step(&x).is_some();
+            let fb = b.step(&x).is_some();
+            last = (answer(&a, fa), answer(&b, fb));
+            assert_eq!(last.0, row[3 + n], "{plan}");
+            assert_eq!(last.1, row[4 + n], "{plan}");
         }
-    };
-    let n = set.inputs.len();
-    let mut last = (String::new(), String::new());
-    for row in &rows {
-        let x: Vec<bool> = row[3..3 + n].iter().map(|v| *v == "1").collect();
-        let fa = a.step(&x).is_some();
-        let fb = b.step(&x).is_some();
-        last = (answer(&a, fa), answer(&b, fb));
-        assert_eq!(last.0, row[3 + n], "{plan}");
-        assert_eq!(last.1, row[4 + n], "{plan}");
+        assert_ne!(last.0, last.1, "the last step must tell them apart: {plan}");
+        k += 1;
     }
-    assert_ne!(last.0, last.1, "the last step must tell them apart: {plan}");
+    assert!(k > 1, "no rival written: {stdout}");
     stdout
 }
 
 #[test]
 fn pnp_scenarios_are_ambiguous_and_the_plan_tells_the_rival_apart() {
-    plan_tells_rivals_apart("specs/pnp.traces");
+    plan_tells_rivals_apart("specs/pnp.traces", &[]);
+}
+
+/// Over every input vector, with a rival allowed one state more: the sequence may use input
+/// combinations nobody recorded.
+#[test]
+fn pnp_rivals_over_every_input_vector_are_told_apart_too() {
+    let stdout =
+        plan_tells_rivals_apart("specs/pnp.traces", &["--all-inputs", "--extra-states", "1"]);
+    assert!(stdout.contains("at most 9 states"), "{stdout}");
+    assert!(stdout.contains("any of the 1024 input vectors"), "{stdout}");
 }
 
 #[test]
 fn distribution_logs_are_ambiguous_and_the_plan_tells_the_rival_apart() {
-    plan_tells_rivals_apart("specs/distribution.csv");
+    plan_tells_rivals_apart("specs/distribution.csv", &[]);
 }
 
 #[test]
 fn tank_logs_are_ambiguous_and_the_plan_tells_the_rival_apart() {
-    plan_tells_rivals_apart("specs/tank2.traces");
+    plan_tells_rivals_apart("specs/tank2.traces", &["--rivals", "2"]);
 }
 
 #[test]
