@@ -48,6 +48,50 @@ pub fn report(
     Ok((found, files))
 }
 
+/// As [`report`], for a machine NuSMV verified: every rival is checked by NuSMV too, and
+/// the lines say which of them the properties rule out.
+pub fn report_verified(
+    set: &ScenarioSet,
+    machine: &Ecc,
+    args: &AmbiguityArgs,
+    algorithms: AlgorithmsArg,
+    check: &pipeline::Check,
+    progress: &Progress,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, Failure> {
+    let (found, files) = report(set, machine, args, algorithms, progress, dir)?;
+    let mut verifier = check.verifier()?;
+    let mut fitting = 0;
+    for (k, r) in found.rivals.iter().enumerate() {
+        let v = verifier.verify(&r.ecc).map_err(pipeline::Error::from)?;
+        if v.report.all_hold() {
+            fitting += 1;
+            out!(
+                "rival {}: NuSMV: every property holds in closed loop too",
+                k + 1
+            );
+        } else {
+            out!(
+                "rival {}: NuSMV: violates {} (the properties rule it out)",
+                k + 1,
+                v.report.failing().join(", ")
+            );
+        }
+    }
+    match (found.verdict, fitting) {
+        (Verdict::Ambiguous, 0) => out!(
+            "every rival found violates a property: the properties, not the recordings, tell them apart (more rivals may exist: --rivals N)"
+        ),
+        (Verdict::Ambiguous, n) => out!(
+            "ambiguous with the properties: {n} rival{} reproduce{} the recordings and satisfy every property",
+            if n == 1 { "" } else { "s" },
+            if n == 1 { "s" } else { "" }
+        ),
+        _ => {}
+    }
+    Ok(files)
+}
+
 /// The verdict and every rival with its sequence, as printed and written to `ambiguity.txt`.
 pub fn describe(set: &ScenarioSet, machine: &Ecc, a: &Ambiguity) -> String {
     let mut s = String::new();
@@ -129,12 +173,10 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
                 .ecc
         }
     };
-    let mut amb_args = args.ambiguity.clone();
-    amb_args.no_ambiguity = false;
     let (found, mut files) = report(
         &set,
         &machine,
-        &amb_args,
+        &args.ambiguity,
         args.algorithms,
         &progress,
         results.staging(),

@@ -159,12 +159,10 @@ pub fn depth() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=1000)
 }
 
-/// The ambiguity check after exact synthesis (`synth infer`, `synth next-recording`).
+/// The ambiguity check after synthesis (`synth infer`, `synth next-recording`, `synth learn`,
+/// the main job with `--ambiguity`).
 #[derive(Debug, clap::Args, Clone)]
 pub struct AmbiguityArgs {
-    /// Skip the check whether another machine with as many states fits the recordings.
-    #[arg(long)]
-    pub no_ambiguity: bool,
     /// Rival machines to list at most (each answers some sequence differently from the
     /// machine and from the rivals before it).
     #[arg(long, default_value_t = 1, value_name = "N", value_parser = rivals())]

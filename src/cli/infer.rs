@@ -63,6 +63,9 @@ pub struct InferArgs {
     pub slots: usize,
     #[command(flatten)]
     pub noisy: NoisyArgs,
+    /// Skip the check whether another machine with as many states fits the recordings.
+    #[arg(long)]
+    pub no_ambiguity: bool,
     #[command(flatten)]
     pub ambiguity: AmbiguityArgs,
 }
@@ -240,7 +243,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     );
     let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
-    if !args.ambiguity.no_ambiguity {
+    if !args.no_ambiguity {
         let (_, files) = super::ambiguity::report(
             &set,
             &result.ecc,

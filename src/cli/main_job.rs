@@ -37,6 +37,12 @@ pub struct MainArgs {
     /// Output folder. Default: `out/<stem of the --ltl file>`.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// After synthesis: look for rivals (machines with as many states that reproduce the
+    /// recordings but answer differently) and check each with NuSMV.
+    #[arg(long)]
+    pub ambiguity: bool,
+    #[command(flatten)]
+    pub ambiguity_args: super::args::AmbiguityArgs,
     /// Form of the state output algorithms.
     #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
     pub algorithms: AlgorithmsArg,
@@ -307,7 +313,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             (ecc.clone(), ecc.size(), certificate, summary, closing)
         }
     };
-    let staged = write_verified(
+    let mut staged = write_verified(
         results.staging(),
         &formats,
         &ecc,
@@ -315,6 +321,17 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         &provenance,
         &summary,
     )?;
+    if args.ambiguity {
+        staged.extend(super::ambiguity::report_verified(
+            &set,
+            &ecc,
+            &args.ambiguity_args,
+            args.algorithms,
+            &check,
+            &progress,
+            results.staging(),
+        )?);
+    }
     let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
     results
         .publish()

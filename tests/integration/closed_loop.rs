@@ -651,3 +651,52 @@ fn controller_inputs_may_be_ivars() {
         assert!(v.status.success(), "{plant}: {}", text(&v.stderr));
     }
 }
+
+/// With `--ambiguity` the main job looks for rivals and NuSMV checks each: the verdict of
+/// every rival is printed, and `synth verify` on a rival's file agrees with it.
+#[test]
+fn the_main_job_checks_every_rival_with_nusmv() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let args = [
+        "-q",
+        "--ltl",
+        "specs/pnp.ltl",
+        "--plant",
+        "smv/pnp_surrogate.smv",
+        "--out",
+        out.path().to_str().unwrap(),
+        "--ambiguity",
+        "--rivals",
+        "2",
+    ];
+    let o = synth(&n.path, &args);
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "{stdout}{}", text(&o.stderr));
+    assert!(stdout.contains("ambiguous"), "{stdout}");
+    for k in 1..=2 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("rival {k}: NuSMV: ")))
+            .unwrap_or_else(|| panic!("no verdict for rival {k}: {stdout}"));
+        let rival = out.path().join(format!("rival{k}.json"));
+        let v = synth(
+            &n.path,
+            &[
+                "verify",
+                "--ecc",
+                rival.to_str().unwrap(),
+                "--ltl",
+                "specs/pnp.ltl",
+                "--plant",
+                "smv/pnp_surrogate.smv",
+            ],
+        );
+        // verify exits 0 exactly when every property holds.
+        assert_eq!(
+            v.status.success(),
+            line.contains("every property holds"),
+            "{line}"
+        );
+    }
+}
