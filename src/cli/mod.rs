@@ -28,6 +28,7 @@ mod args;
 mod bench;
 mod conform;
 mod diff;
+mod docs;
 mod events;
 mod experiment;
 mod generate;
@@ -118,6 +119,10 @@ pub enum Command {
     /// find a rival, record the sequence that tells them apart, until unique; compared with
     /// random recordings of the same length.
     Learn(learn::LearnArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(docs::CompletionsArgs),
+    /// Print the manual page (roff), or write one page per command with --out.
+    Man(docs::ManArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -210,6 +215,8 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
         Some(Command::Learn(a)) => learn::learn(&a),
+        Some(Command::Completions(a)) => docs::completions(&a),
+        Some(Command::Man(a)) => docs::man(&a),
         Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),

@@ -1271,3 +1271,38 @@ fn diff_tells_a_renumbered_copy_from_a_changed_machine() {
     assert!(stdout.contains("1 with changes"), "{stdout}");
     assert!(stdout.contains(": transition 1: `"), "{stdout}");
 }
+
+/// Completion scripts and manual pages come from the same definitions as the parser: every
+/// command is in them.
+#[test]
+fn completions_and_manual_pages_cover_every_command() {
+    let o = synth(&["completions", "bash"]);
+    assert!(o.status.success());
+    let bash = text(&o.stdout);
+    assert!(bash.contains("_synth()"), "{bash}");
+    for command in ["infer", "next-recording", "learn", "verify", "diff", "man"] {
+        assert!(
+            bash.contains(command),
+            "{command} missing from the bash completions"
+        );
+    }
+    for shell in ["zsh", "fish"] {
+        assert!(synth(&["completions", shell]).status.success());
+    }
+    assert_eq!(
+        synth(&["completions", "tcsh-from-1985"]).status.code(),
+        Some(2)
+    );
+    let o = synth(&["man"]);
+    assert!(o.status.success());
+    let page = text(&o.stdout);
+    assert!(page.contains(".TH synth 1"), "{page}");
+    assert!(page.contains("\\-\\-ltl"), "{page}");
+    let dir = tempfile::tempdir().unwrap();
+    let o = synth(&["man", "--out", dir.path().to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let infer = std::fs::read_to_string(dir.path().join("synth-infer.1")).unwrap();
+    assert!(infer.contains(".TH synth-infer 1"), "{infer}");
+    assert!(infer.contains("\\-\\-noisy"), "{infer}");
+    assert!(dir.path().join("synth-next-recording.1").is_file());
+}

@@ -1,0 +1,60 @@
+//! `synth completions SHELL` and `synth man`: shell completion scripts and the manual page,
+//! generated from the same clap definitions that parse the command line.
+
+use super::{Cli, Failure};
+use clap::{Args, CommandFactory};
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+/// `synth completions SHELL`: the completion script on stdout.
+pub fn completions(args: &CompletionsArgs) -> Result<(), Failure> {
+    let mut cmd = Cli::command();
+    let mut buf = Vec::new();
+    clap_complete::generate(args.shell, &mut cmd, "synth", &mut buf);
+    out_raw!("{}", String::from_utf8_lossy(&buf));
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct ManArgs {
+    /// Write `synth.1` and one page per command (`synth-infer.1`, ...) into this folder
+    /// instead of printing `synth.1` on stdout.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// The roff text of one manual page, titled `title`.
+fn page(cmd: clap::Command, title: &str) -> Result<Vec<u8>, Failure> {
+    let mut buf = Vec::new();
+    clap_mangen::Man::new(cmd)
+        .title(title)
+        .render(&mut buf)
+        .map_err(Failure::input)?;
+    Ok(buf)
+}
+
+/// `synth man`: the manual page (roff), on stdout or as files.
+pub fn man(args: &ManArgs) -> Result<(), Failure> {
+    let cmd = Cli::command().name("synth");
+    let Some(dir) = &args.out else {
+        out_raw!("{}", String::from_utf8_lossy(&page(cmd, "synth")?));
+        return Ok(());
+    };
+    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+    let mut written = vec![(dir.join("synth.1"), page(cmd.clone(), "synth")?)];
+    for sub in cmd.get_subcommands() {
+        let name = format!("synth-{}", sub.get_name());
+        written.push((dir.join(format!("{name}.1")), page(sub.clone(), &name)?));
+    }
+    for (path, bytes) in &written {
+        fbsynth::files::write_atomic(path, bytes).map_err(Failure::input)?;
+        out!("wrote {}", path.display());
+    }
+    Ok(())
+}
