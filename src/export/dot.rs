@@ -1,10 +1,10 @@
 //! Graphviz DOT drawing of an ECC, and rendering it to SVG with the `dot` program.
 //!
 //! In: a valid [`Ecc`]. Out: a `digraph` with one node per state, labelled with the state's
-//! name and algorithm (`x01x` for tri; `a0: ..` / `a1: ..` for binary, in output order as the
-//! graph's title lists them); the initial state drawn with a double border and an arrow from a
-//! dot; one edge per transition labelled `k: guard` with `k` its 1-based priority within the
-//! source state. [`render_svg`] turns such text into an SVG file if Graphviz is installed.
+//! name and what its algorithm does, by output name (`c1Extend := 1`, `vacuum_on := 0`,
+//! `z toggles`; outputs it keeps are not listed); the initial state marked by an entry arrow
+//! from a dot (no double border: that conventionally means "accepting"); one edge per
+//! transition labelled `k: guard` with `k` its 1-based priority within the source state. [`render_svg`] turns such text into an SVG file if Graphviz is installed.
 
 use crate::ecc::Ecc;
 use crate::files::{self, Folders};
@@ -25,6 +25,28 @@ fn quoted(s: &str) -> String {
     }
     out.push('"');
     out
+}
+
+/// What a state's algorithm does, one output per line by name: `name := 1`, `name := 0`,
+/// `name toggles`; outputs it keeps are left out (`keeps all outputs` when it keeps every one).
+fn actions(ecc: &Ecc, algorithm: &crate::ecc::Algorithm) -> String {
+    let lines: Vec<String> = ecc
+        .outputs
+        .iter()
+        .enumerate()
+        .filter_map(|(z, name)| {
+            match (algorithm.apply_one(z, false), algorithm.apply_one(z, true)) {
+                (false, true) => None,
+                (true, true) => Some(format!("{name} := 1")),
+                (false, false) => Some(format!("{name} := 0")),
+                (true, false) => Some(format!("{name} toggles")),
+            }
+        })
+        .collect();
+    match lines.is_empty() {
+        true => "keeps all outputs".to_string(),
+        false => lines.join("\n"),
+    }
 }
 
 /// Writes the DOT text.
@@ -52,13 +74,8 @@ pub fn write_dot(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     writeln!(w, "  _init [shape=point, width=0.15, label=\"\"];")?;
     writeln!(w, "  _init -> s0;")?;
     for (i, s) in ecc.states.iter().enumerate() {
-        let algorithm = match s.algorithm.to_strings().as_slice() {
-            [a0, a1] => format!("a0: {a0}\na1: {a1}"),
-            strings => strings.join("\n"),
-        };
-        let label = quoted(&format!("{}\n{algorithm}", s.name));
-        let initial = if i == 0 { ", peripheries=2" } else { "" };
-        writeln!(w, "  s{i} [label={label}{initial}];")?;
+        let label = quoted(&format!("{}\n{}", s.name, actions(ecc, &s.algorithm)));
+        writeln!(w, "  s{i} [label={label}];")?;
     }
     for (i, s) in ecc.states.iter().enumerate() {
         for (k, t) in s.transitions.iter().enumerate() {
