@@ -31,6 +31,7 @@ mod diff;
 mod docs;
 mod events;
 mod experiment;
+mod export;
 mod generate;
 mod infer;
 mod ingest;
@@ -123,6 +124,8 @@ pub enum Command {
     Completions(docs::CompletionsArgs),
     /// Print the manual page (roff), or write one page per command with --out.
     Man(docs::ManArgs),
+    /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot.
+    Export(export::ExportArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
@@ -215,6 +218,7 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
         Some(Command::Learn(a)) => learn::learn(&a),
+        Some(Command::Export(a)) => export::export(&a),
         Some(Command::Completions(a)) => docs::completions(&a),
         Some(Command::Man(a)) => docs::man(&a),
         Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),

@@ -1306,3 +1306,63 @@ fn completions_and_manual_pages_cover_every_command() {
     assert!(infer.contains("\\-\\-noisy"), "{infer}");
     assert!(dir.path().join("synth-next-recording.1").is_file());
 }
+
+/// `synth export` writes every format from a JSON machine, and the JSON it writes replays the
+/// recordings as the original does (infer's machines and the hand-written reference).
+#[test]
+fn export_round_trips_json_machines_of_the_shipped_cases() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let mut cases: Vec<(String, &str)> = Vec::new();
+    for (k, traces) in ["specs/pnp.traces", "specs/tank2.traces"]
+        .iter()
+        .enumerate()
+    {
+        let o = synth(&[
+            "infer",
+            "-q",
+            "--no-ambiguity",
+            "--traces",
+            traces,
+            "--format",
+            "json",
+            "--out",
+            &d(&format!("inferred{k}")),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        cases.push((d(&format!("inferred{k}/SynthesizedFB.json")), traces));
+    }
+    cases.push((
+        "specs/distribution_reference.json".to_string(),
+        "specs/distribution.csv",
+    ));
+    for (k, (json, traces)) in cases.iter().enumerate() {
+        let out = d(&format!("exported{k}"));
+        let o = synth(&["export", "--ecc", json, "--out", &out, "--name", "Rebuilt"]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        for ext in ["json", "fbt", "smv", "dot", "st"] {
+            assert!(dir
+                .path()
+                .join(format!("exported{k}/Rebuilt.{ext}"))
+                .is_file());
+        }
+        let exported = format!("{out}/Rebuilt.json");
+        let r = synth(&["replay", "--ecc", &exported, "--traces", traces]);
+        assert!(r.status.success(), "{json}: {}", text(&r.stderr));
+        // The same machine: the exported JSON exports to itself.
+        let again = d(&format!("again{k}"));
+        assert!(synth(&[
+            "export", "--ecc", &exported, "--out", &again, "--name", "Rebuilt", "--format", "json"
+        ])
+        .status
+        .success());
+        assert_eq!(
+            std::fs::read_to_string(&exported).unwrap(),
+            std::fs::read_to_string(format!("{again}/Rebuilt.json")).unwrap()
+        );
+    }
+    // Never into the folder the machine is read from.
+    let o = synth(&["export", "--ecc", &cases[0].0, "--out", &d("inferred0")]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(std::path::Path::new(&cases[0].0).is_file());
+}

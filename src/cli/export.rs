@@ -1,0 +1,67 @@
+//! `synth export`: any machine in the JSON contract (one `synth` wrote, or one edited by hand)
+//! to every other format.
+
+use super::args::{out_dir, parse_formats};
+use super::show::print_written;
+use super::Failure;
+use clap::Args;
+use fbsynth::export;
+use fbsynth::files::ResultSet;
+use fbsynth::pipeline::{self, recordings::read_ecc};
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The machine (JSON, as `synth infer` writes it).
+    #[arg(long, value_name = "FILE")]
+    pub ecc: PathBuf,
+    /// Formats to write, comma-separated: json, fbt, smv, dot, st.
+    #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
+    pub format: Vec<String>,
+    /// Name of the function block type in the exports.
+    #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
+    pub name: String,
+    /// Output folder. Default: `out/<stem of the JSON file>`.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `synth export`.
+pub fn export(args: &ExportArgs) -> Result<(), Failure> {
+    let formats = parse_formats(&args.format)?;
+    let ecc = read_ecc(&args.ecc)?;
+    let stem = args
+        .ecc
+        .file_stem()
+        .map_or("machine".into(), |s| s.to_string_lossy().into_owned());
+    let out = out_dir(&args.out, &stem);
+    // A result folder holds one result: publishing into the folder the machine is read from
+    // would replace or remove the input.
+    let parent = args.ecc.parent().filter(|p| !p.as_os_str().is_empty());
+    let parent = parent.unwrap_or(std::path::Path::new("."));
+    if out.exists() && fbsynth::files::same_file(&out, parent) {
+        return Err(Failure::msg(
+            super::exit::USAGE,
+            format!(
+                "--out {} is the folder {} is read from: choose another output folder",
+                out.display(),
+                args.ecc.display()
+            ),
+        ));
+    }
+    let results = ResultSet::open(&out).map_err(Failure::input)?;
+    let staged =
+        export::write_all(&ecc, results.staging(), &args.name, &formats).map_err(Failure::input)?;
+    let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    out!(
+        "{}: {} states, {} transitions",
+        args.ecc.display(),
+        ecc.states.len(),
+        ecc.size().t
+    );
+    print_written(&files);
+    Ok(())
+}
