@@ -81,9 +81,19 @@ pub struct Input {
 /// bytes (whatever its name; multi-member streams are read to the end). A UTF-8 byte order
 /// mark at the start of the (decompressed) content is dropped: every reader of the crate
 /// comes here, so no parser sees one.
+///
+/// `-` is standard input: streamed on its first opening, unless [`stdin_text_head`] cached it
+/// whole before (then every opening reads the cached copy).
 pub fn open_input(path: &Path) -> std::io::Result<Input> {
-    let file = std::fs::File::open(path)?;
-    let mut raw = BufReader::with_capacity(1 << 16, file);
+    let source: Box<dyn Read> = match is_stdin(path) {
+        true => match STDIN.get() {
+            Some(Ok(bytes)) => Box::new(std::io::Cursor::new(bytes.as_slice())),
+            Some(Err(e)) => return Err(std::io::Error::other(e.clone())),
+            None => Box::new(std::io::stdin()),
+        },
+        false => Box::new(std::fs::File::open(path)?),
+    };
+    let mut raw = BufReader::with_capacity(1 << 16, source);
     let gzip = raw.fill_buf()?.starts_with(&GZIP_MAGIC);
     let reader: Box<dyn BufRead> = if gzip {
         Box::new(BufReader::with_capacity(
@@ -94,6 +104,37 @@ pub fn open_input(path: &Path) -> std::io::Result<Input> {
         Box::new(BufReader::with_capacity(1 << 16, WithoutBom::new(raw)))
     };
     Ok(Input { reader, gzip })
+}
+
+/// Whether a file argument means standard input (or, for an output, standard output).
+pub fn is_stdin(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Standard input read whole (at most [`MAX_FILE_BYTES`]), once, for readers that must look
+/// at it before they parse it, or read it twice.
+static STDIN: std::sync::OnceLock<Result<Vec<u8>, String>> = std::sync::OnceLock::new();
+
+/// The first `n` bytes of standard input (reading and caching it whole), e.g. to tell a CSV
+/// log from fbSAT scenarios.
+pub fn stdin_text_head(n: usize) -> std::io::Result<Vec<u8>> {
+    let all = STDIN.get_or_init(|| {
+        let mut buf = Vec::new();
+        std::io::stdin()
+            .take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut buf)
+            .map_err(|e| e.to_string())?;
+        match buf.len() as u64 > MAX_FILE_BYTES {
+            true => Err(format!(
+                "standard input holds more than {MAX_FILE_BYTES} bytes"
+            )),
+            false => Ok(buf),
+        }
+    });
+    match all {
+        Ok(bytes) => Ok(bytes[..n.min(bytes.len())].to_vec()),
+        Err(e) => Err(std::io::Error::other(e.clone())),
+    }
 }
 
 /// A reader that passes on what `inner` yields less a UTF-8 byte order mark at its start.
@@ -335,7 +376,7 @@ pub fn utf8_text(bytes: Vec<u8>) -> Result<String, ReadError> {
 pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, FileReadError> {
     let read = || -> Result<String, ReadError> {
         let input = open_input(path)?;
-        if !input.gzip {
+        if !input.gzip && !is_stdin(path) {
             let meta = std::fs::metadata(path)?;
             if meta.is_file() && meta.len() > MAX_FILE_BYTES {
                 return Err(ReadError::TooLarge {

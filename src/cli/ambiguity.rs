@@ -17,14 +17,14 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Runs the check on `machine` (minimal for `set`), prints the verdict and every rival, and
-/// writes `rival<k>.json` and `ambiguity.txt` into `dir`; the files written.
+/// writes `rival<k>.json` and `ambiguity.txt` into `dir` when given; the files written.
 pub fn report(
     set: &ScenarioSet,
     machine: &Ecc,
     args: &AmbiguityArgs,
     algorithms: AlgorithmsArg,
     progress: &Progress,
-    dir: &Path,
+    dir: Option<&Path>,
 ) -> Result<(Ambiguity, Vec<PathBuf>), Failure> {
     let tree = ScenarioTree::build(set).map_err(pipeline::Error::from)?;
     progress.line(&format!(
@@ -36,6 +36,9 @@ pub fn report(
     let text = describe(set, machine, &found);
     out_raw!("{text}");
     let mut files = Vec::new();
+    let Some(dir) = dir else {
+        return Ok((found, files));
+    };
     for (k, r) in found.rivals.iter().enumerate() {
         let path = dir.join(format!("rival{}.json", k + 1));
         fbsynth::files::write_atomic(&path, export::json::to_string(&r.ecc).as_bytes())
@@ -59,7 +62,7 @@ pub fn report_verified(
     progress: &Progress,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, Failure> {
-    let (found, files) = report(set, machine, args, algorithms, progress, dir)?;
+    let (found, files) = report(set, machine, args, algorithms, progress, Some(dir))?;
     let mut verifier = check.verifier()?;
     let mut fitting = 0;
     for (k, r) in found.rivals.iter().enumerate() {
@@ -179,7 +182,7 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         &args.ambiguity,
         args.algorithms,
         &progress,
-        results.staging(),
+        Some(results.staging()),
     )?;
     let (csv, txt) = plan(&set, &machine, &found);
     let json = export::json::to_string(&machine);

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct ExportArgs {
-    /// The machine (JSON, as `synth infer` writes it).
+    /// The machine (JSON, as `synth infer` writes it; `-`: stdin).
     #[arg(long, value_name = "FILE")]
     pub ecc: PathBuf,
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
@@ -21,7 +21,8 @@ pub struct ExportArgs {
     /// Name of the function block type in the exports.
     #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
     pub name: String,
-    /// Output folder. Default: `out/<stem of the JSON file>`.
+    /// Output folder. Default: `out/<stem of the JSON file>`. `-`: one format on stdout (the
+    /// one --format names, JSON when it names several).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -34,6 +35,16 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
         .ecc
         .file_stem()
         .map_or("machine".into(), |s| s.to_string_lossy().into_owned());
+    if args.out.as_deref().is_some_and(fbsynth::files::is_stdin) {
+        // One format on stdout: the one --format names, JSON when it names several.
+        super::data_on_stdout();
+        let format = match formats.as_slice() {
+            [one] => *one,
+            _ => export::Format::Json,
+        };
+        let text = export::text(&ecc, &args.name, format).map_err(Failure::input)?;
+        return super::write_data(text.as_bytes());
+    }
     let out = out_dir(&args.out, &stem);
     // A result folder holds one result: publishing into the folder the machine is read from
     // would replace or remove the input.

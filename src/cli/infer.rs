@@ -36,7 +36,9 @@ pub struct InferArgs {
     /// Seconds for guard minimization; past it the best guards found so far are kept.
     #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
     pub guard_budget: f64,
-    /// Output folder. Default: `out/<stem of the first trace file>`.
+    /// Output folder. Default: `out/<stem of the first trace file>`. `-`: the machine on
+    /// stdout (the one format --format names, JSON when it names several), every other line
+    /// on stderr.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Formats to write, comma-separated: json, fbt, smv, dot, st.
@@ -108,7 +110,7 @@ pub struct ConvertArgs {
     /// Format to write.
     #[arg(long, value_enum)]
     pub to: ConvertTo,
-    /// File to write (gzip-compressed if it ends in `.gz`).
+    /// File to write (gzip-compressed if it ends in `.gz`; `-`: stdout).
     #[arg(long, short, value_name = "FILE")]
     pub output: PathBuf,
 }
@@ -173,6 +175,16 @@ fn suggest_noisy(e: pipeline::Error) -> Failure {
 
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+    let to_stdout = args.out.as_deref().is_some_and(fbsynth::files::is_stdin);
+    if to_stdout {
+        if args.noisy.noisy || args.modules.is_some() {
+            return Err(Failure::msg(
+                exit::USAGE,
+                "--out - (the machine on stdout) is for one machine: --noisy and --modules write result folders",
+            ));
+        }
+        super::data_on_stdout();
+    }
     if args.noisy.noisy {
         return infer_noisy(args);
     }
@@ -190,7 +202,10 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
-    let results = infer_out(args)?;
+    let results = match to_stdout {
+        true => None,
+        false => Some(infer_out(args)?),
+    };
     let opts = exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
@@ -241,6 +256,25 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         result.stats.guard_seconds,
         set.scenarios.len()
     );
+    let Some(results) = results else {
+        // One format on stdout: the one --format names, JSON when it names several.
+        let format = match formats.as_slice() {
+            [one] => *one,
+            _ => export::Format::Json,
+        };
+        let text = export::text(&result.ecc, &args.name, format).map_err(Failure::input)?;
+        if !args.no_ambiguity {
+            super::ambiguity::report(
+                &set,
+                &result.ecc,
+                &args.ambiguity,
+                args.algorithms,
+                &progress,
+                None,
+            )?;
+        }
+        return super::write_data(text.as_bytes());
+    };
     let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
     if !args.no_ambiguity {
@@ -250,7 +284,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             &args.ambiguity,
             args.algorithms,
             &progress,
-            results.staging(),
+            Some(results.staging()),
         )?;
         staged.extend(files);
     }
@@ -369,7 +403,12 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
     {
         inputs.extend([i, o]);
     }
-    super::args::refuse_overwrite(&[&args.output], &inputs)?;
+    let to_stdout = fbsynth::files::is_stdin(&args.output);
+    if to_stdout {
+        super::data_on_stdout();
+    } else {
+        super::args::refuse_overwrite(&[&args.output], &inputs)?;
+    }
     let set = args.traces.load()?;
     let mut buf = Vec::new();
     match args.to {
@@ -377,6 +416,9 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
         ConvertTo::Csv => csvlog::write(&set, &mut buf),
     }
     .map_err(Failure::input)?;
+    if to_stdout {
+        return super::write_data(&buf);
+    }
     fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
     out!(
         "wrote {} scenarios ({} steps) to {}",

@@ -8,10 +8,17 @@
 /// `println!` for the results on stdout, which survives a reader that went away (`synth ... |
 /// head`): the run goes on and finishes its files. A panic there, or death by SIGPIPE (which
 /// would also hit synth when NuSMV dies with its input unread), would leave them half-written.
+///
+/// When the result itself goes to stdout (`--out -`), these lines go to stderr instead
+/// ([`data_on_stdout`]).
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        if $crate::cli::stdout_is_data() {
+            let _ = writeln!(std::io::stderr(), $($arg)*);
+        } else {
+            let _ = writeln!(std::io::stdout(), $($arg)*);
+        }
     }};
 }
 
@@ -19,8 +26,39 @@ macro_rules! out {
 macro_rules! out_raw {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = write!(std::io::stdout(), $($arg)*);
+        if $crate::cli::stdout_is_data() {
+            let _ = write!(std::io::stderr(), $($arg)*);
+        } else {
+            let _ = write!(std::io::stdout(), $($arg)*);
+        }
     }};
+}
+
+/// Set when a command writes its result on stdout: every other line goes to stderr then.
+static STDOUT_IS_DATA: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+pub fn stdout_is_data() -> bool {
+    STDOUT_IS_DATA.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// From now on stdout carries the result only (`--out -`).
+pub fn data_on_stdout() {
+    STDOUT_IS_DATA.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Writes the result on stdout (see [`data_on_stdout`]).
+pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(bytes).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        // A reader that went away (`| head`) took what it wanted.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(Failure::msg(
+            exit::INPUT,
+            format!("cannot write to stdout: {e}"),
+        )),
+    }
 }
 
 mod ambiguity;

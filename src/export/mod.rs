@@ -136,6 +136,30 @@ pub enum ExportError {
     },
 }
 
+/// The text of one export of `ecc` (named `stem` where the format names the block); the
+/// names are checked for the format first.
+pub fn text(ecc: &Ecc, stem: &str, format: Format) -> Result<String, ExportError> {
+    ecc.validate().map_err(ExportError::InvalidEcc)?;
+    let name_error = |source| ExportError::Name { format, source };
+    Ok(match format {
+        Format::Json => json::to_string(ecc),
+        Format::Dot => dot::to_string(ecc),
+        Format::Smv => ecc_module::ecc_module_to_string(ecc, stem).map_err(ExportError::Smv)?,
+        Format::Fbt => {
+            fbt::check_names(ecc, stem).map_err(name_error)?;
+            let options = fbt::FbtOptions {
+                type_name: stem.to_string(),
+                ..fbt::FbtOptions::default()
+            };
+            fbt::to_string(ecc, &options).expect("names are checked")
+        }
+        Format::St => {
+            st::check_names(ecc, stem).map_err(name_error)?;
+            st::to_string(ecc, stem).expect("names are checked")
+        }
+    })
+}
+
 /// Writes `ecc` in every format of `formats` (repeats ignored) to `dir/stem.<extension>`, plus
 /// `dir/stem.svg` when [`Format::Dot`] is wanted and Graphviz's `dot` is installed. Returns
 /// the paths written, in the order of `formats`, the SVG right after the DOT file.
@@ -160,28 +184,10 @@ pub fn write_all(
             wanted.push(f);
         }
     }
-    let mut texts: Vec<(Format, String)> = Vec::new();
-    for &format in &wanted {
-        let name_error = |source| ExportError::Name { format, source };
-        let text = match format {
-            Format::Json => json::to_string(ecc),
-            Format::Dot => dot::to_string(ecc),
-            Format::Smv => ecc_module::ecc_module_to_string(ecc, stem).map_err(ExportError::Smv)?,
-            Format::Fbt => {
-                fbt::check_names(ecc, stem).map_err(name_error)?;
-                let options = fbt::FbtOptions {
-                    type_name: stem.to_string(),
-                    ..fbt::FbtOptions::default()
-                };
-                fbt::to_string(ecc, &options).expect("names are checked")
-            }
-            Format::St => {
-                st::check_names(ecc, stem).map_err(name_error)?;
-                st::to_string(ecc, stem).expect("names are checked")
-            }
-        };
-        texts.push((format, text));
-    }
+    let texts: Vec<(Format, String)> = wanted
+        .iter()
+        .map(|&format| Ok((format, text(ecc, stem, format)?)))
+        .collect::<Result<_, ExportError>>()?;
 
     let mut written = Vec::new();
     for (format, text) in texts {

@@ -18,6 +18,11 @@ pub struct Recordings {
 }
 
 fn is_csv(path: &Path) -> bool {
+    if crate::files::is_stdin(path) {
+        // No name to go by: fbSAT scenarios hold `REQ[` in their first lines, a CSV log not.
+        let head = crate::files::stdin_text_head(1 << 16).unwrap_or_default();
+        return !String::from_utf8_lossy(&head).contains("REQ[");
+    }
     let name = path.to_string_lossy().to_ascii_lowercase();
     name.ends_with(".csv") || name.ends_with(".csv.gz")
 }
@@ -119,6 +124,9 @@ impl Recordings {
 
 /// A file's name up to its first dot.
 pub fn stem(path: &Path) -> String {
+    if crate::files::is_stdin(path) {
+        return "stdin".into();
+    }
     let f = path
         .file_name()
         .map(|f| f.to_string_lossy().into_owned())

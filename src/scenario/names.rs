@@ -58,6 +58,10 @@ pub fn read_names(file: &Path) -> Result<Vec<String>, ScenarioError> {
 /// `input-names` / `output-names` in the same folder (the fbSAT layout).
 /// The stem drops every extension: `tests-10.gz` -> `tests-10`, `pnp.traces` -> `pnp`.
 pub fn default_names_files(traces: &Path) -> Option<(PathBuf, PathBuf)> {
+    // Standard input lies beside nothing: its names come from --input-names/--output-names.
+    if crate::files::is_stdin(traces) {
+        return None;
+    }
     let dir = traces.parent().unwrap_or(Path::new("."));
     let file = traces.file_name()?.to_str()?;
     let stem = file.split('.').next().unwrap_or(file);

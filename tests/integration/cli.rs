@@ -1366,3 +1366,98 @@ fn export_round_trips_json_machines_of_the_shipped_cases() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     assert!(std::path::Path::new(&cases[0].0).is_file());
 }
+
+/// `-` is stdin for scenario files and machines, and stdout for `infer --out`, `export --out`
+/// and `convert -o`; then every other line goes to stderr, so that pipes carry the result only.
+#[test]
+fn dash_means_stdin_and_stdout_in_pipes() {
+    use std::io::Write as _;
+    use std::process::Stdio;
+    let pipe = |args: &[&str], input: &[u8]| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(input).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let traces = std::fs::read("specs/tank2.traces").unwrap();
+    // fbSAT scenarios on stdin, names from files, the machine on stdout.
+    let o = pipe(
+        &[
+            "infer",
+            "--traces",
+            "-",
+            "--input-names",
+            "specs/tank2.inputs",
+            "--output-names",
+            "specs/tank2.outputs",
+            "--out",
+            "-",
+        ],
+        &traces,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let machine = o.stdout;
+    assert!(text(&machine).starts_with('{'), "{}", text(&machine));
+    assert!(text(&o.stderr).contains("C = 8"), "{}", text(&o.stderr));
+    // The machine from stdin replays the recordings.
+    let r = pipe(
+        &["replay", "--ecc", "-", "--traces", "specs/tank2.traces"],
+        &machine,
+    );
+    assert!(r.status.success(), "{}", text(&r.stderr));
+    // And exports to one format on stdout.
+    let e = pipe(
+        &["export", "--ecc", "-", "--out", "-", "--format", "st"],
+        &machine,
+    );
+    assert!(e.status.success(), "{}", text(&e.stderr));
+    assert!(
+        text(&e.stdout).starts_with("FUNCTION_BLOCK SynthesizedFB"),
+        "{}",
+        text(&e.stdout)
+    );
+    // A CSV log on stdin is told apart from fbSAT scenarios by its content.
+    let c = synth(&[
+        "convert",
+        "--traces",
+        "specs/tank2.traces",
+        "--to",
+        "csv",
+        "-o",
+        "-",
+    ]);
+    assert!(c.status.success(), "{}", text(&c.stderr));
+    assert!(
+        text(&c.stdout).starts_with("scenario,in:"),
+        "{}",
+        text(&c.stdout)
+    );
+    let o = pipe(
+        &[
+            "infer",
+            "-q",
+            "--no-ambiguity",
+            "--traces",
+            "-",
+            "--out",
+            "-",
+        ],
+        &c.stdout,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(o.stdout, machine, "the same machine from the CSV form");
+    // Errors in stdin name it.
+    let bad = pipe(
+        &["infer", "--traces", "-", "--out", "-"],
+        b"1\nin=REQ[1]; out=CNF[1\n",
+    );
+    assert_eq!(bad.status.code(), Some(1), "{}", text(&bad.stderr));
+    assert!(text(&bad.stderr).contains("-:2"), "{}", text(&bad.stderr));
+    assert!(bad.stdout.is_empty());
+}
