@@ -350,10 +350,25 @@ fn bad_value(column: &str, cell: &[u8]) -> BadRow {
     }
 }
 
+/// An ISO 8601 date and time as seconds since 1970-01-01T00:00:00Z: RFC 3339
+/// (`2024-05-01T10:00:00.123Z`, `...+02:00`), also with a space for the `T` (as spreadsheets
+/// write it) or without an offset, which is then read as UTC.
+fn iso_seconds(text: &str) -> Option<f64> {
+    use time::format_description::well_known::Rfc3339;
+    let t = text.trim().replacen(' ', "T", 1);
+    let has_offset = t.ends_with('Z')
+        || t.ends_with('z')
+        || t.get(19..)
+            .is_some_and(|rest| rest.contains('+') || rest.contains('-'));
+    let t = if has_offset { t } else { format!("{t}Z") };
+    let at = time::OffsetDateTime::parse(&t, &Rfc3339).ok()?;
+    Some(at.unix_timestamp_nanos() as f64 / 1e9)
+}
+
 fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
     let time = std::str::from_utf8(cell)
         .ok()
-        .and_then(|c| c.parse::<f64>().ok())
+        .and_then(|c| c.parse::<f64>().ok().or_else(|| iso_seconds(c)))
         .filter(|t| t.is_finite())
         .ok_or_else(|| bad_value(column, cell))?;
     match time.abs() <= MAX_TIMESTAMP {
@@ -498,6 +513,28 @@ mod tests {
         for (head, row, want) in cases {
             let got = read(&format!("{head}{row}"), false).unwrap_err();
             assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn iso_8601_timestamps_are_seconds_since_the_unix_epoch() {
+        for (text, seconds) in [
+            ("2024-05-01T10:00:00.123Z", 1_714_557_600.123),
+            ("2024-05-01T12:00:00.123+02:00", 1_714_557_600.123),
+            ("2024-05-01 10:00:00.5", 1_714_557_600.5),
+            ("2024-05-01T10:00:00", 1_714_557_600.0),
+            ("1970-01-01T00:00:00Z", 0.0),
+        ] {
+            let got = parse_time("t", text.as_bytes()).unwrap();
+            assert!((got - seconds).abs() < 1e-6, "{text}: {got}");
+        }
+        for bad in [
+            "2024-13-01T10:00:00Z",
+            "2024-05-01",
+            "10:00:00",
+            "yesterday",
+        ] {
+            assert!(parse_time("t", bad.as_bytes()).is_err(), "{bad}");
         }
     }
 

@@ -1461,3 +1461,51 @@ fn dash_means_stdin_and_stdout_in_pipes() {
     assert!(text(&bad.stderr).contains("-:2"), "{}", text(&bad.stderr));
     assert!(bad.stdout.is_empty());
 }
+
+/// Common exports of the same long log read alike: ISO 8601 timestamps (UTC, with an offset,
+/// or with a space as spreadsheets write them), quoted fields and a byte order mark.
+#[test]
+fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = std::fs::read_to_string("specs/tank/scenario1.csv").unwrap();
+    let iso = |seconds: f64, style: usize| {
+        // 2024-05-01T10:00:00Z is 1714557600 s after the Unix epoch.
+        let t = 1_714_557_600.0 + seconds;
+        let (h, m, s) = ((t as u64 / 3600) % 24, (t as u64 / 60) % 60, t % 60.0);
+        match style {
+            0 => format!("2024-05-01T{h:02}:{m:02}:{s:06.3}Z"),
+            1 => format!("\"2024-05-01T{:02}:{m:02}:{s:06.3}+02:00\"", h + 2),
+            _ => format!("2024-05-01 {h:02}:{m:02}:{s:06.3}"),
+        }
+    };
+    let run = |name: &str, log: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, log).unwrap();
+        let out = dir.path().join(format!("{name}.traces"));
+        let o = synth(&[
+            "ingest",
+            "--log",
+            path.to_str().unwrap(),
+            "--map",
+            "specs/tank/tank.map",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        std::fs::read_to_string(out).unwrap()
+    };
+    let expected = run("plain.csv", &plain);
+    for style in 0..3 {
+        let mut log = String::from("\u{feff}\"timestamp\",\"address\",\"value\"\n");
+        for line in plain.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            let t: f64 = f[0].parse().unwrap();
+            log.push_str(&format!("{},\"{}\",{}\n", iso(t, style), f[1], f[2]));
+        }
+        assert_eq!(
+            run(&format!("iso{style}.csv"), &log),
+            expected,
+            "style {style}"
+        );
+    }
+}
