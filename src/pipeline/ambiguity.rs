@@ -119,9 +119,10 @@ impl Ambiguity {
             format!("the {} recorded input combinations", self.alphabet)
         };
         let size = format!(
-            "{} {} states (at most {} transition{} per state)",
+            "{} {} state{} (at most {} transition{} per state)",
             if self.extra_states > 0 { "at most" } else { "" },
             self.states,
+            if self.states == 1 { "" } else { "s" },
             self.per_state,
             if self.per_state == 1 { "" } else { "s" }
         )
@@ -129,8 +130,10 @@ impl Ambiguity {
         .to_string();
         match self.verdict {
             Verdict::Unique => format!(
-                "unique: no other machine with {size} reproduces the recordings and answers differently within {} steps of a recorded point (inputs: {over}; {:.2} s)",
-                self.depth, self.seconds
+                "unique: no other machine with {size} reproduces the recordings and answers differently within {} step{} of a recorded point (inputs: {over}; {:.2} s)",
+                self.depth,
+                if self.depth == 1 { "" } else { "s" },
+                self.seconds
             ),
             Verdict::Ambiguous => format!(
                 "ambiguous: {}{} other machine{} with {size} reproduce{} the recordings but answer{} differently (inputs: {over}; {:.2} s)",
