@@ -68,6 +68,9 @@ pub struct InferArgs {
     /// Skip the check whether another machine with as many states fits the recordings.
     #[arg(long)]
     pub no_ambiguity: bool,
+    /// A machine-readable summary (JSON) on stdout; every other line goes to stderr.
+    #[arg(long)]
+    pub json: bool,
     #[command(flatten)]
     pub ambiguity: AmbiguityArgs,
 }
@@ -176,6 +179,15 @@ fn suggest_noisy(e: pipeline::Error) -> Failure {
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let to_stdout = args.out.as_deref().is_some_and(fbsynth::files::is_stdin);
+    if args.json && (to_stdout || args.noisy.noisy || args.modules.is_some()) {
+        return Err(Failure::msg(
+            exit::USAGE,
+            "--json is for one machine into a folder: not with --out -, --noisy or --modules (they write summary files)",
+        ));
+    }
+    if args.json {
+        super::data_on_stdout();
+    }
     if to_stdout {
         if args.noisy.noisy || args.modules.is_some() {
             return Err(Failure::msg(
@@ -277,8 +289,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     };
     let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
+    let mut ambiguity = serde_json::Value::Null;
     if !args.no_ambiguity {
-        let (_, files) = super::ambiguity::report(
+        let (found, files) = super::ambiguity::report(
             &set,
             &result.ecc,
             &args.ambiguity,
@@ -286,9 +299,24 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             &progress,
             Some(results.staging()),
         )?;
+        ambiguity = found.to_json(&set, &result.ecc);
         staged.extend(files);
     }
-    print_written(&publish(results, &staged)?);
+    let files = publish(results, &staged)?;
+    print_written(&files);
+    if args.json {
+        let summary = serde_json::json!({
+            "size": s,
+            "guards_proven_minimal": result.guards_exact,
+            "transitions_proven_minimal": result.transitions_exact,
+            "scenarios": set.scenarios.len(),
+            "seconds": progress.elapsed(),
+            "stats": result.stats,
+            "files": files,
+            "ambiguity": ambiguity,
+        });
+        return super::write_data(format!("{summary:#}\n").as_bytes());
+    }
     Ok(())
 }
 

@@ -37,6 +37,10 @@ pub struct MainArgs {
     /// Output folder. Default: `out/<stem of the --ltl file>`.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The run's summary (as `summary.json`, with the files written) on stdout; every other
+    /// line goes to stderr.
+    #[arg(long)]
+    pub json: bool,
     /// After synthesis: look for rivals (machines with as many states that reproduce the
     /// recordings but answer differently) and check each with NuSMV.
     #[arg(long)]
@@ -139,12 +143,18 @@ pub struct VerifyArgs {
     /// its counterexample as a waveform (`<property>.vcd` for GTKWave, `<property>.svg`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// NuSMV's report as JSON on stdout; every other line goes to stderr.
+    #[arg(long)]
+    pub json: bool,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
 }
 
 /// `synth --ltl SPEC --plant PLANT`.
 pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
+    if args.json {
+        super::data_on_stdout();
+    }
     let progress = Progress::new(args.quiet);
     let (Some(ltl), Some(plant_file)) = (&args.ltl, &args.plant) else {
         return Err(Failure::msg(
@@ -347,6 +357,11 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
     out!("{closing}");
     print_files(&out, &files);
+    if args.json {
+        let mut summary = summary;
+        summary["files"] = serde_json::json!(files);
+        return super::write_data(format!("{summary:#}\n").as_bytes());
+    }
     Ok(())
 }
 
@@ -394,6 +409,9 @@ fn write_counterexamples(
 
 /// `synth verify`.
 pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
+    if args.json {
+        super::data_on_stdout();
+    }
     let ecc = read_ecc(&args.ecc)?;
     let problem = problem(&args.ltl, &args.plant, &ecc.inputs, &ecc.outputs)?;
     let check = check(problem, &args.nusmv)?;
@@ -404,6 +422,10 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     };
     let verification = pipeline::verify(&ecc, &check)?;
     let report = &verification.report;
+    if args.json {
+        let summary = serde_json::json!({ "verified": report.all_hold(), "report": report });
+        super::write_data(format!("{summary:#}\n").as_bytes())?;
+    }
     out_raw!("{}", report.to_text());
     let waveforms: Vec<_> = (verification.counterexamples.iter())
         .map(|cx| cx.waveform(&ecc.inputs, &ecc.outputs))

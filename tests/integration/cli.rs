@@ -1509,3 +1509,41 @@ fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
         );
     }
 }
+
+/// `--json` puts one machine-readable summary on stdout, and nothing else there.
+#[test]
+fn json_summaries_are_the_only_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let o = synth(&[
+        "infer",
+        "--traces",
+        "specs/tank2.traces",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is one JSON value");
+    assert_eq!(v["size"]["c"], 8);
+    assert_eq!(v["ambiguity"]["verdict"], "ambiguous");
+    let steps = v["ambiguity"]["rivals"][0]["steps"].as_array().unwrap();
+    let last = steps.last().unwrap();
+    assert_ne!(last["machine"], last["rival"], "{last}");
+    assert!(
+        text(&o.stderr).contains("C = 8"),
+        "the text summary moves to stderr"
+    );
+    let machine = out.join("SynthesizedFB.json");
+    let m = machine.to_str().unwrap();
+    let d = synth(&["diff", m, m, "--json"]);
+    assert!(d.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&d.stdout).unwrap();
+    assert_eq!(v["equivalent"], true);
+    let rival = out.join("rival1.json");
+    let d = synth(&["diff", m, rival.to_str().unwrap(), "--json"]);
+    assert_eq!(d.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&d.stdout).unwrap();
+    assert_eq!(v["equivalent"], false);
+    assert!(!v["difference"]["inputs"].as_array().unwrap().is_empty());
+}

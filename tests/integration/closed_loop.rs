@@ -700,3 +700,42 @@ fn the_main_job_checks_every_rival_with_nusmv() {
         );
     }
 }
+
+/// `--json` on the main job and on `verify`: the summary and NuSMV's report on stdout.
+#[test]
+fn json_summaries_of_the_main_job_and_verify() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(
+        &n.path,
+        "lamp.ltl",
+        "lamp_plant.smv",
+        out.path(),
+        &["--json"],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON value");
+    assert!(v["report"]["properties"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|p| p["holds"] == true));
+    assert!(!v["files"].as_array().unwrap().is_empty());
+    let json = out.path().join("SynthesizedFB.json");
+    let ltl = format!("{DIR}/lamp.ltl");
+    let plant = format!("{DIR}/lamp_plant.smv");
+    let args = [
+        "verify",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--ltl",
+        &ltl,
+        "--plant",
+        &plant,
+        "--json",
+    ];
+    let v = synth(&n.path, &args);
+    assert!(v.status.success(), "{}", text(&v.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&v.stdout).unwrap();
+    assert_eq!(r["verified"], true);
+}
