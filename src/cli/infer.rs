@@ -71,6 +71,12 @@ pub struct InferArgs {
     /// A machine-readable summary (JSON) on stdout; every other line goes to stderr.
     #[arg(long)]
     pub json: bool,
+    /// Write the SAT questions that prove the sizes minimal as DIMACS CNF files into DIR, for
+    /// any other solver: at most C states (satisfiable) and C - 1 (not), and with C states at
+    /// most T transitions (satisfiable) and T - 1 (not); `verdicts.txt` lists varisat's answer
+    /// to each file.
+    #[arg(long, value_name = "DIR")]
+    pub dump_cnf: Option<PathBuf>,
     #[command(flatten)]
     pub ambiguity: AmbiguityArgs,
 }
@@ -287,6 +293,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         }
         return super::write_data(text.as_bytes());
     };
+    if let Some(dir) = &args.dump_cnf {
+        dump_cnf(&set, &opts.sat, &s, dir)?;
+    }
     let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
     let mut ambiguity = serde_json::Value::Null;
@@ -317,6 +326,59 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         });
         return super::write_data(format!("{summary:#}\n").as_bytes());
     }
+    Ok(())
+}
+
+/// `--dump-cnf DIR`: the size questions around the minimum as DIMACS files, each answered by
+/// a fresh varisat solver on exactly the formula written (`verdicts.txt`).
+fn dump_cnf(
+    set: &ScenarioSet,
+    sat: &exact::SatOptions,
+    size: &fbsynth::ecc::Size,
+    dir: &Path,
+) -> Result<(), Failure> {
+    use fbsynth::scenario::tree::ScenarioTree;
+    let tree = ScenarioTree::build(set).map_err(pipeline::Error::from)?;
+    let results = ResultSet::open(dir).map_err(Failure::input)?;
+    let mut questions = vec![(format!("states-{}.cnf", size.c), size.c, None)];
+    if size.c > 1 {
+        questions.push((format!("states-{}.cnf", size.c - 1), size.c - 1, None));
+    }
+    questions.push((format!("transitions-{}.cnf", size.t), size.c, Some(size.t)));
+    if size.t > 0 {
+        questions.push((
+            format!("transitions-{}.cnf", size.t - 1),
+            size.c,
+            Some(size.t - 1),
+        ));
+    }
+    let mut verdicts = String::new();
+    let mut staged = Vec::new();
+    for (name, c, t) in questions {
+        let formula = fbsynth::sat::basic::formula(&tree, sat, c, t);
+        let mut text = Vec::new();
+        varisat::dimacs::write_dimacs(&mut text, &formula).map_err(Failure::input)?;
+        let path = results.staging().join(&name);
+        fbsynth::files::write_atomic(&path, &text).map_err(Failure::input)?;
+        staged.push(path);
+        let mut solver = varisat::Solver::new();
+        solver.add_formula(&formula);
+        let sat = solver
+            .solve()
+            .map_err(|e| Failure::msg(exit::BUG, format!("varisat failed on {name}: {e}")))?;
+        verdicts.push_str(&format!(
+            "{name} {}\n",
+            if sat { "SATISFIABLE" } else { "UNSATISFIABLE" }
+        ));
+    }
+    let path = results.staging().join("verdicts.txt");
+    fbsynth::files::write_atomic(&path, verdicts.as_bytes()).map_err(Failure::input)?;
+    staged.push(path);
+    let published: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    print_written(&published);
     Ok(())
 }
 

@@ -1076,6 +1076,38 @@ pub fn synthesize(
     Synthesizer::new(set, tree, opts).minimize(progress)
 }
 
+/// The question "an ECC with at most `c` states (and at most `t` transitions) reproduces the
+/// tree" as one CNF formula: the encoding with every assumption of the solver call as a unit
+/// clause, for an independent solver to answer ([`satisfiable`] asks varisat the same).
+pub fn formula(
+    tree: &ScenarioTree,
+    opts: &Options,
+    c: usize,
+    t: Option<usize>,
+) -> varisat::CnfFormula {
+    let enc = Encoding::build(tree, c.max(1), opts, true);
+    let mut assume = enc.base_assumptions();
+    if let Some(b) = t.and_then(|t| enc.total_t.at_most(t)) {
+        assume.push(b);
+    }
+    let kept = enc.solver.clauses().expect("clauses are kept");
+    let mut f = varisat::CnfFormula::new();
+    f.set_var_count(kept.var_count());
+    for clause in kept.iter() {
+        f.add_clause(clause);
+    }
+    if c == 0 {
+        // No machine has no state.
+        let l = f.new_lit();
+        f.add_clause(&[l]);
+        f.add_clause(&[!l]);
+    }
+    for a in assume {
+        f.add_clause(&[a]);
+    }
+    f
+}
+
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.
 /// The building block of the minimization loops, exposed for tests of known minima.
 pub fn satisfiable(tree: &ScenarioTree, opts: &Options, c: usize, t: Option<usize>) -> bool {

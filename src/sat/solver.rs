@@ -106,6 +106,11 @@ impl Solver {
         }
     }
 
+    /// Every clause given so far, when kept (see [`Solver::keep_clauses`]).
+    pub fn clauses(&self) -> Option<&varisat::CnfFormula> {
+        self.log.as_ref()
+    }
+
     /// Variables and clauses written so far, and solver calls made.
     pub fn stats(&self) -> SolverStats {
         self.stats
