@@ -37,7 +37,7 @@
 //!
 //! # Outputs
 //! XES (IEEE 1849-2016: the Concept, Time and Lifecycle extensions declared, globals, the
-//! classifiers `Activity` and `Activity and class`; every event has `concept:name`,
+//! classifiers `Activity` and `Activity_and_class`; every event has `concept:name`,
 //! `time:timestamp`, `lifecycle:transition=complete` and `class`), and CSV
 //! `case_id,activity,timestamp,class` (`--csv`, by default beside the XES). Both are streamed
 //! and published atomically: a bad row stops the run with `file:line: ...` and leaves no output

@@ -215,6 +215,26 @@ fn xes_and_csv_files_are_written_and_well_formed() {
     assert_eq!((s.traces, s.events, s.resets), (2, 5, 1));
     let xes = std::fs::read_to_string(&xes_path).unwrap();
     insta::assert_snapshot!("tank_xes", xes);
+    // The IEEE 1849 schema: xes.version is an xs:decimal, classifier names are xs:NCName.
+    let version = xes
+        .split("xes.version=\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next());
+    assert!(
+        version.is_some_and(|v| v.parse::<f64>().is_ok()),
+        "{version:?}"
+    );
+    for name in xes.split("<classifier name=\"").skip(1) {
+        let name = name.split('"').next().unwrap();
+        let ncname = name
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_alphabetic() || c == '_')
+            && name
+                .chars()
+                .all(|c| c.is_alphanumeric() || "_-.".contains(c));
+        assert!(ncname, "classifier name {name:?} is not an NCName");
+    }
     let els = xes::elements(&xes);
     assert_eq!(els.iter().filter(|(n, _)| n == "trace").count(), 2);
     assert_eq!(els.iter().filter(|(n, _)| n == "event").count(), 5);

@@ -2,9 +2,11 @@
 //!
 //! In: traces and events through [`EventSink`]. Out: an XES document declaring the Concept,
 //! Time and Lifecycle extensions, the globals every event carries, and two classifiers
-//! (`Activity`: `concept:name`; `Activity and class`: `concept:name class`). A trace has
-//! `concept:name` = its case number; an event has `concept:name` = the activity,
-//! `time:timestamp`, `lifecycle:transition` = `complete` and `class` = `input` or `output`.
+//! (`Activity`: `concept:name`; `Activity_and_class`: `concept:name class`). As the IEEE 1849
+//! schema types them, `xes.version` is the decimal `1849.2016` and classifier names are XML
+//! NCNames (no spaces). A trace has `concept:name` = its case number; an event has
+//! `concept:name` = the activity, `time:timestamp`, `lifecycle:transition` = `complete` and
+//! `class` = `input` or `output`.
 
 use super::{iso_time, Event, EventSink};
 use crate::files::xml::XmlWriter;
@@ -39,7 +41,7 @@ impl<W: Write> XesWriter<W> {
             0,
             "log",
             &[
-                ("xes.version", "1849-2016"),
+                ("xes.version", "1849.2016"),
                 ("xes.features", ""),
                 ("xmlns", "http://www.xes-standard.org/"),
             ],
@@ -68,7 +70,7 @@ impl<W: Write> XesWriter<W> {
         x.close(1, "global")?;
         for (name, keys) in [
             ("Activity", "concept:name"),
-            ("Activity and class", "concept:name class"),
+            ("Activity_and_class", "concept:name class"),
         ] {
             x.leaf(1, "classifier", &[("name", name), ("keys", keys)])?;
         }
