@@ -143,10 +143,17 @@ pub struct NextRecordingArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// The verdict, the rivals' sequences and the files as JSON on stdout; every other line
+    /// goes to stderr.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `synth next-recording`: the sequences that tell the rivals apart, as a plan.
 pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
+    if args.json {
+        super::data_on_stdout();
+    }
     let progress = Progress::new(args.quiet);
     let recordings = args.traces.recordings();
     let set = args.traces.load()?;
@@ -211,6 +218,11 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         ),
     }
     print_written(&published);
+    if args.json {
+        let mut summary = found.to_json(&set, &machine);
+        summary["files"] = serde_json::json!(published);
+        return super::write_data(format!("{summary:#}\n").as_bytes());
+    }
     Ok(())
 }
 

@@ -38,6 +38,9 @@ pub struct LearnArgs {
     /// No progress lines on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// The rounds, steps and verdicts as JSON on stdout; every other line goes to stderr.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The oracle named by `--oracle`.
@@ -66,6 +69,9 @@ fn oracle(name: &str) -> Result<Ecc, Failure> {
 
 /// `synth learn`.
 pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
+    if args.json {
+        super::data_on_stdout();
+    }
     let progress = Progress::new(args.quiet);
     let oracle = oracle(&args.oracle)?;
     let initial = args.traces.load()?;
@@ -142,6 +148,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         .max()
         .unwrap_or(1);
     let mut equivalent = 0;
+    let mut passive = Vec::new();
     for seed in 1..=args.passive_runs as u64 {
         let m = active::passive(
             &initial,
@@ -156,6 +163,11 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         if v.starts_with("equivalent") {
             equivalent += 1;
         }
+        passive.push(serde_json::json!({
+            "seed": seed,
+            "states": m.states.len(),
+            "equivalent": v.starts_with("equivalent"),
+        }));
         out!(
             "passive (seed {seed}): {} random steps in scenarios of {length}; C = {}; {v}",
             learned.recorded_steps,
@@ -175,6 +187,22 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         )
         .map_err(Failure::input)?;
         out!("wrote {}", out.display());
+    }
+    if args.json {
+        let summary = serde_json::json!({
+            "rounds": learned.rounds.iter().map(|r| serde_json::json!({
+                "states": r.states,
+                "verdict": r.verdict,
+                "recorded_steps": r.recorded_steps,
+            })).collect::<Vec<_>>(),
+            "recorded_steps": learned.recorded_steps,
+            "initial_steps": initial_steps,
+            "unique": learned.unique,
+            "states": learned.machine.states.len(),
+            "equivalent": verdict(&learned.machine).starts_with("equivalent"),
+            "passive": passive,
+        });
+        return super::write_data(format!("{summary:#}\n").as_bytes());
     }
     Ok(())
 }

@@ -208,6 +208,24 @@ fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
     ]);
     assert!(d.status.success(), "{}", String::from_utf8_lossy(&d.stdout));
     assert!(String::from_utf8_lossy(&d.stdout).contains("equivalent"));
+    // The same run as JSON.
+    let j = synth(&[
+        "learn",
+        "-q",
+        "--oracle",
+        "case:tank2",
+        "--traces",
+        "specs/tank2.traces",
+        "--all-inputs",
+        "--passive-runs",
+        "1",
+        "--json",
+    ]);
+    assert!(j.status.success(), "{}", String::from_utf8_lossy(&j.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    assert_eq!(v["unique"], true);
+    assert_eq!(v["equivalent"], true);
+    assert!(v["recorded_steps"].as_u64().unwrap() > 0);
     // The loop recorded something: the shipped recordings alone leave the machine ambiguous.
     let rounds: usize = stdout
         .split("active: ")
