@@ -221,7 +221,7 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
     if args.json {
         let mut summary = found.to_json(&set, &machine);
         summary["files"] = serde_json::json!(published);
-        return super::write_data(format!("{summary:#}\n").as_bytes());
+        return super::write_json(&summary);
     }
     Ok(())
 }

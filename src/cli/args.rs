@@ -227,6 +227,15 @@ pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
         .map_err(|e| Failure::msg(exit::USAGE, format!("--format: {e}")))
 }
 
+/// The one format written on stdout (`--out -`): the one `--format` names, JSON when it
+/// names several.
+pub fn stdout_format(formats: &[Format]) -> Format {
+    match formats {
+        [one] => *one,
+        _ => Format::Json,
+    }
+}
+
 /// `--out`, or `out/<stem>`.
 pub fn out_dir(out: &Option<PathBuf>, stem: &str) -> PathBuf {
     out.clone()

@@ -39,7 +39,7 @@ pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
                 "second": d.second.as_deref().map(bits),
             })),
         });
-        super::write_data(format!("{summary:#}\n").as_bytes())?;
+        super::write_json(&summary)?;
     }
     let matched = structure(&a, &b).map_err(|e| Failure::msg(exit::INPUT, e.to_string()))?;
     let Some(d) = found else {

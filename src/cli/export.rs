@@ -36,12 +36,8 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
         .file_stem()
         .map_or("machine".into(), |s| s.to_string_lossy().into_owned());
     if args.out.as_deref().is_some_and(fbsynth::files::is_stdin) {
-        // One format on stdout: the one --format names, JSON when it names several.
         super::data_on_stdout();
-        let format = match formats.as_slice() {
-            [one] => *one,
-            _ => export::Format::Json,
-        };
+        let format = super::args::stdout_format(&formats);
         let text = export::text(&ecc, &args.name, format).map_err(Failure::input)?;
         return super::write_data(text.as_bytes());
     }

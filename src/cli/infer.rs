@@ -275,11 +275,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         set.scenarios.len()
     );
     let Some(results) = results else {
-        // One format on stdout: the one --format names, JSON when it names several.
-        let format = match formats.as_slice() {
-            [one] => *one,
-            _ => export::Format::Json,
-        };
+        let format = super::args::stdout_format(&formats);
         let text = export::text(&result.ecc, &args.name, format).map_err(Failure::input)?;
         if !args.no_ambiguity {
             super::ambiguity::report(
@@ -324,7 +320,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             "files": files,
             "ambiguity": ambiguity,
         });
-        return super::write_data(format!("{summary:#}\n").as_bytes());
+        return super::write_json(&summary);
     }
     Ok(())
 }

@@ -110,8 +110,11 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
     })?;
     let tree = ScenarioTree::build(&learned.recordings).map_err(fbsynth::pipeline::Error::from)?;
     let letters = alphabet(&tree, initial.inputs.len(), opts.ambiguity.all_inputs)?;
-    let verdict = |m: &Ecc| -> String {
-        let full = match difference(m, &oracle) {
+    // Whether `m` is equivalent to the oracle, and the words for it.
+    let verdict = |m: &Ecc| -> (bool, String) {
+        let found = difference(m, &oracle);
+        let equivalent = matches!(found, Ok(None));
+        let full = match found {
             Ok(None) => "equivalent to the oracle".to_string(),
             Ok(Some(d)) => format!("differs from the oracle after {} steps", d.inputs.len()),
             Err(e) => format!("not compared on every input vector ({e})"),
@@ -124,7 +127,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             None => "agrees on every sequence of the alphabet",
             Some(_) => "disagrees on some sequence of the alphabet",
         };
-        format!("{full}; {over}")
+        (equivalent, format!("{full}; {over}"))
     };
     out!(
         "active: {} rounds, {} steps recorded beyond the initial {}; C = {}; {}; {}",
@@ -137,7 +140,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
             _ => "no verdict within the budget",
         },
-        verdict(&learned.machine)
+        verdict(&learned.machine).1
     );
     let length = learned
         .recordings
@@ -159,14 +162,12 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             seed,
             &opts,
         )?;
-        let v = verdict(&m);
-        if v.starts_with("equivalent") {
-            equivalent += 1;
-        }
+        let (same, v) = verdict(&m);
+        equivalent += usize::from(same);
         passive.push(serde_json::json!({
             "seed": seed,
             "states": m.states.len(),
-            "equivalent": v.starts_with("equivalent"),
+            "equivalent": same,
         }));
         out!(
             "passive (seed {seed}): {} random steps in scenarios of {length}; C = {}; {v}",
@@ -199,10 +200,10 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             "initial_steps": initial_steps,
             "unique": learned.unique,
             "states": learned.machine.states.len(),
-            "equivalent": verdict(&learned.machine).starts_with("equivalent"),
+            "equivalent": verdict(&learned.machine).0,
             "passive": passive,
         });
-        return super::write_data(format!("{summary:#}\n").as_bytes());
+        return super::write_json(&summary);
     }
     Ok(())
 }

@@ -360,7 +360,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     if args.json {
         let mut summary = summary;
         summary["files"] = serde_json::json!(files);
-        return super::write_data(format!("{summary:#}\n").as_bytes());
+        return super::write_json(&summary);
     }
     Ok(())
 }
@@ -424,7 +424,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     let report = &verification.report;
     if args.json {
         let summary = serde_json::json!({ "verified": report.all_hold(), "report": report });
-        super::write_data(format!("{summary:#}\n").as_bytes())?;
+        super::write_json(&summary)?;
     }
     out_raw!("{}", report.to_text());
     let waveforms: Vec<_> = (verification.counterexamples.iter())

@@ -46,6 +46,11 @@ pub fn data_on_stdout() {
     STDOUT_IS_DATA.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// Writes a `--json` summary on stdout (pretty, one value, a final newline).
+pub fn write_json(summary: &serde_json::Value) -> Result<(), Failure> {
+    write_data(format!("{summary:#}\n").as_bytes())
+}
+
 /// Writes the result on stdout (see [`data_on_stdout`]).
 pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
     use std::io::Write as _;
