@@ -344,6 +344,17 @@ fn guard_lit(s: &mut impl ExtendFormula, g: &Guard, x: &[Lit]) -> Lit {
     }
 }
 
+/// `(clause of earlier) | !when[0] | ... -> each conclusion`: one clause per conclusion, the
+/// negated premises in `earlier` (already negated) and `when` (negated here).
+fn implies(s: &mut impl ExtendFormula, earlier: &[Lit], when: &[Lit], conclusions: &[Lit]) {
+    for &concl in conclusions {
+        let mut clause = earlier.to_vec();
+        clause.extend(when.iter().map(|&w| !w));
+        clause.push(concl);
+        s.add_clause(&clause);
+    }
+}
+
 /// The fixed machine's move on free input bits: its guards evaluated on them, first fires.
 fn fixed_moves_on_bits(
     s: &mut impl ExtendFormula,
@@ -362,18 +373,10 @@ fn fixed_moves_on_bits(
         // `live & in p & none of the earlier guards & this one -> target, CNF`.
         let mut earlier = vec![!step.live, !before.f[p]];
         for (t, &h) in state.transitions.iter().zip(&holds) {
-            for concl in [step.fires_f, after.f[t.target.0]] {
-                let mut clause = earlier.clone();
-                clause.extend([!h, concl]);
-                s.add_clause(&clause);
-            }
+            implies(s, &earlier, &[h], &[step.fires_f, after.f[t.target.0]]);
             earlier.push(h);
         }
-        for concl in [!step.fires_f, after.f[p]] {
-            let mut clause = earlier.clone();
-            clause.push(concl);
-            s.add_clause(&clause);
-        }
+        implies(s, &earlier, &[], &[!step.fires_f, after.f[p]]);
     }
 }
 
@@ -410,19 +413,12 @@ fn rival_moves_on_bits(
             }
             s.add_clause(&converse);
             for target in 0..v.c_max {
-                for concl in [step.fires_m, after.m[target]] {
-                    let mut clause = earlier.clone();
-                    clause.extend([!fire, !cv.tgt(0, m, k, target), concl]);
-                    s.add_clause(&clause);
-                }
+                let when = [fire, cv.tgt(0, m, k, target)];
+                implies(s, &earlier, &when, &[step.fires_m, after.m[target]]);
             }
             earlier.push(fire);
         }
-        for concl in [!step.fires_m, after.m[m]] {
-            let mut clause = earlier.clone();
-            clause.push(concl);
-            s.add_clause(&clause);
-        }
+        implies(s, &earlier, &[], &[!step.fires_m, after.m[m]]);
     }
 }
 

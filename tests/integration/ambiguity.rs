@@ -177,19 +177,22 @@ fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
     let reference = dir.path().join("reference.json");
     let ecc = crate::cases::tank::Program::Cycles.reference();
     std::fs::write(&reference, fbsynth::export::json::to_string(&ecc)).unwrap();
-    let o = synth(&[
-        "learn",
-        "-q",
-        "--oracle",
-        "case:tank2",
-        "--traces",
-        "specs/tank2.traces",
-        "--all-inputs",
-        "--passive-runs",
-        "1",
-        "--out",
-        learned.to_str().unwrap(),
-    ]);
+    let learn = |more: &[&str]| {
+        let mut args = vec![
+            "learn",
+            "-q",
+            "--oracle",
+            "case:tank2",
+            "--traces",
+            "specs/tank2.traces",
+            "--all-inputs",
+            "--passive-runs",
+            "1",
+        ];
+        args.extend(more);
+        synth(&args)
+    };
+    let o = learn(&["--out", learned.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
         o.status.success(),
@@ -209,18 +212,7 @@ fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
     assert!(d.status.success(), "{}", String::from_utf8_lossy(&d.stdout));
     assert!(String::from_utf8_lossy(&d.stdout).contains("equivalent"));
     // The same run as JSON.
-    let j = synth(&[
-        "learn",
-        "-q",
-        "--oracle",
-        "case:tank2",
-        "--traces",
-        "specs/tank2.traces",
-        "--all-inputs",
-        "--passive-runs",
-        "1",
-        "--json",
-    ]);
+    let j = learn(&["--json"]);
     assert!(j.status.success(), "{}", String::from_utf8_lossy(&j.stderr));
     let v: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
     assert_eq!(v["unique"], true);
