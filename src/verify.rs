@@ -17,7 +17,7 @@ use crate::ltl::{property_name, Ltl, Property};
 use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::closed_loop::{
-    compose, ClosedLoop, Coupling, Source, CONTROLLER_INSTANCE, PLANT_INSTANCE,
+    compose, compose_controller, ClosedLoop, Coupling, Source, CONTROLLER_INSTANCE, PLANT_INSTANCE,
 };
 use crate::smv::plant::Plant;
 use crate::smv::SmvError;
@@ -358,6 +358,19 @@ impl Verifier {
         )
     }
 
+    /// Verifies any controller given as SMV text defining `MODULE ECC(REQ, inputs...)` with a
+    /// `CNF` and every output (a modular composite, [`crate::export::modular`]) over `inputs`.
+    pub fn verify_controller(
+        &mut self,
+        controller: String,
+        inputs: &[String],
+        mode: CheckMode,
+    ) -> Result<Verification, VerifyError> {
+        let p = &self.problem;
+        let model = compose_controller(controller, inputs, &p.plant, &p.coupling, &p.props);
+        check_model(model, p, &mut self.session, self.workdir.path(), mode)
+    }
+
     /// The closed-loop model of the last check, if one was written (kept for the user when
     /// NuSMV rejects it).
     pub fn last_model(&self) -> Option<PathBuf> {
@@ -391,6 +404,17 @@ pub fn verify(
     mode: CheckMode,
 ) -> Result<Verification, VerifyError> {
     let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
+    check_model(model, problem, session, workdir, mode)
+}
+
+/// Writes the composed closed loop into `workdir` and has NuSMV check it.
+fn check_model(
+    model: ClosedLoop,
+    problem: &Problem,
+    session: &mut Session,
+    workdir: &Path,
+    mode: CheckMode,
+) -> Result<Verification, VerifyError> {
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();

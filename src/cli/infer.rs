@@ -10,7 +10,9 @@ use super::{exit, Failure};
 use clap::{Args, ValueEnum};
 use fbsynth::export;
 use fbsynth::files::ResultSet;
-use fbsynth::pipeline::output::{self, check_exportable, check_exportable_modular};
+use fbsynth::pipeline::output::{
+    self, check_exportable, check_exportable_modular, write_verified, Provenance,
+};
 use fbsynth::pipeline::recordings::machine_and_scenarios;
 use fbsynth::pipeline::{self, exact, modular, noisy};
 use fbsynth::scenario::{csvlog, fbsat, ScenarioSet};
@@ -65,6 +67,21 @@ pub struct InferArgs {
     pub slots: usize,
     #[command(flatten)]
     pub noisy: NoisyArgs,
+    /// LTL properties the result must satisfy in closed loop with --plant, as NuSMV verifies:
+    /// the least machine that reproduces the recordings and satisfies them (as the main job);
+    /// with --noisy the least verified machine over the candidates' corrected traces; with
+    /// --modules a composite that NuSMV verifies too.
+    #[arg(long, value_name = "FILE", requires = "plant")]
+    pub ltl: Option<PathBuf>,
+    /// Surrogate plant for --ltl (SMV).
+    #[arg(long, value_name = "FILE", requires = "ltl")]
+    pub plant: Option<PathBuf>,
+    /// With --ltl: give up after this many candidates (each loop: the machine's, the
+    /// composite's).
+    #[arg(long, default_value_t = 500, value_name = "N", requires = "ltl")]
+    pub max_iterations: usize,
+    #[command(flatten)]
+    pub nusmv: NusmvArgs,
     /// Skip the check whether another machine with as many states fits the recordings.
     #[arg(long)]
     pub no_ambiguity: bool,
@@ -94,14 +111,6 @@ pub struct NoisyArgs {
     /// With --noisy: stop after this many distinct candidate machines.
     #[arg(long, default_value_t = 5, value_name = "N", requires = "noisy")]
     pub enumerate: usize,
-    /// With --noisy: LTL properties each candidate is checked against (needs --plant).
-    #[arg(long, value_name = "FILE", requires_all = ["noisy", "plant"])]
-    pub ltl: Option<PathBuf>,
-    /// With --noisy: surrogate plant for the check (needs --ltl).
-    #[arg(long, value_name = "FILE", requires_all = ["noisy", "ltl"])]
-    pub plant: Option<PathBuf>,
-    #[command(flatten)]
-    pub nusmv: NusmvArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -206,12 +215,40 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     if args.noisy.noisy {
         return infer_noisy(args);
     }
+    if to_stdout && args.ltl.is_some() {
+        return Err(Failure::msg(
+            exit::USAGE,
+            "--out - (the machine on stdout) is for one machine without --ltl: a verified machine comes with its report in a result folder",
+        ));
+    }
     if let Some(m) = args.modules {
         let progress = Progress::new(args.quiet);
         let set = args.traces.load()?;
         report_loaded(&progress, &set);
+        let check = loop_check(args, &set, &progress)?;
         let results = infer_out(args)?;
-        let staged = distribute(args, m, &set, results.staging(), &progress)?;
+        let staged = match &check {
+            None => distribute(args, m, &set, results.staging(), &progress)?,
+            Some(check) => {
+                let single = verified_exact(args, &set, check, &progress)?;
+                let staging = results.staging();
+                let mut files =
+                    distribute_verified(args, m, &set, &single, check, staging, &progress)?;
+                let summary = loop_summary(&single, &progress);
+                files.extend(write_verified(
+                    &staging.join("single"),
+                    &parse_formats(&args.format)?,
+                    &single.synthesis.ecc,
+                    single
+                        .certificate
+                        .as_ref()
+                        .expect("a check gives a certificate"),
+                    &provenance(args),
+                    &summary,
+                )?);
+                files
+            }
+        };
         print_written(&publish(results, &staged)?);
         return Ok(());
     }
@@ -220,10 +257,31 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
+    let check = loop_check(args, &set, &progress)?;
     let results = match to_stdout {
         true => None,
         false => Some(infer_out(args)?),
     };
+    if let Some(check) = &check {
+        let results = results.expect("--out - with --ltl is refused above");
+        let r = verified_exact(args, &set, check, &progress)?;
+        let staged = write_verified(
+            results.staging(),
+            &formats,
+            &r.synthesis.ecc,
+            r.certificate.as_ref().expect("a check gives a certificate"),
+            &provenance(args),
+            &loop_summary(&r, &progress),
+        )?;
+        let files = publish(results, &staged)?;
+        print_written(&files);
+        if args.json {
+            let mut summary = loop_summary(&r, &progress);
+            summary["files"] = serde_json::json!(files);
+            return super::write_json(&summary);
+        }
+        return Ok(());
+    }
     let opts = exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
@@ -378,14 +436,16 @@ fn dump_cnf(
     Ok(())
 }
 
-/// `synth infer --noisy`: candidates by ε, each in its folder, and the summary.
+/// `synth infer --noisy`: candidates by ε, each in its folder, and the summary; with --ltl
+/// the least verified machine over the candidates' corrected traces in `verified/`.
 fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     let progress = Progress::new(args.quiet);
     let set = args.traces.load()?;
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
     let n = &args.noisy;
-    let check = optional_check(&n.ltl, &n.plant, &set, &n.nusmv)?;
+    // The recordings are not checked against the properties: their glitches may violate one.
+    let check = optional_check(&args.ltl, &args.plant, &set, &args.nusmv)?;
     let out = out_dir(&args.out, &args.traces.recordings().stem());
     let results = infer_out(args)?;
     let opts = noisy::Options {
@@ -396,7 +456,13 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
         ..noisy::Options::default()
     };
-    let result = noisy::run(&set, check.as_ref(), &opts, &mut |e| progress.event(e))?;
+    let loop_opts = loop_options(args)?;
+    let result = noisy::run(
+        &set,
+        check.as_ref().map(|c| (c, &loop_opts)),
+        &opts,
+        &mut |e| progress.event(e),
+    )?;
     let table = output::write_noisy(
         results.staging(),
         &args.name,
@@ -405,35 +471,75 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         progress.elapsed(),
     )?;
     out_raw!("{table}");
-    let verified = result.first_verified();
-    // Correct the traces first, then distribute the logic.
-    let mut modular = Vec::new();
+    let chosen = result.chosen();
+    let mut staged = Vec::new();
+    if let Some(k) = chosen {
+        let c = &result.synthesis.candidates[k - 1];
+        let single = result
+            .verified(k)
+            .expect("the chosen candidate is verified");
+        let dir = results.staging().join("verified");
+        let summary = serde_json::json!({
+            "candidate": k,
+            "errors": c.errors,
+            "closed_loop": loop_summary(single, &progress),
+        });
+        staged = write_verified(
+            &dir,
+            &formats,
+            &single.synthesis.ecc,
+            single
+                .certificate
+                .as_ref()
+                .expect("a check gives a certificate"),
+            &provenance(args),
+            &summary,
+        )?;
+        let mut csv = Vec::new();
+        csvlog::write(&c.corrected, &mut csv).map_err(Failure::input)?;
+        let corrected = dir.join("corrected.csv");
+        fbsynth::files::write_atomic(&corrected, &csv).map_err(Failure::input)?;
+        staged.push(corrected);
+        let s = single.synthesis.size;
+        out!(
+            "result: the verified machine of candidate {k} (ε = {}): C = {}  K = {}  T = {}  N = {}; NuSMV: all {} properties hold; it reproduces the corrected traces",
+            c.errors,
+            s.c,
+            s.k,
+            s.t,
+            s.n,
+            single.certificate.as_ref().map_or(0, |c| c.report.properties.len())
+        );
+    }
+    // Correct the traces first, then distribute the logic (with --ltl: the verified machine).
     if let Some(m) = args.modules {
-        let chosen = verified.unwrap_or(1);
-        let c = &result.synthesis.candidates[chosen - 1];
+        let k = chosen.unwrap_or(1);
+        let c = &result.synthesis.candidates[k - 1];
         let dir = results.staging().join("modular");
         output::create_dir(&dir)?;
         out!(
-            "modular synthesis (M = {m}) on the corrected traces of candidate {chosen} (ε = {}):",
+            "modular synthesis (M = {m}) on the corrected traces of candidate {k} (ε = {}):",
             c.errors
         );
-        modular = distribute(args, m, &c.corrected, &dir, &progress)?;
+        staged.extend(match (&check, result.verified(k)) {
+            (Some(check), Some(single)) => {
+                distribute_verified(args, m, &c.corrected, single, check, &dir, &progress)?
+            }
+            (Some(_), None) => Vec::new(),
+            (None, _) => distribute(args, m, &c.corrected, &dir, &progress)?,
+        });
     }
-    let modular = publish(results, &modular)?;
-    if !modular.is_empty() {
-        print_written(&modular);
+    let written = publish(results, &staged)?;
+    if !written.is_empty() {
+        print_written(&written);
     }
     out!("results in {}", out.display());
-    match (check.is_some(), verified) {
-        (false, _) => Ok(()),
-        (true, Some(k)) => {
-            out!("first verified candidate: {k} (NuSMV: every property holds)");
-            Ok(())
-        }
+    match (check.is_some(), chosen) {
         (true, None) => Err(Failure::msg(
             exit::NO_MACHINE,
-            "no candidate satisfies every property (raise --enumerate or --max-errors)",
+            "no candidate's corrected traces have a verified machine (see summary.txt; raise --enumerate or --max-errors)",
         )),
+        _ => Ok(()),
     }
 }
 
@@ -446,16 +552,120 @@ fn distribute(
     out: &Path,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>, Failure> {
-    let opts = modular::Options {
+    let opts = modular_options(args, modules, set)?;
+    check_exportable_modular(set, &args.name, modules)?;
+    let result = modular::run(set, &opts, &mut |e| progress.event(e))?;
+    describe_modular(modules, &result);
+    out!(
+        "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the composite: all reproduced",
+        progress.elapsed(),
+        result.stats.sat_seconds,
+        set.scenarios.len()
+    );
+    export::modular::write_modular(&result.modular, out, &args.name).map_err(Failure::input)
+}
+
+/// With --ltl/--plant: the check, after the recordings were checked against the properties
+/// (recordings that violate one leave no machine to find).
+fn loop_check(
+    args: &InferArgs,
+    set: &ScenarioSet,
+    progress: &Progress,
+) -> Result<Option<pipeline::Check>, Failure> {
+    let check = optional_check(&args.ltl, &args.plant, set, &args.nusmv)?;
+    if let (Some(check), Some(ltl)) = (&check, &args.ltl) {
+        let props = &check.problem.props;
+        let explained = fbsynth::pipeline::explain::refuse_violations(set, props, ltl)
+            .map_err(pipeline::Error::from)?;
+        progress.line(&super::main_job::recordings_line(&explained, props.len()));
+    }
+    Ok(check)
+}
+
+/// Who made a verified machine, for its `verification.txt`.
+fn provenance(args: &InferArgs) -> Provenance<'_> {
+    Provenance {
+        name: &args.name,
+        plant_file: args.plant.as_deref().unwrap_or(Path::new("")),
+        spec_file: args.ltl.as_deref().unwrap_or(Path::new("")),
+    }
+}
+
+/// The closed loop's options for `infer --ltl`.
+fn loop_options(args: &InferArgs) -> Result<exact::Options, Failure> {
+    Ok(exact::Options {
+        sat: exact::SatOptions {
+            algorithms: args.algorithms.into(),
+            max_states: args.max_states,
+            start_state: args.start_state,
+            ..exact::SatOptions::default()
+        },
+        max_iterations: args.max_iterations,
+        ..exact::Options::default()
+    })
+}
+
+/// With --ltl/--plant: the least machine for `set` that NuSMV verifies (the main job's loop).
+fn verified_exact(
+    args: &InferArgs,
+    set: &ScenarioSet,
+    check: &pipeline::Check,
+    progress: &Progress,
+) -> Result<exact::Exact, Failure> {
+    let r = exact::run(set, Some(check), &loop_options(args)?, &mut |e| {
+        progress.event(e)
+    })?;
+    let report = &r
+        .certificate
+        .as_ref()
+        .expect("a check gives a certificate")
+        .report;
+    out!(
+        "{}",
+        super::show::verified_line(report.properties.len(), set.scenarios.len())
+    );
+    let s = r.synthesis.size;
+    out!(
+        "C = {}  K = {}  T = {}  N = {}; {} candidates",
+        s.c,
+        s.k,
+        s.t,
+        s.n,
+        r.iterations.len()
+    );
+    Ok(r)
+}
+
+/// `summary.json` of a verified machine.
+fn loop_summary(r: &exact::Exact, progress: &Progress) -> serde_json::Value {
+    serde_json::json!({
+        "size": r.synthesis.size,
+        "transitions_proven_minimal": r.synthesis.transitions_exact,
+        "guards_proven_minimal": r.synthesis.guards_exact,
+        "iterations": r.iterations,
+        "report": r.certificate.as_ref().map(|c| &c.report),
+        "total_seconds": progress.elapsed(),
+    })
+}
+
+/// The modular options of `synth infer --modules M`.
+fn modular_options(
+    args: &InferArgs,
+    modules: usize,
+    set: &ScenarioSet,
+) -> Result<modular::Options, Failure> {
+    Ok(modular::Options {
         modules,
         slots: args.slots,
         max_states: args.max_states,
         algorithms: args.algorithms.into(),
         pins: modular::parse_pins(&args.pin, &set.outputs, modules)
             .map_err(|e| Failure::with_code(exit::USAGE, e))?,
-    };
-    check_exportable_modular(set, &args.name, modules)?;
-    let result = modular::run(set, &opts, &mut |e| progress.event(e))?;
+    })
+}
+
+/// Prints a modular controller's sizes and modules.
+fn describe_modular(modules: usize, result: &modular::ModularSynthesis) {
     let s = &result.size;
     out!(
         "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
@@ -467,13 +677,61 @@ fn distribute(
     for line in describe_modules(&result.modular) {
         out!("  {line}");
     }
+}
+
+/// With --ltl/--plant: `single`, the verified machine, split into `modules` function blocks
+/// whose composite NuSMV verifies too ([`modular::run_verified`]). Writes the composite's
+/// files, its `verification.txt`, `closed_loop.smv` and `rounds.json` (one entry per
+/// composite checked); the files written.
+fn distribute_verified(
+    args: &InferArgs,
+    modules: usize,
+    set: &ScenarioSet,
+    single: &exact::Exact,
+    check: &pipeline::Check,
+    out: &Path,
+    progress: &Progress,
+) -> Result<Vec<PathBuf>, Failure> {
+    let opts = modular_options(args, modules, set)?;
+    check_exportable_modular(set, &args.name, modules)?;
+    out!("modular synthesis (M = {modules}) of the verified machine:");
+    let r = modular::run_verified(
+        set,
+        &single.synthesis.ecc,
+        check,
+        &opts,
+        args.max_iterations,
+        &mut |e| progress.event(e),
+    )?;
+    describe_modular(modules, &r.synthesis);
+    let added = r.scenarios.scenarios.len() - set.scenarios.len();
     out!(
-        "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the composite: all reproduced",
-        progress.elapsed(),
-        result.stats.sat_seconds,
-        set.scenarios.len()
+        "verified: all {} properties hold for the composite (NuSMV); it reproduces the {} recorded scenarios and {} recorded from the verified machine along counterexamples ({} composites)",
+        r.certificate.report.properties.len(),
+        set.scenarios.len(),
+        added,
+        r.rounds.len()
     );
-    export::modular::write_modular(&result.modular, out, &args.name).map_err(Failure::input)
+    let mut files = export::modular::write_modular(&r.synthesis.modular, out, &args.name)
+        .map_err(Failure::input)?;
+    let report = out.join("verification.txt");
+    let p = provenance(args);
+    let text = format!(
+        "Closed-loop verification by NuSMV of the composite {}\nplant: {}\nproperties: {}\n\n{}",
+        args.name,
+        p.plant_file.display(),
+        p.spec_file.display(),
+        r.certificate.report.to_text()
+    );
+    fbsynth::files::write_atomic(&report, text.as_bytes()).map_err(Failure::input)?;
+    let model = out.join("closed_loop.smv");
+    fbsynth::files::write_atomic(&model, r.certificate.model_text.as_bytes())
+        .map_err(Failure::input)?;
+    let rounds = out.join("rounds.json");
+    let json = serde_json::to_string_pretty(&r.rounds).expect("serializable");
+    fbsynth::files::write_atomic(&rounds, json.as_bytes()).map_err(Failure::input)?;
+    files.extend([report, model, rounds]);
+    Ok(files)
 }
 
 /// `synth convert`.

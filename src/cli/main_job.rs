@@ -366,7 +366,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
 }
 
 /// The progress line after the recordings were checked against the properties.
-fn recordings_line(e: &Explanation, properties: usize) -> String {
+pub(super) fn recordings_line(e: &Explanation, properties: usize) -> String {
     let mut line = format!(
         "checked {} of {properties} properties on the recordings, none violated",
         e.checked

@@ -105,5 +105,25 @@ pub fn describe(e: &Event<'_>) -> String {
                 format!("violated: {}", failing.join(", "))
             }
         ),
+        Event::ClosedLoopOf { candidate, errors } => format!(
+            "candidate {candidate} (ε = {errors}): the closed loop on its corrected traces"
+        ),
+        Event::ModularRound(r) => format!(
+            "composite {}: largest module {} states, {} states in all; {}; SAT {:.2} s, NuSMV {:.3} s",
+            r.number,
+            r.size.max_states,
+            r.size.total_states,
+            if r.failing.is_empty() {
+                "every property holds".to_string()
+            } else {
+                format!(
+                    "failing: {} ({} steps recorded from the verified machine along the counterexamples)",
+                    r.failing.join(", "),
+                    r.added_steps
+                )
+            },
+            r.sat_seconds,
+            r.nusmv_seconds
+        ),
     }
 }

@@ -106,6 +106,10 @@ pub enum Event<'a> {
     },
     /// NuSMV's verdict on a candidate of the noisy enumeration.
     CandidateVerdict { failing: &'a [String] },
+    /// A noisy candidate's corrected traces go into the closed loop.
+    ClosedLoopOf { candidate: usize, errors: usize },
+    /// One composite of the verified modular loop.
+    ModularRound(&'a modular::Round),
 }
 
 /// A sink for [`Event`]s.

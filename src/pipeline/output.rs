@@ -4,7 +4,7 @@
 //! renamed over the target) with the mode of any file the user creates (0644 under umask 022).
 
 use super::exact::Certificate;
-use super::noisy::Noisy;
+use super::noisy::{InLoop, Noisy};
 use super::recordings::Recordings;
 use super::Error;
 use crate::ecc::modular::{Modular, Module};
@@ -164,8 +164,13 @@ pub struct NoisyRow {
     pub errors: usize,
     pub size: crate::ecc::Size,
     pub guards_exact: bool,
-    /// `Some(true)`: every property holds; `None`: not checked.
+    /// With a check: whether the closed loop found a verified machine for the corrected
+    /// traces; `None`: not checked.
     pub verified: Option<bool>,
+    /// That verified machine's size.
+    pub verified_size: Option<crate::ecc::Size>,
+    /// Why the closed loop found none.
+    pub why_not: Option<String>,
     pub folder: String,
 }
 
@@ -198,7 +203,16 @@ pub fn write_noisy(
             errors: c.errors,
             size: c.size,
             guards_exact: c.guards_exact,
-            verified: noisy.verdicts.get(k).copied().flatten(),
+            verified: noisy
+                .closed
+                .get(k)
+                .and_then(Option::as_ref)
+                .map(|c| matches!(c, InLoop::Verified(_))),
+            verified_size: noisy.verified(k + 1).map(|e| e.synthesis.size),
+            why_not: match noisy.closed.get(k) {
+                Some(Some(InLoop::None(why))) => Some(why.clone()),
+                _ => None,
+            },
             folder,
         };
         let json = serde_json::to_string_pretty(&row).expect("serializable");
@@ -207,7 +221,7 @@ pub fn write_noisy(
     }
     let mut table = format!(
         "noisy synthesis: C = {}  K = {}  T = {}; {} alternative edges; {} candidate(s){}\n\n\
-         candidate  errors  C   K   T   N    verified  folder\n",
+         candidate  errors  C   K   T   N    verified (C K T N)  folder\n",
         result.n,
         result.k,
         result.r,
@@ -217,17 +231,17 @@ pub fn write_noisy(
     );
     for r in &rows {
         table.push_str(&format!(
-            "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<9} {}\n",
+            "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<19} {}\n",
             r.candidate,
             r.errors,
             r.size.c,
             r.size.k,
             r.size.t,
             r.size.n,
-            match r.verified {
-                None => "-",
-                Some(true) => "yes",
-                Some(false) => "no",
+            match (r.verified, r.verified_size) {
+                (Some(true), Some(s)) => format!("yes ({} {} {} {})", s.c, s.k, s.t, s.n),
+                (Some(_), _) => "no".to_string(),
+                (None, _) => "-".to_string(),
             },
             r.folder
         ));
@@ -238,7 +252,7 @@ pub fn write_noisy(
         "c": result.n, "k": result.k, "t": result.r,
         "n": result.n, "r": result.r,
         "exhausted": result.exhausted,
-        "first_verified": noisy.first_verified(),
+        "chosen": noisy.chosen(),
         "candidates": rows,
         "stats": result.stats,
         "total_seconds": total_seconds,

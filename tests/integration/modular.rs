@@ -363,3 +363,134 @@ fn noisy_then_modular_distributes_the_corrected_traces() {
         .any(|o| o == "start_led"));
     assert_eq!(corrected.check(&composite), Ok(()));
 }
+
+/// NuSMV's verdicts on the composite rebuilt from the files in `dir`, checked here from the
+/// files alone (not the tool's report); `None` without NuSMV.
+fn composite_verdicts(dir: &Path, set: &ScenarioSet, ltl: &str, plant: &str) -> Option<bool> {
+    let nusmv = nusmv_or_skip()?;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let composite = read_back(dir, "SynthesizedFB", set);
+    set.check(&composite).unwrap();
+    let problem = fbsynth::verify::Problem::load(
+        &root.join(ltl),
+        &root.join(plant),
+        &set.inputs,
+        &set.outputs,
+    )
+    .unwrap();
+    let check = fbsynth::pipeline::Check::new(problem, nusmv);
+    let text = composite_smv_to_string(&composite, "ECC").unwrap();
+    let v = check
+        .verifier()
+        .unwrap()
+        .verify_controller(text, &set.inputs, fbsynth::nusmv::CheckMode::VerdictsOnly)
+        .unwrap();
+    Some(v.report.all_hold())
+}
+
+/// Modular synthesis learns from the recordings only: on Pick-and-Place its M = 2 composite
+/// breaks properties. With --ltl the composite is refined along NuSMV's counterexamples until
+/// NuSMV verifies it, and the files say so.
+#[test]
+fn the_pnp_composite_is_verified_in_closed_loop() {
+    if nusmv_or_skip().is_none() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("m");
+    let (ltl, plant) = ("specs/pnp.ltl", "smv/pnp_surrogate.smv");
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--modules",
+        "2",
+        "--traces",
+        "specs/pnp.traces",
+        "--ltl",
+        ltl,
+        "--plant",
+        plant,
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 8 properties hold for the composite"));
+    let set = fbsynth::pipeline::Recordings::files(vec!["specs/pnp.traces".into()])
+        .load()
+        .unwrap();
+    assert_eq!(composite_verdicts(&dir, &set, ltl, plant), Some(true));
+    // The single machine it was split from is there too, verified.
+    let single = std::fs::read_to_string(dir.join("single/verification.txt")).unwrap();
+    assert!(
+        single.contains("HOLDS") && !single.contains("VIOLATED"),
+        "{single}"
+    );
+    let rounds: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rounds.json")).unwrap()).unwrap();
+    let rounds = rounds.as_array().unwrap();
+    // The first composite, from the recordings alone, fails; the last holds.
+    assert!(!rounds[0]["failing"].as_array().unwrap().is_empty());
+    assert!(rounds.last().unwrap()["failing"]
+        .as_array()
+        .unwrap()
+        .is_empty());
+}
+
+/// `--noisy --modules 2 --ltl`: the traces are corrected, the least verified machine found,
+/// and that machine split into a composite NuSMV verifies. The machine reproduces the clean
+/// logs and a held-out recording it never saw.
+#[test]
+fn a_noisy_log_gives_one_verified_machine_and_its_verified_composite() {
+    if nusmv_or_skip().is_none() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("n");
+    let (ltl, plant) = ("specs/distribution.ltl", "smv/distribution_surrogate.smv");
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--noisy",
+        "--max-errors",
+        "2",
+        "--modules",
+        "2",
+        "--traces",
+        "specs/distribution_noisy.csv",
+        "--ltl",
+        ltl,
+        "--plant",
+        plant,
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let machine = dir.join("verified/SynthesizedFB.json");
+    let machine = machine.to_str().unwrap();
+    for (command, traces) in [
+        ("replay", "specs/distribution.csv"),
+        ("conform", "specs/distribution_heldout.csv"),
+    ] {
+        let o = synth(&[command, "--ecc", machine, "--traces", traces]);
+        assert!(
+            o.status.success(),
+            "{command} {traces}: {}",
+            text(&o.stderr)
+        );
+    }
+    let report = std::fs::read_to_string(dir.join("verified/verification.txt")).unwrap();
+    assert!(
+        report.contains("HOLDS") && !report.contains("VIOLATED"),
+        "{report}"
+    );
+    // The composite splits that machine: it reproduces the corrected traces and NuSMV
+    // verifies it.
+    let corrected = dir.join("verified/corrected.csv");
+    let set = fbsynth::pipeline::Recordings::files(vec![corrected])
+        .load()
+        .unwrap();
+    assert_eq!(
+        composite_verdicts(&dir.join("modular"), &set, ltl, plant),
+        Some(true)
+    );
+}
