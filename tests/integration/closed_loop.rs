@@ -739,3 +739,50 @@ fn json_summaries_of_the_main_job_and_verify() {
     let r: serde_json::Value = serde_json::from_slice(&v.stdout).unwrap();
     assert_eq!(r["verified"], true);
 }
+
+/// `synth infer --ltl --plant` runs the main job's loop on the recordings: where `infer`
+/// alone gives a machine whose lamp never goes out, with the properties it gives one NuSMV
+/// verifies, written with its report. A verified machine needs its report: `--out -` is a
+/// usage error then.
+#[test]
+fn infer_with_properties_gives_a_verified_machine() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("v");
+    let args = |out: &str| -> Vec<String> {
+        [
+            "infer",
+            "-q",
+            "--traces",
+            &format!("{DIR}/lamp.traces"),
+            "--ltl",
+            &format!("{DIR}/lamp.ltl"),
+            "--plant",
+            &format!("{DIR}/lamp_plant.smv"),
+            "--out",
+            out,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let o = synth(
+        &n.path,
+        &args(dir.to_str().unwrap())
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 2 properties hold (NuSMV)"));
+    let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
+    assert!(report.contains("HOLDS    goes_out"), "{report}");
+    let v = verify_lamp(&n.path, &dir.join("SynthesizedFB.json"));
+    assert!(v.status.success(), "{}", text(&v.stderr));
+    let o = synth(
+        &n.path,
+        &args("-").iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("--out -"), "{}", text(&o.stderr));
+}
