@@ -296,12 +296,23 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 ..search::Options::default()
             };
             let r = search::run(&set, &check, &opts, None, &mut |e| progress.event(e))?;
-            let ecc = r.certified(&set, &opts)?.clone();
+            let searched = r.certified(&set, &opts)?.clone();
+            progress.line(&format!(
+                "the search's machine: {}; made small along the closed loop:",
+                searched.size()
+            ));
+            let (small, followed) =
+                search::shrink(&set, &searched, &check, args.max_out_degree, &mut |e| {
+                    progress.event(e)
+                })?;
+            let ecc = small.ecc;
             let summary = serde_json::json!({
                 "method": "search",
                 "seed": s.seed,
                 "start": format!("{:?}", s.start).to_lowercase(),
                 "size": ecc.size(),
+                "searched_size": searched.size(),
+                "shrink_rounds": followed.rounds,
                 "fitness": r.outcome.fitness,
                 "search": r.outcome.stats,
                 "nusmv_runs": r.nusmv_runs,
@@ -310,17 +321,17 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 "total_seconds": progress.elapsed(),
             });
             let closing = format!(
-                "search, seed {}: {:.2} s total, {} evaluations, {} NuSMV runs",
+                "search, seed {}: {:.2} s total, {} evaluations, {} NuSMV runs; its machine ({}) made small in {} round{}",
                 s.seed,
                 progress.elapsed(),
                 r.outcome.stats.evaluations,
-                r.nusmv_runs
+                r.nusmv_runs,
+                searched.size(),
+                followed.rounds.len(),
+                if followed.rounds.len() == 1 { "" } else { "s" }
             );
-            let certificate = exact::Certificate {
-                report: r.verification.report,
-                model_text: r.verification.model.text,
-            };
-            (ecc.clone(), ecc.size(), certificate, summary, closing)
+            let size = ecc.size();
+            (ecc, size, followed.certificate, summary, closing)
         }
     };
     let mut staged = write_verified(

@@ -108,11 +108,11 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::ClosedLoopOf { candidate, errors } => format!(
             "candidate {candidate} (ε = {errors}): the closed loop on its corrected traces"
         ),
-        Event::ModularRound(r) => format!(
-            "composite {}: largest module {} states, {} states in all; {}; SAT {:.2} s, NuSMV {:.3} s",
+        Event::Followed(r) => format!(
+            "controller {}: largest part {} states, {} states in all; {}; SAT {:.2} s, NuSMV {:.3} s",
             r.number,
-            r.size.max_states,
-            r.size.total_states,
+            r.largest_states,
+            r.states,
             if r.failing.is_empty() {
                 "every property holds".to_string()
             } else {

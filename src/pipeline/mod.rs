@@ -33,6 +33,7 @@ pub mod cegis;
 pub mod closed_loop;
 pub mod exact;
 pub mod explain;
+pub mod follow;
 pub mod limit;
 pub mod modular;
 pub mod noisy;
@@ -108,8 +109,8 @@ pub enum Event<'a> {
     CandidateVerdict { failing: &'a [String] },
     /// A noisy candidate's corrected traces go into the closed loop.
     ClosedLoopOf { candidate: usize, errors: usize },
-    /// One composite of the verified modular loop.
-    ModularRound(&'a modular::Round),
+    /// One controller checked in [`follow`] (a composite following a verified machine).
+    Followed(&'a follow::Round),
 }
 
 /// A sink for [`Event`]s.

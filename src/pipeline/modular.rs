@@ -112,39 +112,19 @@ pub fn tree_nodes(set: &ScenarioSet) -> Result<usize, Error> {
     Ok(ScenarioTree::build(set)?.nodes.len())
 }
 
-/// One composite of [`run_verified`], checked by NuSMV.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Round {
-    pub number: usize,
-    pub size: crate::ecc::modular::ModularSize,
-    /// Properties NuSMV found violated (empty: verified).
-    pub failing: Vec<String>,
-    /// Steps of the scenarios recorded from the verified machine along the counterexamples.
-    pub added_steps: usize,
-    pub sat_seconds: f64,
-    pub nusmv_seconds: f64,
-}
-
 /// A modular controller NuSMV verified in closed loop.
 pub struct VerifiedModular {
     pub synthesis: ModularSynthesis,
     pub certificate: super::exact::Certificate,
-    pub rounds: Vec<Round>,
+    pub rounds: Vec<super::follow::Round>,
     /// The scenarios the composite reproduces: the recordings and those recorded from the
     /// verified machine along counterexamples.
     pub scenarios: ScenarioSet,
 }
 
 /// The modular controller for `set` that NuSMV verifies, given `oracle`, a single machine that
-/// reproduces `set` and that NuSMV verified against the same `check`.
-///
-/// Modular synthesis learns from scenarios only, so its composite may do anything where the
-/// recordings are silent. Each composite is checked by NuSMV; along every counterexample the
-/// verified machine is run on the same inputs, and its answers, up to the first step where
-/// they differ from the composite's, become a new scenario. There is such a step: the plant
-/// sees only the outputs, so a composite answering like the verified machine along the whole
-/// run would make it a run of the verified machine too. The loop thus converges on a composite
-/// that behaves like the verified machine wherever the closed loop goes.
+/// reproduces `set` and that NuSMV verified against the same `check`: modular synthesis
+/// refined along counterexamples with the oracle's answers ([`super::follow`]).
 pub fn run_verified(
     set: &ScenarioSet,
     oracle: &crate::ecc::Ecc,
@@ -153,99 +133,26 @@ pub fn run_verified(
     max_rounds: usize,
     events: Events<'_>,
 ) -> Result<VerifiedModular, Error> {
-    use crate::nusmv::CheckMode;
     use crate::smv::closed_loop::CONTROLLER_MODULE;
-    set.check(oracle)
-        .map_err(|m| Error::Bug(format!("the verified machine does not replay {m}")))?;
-    let mut verifier = check.verifier()?;
-    let mut scenarios = set.clone();
-    let mut rounds = Vec::new();
-    for number in 1..=max_rounds {
-        let synthesis = run(&scenarios, opts, events)?;
+    let mut last = None;
+    let followed = super::follow::run(set, oracle, check, max_rounds, events, &mut |s, events| {
+        let synthesis = run(s, opts, events)?;
         let text =
             crate::export::modular::composite_smv_to_string(&synthesis.modular, CONTROLLER_MODULE)?;
-        let v = verifier.verify_controller(text, &set.inputs, CheckMode::AllCounterexamples)?;
-        let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
-        let mut added_steps = 0;
-        for cx in &v.counterexamples {
-            let Some(neg) = cx.negative_scenario(&set.inputs, &set.outputs) else {
-                continue;
-            };
-            let scenario = divergence(oracle, &synthesis.modular, &neg, number).ok_or_else(|| {
-                Error::Bug(format!(
-                    "NuSMV says the modular controller violates {}, but the verified machine answers like it along the whole counterexample",
-                    cx.property
-                ))
-            })?;
-            added_steps += scenario.steps.len();
-            scenarios.scenarios.push(scenario);
-        }
-        let round = Round {
-            number,
-            size: synthesis.size.clone(),
-            failing: failing.clone(),
-            added_steps,
+        let size = synthesis.size.clone();
+        let made = super::follow::Made {
+            largest: size.max_states,
+            states: size.total_states,
             sat_seconds: synthesis.stats.sat_seconds,
-            nusmv_seconds: v.report.nusmv_seconds,
+            smv: text,
         };
-        events(Event::ModularRound(&round));
-        rounds.push(round);
-        if failing.is_empty() {
-            return Ok(VerifiedModular {
-                synthesis,
-                certificate: super::exact::Certificate {
-                    report: v.report,
-                    model_text: v.model.text,
-                },
-                rounds,
-                scenarios,
-            });
-        }
-        if added_steps == 0 {
-            return Err(Error::NoMachine(format!(
-                "the modular controller violates {}, and NuSMV printed no counterexample with every controller input and output",
-                failing.join(", ")
-            )));
-        }
-    }
-    Err(Error::NoMachine(format!(
-        "no verified modular controller after {max_rounds} composites"
-    )))
-}
-
-/// The verified machine's answers along the inputs of `neg` (a counterexample of the
-/// composite; a lasso is unrolled), up to and including the first step where its outputs
-/// differ from the composite's; `None` if they never do.
-fn divergence(
-    oracle: &crate::ecc::Ecc,
-    composite: &crate::ecc::modular::Modular,
-    neg: &crate::scenario::negative::NegativeScenario,
-    round: usize,
-) -> Option<crate::scenario::Scenario> {
-    use crate::ecc::modular::ModularRun;
-    use crate::ecc::sim::Run;
-    let mut inputs: Vec<&[bool]> = neg.steps.iter().map(|s| s.inputs.as_slice()).collect();
-    if let Some(l) = neg.loop_start {
-        // Along the loop the composite repeats itself; the oracle's state at each pass over
-        // the loop start is a function of the one before, so within `C + 1` passes it
-        // repeats too, and a difference, if any, has shown.
-        for _ in 0..oracle.states.len() + 1 {
-            inputs.extend(neg.steps[l..].iter().map(|s| s.inputs.as_slice()));
-        }
-    }
-    let (mut a, mut b) = (Run::new(oracle), ModularRun::new(composite));
-    for (k, x) in inputs.iter().enumerate() {
-        a.step(x);
-        b.step(x);
-        if a.outputs != b.outputs {
-            let steps: Vec<Vec<bool>> = inputs[..=k].iter().map(|x| x.to_vec()).collect();
-            let origin = crate::scenario::Origin {
-                file: std::path::PathBuf::from(format!("counterexample of composite {round}")),
-                line: 0,
-                rows: None,
-            };
-            return Some(super::active::record(oracle, &steps, origin));
-        }
-    }
-    None
+        last = Some(synthesis);
+        Ok((last.as_ref().expect("just set").modular.clone(), made))
+    })?;
+    Ok(VerifiedModular {
+        synthesis: last.expect("the loop made a composite"),
+        certificate: followed.certificate,
+        rounds: followed.rounds,
+        scenarios: followed.scenarios,
+    })
 }
