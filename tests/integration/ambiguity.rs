@@ -39,6 +39,9 @@ fn plan_tells_rivals_apart(traces: &str, more: &[&str]) -> String {
         traces,
         "--out",
         out.to_str().unwrap(),
+        // Seconds per rival on an idle machine; a loaded one must not turn them "unknown".
+        "--ambiguity-budget",
+        "300",
     ];
     args.extend(more);
     let o = synth(&args);

@@ -669,6 +669,9 @@ fn the_main_job_checks_every_rival_with_nusmv() {
         "--ambiguity",
         "--rivals",
         "2",
+        // A rival takes about 4 s; the default 20 s budget is not enough on a loaded machine.
+        "--ambiguity-budget",
+        "300",
     ];
     let o = synth(&n.path, &args);
     let stdout = text(&o.stdout);
