@@ -337,13 +337,9 @@ fn reachable_states(ecc: &Ecc) -> usize {
     seen.iter().filter(|&&b| b).count()
 }
 
-/// How long each machine of [`shrink`] may take to prove its `T` and `N` minimal: the
-/// proofs on the cube model take minutes on Pick-and-Place, the machine a few seconds.
-const SHRINK_PROOF_BUDGET: Duration = Duration::from_secs(2);
-
 /// The search's verified machine made small: exact synthesis (cube guards, at most
-/// `max_out_degree` transitions per state; `T` and `N` proven minimal within
-/// [`SHRINK_PROOF_BUDGET`]) on the recordings, refined along NuSMV's counterexamples with the
+/// `max_out_degree` transitions per state; C, T and N proven minimal: with a time budget
+/// instead, the descents stopped at T 36-45 on Pick-and-Place) on the recordings, refined along NuSMV's counterexamples with the
 /// search machine's answers until NuSMV verifies it ([`super::follow`]). The search mutates
 /// freely and keeps what the properties need, with transitions and literals nobody needs; the
 /// least machine that behaves like it wherever the closed loop goes keeps the behaviour and
@@ -363,9 +359,7 @@ pub fn shrink(
     let mut last = None;
     let followed = super::follow::run(set, searched, check, 100, events, &mut |s, events| {
         let tree = ScenarioTree::build(s)?;
-        let proofs = sat::basic::Proofs::Budget(SHRINK_PROOF_BUDGET);
-        let synthesis = sat::Synthesizer::with_proofs(s, &tree, &opts, proofs)
-            .minimize(&mut |m| events(Event::Solver(m)))?;
+        let synthesis = sat::synthesize(s, &tree, &opts, &mut |m| events(Event::Solver(m)))?;
         let mut smv = Vec::new();
         crate::smv::ecc_module::write_ecc_module(&synthesis.ecc, CONTROLLER_MODULE, &mut smv)?;
         let made = super::follow::Made {
