@@ -714,23 +714,16 @@ fn distribute_verified(
     );
     let mut files = export::modular::write_modular(&r.synthesis.modular, out, &args.name)
         .map_err(Failure::input)?;
-    let report = out.join("verification.txt");
-    let p = provenance(args);
-    let text = format!(
-        "Closed-loop verification by NuSMV of the composite {}\nplant: {}\nproperties: {}\n\n{}",
-        args.name,
-        p.plant_file.display(),
-        p.spec_file.display(),
-        r.certificate.report.to_text()
-    );
-    fbsynth::files::write_atomic(&report, text.as_bytes()).map_err(Failure::input)?;
-    let model = out.join("closed_loop.smv");
-    fbsynth::files::write_atomic(&model, r.certificate.model_text.as_bytes())
-        .map_err(Failure::input)?;
+    files.extend(output::write_certificate(
+        out,
+        &format!("the composite {}", args.name),
+        &r.certificate,
+        &provenance(args),
+    )?);
     let rounds = out.join("rounds.json");
     let json = serde_json::to_string_pretty(&r.rounds).expect("serializable");
     fbsynth::files::write_atomic(&rounds, json.as_bytes()).map_err(Failure::input)?;
-    files.extend([report, model, rounds]);
+    files.push(rounds);
     Ok(files)
 }
 

@@ -133,19 +133,12 @@ pub fn write_verified(
 ) -> Result<Vec<PathBuf>, Error> {
     create_dir(out)?;
     let mut files = export::write_all(ecc, out, provenance.name, formats)?;
-    let report_txt = out.join("verification.txt");
-    let mut text = format!(
-        "Closed-loop verification by NuSMV of {}\nplant: {}\nproperties: {}\n\n",
+    files.extend(write_certificate(
+        out,
         provenance.name,
-        provenance.plant_file.display(),
-        provenance.spec_file.display()
-    );
-    text.push_str(&certificate.report.to_text());
-    write(&report_txt, text.as_bytes())?;
-    files.push(report_txt);
-    let model = out.join("closed_loop.smv");
-    write(&model, certificate.model_text.as_bytes())?;
-    files.push(model);
+        certificate,
+        provenance,
+    )?);
     let summary_file = out.join("summary.json");
     write(
         &summary_file,
@@ -155,6 +148,28 @@ pub fn write_verified(
     )?;
     files.push(summary_file);
     Ok(files)
+}
+
+/// Writes NuSMV's certificate for `what` into `out`: `verification.txt` (the report under a
+/// header naming plant and properties) and `closed_loop.smv` (the model it checked). Returns
+/// the files written.
+pub fn write_certificate(
+    out: &Path,
+    what: &str,
+    certificate: &Certificate,
+    provenance: &Provenance<'_>,
+) -> Result<Vec<PathBuf>, Error> {
+    let report_txt = out.join("verification.txt");
+    let mut text = format!(
+        "Closed-loop verification by NuSMV of {what}\nplant: {}\nproperties: {}\n\n",
+        provenance.plant_file.display(),
+        provenance.spec_file.display()
+    );
+    text.push_str(&certificate.report.to_text());
+    write(&report_txt, text.as_bytes())?;
+    let model = out.join("closed_loop.smv");
+    write(&model, certificate.model_text.as_bytes())?;
+    Ok(vec![report_txt, model])
 }
 
 /// One row of the noisy summary.
