@@ -90,6 +90,10 @@ pub struct Noisy {
     /// gave the result), else the verified machine for its corrected traces or why there is
     /// none. Empty without a check.
     pub closed: Vec<Option<InLoop>>,
+    /// Per candidate, with a check: the properties NuSMV finds violated by the candidate as
+    /// found (before any closed loop), so the engineer sees which raw machines fail and why.
+    /// Empty without a check.
+    pub as_found: Vec<Vec<String>>,
 }
 
 /// What the closed loop made of one candidate's corrected traces.
@@ -137,6 +141,16 @@ pub fn run(
         Flow::Continue
     })?;
     let mut closed: Vec<Option<InLoop>> = Vec::new();
+    let mut as_found = Vec::new();
+    if let Some((check, _)) = check {
+        let mut verifier = check.verifier()?;
+        for c in &synthesis.candidates {
+            let v = verifier.verify_with(&c.ecc, crate::nusmv::CheckMode::VerdictsOnly)?;
+            let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
+            events(Event::CandidateVerdict { failing: &failing });
+            as_found.push(failing);
+        }
+    }
     if let Some((check, exact_opts)) = check {
         closed.resize_with(synthesis.candidates.len(), || None);
         for k in trial_order(&synthesis) {
@@ -157,7 +171,11 @@ pub fn run(
             }
         }
     }
-    Ok(Noisy { synthesis, closed })
+    Ok(Noisy {
+        synthesis,
+        closed,
+        as_found,
+    })
 }
 
 /// The candidates' indices by the size of their own machine (C, K, T, N), then ε.

@@ -186,6 +186,8 @@ pub struct NoisyRow {
     pub verified_size: Option<crate::ecc::Size>,
     /// Why the closed loop found none.
     pub why_not: Option<String>,
+    /// With a check: the properties the candidate as found violates (NuSMV).
+    pub as_found_violates: Option<Vec<String>>,
     pub folder: String,
 }
 
@@ -224,6 +226,7 @@ pub fn write_noisy(
                 .and_then(Option::as_ref)
                 .map(|c| matches!(c, InLoop::Verified(_))),
             verified_size: noisy.verified(k + 1).map(|e| e.synthesis.size),
+            as_found_violates: noisy.as_found.get(k).cloned(),
             why_not: match noisy.closed.get(k) {
                 Some(Some(InLoop::None(why))) => Some(why.clone()),
                 _ => None,
@@ -236,7 +239,7 @@ pub fn write_noisy(
     }
     let mut table = format!(
         "noisy synthesis: C = {}  K = {}  T = {}; {} alternative edges; {} candidate(s){}\n\n\
-         candidate  errors  C   K   T   N    verified (C K T N)  folder\n",
+         candidate  errors  C   K   T   N    verified (C K T N)  folder        as found (NuSMV)\n",
         result.n,
         result.k,
         result.r,
@@ -246,7 +249,7 @@ pub fn write_noisy(
     );
     for r in &rows {
         table.push_str(&format!(
-            "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<19} {}\n",
+            "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<19} {:<13} {}\n",
             r.candidate,
             r.errors,
             r.size.c,
@@ -258,8 +261,18 @@ pub fn write_noisy(
                 (Some(_), _) => "no".to_string(),
                 (None, _) => "-".to_string(),
             },
-            r.folder
+            r.folder,
+            match &r.as_found_violates {
+                None => "-".to_string(),
+                Some(v) if v.is_empty() => "holds".to_string(),
+                Some(v) => format!("violates {}", v.join(", ")),
+            }
         ));
+    }
+    if noisy.chosen().is_some() && rows.iter().any(|r| r.verified.is_none()) {
+        table.push_str(
+            "(verified -: closed loop not tried, an earlier candidate in the order gave the result)\n",
+        );
     }
     write(&out.join("summary.txt"), table.as_bytes())?;
     let summary = serde_json::json!({

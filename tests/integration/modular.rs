@@ -478,6 +478,11 @@ fn a_noisy_log_gives_one_verified_machine_and_its_verified_composite() {
             text(&o.stderr)
         );
     }
+    // The summary says what NuSMV made of each candidate as found, and which one the closed
+    // loop verified.
+    let summary = std::fs::read_to_string(dir.join("summary.txt")).unwrap();
+    assert!(summary.contains("violates emergency_stops"), "{summary}");
+    assert_eq!(summary.matches("yes (").count(), 1, "{summary}");
     let report = std::fs::read_to_string(dir.join("verified/verification.txt")).unwrap();
     assert!(
         report.contains("HOLDS") && !report.contains("VIOLATED"),
