@@ -235,17 +235,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
                 let mut files =
                     distribute_verified(args, m, &set, &single, check, staging, &progress)?;
                 let summary = loop_summary(&single, &progress);
-                files.extend(write_verified(
-                    &staging.join("single"),
-                    &parse_formats(&args.format)?,
-                    &single.synthesis.ecc,
-                    single
-                        .certificate
-                        .as_ref()
-                        .expect("a check gives a certificate"),
-                    &provenance(args),
-                    &summary,
-                )?);
+                let formats = parse_formats(&args.format)?;
+                let dir = staging.join("single");
+                files.extend(write_single(args, &dir, &formats, &single, &summary)?);
                 files
             }
         };
@@ -265,18 +257,12 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     if let Some(check) = &check {
         let results = results.expect("--out - with --ltl is refused above");
         let r = verified_exact(args, &set, check, &progress)?;
-        let staged = write_verified(
-            results.staging(),
-            &formats,
-            &r.synthesis.ecc,
-            r.certificate.as_ref().expect("a check gives a certificate"),
-            &provenance(args),
-            &loop_summary(&r, &progress),
-        )?;
+        let summary = loop_summary(&r, &progress);
+        let staged = write_single(args, results.staging(), &formats, &r, &summary)?;
         let files = publish(results, &staged)?;
         print_written(&files);
         if args.json {
-            let mut summary = loop_summary(&r, &progress);
+            let mut summary = summary;
             summary["files"] = serde_json::json!(files);
             return super::write_json(&summary);
         }
@@ -484,17 +470,7 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
             "errors": c.errors,
             "closed_loop": loop_summary(single, &progress),
         });
-        staged = write_verified(
-            &dir,
-            &formats,
-            &single.synthesis.ecc,
-            single
-                .certificate
-                .as_ref()
-                .expect("a check gives a certificate"),
-            &provenance(args),
-            &summary,
-        )?;
+        staged = write_single(args, &dir, &formats, single, &summary)?;
         let mut csv = Vec::new();
         csvlog::write(&c.corrected, &mut csv).map_err(Failure::input)?;
         let corrected = dir.join("corrected.csv");
@@ -634,6 +610,25 @@ fn verified_exact(
         r.iterations.len()
     );
     Ok(r)
+}
+
+/// Writes a verified machine of `infer --ltl` into `dir` ([`write_verified`]).
+fn write_single(
+    args: &InferArgs,
+    dir: &Path,
+    formats: &[export::Format],
+    single: &exact::Exact,
+    summary: &serde_json::Value,
+) -> Result<Vec<PathBuf>, Failure> {
+    let certificate = (single.certificate.as_ref()).expect("a check gives a certificate");
+    Ok(write_verified(
+        dir,
+        formats,
+        &single.synthesis.ecc,
+        certificate,
+        &provenance(args),
+        summary,
+    )?)
 }
 
 /// `summary.json` of a verified machine.
