@@ -35,9 +35,11 @@ use crate::ecc::{Ecc, StateId};
 use crate::ltl::{CmpOp, Ltl, Property};
 use crate::plant::explicit::{self, EvalError, Semantics};
 use crate::plant::{Model, Name, Type, Value};
+use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use emptiness::{find_lasso, Graph};
 use gba::Gba;
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 /// How the controller and the plant are wired, by index.
 #[derive(Debug, Clone)]
@@ -135,6 +137,41 @@ impl Coupling {
             })
             .collect()
     }
+
+    /// The controller's side of a counterexample to `property`: the lasso of its inputs and
+    /// outputs, which a machine must leave to avoid the same run of the plant (the plant sees
+    /// only the outputs).
+    pub fn negative(
+        &self,
+        model: &Model,
+        lasso: &Lasso,
+        property: &str,
+    ) -> Result<NegativeScenario, CheckError> {
+        let inputs = lasso
+            .states
+            .iter()
+            .map(|s| self.inputs_on(model, s))
+            .collect::<Result<Vec<_>, _>>()?;
+        let steps = (0..lasso.states.len())
+            .map(|i| {
+                let next = if i + 1 < lasso.states.len() {
+                    i + 1
+                } else {
+                    lasso.loop_start
+                };
+                NegativeStep {
+                    inputs: inputs[i].clone(),
+                    before: lasso.states[i].outputs.clone(),
+                    after: lasso.states[next].outputs.clone(),
+                }
+            })
+            .collect();
+        Ok(NegativeScenario {
+            steps,
+            loop_start: Some(lasso.loop_start),
+            label: format!("counterexample of {property}"),
+        })
+    }
 }
 
 /// The verdict on one property.
@@ -212,6 +249,98 @@ pub enum CheckError {
     Bug(String),
 }
 
+/// The properties' negations as Büchi automata, built once for many [`check_with`] calls (a
+/// search checks thousands of machines against the same properties).
+#[derive(Debug, Clone)]
+pub struct Automata(Vec<Result<Gba, gba::Refused>>);
+
+impl Automata {
+    pub fn of(props: &[Property]) -> Automata {
+        Automata(
+            props
+                .iter()
+                .map(|p| Gba::of(&Ltl::Not(Box::new(p.formula.clone()))))
+                .collect(),
+        )
+    }
+}
+
+/// The plant's side of closed-loop states, which does not depend on the controller: kept
+/// across the checks of many machines against one plant and coupling (a search's), where it
+/// was most of the work of building each closed loop. Use one memo per plant and coupling.
+#[derive(Debug, Default)]
+pub struct PlantMemo {
+    at: HashMap<(Box<[Value]>, u64), Arc<At>>,
+    successors: HashMap<(Box<[Value]>, u64, u64), Successors>,
+}
+
+/// Plant successor states, shared between the memo and a closed loop's build.
+type Successors = Arc<[Box<[Value]>]>;
+
+/// What the controller reads on a plant state under given outputs, and the fairness
+/// conditions that hold there.
+#[derive(Debug)]
+struct At {
+    inputs: Vec<bool>,
+    fair: u64,
+}
+
+impl PlantMemo {
+    fn at(
+        &mut self,
+        sem: &Semantics,
+        coupling: &Coupling,
+        key: &Key,
+    ) -> Result<Arc<At>, CheckError> {
+        if let Some(a) = self.at.get(&(key.plant.clone(), key.outputs)) {
+            return Ok(a.clone());
+        }
+        let model = sem.model();
+        let params = coupling.params(key.outputs);
+        let inputs = coupling
+            .inputs
+            .iter()
+            .map(|name| match sem.read(*name, &key.plant, &params)? {
+                Value::Bool(b) => Ok(b),
+                other => Err(CheckError::Coupling {
+                    file: model.file.display().to_string(),
+                    message: format!(
+                        "controller input '{}' has the value {}, not TRUE or FALSE",
+                        model.name_of(*name),
+                        model.show(other)
+                    ),
+                }),
+            })
+            .collect::<Result<Vec<bool>, CheckError>>()?;
+        let fair = sem.fairness(&key.plant, &params)?;
+        let a = Arc::new(At { inputs, fair });
+        self.at.insert((key.plant.clone(), key.outputs), a.clone());
+        Ok(a)
+    }
+
+    fn successors(
+        &mut self,
+        sem: &Semantics,
+        coupling: &Coupling,
+        key: &Key,
+        next_outputs: u64,
+    ) -> Result<Successors, CheckError> {
+        let k = (key.plant.clone(), key.outputs, next_outputs);
+        if let Some(s) = self.successors.get(&k) {
+            return Ok(s.clone());
+        }
+        let params = coupling.params(key.outputs);
+        let next_params = coupling.params(next_outputs);
+        let s: Successors = sem
+            .successors(&key.plant, &params, &next_params)?
+            .into_iter()
+            .map(Vec::into_boxed_slice)
+            .collect();
+        self.successors.insert(k, s.clone());
+        Ok(s)
+    }
+}
+
 /// Checks every property on the closed loop of `model` and `ecc`.
 pub fn check(
     model: &Model,
@@ -220,13 +349,34 @@ pub fn check(
     props: &[Property],
     limits: &Limits,
 ) -> Result<Vec<Verdict>, CheckError> {
+    check_with(
+        model,
+        coupling,
+        ecc,
+        props,
+        &Automata::of(props),
+        limits,
+        &mut PlantMemo::default(),
+    )
+}
+
+/// [`check`] with the automata of `props` built beforehand.
+pub fn check_with(
+    model: &Model,
+    coupling: &Coupling,
+    ecc: &Ecc,
+    props: &[Property],
+    automata: &Automata,
+    limits: &Limits,
+    memo: &mut PlantMemo,
+) -> Result<Vec<Verdict>, CheckError> {
     ecc.validate().map_err(CheckError::Ecc)?;
     if ecc.inputs.len() != coupling.inputs.len() || ecc.outputs != coupling.outputs {
         return Err(CheckError::Ecc(
             "its interface is not the one the coupling was made for".into(),
         ));
     }
-    let closed = ClosedLoop::build(model, coupling, ecc, limits)?;
+    let closed = ClosedLoop::build(model, coupling, ecc, limits, memo)?;
     let fairness = model.fairness.len();
     let all_fair = mask(fairness);
     if closed.initial.is_empty() {
@@ -242,11 +392,11 @@ pub fn check(
         });
     }
     let mut verdicts = Vec::with_capacity(props.len());
-    for (index, p) in props.iter().enumerate() {
-        let gba = match Gba::of(&Ltl::Not(Box::new(p.formula.clone()))) {
+    for (index, (p, gba)) in props.iter().zip(&automata.0).enumerate() {
+        let gba = match gba {
             Ok(g) => g,
             Err(gba::Refused(why)) => {
-                verdicts.push(Verdict::Unsupported(why));
+                verdicts.push(Verdict::Unsupported(why.clone()));
                 continue;
             }
         };
@@ -288,7 +438,7 @@ pub fn check(
         }
         let mut product = Product {
             closed: &closed,
-            gba: &gba,
+            gba,
             labels: &labels,
         };
         let all = mask(gba.sets) | all_fair << gba.sets;
@@ -400,6 +550,7 @@ impl<'a> ClosedLoop<'a> {
         coupling: &'a Coupling,
         ecc: &Ecc,
         limits: &Limits,
+        memo: &mut PlantMemo,
     ) -> Result<ClosedLoop<'a>, CheckError> {
         let sem = Semantics::new(model);
         let effects: Vec<OutputEffect> = ecc
@@ -444,41 +595,26 @@ impl<'a> ClosedLoop<'a> {
             let i = intern(&mut c, key)?;
             c.initial.push(i);
         }
-        let mut x = vec![false; coupling.inputs.len()];
         let mut next = 0;
         while next < c.keys.len() {
             let key = c.keys[next].clone();
-            let params = coupling.params(key.outputs);
-            for (k, name) in coupling.inputs.iter().enumerate() {
-                x[k] = match c.sem.read(*name, &key.plant, &params)? {
-                    Value::Bool(b) => b,
-                    other => {
-                        return Err(CheckError::Coupling {
-                            file: model.file.display().to_string(),
-                            message: format!(
-                                "controller input '{}' has the value {}, not TRUE or FALSE",
-                                ecc.inputs[k],
-                                model.show(other)
-                            ),
-                        })
-                    }
-                };
-            }
+            let at = memo.at(&c.sem, coupling, &key)?;
             let (q, o) = match ecc.states[key.ctrl as usize]
                 .transitions
                 .iter()
-                .find(|t| t.guard.eval(&x))
+                .find(|t| t.guard.eval(&at.inputs))
             {
                 Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
                 None => (key.ctrl, key.outputs),
             };
-            let next_params = coupling.params(o);
-            let mut out = Vec::new();
-            for s in c.sem.successors(&key.plant, &params, &next_params)? {
+            let fair = at.fair;
+            let successors = memo.successors(&c.sem, coupling, &key, o)?;
+            let mut out = Vec::with_capacity(successors.len());
+            for s in successors.iter() {
                 let i = intern(
                     &mut c,
                     Key {
-                        plant: s.into(),
+                        plant: s.clone(),
                         ctrl: q,
                         outputs: o,
                     },
@@ -486,7 +622,7 @@ impl<'a> ClosedLoop<'a> {
                 out.push(i);
             }
             c.succ.push(out);
-            c.fair.push(c.sem.fairness(&key.plant, &params)?);
+            c.fair.push(fair);
             next += 1;
         }
         Ok(c)

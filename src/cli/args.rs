@@ -251,6 +251,24 @@ pub enum Start {
     Sat,
 }
 
+/// Who judges the search's candidates (NuSMV always judges the machine it ends with).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Judge {
+    /// The in-process checker (about a millisecond a candidate; NuSMV where it cannot decide).
+    InProcess,
+    /// NuSMV on every candidate judged, as the verification-in-the-loop paper does.
+    Nusmv,
+}
+
+impl From<Judge> for search::Judge {
+    fn from(j: Judge) -> search::Judge {
+        match j {
+            Judge::InProcess => search::Judge::InProcess,
+            Judge::Nusmv => search::Judge::Nusmv,
+        }
+    }
+}
+
 impl From<Start> for search::Start {
     fn from(s: Start) -> search::Start {
         match s {

@@ -2,7 +2,7 @@
 //! loop (scenarios only; scenarios + LTL without the counterexample term; scenarios + LTL),
 //! repeated with the search on the project's data.
 
-use super::args::{check, problem, NusmvArgs, Start};
+use super::args::{check, problem, Judge, NusmvArgs, Start};
 use super::progress::{describe, Progress};
 use super::{exit, Failure};
 use clap::Args;
@@ -54,8 +54,13 @@ pub struct ExperimentArgs {
     /// Configurations to run, comma-separated (1, 2, 3).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
     pub configs: Vec<usize>,
-    #[arg(long, default_value_t = 0.001, value_name = "P")]
-    pub verify_probability: f64,
+    /// Probability of verifying a candidate below the scenario threshold. Default: 0.01 with
+    /// --judge in-process, 0.001 with --judge nusmv.
+    #[arg(long, value_name = "P")]
+    pub verify_probability: Option<f64>,
+    /// Who judges the candidates during the search; NuSMV checks the machine each run ends with.
+    #[arg(long, value_enum, default_value_t = Judge::InProcess)]
+    pub judge: Judge,
     /// Progress of every run (one line per second) on stderr.
     #[arg(long, short)]
     pub verbose: bool,
@@ -156,6 +161,7 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
                 verify_probability: args.verify_probability,
                 weights,
                 replay_counterexamples: !args.no_replay,
+                judge: args.judge.into(),
                 every_round: false,
                 ..Options::default()
             };
@@ -176,11 +182,12 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
                 states_used: run.reachable_states,
             };
             progress.line(&format!(
-                "config {cfg} run {} (seed {seed}): {:.2} s, {}, {} evaluations, {} NuSMV runs, {} cache hits, {} saved by counterexample replay; {} states reachable; final NuSMV check: {}",
+                "config {cfg} run {} (seed {seed}): {:.2} s, {}, {} evaluations, {} in-process checks, {} NuSMV runs, {} cache hits, {} saved by counterexample replay; {} states reachable; final NuSMV check: {}",
                 r + 1,
                 seconds,
                 if res.solved { "solved" } else { "NOT solved in time" },
                 run.outcome.stats.evaluations,
+                run.in_process_checks,
                 run.nusmv_runs,
                 run.cache_hits,
                 run.outcome.stats.replayed,

@@ -93,9 +93,10 @@ pub fn describe(e: &Event<'_>) -> String {
             seconds,
             evaluations,
             nusmv_runs,
+            in_process_checks,
             cache_hits,
         } => format!(
-            "search ended after {seconds:.2} s: {evaluations} evaluations, NuSMV {nusmv_runs} runs + {cache_hits} cache hits"
+            "search ended after {seconds:.2} s: {evaluations} evaluations; candidates judged: {in_process_checks} in process, {nusmv_runs} by NuSMV, {cache_hits} from the cache"
         ),
         Event::CandidateVerdict { failing } => format!(
             "  NuSMV: {}",

@@ -10,7 +10,7 @@
 use crate::ltl::{property_name, Ltl};
 use crate::plant::{Model, Name, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
-use crate::scenario::negative::{NegativeScenario, NegativeStep};
+use crate::scenario::negative::NegativeScenario;
 use crate::scenario::ScenarioSet;
 use crate::verify::{Counterexample, Problem};
 use std::collections::BTreeMap;
@@ -170,39 +170,16 @@ impl ClosedLoop {
     }
 }
 
-/// The controller's side of an in-process counterexample to `property`: the lasso of its
-/// inputs and outputs, which a machine must leave to avoid the same run of the plant (the
-/// plant sees only the outputs). For properties the encoding does not carry.
+/// The controller's side of an in-process counterexample to `property` (see
+/// [`crate::check::Coupling::negative`]). For properties the encoding does not carry.
 pub fn negative_of(
     closed: &ClosedLoop,
     lasso: &crate::check::Lasso,
     property: &str,
 ) -> Result<NegativeScenario, crate::check::CheckError> {
-    let model = &closed.spec.plant;
-    let inputs = lasso
-        .states
-        .iter()
-        .map(|s| closed.coupling.inputs_on(model, s))
-        .collect::<Result<Vec<_>, _>>()?;
-    let steps = (0..lasso.states.len())
-        .map(|i| {
-            let next = if i + 1 < lasso.states.len() {
-                i + 1
-            } else {
-                lasso.loop_start
-            };
-            NegativeStep {
-                inputs: inputs[i].clone(),
-                before: lasso.states[i].outputs.clone(),
-                after: lasso.states[next].outputs.clone(),
-            }
-        })
-        .collect();
-    Ok(NegativeScenario {
-        steps,
-        loop_start: Some(lasso.loop_start),
-        label: format!("counterexample of {property}"),
-    })
+    closed
+        .coupling
+        .negative(&closed.spec.plant, lasso, property)
 }
 
 /// The environment of an in-process counterexample.

@@ -103,6 +103,7 @@ pub enum Event<'a> {
         seconds: f64,
         evaluations: u64,
         nusmv_runs: u64,
+        in_process_checks: u64,
         cache_hits: u64,
     },
     /// NuSMV's verdict on a candidate of the noisy enumeration.

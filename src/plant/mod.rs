@@ -203,6 +203,15 @@ impl Model {
         &self.vars[v.0]
     }
 
+    /// The name a [`Name`] stands for.
+    pub fn name_of(&self, n: Name) -> &str {
+        match n {
+            Name::Var(v) => &self.vars[v.0].name,
+            Name::Define(d) => &self.defines[d.0].name,
+            Name::Param(p) => &self.params[p.0],
+        }
+    }
+
     /// The symbolic constant called `name`, if the plant uses it.
     pub fn symbol(&self, name: &str) -> Option<Value> {
         self.symbols

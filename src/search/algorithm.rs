@@ -22,10 +22,9 @@ use super::data::ScenarioData;
 use super::fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
 use super::machine::{input_bits, Machine, SearchState};
 use super::operators::{self, Operator};
-use super::oracle::Checker;
+use super::oracle::{Checker, OracleError};
 use crate::ecc::Ecc;
 use crate::scenario::negative::NegativeScenario;
-use crate::verify::VerifyError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -45,9 +44,14 @@ pub struct Config {
     pub offspring: usize,
     /// Generations between two sharing steps.
     pub generations_per_round: usize,
-    /// A colony without improvement for this many rounds restarts (from the shared best if
-    /// that is better than its own, else from a random machine).
+    /// A colony without improvement for this many rounds restarts (see [`Restart`]).
     pub stagnation_rounds: usize,
+    /// ... or after this many of its own verifications without improvement: on a plateau of
+    /// machines that all reproduce the scenarios every child is verified, and a round costs
+    /// a thousand times more than while climbing.
+    pub stagnation_checks: u64,
+    /// Where a stagnating colony restarts.
+    pub restart: Restart,
     pub weights: Weights,
     /// Probability `p` of verifying a child whose scenario part is below the threshold.
     pub verify_probability: f64,
@@ -80,6 +84,8 @@ impl Default for Config {
             offspring: 8,
             generations_per_round: 25,
             stagnation_rounds: 10,
+            stagnation_checks: u64::MAX,
+            restart: Restart::Elite,
             weights: Weights::default(),
             verify_probability: 0.001,
             verify_threshold: 0.99,
@@ -95,11 +101,29 @@ impl Default for Config {
     }
 }
 
+/// Counterexamples a colony keeps for replay, newest last. Every child above the threshold is
+/// replayed on all of them; with in-process verdicts a colony collects thousands, and an
+/// unbounded list made replay a third of the run time (Table I, configuration 3, seed 2).
+const KNOWN_COUNTEREXAMPLES: usize = 64;
+
+/// Where a stagnating colony restarts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Restart {
+    /// From the shared best when that is better than its own, else from a random machine
+    /// (keeps the colonies near a good start such as SAT's machine).
+    Elite,
+    /// Always from a random machine. From random starts the shared best is usually a
+    /// machine that reproduces the scenarios and fails a liveness property; colonies pulled
+    /// back to it stay there (Table I, configuration 3, seeds 3 and 4: not solved in 60 s),
+    /// while fresh machines are independent tries.
+    Random,
+}
+
 /// Why a search stopped without an outcome.
 #[derive(Debug, thiserror::Error)]
 pub enum SearchError {
     #[error("verification of a candidate failed: {0}")]
-    Verify(#[from] VerifyError),
+    Verify(#[from] OracleError),
     #[error("the search needs at least one state, one colony and one child per generation")]
     Config,
     #[error("cannot start the thread pool: {0}")]
@@ -164,12 +188,14 @@ struct Colony<'a> {
     checker: Option<Box<dyn Checker>>,
     current: Individual,
     stagnant: usize,
+    /// Own verifications since the last improvement.
+    checks_stagnant: u64,
     evaluations: u64,
     verifications: u64,
     replayed: u64,
     /// Counterexamples NuSMV gave this colony (controller view), oldest first.
     known: Vec<NegativeScenario>,
-    error: Option<VerifyError>,
+    error: Option<OracleError>,
 }
 
 /// The verdicts of a machine known to follow the counterexamples `followed`: the properties
@@ -249,10 +275,14 @@ impl Colony<'_> {
                     verdicts = Some(Arc::new(known_violations(verdicts.as_deref(), &followed)));
                 } else {
                     self.verifications += 1;
+                    self.checks_stagnant += 1;
                     match checker.check(&ecc) {
                         Ok(v) => {
                             for n in &v.negatives {
                                 if !self.known.contains(n) {
+                                    if self.known.len() == KNOWN_COUNTEREXAMPLES {
+                                        self.known.remove(0);
+                                    }
                                     self.known.push(n.clone());
                                 }
                             }
@@ -343,6 +373,7 @@ impl Colony<'_> {
         }
         if self.current.fitness > start {
             self.stagnant = 0;
+            self.checks_stagnant = 0;
         } else {
             self.stagnant += 1;
         }
@@ -398,6 +429,7 @@ pub fn run(
                     fitness: f64::NEG_INFINITY,
                 },
                 stagnant: 0,
+                checks_stagnant: 0,
                 evaluations: 0,
                 verifications: 0,
                 replayed: 0,
@@ -491,13 +523,15 @@ pub fn run(
             });
         }
         // Sharing: a stagnating colony restarts from the elite when that is better than its
-        // own, else from a random machine.
+        // own (with [`Restart::Elite`]), else from a random machine.
         for c in colonies.iter_mut() {
-            if c.stagnant < config.stagnation_rounds {
+            if c.stagnant < config.stagnation_rounds && c.checks_stagnant < config.stagnation_checks
+            {
                 continue;
             }
             c.stagnant = 0;
-            if best.fitness > c.current.fitness {
+            c.checks_stagnant = 0;
+            if config.restart == Restart::Elite && best.fitness > c.current.fitness {
                 c.current = best.clone();
             } else {
                 let m = Machine::random(&mut c.rng, inputs, config.states, config.max_vars);

@@ -26,7 +26,7 @@ pub mod machine;
 pub mod operators;
 pub mod oracle;
 
-pub use algorithm::{run, Config, Outcome, Progress, SearchError, Stats};
+pub use algorithm::{run, Config, Outcome, Progress, Restart, SearchError, Stats};
 pub use data::ScenarioData;
 pub use fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
 pub use machine::Machine;

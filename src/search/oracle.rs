@@ -1,23 +1,40 @@
-//! The verification terms' source: closed-loop NuSMV runs through a [`Verifier`], cached
-//! by machine.
+//! The verification terms' source: closed-loop NuSMV runs through a [`Verifier`]
+//! ([`Oracle`]), or the in-process checker [`crate::check`] ([`InProcess`]), cached by
+//! machine.
 //!
 //! In: a candidate [`Ecc`]. Out: its [`Verdicts`] (properties that hold, longest
 //! counterexample, counterexample inputs for the weighted mutation). Identical candidates are
 //! common in a search (neutral mutations, restarts from the shared best), so verdicts are
-//! cached in a map shared by every colony; NuSMV's answer for one model does not depend on who
+//! cached in a map shared by every colony; the answer for one model does not depend on who
 //! asks, so the cache does not change what a seeded run computes.
+//!
+//! [`InProcess`] answers in about a millisecond where NuSMV takes 50-2000 ms, so the search
+//! can judge every child instead of one in a thousand; it only guides. Whoever runs the search
+//! has NuSMV check the machine it ends with, and only that verdict is reported as verified.
 
 use super::fitness::Verdicts;
 use super::machine::input_bits;
+use crate::check::{self, Automata, CheckError, Coupling, Limits, PlantMemo, Verdict};
 use crate::ecc::Ecc;
-use crate::verify::{Verification, Verifier, VerifyError};
+use crate::ltl::Property;
+use crate::plant::Model;
+use crate::verify::{Problem, Verification, Verifier, VerifyError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+/// Why a candidate could not be judged.
+#[derive(Debug, thiserror::Error)]
+pub enum OracleError {
+    #[error(transparent)]
+    Nusmv(#[from] VerifyError),
+    #[error("the in-process checker: {0}")]
+    InProcess(#[from] CheckError),
+}
+
 /// Something that gives verdicts on candidates; one per colony.
 pub trait Checker: Send {
-    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, VerifyError>;
+    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError>;
 }
 
 /// Shared cache and counters of every [`Oracle`] made from one [`Shared`].
@@ -26,6 +43,8 @@ pub struct Shared {
     cache: Mutex<HashMap<Ecc, Arc<Verdicts>>>,
     /// NuSMV runs.
     pub runs: AtomicU64,
+    /// In-process checks.
+    pub in_process: AtomicU64,
     /// Answers from the cache.
     pub hits: AtomicU64,
 }
@@ -71,27 +90,145 @@ pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
     }
 }
 
-impl Checker for Oracle {
-    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, VerifyError> {
-        if let Some(v) = self
-            .shared
+impl Shared {
+    fn cached(&self, ecc: &Ecc) -> Option<Arc<Verdicts>> {
+        let v = self
             .cache
             .lock()
             .expect("no panic holds it")
             .get(ecc)
-        {
-            self.shared.hits.fetch_add(1, Ordering::Relaxed);
-            return Ok(v.clone());
+            .cloned();
+        if v.is_some() {
+            self.hits.fetch_add(1, Ordering::Relaxed);
         }
-        let v = self.verifier.verify(ecc)?;
-        self.shared.runs.fetch_add(1, Ordering::Relaxed);
-        let verdicts = Arc::new(verdicts_of(&v, ecc));
-        self.shared
-            .cache
+        v
+    }
+
+    fn keep(&self, ecc: &Ecc, verdicts: Verdicts) -> Arc<Verdicts> {
+        let verdicts = Arc::new(verdicts);
+        self.cache
             .lock()
             .expect("no panic holds it")
             .insert(ecc.clone(), verdicts.clone());
-        Ok(verdicts)
+        verdicts
+    }
+}
+
+impl Oracle {
+    fn nusmv(&mut self, ecc: &Ecc) -> Result<Verdicts, OracleError> {
+        let v = self.verifier.verify(ecc)?;
+        self.shared.runs.fetch_add(1, Ordering::Relaxed);
+        Ok(verdicts_of(&v, ecc))
+    }
+}
+
+impl Checker for Oracle {
+    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError> {
+        if let Some(v) = self.shared.cached(ecc) {
+            return Ok(v);
+        }
+        let v = self.nusmv(ecc)?;
+        Ok(self.shared.keep(ecc, v))
+    }
+}
+
+/// The plant, wiring and properties the in-process checker needs, shared by the colonies.
+#[derive(Debug)]
+pub struct Closed {
+    model: Arc<Model>,
+    coupling: Coupling,
+    props: Vec<Property>,
+    automata: Automata,
+    names: Vec<String>,
+}
+
+impl Closed {
+    /// The in-process view of `problem` for a controller with `inputs` and `outputs`; `None`
+    /// when the plant is outside what [`crate::check`] reads or the names do not wire up
+    /// (NuSMV then gives every verdict).
+    pub fn new(problem: &Problem, inputs: &[String], outputs: &[String]) -> Option<Closed> {
+        let model = problem.model.clone().ok()?;
+        let coupling = Coupling::new(&model, inputs, outputs).ok()?;
+        Some(Closed {
+            model,
+            coupling,
+            props: problem.props.clone(),
+            automata: Automata::of(&problem.props),
+            names: problem.property_names(),
+        })
+    }
+}
+
+/// A colony's in-process checker with the shared cache; a machine on which it cannot decide
+/// (a property outside its subset, too many states) goes to NuSMV.
+pub struct InProcess {
+    closed: Arc<Closed>,
+    nusmv: Oracle,
+    memo: PlantMemo,
+}
+
+impl InProcess {
+    pub fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
+        InProcess {
+            closed,
+            nusmv,
+            memo: PlantMemo::default(),
+        }
+    }
+
+    fn decide(&mut self, ecc: &Ecc) -> Result<Option<Verdicts>, OracleError> {
+        let c = self.closed.clone();
+        let r = check::check_with(
+            &c.model,
+            &c.coupling,
+            ecc,
+            &c.props,
+            &c.automata,
+            &Limits::default(),
+            &mut self.memo,
+        );
+        let verdicts = match r {
+            Ok(v) => v,
+            Err(CheckError::TooManyStates { .. }) => return Ok(None),
+            Err(e) => return Err(e.into()),
+        };
+        let mut out = Verdicts {
+            satisfied: 0,
+            total: verdicts.len(),
+            longest_counterexample: 0,
+            counterexamples: Vec::new(),
+            negatives: Vec::new(),
+        };
+        for (k, v) in verdicts.iter().enumerate() {
+            match v {
+                Verdict::Holds => out.satisfied += 1,
+                Verdict::Unsupported(_) => return Ok(None),
+                Verdict::Violated(lasso) => {
+                    let n = c.coupling.negative(&c.model, lasso, &c.names[k])?;
+                    out.longest_counterexample = out.longest_counterexample.max(n.steps.len());
+                    out.counterexamples
+                        .push(n.steps.iter().map(|s| input_bits(&s.inputs)).collect());
+                    out.negatives.push(n);
+                }
+            }
+        }
+        Ok(Some(out))
+    }
+}
+
+impl Checker for InProcess {
+    fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError> {
+        if let Some(v) = self.nusmv.shared.cached(ecc) {
+            return Ok(v);
+        }
+        let v = match self.decide(ecc)? {
+            Some(v) => {
+                self.nusmv.shared.in_process.fetch_add(1, Ordering::Relaxed);
+                v
+            }
+            None => self.nusmv.nusmv(ecc)?,
+        };
+        Ok(self.nusmv.shared.keep(ecc, v))
     }
 }
 
@@ -155,5 +292,66 @@ mod tests {
             .verify(&out.ecc)
             .unwrap();
         assert!(v.report.all_hold(), "{}", v.report.to_text());
+    }
+
+    /// The in-process judge agrees with NuSMV on the machines a search meets: SAT's machine
+    /// for the scenario (fails `track1_served`) and random ones, labelled from the scenario.
+    #[test]
+    fn in_process_verdicts_agree_with_nusmv_s() {
+        use rand::SeedableRng;
+        let Some(nusmv) = nusmv_or_skip() else {
+            return;
+        };
+        let mut set = crate::cases::pnp::generate();
+        set.scenarios.truncate(1);
+        let dir = tempfile::tempdir().unwrap();
+        let spec = dir.path().join("s.ltl");
+        std::fs::write(
+            &spec,
+            "c1_exclusive: G !(c1Extend & c1Retract)\nc2_exclusive: G !(c2Extend & c2Retract)\ntrack1_served: G (pp1 -> F vp1)\n",
+        )
+        .unwrap();
+        let plant = Path::new(env!("CARGO_MANIFEST_DIR")).join("smv/pnp_surrogate.smv");
+        let problem = Arc::new(Problem::load(&spec, &plant, &set.inputs, &set.outputs).unwrap());
+        let closed = Arc::new(Closed::new(&problem, &set.inputs, &set.outputs).unwrap());
+        let tree = ScenarioTree::build(&set).unwrap();
+        let opts = crate::sat::Options {
+            cube_slots: Some(6),
+            ..Default::default()
+        };
+        let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();
+        let data = ScenarioData::new(&set).unwrap();
+        let mut eval = crate::search::Evaluator::new(&data);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut machines = vec![Machine::from_ecc(&start.ecc).unwrap()];
+        machines.extend((0..24).map(|_| Machine::random(&mut rng, set.inputs.len(), 6, 4)));
+        let shared = || Arc::new(Shared::default());
+        let mut nusmv_judge =
+            Oracle::new(Verifier::new(problem.clone(), &nusmv).unwrap(), shared());
+        let mut in_process = InProcess::new(
+            closed,
+            Oracle::new(Verifier::new(problem, &nusmv).unwrap(), shared()),
+        );
+        let mut failing = 0;
+        for m in &machines {
+            eval.evaluate(m);
+            let ecc = m.to_ecc(
+                &data.inputs,
+                &data.outputs,
+                &data.initial_outputs,
+                &eval.algorithms(),
+            );
+            let a = in_process.check(&ecc).unwrap();
+            let b = nusmv_judge.check(&ecc).unwrap();
+            assert_eq!((a.satisfied, a.total), (b.satisfied, b.total), "{ecc:?}");
+            // Every counterexample the in-process judge gives is followed by the machine.
+            assert!(a.negatives.iter().all(|n| n.followed_by(&ecc)));
+            failing += usize::from(!a.all_hold());
+        }
+        assert!(
+            failing > 0,
+            "no machine fails a property: the comparison shows nothing"
+        );
+        assert_eq!(in_process.nusmv.shared.runs.load(Ordering::Relaxed), 0);
     }
 }
