@@ -42,8 +42,10 @@
 //!   remove a significant input, doubling or halving the table) and the
 //!   verification-in-the-loop paper's counterexample-weighted one (weight 1, plus λ per
 //!   counterexample visit; a roulette wheel picks the transition whose target changes).
-//! - Verdicts ([`crate::search::oracle`]): NuSMV through the verifier, one session per colony,
-//!   cached by machine.
+//! - Verdicts ([`crate::search::oracle`]): by default the in-process checker
+//!   ([`Judge::InProcess`], about 6 ms a machine on Table I's case, NuSMV where it cannot
+//!   decide), else NuSMV through the verifier, one session per colony ([`Judge::Nusmv`]);
+//!   cached by machine. Either way NuSMV alone judges the machine a run ends with.
 //! - Algorithm ([`crate::search::algorithm`]): pMuACO-style parallel search: 4 colonies, each a
 //!   (1+8) evolution strategy with neutral moves, 25 generations per round, sharing their best
 //!   between rounds (a colony stagnating 10 rounds restarts from the elite or from a random
