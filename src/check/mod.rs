@@ -124,15 +124,29 @@ impl Coupling {
 
     /// The controller's inputs (interface order) on a state of the closed loop.
     pub fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
-        let sem = Semantics::new(model);
         let params: Vec<bool> = self.params.iter().map(|&z| s.outputs[z]).collect();
+        self.read_inputs(&Semantics::new(model), &s.plant, &params)
+    }
+
+    /// The controller's inputs on plant state `plant` under plant parameters `params`.
+    fn read_inputs(
+        &self,
+        sem: &Semantics,
+        plant: &[Value],
+        params: &[bool],
+    ) -> Result<Vec<bool>, CheckError> {
+        let model = sem.model();
         self.inputs
             .iter()
-            .map(|name| match sem.read(*name, &s.plant, &params)? {
+            .map(|name| match sem.read(*name, plant, params)? {
                 Value::Bool(b) => Ok(b),
                 other => Err(CheckError::Coupling {
                     file: model.file.display().to_string(),
-                    message: format!("a controller input has the value {}", model.show(other)),
+                    message: format!(
+                        "controller input '{}' has the value {}, not TRUE or FALSE",
+                        model.name_of(*name),
+                        model.show(other)
+                    ),
                 }),
             })
             .collect()
@@ -269,52 +283,45 @@ impl Automata {
 /// across the checks of many machines against one plant and coupling (a search's), where it
 /// was most of the work of building each closed loop. Use one memo per plant and coupling.
 #[derive(Debug, Default)]
-pub struct PlantMemo {
-    at: HashMap<(Box<[Value]>, u64), Arc<At>>,
-    successors: HashMap<(Box<[Value]>, u64, u64), Successors>,
-}
+pub struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
 
 /// Plant successor states, shared between the memo and a closed loop's build.
 type Successors = Arc<[Box<[Value]>]>;
 
-/// What the controller reads on a plant state under given outputs, and the fairness
-/// conditions that hold there.
-#[derive(Debug)]
-struct At {
-    inputs: Vec<bool>,
-    fair: u64,
+/// What is known about one plant state, by the controller's outputs (bits).
+#[derive(Debug, Default)]
+struct PlantState {
+    /// Under outputs `o`: what the controller reads, and the fairness conditions that hold.
+    at: HashMap<u64, (Arc<[bool]>, u64)>,
+    /// Under outputs `o` now and `o'` next: the plant's successors.
+    successors: HashMap<(u64, u64), Successors>,
 }
 
 impl PlantMemo {
+    // Looked up by the borrowed plant state: a closed loop's build asks twice per state, and
+    // cloning the key for each lookup was an allocation on that path.
+    fn entry(&mut self, plant: &[Value]) -> &mut PlantState {
+        if !self.0.contains_key(plant) {
+            self.0.insert(plant.into(), PlantState::default());
+        }
+        self.0.get_mut(plant).expect("inserted above")
+    }
+
+    /// The controller's inputs on `key` and the fairness conditions that hold there.
     fn at(
         &mut self,
         sem: &Semantics,
         coupling: &Coupling,
         key: &Key,
-    ) -> Result<Arc<At>, CheckError> {
-        if let Some(a) = self.at.get(&(key.plant.clone(), key.outputs)) {
+    ) -> Result<(Arc<[bool]>, u64), CheckError> {
+        let e = self.entry(&key.plant);
+        if let Some(a) = e.at.get(&key.outputs) {
             return Ok(a.clone());
         }
-        let model = sem.model();
         let params = coupling.params(key.outputs);
-        let inputs = coupling
-            .inputs
-            .iter()
-            .map(|name| match sem.read(*name, &key.plant, &params)? {
-                Value::Bool(b) => Ok(b),
-                other => Err(CheckError::Coupling {
-                    file: model.file.display().to_string(),
-                    message: format!(
-                        "controller input '{}' has the value {}, not TRUE or FALSE",
-                        model.name_of(*name),
-                        model.show(other)
-                    ),
-                }),
-            })
-            .collect::<Result<Vec<bool>, CheckError>>()?;
-        let fair = sem.fairness(&key.plant, &params)?;
-        let a = Arc::new(At { inputs, fair });
-        self.at.insert((key.plant.clone(), key.outputs), a.clone());
+        let inputs: Arc<[bool]> = coupling.read_inputs(sem, &key.plant, &params)?.into();
+        let a = (inputs, sem.fairness(&key.plant, &params)?);
+        e.at.insert(key.outputs, a.clone());
         Ok(a)
     }
 
@@ -325,8 +332,8 @@ impl PlantMemo {
         key: &Key,
         next_outputs: u64,
     ) -> Result<Successors, CheckError> {
-        let k = (key.plant.clone(), key.outputs, next_outputs);
-        if let Some(s) = self.successors.get(&k) {
+        let e = self.entry(&key.plant);
+        if let Some(s) = e.successors.get(&(key.outputs, next_outputs)) {
             return Ok(s.clone());
         }
         let params = coupling.params(key.outputs);
@@ -336,7 +343,7 @@ impl PlantMemo {
             .into_iter()
             .map(Vec::into_boxed_slice)
             .collect();
-        self.successors.insert(k, s.clone());
+        e.successors.insert((key.outputs, next_outputs), s.clone());
         Ok(s)
     }
 }
@@ -598,16 +605,15 @@ impl<'a> ClosedLoop<'a> {
         let mut next = 0;
         while next < c.keys.len() {
             let key = c.keys[next].clone();
-            let at = memo.at(&c.sem, coupling, &key)?;
+            let (inputs, fair) = memo.at(&c.sem, coupling, &key)?;
             let (q, o) = match ecc.states[key.ctrl as usize]
                 .transitions
                 .iter()
-                .find(|t| t.guard.eval(&at.inputs))
+                .find(|t| t.guard.eval(&inputs))
             {
                 Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
                 None => (key.ctrl, key.outputs),
             };
-            let fair = at.fair;
             let successors = memo.successors(&c.sem, coupling, &key, o)?;
             let mut out = Vec::with_capacity(successors.len());
             for s in successors.iter() {

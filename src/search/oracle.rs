@@ -242,14 +242,13 @@ mod tests {
     use std::path::Path;
     use std::time::Duration;
 
-    /// The verification-in-the-loop paper's setting: one Pick-and-Place scenario (a piece on track 1) and its three
-    /// properties. SAT's machine for the scenario alone is the start; the search must make
-    /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
-    #[test]
-    fn search_finds_a_verified_controller_for_seed_001s_case() {
-        let Some(nusmv) = nusmv_or_skip() else {
-            return;
-        };
+    /// The verification-in-the-loop paper's setting: its Pick-and-Place scenario, its three
+    /// properties on the project's plant, and SAT's machine for the scenario alone.
+    fn seed_001s_case() -> (
+        crate::scenario::ScenarioSet,
+        Arc<Problem>,
+        crate::sat::Synthesis,
+    ) {
         let mut set = crate::cases::pnp::generate();
         set.scenarios.truncate(1);
         let dir = tempfile::tempdir().unwrap();
@@ -267,6 +266,18 @@ mod tests {
             ..Default::default()
         };
         let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();
+        (set, problem, start)
+    }
+
+    /// One Pick-and-Place scenario (a piece on track 1) and its three
+    /// properties. SAT's machine for the scenario alone is the start; the search must make
+    /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
+    #[test]
+    fn search_finds_a_verified_controller_for_seed_001s_case() {
+        let Some(nusmv) = nusmv_or_skip() else {
+            return;
+        };
+        let (set, problem, start) = seed_001s_case();
         let shared = Arc::new(Shared::default());
         let config = Config {
             states: 6,
@@ -302,24 +313,8 @@ mod tests {
         let Some(nusmv) = nusmv_or_skip() else {
             return;
         };
-        let mut set = crate::cases::pnp::generate();
-        set.scenarios.truncate(1);
-        let dir = tempfile::tempdir().unwrap();
-        let spec = dir.path().join("s.ltl");
-        std::fs::write(
-            &spec,
-            "c1_exclusive: G !(c1Extend & c1Retract)\nc2_exclusive: G !(c2Extend & c2Retract)\ntrack1_served: G (pp1 -> F vp1)\n",
-        )
-        .unwrap();
-        let plant = Path::new(env!("CARGO_MANIFEST_DIR")).join("smv/pnp_surrogate.smv");
-        let problem = Arc::new(Problem::load(&spec, &plant, &set.inputs, &set.outputs).unwrap());
+        let (set, problem, start) = seed_001s_case();
         let closed = Arc::new(Closed::new(&problem, &set.inputs, &set.outputs).unwrap());
-        let tree = ScenarioTree::build(&set).unwrap();
-        let opts = crate::sat::Options {
-            cube_slots: Some(6),
-            ..Default::default()
-        };
-        let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();
         let data = ScenarioData::new(&set).unwrap();
         let mut eval = crate::search::Evaluator::new(&data);
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
