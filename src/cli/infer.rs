@@ -15,6 +15,7 @@ use fbsynth::pipeline::output::{
 };
 use fbsynth::pipeline::recordings::machine_and_scenarios;
 use fbsynth::pipeline::{self, exact, modular, noisy};
+use fbsynth::scenario::negative::{self, NegativeScenario};
 use fbsynth::scenario::{csvlog, fbsat, ScenarioSet};
 use std::path::{Path, PathBuf};
 
@@ -96,6 +97,11 @@ pub struct InferArgs {
     pub dump_cnf: Option<PathBuf>,
     #[command(flatten)]
     pub ambiguity: AmbiguityArgs,
+    /// Negative scenarios: behaviours the machine must not show, in the scenario syntax
+    /// (fbSAT's complete synthesis); repeatable. A machine shows one when its outputs after
+    /// every step equal the scenario's (a step without `out=` keeps the outputs).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["noisy", "modules", "dump_cnf"])]
+    pub negative: Vec<PathBuf>,
 }
 
 /// The options of `synth infer` that only `--noisy` reads.
@@ -230,7 +236,8 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         let staged = match &check {
             None => distribute(args, m, &set, results.staging(), &progress)?,
             Some(check) => {
-                let single = verified_exact(args, &set, check, &progress)?;
+                // --negative conflicts with --modules.
+                let single = verified_exact(args, &set, check, Vec::new(), &progress)?;
                 let staging = results.staging();
                 let mut files =
                     distribute_verified(args, m, &set, &single, check, staging, &progress)?;
@@ -250,13 +257,20 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
     let check = loop_check(args, &set, &progress)?;
+    let negatives = read_negatives(&args.negative, &set, &progress)?;
+    // Rivals are searched without the negative scenarios, so they could be machines the user
+    // ruled out: no verdict rather than a wrong one.
+    let ambiguity = !args.no_ambiguity && negatives.is_empty();
+    if !args.no_ambiguity && !ambiguity {
+        progress.line("ambiguity check skipped: it does not take negative scenarios");
+    }
     let results = match to_stdout {
         true => None,
         false => Some(infer_out(args)?),
     };
     if let Some(check) = &check {
         let results = results.expect("--out - with --ltl is refused above");
-        let r = verified_exact(args, &set, check, &progress)?;
+        let r = verified_exact(args, &set, check, negatives, &progress)?;
         let summary = loop_summary(&r, &progress);
         let staged = write_single(args, results.staging(), &formats, &r, &summary)?;
         let files = publish(results, &staged)?;
@@ -277,6 +291,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
             ..exact::SatOptions::default()
         },
+        negatives,
         ..exact::Options::default()
     };
     let mut hinted = false;
@@ -321,7 +336,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let Some(results) = results else {
         let format = super::args::stdout_format(&formats);
         let text = export::text(&result.ecc, &args.name, format).map_err(Failure::input)?;
-        if !args.no_ambiguity {
+        if ambiguity {
             super::ambiguity::report(
                 &set,
                 &result.ecc,
@@ -338,8 +353,8 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     }
     let mut staged = export::write_all(&result.ecc, results.staging(), &args.name, &formats)
         .map_err(Failure::input)?;
-    let mut ambiguity = serde_json::Value::Null;
-    if !args.no_ambiguity {
+    let mut ambiguity_json = serde_json::Value::Null;
+    if ambiguity {
         let (found, files) = super::ambiguity::report(
             &set,
             &result.ecc,
@@ -348,7 +363,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             &progress,
             Some(results.staging()),
         )?;
-        ambiguity = found.to_json(&set, &result.ecc);
+        ambiguity_json = found.to_json(&set, &result.ecc);
         staged.extend(files);
     }
     let files = publish(results, &staged)?;
@@ -362,7 +377,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             "seconds": progress.elapsed(),
             "stats": result.stats,
             "files": files,
-            "ambiguity": ambiguity,
+            "ambiguity": ambiguity_json,
         });
         return super::write_json(&summary);
     }
@@ -442,7 +457,8 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
         ..noisy::Options::default()
     };
-    let loop_opts = loop_options(args)?;
+    // --negative conflicts with --noisy.
+    let loop_opts = loop_options(args, Vec::new())?;
     let result = noisy::run(
         &set,
         check.as_ref().map(|c| (c, &loop_opts)),
@@ -568,7 +584,10 @@ fn provenance(args: &InferArgs) -> Provenance<'_> {
 }
 
 /// The closed loop's options for `infer --ltl`.
-fn loop_options(args: &InferArgs) -> Result<exact::Options, Failure> {
+fn loop_options(
+    args: &InferArgs,
+    negatives: Vec<NegativeScenario>,
+) -> Result<exact::Options, Failure> {
     Ok(exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
@@ -577,8 +596,30 @@ fn loop_options(args: &InferArgs) -> Result<exact::Options, Failure> {
             ..exact::SatOptions::default()
         },
         max_iterations: args.max_iterations,
+        negatives,
         ..exact::Options::default()
     })
+}
+
+/// The `--negative` files, read over the recordings' interface.
+pub(super) fn read_negatives(
+    files: &[PathBuf],
+    set: &ScenarioSet,
+    progress: &Progress,
+) -> Result<Vec<NegativeScenario>, Failure> {
+    let mut all = Vec::new();
+    for file in files {
+        let negs = negative::read(file, &set.inputs, &set.outputs, &set.initial_outputs)
+            .map_err(pipeline::Error::from)?;
+        progress.line(&format!(
+            "read {} negative scenario{} from {}",
+            negs.len(),
+            if negs.len() == 1 { "" } else { "s" },
+            file.display()
+        ));
+        all.extend(negs);
+    }
+    Ok(all)
 }
 
 /// With --ltl/--plant: the least machine for `set` that NuSMV verifies (the main job's loop).
@@ -586,11 +627,15 @@ fn verified_exact(
     args: &InferArgs,
     set: &ScenarioSet,
     check: &pipeline::Check,
+    negatives: Vec<NegativeScenario>,
     progress: &Progress,
 ) -> Result<exact::Exact, Failure> {
-    let r = exact::run(set, Some(check), &loop_options(args)?, &mut |e| {
-        progress.event(e)
-    })?;
+    let r = exact::run(
+        set,
+        Some(check),
+        &loop_options(args, negatives)?,
+        &mut |e| progress.event(e),
+    )?;
     let report = &r
         .certificate
         .as_ref()

@@ -13,6 +13,7 @@ use fbsynth::pipeline::explain::{self, Explanation};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
 use fbsynth::pipeline::recordings::{read_ecc, stem};
 use fbsynth::pipeline::{self, exact, limit, search};
+use fbsynth::scenario::negative::NegativeScenario;
 use std::path::PathBuf;
 
 /// Arguments of the main job (no subcommand).
@@ -45,6 +46,11 @@ pub struct MainArgs {
     /// recordings but answer differently) and check each with NuSMV.
     #[arg(long)]
     pub ambiguity: bool,
+    /// Negative scenarios: behaviours the machine must not show, in the scenario syntax
+    /// (fbSAT's complete synthesis); repeatable. A machine shows one when its outputs after
+    /// every step equal the scenario's (a step without `out=` keeps the outputs).
+    #[arg(long, value_name = "FILE", conflicts_with = "ambiguity")]
+    pub negative: Vec<PathBuf>,
     #[command(flatten)]
     pub ambiguity_args: super::args::AmbiguityArgs,
     /// Form of the state output algorithms.
@@ -157,6 +163,7 @@ pub struct VerifyArgs {
 /// The exact loop's settings from the command line, with at most `max_states` states.
 fn exact_options(
     args: &MainArgs,
+    negatives: &[NegativeScenario],
     max_states: usize,
     keep_failed_model: Option<PathBuf>,
     proof_budget: std::time::Duration,
@@ -172,6 +179,7 @@ fn exact_options(
         verbose: args.verbose,
         keep_failed_model,
         proof_budget,
+        negatives: negatives.to_vec(),
     }
 }
 
@@ -229,6 +237,13 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     let explained =
         explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
     progress.line(&recordings_line(&explained, problem.props.len()));
+    let negatives = super::infer::read_negatives(&args.negative, &set, &progress)?;
+    if !negatives.is_empty() && args.method != Method::Sat {
+        return Err(Failure::msg(
+            exit::USAGE,
+            "--negative takes --method sat (the search does not read negative scenarios)",
+        ));
+    }
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &recordings)?;
     let out = out_dir(&args.out, &stem(ltl));
@@ -245,6 +260,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         Method::Sat => {
             let opts = exact_options(
                 args,
+                &negatives,
                 args.max_states,
                 Some(out.join("closed_loop.last.smv")),
                 proof_budget,
@@ -333,7 +349,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 "shrunk to {}; the exact loop looks for a smaller verified machine with at most {} states:",
                 small.size, small.size.c
             ));
-            let opts = exact_options(args, small.size.c, None, proof_budget);
+            let opts = exact_options(args, &negatives, small.size.c, None, proof_budget);
             let left =
                 time_limit.saturating_sub(std::time::Duration::from_secs_f64(progress.elapsed()));
             let bounded = if left.is_zero() {

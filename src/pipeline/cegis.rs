@@ -32,6 +32,8 @@ pub struct Config {
     /// With the properties in the encoding: how long the final machine's `T` and `N` may take
     /// to be proven minimal ([`Proofs::Budget`]).
     pub proof_budget: std::time::Duration,
+    /// The user's negative scenarios, encoded before the first candidate.
+    pub negatives: Vec<crate::scenario::negative::NegativeScenario>,
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -230,6 +232,9 @@ fn iterate(
     };
     let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidates);
     lower.seed(&mut synth);
+    for neg in &config.negatives {
+        synth.add_negative(neg.clone());
+    }
     let mut iterations = Vec::new();
     let mut last_failing = String::new();
     // Candidates are minimized for their own colouring only (cheap); once one passes, the

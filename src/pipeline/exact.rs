@@ -53,6 +53,7 @@
 use super::cegis::{self, Iteration};
 use super::{Check, Error, Event, Events};
 use crate::sat::{self, Synthesis};
+use crate::scenario::negative::{self, NegativeScenario};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use crate::verify::Report;
@@ -78,6 +79,9 @@ pub struct Options {
     /// With a check and the properties inside the encoding: the time the final machine's `T`
     /// and `N` may take to be proven minimal (past it they are reported as not proven).
     pub proof_budget: std::time::Duration,
+    /// Behaviours the machine must not show (the user's `--negative` scenarios), beside those
+    /// the loop learns from NuSMV.
+    pub negatives: Vec<NegativeScenario>,
 }
 
 impl Default for Options {
@@ -88,6 +92,7 @@ impl Default for Options {
             verbose: false,
             keep_failed_model: None,
             proof_budget: DEFAULT_PROOF_BUDGET,
+            negatives: Vec::new(),
         }
     }
 }
@@ -140,10 +145,13 @@ pub fn run(
     events: Events<'_>,
 ) -> Result<Exact, Error> {
     let tree = ScenarioTree::build(set)?;
+    negative::check_not_recorded(set, &tree, &opts.negatives)?;
     let Some(check) = check else {
-        let synthesis = sat::synthesize(set, &tree, &opts.sat(false), &mut |m| {
-            events(Event::Solver(m))
-        })?;
+        let mut synth = sat::Synthesizer::new(set, &tree, &opts.sat(false));
+        for neg in &opts.negatives {
+            synth.add_negative(neg.clone());
+        }
+        let synthesis = synth.minimize(&mut |m| events(Event::Solver(m)))?;
         return Ok(Exact {
             synthesis,
             certificate: None,
@@ -156,6 +164,7 @@ pub fn run(
         max_iterations: opts.max_iterations,
         verbose: opts.verbose,
         proof_budget: opts.proof_budget,
+        negatives: opts.negatives.clone(),
     };
     let closed = super::closed_loop::ClosedLoop::new(
         &check.problem,

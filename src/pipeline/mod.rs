@@ -156,6 +156,8 @@ pub enum Error {
     #[error(transparent)]
     RecordingsViolate(#[from] explain::RecordingsViolate),
     #[error(transparent)]
+    NegativeRecorded(#[from] crate::scenario::negative::Recorded),
+    #[error(transparent)]
     Export(#[from] crate::export::ExportError),
     #[error(transparent)]
     Json(#[from] crate::export::json::JsonError),

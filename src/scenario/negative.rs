@@ -5,9 +5,15 @@
 //! before, outputs after)`. A controller that reproduces those outputs on those inputs forever
 //! lets the plant follow the same run, so the property fails again. A correct controller must
 //! therefore leave the lasso somewhere: produce different outputs at some step.
+//!
+//! The user may also forbid behaviours directly ([`read`], `--negative FILE`, fbSAT's complete
+//! synthesis): finite scenarios in the positive scenarios' syntax.
 
+use super::tree::{InputVec, NodeId, ScenarioTree};
+use super::{Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::{Ecc, Run, StateId};
 use std::collections::HashSet;
+use std::path::Path;
 
 /// One step of a negative scenario.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -67,4 +73,104 @@ impl NegativeScenario {
             };
         }
     }
+}
+
+/// Reads negative scenarios written by the user in the fbSAT scenario syntax (the format of
+/// positive scenarios, [`super::fbsat`]): each line is a finite behaviour the machine must not
+/// show in full from its initial state. A step with `out=CNF[bits]` forbids those outputs
+/// after the step; a step without `out=` forbids the outputs staying as they were. Only the
+/// output values count (as in closed loop, where the plant sees values, not events), so a
+/// machine shows the scenario when its outputs after every step equal the scenario's.
+pub fn read(
+    file: &Path,
+    inputs: &[String],
+    outputs: &[String],
+    initial_outputs: &[bool],
+) -> Result<Vec<NegativeScenario>, ScenarioError> {
+    let set = super::fbsat::read(file, Some(inputs.to_vec()), Some(outputs.to_vec()))?;
+    Ok(set
+        .scenarios
+        .iter()
+        .map(|s| from_scenario(s, initial_outputs))
+        .collect())
+}
+
+/// The scenario's behaviour as a finite negative scenario labelled with its origin.
+fn from_scenario(s: &Scenario, initial_outputs: &[bool]) -> NegativeScenario {
+    let mut before = initial_outputs.to_vec();
+    let steps = s
+        .steps
+        .iter()
+        .map(|step| {
+            let after = step.outputs.clone().unwrap_or_else(|| before.clone());
+            NegativeStep {
+                inputs: step.inputs.clone(),
+                before: std::mem::replace(&mut before, after.clone()),
+                after,
+            }
+        })
+        .collect();
+    NegativeScenario {
+        steps,
+        loop_start: None,
+        label: s.origin.to_string(),
+    }
+}
+
+/// A negative scenario that the recordings force: every machine that reproduces them shows
+/// it, so none can exist.
+#[derive(Debug, thiserror::Error)]
+#[error("{negative}: every machine that reproduces the recordings shows this negative scenario (its {steps} steps follow the recorded behaviour, last through {place}), so none can avoid it: remove it or the recording")]
+pub struct Recorded {
+    pub negative: String,
+    /// The recorded step the scenario's last active step coincides with (or the start).
+    pub place: String,
+    pub steps: usize,
+}
+
+/// Checks that no finite negative scenario is forced by the recordings: following it through
+/// the scenario tree, every step recorded (actively, or passively: nothing fires, which the
+/// tree merges into its node) with the outputs the negative scenario names.
+pub fn check_not_recorded(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    negatives: &[NegativeScenario],
+) -> Result<(), Recorded> {
+    for neg in negatives.iter().filter(|n| n.loop_start.is_none()) {
+        if neg.steps.first().map(|s| &s.before) != Some(&set.initial_outputs) {
+            continue;
+        }
+        let Some(node) = forced(tree, neg) else {
+            continue;
+        };
+        let (si, step) = tree.witness[node.0];
+        let place = match set.scenarios.get(si) {
+            Some(s) if step > 0 => s.origin.step(step),
+            _ => "the initial state".to_string(),
+        };
+        return Err(Recorded {
+            negative: neg.label.clone(),
+            place,
+            steps: neg.steps.len(),
+        });
+    }
+    Ok(())
+}
+
+/// The tree node where `neg` ends when the recordings force every one of its steps.
+fn forced(tree: &ScenarioTree, neg: &NegativeScenario) -> Option<NodeId> {
+    let mut node = tree.root();
+    for step in &neg.steps {
+        let u = InputVec(tree.input_vectors.iter().position(|x| *x == step.inputs)?);
+        let n = &tree.nodes[node.0];
+        if let Some(&(_, child)) = n.children.iter().find(|(v, _)| *v == u) {
+            node = child;
+        } else if !n.passive.contains(&u) {
+            return None;
+        }
+        if tree.nodes[node.0].outputs != step.after {
+            return None;
+        }
+    }
+    Some(node)
 }

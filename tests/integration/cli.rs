@@ -1547,3 +1547,85 @@ fn json_summaries_are_the_only_stdout() {
     assert_eq!(v["equivalent"], false);
     assert!(!v["difference"]["inputs"].as_array().unwrap().is_empty());
 }
+
+/// The door machine's interface and its negative scenarios read from `file`.
+fn door_negatives(file: &str) -> Vec<fbsynth::scenario::negative::NegativeScenario> {
+    let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    fbsynth::scenario::negative::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join(data(file)),
+        &names(&["start", "stop"]),
+        &names(&["motor", "lamp"]),
+        &[false, false],
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_negative_scenario_excludes_the_behaviour_it_names() {
+    // Pressing both buttons while the motor runs: the least machine stops it (the stop guard
+    // needs no more), which the negative scenario forbids.
+    let negs = door_negatives("door_negative.traces");
+    let plain = tempfile::tempdir().unwrap();
+    let ecc = read_json(
+        &std::fs::read_to_string(infer_door(plain.path())).unwrap(),
+        Path::new("plain.json"),
+    )
+    .unwrap();
+    assert!(
+        negs[0].followed_by(&ecc),
+        "the fixture must name the least machine's behaviour"
+    );
+
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--negative",
+        &data("door_negative.traces"),
+        "--out",
+        out.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    // Same states and transitions; one more literal keeps `stop` from winning over `start`.
+    assert!(
+        text(&o.stdout).contains("C = 2  K = 1  T = 2  N = 3"),
+        "{}",
+        text(&o.stdout)
+    );
+    let json = std::fs::read_to_string(out.path().join("SynthesizedFB.json")).unwrap();
+    let ecc = read_json(&json, Path::new("SynthesizedFB.json")).unwrap();
+    assert!(!negs[0].followed_by(&ecc));
+    let set = fbsat::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces")),
+        Some(vec!["start".into(), "stop".into()]),
+        Some(vec!["motor".into(), "lamp".into()]),
+    )
+    .unwrap();
+    set.check(&ecc).unwrap();
+}
+
+#[test]
+fn a_negative_scenario_the_recordings_force_is_refused_with_both_places() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("result");
+    let o = synth(&[
+        "infer",
+        "--traces",
+        &data("door.traces"),
+        "--negative",
+        &data("door_negative_recorded.traces"),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    // The passive step is recorded in scenario 1 after the same history as scenario 2's step 2.
+    assert!(
+        err.contains("door_negative_recorded.traces:2:")
+            && err.contains("door.traces:2 step 2")
+            && err.contains("shows this negative scenario"),
+        "{err}"
+    );
+    assert!(!dir.exists());
+}

@@ -81,6 +81,46 @@ fn main_job_verifies_and_verify_agrees() {
 }
 
 #[test]
+fn the_main_job_avoids_a_negative_scenario_and_nusmv_verifies_the_result() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let negs = fbsynth::scenario::negative::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(DIR)
+            .join("lamp_negative.traces"),
+        &names(&["button", "timeout"]),
+        &names(&["lamp"]),
+        &[false],
+    )
+    .unwrap();
+    let machine = |dir: &Path| {
+        let file = dir.join("SynthesizedFB.json");
+        let json = std::fs::read_to_string(&file).unwrap();
+        fbsynth::export::json::read_json(&json, &file).unwrap()
+    };
+    let plain = tempfile::tempdir().unwrap();
+    let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", plain.path(), &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    // Button and timer together from the start light the lamp in the least machine.
+    assert!(negs[0].followed_by(&machine(plain.path())));
+
+    let out = tempfile::tempdir().unwrap();
+    let negative = format!("{DIR}/lamp_negative.traces");
+    let o = main_job(
+        &n.path,
+        "lamp.ltl",
+        "lamp_plant.smv",
+        out.path(),
+        &["--negative", &negative],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
+    assert!(!negs[0].followed_by(&machine(out.path())));
+    let v = verify_lamp(&n.path, &out.path().join("SynthesizedFB.json"));
+    assert!(v.status.success(), "{}", text(&v.stderr));
+}
+
+#[test]
 fn scenarios_alone_do_not_make_the_lamp_go_out() {
     let Some(n) = nusmv_or_skip() else { return };
     let out = tempfile::tempdir().unwrap();
