@@ -267,8 +267,9 @@ pub struct BenchModularArgs {
     /// Largest number of modules; the table has one row per M = 1..=this.
     #[arg(long, default_value_t = 4, value_name = "M")]
     pub max_modules: usize,
-    /// Transition slots per state.
-    #[arg(long, default_value_t = 3, value_name = "K")]
+    /// Transition slots per state to start with (widened while too few; the table's K is the
+    /// result's).
+    #[arg(long, default_value_t = modular::DEFAULT_SLOTS, value_name = "K")]
     pub slots: usize,
     /// Runs per M; the table shows min / median / max.
     #[arg(long, default_value_t = 3)]
@@ -280,7 +281,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
     let recordings = args.traces.recordings();
     let set = recordings.load()?;
     out!(
-        "{}: {} scenarios, {} steps, {} tree nodes, {} inputs, {} outputs; K = {} slots, {} runs",
+        "{}: {} scenarios, {} steps, {} tree nodes, {} inputs, {} outputs; K from {} slots, {} runs",
         recordings.show(),
         set.scenarios.len(),
         set.step_count(),
@@ -291,8 +292,8 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
         args.runs.max(1)
     );
     out!();
-    out!("| M | largest | A | N' | transitions | variables | clauses | solver calls | time min / median / max (s) |");
-    out!("|---|---|---|---|---|---|---|---|---|");
+    out!("| M | largest | A | N' | transitions | K | variables | clauses | solver calls | time min / median / max (s) |");
+    out!("|---|---|---|---|---|---|---|---|---|---|");
     for modules in 1..=args.max_modules {
         let opts = modular::Options {
             modules,
@@ -311,10 +312,11 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
         let r = last.expect("at least one run");
         let t: usize = r.size.modules.iter().map(|s| s.t).sum();
         out!(
-            "| {modules} | {} | {} | {} | {t} | {} | {} | {} | {:.2} / {:.2} / {:.2} |",
+            "| {modules} | {} | {} | {} | {t} | {} | {} | {} | {} | {:.2} / {:.2} / {:.2} |",
             r.size.max_states,
             r.size.inputs_used,
             r.size.total_states,
+            r.stats.slots,
             r.stats.variables,
             r.stats.clauses,
             r.stats.solver_calls,

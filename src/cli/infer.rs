@@ -1,6 +1,10 @@
 //! `synth infer` (exact, noisy or modular synthesis from recordings), `synth convert` and
 //! `synth replay`.
 
+// Jobs handed to `limit::within` return `pipeline::Error` (128 bytes) by value; an error ends
+// the run, so its size costs nothing that matters.
+#![allow(clippy::result_large_err)]
+
 use super::args::{
     optional_check, out_dir, parse_formats, AlgorithmsArg, AmbiguityArgs, NusmvArgs, TraceArgs,
 };
@@ -14,7 +18,7 @@ use fbsynth::pipeline::output::{
     self, check_exportable, check_exportable_modular, write_verified, Provenance,
 };
 use fbsynth::pipeline::recordings::machine_and_scenarios;
-use fbsynth::pipeline::{self, exact, modular, noisy};
+use fbsynth::pipeline::{self, exact, limit, modular, noisy};
 use fbsynth::scenario::negative::{self, NegativeScenario};
 use fbsynth::scenario::{csvlog, fbsat, ScenarioSet};
 use std::path::{Path, PathBuf};
@@ -63,9 +67,11 @@ pub struct InferArgs {
     /// (modules numbered from 1); repeatable. The solver places the other outputs.
     #[arg(long, value_name = "MODULE=OUTPUTS", requires = "modules")]
     pub pin: Vec<String>,
-    /// With --modules: transition slots per state (guards are conjunctions of literals).
-    #[arg(long, default_value_t = 3, value_name = "K", value_parser = super::args::per_state())]
-    pub slots: usize,
+    /// With --modules: transition slots per state (guards are conjunctions of literals), fixed.
+    /// Default: 3, widened one at a time while too few (when no modules as small as the least
+    /// single machine fit, more slots are what is missing).
+    #[arg(long, value_name = "K", value_parser = super::args::per_state())]
+    pub slots: Option<usize>,
     #[command(flatten)]
     pub noisy: NoisyArgs,
     /// LTL properties the result must satisfy in closed loop with --plant, as NuSMV verifies:
@@ -83,6 +89,10 @@ pub struct InferArgs {
     pub max_iterations: usize,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
+    /// Give up after this many seconds of synthesis (and verification, with --ltl), whatever
+    /// the method: plain, --noisy, --modules (exit 3, naming the last step reached).
+    #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
+    pub time_limit: f64,
     /// Skip the check whether another machine with as many states fits the recordings.
     #[arg(long)]
     pub no_ambiguity: bool,
@@ -295,7 +305,9 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         ..exact::Options::default()
     };
     let mut hinted = false;
-    let result = exact::run(&set, None, &opts, &mut |e| {
+    let (job_set, job_opts) = (set.clone(), opts.clone());
+    let job = move |events: pipeline::Events<'_>| exact::run(&job_set, None, &job_opts, events);
+    let result = limited(args, &progress, job, &mut |e| {
         let c = match &e {
             pipeline::Event::Solver(fbsynth::sat::Step::TryingStates { c, .. }) => Some(*c),
             pipeline::Event::Solver(fbsynth::sat::Step::Trying {
@@ -459,10 +471,18 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     };
     // --negative conflicts with --noisy.
     let loop_opts = loop_options(args, Vec::new())?;
-    let result = noisy::run(
-        &set,
-        check.as_ref().map(|c| (c, &loop_opts)),
-        &opts,
+    let (job_set, job_check, job_opts) = (set.clone(), check.clone(), opts.clone());
+    let result = limited(
+        args,
+        &progress,
+        move |events| {
+            noisy::run(
+                &job_set,
+                job_check.as_ref().map(|c| (c, &loop_opts)),
+                &job_opts,
+                events,
+            )
+        },
         &mut |e| progress.event(e),
     )?;
     let table = output::write_noisy(
@@ -546,7 +566,13 @@ fn distribute(
 ) -> Result<Vec<PathBuf>, Failure> {
     let opts = modular_options(args, modules, set)?;
     check_exportable_modular(set, &args.name, modules)?;
-    let result = modular::run(set, &opts, &mut |e| progress.event(e))?;
+    let job_set = set.clone();
+    let result = limited(
+        args,
+        progress,
+        move |events| modular::run(&job_set, &opts, events),
+        &mut |e| progress.event(e),
+    )?;
     describe_modular(modules, &result);
     out!(
         "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the composite: all reproduced",
@@ -601,6 +627,39 @@ fn loop_options(
     })
 }
 
+/// The time `--time-limit` leaves after what this run has spent so far.
+fn remaining(
+    args: &InferArgs,
+    progress: &Progress,
+) -> Result<std::time::Duration, pipeline::Error> {
+    let limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
+    Ok(limit.saturating_sub(std::time::Duration::from_secs_f64(progress.elapsed())))
+}
+
+/// A time-limit error names the limit given, not the part of it left to the stage.
+fn full_limit(e: pipeline::Error, seconds: f64) -> pipeline::Error {
+    match e {
+        pipeline::Error::Interrupted { last, .. } => pipeline::Error::Interrupted { seconds, last },
+        pipeline::Error::TimeLimit { so_far, .. } => pipeline::Error::TimeLimit { seconds, so_far },
+        e => e,
+    }
+}
+
+/// `job` within what `--time-limit` leaves ([`limit::within`]), its events to `events`.
+fn limited<T: Send + 'static>(
+    args: &InferArgs,
+    progress: &Progress,
+    job: impl FnOnce(pipeline::Events<'_>) -> Result<T, pipeline::Error> + Send + 'static,
+    events: pipeline::Events<'_>,
+) -> Result<T, pipeline::Error> {
+    let r = limit::within(remaining(args, progress)?, events, job);
+    if r.is_err() {
+        // A NuSMV of the job's thread must not outlive us.
+        fbsynth::nusmv::kill_all_children();
+    }
+    r.map_err(|e| full_limit(e, args.time_limit))
+}
+
 /// The `--negative` files, read over the recordings' interface.
 pub(super) fn read_negatives(
     files: &[PathBuf],
@@ -630,12 +689,18 @@ fn verified_exact(
     negatives: Vec<NegativeScenario>,
     progress: &Progress,
 ) -> Result<exact::Exact, Failure> {
-    let r = exact::run(
+    let r = limit::exact_within(
         set,
-        Some(check),
+        check,
         &loop_options(args, negatives)?,
+        remaining(args, progress)?,
         &mut |e| progress.event(e),
-    )?;
+    );
+    if r.is_err() {
+        // On the time limit the loop's thread is still running: its NuSMV must not outlive us.
+        fbsynth::nusmv::kill_all_children();
+    }
+    let r = r.map_err(|e| full_limit(e, args.time_limit))?;
     let report = &r
         .certificate
         .as_ref()
@@ -696,7 +761,8 @@ fn modular_options(
 ) -> Result<modular::Options, Failure> {
     Ok(modular::Options {
         modules,
-        slots: args.slots,
+        slots: args.slots.unwrap_or(modular::DEFAULT_SLOTS),
+        widen_slots: args.slots.is_none(),
         max_states: args.max_states,
         algorithms: args.algorithms.into(),
         pins: modular::parse_pins(&args.pin, &set.outputs, modules)
@@ -708,11 +774,13 @@ fn modular_options(
 fn describe_modular(modules: usize, result: &modular::ModularSynthesis) {
     let s = &result.size;
     out!(
-        "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all",
+        "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all  (K = {} slots per state{})",
         modules,
         s.max_states,
         s.inputs_used,
-        s.total_states
+        s.total_states,
+        result.stats.slots,
+        if result.stats.slots > modular::DEFAULT_SLOTS { ", widened" } else { "" }
     );
     for line in describe_modules(&result.modular) {
         out!("  {line}");
@@ -735,12 +803,14 @@ fn distribute_verified(
     let opts = modular_options(args, modules, set)?;
     check_exportable_modular(set, &args.name, modules)?;
     out!("modular synthesis (M = {modules}) of the verified machine:");
-    let r = modular::run_verified(
-        set,
-        &single.synthesis.ecc,
-        check,
-        &opts,
-        args.max_iterations,
+    let (job_set, oracle, job_check) = (set.clone(), single.synthesis.ecc.clone(), check.clone());
+    let max_rounds = args.max_iterations;
+    let r = limited(
+        args,
+        progress,
+        move |events| {
+            modular::run_verified(&job_set, &oracle, &job_check, &opts, max_rounds, events)
+        },
         &mut |e| progress.event(e),
     )?;
     describe_modular(modules, &r.synthesis);

@@ -1,4 +1,5 @@
-//! A time limit on exact synthesis with NuSMV in the loop ([`exact::run`]).
+//! A time limit on exact synthesis with NuSMV in the loop ([`exact::run`]), and on any other
+//! pipeline ([`within`]).
 //!
 //! In: what [`exact::run`] takes, and a limit. Out: its result, or, when the limit passes
 //! first, [`Error::TimeLimit`] saying what had been found by then (the lower bounds, the
@@ -102,6 +103,92 @@ pub fn exact_within(
                 return Err(Error::TimeLimit {
                     seconds: limit.as_secs_f64(),
                     so_far,
+                })
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(Error::Bug(
+                    "the synthesis thread ended without a result".into(),
+                ))
+            }
+        }
+    }
+}
+
+/// An event of any pipeline, owned so that it can cross threads ([`within`]).
+enum Owned {
+    Solver(crate::sat::Step),
+    LowerBounds { c: usize, t: usize, seconds: f64 },
+    Candidate(Iteration),
+    CandidateVerdict(Vec<String>),
+    ClosedLoopOf { candidate: usize, errors: usize },
+    Followed(super::follow::Round),
+}
+
+impl Owned {
+    fn of(e: Event<'_>) -> Option<Owned> {
+        Some(match e {
+            Event::Solver(s) => Owned::Solver(s),
+            Event::LowerBounds { c, t, seconds } => Owned::LowerBounds { c, t, seconds },
+            Event::Candidate(it) => Owned::Candidate(it.clone()),
+            Event::CandidateVerdict { failing } => Owned::CandidateVerdict(failing.to_vec()),
+            Event::ClosedLoopOf { candidate, errors } => Owned::ClosedLoopOf { candidate, errors },
+            Event::Followed(r) => Owned::Followed(r.clone()),
+            // The search has its own clock.
+            _ => return None,
+        })
+    }
+
+    fn emit(&self, events: Events<'_>) {
+        match self {
+            Owned::Solver(s) => events(Event::Solver(s.clone())),
+            &Owned::LowerBounds { c, t, seconds } => events(Event::LowerBounds { c, t, seconds }),
+            Owned::Candidate(it) => events(Event::Candidate(it)),
+            Owned::CandidateVerdict(f) => events(Event::CandidateVerdict { failing: f }),
+            &Owned::ClosedLoopOf { candidate, errors } => {
+                events(Event::ClosedLoopOf { candidate, errors })
+            }
+            Owned::Followed(r) => events(Event::Followed(r)),
+        }
+    }
+}
+
+/// `job` (any pipeline: plain, noisy or modular synthesis, with or without NuSMV), given up
+/// after `limit` with [`Error::Interrupted`] naming the last step it reported. The job runs on
+/// a thread of its own, as in [`exact_within`], and its events reach `events` from here.
+pub fn within<T: Send + 'static>(
+    limit: Duration,
+    events: Events<'_>,
+    job: impl FnOnce(Events<'_>) -> Result<T, Error> + Send + 'static,
+) -> Result<T, Error> {
+    let deadline = Instant::now() + limit;
+    let (tx, rx) = mpsc::channel::<Result<Owned, Box<Result<T, Error>>>>();
+    {
+        let forward = tx.clone();
+        std::thread::spawn(move || {
+            let result = job(&mut |e| {
+                if let Some(m) = Owned::of(e) {
+                    // The receiver is gone once the limit passed: nobody listens any more.
+                    let _ = forward.send(Ok(m));
+                }
+            });
+            let _ = tx.send(Err(Box::new(result)));
+        });
+    }
+    let mut last: Option<String> = None;
+    loop {
+        let wait = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(wait) {
+            Ok(Ok(m)) => {
+                if let Owned::Solver(s) = &m {
+                    last = Some(s.to_string());
+                }
+                m.emit(events);
+            }
+            Ok(Err(result)) => return *result,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                return Err(Error::Interrupted {
+                    seconds: limit.as_secs_f64(),
+                    last: last.unwrap_or_else(|| "none yet".into()),
                 })
             }
             Err(mpsc::RecvTimeoutError::Disconnected) => {

@@ -183,6 +183,9 @@ pub enum Error {
     /// The time limit passed before a machine was verified.
     #[error("time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): {so_far}")]
     TimeLimit { seconds: f64, so_far: limit::SoFar },
+    /// The time limit passed before synthesis without NuSMV ended ([`limit::within`]).
+    #[error("time limit of {seconds} s reached before a result (raise --time-limit SECONDS); the last step was: {last}")]
+    Interrupted { seconds: f64, last: String },
     /// A broken invariant.
     #[error("{0}")]
     Bug(String),
@@ -200,7 +203,8 @@ impl Error {
             | Error::Cegis(cegis::CegisError::Exhausted { .. })
             | Error::Modular(ModularError::NoController { .. })
             | Error::NoMachine(_)
-            | Error::TimeLimit { .. } => Class::NoMachine,
+            | Error::TimeLimit { .. }
+            | Error::Interrupted { .. } => Class::NoMachine,
             Error::Sat(SatError::Bug(_))
             | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
             | Error::Cegis(cegis::CegisError::Disagreement { .. })

@@ -79,8 +79,8 @@
 //!
 //! # Limits
 //! Guards inside the encoding make the search harder than the tree-exact monolithic model, the
-//! more so with more inputs and more irregular recordings, and there is no time limit option
-//! yet. On the structured Pick-and-Place recordings every M takes about a second; on a
+//! more so with more inputs and more irregular recordings (`synth infer --time-limit` bounds a
+//! run). On the structured Pick-and-Place recordings every M takes about a second; on a
 //! synthetic instance of two *random* machines over 11 inputs (3 + 6 states, inputs flipping
 //! at random, 8 recordings of 25 steps, 104 tree nodes) M = 2 took 48 s (12 s to find the
 //! largest module, the rest proving A and N' minimal), and 8 recordings of 50 steps did not
@@ -92,7 +92,9 @@ use crate::sat::modular::synthesize_modular;
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 
-pub use crate::sat::modular::{parse_pins, ModularOptions as Options, ModularSynthesis};
+pub use crate::sat::modular::{
+    parse_pins, ModularOptions as Options, ModularSynthesis, DEFAULT_SLOTS,
+};
 
 /// The smallest modular controller for `set` (least largest module, then fewest inputs used,
 /// then fewest states in all); replayed on every scenario.

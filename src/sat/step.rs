@@ -78,6 +78,9 @@ pub enum Step {
     },
     /// Modular: the least largest module.
     LargestModule { states: usize },
+    /// Modular: no module of at most `states` states fits, which the least single machine shows
+    /// is for want of slots: `slots` per state from now on.
+    WideningSlots { slots: usize, states: usize },
 }
 
 impl fmt::Display for Step {
@@ -144,6 +147,11 @@ impl fmt::Display for Step {
             Step::LargestModule { states } => {
                 write!(f, "largest module: {states} states (minimal)")
             }
+            Step::WideningSlots { slots, states } => write!(
+                f,
+                "no modules of at most {states} states (the least single machine's) with {} transitions per state: widening to {slots}",
+                slots - 1
+            ),
         }
     }
 }

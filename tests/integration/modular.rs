@@ -499,3 +499,81 @@ fn a_noisy_log_gives_one_verified_machine_and_its_verified_composite() {
         Some(true)
     );
 }
+
+const SLOTS: &str = "tests/data/modular/slots.traces";
+
+#[test]
+fn too_few_slots_are_widened_and_the_truth_is_rebuilt_no_larger() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = synth(&["infer", "--modules", "2", "--traces", SLOTS, "--out", dir]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (stdout, stderr) = (text(&o.stdout), text(&o.stderr));
+    assert!(
+        stderr.contains("with 3 transitions per state: widening to 4"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("K = 4 slots per state, widened"),
+        "{stdout}"
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let truth_file = root.join("tests/data/modular/slots_truth.json");
+    let truth = read_json(&std::fs::read_to_string(&truth_file).unwrap(), &truth_file).unwrap();
+    let set = fbsat::read(
+        &root.join(SLOTS),
+        Some(truth.inputs.clone()),
+        Some(truth.outputs.clone()),
+    )
+    .unwrap();
+    set.check(&truth).unwrap();
+    let composite = read_back(out.path(), "SynthesizedFB", &set);
+    set.check(&composite).unwrap();
+    assert!(composite.size().max_states <= truth.states.len());
+
+    // Given, the slots stay: no composite of modules up to 6 states has 3 per state.
+    let fixed = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--modules",
+        "2",
+        "--slots",
+        "3",
+        "--max-states",
+        "6",
+        "--traces",
+        SLOTS,
+        "--out",
+        fixed.path().join("r").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("raise --max-states or --slots"));
+}
+
+#[test]
+fn every_method_stops_at_the_time_limit_with_exit_3_and_no_files() {
+    let out = tempfile::tempdir().unwrap();
+    for extra in [&[][..], &["--modules", "2"], &["--noisy"]] {
+        let dir = out.path().join(format!("r{}", extra.len()));
+        let mut args = vec![
+            "infer",
+            "-q",
+            "--traces",
+            SLOTS,
+            "--time-limit",
+            "0.001",
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = synth(&args);
+        assert_eq!(o.status.code(), Some(3), "{extra:?}: {}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("time limit of 0.001 s reached"),
+            "{extra:?}: {}",
+            text(&o.stderr)
+        );
+        assert!(!dir.exists(), "{extra:?}");
+    }
+}

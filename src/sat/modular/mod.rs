@@ -15,6 +15,15 @@
 //! Minimal means minimal among controllers with at most `K` transitions per state: a state that
 //! needs a disjunction of more than `K` cubes forces more states (or more inputs).
 //!
+//! Too few slots make the search climb through ever larger windows of states, each refuted
+//! slowly (a 7-state truth with a 4-transition state ran for minutes with `K = 3`). A ceiling
+//! stops that: the least single machine (tree-exact, a fraction of a second) has `C` states and
+//! needs at most `D` cubes in one state (its DNF guards in priority order), and `M` copies of it,
+//! each owning some outputs, form a modular controller with `C` states per module and `D` slots.
+//! So while `K < D`, a largest module above `C` is never needed: when every size up to `C` is
+//! refuted, the slots are too few and `K` grows by one (the ascent starts over, since more slots
+//! may allow fewer states). With `widen_slots` off, `K` stays as given.
+//!
 //! The decoded controller is pruned of transitions the scenarios never fire (they cannot change
 //! what the scenarios see) and of guard literals the scenarios do not need (greedily, so `N`
 //! is not minimal), and replayed on every scenario before it is returned; a mismatch is
@@ -46,16 +55,22 @@ pub struct ModularOptions {
     pub algorithms: AlgorithmKind,
     /// `pins[m]`: outputs that must belong to module `m` (0-based; may be shorter than `M`).
     pub pins: Vec<Vec<OutputId>>,
+    /// Widen `slots` one at a time when they are too few ([`synthesize_modular`]).
+    pub widen_slots: bool,
 }
+
+/// The transition slots per state a run starts with when none are given.
+pub const DEFAULT_SLOTS: usize = 3;
 
 impl Default for ModularOptions {
     fn default() -> Self {
         ModularOptions {
             modules: 2,
-            slots: 3,
+            slots: DEFAULT_SLOTS,
             max_states: 16,
             algorithms: AlgorithmKind::Tri,
             pins: Vec::new(),
+            widen_slots: true,
         }
     }
 }
@@ -76,6 +91,8 @@ pub struct ModularStats {
     pub clauses: usize,
     pub solver_calls: usize,
     pub sat_seconds: f64,
+    /// Transition slots per state of the result (more than asked when widened).
+    pub slots: usize,
 }
 
 /// Why modular synthesis produced no controller.
@@ -227,8 +244,21 @@ pub fn synthesize_modular(
         tree_nodes: tree.nodes.len(),
         ..ModularStats::default()
     };
+    let ceiling = if opts.widen_slots {
+        single_machine_ceiling(set, tree, opts)
+    } else {
+        None
+    };
+    let mut opts = opts.clone();
+    opts.slots = opts.slots.max(1);
+    let opts = &mut opts;
+    // While more slots could help, no module needs more states than the single machine.
+    let limit = |slots: usize| match ceiling {
+        Some((c, cubes)) if slots < cubes => c.min(opts.max_states),
+        _ => opts.max_states,
+    };
     let mut lo = 1;
-    let mut c_max = opts.max_states.clamp(1, 4);
+    let mut c_max = opts.max_states.clamp(1, 4).min(limit(opts.slots));
     // 1. least largest module, growing the window when exhausted.
     let (mut enc, n, mut model) = loop {
         let mut enc = Encoding::new(tree, c_max, opts);
@@ -248,6 +278,16 @@ pub fn synthesize_modular(
         );
         match found {
             Some((n, m)) => break (enc, n, m),
+            None if c_max >= limit(opts.slots) && limit(opts.slots) < opts.max_states => {
+                stats.solver_calls += enc.solver.stats().calls;
+                progress(Step::WideningSlots {
+                    slots: opts.slots + 1,
+                    states: c_max,
+                });
+                opts.slots += 1;
+                lo = 1;
+                c_max = opts.max_states.clamp(1, 4).min(limit(opts.slots));
+            }
             None if c_max >= opts.max_states => {
                 return Err(ModularError::NoController {
                     modules: opts.modules,
@@ -259,7 +299,7 @@ pub fn synthesize_modular(
                 // Every size inside the window is unsatisfiable.
                 lo = c_max + 1;
                 stats.solver_calls += enc.solver.stats().calls;
-                c_max = (c_max * 2).min(opts.max_states);
+                c_max = (c_max * 2).min(limit(opts.slots));
                 progress(Step::Reencoding {
                     states: c_max,
                     per_module: true,
@@ -310,6 +350,7 @@ pub fn synthesize_modular(
     }
     stats.solver_calls += enc.solver.stats().calls;
     stats.sat_seconds = t0.elapsed().as_secs_f64();
+    stats.slots = opts.slots;
 
     let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms);
     decode::prune_unfired(&mut modular, set);
@@ -333,6 +374,32 @@ pub fn synthesize_modular(
         modular,
         stats,
     })
+}
+
+/// `(C, D)`: the least single machine's states, and the most guard cubes one of its states
+/// needs (`None` when it cannot be had). See the module documentation.
+fn single_machine_ceiling(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    opts: &ModularOptions,
+) -> Option<(usize, usize)> {
+    let single = crate::sat::Options {
+        algorithms: opts.algorithms,
+        max_states: opts.max_states,
+        // Any guards that replay the scenarios will do; fewer cubes only widen less often.
+        guard_budget: std::time::Duration::from_secs(1),
+        ..crate::sat::Options::default()
+    };
+    let s = crate::sat::synthesize(set, tree, &single, &mut |_| {}).ok()?;
+    let mut cubes = 0;
+    for state in &s.ecc.states {
+        let mut here = 0;
+        for t in &state.transitions {
+            here += t.guard.as_dnf()?.len();
+        }
+        cubes = cubes.max(here);
+    }
+    Some((s.size.c, cubes))
 }
 
 /// Whether a modular controller whose modules have at most `n` states each reproduces the tree
