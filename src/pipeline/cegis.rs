@@ -149,6 +149,8 @@ impl<'scope> LowerBound<'scope> {
         let tree_exact = Options {
             cube_slots: None,
             minimize_k: false,
+            // Only C, T and the colouring are used: no time for guards.
+            guard_budget: std::time::Duration::ZERO,
             ..sat.clone()
         };
         // Least C proven; T the least found within a moment (the refutation that would prove

@@ -11,8 +11,12 @@
 //!
 //! Two guard models ([`GuardModel`]):
 //! - tree-exact (default, `synth infer`): transitions exist only on recorded inputs, `T`
-//!   counts edges `q -> q'` (each with one guard), and guards are minimized per state on the
-//!   fixed structure afterwards ([`super::guards`]); unrecorded inputs are don't-cares;
+//!   counts edges `q -> q'` (each with one guard, a DNF), and guards are minimized per state
+//!   on a fixed structure afterwards ([`super::guards`]); unrecorded inputs are don't-cares.
+//!   Several machines may have the least `C` and `T` and need different guards, so every one
+//!   of them is visited (each structure blocked once seen) within the guard budget, and `N` is
+//!   the least over all (on 40 random recordings, 14 got a smaller `N` than the first
+//!   structure's, e.g. 24 -> 15; fbSAT's tests-39: 20 -> 16);
 //! - cube (`Options::cube_slots`, the main job): guards are conjunctions of literals inside the
 //!   encoding with first-fire priority ([`super::cubes`]), `T` counts transitions and `N` is
 //!   minimized on the same solver, so the machine is determined on every input. Verification
@@ -850,7 +854,7 @@ impl<'a> Synthesizer<'a> {
         self.stats.sat_seconds = t0.elapsed().as_secs_f64();
 
         // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
-        // state on the fixed structure.
+        // state on each structure with the least C and T.
         let tg = Instant::now();
         let exact;
         let states: Vec<State> = match &enc.total_n {
@@ -963,8 +967,22 @@ impl<'a> Synthesizer<'a> {
                     .collect()
             }
             None => {
-                let (states, all_exact) =
-                    guards::all_states(&structure, tree, tg + opts.guard_budget);
+                let deadline = tg + opts.guard_budget;
+                let (states, all_exact) = guards::all_states(&structure, tree, deadline);
+                // The least N of this structure; other machines with C states and T
+                // transitions may need fewer literals.
+                let mut base_n = base_t.clone();
+                base_n.extend(enc.total_t.at_most(t));
+                let (states, all_exact, colors) = least_guards_over_structures(
+                    enc,
+                    tree,
+                    &base_n,
+                    &structure,
+                    (states, all_exact),
+                    deadline,
+                    &decode,
+                );
+                structure.colors = colors;
                 exact = all_exact;
                 states
             }
@@ -1067,6 +1085,71 @@ fn descend_t_within(
 
 /// Synthesizes a minimal ECC reproducing every scenario of `set`.
 /// `progress` receives one line per step of the search.
+/// How many structures [`least_guards_over_structures`] looks at, at most.
+const MAX_STRUCTURES: usize = 10_000;
+
+/// The guards with the fewest literals over every machine the assumptions `base` allow (the
+/// least C and T): the structures (colourings of the tree, which fix every recorded move) are
+/// enumerated on the solver, each blocked once seen (under an activation literal, so later
+/// calls are not affected), and each one's guards are minimized. `first` is the first
+/// structure's result. The count is proven least when the enumeration ends and every
+/// structure's guards are proven minimal before `deadline`. Also returns the colouring of the
+/// structure the guards belong to.
+fn least_guards_over_structures(
+    enc: &mut Encoding,
+    tree: &ScenarioTree,
+    base: &[Lit],
+    first: &Structure,
+    (mut best, mut exact): (Vec<State>, bool),
+    deadline: Instant,
+    decode: &dyn Fn(&Model, &Encoding) -> Structure,
+) -> (Vec<State>, bool, Vec<usize>) {
+    let literals = |states: &[State]| -> usize {
+        (states.iter())
+            .flat_map(|s| &s.transitions)
+            .map(|t| t.guard.literal_count())
+            .sum()
+    };
+    let active = enc.solver.new_lit();
+    let mut assume = base.to_vec();
+    assume.push(active);
+    let mut colors = first.colors.clone();
+    let mut best_colors = colors.clone();
+    let mut complete = false;
+    for _ in 0..MAX_STRUCTURES {
+        let block: Vec<Lit> = std::iter::once(!active)
+            .chain(
+                colors
+                    .iter()
+                    .enumerate()
+                    .map(|(v, &q)| !enc.vars.color(crate::scenario::tree::NodeId(v), q)),
+            )
+            .collect();
+        enc.solver.add_clause(&block);
+        if best
+            .iter()
+            .all(|s| s.transitions.iter().all(|t| t.guard.literal_count() == 0))
+            || Instant::now() >= deadline
+        {
+            complete = literals(&best) == 0;
+            break;
+        }
+        let Some(m) = enc.solver.solve(&assume) else {
+            complete = true;
+            break;
+        };
+        let structure = decode(&m, enc);
+        let (states, ok) = guards::all_states(&structure, tree, deadline);
+        exact &= ok;
+        if literals(&states) < literals(&best) {
+            best = states;
+            best_colors = structure.colors.clone();
+        }
+        colors = structure.colors;
+    }
+    (best, exact && complete, best_colors)
+}
+
 pub fn synthesize(
     set: &ScenarioSet,
     tree: &ScenarioTree,

@@ -11,12 +11,13 @@
 //! least total number of literals, by descending search on a totalizer bound.
 //!
 //! States are independent given the structure, so the sum of per-state minima is the global
-//! minimum N for that structure. A time budget bounds the search: when it runs out, the best
+//! minimum N for that structure ([`super::basic`] takes the least over every structure of the
+//! least size). A time budget bounds the search: when it runs out, the best
 //! guards found so far are kept (still correct, maybe not minimal), and the result says so.
 
 use super::card::Totalizer;
 use super::decode::Structure;
-use super::solver::{Model, Solver};
+use super::solver::{Bounded, Model, Solver};
 use crate::ecc::{guard::Literal, Guard, InputId, State, StateId, Transition};
 use crate::scenario::tree::{NodeId, ScenarioTree};
 use std::time::Instant;
@@ -240,61 +241,101 @@ pub fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
             exact: true,
         };
     }
-    // Few terms first: guards a person writes rarely need more than a handful. If that is
-    // infeasible, one term per positive vector always is (minterms, in any order).
+    // Few terms first: guards a person writes rarely need more than a handful, and the
+    // encoding is small. One term per positive vector always suffices (minterms, in any
+    // order), so the least count over that many terms is the true minimum: the few-terms
+    // result is only called minimal once the full encoding has nothing smaller.
     let small: Vec<usize> = p.positive.iter().map(|ps| ps.len().min(3)).collect();
     let full: Vec<usize> = p.positive.iter().map(Vec::len).collect();
-    let attempts = if small == full {
-        vec![full]
-    } else {
-        vec![small, full]
-    };
-    let mut best: Option<StateGuards> = None;
-    for max_terms in attempts {
-        let mut s = Solver::new();
-        let vars = encode(&mut s, p, &max_terms);
-        let lits: Vec<Lit> = vars
-            .terms
-            .iter()
-            .flatten()
-            .flat_map(|(_, pos, neg)| pos.iter().chain(neg).copied())
-            .collect();
-        let Some(mut model) = s.solve(&[]) else {
-            continue;
-        };
-        let mut found = decode(&model, &vars, p);
-        let count = |ts: &[Transition]| ts.iter().map(|t| t.guard.literal_count()).sum::<usize>();
-        let mut n = count(&found);
-        let tot = Totalizer::new(&mut s, &lits, n);
-        let mut exact = n == 0;
-        while n > 0 {
-            if Instant::now() >= deadline {
-                break;
-            }
-            let assume: Vec<Lit> = tot.at_most(n - 1).into_iter().collect();
-            let Some(m) = s.solve(&assume) else {
-                exact = true;
-                break;
-            };
-            model = m;
-            found = decode(&model, &vars, p);
-            n = count(&found);
-            exact = n == 0;
-        }
-        let better = best
-            .as_ref()
-            .is_none_or(|b| count(&b.transitions) > n || (count(&b.transitions) == n && exact));
-        if better {
-            best = Some(StateGuards {
-                transitions: found,
-                exact,
-            });
-        }
-        if best.as_ref().is_some_and(|b| b.exact) {
-            break;
+    let mut best: Option<(Vec<Transition>, usize)> = None;
+    if small != full {
+        if let Descent::Found(found, n, _) = descend(p, &small, None, deadline) {
+            best = Some((found, n));
         }
     }
-    best.expect("minterm guards always exist")
+    match descend(p, &full, best.as_ref().map(|b| b.1), deadline) {
+        Descent::Found(found, _, exact) => StateGuards {
+            transitions: found,
+            exact,
+        },
+        Descent::NoneBelow { proven } => {
+            let (transitions, _) = best.expect("minterm guards always exist");
+            StateGuards {
+                transitions,
+                exact: proven,
+            }
+        }
+    }
+}
+
+/// What [`descend`] found.
+enum Descent {
+    /// Guards, their literal count, and whether it is proven least for the terms allowed.
+    Found(Vec<Transition>, usize, bool),
+    /// Nothing below the bound asked for: `proven`, or no answer before the deadline.
+    NoneBelow { proven: bool },
+}
+
+/// The guards with at most `max_terms[i]` terms for transition `i` and the fewest literals
+/// found before `deadline`, below `below` when given.
+fn descend(
+    p: &GuardProblem,
+    max_terms: &[usize],
+    below: Option<usize>,
+    deadline: Instant,
+) -> Descent {
+    let mut s = Solver::new();
+    s.keep_clauses();
+    let vars = encode(&mut s, p, max_terms);
+    let lits = literal_vars(&vars);
+    let count = |ts: &[Transition]| ts.iter().map(|t| t.guard.literal_count()).sum::<usize>();
+    let tot;
+    let mut found;
+    let mut n;
+    match below {
+        None => {
+            let Some(m) = s.solve(&[]) else {
+                return Descent::NoneBelow { proven: true };
+            };
+            found = decode(&m, &vars, p);
+            n = count(&found);
+            tot = Totalizer::new(&mut s, &lits, n);
+        }
+        Some(0) => return Descent::NoneBelow { proven: true },
+        Some(b) => {
+            tot = Totalizer::new(&mut s, &lits, b);
+            let assume: Vec<Lit> = tot.at_most(b - 1).into_iter().collect();
+            match s.solve_within(&assume, deadline) {
+                Bounded::Sat(m) => {
+                    found = decode(&m, &vars, p);
+                    n = count(&found);
+                }
+                Bounded::Unsat => return Descent::NoneBelow { proven: true },
+                Bounded::Unknown => return Descent::NoneBelow { proven: false },
+            }
+        }
+    }
+    let mut exact = n == 0;
+    while n > 0 && Instant::now() < deadline {
+        let assume: Vec<Lit> = tot.at_most(n - 1).into_iter().collect();
+        let Some(m) = s.solve(&assume) else {
+            exact = true;
+            break;
+        };
+        found = decode(&m, &vars, p);
+        n = count(&found);
+        exact = n == 0;
+    }
+    Descent::Found(found, n, exact)
+}
+
+/// Every literal variable of the terms.
+fn literal_vars(v: &GuardVars) -> Vec<Lit> {
+    v.terms
+        .iter()
+        .flatten()
+        .flat_map(|(_, pos, neg)| pos.iter().chain(neg).copied())
+        .collect()
 }
 
 #[cfg(test)]

@@ -1629,3 +1629,46 @@ fn a_negative_scenario_the_recordings_force_is_refused_with_both_places() {
     );
     assert!(!dir.exists());
 }
+
+#[test]
+fn the_least_guards_are_looked_for_over_every_machine_of_the_least_size() {
+    // A machine with 5 states and 10 transitions that needs 24 guard literals: what infer
+    // reported when only the first structure's guards were minimized.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let set = fbsat::read(
+        &root.join(data("structures.traces")),
+        Some(["x1", "x2", "x3", "x4"].map(String::from).to_vec()),
+        Some(vec!["z1".into(), "z2".into()]),
+    )
+    .unwrap();
+    let first_file = root.join(data("structures_first.json"));
+    let first = read_json(&std::fs::read_to_string(&first_file).unwrap(), &first_file).unwrap();
+    set.check(&first).unwrap();
+    let s = first.size();
+    assert_eq!((s.c, s.t, s.n), (5, 10, 24));
+
+    let out = tempfile::tempdir().unwrap();
+    let o = synth(&[
+        "infer",
+        "--no-ambiguity",
+        "--traces",
+        &data("structures.traces"),
+        "--out",
+        out.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("C = 5  K = 3  T = 10  N = 15\n"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(
+        text(&o.stderr).contains("guards: N = 15 (minimal)"),
+        "{}",
+        text(&o.stderr)
+    );
+    let file = out.path().join("SynthesizedFB.json");
+    let ecc = read_json(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    set.check(&ecc).unwrap();
+    assert_eq!((ecc.size().c, ecc.size().t, ecc.size().n), (5, 10, 15));
+}
