@@ -266,3 +266,31 @@ fn smaller_exists_refutes_below_the_minimum_and_finds_above_it() {
     assert!(matches!(t, solver::Bounded::Sat(_)));
     assert!(matches!(n, solver::Bounded::Sat(_)));
 }
+
+// Either of two buttons switches a lamp on; both released switch it off. Recorded: each
+// button alone, then both; nothing happens while both are released.
+const EITHER: &str = "1\nin=REQ[00]; in=REQ[10]; out=CNF[1]; in=REQ[00]; out=CNF[0]; in=REQ[01]; out=CNF[1]; in=REQ[00]; out=CNF[0]; in=REQ[11]; out=CNF[1]; in=REQ[10]; in=REQ[00]; out=CNF[0];\n";
+
+#[test]
+fn a_disjunctive_guard_saves_the_transition_a_conjunction_needs() {
+    let s = set(EITHER);
+    let tree = ScenarioTree::build(&s).unwrap();
+    // Guards as arbitrary formulas (the DNF of `synth infer`): one transition `x1 | x2`.
+    let dnf = synthesize(&s, &tree, &opts(AlgorithmKind::Tri), &mut |_| {}).unwrap();
+    s.check(&dnf.ecc).unwrap();
+    assert_eq!((dnf.size.c, dnf.size.t), (2, 2));
+    let on = (dnf.ecc.states.iter())
+        .flat_map(|st| &st.transitions)
+        .find(|t| t.guard.as_cube().is_none())
+        .expect("a guard that is no conjunction");
+    assert_eq!(on.guard.as_dnf().map(|d| d.len()), Some(2));
+    assert!(on.guard.eval(&[true, false]) && on.guard.eval(&[false, true]));
+    // Conjunctions only (the cube model of the main job): the same states, one more transition.
+    let cubes = Options {
+        cube_slots: Some(4),
+        ..opts(AlgorithmKind::Tri)
+    };
+    let conj = synthesize(&s, &tree, &cubes, &mut |_| {}).unwrap();
+    s.check(&conj.ecc).unwrap();
+    assert_eq!((conj.size.c, conj.size.t), (2, 3));
+}
