@@ -145,6 +145,11 @@ pub fn per_state() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=64)
 }
 
+/// `--transitions`: 0 to 65536 transitions in all.
+pub fn transitions() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(0..=65536)
+}
+
 /// `--rivals`: 1 to 100 rival machines.
 pub fn rivals() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=100)

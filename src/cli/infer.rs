@@ -40,6 +40,8 @@ pub struct InferArgs {
     /// Give up when more states than this would be needed.
     #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
     pub max_states: usize,
+    #[command(flatten)]
+    pub fixed: FixedArgs,
     /// Seconds for guard minimization; past it the best guards found so far are kept.
     #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
     pub guard_budget: f64,
@@ -112,6 +114,32 @@ pub struct InferArgs {
     /// every step equal the scenario's (a step without `out=` keeps the outputs).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["noisy", "modules", "dump_cnf"])]
     pub negative: Vec<PathBuf>,
+}
+
+/// Fixed bounds of `synth infer` (fbSAT's `-C`, `-K`, `-T`): a machine within them is asked
+/// for, the sizes not fixed are still minimized.
+#[derive(Debug, Args, Clone)]
+pub struct FixedArgs {
+    /// At most C states, and no search for fewer (exit 3 when no machine has at most C states
+    /// within the other bounds). More states may allow fewer transitions or guard literals.
+    #[arg(long = "states", value_name = "C", value_parser = super::args::states(), conflicts_with_all = ["noisy", "modules", "ltl"])]
+    pub states: Option<usize>,
+    /// At most K transitions in any state.
+    #[arg(long = "out-degree", value_name = "K", value_parser = super::args::per_state(), conflicts_with_all = ["noisy", "modules", "ltl"])]
+    pub out_degree: Option<usize>,
+    /// At most T transitions in all.
+    #[arg(long = "transitions", value_name = "T", value_parser = super::args::transitions(), conflicts_with_all = ["noisy", "modules", "ltl"])]
+    pub transitions: Option<usize>,
+}
+
+impl FixedArgs {
+    pub fn bounds(&self) -> fbsynth::sat::Fixed {
+        fbsynth::sat::Fixed {
+            states: self.states,
+            out_degree: self.out_degree,
+            transitions: self.transitions,
+        }
+    }
 }
 
 /// The options of `synth infer` that only `--noisy` reads.
@@ -299,6 +327,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             max_states: args.max_states,
             start_state: args.start_state,
             guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
+            fixed: args.fixed.bounds(),
             ..exact::SatOptions::default()
         },
         negatives,

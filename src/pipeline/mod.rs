@@ -197,7 +197,11 @@ impl Error {
         use crate::sat::modular::ModularError;
         use crate::sat::SatError;
         match self {
-            Error::Sat(SatError::TooManyStates { .. } | SatError::TooFewErrors { .. })
+            Error::Sat(
+                SatError::TooManyStates { .. }
+                | SatError::TooFewErrors { .. }
+                | SatError::OutOfBounds { .. },
+            )
             | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
             | Error::Cegis(cegis::CegisError::Exhausted { .. })

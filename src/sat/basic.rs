@@ -65,6 +65,40 @@ pub struct Options {
     /// transitions per state ([`super::cubes`]); `None`: transitions on recorded inputs only, guards
     /// minimized afterwards (the tree-exact model).
     pub cube_slots: Option<usize>,
+    /// Sizes asked for rather than minimized ([`Fixed`]).
+    pub fixed: Fixed,
+}
+
+/// Fixed bounds (fbSAT's `-C`, `-K`, `-T`): a machine within them, the rest still minimized.
+/// `states`: no fewer states are looked for (with [`Synthesizer`]: the search starts and ends
+/// there); `out_degree` and `transitions`: upper bounds every solver call assumes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Fixed {
+    pub states: Option<usize>,
+    pub out_degree: Option<usize>,
+    pub transitions: Option<usize>,
+}
+
+impl Fixed {
+    /// Whether any bound is given.
+    pub fn any(&self) -> bool {
+        *self != Fixed::default()
+    }
+}
+
+impl std::fmt::Display for Fixed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts: Vec<String> = [
+            self.states.map(|c| format!("{c} states")),
+            self.out_degree
+                .map(|k| format!("at most {k} transitions per state")),
+            self.transitions.map(|t| format!("at most {t} transitions")),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        f.write_str(&parts.join(", "))
+    }
 }
 
 impl Default for Options {
@@ -76,6 +110,7 @@ impl Default for Options {
             start_state: false,
             guard_budget: Duration::from_secs(10),
             cube_slots: None,
+            fixed: Fixed::default(),
         }
     }
 }
@@ -125,6 +160,8 @@ pub(super) struct Encoding {
     sel: Vec<Lit>,
     /// Open tails of the edge definitions, assumed false.
     tails: Vec<Lit>,
+    /// The bounds of [`Options::fixed`] on `K` and `T`, assumed by every call.
+    fixed: Vec<Lit>,
     /// Input vectors by alphabet index, and whether a counterexample uses each.
     alphabet: Vec<Vec<bool>>,
     in_counterexample: Vec<bool>,
@@ -169,7 +206,7 @@ impl Encoding {
             ),
             GuardModel::TreeExact => (Totalizer::new(sink, vars.all_t(), c_max * c_max), None),
         };
-        let degree = if opts.minimize_k {
+        let degree = if opts.minimize_k || opts.fixed.out_degree.is_some() {
             (0..c_max)
                 .map(|q| match &vars.guards {
                     GuardModel::Cubes(cv) => Totalizer::new(sink, cv.en_row(0, q), cv.slots),
@@ -180,7 +217,7 @@ impl Encoding {
             Vec::new()
         };
         let stats = solver.stats();
-        Encoding {
+        let mut enc = Encoding {
             solver,
             vars,
             total_t,
@@ -189,13 +226,22 @@ impl Encoding {
             k_bounds: Vec::new(),
             sel,
             tails,
+            fixed: Vec::new(),
             alphabet: tree.input_vectors.clone(),
             in_counterexample: vec![false; tree.input_vectors.len()],
             start_state: opts.start_state,
             variables: stats.variables,
             clauses: stats.clauses,
             calls_counted: 0,
+        };
+        if let Some(k) = opts.fixed.out_degree {
+            let l = enc.k_at_most(k);
+            enc.fixed.push(l);
         }
+        if let Some(b) = opts.fixed.transitions.and_then(|t| enc.total_t.at_most(t)) {
+            enc.fixed.push(b);
+        }
+        enc
     }
 
     /// Solver calls made since the last time this was asked.
@@ -262,6 +308,7 @@ impl Encoding {
                 .filter(|(_, &ce)| !ce)
                 .map(|(&s, _)| s),
         );
+        a.extend_from_slice(&self.fixed);
         a
     }
 
@@ -356,6 +403,11 @@ impl<'a> Synthesizer<'a> {
         opts: &Options,
         proofs: Proofs,
     ) -> Synthesizer<'a> {
+        let mut opts = opts.clone();
+        if let Some(c) = opts.fixed.states {
+            opts.max_states = c;
+        }
+        let opts = &opts;
         let c_max = opts.max_states.clamp(1, 8);
         let enc = Encoding::build(tree, c_max, opts, proofs != Proofs::Full);
         let stats = Stats {
@@ -366,7 +418,7 @@ impl<'a> Synthesizer<'a> {
             clauses: enc.clauses,
             ..Stats::default()
         };
-        Synthesizer {
+        let mut synth = Synthesizer {
             set,
             tree,
             opts: opts.clone(),
@@ -384,7 +436,11 @@ impl<'a> Synthesizer<'a> {
             t_timed_out: None,
             proofs,
             stats,
+        };
+        if let Some(c) = opts.fixed.states {
+            synth.assume_lower_bounds(c, 0);
         }
+        synth
     }
 
     /// Starts the search at known lower bounds: no machine has fewer than `c` states, and none
@@ -615,6 +671,12 @@ impl<'a> Synthesizer<'a> {
             self.c_lo = found.as_ref().map_or(self.c_lo.max(c_max + 1), |(c, _)| *c);
             match found {
                 Some(f) => break f,
+                None if c_max >= opts.max_states && opts.fixed.any() => {
+                    return Err(SatError::OutOfBounds {
+                        bounds: opts.fixed.to_string(),
+                        max_states: opts.max_states,
+                    })
+                }
                 None if c_max >= opts.max_states => {
                     return Err(SatError::TooManyStates {
                         max_states: opts.max_states,

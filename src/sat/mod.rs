@@ -48,7 +48,7 @@ pub mod solver;
 pub mod step;
 pub mod vars;
 
-pub use basic::{satisfiable, synthesize, Options, Stats, Synthesis, Synthesizer};
+pub use basic::{satisfiable, synthesize, Fixed, Options, Stats, Synthesis, Synthesizer};
 pub use step::{Bound, Progress, Step};
 
 /// Why synthesis produced no machine.
@@ -65,6 +65,9 @@ pub enum SatError {
         max_states: usize,
         max_errors: usize,
     },
+    /// Fixed bounds ([`basic::Fixed`]) no machine meets.
+    #[error("no ECC with at most {max_states} states within the bounds given ({bounds}) reproduces the scenarios")]
+    OutOfBounds { bounds: String, max_states: usize },
     #[error("internal error (a bug in synth, please report it): {0}")]
     Bug(String),
 }

@@ -1672,3 +1672,67 @@ fn the_least_guards_are_looked_for_over_every_machine_of_the_least_size() {
     set.check(&ecc).unwrap();
     assert_eq!((ecc.size().c, ecc.size().t, ecc.size().n), (5, 10, 15));
 }
+
+#[test]
+fn fixed_bounds_ask_for_a_size_and_say_when_none_fits() {
+    let lamps = || {
+        fbsat::read(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join(data("lamps.traces")),
+            Some(["start", "stop", "sensor"].map(String::from).to_vec()),
+            Some(["start_led", "motor"].map(String::from).to_vec()),
+        )
+        .unwrap()
+    };
+    let infer = |dir: &Path, bounds: &[&str]| {
+        let mut args = vec![
+            "infer",
+            "-q",
+            "--no-ambiguity",
+            "--traces",
+            "tests/data/scenarios/lamps.traces",
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(bounds);
+        synth(&args)
+    };
+    let out = tempfile::tempdir().unwrap();
+    // The least machine: C 4, K 3, T 11, N 17.
+    let o = infer(&out.path().join("least"), &[]);
+    assert!(
+        text(&o.stdout).contains("C = 4  K = 3  T = 11  N = 17"),
+        "{}",
+        text(&o.stdout)
+    );
+    // Two transitions per state at most: five states more.
+    let o = infer(&out.path().join("k2"), &["--out-degree", "2"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("C = 9  K = 2  T = 17  N = 19"),
+        "{}",
+        text(&o.stdout)
+    );
+    let file = out.path().join("k2/SynthesizedFB.json");
+    let ecc = read_json(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    lamps().check(&ecc).unwrap();
+    // At most five states: the fewest transitions there need only four.
+    let o = infer(&out.path().join("c5"), &["--states", "5"]);
+    assert!(
+        text(&o.stdout).contains("C = 4  K = 3  T = 11"),
+        "{}",
+        text(&o.stdout)
+    );
+    // Four states with ten transitions: none, exit 3 naming the bounds, no files.
+    let dir = out.path().join("none");
+    let o = infer(&dir, &["--states", "4", "--transitions", "10"]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("within the bounds given (4 states, at most 10 transitions)"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!dir.exists());
+    // The bounds are for the exact single machine only.
+    let o = infer(&out.path().join("u"), &["--states", "4", "--modules", "2"]);
+    assert_eq!(o.status.code(), Some(2));
+}
