@@ -147,7 +147,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Synthesize a minimal ECC that reproduces recorded scenarios.
-    Infer(infer::InferArgs),
+    Infer(Box<infer::InferArgs>),
     /// Monitor a machine in service: replay new recordings, report each trace's first
     /// divergence; with --refine, learn the divergent traces and synthesize again.
     Conform(conform::ConformArgs),
