@@ -11,8 +11,10 @@ use std::path::{Path, PathBuf};
 /// Where scenarios come from: shared by every command that reads them.
 #[derive(Debug, Args, Clone)]
 pub struct TraceArgs {
-    /// Scenario files: fbSAT text format (plain or .gz) or CSV logs (`.csv`, `.csv.gz`); `-`
-    /// reads stdin (told apart by content: fbSAT scenarios hold `REQ[`).
+    /// Scenario files: fbSAT text format (plain or .gz), CSV logs (`.csv`, `.csv.gz`) or
+    /// Parquet logs (`.parquet`, the CSV log's columns); a folder stands for the logs in it and
+    /// its subfolders (a partitioned data set); `-` reads stdin (told apart by content: fbSAT
+    /// scenarios hold `REQ[`).
     #[arg(long = "traces", visible_alias = "log", value_name = "FILE", num_args = 1.., required = true)]
     pub traces: Vec<PathBuf>,
     /// Input names, separated by whitespace or newlines, in bit order.

@@ -3,7 +3,7 @@
 
 use super::Error;
 use crate::ecc::Ecc;
-use crate::scenario::{csvlog, fbsat, names, ScenarioSet};
+use crate::scenario::{csvlog, fbsat, names, parquet, ScenarioSet};
 use std::path::{Path, PathBuf};
 
 /// Trace files and the names of their bits.
@@ -90,8 +90,10 @@ impl Recordings {
             }
         }
         let mut set: Option<ScenarioSet> = None;
-        for file in &self.traces {
-            let s = if is_csv(file) {
+        for file in &self.trace_files()? {
+            let s = if parquet::is_parquet(file) {
+                parquet::read(file, inputs.as_deref(), outputs.as_deref())
+            } else if is_csv(file) {
                 csvlog::read(file, inputs.as_deref(), outputs.as_deref())
             } else {
                 fbsat::read(file, inputs.clone(), outputs.clone())
@@ -102,6 +104,26 @@ impl Recordings {
             }
         }
         Ok(set.expect("at least one trace file"))
+    }
+
+    /// The trace files, a folder standing for the logs inside it ([`logs_in`]).
+    fn trace_files(&self) -> Result<Vec<PathBuf>, Error> {
+        let mut files = Vec::new();
+        for t in &self.traces {
+            if t.is_dir() {
+                let inside = logs_in(t)?;
+                if inside.is_empty() {
+                    return Err(Error::Input(format!(
+                        "{}: a folder without logs (.parquet, .csv, .csv.gz)",
+                        t.display()
+                    )));
+                }
+                files.extend(inside);
+            } else {
+                files.push(t.clone());
+            }
+        }
+        Ok(files)
     }
 
     /// The first trace file's name up to its first dot (`specs/pnp.traces` -> `pnp`): the
@@ -120,6 +142,34 @@ impl Recordings {
             .collect::<Vec<_>>()
             .join(", ")
     }
+}
+
+/// The logs in a folder and its subfolders (a partitioned data set such as Spark writes:
+/// `plc=3/part-00000.parquet`): files ending in `.parquet`, `.csv` or `.csv.gz`, in path
+/// order. Hidden files and Spark's markers (`_SUCCESS`) are skipped.
+pub fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    let mut found = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        let entries =
+            std::fs::read_dir(&d).map_err(|e| Error::Input(format!("{}: {e}", d.display())))?;
+        for entry in entries {
+            let path = entry
+                .map_err(|e| Error::Input(format!("{}: {e}", d.display())))?
+                .path();
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+            if name.as_deref().is_none_or(|n| n.starts_with(['.', '_'])) {
+                continue;
+            }
+            if path.is_dir() {
+                todo.push(path);
+            } else if parquet::is_parquet(&path) || is_csv(&path) {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
 }
 
 /// A file's name up to its first dot.

@@ -13,6 +13,7 @@ pub mod csvlog;
 pub mod fbsat;
 pub mod names;
 pub mod negative;
+pub mod parquet;
 pub mod steps;
 pub mod trace_graph;
 pub mod tree;

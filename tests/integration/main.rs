@@ -11,6 +11,7 @@ mod closed_loop;
 mod common;
 mod events;
 mod limits;
+mod logs;
 mod modes;
 mod modular;
 mod noisy;
