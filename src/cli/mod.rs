@@ -68,6 +68,7 @@ pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
 
 mod ambiguity;
 mod args;
+mod batch;
 mod bench;
 mod conform;
 mod diff;
@@ -181,6 +182,9 @@ pub enum Command {
     /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
     /// mapping into one fbSAT scenario, streaming.
     Ingest(ingest::IngestArgs),
+    /// One reconstruction per PLC over a folder of logs (CSV, Parquet, or raw logs with
+    /// --map), on all cores; each machine in its folder, and a summary table (CSV, JSON).
+    Batch(batch::BatchArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(ingest::BenchIngestArgs),
     /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
@@ -271,6 +275,7 @@ pub fn run() -> i32 {
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
+        Some(Command::Batch(a)) => batch::batch(&a),
         Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Events(a)) => events::events(&a),
         Some(Command::BenchModular(a)) => bench::bench_modular(&a),

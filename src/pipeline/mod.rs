@@ -29,6 +29,7 @@
 
 pub mod active;
 pub mod ambiguity;
+pub mod batch;
 pub mod cegis;
 pub mod closed_loop;
 pub mod exact;

@@ -139,3 +139,115 @@ fn a_parquet_log_gives_the_machine_of_the_same_csv_log() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn batch_writes_a_folder_per_plc_and_a_summary_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let logs = dir.path().join("logs");
+    std::fs::create_dir_all(logs.join("plc=dist")).unwrap();
+    // The case simulations' recordings, one PLC each: CSV logs, and a Parquet partition.
+    for case in ["pnp", "tank1", "tank2"] {
+        let o = synth(&[
+            "convert",
+            "--traces",
+            &format!("specs/{case}.traces"),
+            "--to",
+            "csv",
+            "--output",
+            logs.join(format!("{case}.csv")).to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    csv_to_parquet(
+        &root.join("specs/distribution.csv"),
+        &logs.join("plc=dist/part-00000.parquet"),
+    );
+    std::fs::write(logs.join("notes.txt"), "not a log\n").unwrap();
+    let out = dir.path().join("out");
+    let o = synth(&[
+        "batch",
+        "--logs",
+        logs.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--format",
+        "json,st",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = summary["plcs"].as_array().unwrap();
+    let size = |plc: &str| {
+        let r = rows.iter().find(|r| r["plc"] == plc).unwrap();
+        assert_eq!(r["status"], "ok", "{r}");
+        ["C", "T", "N"].map(|k| r[k].as_u64().unwrap())
+    };
+    // The sizes `synth infer` finds on the same logs.
+    assert_eq!(rows.len(), 4);
+    for (plc, source) in [
+        ("pnp", logs.join("pnp.csv")),
+        ("tank1", logs.join("tank1.csv")),
+        ("tank2", logs.join("tank2.csv")),
+        ("plc=dist", logs.join("plc=dist")),
+    ] {
+        let o = synth(&[
+            "infer",
+            "-q",
+            "--no-ambiguity",
+            "--traces",
+            source.to_str().unwrap(),
+            "--out",
+            "-",
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let ecc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let states = ecc["states"].as_array().unwrap().len() as u64;
+        let transitions = ecc["transitions"].as_array().unwrap().len() as u64;
+        let [c, t, _] = size(plc);
+        assert_eq!((c, t), (states, transitions), "{plc}");
+    }
+    assert_eq!(size("plc=dist"), [9, 13, 13]);
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(csv.starts_with("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n"));
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    for (plc, log) in [
+        ("pnp", logs.join("pnp.csv")),
+        ("tank1", logs.join("tank1.csv")),
+        ("plc=dist", root.join("specs/distribution.csv")),
+    ] {
+        let file = out.join(plc).join("SynthesizedFB.json");
+        let ecc = fbsynth::export::json::read_json(&std::fs::read_to_string(&file).unwrap(), &file)
+            .unwrap();
+        let set = fbsynth::scenario::csvlog::read(&log, None, None).unwrap();
+        set.check(&ecc).unwrap();
+        assert!(out.join(plc).join("SynthesizedFB.st").is_file());
+    }
+
+    // A PLC whose log is broken fails alone: the others are written, the summary says why,
+    // and the exit code is 1.
+    std::fs::write(logs.join("broken.csv"), "time,in:a,out:b\n0,1,maybe\n").unwrap();
+    let out2 = dir.path().join("out2");
+    let o = synth(&[
+        "batch",
+        "-q",
+        "--logs",
+        logs.to_str().unwrap(),
+        "--out",
+        out2.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("1 of 5 PLCs have no machine: broken"),
+        "{}",
+        text(&o.stderr)
+    );
+    let csv = std::fs::read_to_string(out2.join("summary.csv")).unwrap();
+    let broken = csv.lines().find(|l| l.starts_with("broken,")).unwrap();
+    assert!(
+        broken.contains(",failed,") && broken.contains("broken.csv:2"),
+        "{broken}"
+    );
+    assert!(out2.join("pnp/SynthesizedFB.json").is_file());
+    assert!(!out2.join("broken").exists());
+}

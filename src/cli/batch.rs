@@ -1,0 +1,283 @@
+//! `synth batch`: one reconstruction per PLC over a folder of logs, and one summary table.
+
+use super::args::{out_dir, parse_formats, AlgorithmsArg, NusmvArgs};
+use super::progress::Progress;
+use super::show::print_written;
+use super::{exit, Failure};
+use clap::Args;
+use fbsynth::files::ResultSet;
+use fbsynth::ingest::Mapping;
+use fbsynth::pipeline::batch::{self, Outcome, Verification};
+use fbsynth::pipeline::{self, exact, Class};
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct BatchArgs {
+    /// Folder of logs: each log file (CSV or Parquet recordings, or raw logs with --map) and
+    /// each subfolder of them (a partition such as `plc=3/`) is one PLC.
+    #[arg(long, value_name = "DIR")]
+    pub logs: PathBuf,
+    /// Address mapping (`ADDRESS in|out NAME` per line): the logs are raw data-flow logs, as
+    /// `synth ingest` reads them (long or wide CSV, plain or gzip), each file one scenario.
+    #[arg(long, value_name = "FILE")]
+    pub map: Option<PathBuf>,
+    /// LTL properties every machine must satisfy in closed loop with --plant (NuSMV checks
+    /// each; the interface of each PLC's logs gives its closed loop).
+    #[arg(long, value_name = "FILE", requires = "plant")]
+    pub ltl: Option<PathBuf>,
+    /// Surrogate plant for --ltl (SMV).
+    #[arg(long, value_name = "FILE", requires = "ltl")]
+    pub plant: Option<PathBuf>,
+    #[command(flatten)]
+    pub nusmv: NusmvArgs,
+    /// Output folder: one folder per PLC, `summary.csv` and `summary.json`. Default:
+    /// `out/<name of the --logs folder>`.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Formats to write for every machine, comma-separated: json, fbt, smv, dot, st.
+    #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
+    pub format: Vec<String>,
+    /// Name of the function block type in the exports.
+    #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
+    pub name: String,
+    /// Form of the state output algorithms.
+    #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
+    pub algorithms: AlgorithmsArg,
+    /// Give up on a PLC when more states than this would be needed.
+    #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
+    pub max_states: usize,
+    /// PLCs reconstructed at once (default: all cores).
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
+    pub threads: Option<usize>,
+    /// Seconds each PLC may take (its row then says so; the others go on).
+    #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
+    pub time_limit: f64,
+    /// No progress lines on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// The summary (as `summary.json`) on stdout; every other line goes to stderr.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One row of the summary.
+#[derive(Debug, serde::Serialize)]
+struct Row {
+    plc: String,
+    source: String,
+    /// `ok`, `verified` or `failed`.
+    status: &'static str,
+    scenarios: usize,
+    steps: usize,
+    #[serde(rename = "C")]
+    c: Option<usize>,
+    #[serde(rename = "K")]
+    k: Option<usize>,
+    #[serde(rename = "T")]
+    t: Option<usize>,
+    #[serde(rename = "N")]
+    n: Option<usize>,
+    seconds: f64,
+    /// Why a PLC has no machine.
+    message: String,
+}
+
+/// `synth batch --logs DIR [--map M] [--ltl F --plant P]`.
+pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
+    if args.json {
+        super::data_on_stdout();
+    }
+    let progress = Progress::new(args.quiet);
+    let mapping = match &args.map {
+        Some(m) => Some(Mapping::read(m).map_err(Failure::input)?),
+        None => None,
+    };
+    let plcs = batch::plcs(&args.logs, mapping.is_some())?;
+    let formats = parse_formats(&args.format)?;
+    let limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
+    let verification = match (&args.ltl, &args.plant) {
+        (Some(ltl), Some(plant)) => Some(Verification {
+            ltl: ltl.clone(),
+            plant: plant.clone(),
+            nusmv: args.nusmv.nusmv()?,
+        }),
+        _ => None,
+    };
+    let stem = fbsynth::pipeline::recordings::stem(&args.logs);
+    let out = out_dir(&args.out, &stem);
+    let results = ResultSet::open(&out).map_err(Failure::input)?;
+    let threads = args.threads.unwrap_or_else(rayon::current_num_threads);
+    progress.line(&format!(
+        "{} PLCs in {}, {} at a time{}",
+        plcs.len(),
+        args.logs.display(),
+        threads.min(plcs.len()),
+        if verification.is_some() {
+            ", each verified by NuSMV"
+        } else {
+            ""
+        }
+    ));
+    let opts = exact::Options {
+        sat: exact::SatOptions {
+            algorithms: args.algorithms.into(),
+            max_states: args.max_states,
+            ..exact::SatOptions::default()
+        },
+        ..exact::Options::default()
+    };
+    let outcomes = batch::run(
+        &plcs,
+        mapping.as_ref(),
+        verification.as_ref(),
+        &opts,
+        limit,
+        threads,
+        &|o: &Outcome| {
+            progress.line(&match &o.result {
+                Ok(r) => format!(
+                    "{}: {}{} ({:.2} s)",
+                    o.plc.name,
+                    r.synthesis.size,
+                    if r.certificate.is_some() {
+                        ", verified"
+                    } else {
+                        ""
+                    },
+                    o.seconds
+                ),
+                Err(e) => format!("{}: failed: {e}", o.plc.name),
+            })
+        },
+    )?;
+
+    let staging = results.staging().to_path_buf();
+    let mut staged = Vec::new();
+    let mut rows = Vec::new();
+    // Whether every PLC without a machine failed for want of one within the limits.
+    let mut only_no_machine = true;
+    for o in &outcomes {
+        let mut row = Row {
+            plc: o.plc.name.clone(),
+            source: o.plc.source.display().to_string(),
+            status: "failed",
+            scenarios: o.scenarios,
+            steps: o.steps,
+            c: None,
+            k: None,
+            t: None,
+            n: None,
+            seconds: o.seconds,
+            message: String::new(),
+        };
+        match &o.result {
+            Ok(r) => {
+                let dir = staging.join(&o.plc.name);
+                let written = batch::write(&dir, r, &args.name, &formats, verification.as_ref());
+                match written {
+                    Ok(files) => {
+                        staged.extend(files);
+                        let s = r.synthesis.size;
+                        (row.c, row.k, row.t, row.n) = (Some(s.c), Some(s.k), Some(s.t), Some(s.n));
+                        row.status = if r.certificate.is_some() {
+                            "verified"
+                        } else {
+                            "ok"
+                        };
+                    }
+                    Err(e) => {
+                        only_no_machine = false;
+                        row.message = e.to_string();
+                    }
+                }
+            }
+            Err(e) => {
+                only_no_machine &= e.class() == Class::NoMachine;
+                row.message = e.to_string();
+            }
+        }
+        rows.push(row);
+    }
+    let csv_file = staging.join("summary.csv");
+    let json_file = staging.join("summary.json");
+    let summary = serde_json::json!({ "logs": args.logs, "plcs": rows });
+    fbsynth::files::write_atomic(&csv_file, summary_csv(&rows).as_bytes())
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    fbsynth::files::write_atomic(&json_file, format!("{summary:#}\n").as_bytes())
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    staged.extend([csv_file, json_file]);
+    let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
+    results
+        .publish()
+        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+
+    out!("| PLC | status | scenarios | steps | C | K | T | N | seconds |");
+    out!("|---|---|---|---|---|---|---|---|---|");
+    for r in &rows {
+        let cell = |v: Option<usize>| v.map_or("-".to_string(), |v| v.to_string());
+        out!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            r.plc,
+            r.status,
+            r.scenarios,
+            r.steps,
+            cell(r.c),
+            cell(r.k),
+            cell(r.t),
+            cell(r.n),
+            r.seconds
+        );
+    }
+    print_written(&files);
+    if args.json {
+        super::write_json(&summary)?;
+    }
+    let failed: Vec<&Row> = rows.iter().filter(|r| r.status == "failed").collect();
+    if failed.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<&str> = failed.iter().map(|r| r.plc.as_str()).collect();
+    Err(Failure::msg(
+        if only_no_machine {
+            exit::NO_MACHINE
+        } else {
+            exit::INPUT
+        },
+        format!(
+            "{} of {} PLCs have no machine: {} (summary.csv says why)",
+            failed.len(),
+            rows.len(),
+            names.join(", ")
+        ),
+    ))
+}
+
+/// The rows as CSV (RFC 4180 quoting where a cell needs it).
+fn summary_csv(rows: &[Row]) -> String {
+    let quote = |s: &str| {
+        if s.contains([',', '"', '\n', '\r']) {
+            format!("\"{}\"", s.replace('"', "\"\""))
+        } else {
+            s.to_string()
+        }
+    };
+    let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
+    let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
+    for r in rows {
+        text.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{:.3},{}\n",
+            quote(&r.plc),
+            quote(&r.source),
+            r.status,
+            r.scenarios,
+            r.steps,
+            cell(r.c),
+            cell(r.k),
+            cell(r.t),
+            cell(r.n),
+            r.seconds,
+            quote(&r.message)
+        ));
+    }
+    text
+}

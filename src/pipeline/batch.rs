@@ -1,0 +1,238 @@
+//! One reconstruction per PLC over a folder of logs (`synth batch`), on all cores.
+//!
+//! In: a folder whose entries are the PLCs ([`plcs`]): a log file (CSV or Parquet recordings,
+//! or with a mapping a raw data-flow log) or a subfolder of them (a partition of a data set,
+//! `plc=3/part-00000.parquet`, each file one scenario), and the exact method's options; with a
+//! [`Verification`], the properties and plant every machine must satisfy in closed loop.
+//! Out: an [`Outcome`] per PLC, in the folder's order: the machine (and NuSMV's certificate),
+//! or why there is none. A PLC that fails does not stop the others.
+//!
+//! Parallel over PLCs with rayon: each reconstruction is one SAT solver (and one NuSMV
+//! session), so `threads` PLCs run at once. Scaling beyond one machine is left to the engines
+//! built for it (see the README): a Spark or DataFusion job writes one Parquet partition per
+//! PLC, and an array job of `synth batch` runs over partitions.
+
+use super::exact::{self, Certificate};
+use super::recordings::{logs_in, Recordings};
+use super::{limit, Check, Error};
+use crate::ingest::Mapping;
+use crate::nusmv::Nusmv;
+use crate::sat::Synthesis;
+use crate::scenario::{parquet, ScenarioSet};
+use crate::verify::Problem;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// One PLC: its name (the file's stem or the folder's name) and where its logs are.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Plc {
+    pub name: String,
+    pub source: PathBuf,
+}
+
+/// The properties and plant every machine is checked against (each PLC's interface gives its
+/// own closed loop), and the NuSMV that checks.
+#[derive(Debug, Clone)]
+pub struct Verification {
+    pub ltl: PathBuf,
+    pub plant: PathBuf,
+    pub nusmv: Nusmv,
+}
+
+/// A machine for one PLC.
+#[derive(Debug, Clone)]
+pub struct Reconstruction {
+    pub synthesis: Synthesis,
+    /// With a [`Verification`]: NuSMV's word that every property holds.
+    pub certificate: Option<Certificate>,
+}
+
+/// What one PLC gave.
+#[derive(Debug)]
+pub struct Outcome {
+    pub plc: Plc,
+    /// Scenarios and steps read (zero when the logs could not be read).
+    pub scenarios: usize,
+    pub steps: usize,
+    pub result: Result<Reconstruction, Error>,
+    pub seconds: f64,
+}
+
+/// Whether a file is a log of the kind the batch reads: CSV (plain or gzip) or, without a
+/// mapping, Parquet.
+fn is_log(path: &Path, raw: bool) -> bool {
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    name.ends_with(".csv") || name.ends_with(".csv.gz") || (!raw && parquet::is_parquet(path))
+}
+
+/// The PLCs of `dir`: every log file (named by its stem) and every subfolder holding logs
+/// (named by the folder), sorted by name. Two entries with one name are refused.
+pub fn plcs(dir: &Path, raw: bool) -> Result<Vec<Plc>, Error> {
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| Error::Input(format!("{}: {e}", dir.display())))?;
+    let mut found = Vec::new();
+    for entry in entries {
+        let path = entry
+            .map_err(|e| Error::Input(format!("{}: {e}", dir.display())))?
+            .path();
+        let Some(file_name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else {
+            continue;
+        };
+        if file_name.starts_with(['.', '_']) {
+            continue;
+        }
+        let name = if path.is_dir() {
+            file_name
+        } else if is_log(&path, raw) {
+            super::recordings::stem(&path)
+        } else {
+            continue;
+        };
+        found.push(Plc { name, source: path });
+    }
+    found.sort_by(|a, b| a.name.cmp(&b.name));
+    if let Some(w) = found.windows(2).find(|w| w[0].name == w[1].name) {
+        return Err(Error::Input(format!(
+            "{} and {} would both be PLC {}: rename one",
+            w[0].source.display(),
+            w[1].source.display(),
+            crate::quote::quote(&w[0].name)
+        )));
+    }
+    if found.is_empty() {
+        return Err(Error::Input(format!(
+            "{}: no logs (.csv, .csv.gz{}) and no folders of them",
+            dir.display(),
+            if raw { "" } else { ", .parquet" }
+        )));
+    }
+    Ok(found)
+}
+
+/// The scenarios of one PLC: its recordings, or with `mapping` its raw logs through the
+/// ingestion (each file one scenario).
+pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> {
+    let Some(mapping) = mapping else {
+        return Recordings::files(vec![plc.source.clone()]).load();
+    };
+    let files = if plc.source.is_dir() {
+        logs_in(&plc.source)?
+            .into_iter()
+            .filter(|f| is_log(f, true))
+            .collect()
+    } else {
+        vec![plc.source.clone()]
+    };
+    let mut set: Option<ScenarioSet> = None;
+    for file in files {
+        let (s, _) = crate::ingest::read_scenarios(&file, mapping, false)
+            .map_err(|e| Error::Input(e.to_string()))?;
+        match &mut set {
+            None => set = Some(s),
+            Some(all) => all.merge(s)?,
+        }
+    }
+    set.ok_or_else(|| Error::Input(format!("{}: no logs in it", plc.source.display())))
+}
+
+/// Reconstructs every PLC, `threads` at a time, each within `limit`.
+pub fn run(
+    plcs: &[Plc],
+    mapping: Option<&Mapping>,
+    verification: Option<&Verification>,
+    opts: &exact::Options,
+    limit: Duration,
+    threads: usize,
+    done: &(dyn Fn(&Outcome) + Sync),
+) -> Result<Vec<Outcome>, Error> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .map_err(|e| Error::Bug(format!("the thread pool: {e}")))?;
+    Ok(pool.install(|| {
+        plcs.par_iter()
+            .map(|plc| {
+                let outcome = one(plc, mapping, verification, opts, limit);
+                done(&outcome);
+                outcome
+            })
+            .collect()
+    }))
+}
+
+fn one(
+    plc: &Plc,
+    mapping: Option<&Mapping>,
+    verification: Option<&Verification>,
+    opts: &exact::Options,
+    limit: Duration,
+) -> Outcome {
+    let t0 = Instant::now();
+    let mut outcome = Outcome {
+        plc: plc.clone(),
+        scenarios: 0,
+        steps: 0,
+        result: Err(Error::Bug("not run".into())),
+        seconds: 0.0,
+    };
+    outcome.result = load(plc, mapping).and_then(|set| {
+        outcome.scenarios = set.scenarios.len();
+        outcome.steps = set.step_count();
+        reconstruct(&set, verification, opts, limit)
+    });
+    outcome.seconds = t0.elapsed().as_secs_f64();
+    outcome
+}
+
+fn reconstruct(
+    set: &ScenarioSet,
+    verification: Option<&Verification>,
+    opts: &exact::Options,
+    limit: Duration,
+) -> Result<Reconstruction, Error> {
+    let Some(v) = verification else {
+        let (set, opts) = (set.clone(), opts.clone());
+        let exact = limit::within(limit, &mut |_| {}, move |events| {
+            exact::run(&set, None, &opts, events)
+        })?;
+        return Ok(Reconstruction {
+            synthesis: exact.synthesis,
+            certificate: None,
+        });
+    };
+    let problem = Problem::load(&v.ltl, &v.plant, &set.inputs, &set.outputs)?;
+    let check = Check::new(problem, v.nusmv.clone());
+    let exact = limit::exact_within(set, &check, opts, limit, &mut |_| {})?;
+    Ok(Reconstruction {
+        synthesis: exact.synthesis,
+        certificate: exact.certificate,
+    })
+}
+
+/// Writes one PLC's machine into `dir` (created): the exports in `formats` named `name`, and
+/// with a verification NuSMV's `verification.txt`. Returns the files written.
+pub fn write(
+    dir: &Path,
+    r: &Reconstruction,
+    name: &str,
+    formats: &[crate::export::Format],
+    verification: Option<&Verification>,
+) -> Result<Vec<PathBuf>, Error> {
+    super::output::create_dir(dir)?;
+    let mut files = crate::export::write_all(&r.synthesis.ecc, dir, name, formats)?;
+    if let (Some(cert), Some(v)) = (&r.certificate, verification) {
+        let provenance = super::output::Provenance {
+            name,
+            plant_file: &v.plant,
+            spec_file: &v.ltl,
+        };
+        files.extend(super::output::write_certificate(
+            dir,
+            name,
+            cert,
+            &provenance,
+        )?);
+    }
+    Ok(files)
+}
