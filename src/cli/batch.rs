@@ -92,7 +92,7 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
         Some(m) => Some(Mapping::read(m).map_err(Failure::input)?),
         None => None,
     };
-    let plcs = batch::plcs(&args.logs, mapping.is_some())?;
+    let plcs = batch::plcs(&args.logs)?;
     let formats = parse_formats(&args.format)?;
     let limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
     let verification = match (&args.ltl, &args.plant) {

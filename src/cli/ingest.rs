@@ -11,7 +11,7 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub struct IngestArgs {
     /// Data-flow log: long (`timestamp,address,value`) or wide (`timestamp,<signal>,...`)
-    /// CSV, plain or gzip.
+    /// CSV, plain or gzip, or Parquet (`.parquet`) with the same columns.
     #[arg(long, value_name = "FILE")]
     pub log: PathBuf,
     /// Mapping file: one `ADDRESS in|out NAME` per line.

@@ -147,6 +147,9 @@ impl fmt::Display for BadRow {
 /// An error while ingesting a log, always with its place.
 #[derive(Debug, thiserror::Error)]
 pub enum IngestError {
+    /// A Parquet log that cannot be decoded (naming the file and row).
+    #[error(transparent)]
+    Parquet(Box<crate::scenario::ScenarioError>),
     #[error("{file}: {source}")]
     Io {
         file: PathBuf,

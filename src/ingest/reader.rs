@@ -77,13 +77,22 @@ struct Rows {
 impl LogReader {
     /// Opens a log file, gunzipping it on the fly when it starts with the gzip magic bytes,
     /// and reads its header.
+    ///
+    /// A Parquet file (`.parquet`, [`crate::scenario::parquet`]) is decoded into the same CSV
+    /// text first, in memory: its columns are those of a CSV log of either format.
     pub fn open(path: &Path, mapping: &Mapping, lenient: bool) -> Result<LogReader, IngestError> {
-        let src = crate::files::open_input(path)
-            .map_err(|source| IngestError::Io {
-                file: path.to_path_buf(),
-                source,
-            })?
-            .reader;
+        let src: Box<dyn BufRead> = if crate::scenario::parquet::is_parquet(path) {
+            let text = crate::scenario::parquet::to_csv(path)
+                .map_err(|e| IngestError::Parquet(Box::new(e)))?;
+            Box::new(std::io::Cursor::new(text.into_bytes()))
+        } else {
+            crate::files::open_input(path)
+                .map_err(|source| IngestError::Io {
+                    file: path.to_path_buf(),
+                    source,
+                })?
+                .reader
+        };
         LogReader::new(path.to_path_buf(), src, mapping, lenient)
     }
 }

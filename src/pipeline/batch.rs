@@ -59,16 +59,15 @@ pub struct Outcome {
     pub seconds: f64,
 }
 
-/// Whether a file is a log of the kind the batch reads: CSV (plain or gzip) or, without a
-/// mapping, Parquet.
-fn is_log(path: &Path, raw: bool) -> bool {
+/// Whether a file is a log the batch reads: CSV (plain or gzip) or Parquet.
+fn is_log(path: &Path) -> bool {
     let name = path.to_string_lossy().to_ascii_lowercase();
-    name.ends_with(".csv") || name.ends_with(".csv.gz") || (!raw && parquet::is_parquet(path))
+    name.ends_with(".csv") || name.ends_with(".csv.gz") || parquet::is_parquet(path)
 }
 
 /// The PLCs of `dir`: every log file (named by its stem) and every subfolder holding logs
 /// (named by the folder), sorted by name. Two entries with one name are refused.
-pub fn plcs(dir: &Path, raw: bool) -> Result<Vec<Plc>, Error> {
+pub fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
     let entries =
         std::fs::read_dir(dir).map_err(|e| Error::Input(format!("{}: {e}", dir.display())))?;
     let mut found = Vec::new();
@@ -84,7 +83,7 @@ pub fn plcs(dir: &Path, raw: bool) -> Result<Vec<Plc>, Error> {
         }
         let name = if path.is_dir() {
             file_name
-        } else if is_log(&path, raw) {
+        } else if is_log(&path) {
             super::recordings::stem(&path)
         } else {
             continue;
@@ -102,9 +101,8 @@ pub fn plcs(dir: &Path, raw: bool) -> Result<Vec<Plc>, Error> {
     }
     if found.is_empty() {
         return Err(Error::Input(format!(
-            "{}: no logs (.csv, .csv.gz{}) and no folders of them",
-            dir.display(),
-            if raw { "" } else { ", .parquet" }
+            "{}: no logs (.csv, .csv.gz, .parquet) and no folders of them",
+            dir.display()
         )));
     }
     Ok(found)
@@ -118,9 +116,6 @@ pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> 
     };
     let files = if plc.source.is_dir() {
         logs_in(&plc.source)?
-            .into_iter()
-            .filter(|f| is_log(f, true))
-            .collect()
     } else {
         vec![plc.source.clone()]
     };

@@ -31,8 +31,9 @@ pub fn read(
     csvlog::parse(file, &text, input_names, output_names)
 }
 
-/// The log as CSV text: the column names, then one line per row.
-fn to_csv(file: &Path) -> Result<String, ScenarioError> {
+/// The log as CSV text: the column names, then one line per row (booleans as 0/1,
+/// timestamps as seconds since the epoch).
+pub fn to_csv(file: &Path) -> Result<String, ScenarioError> {
     let bad = |line: usize, e: parquet::errors::ParquetError| ScenarioError::Syntax {
         file: file.to_path_buf(),
         line,
@@ -55,6 +56,9 @@ fn to_csv(file: &Path) -> Result<String, ScenarioError> {
             .map(|(_, field)| match field {
                 Field::Bool(b) => u8::from(*b).to_string(),
                 Field::Str(s) => cell(s),
+                // Timestamps as seconds since the epoch, which the logs' time columns take.
+                Field::TimestampMillis(ms) => format!("{:.3}", *ms as f64 / 1e3),
+                Field::TimestampMicros(us) => format!("{:.6}", *us as f64 / 1e6),
                 // A null is no sample value: the CSV rules refuse the empty cell, at its row.
                 Field::Null => String::new(),
                 other => cell(&other.to_string()),

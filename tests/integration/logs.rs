@@ -251,3 +251,99 @@ fn batch_writes_a_folder_per_plc_and_a_summary_table() {
     assert!(out2.join("pnp/SynthesizedFB.json").is_file());
     assert!(!out2.join("broken").exists());
 }
+
+#[test]
+fn ingest_reads_a_parquet_data_flow_log_as_its_csv() {
+    use parquet::data_type::{ByteArray, ByteArrayType, DoubleType};
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let csv = std::fs::read_to_string(root.join("specs/tank/scenario1.csv")).unwrap();
+    let rows: Vec<(f64, String, i64)> = csv
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (
+                c[0].parse().unwrap(),
+                c[1].to_string(),
+                c[2].trim().parse().unwrap(),
+            )
+        })
+        .collect();
+    let field = |name: &str, physical, utf8: bool| {
+        let mut b =
+            Type::primitive_type_builder(name, physical).with_repetition(Repetition::REQUIRED);
+        if utf8 {
+            b = b.with_logical_type(Some(parquet::basic::LogicalType::String));
+        }
+        Arc::new(b.build().unwrap())
+    };
+    let schema = Arc::new(
+        Type::group_type_builder("log")
+            .with_fields(vec![
+                field("timestamp", Physical::DOUBLE, false),
+                field("address", Physical::BYTE_ARRAY, true),
+                field("value", Physical::INT64, false),
+            ])
+            .build()
+            .unwrap(),
+    );
+    let parquet = dir.path().join("scenario1.parquet");
+    let props = Arc::new(WriterProperties::builder().build());
+    let mut writer =
+        SerializedFileWriter::new(std::fs::File::create(&parquet).unwrap(), schema, props).unwrap();
+    let mut group = writer.next_row_group().unwrap();
+    let mut k = 0;
+    while let Some(mut column) = group.next_column().unwrap() {
+        match k {
+            0 => {
+                let v: Vec<f64> = rows.iter().map(|r| r.0).collect();
+                column
+                    .typed::<DoubleType>()
+                    .write_batch(&v, None, None)
+                    .unwrap();
+            }
+            1 => {
+                let v: Vec<ByteArray> =
+                    rows.iter().map(|r| ByteArray::from(r.1.as_str())).collect();
+                column
+                    .typed::<ByteArrayType>()
+                    .write_batch(&v, None, None)
+                    .unwrap();
+            }
+            _ => {
+                let v: Vec<i64> = rows.iter().map(|r| r.2).collect();
+                column
+                    .typed::<Int64Type>()
+                    .write_batch(&v, None, None)
+                    .unwrap();
+            }
+        }
+        column.close().unwrap();
+        k += 1;
+    }
+    group.close().unwrap();
+    writer.close().unwrap();
+
+    let ingest = |log: &Path, out: &Path| {
+        let o = synth(&[
+            "ingest",
+            "--log",
+            log.to_str().unwrap(),
+            "--map",
+            "specs/tank/tank.map",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        std::fs::read_to_string(out).unwrap()
+    };
+    let from_csv = ingest(
+        &root.join("specs/tank/scenario1.csv"),
+        &dir.path().join("csv.traces"),
+    );
+    let from_parquet = ingest(&parquet, &dir.path().join("parquet.traces"));
+    assert!(from_csv.starts_with("1\nin=REQ["), "{from_csv}");
+    assert_eq!(from_csv, from_parquet);
+}

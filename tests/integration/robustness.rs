@@ -163,6 +163,7 @@ fn ingest_lines(e: &IngestError) -> Vec<usize> {
         | IngestError::Header { line, .. }
         | IngestError::Row { line, .. } => vec![*line],
         IngestError::Read(e) => read_line(e),
+        IngestError::Parquet(e) => scenario_lines(e),
         IngestError::Io { .. } | IngestError::Write(_) | IngestError::NoData { .. } => Vec::new(),
     }
 }
