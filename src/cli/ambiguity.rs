@@ -140,21 +140,14 @@ pub struct NextRecordingArgs {
     /// (`machine.json`). Default: `out/<stem of the first trace file>-next`.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// No progress lines on stderr.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// The verdict, the rivals' sequences and the files as JSON on stdout; every other line
-    /// goes to stderr.
-    #[arg(long)]
-    pub json: bool,
 }
 
 /// `synth next-recording`: the sequences that tell the rivals apart, as a plan.
 pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let recordings = args.traces.recordings();
     let set = args.traces.load()?;
     let out = super::args::out_dir(&args.out, &format!("{}-next", recordings.stem()));
@@ -218,7 +211,7 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         ),
     }
     print_written(&published);
-    if args.json {
+    if super::json() {
         let mut summary = found.to_json(&set, &machine);
         summary["files"] = serde_json::json!(published);
         return super::write_json(&summary);

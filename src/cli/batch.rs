@@ -52,12 +52,6 @@ pub struct BatchArgs {
     /// Seconds each PLC may take (its row then says so; the others go on).
     #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
     pub time_limit: f64,
-    /// No progress lines on stderr.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// The summary (as `summary.json`) on stdout; every other line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
 }
 
 /// One row of the summary.
@@ -84,10 +78,10 @@ struct Row {
 
 /// `synth batch --logs DIR [--map M] [--ltl F --plant P]`.
 pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let mapping = match &args.map {
         Some(m) => Some(Mapping::read(m).map_err(Failure::input)?),
         None => None,
@@ -229,7 +223,7 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
         );
     }
     print_written(&files);
-    if args.json {
+    if super::json() {
         super::write_json(&summary)?;
     }
     let failed: Vec<&Row> = rows.iter().filter(|r| r.status == "failed").collect();

@@ -204,9 +204,6 @@ pub struct BenchNoisyArgs {
     /// Bound on corrected errors, as a multiple of the number injected (0: no bound).
     #[arg(long, default_value_t = 1.0)]
     pub error_bound: f64,
-    /// Progress of every minimization step on stderr.
-    #[arg(long, short)]
-    pub verbose: bool,
 }
 
 /// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
@@ -234,7 +231,7 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
             ..noisy::Options::default()
         };
         let t = Instant::now();
-        let progress = Progress::new(!args.verbose);
+        let progress = Progress::new(!super::verbose());
         let r = noisy::run(&set, None, &opts, &mut |e| progress.event(e))
             .map_err(|e| Failure::with_code(exit::BUG, e))?
             .synthesis;

@@ -134,10 +134,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
     results
         .publish()
         .map_err(|e| Failure::input(fbsynth::pipeline::Error::from(e)))?;
-    out!("wrote:");
-    for f in &files {
-        out!("  {}", f.display());
-    }
+    super::show::print_written(&files);
     out!("after refinement, on the new recordings:");
     report(refined.ecc(), &set);
     Ok(())

@@ -14,22 +14,19 @@ pub struct DiffArgs {
     /// The second machine, over the same inputs and outputs.
     #[arg(value_name = "B.json")]
     pub second: PathBuf,
-    /// A machine-readable summary (JSON) on stdout; every other line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
 }
 
 /// `synth diff A.json B.json`: "equivalent" (exit 0), or the shortest input sequence from the
 /// initial states on which they answer differently, step by step (exit 1); then the states
 /// matched up and what differs between matched states.
 pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
     let a = read_ecc(&args.first)?;
     let b = read_ecc(&args.second)?;
     let found = difference(&a, &b).map_err(|e| Failure::msg(exit::INPUT, e.to_string()))?;
-    if args.json {
+    if super::json() {
         let bits = fbsynth::ecc::bits_to_string;
         let summary = serde_json::json!({
             "equivalent": found.is_none(),

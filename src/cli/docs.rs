@@ -17,8 +17,7 @@ pub fn completions(args: &CompletionsArgs) -> Result<(), Failure> {
     let mut cmd = Cli::command();
     let mut buf = Vec::new();
     clap_complete::generate(args.shell, &mut cmd, "synth", &mut buf);
-    out_raw!("{}", String::from_utf8_lossy(&buf));
-    Ok(())
+    super::write_data(&buf)
 }
 
 #[derive(Debug, Args)]
@@ -43,8 +42,7 @@ fn page(cmd: clap::Command, title: &str) -> Result<Vec<u8>, Failure> {
 pub fn man(args: &ManArgs) -> Result<(), Failure> {
     let cmd = Cli::command().name("synth");
     let Some(dir) = &args.out else {
-        out_raw!("{}", String::from_utf8_lossy(&page(cmd, "synth")?));
-        return Ok(());
+        return super::write_data(&page(cmd, "synth")?);
     };
     std::fs::create_dir_all(dir).map_err(Failure::input)?;
     let mut written = vec![(dir.join("synth.1"), page(cmd.clone(), "synth")?)];
@@ -56,5 +54,6 @@ pub fn man(args: &ManArgs) -> Result<(), Failure> {
         fbsynth::files::write_atomic(path, bytes).map_err(Failure::input)?;
         out!("wrote {}", path.display());
     }
+    super::note_written(&written.into_iter().map(|(p, _)| p).collect::<Vec<_>>());
     Ok(())
 }

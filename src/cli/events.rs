@@ -105,6 +105,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         eprintln!("note: the reset activity '{reset}' never occurs: the log is one trace");
     }
     out!("wrote {}, {}", args.out.display(), csv.display());
+    super::note_written(&[args.out.clone(), csv.clone()]);
     if let Some(((bytes, places), ecc_file, pnml)) = net {
         fbsynth::files::write_atomic(pnml, &bytes).map_err(Failure::input)?;
         out!(
@@ -112,6 +113,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
             pnml.display(),
             ecc_file.display(),
         );
+        super::note_written(std::slice::from_ref(pnml));
     }
     Ok(())
 }

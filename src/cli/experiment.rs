@@ -61,9 +61,6 @@ pub struct ExperimentArgs {
     /// Who judges the candidates during the search; NuSMV checks the machine each run ends with.
     #[arg(long, value_enum, default_value_t = Judge::InProcess)]
     pub judge: Judge,
-    /// Progress of every run (one line per second) on stderr.
-    #[arg(long, short)]
-    pub verbose: bool,
     /// Ask NuSMV even for a child that still follows a counterexample of its parent (seed
     /// 001 as written; by default such a child keeps its parent's verdicts).
     #[arg(long)]
@@ -167,7 +164,7 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
             };
             let t = std::time::Instant::now();
             let run = search::run(&set, &check, &opts, Some(initial.clone()), &mut |e| {
-                if args.verbose && matches!(e, Event::SearchRound(_)) {
+                if super::verbose() && matches!(e, Event::SearchRound(_)) {
                     progress.line(&describe(&e));
                 }
             })?;

@@ -57,9 +57,6 @@ pub struct InferArgs {
     /// IEC 61131-3, none of main, ECC, plant, REQ, CNF, state).
     #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
     pub name: String,
-    /// No progress lines on stderr.
-    #[arg(long, short)]
-    pub quiet: bool,
     /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
     /// (writes `<name>.fbt/.smv/.modules.json` and `<name>_M<i>.fbt/.json/.dot`; --format is
     /// ignored).
@@ -98,9 +95,6 @@ pub struct InferArgs {
     /// Skip the check whether another machine with as many states fits the recordings.
     #[arg(long)]
     pub no_ambiguity: bool,
-    /// A machine-readable summary (JSON) on stdout; every other line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
     /// Write the SAT questions that prove the sizes minimal as DIMACS CNF files into DIR, for
     /// any other solver: at most C states (satisfiable) and C - 1 (not), and with C states at
     /// most T transitions (satisfiable) and T - 1 (not); `verdicts.txt` lists varisat's answer
@@ -238,13 +232,13 @@ fn suggest_noisy(e: pipeline::Error) -> Failure {
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let to_stdout = args.out.as_deref().is_some_and(fbsynth::files::is_stdin);
-    if args.json && (to_stdout || args.noisy.noisy || args.modules.is_some()) {
+    if super::json() && (to_stdout || args.noisy.noisy || args.modules.is_some()) {
         return Err(Failure::msg(
             exit::USAGE,
             "--json is for one machine into a folder: not with --out -, --noisy or --modules (they write summary files)",
         ));
     }
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
     if to_stdout {
@@ -266,7 +260,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         ));
     }
     if let Some(m) = args.modules {
-        let progress = Progress::new(args.quiet);
+        let progress = Progress::new(super::quiet());
         let set = args.traces.load()?;
         report_loaded(&progress, &set);
         let check = loop_check(args, &set, &progress)?;
@@ -289,7 +283,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         print_written(&publish(results, &staged)?);
         return Ok(());
     }
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let set = args.traces.load()?;
     report_loaded(&progress, &set);
     let formats = parse_formats(&args.format)?;
@@ -313,7 +307,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
         let staged = write_single(args, results.staging(), &formats, &r, &summary)?;
         let files = publish(results, &staged)?;
         print_written(&files);
-        if args.json {
+        if super::json() {
             let mut summary = summary;
             summary["files"] = serde_json::json!(files);
             return super::write_json(&summary);
@@ -409,7 +403,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     }
     let files = publish(results, &staged)?;
     print_written(&files);
-    if args.json {
+    if super::json() {
         let summary = serde_json::json!({
             "size": s,
             "guards_proven_minimal": result.guards_exact,
@@ -481,7 +475,7 @@ fn dump_cnf(
 /// `synth infer --noisy`: candidates by ε, each in its folder, and the summary; with --ltl
 /// the least verified machine over the candidates' corrected traces in `verified/`.
 fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let set = args.traces.load()?;
     let formats = parse_formats(&args.format)?;
     check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
@@ -902,6 +896,7 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
         set.step_count(),
         args.output.display()
     );
+    super::note_written(std::slice::from_ref(&args.output));
     Ok(())
 }
 

@@ -61,6 +61,11 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
         inputs_file.display(),
         outputs_file.display()
     );
+    super::note_written(&[
+        args.output.clone(),
+        inputs_file.clone(),
+        outputs_file.clone(),
+    ]);
     Ok(())
 }
 

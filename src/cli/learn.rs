@@ -35,12 +35,6 @@ pub struct LearnArgs {
     /// Write the final machine here (JSON).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// No progress lines on stderr.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// The rounds, steps and verdicts as JSON on stdout; every other line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
 }
 
 /// The oracle named by `--oracle`.
@@ -69,10 +63,10 @@ fn oracle(name: &str) -> Result<Ecc, Failure> {
 
 /// `synth learn`.
 pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let oracle = oracle(&args.oracle)?;
     let initial = args.traces.load()?;
     if initial.inputs != oracle.inputs || initial.outputs != oracle.outputs {
@@ -188,8 +182,9 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         )
         .map_err(Failure::input)?;
         out!("wrote {}", out.display());
+        super::note_written(std::slice::from_ref(out));
     }
-    if args.json {
+    if super::json() {
         let summary = serde_json::json!({
             "rounds": learned.rounds.iter().map(|r| serde_json::json!({
                 "states": r.states,

@@ -38,10 +38,6 @@ pub struct MainArgs {
     /// Output folder. Default: `out/<stem of the --ltl file>`.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// The run's summary (as `summary.json`, with the files written) on stdout; every other
-    /// line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
     /// After synthesis: look for rivals (machines with as many states that reproduce the
     /// recordings but answer differently) and check each with NuSMV.
     #[arg(long)]
@@ -83,12 +79,6 @@ pub struct MainArgs {
     pub name: String,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
-    /// No progress lines on stderr.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// Progress of every minimization step, not only one line per candidate.
-    #[arg(long, short)]
-    pub verbose: bool,
     /// How to synthesize: exact SAT with counterexample-guided refinement (default), or
     /// metaheuristic search (options under "Search").
     #[arg(long, value_enum, default_value_t = Method::Sat)]
@@ -153,9 +143,6 @@ pub struct VerifyArgs {
     /// its counterexample as a waveform (`<property>.vcd` for GTKWave, `<property>.svg`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// NuSMV's report as JSON on stdout; every other line goes to stderr.
-    #[arg(long)]
-    pub json: bool,
     #[command(flatten)]
     pub nusmv: NusmvArgs,
 }
@@ -176,7 +163,7 @@ fn exact_options(
             ..exact::SatOptions::default()
         },
         max_iterations: args.max_iterations,
-        verbose: args.verbose,
+        verbose: super::verbose(),
         keep_failed_model,
         proof_budget,
         negatives: negatives.to_vec(),
@@ -185,10 +172,10 @@ fn exact_options(
 
 /// `synth --ltl SPEC --plant PLANT`.
 pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
-    let progress = Progress::new(args.quiet);
+    let progress = Progress::new(super::quiet());
     let (Some(ltl), Some(plant_file)) = (&args.ltl, &args.plant) else {
         return Err(Failure::msg(
             exit::USAGE,
@@ -449,7 +436,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
     out!("{closing}");
     print_files(&out, &files);
-    if args.json {
+    if super::json() {
         let mut summary = summary;
         summary["files"] = serde_json::json!(files);
         return super::write_json(&summary);
@@ -501,7 +488,7 @@ fn write_counterexamples(
 
 /// `synth verify`.
 pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
-    if args.json {
+    if super::json() {
         super::data_on_stdout();
     }
     let ecc = read_ecc(&args.ecc)?;
@@ -514,7 +501,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
     };
     let verification = pipeline::verify(&ecc, &check)?;
     let report = &verification.report;
-    if args.json {
+    if super::json() {
         let summary = serde_json::json!({ "verified": report.all_hold(), "report": report });
         super::write_json(&summary)?;
     }

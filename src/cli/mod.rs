@@ -12,9 +12,13 @@
 /// When the result itself goes to stdout (`--out -`), these lines go to stderr instead
 /// ([`data_on_stdout`]).
 macro_rules! out {
+    () => {
+        out!("")
+    };
     ($($arg:tt)*) => {{
         use std::io::Write as _;
         if $crate::cli::stdout_is_data() {
+            $crate::cli::capture(&format!("{}\n", format_args!($($arg)*)));
             let _ = writeln!(std::io::stderr(), $($arg)*);
         } else {
             let _ = writeln!(std::io::stdout(), $($arg)*);
@@ -27,6 +31,7 @@ macro_rules! out_raw {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
         if $crate::cli::stdout_is_data() {
+            $crate::cli::capture(&format!($($arg)*));
             let _ = write!(std::io::stderr(), $($arg)*);
         } else {
             let _ = write!(std::io::stdout(), $($arg)*);
@@ -46,13 +51,100 @@ pub fn data_on_stdout() {
     STDOUT_IS_DATA.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
-/// Writes a `--json` summary on stdout (pretty, one value, a final newline).
-pub fn write_json(summary: &serde_json::Value) -> Result<(), Failure> {
-    write_data(format!("{summary:#}\n").as_bytes())
+/// The flags every command takes (`-q`, `-v`, `--json`), set once after parsing.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+static VERBOSE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+static JSON: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+/// Whether the command wrote its own `--json` summary.
+static JSON_WRITTEN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+/// With `--json` and no summary of the command's own: what it would have written on stdout,
+/// and the files it listed as written, for the generic summary ([`generic_summary`]).
+static CAPTURED: std::sync::Mutex<Vec<u8>> = std::sync::Mutex::new(Vec::new());
+static WRITTEN: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// `-q`: no progress lines.
+pub fn quiet() -> bool {
+    QUIET.load(std::sync::atomic::Ordering::Relaxed)
 }
 
-/// Writes the result on stdout (see [`data_on_stdout`]).
+/// `-v`: more progress where the command has more to say.
+pub fn verbose() -> bool {
+    VERBOSE.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// `--json`: a machine-readable summary on stdout, every other line on stderr.
+pub fn json() -> bool {
+    JSON.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// With `--json`: keeps a line the command printed for the generic summary's `output`.
+pub fn capture(text: &str) {
+    if json() {
+        if let Ok(mut c) = CAPTURED.lock() {
+            c.extend_from_slice(text.as_bytes());
+        }
+    }
+}
+
+/// Notes files a command wrote (for the generic `--json` summary).
+pub fn note_written(files: &[std::path::PathBuf]) {
+    if let Ok(mut w) = WRITTEN.lock() {
+        w.extend_from_slice(files);
+    }
+}
+
+/// The flags every command takes.
+#[derive(Debug, clap::Args)]
+pub struct OutputArgs {
+    /// No progress lines on stderr.
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// More progress where the command has more to say (every minimization step, every round).
+    #[arg(long, short, global = true)]
+    pub verbose: bool,
+    /// A machine-readable summary (JSON) on stdout; every other line goes to stderr. Commands
+    /// without a summary of their own write `{"command", "exit", "files", "output", "error"}`.
+    #[arg(long, global = true)]
+    pub json: bool,
+}
+
+/// Writes a `--json` summary on stdout (pretty, one value, a final newline).
+pub fn write_json(summary: &serde_json::Value) -> Result<(), Failure> {
+    JSON_WRITTEN.store(true, std::sync::atomic::Ordering::Relaxed);
+    write_stdout(format!("{summary:#}\n").as_bytes())
+}
+
+/// The summary of a command without one of its own, with `--json`: its name, exit code, the
+/// files it wrote, what it printed (its result lines, and data it would have written on
+/// stdout), and the error.
+fn generic_summary(command: &str, code: i32, error: Option<&str>) -> serde_json::Value {
+    let files = WRITTEN.lock().map(|w| w.clone()).unwrap_or_default();
+    let output = CAPTURED
+        .lock()
+        .map(|c| String::from_utf8_lossy(&c).into_owned())
+        .unwrap_or_default();
+    serde_json::json!({
+        "command": command,
+        "exit": code,
+        "files": files,
+        "output": output,
+        "error": error,
+    })
+}
+
+/// Writes the result on stdout (see [`data_on_stdout`]); with `--json` it goes into the
+/// generic summary instead, so that stdout holds one JSON value.
 pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
+    if json() {
+        if let Ok(mut c) = CAPTURED.lock() {
+            c.extend_from_slice(bytes);
+        }
+        return Ok(());
+    }
+    write_stdout(bytes)
+}
+
+fn write_stdout(bytes: &[u8]) -> Result<(), Failure> {
     use std::io::Write as _;
     let mut out = std::io::stdout().lock();
     match out.write_all(bytes).and_then(|()| out.flush()) {
@@ -137,6 +229,8 @@ result as IEC 61499 .fbt (4diac, NxtStudio), Structured Text, SMV, Graphviz and 
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
+    #[command(flatten)]
+    pub output: OutputArgs,
     #[command(subcommand)]
     pub command: Option<Command>,
     /// The main job: synthesize a controller that reproduces the scenarios and satisfies
@@ -261,6 +355,18 @@ pub fn run() -> i32 {
             };
         }
     };
+    let o = &cli.output;
+    QUIET.store(o.quiet, std::sync::atomic::Ordering::Relaxed);
+    VERBOSE.store(o.verbose, std::sync::atomic::Ordering::Relaxed);
+    JSON.store(o.json, std::sync::atomic::Ordering::Relaxed);
+    if o.json {
+        data_on_stdout();
+    }
+    let command = std::env::args()
+        .skip(1)
+        .find(|a| !a.starts_with('-'))
+        .filter(|_| cli.command.is_some())
+        .unwrap_or_else(|| "main".into());
     let result = match cli.command {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
@@ -286,11 +392,16 @@ pub fn run() -> i32 {
         Some(Command::Generate(a)) => generate::generate(&a),
         None => main_job::main_job(&cli.main),
     };
-    match result {
-        Ok(()) => exit::OK,
+    let (code, error) = match &result {
+        Ok(()) => (exit::OK, None),
         Err(f) => {
             eprintln!("error: {}", f.message);
-            f.code
+            (f.code, Some(f.message.as_str()))
         }
+    };
+    if json() && !JSON_WRITTEN.load(std::sync::atomic::Ordering::Relaxed) {
+        let summary = generic_summary(&command, code, error);
+        let _ = write_stdout(format!("{summary:#}\n").as_bytes());
     }
+    code
 }

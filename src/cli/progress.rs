@@ -10,10 +10,11 @@ pub struct Progress {
 }
 
 impl Progress {
+    /// Progress lines unless `quiet` or `-q`.
     pub fn new(quiet: bool) -> Progress {
         Progress {
             start: Instant::now(),
-            quiet,
+            quiet: quiet || super::quiet(),
         }
     }
 

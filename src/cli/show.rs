@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 /// The list of files written, on stdout.
 pub fn print_written(files: &[PathBuf]) {
+    super::note_written(files);
     out!("wrote:");
     for f in files {
         out!("  {}", f.display());
@@ -13,6 +14,7 @@ pub fn print_written(files: &[PathBuf]) {
 
 /// The closing lines of a verified run: where the results are.
 pub fn print_files(out: &Path, files: &[PathBuf]) {
+    super::note_written(files);
     out!("results in {}:", out.display());
     for f in files {
         out!("  {}", f.display());

@@ -1736,3 +1736,71 @@ fn fixed_bounds_ask_for_a_size_and_say_when_none_fits() {
     let o = infer(&out.path().join("u"), &["--states", "4", "--modules", "2"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn every_command_takes_quiet_verbose_and_json() {
+    let o = synth(&["--help"]);
+    let help = text(&o.stdout);
+    let commands: Vec<String> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(String::from))
+        .filter(|c| c != "help")
+        .collect();
+    assert!(commands.len() >= 20, "{commands:?}");
+    for c in &commands {
+        let h = text(&synth(&[c, "--help"]).stdout);
+        for flag in ["-q, --quiet", "-v, --verbose", "--json"] {
+            assert!(h.contains(flag), "synth {c} lacks {flag}");
+        }
+    }
+    // A command without a summary of its own: the generic one, alone on stdout.
+    let dir = tempfile::tempdir().unwrap();
+    let json = infer_door(dir.path());
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        json.to_str().unwrap(),
+        "--traces",
+        &data("door.traces"),
+        "--json",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["command"], "replay");
+    assert_eq!(v["exit"], 0);
+    assert!(
+        v["output"].as_str().unwrap().contains("all reproduced"),
+        "{v}"
+    );
+    // Its failure: the same object with the exit code and the error, still on stdout.
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        "missing.json",
+        "--traces",
+        &data("door.traces"),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["exit"], 1);
+    assert!(v["error"].as_str().unwrap().contains("missing.json"), "{v}");
+    // Files written are listed.
+    let out = dir.path().join("conv.csv");
+    let o = synth(&[
+        "convert",
+        "--traces",
+        &data("door.traces"),
+        "--to",
+        "csv",
+        "--output",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["files"][0], out.to_str().unwrap());
+}
