@@ -121,6 +121,11 @@ pub struct FixedArgs {
     /// At most K transitions in any state.
     #[arg(long = "out-degree", value_name = "K", value_parser = super::args::per_state(), conflicts_with_all = ["noisy", "modules", "ltl"])]
     pub out_degree: Option<usize>,
+    /// After the least machine, look for fewer guard literals with more states (fbSAT's
+    /// extended-min-ub): one state more at a time, the least T then N there, until W steps in a
+    /// row bring no fewer literals; the machine with the fewest is the result.
+    #[arg(long = "plateau", value_name = "W", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=64), conflicts_with_all = ["noisy", "modules", "ltl", "states"])]
+    pub plateau: Option<usize>,
     /// At most T transitions in all.
     #[arg(long = "transitions", value_name = "T", value_parser = super::args::transitions(), conflicts_with_all = ["noisy", "modules", "ltl"])]
     pub transitions: Option<usize>,
@@ -348,6 +353,16 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     })
     .map_err(suggest_noisy)?
     .synthesis;
+    let result = match args.fixed.plateau {
+        Some(width) => {
+            let (job_set, job_opts) = (set.clone(), opts.clone());
+            let job = move |events: pipeline::Events<'_>| {
+                exact::plateau(&job_set, &job_opts, result, width, events)
+            };
+            limited(args, &progress, job, &mut |e| progress.event(e))?
+        }
+        None => result,
+    };
     let s = result.size;
     out!(
         "C = {}  K = {}  T = {}  N = {}{}",

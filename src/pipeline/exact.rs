@@ -195,3 +195,37 @@ pub fn run(
         }
     }
 }
+
+/// The plateau search on the guard size (after fbSAT's extended-min-ub): from `first`, the
+/// least machine for `set`, the least machine with at most one state more (least T, then N),
+/// and so on, until `width` such steps in a row bring no fewer guard literals, or
+/// `max_states`. Returns the machine with the fewest literals (on a tie the one found first,
+/// with fewer states). Without a check only.
+pub fn plateau(
+    set: &ScenarioSet,
+    opts: &Options,
+    first: Synthesis,
+    width: usize,
+    events: Events<'_>,
+) -> Result<Synthesis, Error> {
+    let mut best = first;
+    let (mut misses, mut c) = (0, best.size.c);
+    while misses < width.max(1) && c < opts.sat.max_states {
+        c += 1;
+        let mut o = opts.clone();
+        o.sat.fixed.states = Some(c);
+        let found = run(set, None, &o, &mut |_| {})?.synthesis;
+        events(Event::Solver(sat::Step::Plateau {
+            states: c,
+            n: found.size.n,
+            best: best.size.n.min(found.size.n),
+        }));
+        if found.size.n < best.size.n {
+            best = found;
+            misses = 0;
+        } else {
+            misses += 1;
+        }
+    }
+    Ok(best)
+}

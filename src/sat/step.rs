@@ -78,6 +78,13 @@ pub enum Step {
     },
     /// Modular: the least largest module.
     LargestModule { states: usize },
+    /// The plateau search: with at most `states` states the least machine has `n` guard
+    /// literals; the fewest so far are `best`.
+    Plateau {
+        states: usize,
+        n: usize,
+        best: usize,
+    },
     /// Modular: no module of at most `states` states fits, which the least single machine shows
     /// is for want of slots: `slots` per state from now on.
     WideningSlots { slots: usize, states: usize },
@@ -147,6 +154,10 @@ impl fmt::Display for Step {
             Step::LargestModule { states } => {
                 write!(f, "largest module: {states} states (minimal)")
             }
+            Step::Plateau { states, n, best } => write!(
+                f,
+                "plateau: at most {states} states: N = {n} (fewest so far {best})"
+            ),
             Step::WideningSlots { slots, states } => write!(
                 f,
                 "no modules of at most {states} states (the least single machine's) with {} transitions per state: widening to {slots}",

@@ -1804,3 +1804,59 @@ fn every_command_takes_quiet_verbose_and_json() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["files"][0], out.to_str().unwrap());
 }
+
+#[test]
+fn the_plateau_search_trades_a_state_for_fewer_guard_literals() {
+    let out = tempfile::tempdir().unwrap();
+    let infer = |extra: &[&str], dir: &str| {
+        let mut args = vec![
+            "infer",
+            "--no-ambiguity",
+            "--traces",
+            "specs/pnp.traces",
+            "--format",
+            "json",
+            "--out",
+        ];
+        let dir = out.path().join(dir);
+        let d = dir.to_str().unwrap().to_string();
+        args.push(&d);
+        args.extend_from_slice(extra);
+        let o = synth(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        (
+            text(&o.stdout),
+            text(&o.stderr),
+            dir.join("SynthesizedFB.json"),
+        )
+    };
+    let (least, _, _) = infer(&[], "least");
+    assert!(least.contains("C = 8  K = 5  T = 13  N = 18"), "{least}");
+    // One state more (at most 9, to keep the test short): four literals fewer, same T.
+    let (more, progress, file) = infer(&["--plateau", "1", "--max-states", "9"], "plateau");
+    assert!(
+        progress.contains("plateau: at most 9 states: N = 14"),
+        "{progress}"
+    );
+    assert!(more.contains("C = 9  K = 3  T = 13  N = 14"), "{more}");
+    assert_eq!(
+        read_json(&std::fs::read_to_string(&file).unwrap(), &file)
+            .unwrap()
+            .size()
+            .n,
+        14
+    );
+    let o = synth(&[
+        "replay",
+        "--ecc",
+        file.to_str().unwrap(),
+        "--traces",
+        "specs/pnp.traces",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("all reproduced"),
+        "{}",
+        text(&o.stdout)
+    );
+}
