@@ -50,7 +50,7 @@ pub struct InferArgs {
     /// on stderr.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Formats to write, comma-separated: json, fbt, smv, dot, st.
+    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml.
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
     /// Name of the function block type in the exports (an identifier, no keyword of SMV or

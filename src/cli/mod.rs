@@ -262,7 +262,7 @@ pub enum Command {
     Completions(docs::CompletionsArgs),
     /// Print the manual page (roff), or write one page per command with --out.
     Man(docs::ManArgs),
-    /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot.
+    /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot, pnml.
     Export(export::ExportArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),

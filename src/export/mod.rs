@@ -44,16 +44,20 @@ pub enum Format {
     Dot,
     /// IEC 61131-3 Structured Text function block ([`st`]).
     St,
+    /// Place/transition net for process-mining tools ([`pnml`]), labelled with the signal
+    /// names; not among the defaults.
+    Pnml,
 }
 
 impl Format {
     /// Every format, in the order `--help` lists them.
-    pub const ALL: [Format; 5] = [
+    pub const ALL: [Format; 6] = [
         Format::Json,
         Format::Fbt,
         Format::Smv,
         Format::Dot,
         Format::St,
+        Format::Pnml,
     ];
 
     /// The format's name on the command line, which is also its file extension.
@@ -64,6 +68,7 @@ impl Format {
             Format::Smv => "smv",
             Format::Dot => "dot",
             Format::St => "st",
+            Format::Pnml => "pnml",
         }
     }
 
@@ -82,7 +87,7 @@ impl fmt::Display for Format {
 /// A format name that is not one of [`Format::ALL`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown export format {}; valid formats: json, fbt, smv, dot, st",
+    "unknown export format {}; valid formats: json, fbt, smv, dot, st, pnml",
     crate::quote::backquote(given)
 )]
 pub struct UnknownFormat {
@@ -92,7 +97,8 @@ pub struct UnknownFormat {
 impl FromStr for Format {
     type Err = UnknownFormat;
 
-    /// Parses `json`, `fbt`, `smv`, `dot` or `st` (ignoring case and surrounding blanks).
+    /// Parses `json`, `fbt`, `smv`, `dot`, `st` or `pnml` (ignoring case and surrounding
+    /// blanks).
     fn from_str(s: &str) -> Result<Format, UnknownFormat> {
         let wanted = s.trim().to_ascii_lowercase();
         Format::ALL
@@ -156,6 +162,12 @@ pub fn text(ecc: &Ecc, stem: &str, format: Format) -> Result<String, ExportError
         Format::St => {
             st::check_names(ecc, stem).map_err(name_error)?;
             st::to_string(ecc, stem).expect("names are checked")
+        }
+        Format::Pnml => {
+            let mut buf = Vec::new();
+            pnml::write_pnml_labelled(ecc, &pnml::Labels::names(ecc), stem, &mut buf)
+                .expect("writing into memory cannot fail");
+            String::from_utf8(buf).expect("the emitter writes UTF-8")
         }
     })
 }
@@ -321,7 +333,7 @@ mod tests {
         let e = "svg".parse::<Format>().unwrap_err();
         assert_eq!(
             e.to_string(),
-            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st"
+            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st, pnml"
         );
     }
 

@@ -1338,9 +1338,21 @@ fn export_round_trips_json_machines_of_the_shipped_cases() {
     ));
     for (k, (json, traces)) in cases.iter().enumerate() {
         let out = d(&format!("exported{k}"));
-        let o = synth(&["export", "--ecc", json, "--out", &out, "--name", "Rebuilt"]);
+        let o = synth(&[
+            "export",
+            "--ecc",
+            json,
+            "--out",
+            &out,
+            "--name",
+            "Rebuilt",
+            "--format",
+            "json,fbt,smv,dot,st,pnml",
+        ]);
         assert!(o.status.success(), "{}", text(&o.stderr));
-        for ext in ["json", "fbt", "smv", "dot", "st"] {
+        let net = std::fs::read_to_string(format!("{out}/Rebuilt.pnml")).unwrap();
+        assert!(net.contains("<net id=\"Rebuilt\""), "{net}");
+        for ext in ["json", "fbt", "smv", "dot", "st", "pnml"] {
             assert!(dir
                 .path()
                 .join(format!("exported{k}/Rebuilt.{ext}"))
