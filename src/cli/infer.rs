@@ -237,15 +237,8 @@ fn suggest_noisy(e: pipeline::Error) -> Failure {
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     let to_stdout = args.out.as_deref().is_some_and(fbsynth::files::is_stdin);
-    if super::json() && (to_stdout || args.noisy.noisy || args.modules.is_some()) {
-        return Err(Failure::msg(
-            exit::USAGE,
-            "--json is for one machine into a folder: not with --out -, --noisy or --modules (they write summary files)",
-        ));
-    }
-    if super::json() {
-        super::data_on_stdout();
-    }
+    // With --json, --out -, --noisy and --modules give the generic summary (their files and
+    // lines; the machine of --out - in its `output`).
     if to_stdout {
         if args.noisy.noisy || args.modules.is_some() {
             return Err(Failure::msg(
