@@ -156,23 +156,29 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             ),
         ));
     }
-    out!("| case | steps | C | K | T | N | min s | median s | max s |");
-    out!("|---|---|---|---|---|---|---|---|---|");
+    // The last two columns measure the guards as fbSAT's extended guards: parse-tree nodes in
+    // all (its N) and in the largest guard (its P).
+    out!("| case | steps | C | K | T | N | min s | median s | max s | nodes | P |");
+    out!("|---|---|---|---|---|---|---|---|---|---|---|");
     for case in all {
         let set = case.traces.load()?;
         let mut times = Vec::with_capacity(runs);
-        let mut size = None;
+        let mut last = None;
         for _ in 0..runs {
             let t = Instant::now();
             let r = exact::run(&set, None, &case.opts, &mut |_| {})?.synthesis;
             times.push(t.elapsed().as_secs_f64());
-            size = Some(r.size);
+            last = Some(r);
         }
 
-        let s = size.expect("runs >= 1");
+        let r = last.expect("runs >= 1");
+        let s = r.size;
+        let guards = r.ecc.states.iter().flat_map(|q| &q.transitions);
+        let nodes: usize = guards.clone().map(|t| t.guard.tree_size()).sum();
+        let largest = guards.map(|t| t.guard.tree_size()).max().unwrap_or(0);
         let (lo, med, hi) = stats(times);
         out!(
-            "| {} | {} | {} | {} | {} | {} | {lo:.3} | {med:.3} | {hi:.3} |",
+            "| {} | {} | {} | {} | {} | {} | {lo:.3} | {med:.3} | {hi:.3} | {nodes} | {largest} |",
             case.name,
             set.step_count(),
             s.c,

@@ -106,6 +106,19 @@ impl Guard {
         }
     }
 
+    /// Nodes of the guard as a parse tree with binary `&` and `|`, unary `!`, variables and
+    /// constants: the guard size of fbSAT's extended guards (its `N`, with `P` the largest per
+    /// guard), for comparing with its published sizes.
+    pub fn tree_size(&self) -> usize {
+        match self {
+            Guard::True | Guard::False | Guard::Var(_) => 1,
+            Guard::Not(g) => 1 + g.tree_size(),
+            Guard::And(gs) | Guard::Or(gs) => {
+                gs.iter().map(|g| g.tree_size()).sum::<usize>() + gs.len().saturating_sub(1)
+            }
+        }
+    }
+
     /// Largest input index the guard reads, if any.
     pub fn max_var(&self) -> Option<InputId> {
         match self {
@@ -251,5 +264,8 @@ mod tests {
         assert_eq!(g.display(&names()).to_string(), "a & !c | b");
         assert_eq!(Guard::dnf(&[vec![]]), Guard::True);
         assert_eq!(Guard::dnf(&[]), Guard::False);
+        // a & !c | b: the variables a, c, b, one NOT, one AND, one OR.
+        assert_eq!(g.tree_size(), 6);
+        assert_eq!(Guard::True.tree_size(), 1);
     }
 }
