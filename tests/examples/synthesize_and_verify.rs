@@ -36,8 +36,13 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let result = exact::run(&set, Some(&check), &exact::Options::default(), &mut |e| {
         eprintln!("{}", describe(&e));
     })?;
-    let certificate = result.certificate.expect("a check gives NuSMV's certificate");
-    assert!(certificate.report.all_hold(), "only a verified machine is returned");
+    let certificate = result
+        .certificate
+        .expect("a check gives NuSMV's certificate");
+    assert!(
+        certificate.report.all_hold(),
+        "only a verified machine is returned"
+    );
     // Every synthesized machine reproduces its recordings; check it here too.
     set.check(&result.synthesis.ecc)?;
     println!(
@@ -45,7 +50,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         certificate.report.properties.len(),
         result.synthesis.size
     );
-    println!("{}", export::text(&result.synthesis.ecc, "PickAndPlace", Format::St)?);
+    println!(
+        "{}",
+        export::text(&result.synthesis.ecc, "PickAndPlace", Format::St)?
+    );
     Ok(())
 }
 

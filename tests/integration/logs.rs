@@ -408,3 +408,59 @@ fn batch_with_properties_verifies_every_machine_with_nusmv() {
         assert!(v.status.success(), "{}", text(&v.stderr));
     }
 }
+
+#[test]
+fn a_null_in_a_parquet_log_is_refused_at_its_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let field = |name: &str, repetition| {
+        Arc::new(
+            Type::primitive_type_builder(name, Physical::BOOLEAN)
+                .with_repetition(repetition)
+                .build()
+                .unwrap(),
+        )
+    };
+    let schema = Arc::new(
+        Type::group_type_builder("log")
+            .with_fields(vec![
+                field("in:a", Repetition::REQUIRED),
+                field("out:z", Repetition::OPTIONAL),
+            ])
+            .build()
+            .unwrap(),
+    );
+    let file = dir.path().join("gap.parquet");
+    let props = Arc::new(WriterProperties::builder().build());
+    let mut writer =
+        SerializedFileWriter::new(std::fs::File::create(&file).unwrap(), schema, props).unwrap();
+    let mut group = writer.next_row_group().unwrap();
+    let mut a = group.next_column().unwrap().unwrap();
+    a.typed::<BoolType>()
+        .write_batch(&[false, true, true], None, None)
+        .unwrap();
+    a.close().unwrap();
+    // Rows 1 and 3 have a value, row 2 none (definition level 0).
+    let mut z = group.next_column().unwrap().unwrap();
+    z.typed::<BoolType>()
+        .write_batch(&[false, true], Some(&[1, 0, 1]), None)
+        .unwrap();
+    z.close().unwrap();
+    group.close().unwrap();
+    writer.close().unwrap();
+    let out = dir.path().join("out");
+    let o = synth(&[
+        "infer",
+        "--traces",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    // Row 2 is line 3 of the CSV log it stands for.
+    assert!(
+        text(&o.stderr).contains("gap.parquet:3: column 2 ('out:z')"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!out.exists());
+}
