@@ -226,7 +226,9 @@ result as IEC 61499 .fbt (4diac, NxtStudio), Structured Text, SMV, Graphviz and 
     about = ABOUT,
     long_about = LONG_ABOUT,
     after_help = EXIT_HELP,
-    args_conflicts_with_subcommands = true
+    // The main job's options cannot go with a subcommand; the flags every command takes
+    // (`-q`, `-v`, `--json`) may stand before it too. [`parse`] checks the first.
+    subcommand_negates_reqs = true
 )]
 pub struct Cli {
     #[command(flatten)]
@@ -342,9 +344,35 @@ impl From<pipeline::Error> for Failure {
     }
 }
 
+/// Parses the command line, refusing the main job's options beside a subcommand.
+fn parse() -> Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    let mut cmd = Cli::command();
+    let matches = cmd.try_get_matches_from_mut(std::env::args_os())?;
+    if let Some((name, _)) = matches.subcommand() {
+        let main_arg = cmd
+            .get_arguments()
+            .filter(|a| !a.is_global_set())
+            .find(|a| {
+                matches.value_source(a.get_id().as_str())
+                    == Some(clap::parser::ValueSource::CommandLine)
+            });
+        if let Some(a) = main_arg {
+            let flag = a
+                .get_long()
+                .map_or_else(|| a.get_id().to_string(), |l| format!("--{l}"));
+            return Err(cmd.error(
+                clap::error::ErrorKind::ArgumentConflict,
+                format!("the subcommand '{name}' cannot be used with '{flag}' (an option of the main job)"),
+            ));
+        }
+    }
+    Cli::from_arg_matches(&matches).map_err(|e| e.format(&mut cmd))
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn run() -> i32 {
-    let cli = match Cli::try_parse() {
+    let cli = match parse() {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();

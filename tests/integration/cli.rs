@@ -1768,6 +1768,24 @@ fn every_command_takes_quiet_verbose_and_json() {
             assert!(h.contains(flag), "synth {c} lacks {flag}");
         }
     }
+    // Before the command name too; the main job's own options are not taken there.
+    let o = synth(&["-q", "replay", "--help"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = synth(&[
+        "--ltl",
+        "specs/pnp.ltl",
+        "replay",
+        "--ecc",
+        "m.json",
+        "--traces",
+        "t",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("cannot be used with '--ltl'"),
+        "{}",
+        text(&o.stderr)
+    );
     // A command without a summary of its own: the generic one, alone on stdout.
     let dir = tempfile::tempdir().unwrap();
     let json = infer_door(dir.path());
