@@ -43,3 +43,22 @@ pub fn record(ecc: &Ecc, seed: u64, runs: usize, len: usize) -> ScenarioSet {
         scenarios,
     }
 }
+
+/// An external tool from the variable `env` or the PATH (`name`); `None` (a skip, with a note)
+/// without it, and a failure under `CI=true`, since CI installs it with `installer`.
+pub fn tool_or_skip(env: &str, name: &str, installer: &str) -> Option<PathBuf> {
+    let found = std::env::var_os(env)
+        .map(PathBuf::from)
+        .filter(|p| p.is_file())
+        .or_else(|| which::which(name).ok());
+    match found {
+        Some(p) => Some(p),
+        None if std::env::var("CI").as_deref() == Ok("true") => {
+            panic!("{name} is required when CI=true ({installer} installs it)")
+        }
+        None => {
+            eprintln!("skipping: no {name} (set {env} or put it on the PATH)");
+            None
+        }
+    }
+}

@@ -27,23 +27,9 @@ proptest! {
     }
 }
 
-/// CaDiCaL from `$CADICAL` or the PATH; `None` (a skip) without it, a failure under `CI=true`
-/// since CI installs it (`.ci/install-cadical.sh`).
+/// CaDiCaL from `$CADICAL` or the PATH (`.ci/install-cadical.sh`).
 fn cadical_or_skip() -> Option<std::path::PathBuf> {
-    let found = std::env::var_os("CADICAL")
-        .map(std::path::PathBuf::from)
-        .filter(|p| p.is_file())
-        .or_else(|| which::which("cadical").ok());
-    match found {
-        Some(p) => Some(p),
-        None if std::env::var("CI").as_deref() == Ok("true") => {
-            panic!("CaDiCaL is required when CI=true (.ci/install-cadical.sh installs it)")
-        }
-        None => {
-            eprintln!("skipping: no cadical (set CADICAL or put it on the PATH)");
-            None
-        }
-    }
+    crate::common::tool_or_skip("CADICAL", "cadical", ".ci/install-cadical.sh")
 }
 
 /// `--dump-cnf` writes the questions that prove C and T minimal; an independent solver gives
