@@ -258,13 +258,7 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
 
 /// The rows as CSV (RFC 4180 quoting where a cell needs it).
 fn summary_csv(rows: &[Row]) -> String {
-    let quote = |s: &str| {
-        if s.contains([',', '"', '\n', '\r']) {
-            format!("\"{}\"", s.replace('"', "\"\""))
-        } else {
-            s.to_string()
-        }
-    };
+    use fbsynth::files::csv::quote_cell as quote;
     let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
     let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
     for r in rows {

@@ -2,6 +2,7 @@
 //! event in log order, timestamps as in XES. Cells holding `,`, `"` or a line break are quoted.
 
 use super::{iso_time, Event, EventSink};
+use crate::files::csv::quote_cell as cell;
 use std::io::{self, Write};
 
 /// Writes CSV rows as the events arrive.
@@ -20,14 +21,6 @@ impl<W: Write> CsvWriter<W> {
     /// Returns the writer.
     pub fn finish(self) -> W {
         self.w
-    }
-}
-
-fn cell(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
     }
 }
 

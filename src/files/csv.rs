@@ -178,6 +178,16 @@ impl<'a> Record<'a> {
     }
 }
 
+/// One cell as RFC 4180 writes it: quoted, with quotes doubled, when it holds a comma, a quote
+/// or a line break; as it is otherwise.
+pub fn quote_cell(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
 /// Reads a Boolean cell: `0`, `1`, `true` or `false` in any case (surrounding blanks are the
 /// caller's to trim).
 pub fn parse_bool(cell: &[u8]) -> Option<bool> {

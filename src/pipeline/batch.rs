@@ -13,12 +13,12 @@
 //! PLC, and an array job of `synth batch` runs over partitions.
 
 use super::exact::{self, Certificate};
-use super::recordings::{logs_in, Recordings};
+use super::recordings::{is_log, logs_in, Recordings};
 use super::{limit, Check, Error};
 use crate::ingest::Mapping;
 use crate::nusmv::Nusmv;
 use crate::sat::Synthesis;
-use crate::scenario::{parquet, ScenarioSet};
+use crate::scenario::ScenarioSet;
 use crate::verify::Problem;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -57,12 +57,6 @@ pub struct Outcome {
     pub steps: usize,
     pub result: Result<Reconstruction, Error>,
     pub seconds: f64,
-}
-
-/// Whether a file is a log the batch reads: CSV (plain or gzip) or Parquet.
-fn is_log(path: &Path) -> bool {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    name.ends_with(".csv") || name.ends_with(".csv.gz") || parquet::is_parquet(path)
 }
 
 /// The PLCs of `dir`: every log file (named by its stem) and every subfolder holding logs

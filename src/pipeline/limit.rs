@@ -19,14 +19,6 @@ use crate::scenario::ScenarioSet;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-/// An event of the loop, owned so that it can cross threads.
-enum Message {
-    Solver(crate::sat::Step),
-    LowerBounds { c: usize, t: usize, seconds: f64 },
-    Candidate(Iteration),
-    Done(Box<Result<Exact, Error>>),
-}
-
 /// What the loop had found when the limit passed.
 #[derive(Debug, Clone, Default)]
 pub struct SoFar {
@@ -57,7 +49,8 @@ impl std::fmt::Display for SoFar {
     }
 }
 
-/// [`exact::run`] with `check`, given up after `limit`.
+/// [`exact::run`] with `check`, given up after `limit` ([`within`]) with
+/// [`Error::TimeLimit`] saying what had been found by then.
 pub fn exact_within(
     set: &ScenarioSet,
     check: &Check,
@@ -65,52 +58,23 @@ pub fn exact_within(
     limit: Duration,
     events: Events<'_>,
 ) -> Result<Exact, Error> {
-    let deadline = Instant::now() + limit;
-    let (tx, rx) = mpsc::channel();
-    {
-        let (set, check, opts) = (set.clone(), check.clone(), opts.clone());
-        std::thread::spawn(move || {
-            let forward = tx.clone();
-            let result = exact::run(&set, Some(&check), &opts, &mut |e| {
-                let m = match e {
-                    Event::Solver(s) => Message::Solver(s),
-                    Event::LowerBounds { c, t, seconds } => Message::LowerBounds { c, t, seconds },
-                    Event::Candidate(it) => Message::Candidate(it.clone()),
-                    // The exact loop emits nothing else.
-                    _ => return,
-                };
-                // The receiver is gone once the limit passed: nobody listens any more.
-                let _ = forward.send(m);
-            });
-            let _ = tx.send(Message::Done(Box::new(result)));
-        });
-    }
     let mut so_far = SoFar::default();
-    loop {
-        let wait = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(wait) {
-            Ok(Message::Solver(s)) => events(Event::Solver(s)),
-            Ok(Message::LowerBounds { c, t, seconds }) => {
-                so_far.lower_bounds = Some((c, t));
-                events(Event::LowerBounds { c, t, seconds });
+    let (set, check, opts) = (set.clone(), check.clone(), opts.clone());
+    let result = within(
+        limit,
+        &mut |e| {
+            match &e {
+                Event::LowerBounds { c, t, .. } => so_far.lower_bounds = Some((*c, *t)),
+                Event::Candidate(it) => so_far.candidates.push((*it).clone()),
+                _ => {}
             }
-            Ok(Message::Candidate(it)) => {
-                events(Event::Candidate(&it));
-                so_far.candidates.push(it);
-            }
-            Ok(Message::Done(result)) => return *result,
-            Err(mpsc::RecvTimeoutError::Timeout) => {
-                return Err(Error::TimeLimit {
-                    seconds: limit.as_secs_f64(),
-                    so_far,
-                })
-            }
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                return Err(Error::Bug(
-                    "the synthesis thread ended without a result".into(),
-                ))
-            }
-        }
+            events(e)
+        },
+        move |events| exact::run(&set, Some(&check), &opts, events),
+    );
+    match result {
+        Err(Error::Interrupted { seconds, .. }) => Err(Error::TimeLimit { seconds, so_far }),
+        r => r,
     }
 }
 
@@ -154,7 +118,8 @@ impl Owned {
 
 /// `job` (any pipeline: plain, noisy or modular synthesis, with or without NuSMV), given up
 /// after `limit` with [`Error::Interrupted`] naming the last step it reported. The job runs on
-/// a thread of its own, as in [`exact_within`], and its events reach `events` from here.
+/// a thread of its own and its events reach `events` from here ([`exact_within`] is this with
+/// what the exact loop had found when the limit passed).
 pub fn within<T: Send + 'static>(
     limit: Duration,
     events: Events<'_>,

@@ -144,6 +144,11 @@ impl Recordings {
     }
 }
 
+/// Whether a file is a log (not an fbSAT scenario file): CSV, plain or gzip, or Parquet.
+pub fn is_log(path: &Path) -> bool {
+    parquet::is_parquet(path) || is_csv(path)
+}
+
 /// The logs in a folder and its subfolders (a partitioned data set such as Spark writes:
 /// `plc=3/part-00000.parquet`): files ending in `.parquet`, `.csv` or `.csv.gz`, in path
 /// order. Hidden files and Spark's markers (`_SUCCESS`) are skipped.
@@ -163,7 +168,7 @@ pub fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, Error> {
             }
             if path.is_dir() {
                 todo.push(path);
-            } else if parquet::is_parquet(&path) || is_csv(&path) {
+            } else if is_log(&path) {
                 found.push(path);
             }
         }

@@ -11,6 +11,7 @@
 //! log's rules, so both formats give the same scenarios.
 
 use super::{csvlog, ScenarioError, ScenarioSet};
+use crate::files::csv::quote_cell as cell;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 use std::path::Path;
@@ -68,13 +69,4 @@ pub fn to_csv(file: &Path) -> Result<String, ScenarioError> {
         text.push('\n');
     }
     Ok(text)
-}
-
-/// One CSV cell, quoted when it holds a separator, a quote or a line break (RFC 4180).
-fn cell(s: &str) -> String {
-    if s.contains([',', ';', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
 }

@@ -1,7 +1,7 @@
 //! Plant-scale logs: Parquet input (written here with the `parquet` crate) and `synth batch`.
 
-use parquet::basic::{Compression, Repetition, Type as Physical};
-use parquet::data_type::{BoolType, Int64Type};
+use parquet::basic::{Compression, LogicalType, Repetition, Type as Physical};
+use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::types::Type;
@@ -19,6 +19,76 @@ fn synth(args: &[&str]) -> Output {
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
+}
+
+/// A column of a Parquet file: its name, physical type, whether it may hold nulls, and
+/// whether its bytes are UTF-8 text.
+fn field(name: &str, physical: Physical, optional: bool, text: bool) -> Arc<Type> {
+    let repetition = if optional {
+        Repetition::OPTIONAL
+    } else {
+        Repetition::REQUIRED
+    };
+    let mut b = Type::primitive_type_builder(name, physical).with_repetition(repetition);
+    if text {
+        b = b.with_logical_type(Some(LogicalType::String));
+    }
+    Arc::new(b.build().unwrap())
+}
+
+/// The values of one column in one row group; the levels of `Bools` are definition levels
+/// (0: null) for an optional column.
+enum Values {
+    Bools(Vec<bool>, Option<Vec<i16>>),
+    Longs(Vec<i64>),
+    Doubles(Vec<f64>),
+    Texts(Vec<String>),
+}
+
+/// Writes a Parquet file with the columns `fields` and one row group per entry of `groups`
+/// (one [`Values`] per column each), compressed with `compression`.
+fn write_parquet(
+    file: &Path,
+    fields: Vec<Arc<Type>>,
+    compression: Compression,
+    groups: Vec<Vec<Values>>,
+) {
+    let schema = Arc::new(
+        Type::group_type_builder("log")
+            .with_fields(fields)
+            .build()
+            .unwrap(),
+    );
+    let props = Arc::new(
+        WriterProperties::builder()
+            .set_compression(compression)
+            .build(),
+    );
+    let out = std::fs::File::create(file).unwrap();
+    let mut writer = SerializedFileWriter::new(out, schema, props).unwrap();
+    for columns in groups {
+        let mut group = writer.next_row_group().unwrap();
+        for values in columns {
+            let mut column = group.next_column().unwrap().unwrap();
+            match values {
+                Values::Bools(v, levels) => {
+                    column
+                        .typed::<BoolType>()
+                        .write_batch(&v, levels.as_deref(), None)
+                }
+                Values::Longs(v) => column.typed::<Int64Type>().write_batch(&v, None, None),
+                Values::Doubles(v) => column.typed::<DoubleType>().write_batch(&v, None, None),
+                Values::Texts(v) => {
+                    let v: Vec<ByteArray> = v.iter().map(|t| ByteArray::from(t.as_str())).collect();
+                    column.typed::<ByteArrayType>().write_batch(&v, None, None)
+                }
+            }
+            .unwrap();
+            column.close().unwrap();
+        }
+        group.close().unwrap();
+    }
+    writer.close().unwrap();
 }
 
 /// Writes the CSV log `csv` (a header of `time`, `scenario` and signal columns, 0/1 cells) as a
@@ -41,51 +111,26 @@ fn csv_to_parquet(csv: &Path, out: &Path) {
             } else {
                 Physical::BOOLEAN
             };
-            Arc::new(
-                Type::primitive_type_builder(name, physical)
-                    .with_repetition(Repetition::REQUIRED)
-                    .build()
-                    .unwrap(),
-            )
+            field(name, physical, false, false)
         })
         .collect();
-    let schema = Arc::new(
-        Type::group_type_builder("log")
-            .with_fields(fields)
-            .build()
-            .unwrap(),
-    );
-    let props = Arc::new(
-        WriterProperties::builder()
-            .set_compression(Compression::SNAPPY)
-            .build(),
-    );
-    let file = std::fs::File::create(out).unwrap();
-    let mut writer = SerializedFileWriter::new(file, schema, props).unwrap();
     // Two row groups, as a writer flushing by size would make.
-    for part in rows.chunks(rows.len().div_ceil(2)) {
-        let mut group = writer.next_row_group().unwrap();
-        let mut k = 0;
-        while let Some(mut column) = group.next_column().unwrap() {
-            let values: Vec<i64> = part.iter().map(|r| r[k]).collect();
-            if numeric(header[k]) {
-                column
-                    .typed::<Int64Type>()
-                    .write_batch(&values, None, None)
-                    .unwrap();
-            } else {
-                let bits: Vec<bool> = values.iter().map(|&v| v != 0).collect();
-                column
-                    .typed::<BoolType>()
-                    .write_batch(&bits, None, None)
-                    .unwrap();
-            }
-            column.close().unwrap();
-            k += 1;
-        }
-        group.close().unwrap();
-    }
-    writer.close().unwrap();
+    let groups = rows
+        .chunks(rows.len().div_ceil(2))
+        .map(|part| {
+            (0..header.len())
+                .map(|k| {
+                    let values: Vec<i64> = part.iter().map(|r| r[k]).collect();
+                    if numeric(header[k]) {
+                        Values::Longs(values)
+                    } else {
+                        Values::Bools(values.iter().map(|&v| v != 0).collect(), None)
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    write_parquet(out, fields, Compression::SNAPPY, groups);
 }
 
 #[test]
@@ -254,7 +299,6 @@ fn batch_writes_a_folder_per_plc_and_a_summary_table() {
 
 #[test]
 fn ingest_reads_a_parquet_data_flow_log_as_its_csv() {
-    use parquet::data_type::{ByteArray, ByteArrayType, DoubleType};
     let dir = tempfile::tempdir().unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let csv = std::fs::read_to_string(root.join("specs/tank/scenario1.csv")).unwrap();
@@ -271,60 +315,21 @@ fn ingest_reads_a_parquet_data_flow_log_as_its_csv() {
             )
         })
         .collect();
-    let field = |name: &str, physical, utf8: bool| {
-        let mut b =
-            Type::primitive_type_builder(name, physical).with_repetition(Repetition::REQUIRED);
-        if utf8 {
-            b = b.with_logical_type(Some(parquet::basic::LogicalType::String));
-        }
-        Arc::new(b.build().unwrap())
-    };
-    let schema = Arc::new(
-        Type::group_type_builder("log")
-            .with_fields(vec![
-                field("timestamp", Physical::DOUBLE, false),
-                field("address", Physical::BYTE_ARRAY, true),
-                field("value", Physical::INT64, false),
-            ])
-            .build()
-            .unwrap(),
-    );
     let parquet = dir.path().join("scenario1.parquet");
-    let props = Arc::new(WriterProperties::builder().build());
-    let mut writer =
-        SerializedFileWriter::new(std::fs::File::create(&parquet).unwrap(), schema, props).unwrap();
-    let mut group = writer.next_row_group().unwrap();
-    let mut k = 0;
-    while let Some(mut column) = group.next_column().unwrap() {
-        match k {
-            0 => {
-                let v: Vec<f64> = rows.iter().map(|r| r.0).collect();
-                column
-                    .typed::<DoubleType>()
-                    .write_batch(&v, None, None)
-                    .unwrap();
-            }
-            1 => {
-                let v: Vec<ByteArray> =
-                    rows.iter().map(|r| ByteArray::from(r.1.as_str())).collect();
-                column
-                    .typed::<ByteArrayType>()
-                    .write_batch(&v, None, None)
-                    .unwrap();
-            }
-            _ => {
-                let v: Vec<i64> = rows.iter().map(|r| r.2).collect();
-                column
-                    .typed::<Int64Type>()
-                    .write_batch(&v, None, None)
-                    .unwrap();
-            }
-        }
-        column.close().unwrap();
-        k += 1;
-    }
-    group.close().unwrap();
-    writer.close().unwrap();
+    write_parquet(
+        &parquet,
+        vec![
+            field("timestamp", Physical::DOUBLE, false, false),
+            field("address", Physical::BYTE_ARRAY, false, true),
+            field("value", Physical::INT64, false, false),
+        ],
+        Compression::UNCOMPRESSED,
+        vec![vec![
+            Values::Doubles(rows.iter().map(|r| r.0).collect()),
+            Values::Texts(rows.iter().map(|r| r.1.clone()).collect()),
+            Values::Longs(rows.iter().map(|r| r.2).collect()),
+        ]],
+    );
 
     let ingest = |log: &Path, out: &Path| {
         let o = synth(&[
@@ -412,41 +417,20 @@ fn batch_with_properties_verifies_every_machine_with_nusmv() {
 #[test]
 fn a_null_in_a_parquet_log_is_refused_at_its_row() {
     let dir = tempfile::tempdir().unwrap();
-    let field = |name: &str, repetition| {
-        Arc::new(
-            Type::primitive_type_builder(name, Physical::BOOLEAN)
-                .with_repetition(repetition)
-                .build()
-                .unwrap(),
-        )
-    };
-    let schema = Arc::new(
-        Type::group_type_builder("log")
-            .with_fields(vec![
-                field("in:a", Repetition::REQUIRED),
-                field("out:z", Repetition::OPTIONAL),
-            ])
-            .build()
-            .unwrap(),
-    );
     let file = dir.path().join("gap.parquet");
-    let props = Arc::new(WriterProperties::builder().build());
-    let mut writer =
-        SerializedFileWriter::new(std::fs::File::create(&file).unwrap(), schema, props).unwrap();
-    let mut group = writer.next_row_group().unwrap();
-    let mut a = group.next_column().unwrap().unwrap();
-    a.typed::<BoolType>()
-        .write_batch(&[false, true, true], None, None)
-        .unwrap();
-    a.close().unwrap();
-    // Rows 1 and 3 have a value, row 2 none (definition level 0).
-    let mut z = group.next_column().unwrap().unwrap();
-    z.typed::<BoolType>()
-        .write_batch(&[false, true], Some(&[1, 0, 1]), None)
-        .unwrap();
-    z.close().unwrap();
-    group.close().unwrap();
-    writer.close().unwrap();
+    // Rows 1 and 3 have a value of `out:z`, row 2 none (definition level 0).
+    write_parquet(
+        &file,
+        vec![
+            field("in:a", Physical::BOOLEAN, false, false),
+            field("out:z", Physical::BOOLEAN, true, false),
+        ],
+        Compression::UNCOMPRESSED,
+        vec![vec![
+            Values::Bools(vec![false, true, true], None),
+            Values::Bools(vec![false, true], Some(vec![1, 0, 1])),
+        ]],
+    );
     let out = dir.path().join("out");
     let o = synth(&[
         "infer",
