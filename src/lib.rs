@@ -17,7 +17,7 @@
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: the verification problem and the one verifier (closed loop, counterexamples
 //!   as negative scenarios);
-//! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, Graphviz, PNML;
+//! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, PLCopen XML, Graphviz, PNML;
 //! - [`ingest`] and [`events`]: raw PLC I/O logs to scenarios and to process-mining event logs;
 //! - [`files`]: reading user files (gzip, byte order mark) and atomic writing;
 //! - [`quote`]: user input quoted in messages, cut when it is long.

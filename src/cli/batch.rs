@@ -34,7 +34,8 @@ pub struct BatchArgs {
     /// `out/<name of the --logs folder>`.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Formats to write for every machine, comma-separated: json, fbt, smv, dot, st, pnml.
+    /// Formats to write for every machine, comma-separated: json, fbt, smv, dot, st, pnml, plcopen
+    /// (PLCopen TC6 XML, written as .xml).
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
     /// Name of the function block type in the exports.

@@ -3,7 +3,7 @@
 use super::Failure;
 use clap::Args;
 use fbsynth::events::{self, ResetActivity};
-use fbsynth::export::pnml::{write_pnml_labelled, Labels};
+use fbsynth::export::pnml::{write_pnml_labelled, Dialect, Labels};
 use fbsynth::files::same_file;
 use fbsynth::ingest::Mapping;
 use std::path::{Path, PathBuf};
@@ -37,6 +37,11 @@ pub struct EventsArgs {
     /// PNML file to write the --ecc machine's Petri net to.
     #[arg(long, value_name = "FILE", requires = "ecc")]
     pub pnml: Option<PathBuf>,
+    /// PNML of the net: iso (ISO/IEC 15909-2 P/T net in the PNML namespace, for strict tools)
+    /// or prom (what ProM and pm4py read for token replay: silent transitions and the final
+    /// marking in their own extensions, which the standard rejects).
+    #[arg(long, value_name = "DIALECT", default_value = "iso", requires = "pnml")]
+    pub pnml_dialect: Dialect,
 }
 
 /// Runs `synth events`: the XES and CSV files, then the optional Petri net.
@@ -75,7 +80,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     super::args::refuse_overwrite(&outputs, &inputs)?;
     // The net first: when it cannot be made, nothing is written.
     let net = match (&args.ecc, &args.pnml) {
-        (Some(ecc), Some(pnml)) => Some((net_of(ecc, &mapping)?, ecc, pnml)),
+        (Some(ecc), Some(pnml)) => Some((net_of(ecc, &mapping, args.pnml_dialect)?, ecc, pnml)),
         _ => None,
     };
     let s = events::write_event_logs(&args.log, &mapping, &reset, args.lenient, &args.out, &csv)
@@ -120,7 +125,11 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
 
 /// The PNML text of the Petri net of the machine in `ecc_file`, labelled with the mapping's
 /// addresses, and its number of places.
-fn net_of(ecc_file: &Path, mapping: &Mapping) -> Result<(Vec<u8>, usize), Failure> {
+fn net_of(
+    ecc_file: &Path,
+    mapping: &Mapping,
+    dialect: Dialect,
+) -> Result<(Vec<u8>, usize), Failure> {
     // Machines may be written as one line of JSON: only the file's size is limited.
     let text = fbsynth::files::read_text(ecc_file, None).map_err(Failure::input)?;
     let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
@@ -154,6 +163,6 @@ fn net_of(ecc_file: &Path, mapping: &Mapping) -> Result<(Vec<u8>, usize), Failur
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let mut buf = Vec::new();
-    write_pnml_labelled(&ecc, &labels, &name, &mut buf).map_err(Failure::input)?;
+    write_pnml_labelled(&ecc, &labels, &name, dialect, &mut buf).map_err(Failure::input)?;
     Ok((buf, ecc.states.len()))
 }

@@ -15,7 +15,8 @@ pub struct ExportArgs {
     /// The machine (JSON, as `synth infer` writes it; `-`: stdin).
     #[arg(long, value_name = "FILE")]
     pub ecc: PathBuf,
-    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml.
+    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml, plcopen
+    /// (PLCopen TC6 XML, written as .xml).
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
     /// Name of the function block type in the exports.

@@ -50,7 +50,8 @@ pub struct InferArgs {
     /// on stderr.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml.
+    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml, plcopen
+    /// (PLCopen TC6 XML, written as .xml).
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
     /// Name of the function block type in the exports (an identifier, no keyword of SMV or

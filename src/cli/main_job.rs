@@ -70,7 +70,8 @@ pub struct MainArgs {
     /// proof.
     #[arg(long, default_value_t = exact::DEFAULT_PROOF_BUDGET.as_secs_f64(), value_name = "SECONDS")]
     pub proof_budget: f64,
-    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml.
+    /// Formats to write, comma-separated: json, fbt, smv, dot, st, pnml, plcopen
+    /// (PLCopen TC6 XML, written as .xml).
     #[arg(long, value_delimiter = ',', default_value = "json,fbt,smv,dot,st")]
     pub format: Vec<String>,
     /// Name of the function block type in the exports (an identifier, no keyword of SMV or

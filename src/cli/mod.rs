@@ -264,7 +264,8 @@ pub enum Command {
     Completions(docs::CompletionsArgs),
     /// Print the manual page (roff), or write one page per command with --out.
     Man(docs::ManArgs),
-    /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot, pnml.
+    /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot, pnml,
+    /// PLCopen XML.
     Export(export::ExportArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(infer::ConvertArgs),

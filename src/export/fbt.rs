@@ -15,8 +15,8 @@
 //!   `z := NOT z;` per changed output (kept outputs get no line).
 //!
 //! The file is deterministic: the `VersionInfo` date comes from the options, never the clock.
-//! An ECC without transitions yields an `<ECC>` without `<ECTransition>`, which the DTD does
-//! not allow (`ECTransition+`); tools load it nonetheless.
+//! An ECC without transitions gets one that never fires (`START` to itself on
+//! `REQ[FALSE]`, with a comment saying so): the DTD needs at least one (`ECTransition+`).
 
 use super::{check_iec_names, NameError};
 use crate::ecc::{Ecc, Guard};
@@ -24,6 +24,9 @@ use crate::files::xml::XmlWriter;
 use crate::smv::bool_literal;
 use crate::smv::Effect;
 use std::io::{self, Write};
+
+/// The condition of the transition an ECC without transitions gets, which never fires.
+const NEVER: &str = "REQ[FALSE]";
 
 /// Options of the `.fbt` export.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -182,6 +185,21 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
                 ],
             )?;
         }
+    }
+    if ecc.states.iter().all(|s| s.transitions.is_empty()) {
+        let (px, py) = position(0, count);
+        x.leaf(
+            3,
+            "ECTransition",
+            &[
+                ("Source", &state_name(0)),
+                ("Destination", &state_name(0)),
+                ("Condition", NEVER),
+                ("Comment", "Never fires: the machine has no transitions"),
+                ("x", &(px + GRID_X / 4).to_string()),
+                ("y", &(py - GRID_Y / 3).to_string()),
+            ],
+        )?;
     }
     x.close(2, "ECC")?;
     for (i, text) in algorithms.iter().enumerate() {
@@ -391,7 +409,12 @@ pub(crate) mod tests {
                 }
             }
         }
-        let transitions = chart.all("ECTransition");
+        let mut transitions = chart.all("ECTransition");
+        if ecc.size().t == 0 {
+            assert_eq!(transitions.len(), 1);
+            assert_eq!(transitions[0].attr("Condition"), Some(NEVER));
+            transitions.clear();
+        }
         assert_eq!(transitions.len(), ecc.size().t);
         for t in &transitions {
             assert!(states.contains(&t.attr("Source").unwrap()));

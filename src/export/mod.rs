@@ -1,8 +1,8 @@
 //! Export formats of an ECC, and writing them to files.
 //!
 //! In: a valid [`Ecc`] and the formats wanted. Out: text in each format (pure emitters, one
-//! module each: [`json`], [`fbt`], [`st`], [`dot`], and the SMV module of
-//! [`crate::smv::ecc_module`]), or files written atomically by [`write_all`].
+//! module each: [`json`], [`fbt`], [`st`], [`plcopen`], [`dot`], [`pnml`], and the SMV module
+//! of [`crate::smv::ecc_module`]), or files written atomically by [`write_all`].
 //!
 //! The names that become code (IEC 61131-3 in `.fbt` and `.st`) are checked here with
 //! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`]; both rules
@@ -13,6 +13,7 @@ pub mod fbt;
 pub mod guard_text;
 pub mod json;
 pub mod modular;
+pub mod plcopen;
 pub mod pnml;
 pub mod st;
 pub mod waveform;
@@ -47,17 +48,21 @@ pub enum Format {
     /// Place/transition net for process-mining tools ([`pnml`]), labelled with the signal
     /// names; not among the defaults.
     Pnml,
+    /// PLCopen TC6 XML project with the block as an ST function block ([`plcopen`]), written
+    /// as `<stem>.xml`; not among the defaults.
+    Plcopen,
 }
 
 impl Format {
     /// Every format, in the order `--help` lists them.
-    pub const ALL: [Format; 6] = [
+    pub const ALL: [Format; 7] = [
         Format::Json,
         Format::Fbt,
         Format::Smv,
         Format::Dot,
         Format::St,
         Format::Pnml,
+        Format::Plcopen,
     ];
 
     /// The format's name on the command line, which is also its file extension.
@@ -69,12 +74,16 @@ impl Format {
             Format::Dot => "dot",
             Format::St => "st",
             Format::Pnml => "pnml",
+            Format::Plcopen => "plcopen",
         }
     }
 
-    /// File extension, without the dot.
+    /// File extension, without the dot: the name, except `xml` for PLCopen.
     pub fn extension(self) -> &'static str {
-        self.name()
+        match self {
+            Format::Plcopen => "xml",
+            f => f.name(),
+        }
     }
 }
 
@@ -87,7 +96,7 @@ impl fmt::Display for Format {
 /// A format name that is not one of [`Format::ALL`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown export format {}; valid formats: json, fbt, smv, dot, st, pnml",
+    "unknown export format {}; valid formats: json, fbt, smv, dot, st, pnml, plcopen",
     crate::quote::backquote(given)
 )]
 pub struct UnknownFormat {
@@ -97,8 +106,8 @@ pub struct UnknownFormat {
 impl FromStr for Format {
     type Err = UnknownFormat;
 
-    /// Parses `json`, `fbt`, `smv`, `dot`, `st` or `pnml` (ignoring case and surrounding
-    /// blanks).
+    /// Parses `json`, `fbt`, `smv`, `dot`, `st`, `pnml` or `plcopen` (ignoring case and
+    /// surrounding blanks).
     fn from_str(s: &str) -> Result<Format, UnknownFormat> {
         let wanted = s.trim().to_ascii_lowercase();
         Format::ALL
@@ -165,9 +174,23 @@ pub fn text(ecc: &Ecc, stem: &str, format: Format) -> Result<String, ExportError
         }
         Format::Pnml => {
             let mut buf = Vec::new();
-            pnml::write_pnml_labelled(ecc, &pnml::Labels::names(ecc), stem, &mut buf)
-                .expect("writing into memory cannot fail");
+            pnml::write_pnml_labelled(
+                ecc,
+                &pnml::Labels::names(ecc),
+                stem,
+                pnml::Dialect::Iso,
+                &mut buf,
+            )
+            .expect("writing into memory cannot fail");
             String::from_utf8(buf).expect("the emitter writes UTF-8")
+        }
+        Format::Plcopen => {
+            plcopen::check_names(ecc, stem).map_err(name_error)?;
+            let options = plcopen::PlcopenOptions {
+                block_name: stem.to_string(),
+                created: plcopen::creation_time(),
+            };
+            plcopen::to_string(ecc, &options).expect("names are checked")
         }
     })
 }
@@ -333,7 +356,7 @@ mod tests {
         let e = "svg".parse::<Format>().unwrap_err();
         assert_eq!(
             e.to_string(),
-            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st, pnml"
+            "unknown export format `svg`; valid formats: json, fbt, smv, dot, st, pnml, plcopen"
         );
     }
 

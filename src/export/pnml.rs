@@ -27,7 +27,19 @@
 //!   in the initial state) and, when a guard of state 0 holds on all-false inputs, the output
 //!   transition of the power-up scan, which fires without an input event. Everything leaving
 //!   `start` is labelled, so token replay never has to guess an invisible move. The final
-//!   marking (pm4py's `<finalmarkings>` extension) is `p0`: a reset brings the process back.
+//!   marking is `p0`: a reset brings the process back.
+//!
+//! # Dialects
+//! ISO/IEC 15909-2 leaves two things the net needs to tools: silent transitions and the final
+//! marking. [`Dialect::Iso`] (the default) writes a P/T net (type `.../grammar/ptnet`) in the
+//! PNML namespace and keeps both in `<toolspecific tool="fbsynth">` elements, which strict
+//! tools accept and ignore: `<invisible/>` in a silent transition, `<finalMarking>` (places
+//! with their token counts, as in `<initialMarking>`) in the net. [`Dialect::Prom`] writes
+//! what ProM and pm4py read instead, which the standard rejects: no namespace, the core-model
+//! type although places are marked, `<toolspecific tool="ProM" activity="$invisible$">` on
+//! silent transitions and a `<finalmarkings>` element in the net. Use it for token replay in
+//! those tools (pm4py reads an ISO net, but sees its silent transitions as visible `tau`s and
+//! no final marking).
 //!
 //! Not represented: merged input events (two inputs changing at one timestamp), and a machine
 //! that fires again without a new input event (two output events in a row).
@@ -39,7 +51,54 @@
 use crate::ecc::Ecc;
 use crate::files::xml::XmlWriter;
 use std::collections::BTreeSet;
+use std::fmt;
 use std::io::{self, Write};
+use std::str::FromStr;
+
+/// The XML namespace of ISO/IEC 15909-2 PNML documents.
+pub const NAMESPACE: &str = "http://www.pnml.org/version-2009/grammar/pnml";
+
+/// The net type URI of a place/transition net.
+pub const PTNET: &str = "http://www.pnml.org/version-2009/grammar/ptnet";
+
+/// The net type URI of the core model, which ProM and pm4py write.
+const CORE_MODEL: &str = "http://www.pnml.org/version-2009/grammar/pnmlcoremodel";
+
+/// Which PNML a net is written in; see the module header.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// ISO/IEC 15909-2 P/T net in the PNML namespace, fbsynth's tool data in
+    /// `<toolspecific>`.
+    #[default]
+    Iso,
+    /// What ProM and pm4py write and read for token replay; not valid ISO PNML.
+    Prom,
+}
+
+impl fmt::Display for Dialect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Dialect::Iso => "iso",
+            Dialect::Prom => "prom",
+        })
+    }
+}
+
+impl FromStr for Dialect {
+    type Err = String;
+
+    /// `iso` or `prom` (`pm4py` is the same), ignoring case.
+    fn from_str(s: &str) -> Result<Dialect, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "iso" => Ok(Dialect::Iso),
+            "prom" | "pm4py" => Ok(Dialect::Prom),
+            _ => Err(format!(
+                "unknown PNML dialect {}; valid: iso, prom",
+                crate::quote::backquote(s)
+            )),
+        }
+    }
+}
 
 /// How inputs and outputs appear in activities.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -82,9 +141,9 @@ fn entry_outputs(ecc: &Ecc) -> Vec<BTreeSet<Vec<bool>>> {
 /// Bound of [`entry_outputs`] per state.
 const MAX_VECTORS: usize = 64;
 
-/// Writes the net of `ecc` labelled by its own signal names.
+/// Writes the ISO net of `ecc` labelled by its own signal names.
 pub fn write_pnml(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
-    write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", w)
+    write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", Dialect::Iso, w)
 }
 
 /// Inputs up to which input events are analysed exactly (2^n vectors per state).
@@ -113,11 +172,13 @@ fn event_outcomes(ecc: &Ecc, state: usize, input: usize, value: bool) -> BTreeSe
     out
 }
 
-/// Writes the net of `ecc` with activities built from `labels`; `name` names the net.
+/// Writes the net of `ecc` in `dialect` with activities built from `labels`; `name` names the
+/// net (its `<name>`: any text; the net's `id` is `net`).
 pub fn write_pnml_labelled(
     ecc: &Ecc,
     labels: &Labels,
     name: &str,
+    dialect: Dialect,
     w: &mut impl Write,
 ) -> io::Result<()> {
     let entry = entry_outputs(ecc);
@@ -140,9 +201,14 @@ pub fn write_pnml_labelled(
         x.end(kind)?;
         x.newline()
     }
-    fn tau<W: Write>(x: &mut XmlWriter<W>, id: &str) -> io::Result<()> {
-        node(x, "transition", id, "tau", |x| {
-            x.empty(
+    let tau = |x: &mut XmlWriter<_>, id: &str| -> io::Result<()> {
+        node(x, "transition", id, "tau", |x| match dialect {
+            Dialect::Iso => {
+                x.start("toolspecific", &FBSYNTH_TOOL)?;
+                x.empty("invisible", &[])?;
+                x.end("toolspecific")
+            }
+            Dialect::Prom => x.empty(
                 "toolspecific",
                 &[
                     ("tool", "ProM"),
@@ -150,25 +216,19 @@ pub fn write_pnml_labelled(
                     ("activity", "$invisible$"),
                     ("localNodeID", id),
                 ],
-            )
+            ),
         })
-    }
+    };
     fn labelled<W: Write>(x: &mut XmlWriter<W>, id: &str, label: &str) -> io::Result<()> {
         node(x, "transition", id, label, |_| Ok(()))
     }
     x.declaration()?;
-    x.open(0, "pnml", &[])?;
-    x.open(
-        1,
-        "net",
-        &[
-            ("id", name),
-            (
-                "type",
-                "http://www.pnml.org/version-2009/grammar/pnmlcoremodel",
-            ),
-        ],
-    )?;
+    let (root, net_type): (&[(&str, &str)], &str) = match dialect {
+        Dialect::Iso => (&[("xmlns", NAMESPACE)], PTNET),
+        Dialect::Prom => (&[], CORE_MODEL),
+    };
+    x.open(0, "pnml", root)?;
+    x.open(1, "net", &[("id", "net"), ("type", net_type)])?;
     x.indent(2)?;
     x.start("name", &[])?;
     x.text_element("text", name)?;
@@ -280,18 +340,32 @@ pub fn write_pnml_labelled(
     }
     x.close(2, "page")?;
     x.indent(2)?;
-    for element in ["finalmarkings", "marking"] {
+    let final_marking: &[&str] = match dialect {
+        Dialect::Iso => {
+            x.start("toolspecific", &FBSYNTH_TOOL)?;
+            &["finalMarking"]
+        }
+        Dialect::Prom => &["finalmarkings", "marking"],
+    };
+    for element in final_marking {
         x.start(element, &[])?;
     }
     x.start("place", &[("idref", "p0")])?;
     x.text_element("text", "1")?;
-    for element in ["place", "marking", "finalmarkings"] {
+    x.end("place")?;
+    for element in final_marking.iter().rev() {
         x.end(element)?;
+    }
+    if dialect == Dialect::Iso {
+        x.end("toolspecific")?;
     }
     x.newline()?;
     x.close(1, "net")?;
     x.close(0, "pnml")
 }
+
+/// The `<toolspecific>` attributes of fbsynth's own data in an ISO net.
+const FBSYNTH_TOOL: [(&str, &str); 2] = [("tool", "fbsynth"), ("version", "1.0")];
 
 /// [`write_pnml`] into a string.
 pub fn to_string(ecc: &Ecc) -> String {
@@ -378,7 +452,7 @@ mod tests {
             outputs: vec!["%QX0.0".into(), "%QX0.1".into()],
         };
         let mut buf = Vec::new();
-        write_pnml_labelled(&ecc, &labels, "tank", &mut buf).unwrap();
+        write_pnml_labelled(&ecc, &labels, "tank", Dialect::Iso, &mut buf).unwrap();
         let xml = String::from_utf8(buf).unwrap();
         assert!(xml.contains("<text>&lt;&amp;&gt; true</text>"));
         // Drain -> Fill from the initial outputs (00) opens the inlet only; from Drain's own

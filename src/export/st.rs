@@ -58,6 +58,14 @@ pub fn write_st(ecc: &Ecc, block_name: &str, w: &mut impl Write) -> io::Result<(
     writeln!(w, "    state : INT := 0; (* current state, 0 = initial *)")?;
     writeln!(w, "END_VAR")?;
     writeln!(w)?;
+    write_statements(ecc, w)?;
+    writeln!(w, "END_FUNCTION_BLOCK")
+}
+
+/// The block's statements (what follows its declarations): clear `CNF`, then on `REQ` the
+/// `CASE` over `state`. Shared with the PLCopen body ([`super::plcopen`]), which declares the
+/// same variables in XML.
+pub(crate) fn write_statements(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     writeln!(w, "CNF := FALSE;")?;
 
     if ecc.states.iter().all(|s| s.transitions.is_empty()) {
@@ -101,7 +109,7 @@ pub fn write_st(ecc: &Ecc, block_name: &str, w: &mut impl Write) -> io::Result<(
         writeln!(w, "    END_CASE;")?;
         writeln!(w, "END_IF;")?;
     }
-    writeln!(w, "END_FUNCTION_BLOCK")
+    Ok(())
 }
 
 /// [`write_st`] into a string.

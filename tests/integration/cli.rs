@@ -1347,12 +1347,17 @@ fn export_round_trips_json_machines_of_the_shipped_cases() {
             "--name",
             "Rebuilt",
             "--format",
-            "json,fbt,smv,dot,st,pnml",
+            "json,fbt,smv,dot,st,pnml,plcopen",
         ]);
         assert!(o.status.success(), "{}", text(&o.stderr));
         let net = std::fs::read_to_string(format!("{out}/Rebuilt.pnml")).unwrap();
-        assert!(net.contains("<net id=\"Rebuilt\""), "{net}");
-        for ext in ["json", "fbt", "smv", "dot", "st", "pnml"] {
+        assert!(net.contains("<name><text>Rebuilt</text></name>"), "{net}");
+        let project = std::fs::read_to_string(format!("{out}/Rebuilt.xml")).unwrap();
+        assert!(
+            project.contains("<pou name=\"Rebuilt\" pouType=\"functionBlock\">"),
+            "{project}"
+        );
+        for ext in ["json", "fbt", "smv", "dot", "st", "pnml", "xml"] {
             assert!(dir
                 .path()
                 .join(format!("exported{k}/Rebuilt.{ext}"))

@@ -4,7 +4,8 @@ use fbsynth::ecc::{Ecc, Run};
 use fbsynth::scenario::{Origin, Scenario, ScenarioSet, Step};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 pub use fbsynth::ecc::random::random_ecc;
 
@@ -61,4 +62,29 @@ pub fn tool_or_skip(env: &str, name: &str, installer: &str) -> Option<PathBuf> {
             None
         }
     }
+}
+
+/// Validates `file` with xmllint against `schema` (a file in tests/schemas/: `.xsd` is an XML
+/// Schema, `.rng` a RELAX NG grammar, `.dtd` a DTD); the verdict and xmllint's messages.
+/// `--nonet`: a DOCTYPE's address on the web is never fetched, the given schema decides.
+pub fn xmllint(xmllint: &Path, schema: &str, file: &Path) -> (bool, String) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/schemas")
+        .join(schema);
+    let option = match path.extension().and_then(|e| e.to_str()) {
+        Some("xsd") => "--schema",
+        Some("rng") => "--relaxng",
+        Some("dtd") => "--dtdvalid",
+        _ => panic!("{schema}: not a schema xmllint reads"),
+    };
+    let o = Command::new(xmllint)
+        .args(["--noout", "--nonet", option])
+        .arg(&path)
+        .arg(file)
+        .output()
+        .expect("run xmllint");
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }

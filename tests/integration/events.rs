@@ -206,22 +206,6 @@ fn a_signal_mid_stream_leaves_no_temporary_file() {
     assert_eq!(temporaries(), Vec::<String>::new());
 }
 
-/// Validates `file` with xmllint against the schema `schema` (tests/schemas/); the verdict
-/// and xmllint's messages.
-fn xmllint(xmllint: &Path, schema: &str, file: &Path) -> (bool, String) {
-    let schema = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/schemas")
-        .join(schema);
-    let o = Command::new(xmllint)
-        .arg("--noout")
-        .arg("--schema")
-        .arg(&schema)
-        .arg(file)
-        .output()
-        .expect("run xmllint");
-    (o.status.success(), text(&o.stderr))
-}
-
 /// The XES `synth events` writes validates against the IEEE 1849 serialization
 /// (tests/schemas/xes.xsd) with a real validator, and the schema refuses what strict tools
 /// refused in earlier versions: a version that is no decimal, a classifier name with a space.
@@ -250,7 +234,7 @@ fn the_xes_validates_against_the_ieee_1849_schema() {
     );
     assert!(o.status.success(), "{}", text(&o.stderr));
     let xes = dir.path().join("t.xes");
-    let (ok, messages) = xmllint(&xmllint_bin, "xes.xsd", &xes);
+    let (ok, messages) = crate::common::xmllint(&xmllint_bin, "xes.xsd", &xes);
     assert!(ok, "{messages}");
     let text_of = std::fs::read_to_string(&xes).unwrap();
     for (what, from, to) in [
@@ -268,7 +252,7 @@ fn the_xes_validates_against_the_ieee_1849_schema() {
         assert!(text_of.contains(from), "{what}");
         let bad = dir.path().join(format!("bad_{what}.xes"));
         std::fs::write(&bad, text_of.replace(from, to)).unwrap();
-        let (ok, messages) = xmllint(&xmllint_bin, "xes.xsd", &bad);
+        let (ok, messages) = crate::common::xmllint(&xmllint_bin, "xes.xsd", &bad);
         assert!(!ok, "the schema takes a bad {what}");
         assert!(messages.contains("not a valid value"), "{messages}");
     }

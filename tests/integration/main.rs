@@ -17,5 +17,6 @@ mod modular;
 mod noisy;
 mod pipeline;
 mod robustness;
+mod schemas;
 mod synthesis;
 mod tank;

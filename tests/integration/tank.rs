@@ -198,6 +198,8 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
             json.to_str().unwrap(),
             "--pnml",
             pnml.to_str().unwrap(),
+            "--pnml-dialect",
+            "prom",
         ]);
         assert!(o.status.success(), "{}", text(&o.stderr));
         let summary = text(&o.stdout);
@@ -240,6 +242,41 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
         );
         let fitness: f64 = field(&out, "pnml_fitness").parse().unwrap();
         assert!(fitness > 0.99, "{}: fitness {fitness}", spec.name);
+        // The ISO net (the default) is the same net to pm4py: same places and transitions.
+        let iso = dir.path().join(format!("{}.iso.pnml", spec.name));
+        let o = synth(&[
+            "events",
+            "--log",
+            &log,
+            "--map",
+            "specs/tank/tank.map",
+            "--reset",
+            tank::RESET,
+            "--out",
+            dir.path().join("iso.xes").to_str().unwrap(),
+            "--ecc",
+            json.to_str().unwrap(),
+            "--pnml",
+            iso.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let check = Command::new(&python)
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/pm4py_check.py"))
+            .arg(&xes)
+            .arg("--pnml")
+            .arg(&iso)
+            .output()
+            .expect("run the pm4py check script");
+        let iso_out = text(&check.stdout);
+        assert!(check.status.success(), "{}", text(&check.stderr));
+        for key in ["pnml_places", "pnml_transitions"] {
+            assert_eq!(
+                field(&iso_out, key),
+                field(&out, key),
+                "{}: {key}",
+                spec.name
+            );
+        }
     }
 }
 
@@ -351,6 +388,8 @@ fn only_the_machine_net_notices_a_wrong_cycle_count() {
             json.to_str().unwrap(),
             "--pnml",
             pnml.to_str().unwrap(),
+            "--pnml-dialect",
+            "prom",
         ],
     );
     events(&dir.path().join("wrong.log.csv"), &wrong_xes, &[]);

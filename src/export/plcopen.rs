@@ -1,0 +1,258 @@
+//! PLCopen TC6 XML (version 2.01) project holding the ECC as one IEC 61131-3 function block in
+//! Structured Text, the exchange format of CODESYS, TwinCAT and Beremiz/OpenPLC.
+//!
+//! In: a valid [`Ecc`] and [`PlcopenOptions`]. Out: one `<project>` in the namespace
+//! [`NAMESPACE`] with
+//! - `fileHeader` (company `fbsynth`, the creation time of the options) and `contentHeader`
+//!   (the project name, the coordinate scaling the schema requires);
+//! - one `<pou pouType="functionBlock">` named after the block: `REQ` and the inputs as
+//!   `inputVars`, `CNF` and the outputs as `outputVars` (an output that starts TRUE has the
+//!   `initialValue` TRUE), `state : INT := 0` as `localVars`; all signals `BOOL`;
+//! - its body in ST: the statements of the [`st`](super::st) export, character for character,
+//!   in one XHTML paragraph (`<xhtml:p>`, as Beremiz writes it);
+//! - no configuration (`<instances><configurations/>`): the block is a library element that
+//!   the engineer instantiates in their own program.
+//!
+//! So importing the project gives the same block as pasting the `.st` file, and the names are
+//! checked by the same rule ([`st::check_names`](super::st::check_names)).
+
+use super::st;
+use super::NameError;
+use crate::ecc::Ecc;
+use crate::files::xml::XmlWriter;
+use std::io::{self, Write};
+
+/// The XML namespace of PLCopen TC6 XML 2.01.
+pub const NAMESPACE: &str = "http://www.plcopen.org/xml/tc6_0201";
+
+/// The XHTML namespace the ST body is written in.
+const XHTML: &str = "http://www.w3.org/1999/xhtml";
+
+/// Options of the PLCopen export.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlcopenOptions {
+    /// The function block's name (an IEC 61131-3 identifier), also the project's name.
+    pub block_name: String,
+    /// `creationDateTime` of the file header, an `xsd:dateTime` such as
+    /// `2026-12-03T09:00:00Z`; [`creation_time`] gives the one the command line uses.
+    pub created: String,
+}
+
+/// The creation time of an export: `SOURCE_DATE_EPOCH` (seconds since the Unix epoch, the
+/// reproducible-builds convention) when it is set and valid, otherwise the clock; in UTC,
+/// as an `xsd:dateTime`.
+pub fn creation_time() -> String {
+    let seconds = std::env::var("SOURCE_DATE_EPOCH")
+        .ok()
+        .and_then(|s| s.trim().parse::<i64>().ok())
+        .unwrap_or_else(|| time::OffsetDateTime::now_utc().unix_timestamp());
+    let t = time::OffsetDateTime::from_unix_timestamp(seconds)
+        .unwrap_or(time::OffsetDateTime::UNIX_EPOCH);
+    format!(
+        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z",
+        t.year(),
+        u8::from(t.month()),
+        t.day(),
+        t.hour(),
+        t.minute(),
+        t.second()
+    )
+}
+
+/// Checks the block name and the interface names, as for Structured Text.
+pub fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
+    st::check_names(ecc, block_name)
+}
+
+/// Writes the project; fails with [`io::ErrorKind::InvalidInput`] (wrapping a [`NameError`])
+/// before writing anything if a name is unusable.
+pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) -> io::Result<()> {
+    let name = options.block_name.as_str();
+    check_names(ecc, name)?;
+    let mut body = Vec::new();
+    st::write_statements(ecc, &mut body)?;
+    let body = String::from_utf8(body).expect("the ST emitter writes UTF-8 only");
+
+    let mut x = XmlWriter::new(w);
+    x.declaration()?;
+    x.open(
+        0,
+        "project",
+        &[("xmlns", NAMESPACE), ("xmlns:xhtml", XHTML)],
+    )?;
+    x.leaf(
+        1,
+        "fileHeader",
+        &[
+            ("companyName", "fbsynth"),
+            ("productName", "fbsynth"),
+            ("productVersion", env!("CARGO_PKG_VERSION")),
+            ("creationDateTime", &options.created),
+            ("contentDescription", &ecc_comment(ecc)),
+        ],
+    )?;
+    x.open(1, "contentHeader", &[("name", name)])?;
+    x.open(2, "coordinateInfo", &[])?;
+    for language in ["fbd", "ld", "sfc"] {
+        x.indent(3)?;
+        x.start(language, &[])?;
+        x.empty("scaling", &[("x", "1"), ("y", "1")])?;
+        x.end(language)?;
+        x.newline()?;
+    }
+    x.close(2, "coordinateInfo")?;
+    x.close(1, "contentHeader")?;
+    x.open(1, "types", &[])?;
+    x.leaf(2, "dataTypes", &[])?;
+    x.open(2, "pous", &[])?;
+    x.open(3, "pou", &[("name", name), ("pouType", "functionBlock")])?;
+    x.open(4, "interface", &[])?;
+    let inputs: Vec<(&str, bool)> = std::iter::once(("REQ", false))
+        .chain(ecc.inputs.iter().map(|i| (i.as_str(), false)))
+        .collect();
+    let outputs: Vec<(&str, bool)> = std::iter::once(("CNF", false))
+        .chain(
+            (ecc.outputs.iter())
+                .zip(&ecc.initial_outputs)
+                .map(|(z, &init)| (z.as_str(), init)),
+        )
+        .collect();
+    variables(&mut x, "inputVars", "BOOL", &inputs)?;
+    variables(&mut x, "outputVars", "BOOL", &outputs)?;
+    x.open(5, "localVars", &[])?;
+    variable(&mut x, "state", "INT", Some("0"))?;
+    x.close(5, "localVars")?;
+    x.close(4, "interface")?;
+    x.open(4, "body", &[])?;
+    x.indent(5)?;
+    x.start("ST", &[])?;
+    x.start("xhtml:p", &[])?;
+    x.text(&body)?;
+    x.end("xhtml:p")?;
+    x.end("ST")?;
+    x.newline()?;
+    x.close(4, "body")?;
+    x.close(3, "pou")?;
+    x.close(2, "pous")?;
+    x.close(1, "types")?;
+    x.open(1, "instances", &[])?;
+    x.leaf(2, "configurations", &[])?;
+    x.close(1, "instances")?;
+    x.close(0, "project")
+}
+
+/// The file header's description: what the block is and its size.
+fn ecc_comment(ecc: &Ecc) -> String {
+    format!(
+        "Function block synthesized by fbsynth ({}): each call with REQ = TRUE is one REQ \
+         event of the IEC 61499 ECC",
+        ecc.size()
+    )
+}
+
+/// A variable list (`inputVars`, `outputVars`) of `BOOL`s; `true` marks an initial TRUE.
+fn variables<W: Write>(
+    x: &mut XmlWriter<W>,
+    list: &str,
+    type_name: &str,
+    vars: &[(&str, bool)],
+) -> io::Result<()> {
+    x.open(5, list, &[])?;
+    for &(name, init) in vars {
+        variable(x, name, type_name, init.then_some("TRUE"))?;
+    }
+    x.close(5, list)
+}
+
+/// One `<variable>` of an elementary type, with its initial value if any.
+fn variable<W: Write>(
+    x: &mut XmlWriter<W>,
+    name: &str,
+    type_name: &str,
+    initial: Option<&str>,
+) -> io::Result<()> {
+    x.indent(6)?;
+    x.start("variable", &[("name", name)])?;
+    x.start("type", &[])?;
+    x.empty(type_name, &[])?;
+    x.end("type")?;
+    if let Some(value) = initial {
+        x.start("initialValue", &[])?;
+        x.empty("simpleValue", &[("value", value)])?;
+        x.end("initialValue")?;
+    }
+    x.end("variable")?;
+    x.newline()
+}
+
+/// [`write_plcopen`] into a string.
+pub fn to_string(ecc: &Ecc, options: &PlcopenOptions) -> io::Result<String> {
+    let mut buf = Vec::new();
+    write_plcopen(ecc, options, &mut buf)?;
+    Ok(String::from_utf8(buf).expect("the emitter writes UTF-8"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::xes::elements;
+    use crate::export::samples;
+
+    fn options() -> PlcopenOptions {
+        PlcopenOptions {
+            block_name: "Fb".into(),
+            created: "2026-12-03T09:00:00Z".into(),
+        }
+    }
+
+    /// One snapshot per sample ECC, named after the sample.
+    #[test]
+    fn snapshots() {
+        samples::snapshot_each_sample!(|ecc| to_string(ecc, &options()).unwrap());
+    }
+
+    /// The body is the `.st` export's statements, and the interface declares what they use.
+    #[test]
+    fn the_body_is_the_structured_text_of_the_st_export() {
+        for (name, ecc) in samples::all() {
+            let xml = to_string(&ecc, &options()).unwrap();
+            let st = st::to_string(&ecc, "Fb").unwrap();
+            let statements =
+                &st[st.find("CNF := FALSE;").unwrap()..st.rfind("END_FUNCTION_BLOCK").unwrap()];
+            let body = &xml[xml.find("<xhtml:p>").unwrap() + 9..xml.find("</xhtml:p>").unwrap()];
+            let unescaped = body
+                .replace("&lt;", "<")
+                .replace("&gt;", ">")
+                .replace("&amp;", "&");
+            assert_eq!(unescaped, statements, "{name}");
+            let declared: Vec<String> = elements(&xml)
+                .into_iter()
+                .filter(|(n, _)| n == "variable")
+                .map(|(_, a)| a[0].1.clone())
+                .collect();
+            let mut expected = vec!["REQ".to_string()];
+            expected.extend(ecc.inputs.iter().cloned());
+            expected.push("CNF".into());
+            expected.extend(ecc.outputs.iter().cloned());
+            expected.push("state".into());
+            assert_eq!(declared, expected, "{name}");
+        }
+    }
+
+    #[test]
+    fn reserved_names_are_refused_before_writing() {
+        let mut ecc = samples::tri();
+        ecc.outputs[0] = "cnf".into();
+        let mut buf = Vec::new();
+        let e = write_plcopen(&ecc, &options(), &mut buf).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
+        assert!(buf.is_empty());
+    }
+
+    #[test]
+    fn the_creation_time_is_an_xsd_date_time() {
+        let t = creation_time();
+        assert_eq!(t.len(), 20, "{t}");
+        assert!(t.ends_with('Z') && t.as_bytes()[10] == b'T', "{t}");
+    }
+}

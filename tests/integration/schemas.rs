@@ -1,0 +1,320 @@
+//! Every XML file fbsynth writes, validated by a real validator (libxml2's `xmllint`) against
+//! a schema written in the project from the standard it follows (tests/schemas/): `.fbt`
+//! against the IEC 61499-2 LibraryElement DTD, PNML against the ISO/IEC 15909-2 P/T net
+//! grammar (RELAX NG), PLCopen XML against the TC6 2.01 XML Schema. (XES: `events.rs`.) Each
+//! schema is also shown to refuse what its standard refuses, so a pass means something.
+//!
+//! Without xmllint the tests are skipped with a note, except under `CI=true`, where
+//! `.ci/install-xmllint.sh` provides it and its absence fails them.
+
+use crate::common::{tool_or_skip, xmllint};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn synth(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run synth")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+const FBT: &str = "iec61499-library-element.dtd";
+const PNML: &str = "pnml-ptnet.rng";
+const PNML_PROM: &str = "pnml-prom.rng";
+const PLCOPEN: &str = "plcopen-tc6-0201.xsd";
+
+/// The schema of a file fbsynth wrote, by its extension.
+fn schema_of(file: &Path) -> Option<&'static str> {
+    match file.extension()?.to_str()? {
+        "fbt" => Some(FBT),
+        "pnml" => Some(PNML),
+        "xml" => Some(PLCOPEN),
+        _ => None,
+    }
+}
+
+/// Machines that reach every branch of the emitters: the shipped ones, the benchmark cases'
+/// reference controllers, and the corner cases (no inputs, no transitions, keep and flip).
+fn machines(dir: &Path) -> Vec<PathBuf> {
+    let mut files = vec![
+        root().join("tests/data/export/cylinder.json"),
+        root().join("specs/distribution_reference.json"),
+    ];
+    let written = [
+        ("pnp", crate::cases::pnp::reference()),
+        ("tank1", crate::cases::tank::Program::FillDrain.reference()),
+        ("tank2", crate::cases::tank::Program::Cycles.reference()),
+    ];
+    for (name, ecc) in written {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, fbsynth::export::json::to_string(&ecc)).unwrap();
+        files.push(path);
+    }
+    let corners = [
+        (
+            "no_transitions",
+            r#"{"inputs": ["a"], "outputs": ["z"], "initial_outputs": "1",
+                "states": [{"name": "idle", "algorithm": "x"}], "transitions": []}"#,
+        ),
+        (
+            "no_inputs",
+            r#"{"inputs": [], "outputs": ["z", "w"], "initial_outputs": "00",
+                "states": [{"name": "a", "algorithm": "10"}, {"name": "b", "algorithm": "x1"}],
+                "transitions": [{"from": 0, "to": 1, "guard": "TRUE"},
+                                {"from": 1, "to": 0, "guard": "TRUE"}]}"#,
+        ),
+    ];
+    for (name, json) in corners {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, json).unwrap();
+        files.push(path);
+    }
+    files
+}
+
+/// Asserts that every file in `files` with a schema validates against it; returns how many
+/// were checked per schema.
+fn validate_all(
+    xmllint_bin: &Path,
+    files: &[PathBuf],
+) -> std::collections::BTreeMap<&'static str, usize> {
+    let mut checked = std::collections::BTreeMap::new();
+    for file in files {
+        let Some(schema) = schema_of(file) else {
+            continue;
+        };
+        let (ok, messages) = xmllint(xmllint_bin, schema, file);
+        assert!(ok, "{} against {schema}:\n{messages}", file.display());
+        *checked.entry(schema).or_insert(0) += 1;
+    }
+    checked
+}
+
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    files
+}
+
+/// `synth export` of every machine in the XML formats, and the modular output (composite and
+/// module types): all valid.
+#[test]
+fn every_exported_fbt_pnml_and_plcopen_file_validates() {
+    let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut written = Vec::new();
+    for (k, json) in machines(dir.path()).iter().enumerate() {
+        let out = dir.path().join(format!("out{k}"));
+        let o = synth(
+            dir.path(),
+            &[
+                "export",
+                "--ecc",
+                json.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--name",
+                "Machine",
+                "--format",
+                "fbt,pnml,plcopen",
+            ],
+        );
+        assert!(
+            o.status.success(),
+            "{}: {}",
+            json.display(),
+            text(&o.stderr)
+        );
+        written.extend(files_in(&out));
+    }
+    let modular = dir.path().join("modular");
+    let o = synth(
+        dir.path(),
+        &[
+            "infer",
+            "-q",
+            "--modules",
+            "2",
+            "--traces",
+            root()
+                .join("tests/data/scenarios/lamps.traces")
+                .to_str()
+                .unwrap(),
+            "--name",
+            "Line",
+            "--out",
+            modular.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    written.extend(files_in(&modular));
+    let checked = validate_all(&xmllint_bin, &written);
+    // 7 machines in 3 formats, plus the composite and its 2 module types.
+    assert_eq!(checked.get(FBT), Some(&10), "{checked:?}");
+    assert_eq!(checked.get(PNML), Some(&7), "{checked:?}");
+    assert_eq!(checked.get(PLCOPEN), Some(&7), "{checked:?}");
+}
+
+/// `synth events --pnml`: the ISO net validates against the ISO grammar; the ProM dialect
+/// validates against its own grammar and is refused by the ISO one, as strict tools refuse it.
+#[test]
+fn event_log_nets_validate_in_both_dialects() {
+    let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("tank1.json");
+    let tank = crate::cases::tank::Program::FillDrain.reference();
+    std::fs::write(&json, fbsynth::export::json::to_string(&tank)).unwrap();
+    let net = |dialect: &str| {
+        let pnml = dir.path().join(format!("{dialect}.pnml"));
+        let o = synth(
+            root(),
+            &[
+                "events",
+                "--log",
+                "specs/tank/scenario1.csv",
+                "--map",
+                "specs/tank/tank.map",
+                "--reset",
+                crate::cases::tank::RESET,
+                "--out",
+                dir.path().join(format!("{dialect}.xes")).to_str().unwrap(),
+                "--ecc",
+                json.to_str().unwrap(),
+                "--pnml",
+                pnml.to_str().unwrap(),
+                "--pnml-dialect",
+                dialect,
+            ],
+        );
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        pnml
+    };
+    let iso = net("iso");
+    let (ok, messages) = xmllint(&xmllint_bin, PNML, &iso);
+    assert!(ok, "{messages}");
+    let prom = net("prom");
+    let (ok, messages) = xmllint(&xmllint_bin, PNML_PROM, &prom);
+    assert!(ok, "{messages}");
+    let (ok, _) = xmllint(&xmllint_bin, PNML, &prom);
+    assert!(!ok, "the ISO grammar takes the ProM dialect");
+}
+
+/// Each schema refuses a file its standard refuses: the emitted file, changed in one place.
+#[test]
+fn the_schemas_refuse_what_the_standards_refuse() {
+    let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = synth(
+        dir.path(),
+        &[
+            "export",
+            "--ecc",
+            root()
+                .join("tests/data/export/cylinder.json")
+                .to_str()
+                .unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--name",
+            "Cylinder",
+            "--format",
+            "fbt,pnml,plcopen",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let cases: [(&str, &str, &str, &str, &str); 9] = [
+        // (file, schema, what, from, to)
+        (
+            "Cylinder.fbt",
+            FBT,
+            "no VersionInfo (VersionInfo+)",
+            "<VersionInfo Organization=\"fbsynth\" Version=\"1.0\" Author=\"fbsynth\" Date=\"\"/>",
+            "",
+        ),
+        (
+            "Cylinder.fbt",
+            FBT,
+            "a transition without a condition",
+            "Condition=\"REQ[atEnd]\"",
+            "",
+        ),
+        (
+            "Cylinder.pnml",
+            PNML,
+            "no PNML namespace",
+            " xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"",
+            "",
+        ),
+        (
+            "Cylinder.pnml",
+            PNML,
+            "the core-model type with markings",
+            "grammar/ptnet\"",
+            "grammar/pnmlcoremodel\"",
+        ),
+        (
+            "Cylinder.pnml",
+            PNML,
+            "a marking that is not a number",
+            "<initialMarking><text>1</text>",
+            "<initialMarking><text>one</text>",
+        ),
+        (
+            "Cylinder.pnml",
+            PNML,
+            "an arc to an unknown node",
+            "target=\"p0\"",
+            "target=\"nowhere\"",
+        ),
+        (
+            "Cylinder.xml",
+            PLCOPEN,
+            "a creation time that is no xsd:dateTime",
+            "creationDateTime=\"",
+            "creationDateTime=\"yesterday ",
+        ),
+        (
+            "Cylinder.xml",
+            PLCOPEN,
+            "an unknown POU type",
+            "pouType=\"functionBlock\"",
+            "pouType=\"block\"",
+        ),
+        (
+            "Cylinder.xml",
+            PLCOPEN,
+            "no file header",
+            "<fileHeader ",
+            "<fileHeaderX ",
+        ),
+    ];
+    for (file, schema, what, from, to) in cases {
+        let original = std::fs::read_to_string(out.join(file)).unwrap();
+        let (ok, messages) = xmllint(&xmllint_bin, schema, &out.join(file));
+        assert!(ok, "{file}: {messages}");
+        assert!(original.contains(from), "{file} has no {from}");
+        let bad = dir.path().join(format!("bad_{file}"));
+        std::fs::write(&bad, original.replacen(from, to, 1)).unwrap();
+        let (ok, _) = xmllint(&xmllint_bin, schema, &bad);
+        assert!(!ok, "{schema} takes {file} with {what}");
+    }
+}
