@@ -101,11 +101,12 @@ impl<R: BufRead> LogReader<R> {
     /// A reader over `src` (already decompressed); `file` names it in errors. Reads the header.
     pub fn new(
         file: PathBuf,
-        src: R,
+        mut src: R,
         mapping: &Mapping,
         lenient: bool,
     ) -> Result<LogReader<R>, IngestError> {
-        let mut records = Records::new(src, b',');
+        let delimiter = sniff_delimiter(&mut src);
+        let mut records = Records::new(src, delimiter);
         let read = |e| read_error(&file, e);
         let mut rows = Rows {
             format: LogFormat::Long,
@@ -374,10 +375,28 @@ fn iso_seconds(text: &str) -> Option<f64> {
     Some(at.unix_timestamp_nanos() as f64 / 1e9)
 }
 
+/// The cell delimiter of a log: `;` when the header line (as far as the reader's buffer holds
+/// it) has a `;` and no `,`, as Excel writes CSV in locales with a decimal comma; `,`
+/// otherwise. Nothing is consumed.
+fn sniff_delimiter(src: &mut impl BufRead) -> u8 {
+    let Ok(buffer) = src.fill_buf() else {
+        // The error comes back on the first read, with its place.
+        return b',';
+    };
+    let line = buffer.split(|&b| b == b'\n').next().unwrap_or_default();
+    if line.contains(&b';') && !line.contains(&b',') {
+        b';'
+    } else {
+        b','
+    }
+}
+
 fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
+    // A decimal comma (`5,25`) can only reach here from a `;`-separated log.
+    let decimal = |c: &str| c.parse::<f64>().ok().or_else(|| c.replacen(',', ".", 1).parse().ok());
     let time = std::str::from_utf8(cell)
         .ok()
-        .and_then(|c| c.parse::<f64>().ok().or_else(|| iso_seconds(c)))
+        .and_then(|c| decimal(c).or_else(|| iso_seconds(c)))
         .filter(|t| t.is_finite())
         .ok_or_else(|| bad_value(column, cell))?;
     match time.abs() <= MAX_TIMESTAMP {

@@ -1480,7 +1480,8 @@ fn dash_means_stdin_and_stdout_in_pipes() {
 }
 
 /// Common exports of the same long log read alike: ISO 8601 timestamps (UTC, with an offset,
-/// or with a space as spreadsheets write them), quoted fields and a byte order mark.
+/// or with a space as spreadsheets write them), quoted fields and a byte order mark, and `;`
+/// between cells with decimal commas.
 #[test]
 fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
     let dir = tempfile::tempdir().unwrap();
@@ -1525,6 +1526,14 @@ fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
             "style {style}"
         );
     }
+    // Excel in a locale with a decimal comma: `;` between cells, `5,25` seconds.
+    let mut log = String::from("\u{feff}timestamp;address;value\n");
+    for line in plain.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        log.push_str(&format!("{};{};{}\n", f[0].replace('.', ","), f[1], f[2]));
+    }
+    assert!(log.contains(",00;"), "{log}");
+    assert_eq!(run("semicolons.csv", &log), expected);
 }
 
 /// `--json` puts one machine-readable summary on stdout, and nothing else there.
