@@ -105,7 +105,10 @@ impl<R: BufRead> LogReader<R> {
         mapping: &Mapping,
         lenient: bool,
     ) -> Result<LogReader<R>, IngestError> {
-        let delimiter = sniff_delimiter(&mut src);
+        let delimiter = sniff_delimiter(&mut src).map_err(|source| IngestError::Io {
+            file: file.clone(),
+            source,
+        })?;
         let mut records = Records::new(src, delimiter);
         let read = |e| read_error(&file, e);
         let mut rows = Rows {
@@ -377,18 +380,15 @@ fn iso_seconds(text: &str) -> Option<f64> {
 
 /// The cell delimiter of a log: `;` when the header line (as far as the reader's buffer holds
 /// it) has a `;` and no `,`, as Excel writes CSV in locales with a decimal comma; `,`
-/// otherwise. Nothing is consumed.
-fn sniff_delimiter(src: &mut impl BufRead) -> u8 {
-    let Ok(buffer) = src.fill_buf() else {
-        // The error comes back on the first read, with its place.
-        return b',';
-    };
+/// otherwise. Nothing is consumed; a read error (a broken gzip stream) is returned.
+fn sniff_delimiter(src: &mut impl BufRead) -> std::io::Result<u8> {
+    let buffer = src.fill_buf()?;
     let line = buffer.split(|&b| b == b'\n').next().unwrap_or_default();
-    if line.contains(&b';') && !line.contains(&b',') {
+    Ok(if line.contains(&b';') && !line.contains(&b',') {
         b';'
     } else {
         b','
-    }
+    })
 }
 
 fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
