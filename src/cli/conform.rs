@@ -76,7 +76,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
     }
     if !args.refine {
         return Err(Failure::msg(
-            exit::INPUT,
+            exit::FAILED,
             format!(
                 "{} of {} traces diverge (use --refine --train FILE... to learn them)",
                 divergent,

@@ -74,7 +74,7 @@ pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
     out!("  {} answers {}", args.first.display(), answer(&d.first));
     out!("  {} answers {}", args.second.display(), answer(&d.second));
     print_structure(&matched);
-    Err(Failure::msg(exit::INPUT, "the machines differ"))
+    Err(Failure::msg(exit::FAILED, "the machines differ"))
 }
 
 /// The states matched up (first machine's state ~ second's), then every change per pair.

@@ -914,7 +914,7 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
 pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
     let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
     set.check(&ecc)
-        .map_err(|m| Failure::msg(exit::INPUT, format!("not reproduced: {m}")))?;
+        .map_err(|m| Failure::msg(exit::FAILED, format!("not reproduced: {m}")))?;
     out!(
         "replayed {} scenarios ({} steps): all reproduced by {}",
         set.scenarios.len(),

@@ -528,7 +528,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
         Ok(())
     } else {
         Err(Failure::msg(
-            exit::INPUT,
+            exit::FAILED,
             format!(
                 "not verified: {} violated",
                 report

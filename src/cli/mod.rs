@@ -183,12 +183,16 @@ use fbsynth::pipeline::{self, Class};
 pub mod exit {
     /// Success (for the main job and `verify`: every property verified).
     pub const OK: i32 = 0;
-    /// Bad input or a failed check: a clear message says what and where.
-    pub const INPUT: i32 = 1;
+    /// The check asked for came out negative: `verify` found a violated property, `diff` a
+    /// difference, `replay` or `conform` a step the machine does not reproduce.
+    pub const FAILED: i32 = 1;
     /// Command-line usage error (clap).
     pub const USAGE: i32 = 2;
     /// No machine exists within the limits given (e.g. --max-states).
     pub const NO_MACHINE: i32 = 3;
+    /// Bad input or a failed tool: a clear message says what and where (file, line, step;
+    /// NuSMV missing, crashed or out of time).
+    pub const INPUT: i32 = 4;
     /// An internal error: a bug in synth.
     pub const BUG: i32 = 70;
 }
@@ -196,10 +200,13 @@ pub mod exit {
 const EXIT_HELP: &str = "\
 Exit codes:
   0   success
-  1   bad input (file, line and step are named) or a failed check
+  1   the check came out negative: a violated property (verify), a difference (diff), a
+      step not reproduced (replay, conform)
   2   command-line usage error
   3   no machine exists within the given limits (--max-states, --max-iterations,
       --time-limit)
+  4   bad input (file, line and step are named) or a failed tool (NuSMV missing, crashed
+      or out of time)
   70  internal error: a bug in synth, please report it";
 
 const ABOUT: &str =

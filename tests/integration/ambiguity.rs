@@ -243,7 +243,7 @@ fn an_oracle_with_another_interface_is_refused() {
     ]);
     assert_eq!(
         o.status.code(),
-        Some(1),
+        Some(4),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );

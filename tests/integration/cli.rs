@@ -124,7 +124,7 @@ fn malformed_traces_fail_with_file_line_and_step_and_write_nothing() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: tests/data/scenarios/badbits.traces:3: step 1: 1 input bits, expected 2"
@@ -135,7 +135,7 @@ fn malformed_traces_fail_with_file_line_and_step_and_write_nothing() {
 #[test]
 fn contradictory_traces_name_both_scenarios() {
     let o = synth(&["infer", "--traces", &data("contradict.traces"), "-q"]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     let e = text(&o.stderr);
     assert!(
         e.contains("contradictory scenarios: tests/data/scenarios/contradict.traces:2 step 1")
@@ -155,7 +155,7 @@ fn missing_file_and_bad_format_are_reported() {
         "--output-names",
         &data("door.outputs"),
     ]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert!(
         text(&o.stderr).starts_with("error: no/such.traces: "),
         "{}",
@@ -347,7 +347,7 @@ fn outputs_never_replace_inputs() {
     let before = std::fs::read(&traces).unwrap();
     let t = traces.to_str().unwrap();
     let o = synth(&["convert", "--traces", t, "--to", "csv", "-o", t]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(text(&o.stderr).contains("would overwrite the input"));
     let names = dir.path().join("door.inputs");
     let o = synth(&[
@@ -359,7 +359,7 @@ fn outputs_never_replace_inputs() {
         "-o",
         names.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert_eq!(std::fs::read(&traces).unwrap(), before);
     assert_same_bytes(&names, data("door.inputs"));
     // ingest: -o equal to the log or to the map.
@@ -377,7 +377,7 @@ fn outputs_never_replace_inputs() {
             "-o",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
         assert!(text(&o.stderr).contains("would overwrite the input"));
     }
     assert_same_bytes(&log, "specs/tank/scenario1.csv");
@@ -396,7 +396,7 @@ fn outputs_never_replace_inputs() {
         "--csv",
         dir.path().join("e.csv").to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert_same_bytes(&map, "specs/tank/tank.map");
 }
 
@@ -535,7 +535,7 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
     };
     let plain = format!("{dir}/diagonal.traces");
     let o = main(&plain);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).ends_with(&expected(&plain)),
         "{}",
@@ -549,7 +549,7 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
     std::fs::write(&gz, enc.finish().unwrap()).unwrap();
     let gz = gz.to_str().unwrap();
     let o = main(gz);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).ends_with(&expected(gz)),
         "{}",
@@ -624,7 +624,7 @@ fn a_second_run_into_a_busy_folder_stops() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("another synth run is writing into"),
         "{}",
@@ -757,7 +757,7 @@ fn a_byte_order_mark_is_ignored_in_ltl_files() {
             "--nusmv",
             "/nonexistent/NuSMV",
         ]);
-        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
         // Progress lines start with the elapsed time, which differs from run to run.
         text(&o.stderr)
             .replace(ltl, "LTL")
@@ -833,7 +833,7 @@ fn giant() -> String {
 fn assert_short_error(o: &Output, place: &str) {
     let stderr = text(&o.stderr);
     let head: String = stderr.chars().take(600).collect();
-    assert_eq!(o.status.code(), Some(1), "{head}");
+    assert_eq!(o.status.code(), Some(4), "{head}");
     assert!(
         stderr.len() < 4096,
         "{} bytes of stderr: {head}",
@@ -1076,7 +1076,7 @@ fn ingest_refuses_a_log_without_data_rows() {
             out.to_str().unwrap(),
         ]);
         let stderr = text(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert_eq!(o.status.code(), Some(4), "{stderr}");
         assert_eq!(
             stderr,
             format!("error: {}: the log has no data rows\n", path.display())
@@ -1105,7 +1105,7 @@ fn export_name_errors_name_the_names_file_and_line() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains(&format!(
             "\nerror: {i}:2: input 2 `END_VAR` cannot be used in an IEC 61499 .fbt file"
@@ -1123,7 +1123,7 @@ fn a_contradiction_suggests_noisy_synthesis() {
     let dir = tempfile::tempdir().unwrap();
     let (log, o) = infer_glitchy_log(dir.path(), &[]);
     let stderr = text(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert_eq!(o.status.code(), Some(4), "{stderr}");
     // Both samples by their CSV rows.
     let at = |row: usize, first: usize| {
         format!(
@@ -1474,7 +1474,7 @@ fn dash_means_stdin_and_stdout_in_pipes() {
         &["infer", "--traces", "-", "--out", "-"],
         b"1\nin=REQ[1]; out=CNF[1\n",
     );
-    assert_eq!(bad.status.code(), Some(1), "{}", text(&bad.stderr));
+    assert_eq!(bad.status.code(), Some(4), "{}", text(&bad.stderr));
     assert!(text(&bad.stderr).contains("-:2"), "{}", text(&bad.stderr));
     assert!(bad.stdout.is_empty());
 }
@@ -1644,7 +1644,7 @@ fn a_negative_scenario_the_recordings_force_is_refused_with_both_places() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     let err = text(&o.stderr);
     // The passive step is recorded in scenario 1 after the same history as scenario 2's step 2.
     assert!(
@@ -1829,9 +1829,9 @@ fn every_command_takes_quiet_verbose_and_json() {
         &data("door.traces"),
         "--json",
     ]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["exit"], 1);
+    assert_eq!(v["exit"], 4);
     assert!(v["error"].as_str().unwrap().contains("missing.json"), "{v}");
     // Files written are listed.
     let out = dir.path().join("conv.csv");

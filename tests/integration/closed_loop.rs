@@ -290,7 +290,7 @@ fn bad_plants_and_specs_are_reported_with_file_and_line() {
         let o = main_job(&n.path, spec, plant, &dir, &[]);
         assert_eq!(
             o.status.code(),
-            Some(1),
+            Some(4),
             "{plant} {spec}: {}",
             text(&o.stderr)
         );
@@ -353,7 +353,7 @@ fn a_timeout_kills_what_nusmv_started_too() {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("within 1 s and was killed"),
         "{}",
@@ -415,7 +415,7 @@ fn nusmv_timeout_is_one_clear_error() {
         out.path(),
         &["--timeout", "1"],
     );
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: NuSMV did not finish checking the closed loop with plant tests/data/closed_loop/slow_frozen_plant.smv within 1 s and was killed; raise --timeout SECONDS or make the plant model smaller"
@@ -434,7 +434,7 @@ fn missing_nusmv_says_how_to_install() {
             "tests/data/closed_loop/lamp_plant.smv",
         ],
     );
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: NuSMV binary `/no/such/NuSMV` (from --nusmv or NUSMV) does not exist"
@@ -482,7 +482,7 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
         "vacuous_fairness_plant.smv",
     ];
     let no_behaviour = |plant: &str, o: &Output| {
-        assert_eq!(o.status.code(), Some(1), "{plant}: {}", text(&o.stdout));
+        assert_eq!(o.status.code(), Some(4), "{plant}: {}", text(&o.stdout));
         let err = text(&o.stderr);
         assert!(
             err.contains(&format!("plant {DIR}/{plant} has no"))
@@ -623,7 +623,7 @@ fn garbage_from_nusmv_is_shown_escaped() {
         &[],
     );
     let err = text(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(o.status.code(), Some(4), "{err}");
     assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{err:?}");
     assert!(
         err.contains("NuSMV failed (exit status: 3): \\u{1b}[2J\\u{1b}]0;owned\\u{7} broken"),

@@ -63,13 +63,13 @@ fn errors_name_their_place_and_leave_no_output() {
         )
     };
     let o = run("bad.csv", "%IX0.1 false");
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: bad.csv:3: column 'value': cannot read 'maybe'\n(--lenient skips bad rows and counts them instead)"
     );
     let o = run("bad.csv", "%IX0.9 false");
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: reset activity '%IX0.9 false': '%IX0.9' is not an address or name of the mapping"
@@ -90,7 +90,7 @@ fn errors_name_their_place_and_leave_no_output() {
             "bad.xes",
         ],
     );
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         text(&o.stderr).trim(),
         "error: the output bad.csv would overwrite the input log; give --out/--csv other paths"
@@ -121,7 +121,7 @@ fn a_net_that_fails_leaves_no_event_logs() {
             "--ecc", "m.json", "--pnml", "o.pnml",
         ],
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("'xx' is not in the mapping"),
         "{}",
@@ -147,7 +147,7 @@ fn a_timestamp_out_of_range_is_refused_not_clamped() {
             "events", "--log", "far.csv", "--map", "t.map", "--reset", "ll false", "--out", "t.xes",
         ],
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stdout));
     assert!(
         text(&o.stderr).starts_with("error: far.csv:3: column 'timestamp': '1e20' is out of range"),
         "{}",

@@ -68,7 +68,7 @@ fn a_log_line_over_the_limit_stops_ingest_and_events_with_its_place() {
         ingest(dir, "long.csv", "t.map"),
         events(dir, "long.csv", "t.map"),
     ] {
-        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
         assert_eq!(stderr(&o), want);
     }
     assert_no_output(dir);
@@ -84,7 +84,7 @@ fn an_endless_log_is_refused_at_line_1() {
         ingest(dir, "/dev/zero", "t.map"),
         events(dir, "/dev/zero", "t.map"),
     ] {
-        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
         assert_eq!(stderr(&o), want);
     }
     assert_no_output(dir);
@@ -100,7 +100,7 @@ fn an_endless_mapping_is_refused_at_line_1() {
         ingest(dir, "t.csv", "/dev/zero"),
         events(dir, "t.csv", "/dev/zero"),
     ] {
-        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
         assert_eq!(stderr(&o), want);
     }
     assert_no_output(dir);
@@ -158,7 +158,7 @@ fn endless_traces_names_ltl_and_plant_files_are_refused_at_line_1() {
         (main_job("lamp.ltl", "zero.smv"), "zero.smv"),
     ];
     for (o, file) in cases {
-        assert_eq!(o.status.code(), Some(1), "{file}: {}", stderr(&o));
+        assert_eq!(o.status.code(), Some(4), "{file}: {}", stderr(&o));
         // The main job reports its progress first.
         assert_eq!(
             stderr(&o).lines().last().unwrap(),
@@ -207,7 +207,7 @@ fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
         ),
     ];
     for (o, file) in cases {
-        assert_eq!(o.status.code(), Some(1), "{file}: {}", stderr(&o));
+        assert_eq!(o.status.code(), Some(4), "{file}: {}", stderr(&o));
         assert_eq!(
             stderr(&o),
             format!(

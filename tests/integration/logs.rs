@@ -177,7 +177,7 @@ fn a_parquet_log_gives_the_machine_of_the_same_csv_log() {
     let fake = dir.path().join("fake.parquet");
     std::fs::write(&fake, "time,scenario\n").unwrap();
     let o = synth(&["infer", "--traces", fake.to_str().unwrap(), "--out", "-"]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert!(
         text(&o.stderr).contains("fake.parquet:1: not a readable Parquet file"),
         "{}",
@@ -281,7 +281,7 @@ fn batch_writes_a_folder_per_plc_and_a_summary_table() {
         "--out",
         out2.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("1 of 5 PLCs have no machine: broken"),
         "{}",
@@ -439,7 +439,7 @@ fn a_null_in_a_parquet_log_is_refused_at_its_row() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     // Row 2 is line 3 of the CSV log it stands for.
     assert!(
         text(&o.stderr).contains("gap.parquet:3: column 2 ('out:z')"),
