@@ -12,9 +12,14 @@ use crate::ecc::{Guard, InputId};
 use pest::iterators::Pair;
 use pest::Parser;
 
-#[derive(pest_derive::Parser)]
-#[grammar = "../grammar/guard.pest"]
-struct GuardParser;
+// The parser and its `Rule` enum stay private: the grammar is an implementation detail of
+// `parse_guard`, whose errors are `GuardTextError`.
+mod parser {
+    #[derive(pest_derive::Parser)]
+    #[grammar = "../grammar/guard.pest"]
+    pub(super) struct GuardParser;
+}
+use parser::{GuardParser, Rule};
 
 /// Deepest nesting of parentheses, and longest run of `!`, a guard may have. Far beyond any
 /// guard a person writes or synthesis produces; it keeps hostile input from exhausting the
@@ -24,12 +29,28 @@ pub const MAX_DEPTH: usize = 100;
 /// Why guard text could not be parsed; `column` is 1-based, in characters.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum GuardTextError {
+    /// Not a guard: `expected` lists what could stand at `column` (an operand, `&`, ...).
     #[error("column {column}: expected {expected}")]
-    Syntax { column: usize, expected: String },
+    Syntax {
+        /// Where the text stops being a guard.
+        column: usize,
+        /// What could stand there, in words.
+        expected: String,
+    },
+    /// A name that is none of the machine's inputs.
     #[error("column {column}: unknown input {}", crate::quote::backquote(name))]
-    UnknownInput { column: usize, name: String },
+    UnknownInput {
+        /// Where the name starts.
+        column: usize,
+        /// The name as written.
+        name: String,
+    },
+    /// Parentheses or `!` nested deeper than [`MAX_DEPTH`].
     #[error("column {column}: the guard nests deeper than {MAX_DEPTH} levels")]
-    TooDeep { column: usize },
+    TooDeep {
+        /// Where the nesting passes the limit.
+        column: usize,
+    },
 }
 
 impl GuardTextError {

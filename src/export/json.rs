@@ -86,16 +86,23 @@ pub enum JsonError {
     /// Not JSON, or not the shape of the contract (missing field, wrong type, unknown field).
     #[error("{}:{line}:{column}: {message}", file.display())]
     Syntax {
+        /// The file read (`-` for stdin).
         file: PathBuf,
+        /// 1-based line of the error, as serde_json reports it.
         line: usize,
+        /// 1-based column of the error.
         column: usize,
+        /// serde_json's description.
         message: String,
     },
     /// Well-formed, but a value breaks the contract; `at` is its JSON path.
     #[error("{}: {at}: {problem}", file.display())]
     Content {
+        /// The file read (`-` for stdin).
         file: PathBuf,
+        /// The value's JSON path, e.g. `transitions[3].guard`.
         at: String,
+        /// What is wrong with it.
         problem: ContentProblem,
     },
 }
@@ -103,31 +110,66 @@ pub enum JsonError {
 /// What is wrong with one value of a well-formed document.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ContentProblem {
+    /// `states` is empty: a machine needs its initial state.
     #[error("the ECC has no states")]
     NoStates,
+    /// An input or output name that is no identifier of the languages the tool writes.
     #[error("{} cannot be used as a name: {reason}", backquote(name))]
-    BadName { name: String, reason: String },
+    BadName {
+        /// The name as written.
+        name: String,
+        /// Which rule it breaks.
+        reason: String,
+    },
+    /// Two signals with one name (inputs and outputs share one namespace).
     #[error("{} is already the name of {first}", backquote(name))]
-    DuplicateName { name: String, first: String },
+    DuplicateName {
+        /// The repeated name.
+        name: String,
+        /// The signal that has it first, e.g. `input 2`.
+        first: String,
+    },
+    /// An output string (`initial_outputs`, an algorithm) of the wrong length.
     #[error("has {found} symbols but there are {expected} outputs")]
-    Length { found: usize, expected: usize },
+    Length {
+        /// Symbols written.
+        found: usize,
+        /// Outputs of the machine.
+        expected: usize,
+    },
+    /// A symbol an output string does not allow (`0`/`1`, plus `x` in algorithms).
     #[error("column {column}: `{found}` is not one of {allowed}")]
     Symbol {
+        /// 1-based position in the string.
         column: usize,
+        /// The symbol found.
         found: char,
+        /// The symbols allowed there, in words.
         allowed: &'static str,
     },
+    /// A state with neither algorithm form.
     #[error("a state needs `algorithm`, or `algorithm0` and `algorithm1`")]
     MissingAlgorithm,
+    /// A state with both algorithm forms.
     #[error("`algorithm` cannot be given together with `algorithm0`/`algorithm1`")]
     BothAlgorithmForms,
+    /// Three-valued and binary algorithms mixed in one machine.
     #[error("this state has a {this} algorithm but state 0 has a {first} one")]
     MixedAlgorithms {
+        /// State 0's form (`three-valued` or `binary`).
         first: &'static str,
+        /// This state's form.
         this: &'static str,
     },
+    /// A transition's `from` or `to` past the last state.
     #[error("state {index} does not exist (there are {count} states)")]
-    NoSuchState { index: usize, count: usize },
+    NoSuchState {
+        /// The index given.
+        index: usize,
+        /// How many states there are.
+        count: usize,
+    },
+    /// A guard that does not parse over the machine's inputs.
     #[error("{0}")]
     Guard(GuardTextError),
 }

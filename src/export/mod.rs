@@ -100,6 +100,7 @@ impl fmt::Display for Format {
     crate::quote::backquote(given)
 )]
 pub struct UnknownFormat {
+    /// The name as given.
     pub given: String,
 }
 
@@ -128,7 +129,9 @@ pub enum ExportError {
     /// A name (the stem, or an interface name) cannot be used in a format.
     #[error("cannot export as {format}")]
     Name {
+        /// The format that cannot use the name.
         format: Format,
+        /// Which name, and why.
         #[source]
         source: NameError,
     },
@@ -138,14 +141,18 @@ pub enum ExportError {
     /// Creating, writing or renaming a file failed.
     #[error("cannot write {}", path.display())]
     Write {
+        /// The file that could not be written.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: io::Error,
     },
     /// Graphviz is installed but failed to render the drawing.
     #[error("cannot render {}", path.display())]
     Render {
+        /// The SVG file that was to be written.
         path: PathBuf,
+        /// Graphviz's failure.
         #[source]
         source: io::Error,
     },
@@ -257,9 +264,11 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
 pub struct NameError {
     /// Where the name comes from: `type name`, `input 3`, `output 1` (1-based).
     pub role: String,
+    /// The name as given.
     pub name: String,
     /// The format that cannot use it, e.g. `an IEC 61499 .fbt file`.
     pub format: &'static str,
+    /// Which rule the name breaks.
     pub reason: String,
 }
 

@@ -8,13 +8,13 @@
 //! - one `<pou pouType="functionBlock">` named after the block: `REQ` and the inputs as
 //!   `inputVars`, `CNF` and the outputs as `outputVars` (an output that starts TRUE has the
 //!   `initialValue` TRUE), `state : INT := 0` as `localVars`; all signals `BOOL`;
-//! - its body in ST: the statements of the [`st`](super::st) export, character for character,
+//! - its body in ST: the statements of the [`st`] export, character for character,
 //!   in one XHTML paragraph (`<xhtml:p>`, as Beremiz writes it);
 //! - no configuration (`<instances><configurations/>`): the block is a library element that
 //!   the engineer instantiates in their own program.
 //!
 //! So importing the project gives the same block as pasting the `.st` file, and the names are
-//! checked by the same rule ([`st::check_names`](super::st::check_names)).
+//! checked by the same rule ([`st::check_names`]).
 
 use super::st;
 use super::NameError;

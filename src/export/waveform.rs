@@ -39,7 +39,9 @@ impl Group {
 /// One value of a signal at one step.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Value {
+    /// `TRUE` or `FALSE`.
     Bool(bool),
+    /// A bounded integer.
     Int(i64),
     /// An enumeration value or a controller state name.
     Text(String),
@@ -72,7 +74,9 @@ impl Value {
 /// One signal along the lasso.
 #[derive(Debug, Clone)]
 pub struct Signal {
+    /// Where it comes from, which orders the rows.
     pub group: Group,
+    /// Its name in the closed loop.
     pub name: String,
     /// A value per step.
     pub values: Vec<Value>,
@@ -84,8 +88,11 @@ pub struct Signal {
 pub struct Waveform {
     /// What the run is a counterexample of (a property name).
     pub title: String,
+    /// The rows, in display order.
     pub signals: Vec<Signal>,
+    /// Steps in the prefix and the loop together.
     pub steps: usize,
+    /// The step the run returns to after the last one.
     pub loop_start: usize,
 }
 

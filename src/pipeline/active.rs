@@ -21,7 +21,9 @@ use std::path::PathBuf;
 /// Settings of the loop.
 #[derive(Debug, Clone)]
 pub struct Options {
+    /// How rivals are looked for each round (bounds, budget, alphabet).
     pub ambiguity: ambiguity::Options,
+    /// Rounds at most; the last one ends the loop even if the machine is still ambiguous.
     pub max_rounds: usize,
 }
 
@@ -30,6 +32,7 @@ pub struct Options {
 pub struct Round {
     /// States of the machine inferred in this round.
     pub states: usize,
+    /// What the ambiguity check said about this round's machine.
     pub verdict: Verdict,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
     pub recorded_steps: usize,
@@ -38,8 +41,11 @@ pub struct Round {
 /// The result of [`learn`].
 #[derive(Debug, Clone)]
 pub struct Learned {
+    /// The machine inferred in the last round.
     pub machine: Ecc,
+    /// The initial recordings plus every scenario recorded on the oracle.
     pub recordings: ScenarioSet,
+    /// Every round's figures, in order.
     pub rounds: Vec<Round>,
     /// Steps recorded on the oracle in all (beyond the initial recordings).
     pub recorded_steps: usize,

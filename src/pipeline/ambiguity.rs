@@ -26,6 +26,7 @@ use std::time::{Duration, Instant};
 /// Settings of the ambiguity check.
 #[derive(Debug, Clone)]
 pub struct Options {
+    /// The algorithm form of the machines (`{0, 1, x}` per output, or two bit strings).
     pub algorithms: AlgorithmKind,
     /// Rivals to list at most, at least 1 (each differs from the machine and from every
     /// rival before it).
@@ -65,14 +66,18 @@ pub const MAX_ALL_INPUTS: usize = 10;
 /// `scenario` (0-based index; `step` 0 is the initial state).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Start {
+    /// 0-based index of the scenario in the [`ScenarioSet`].
     pub scenario: usize,
+    /// Number of that scenario's steps reproduced first (0: from the initial state).
     pub step: usize,
 }
 
 /// A second machine that fits the recordings as well, and where it differs.
 #[derive(Debug, Clone)]
 pub struct Rival {
+    /// The rival machine; it reproduces every recording.
     pub ecc: Ecc,
+    /// Where the distinguishing sequence starts, after a recorded prefix.
     pub start: Start,
     /// The sequence after the prefix; `first` is the minimal machine's answer to its last
     /// step, `second` the rival's.
@@ -94,19 +99,26 @@ pub enum Verdict {
 /// The result of [`check`].
 #[derive(Debug, Clone)]
 pub struct Ambiguity {
+    /// Unique, ambiguous or unknown within the bounds.
     pub verdict: Verdict,
+    /// The rivals found, each differing from the machine and every rival before it.
     pub rivals: Vec<Rival>,
     /// Whether the list is complete within the bounds (the last search found no further
     /// rival), rather than cut by [`Options::rivals`] or the budget.
     pub complete: bool,
-    /// The bounds of a rival: states, transitions, guard literals.
+    /// States a rival may have: the machine's plus [`extra_states`](Self::extra_states).
     pub states: usize,
+    /// States a rival may have beyond the machine's ([`Options::extra_states`]).
     pub extra_states: usize,
     /// At most this many transitions per state.
     pub per_state: usize,
+    /// The longest distinguishing sequence looked for, in steps.
     pub depth: usize,
+    /// Number of input vectors the sequences were drawn from.
     pub alphabet: usize,
+    /// Whether the alphabet is every input vector rather than the recorded combinations.
     pub all_inputs: bool,
+    /// Wall-clock seconds the check took.
     pub seconds: f64,
 }
 
@@ -282,9 +294,11 @@ fn told_apart(
 /// One step of a rival's sequence as both machines answer it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Answer {
+    /// The input vector of this step.
     pub inputs: Vec<bool>,
     /// `CNF` with the outputs, or `None`.
     pub machine: Option<Vec<bool>>,
+    /// The rival's answer: `CNF` with the outputs, or `None`.
     pub rival: Option<Vec<bool>>,
     /// Part of the recorded prefix (both machines answer as recorded).
     pub recorded: bool,

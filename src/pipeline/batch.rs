@@ -27,7 +27,9 @@ use std::time::{Duration, Instant};
 /// One PLC: its name (the file's stem or the folder's name) and where its logs are.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Plc {
+    /// The PLC's name: the log file's stem or the subfolder's name.
     pub name: String,
+    /// The PLC's log file or its folder of logs.
     pub source: PathBuf,
 }
 
@@ -35,14 +37,18 @@ pub struct Plc {
 /// own closed loop), and the NuSMV that checks.
 #[derive(Debug, Clone)]
 pub struct Verification {
+    /// The LTL specification file with the properties.
     pub ltl: PathBuf,
+    /// The plant model file (SMV) every machine is closed in a loop with.
     pub plant: PathBuf,
+    /// The NuSMV that checks every PLC's closed loop.
     pub nusmv: Nusmv,
 }
 
 /// A machine for one PLC.
 #[derive(Debug, Clone)]
 pub struct Reconstruction {
+    /// The minimal machine found by exact synthesis, with its figures.
     pub synthesis: Synthesis,
     /// With a [`Verification`]: NuSMV's word that every property holds.
     pub certificate: Option<Certificate>,
@@ -51,11 +57,15 @@ pub struct Reconstruction {
 /// What one PLC gave.
 #[derive(Debug)]
 pub struct Outcome {
+    /// The PLC this is the outcome of.
     pub plc: Plc,
     /// Scenarios and steps read (zero when the logs could not be read).
     pub scenarios: usize,
+    /// Steps read in all scenarios.
     pub steps: usize,
+    /// The machine, or why there is none (read, synthesis, time limit or verification failed).
     pub result: Result<Reconstruction, Error>,
+    /// Wall-clock seconds for this PLC: reading, synthesis and verification.
     pub seconds: f64,
 }
 

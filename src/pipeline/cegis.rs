@@ -24,6 +24,7 @@ use std::time::Instant;
 /// Settings of the loop.
 #[derive(Debug, Clone)]
 pub struct Config {
+    /// Options of the SAT synthesizer (bounds, encoding, budgets).
     pub sat: Options,
     /// Give up after this many candidates.
     pub max_iterations: usize,
@@ -43,15 +44,22 @@ pub const UNCHANGED: &str = "unchanged";
 /// One iteration, for progress and for the benchmark figures.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Iteration {
+    /// 1-based number of the candidate.
     pub number: usize,
     /// Who found the verdict: `in-process` (a counterexample, fed back at once), `NuSMV`, or
     /// [`UNCHANGED`].
     pub checked_by: &'static str,
+    /// Number of states C of the candidate.
     pub c: usize,
+    /// Number of transitions T of the candidate.
     pub t: usize,
+    /// Names of the properties the candidate violates (empty: verified).
     pub failing: Vec<String>,
+    /// Number of states of the first counterexample fed back, if any.
     pub counterexample_length: Option<usize>,
+    /// Wall-clock seconds the SAT minimization of this candidate took.
     pub sat_seconds: f64,
+    /// Seconds NuSMV took on this candidate (0 when it was not asked).
     pub nusmv_seconds: f64,
     /// Time of the check that gave the verdict (NuSMV's or the in-process checker's).
     pub check_seconds: f64,
@@ -60,8 +68,11 @@ pub struct Iteration {
 /// A verified controller.
 #[derive(Debug, Clone)]
 pub struct Verified {
+    /// The verified machine and its figures.
     pub synthesis: Synthesis,
+    /// NuSMV's report: every property holds.
     pub report: Report,
+    /// Every candidate in order; the last is the result (or [`UNCHANGED`], keeping it).
     pub iterations: Vec<Iteration>,
     /// The closed-loop model NuSMV verified.
     pub model_text: String,
@@ -70,24 +81,45 @@ pub struct Verified {
 /// Why the loop ended without a verified controller.
 #[derive(Debug, thiserror::Error)]
 pub enum CegisError {
+    /// SAT synthesis found no machine within the limits, or broke an invariant.
     #[error("{0}")]
     Sat(#[from] SatError),
+    /// The closed-loop verification of a candidate gave no verdicts.
     #[error("{0}")]
     Verify(#[from] VerifyError),
+    /// `--max-iterations` candidates were checked and none was verified.
     #[error("no verified controller after {iterations} candidates (raise --max-iterations); last candidate fails: {failing}")]
-    Iterations { iterations: usize, failing: String },
+    Iterations {
+        /// The iteration limit that was reached.
+        iterations: usize,
+        /// The properties the last candidate failed, comma-separated.
+        failing: String,
+    },
     /// NuSMV and the in-process checker disagree: one of them has a bug.
     #[error("internal error (a bug in synth, please report it): NuSMV says property {property} is violated ({nusmv}), the in-process checker says it holds on the same closed loop")]
-    Disagreement { property: String, nusmv: String },
+    Disagreement {
+        /// The property the two checkers disagree on.
+        property: String,
+        /// NuSMV's verdict line for it.
+        nusmv: String,
+    },
     /// Counterexamples found on the way rule out every machine within the state limit.
     #[error("no ECC with at most {max_states} states reproduces the scenarios and avoids every counterexample found so far ({counterexamples}; the last candidate failed {failing}): these properties may not be satisfiable with this plant and these recordings; otherwise raise --max-states")]
     Exhausted {
+        /// The state limit (`--max-states`).
         max_states: usize,
+        /// Counterexamples (negative scenarios and environments) the loop had added.
         counterexamples: usize,
+        /// The properties the last candidate failed, comma-separated.
         failing: String,
     },
+    /// A property fails but NuSMV's trace lacks a controller input or output as a Boolean, so
+    /// it cannot become a negative scenario.
     #[error("property {property} fails, but NuSMV printed no usable counterexample (it needs every controller input and output as a Boolean in the trace), so the loop cannot continue")]
-    NoCounterexample { property: String },
+    NoCounterexample {
+        /// The first failing property.
+        property: String,
+    },
 }
 
 /// Runs CEGIS; `verifier` holds the closed-loop model of the current candidate.

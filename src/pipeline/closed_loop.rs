@@ -22,6 +22,7 @@ pub const DEFAULT_RESPONSE_BOUND: usize = 32;
 /// The encoding's view of a problem.
 #[derive(Debug, Clone)]
 pub struct ClosedLoop {
+    /// How plant, machine and the encoded properties fit together in the SAT encoding.
     pub spec: Arc<Spec>,
     /// Per property (spec order): `Ok(())` if encoded, else why not.
     pub coverage: Vec<Result<(), String>>,

@@ -73,9 +73,19 @@ impl fmt::Display for Place {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Extent {
     /// For `G p`: the states where `p` is definitely false, of all recorded states.
-    States { violating: usize, of: usize },
+    States {
+        /// Recorded states where `p` is definitely false.
+        violating: usize,
+        /// Recorded states in all.
+        of: usize,
+    },
     /// For any other formula: the scenarios whose run violates it, of all scenarios.
-    Scenarios { violating: usize, of: usize },
+    Scenarios {
+        /// Scenarios whose run violates the formula whatever follows.
+        violating: usize,
+        /// Scenarios in all.
+        of: usize,
+    },
 }
 
 impl fmt::Display for Extent {
@@ -101,13 +111,16 @@ pub struct RecordedViolation {
     pub line: usize,
     /// The first violating state, in the order of the scenarios and their steps.
     pub first: Place,
+    /// How much of the recordings violates the property.
     pub extent: Extent,
 }
 
 /// A property the recordings cannot decide.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Undecidable {
+    /// The property's name (label or `p<k>`).
     pub property: String,
+    /// Why the recordings cannot evaluate it.
     pub reason: NotEvaluable,
 }
 
@@ -125,7 +138,9 @@ pub struct Explanation {
 /// The recordings violate properties: no machine that reproduces them satisfies those.
 #[derive(Debug, Clone, thiserror::Error)]
 pub struct RecordingsViolate {
+    /// The specification file the properties come from, for the message.
     pub spec_file: PathBuf,
+    /// Every property violated, in spec order.
     pub violations: Vec<RecordedViolation>,
 }
 

@@ -29,6 +29,7 @@ pub struct Made {
     pub largest: usize,
     /// States in all.
     pub states: usize,
+    /// Wall-clock seconds spent making the controller (SAT).
     pub sat_seconds: f64,
     /// The controller as SMV text defining `MODULE ECC(REQ, inputs...)`.
     pub smv: String,
@@ -37,20 +38,27 @@ pub struct Made {
 /// One controller checked by NuSMV.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Round {
+    /// 1-based number of the round.
     pub number: usize,
+    /// States of the controller's largest part.
     pub largest_states: usize,
+    /// States of the controller in all.
     pub states: usize,
     /// Properties NuSMV found violated (empty: verified).
     pub failing: Vec<String>,
     /// Steps of the scenarios recorded from the oracle along the counterexamples.
     pub added_steps: usize,
+    /// Wall-clock seconds spent making the controller (SAT).
     pub sat_seconds: f64,
+    /// Seconds NuSMV took to check the controller.
     pub nusmv_seconds: f64,
 }
 
 /// The end of a successful [`run`].
 pub struct Followed {
+    /// NuSMV's report and the closed-loop model of the verified controller.
     pub certificate: super::exact::Certificate,
+    /// Every round, the last one the verified controller.
     pub rounds: Vec<Round>,
     /// The recordings and the scenarios recorded from the oracle.
     pub scenarios: ScenarioSet,

@@ -81,36 +81,63 @@ pub enum Event<'a> {
     /// A step inside a SAT minimization (solver-level detail, for verbose output).
     Solver(crate::sat::Step),
     /// The exact loop's lower bounds, from the recorded inputs alone.
-    LowerBounds { c: usize, t: usize, seconds: f64 },
+    LowerBounds {
+        /// Lower bound on the number of states C.
+        c: usize,
+        /// Lower bound on the number of transitions T.
+        t: usize,
+        /// Wall-clock seconds since the loop started, when the bounds were proven.
+        seconds: f64,
+    },
     /// One candidate of the exact loop, verified by NuSMV.
     Candidate(&'a cegis::Iteration),
     /// The search's start machine, found by SAT for the scenarios alone.
     SatStart {
+        /// The start machine's figures (C, K, T, N).
         size: crate::ecc::Size,
+        /// Wall-clock seconds the SAT synthesis took.
         seconds: f64,
     },
     /// The search begins.
     SearchStarted {
+        /// The random seed (`--seed`) that makes the run reproducible.
         seed: u64,
+        /// Number of states of every machine in the search.
         states: usize,
+        /// Number of colonies searching side by side.
         colonies: usize,
+        /// Worker threads.
         threads: usize,
+        /// The search's time limit in seconds (`--time-limit`).
         time_limit: f64,
     },
     /// A round of the search (emitted by the search at its own pace).
     SearchRound(&'a crate::search::Progress),
     /// The search ended.
     SearchEnded {
+        /// Wall-clock seconds the search ran.
         seconds: f64,
+        /// Scenario fitness evaluations.
         evaluations: u64,
+        /// Candidates verified by running NuSMV.
         nusmv_runs: u64,
+        /// Candidates judged by the in-process model checker ([`crate::check`]) without NuSMV.
         in_process_checks: u64,
+        /// Verdicts answered from the cache of machines already verified.
         cache_hits: u64,
     },
     /// NuSMV's verdict on a candidate of the noisy enumeration.
-    CandidateVerdict { failing: &'a [String] },
+    CandidateVerdict {
+        /// Names of the properties the candidate violates (empty: all hold).
+        failing: &'a [String],
+    },
     /// A noisy candidate's corrected traces go into the closed loop.
-    ClosedLoopOf { candidate: usize, errors: usize },
+    ClosedLoopOf {
+        /// The candidate's number, 1-based, in the order of [`noisy::Noisy`]'s candidates.
+        candidate: usize,
+        /// Number of recording errors ε the candidate corrects.
+        errors: usize,
+    },
     /// One controller checked in [`follow`] (a composite following a verified machine).
     Followed(&'a follow::Round),
 }
@@ -134,42 +161,61 @@ pub enum Class {
 /// Why a pipeline produced no result.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// Bad scenario input: unreadable, malformed or contradictory (the place is named).
     #[error(transparent)]
     Scenario(#[from] crate::scenario::ScenarioError),
+    /// The verification problem (plant, coupling, properties) could not be read.
     #[error(transparent)]
     Problem(#[from] crate::verify::ProblemError),
+    /// A closed-loop verification gave no verdicts.
     #[error(transparent)]
     Verify(#[from] crate::verify::VerifyError),
+    /// NuSMV could not be found, run, or its output understood.
     #[error(transparent)]
     Nusmv(#[from] crate::nusmv::NusmvError),
+    /// Exact SAT synthesis found no machine (limits too low) or failed.
     #[error(transparent)]
     Sat(#[from] crate::sat::SatError),
+    /// Modular synthesis found no controller of M modules, or was given none.
     #[error(transparent)]
     Modular(#[from] crate::sat::modular::ModularError),
+    /// A bad `--pin` argument of modular synthesis.
     #[error(transparent)]
     Pin(#[from] crate::sat::modular::PinError),
+    /// The metaheuristic search stopped without an outcome.
     #[error(transparent)]
     Search(#[from] crate::search::SearchError),
+    /// The scenarios are out of the search's reach (too many inputs or outputs, no step).
     #[error(transparent)]
     SearchData(#[from] crate::search::fitness::DataError),
+    /// The counterexample-guided loop ended without a verified controller.
     #[error(transparent)]
     Cegis(#[from] cegis::CegisError),
+    /// The recordings themselves violate properties, so no machine can satisfy them.
     #[error(transparent)]
     RecordingsViolate(#[from] explain::RecordingsViolate),
+    /// A negative scenario is forced by the recordings, so no machine can avoid it.
     #[error(transparent)]
     NegativeRecorded(#[from] crate::scenario::negative::Recorded),
+    /// Writing a result in one of the export formats failed.
     #[error(transparent)]
     Export(#[from] crate::export::ExportError),
+    /// A JSON file does not describe a usable ECC.
     #[error(transparent)]
     Json(#[from] crate::export::json::JsonError),
+    /// A name cannot be used in an output language (SMV, ST, `.fbt`, ...).
     #[error(transparent)]
     Name(#[from] crate::export::NameError),
+    /// An ECC could not be emitted as SMV.
     #[error(transparent)]
     Smv(#[from] crate::smv::SmvError),
+    /// An I/O error outside reading or writing a named user file.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// An output file could not be written (its path is named).
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),
+    /// A user's file could not be read.
     #[error(transparent)]
     Read(#[from] crate::files::ReadError),
     /// Bad input described in words (the place is in the text).
@@ -183,10 +229,20 @@ pub enum Error {
     NoMachine(String),
     /// The time limit passed before a machine was verified.
     #[error("time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): {so_far}")]
-    TimeLimit { seconds: f64, so_far: limit::SoFar },
+    TimeLimit {
+        /// The limit that passed, in seconds.
+        seconds: f64,
+        /// Lower bounds and candidates found before the limit passed.
+        so_far: limit::SoFar,
+    },
     /// The time limit passed before synthesis without NuSMV ended ([`limit::within`]).
     #[error("time limit of {seconds} s reached before a result (raise --time-limit SECONDS); the last step was: {last}")]
-    Interrupted { seconds: f64, last: String },
+    Interrupted {
+        /// The limit that passed, in seconds.
+        seconds: f64,
+        /// The last solver step the job reported, or "none yet".
+        last: String,
+    },
     /// A broken invariant.
     #[error("{0}")]
     Bug(String),

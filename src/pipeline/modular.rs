@@ -116,8 +116,11 @@ pub fn tree_nodes(set: &ScenarioSet) -> Result<usize, Error> {
 
 /// A modular controller NuSMV verified in closed loop.
 pub struct VerifiedModular {
+    /// The verified composite: M modules and their figures.
     pub synthesis: ModularSynthesis,
+    /// NuSMV's report and the closed-loop model it verified.
     pub certificate: super::exact::Certificate,
+    /// Every round of following the single verified machine ([`super::follow`]).
     pub rounds: Vec<super::follow::Round>,
     /// The scenarios the composite reproduces: the recordings and those recorded from the
     /// verified machine along counterexamples.

@@ -98,6 +98,7 @@ pub struct Noisy {
 
 /// What the closed loop made of one candidate's corrected traces.
 pub enum InLoop {
+    /// The verified machine found for the candidate's corrected traces.
     Verified(Box<Exact>),
     /// No verified machine within the limits: the reason.
     None(String),

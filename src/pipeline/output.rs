@@ -117,7 +117,9 @@ pub fn check_exportable_modular(
 pub struct Provenance<'a> {
     /// The function block type's name.
     pub name: &'a str,
+    /// The plant model file the machine was closed in a loop with.
     pub plant_file: &'a Path,
+    /// The LTL specification file with the properties checked.
     pub spec_file: &'a Path,
 }
 
@@ -175,9 +177,13 @@ pub fn write_certificate(
 /// One row of the noisy summary.
 #[derive(Debug, serde::Serialize)]
 pub struct NoisyRow {
+    /// 1-based number of the candidate (as in `candidate_<k>`).
     pub candidate: usize,
+    /// Number of recording errors ε the candidate corrects.
     pub errors: usize,
+    /// The candidate's figures C, K, T and N.
     pub size: crate::ecc::Size,
+    /// Whether every guard's literal count is proven minimal.
     pub guards_exact: bool,
     /// With a check: whether the closed loop found a verified machine for the corrected
     /// traces; `None`: not checked.
@@ -188,6 +194,7 @@ pub struct NoisyRow {
     pub why_not: Option<String>,
     /// With a check: the properties the candidate as found violates (NuSMV).
     pub as_found_violates: Option<Vec<String>>,
+    /// The candidate's folder name, `candidate_<k>`, relative to the output folder.
     pub folder: String,
 }
 

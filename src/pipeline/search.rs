@@ -195,9 +195,11 @@ pub struct Searched {
     pub outcome: Outcome,
     /// NuSMV's check of the machine in a fresh session, on every property.
     pub verification: Verification,
-    /// NuSMV runs during the search, in-process checks, and answers from the cache.
+    /// Candidates verified by running NuSMV during the search.
     pub nusmv_runs: u64,
+    /// Candidates judged by the in-process model checker ([`crate::check`]) without NuSMV.
     pub in_process_checks: u64,
+    /// Verdicts answered from the cache of machines already verified.
     pub cache_hits: u64,
     /// States reachable from the initial state.
     pub reachable_states: usize,

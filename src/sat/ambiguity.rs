@@ -40,10 +40,14 @@ use varisat::{ExtendFormula, Lit};
 /// What a rival must be and do.
 #[derive(Debug, Clone)]
 pub struct Query<'a> {
+    /// The scenario tree the rival must reproduce (every recorded point is a possible start of a
+    /// distinguishing path).
     pub tree: &'a ScenarioTree,
+    /// The algorithm form of the rival's states, as for the minimal machine.
     pub kind: AlgorithmKind,
     /// The rival's size, at most: states and transitions per state (the cube model's slots).
     pub states: usize,
+    /// Transition slots per state `K` in the cube model: the bound on the rival's out-degree.
     pub slots: usize,
     /// Time to make a rival found smaller (fewer transitions, then fewer guard literals).
     pub polish: std::time::Duration,
@@ -57,6 +61,7 @@ pub struct Query<'a> {
     pub depth: usize,
     /// Names for the decoded rival.
     pub inputs: Vec<String>,
+    /// Output names of the decoded rival, in scenario order.
     pub outputs: Vec<String>,
 }
 

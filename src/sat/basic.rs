@@ -52,6 +52,7 @@ use varisat::{ExtendFormula, Lit};
 /// Settings of a synthesis run.
 #[derive(Debug, Clone)]
 pub struct Options {
+    /// The algorithm form of every state: `Tri` (`{0, 1, x}` per output) or fbSAT's `Binary`.
     pub algorithms: AlgorithmKind,
     /// Minimize the largest out-degree `K` before `T`.
     pub minimize_k: bool,
@@ -74,8 +75,11 @@ pub struct Options {
 /// there); `out_degree` and `transitions`: upper bounds every solver call assumes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Fixed {
+    /// fbSAT's `-C`: the number of states to look for; fewer are not tried.
     pub states: Option<usize>,
+    /// fbSAT's `-K`: at most this many transitions leave any one state.
     pub out_degree: Option<usize>,
+    /// fbSAT's `-T`: at most this many transitions in all.
     pub transitions: Option<usize>,
 }
 
@@ -118,12 +122,16 @@ impl Default for Options {
 /// The result of a synthesis run.
 #[derive(Debug, Clone)]
 pub struct Synthesis {
+    /// The machine, replayed through the simulator on every scenario.
     pub ecc: Ecc,
+    /// Its `C, K, T, N`; `C` and `T` are least, `K` only with [`Options::minimize_k`], `N` when
+    /// `guards_exact`.
     pub size: Size,
     /// Whether `N` is proven minimal for the structure (guard search finished in budget).
     pub guards_exact: bool,
     /// Whether `T` is proven minimal for `C` (see [`Proofs`]).
     pub transitions_exact: bool,
+    /// Figures of the run (encoding size, solver calls, time).
     pub stats: Stats,
     /// The state of every scenario tree node (a hint for the next search, see
     /// [`Synthesizer::hint`]).
@@ -133,13 +141,22 @@ pub struct Synthesis {
 /// Figures of a run.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct Stats {
+    /// Nodes of the scenario tree, root included.
     pub tree_nodes: usize,
+    /// Distinct input vectors recorded in the tree (the alphabet before any counterexample).
     pub distinct_inputs: usize,
+    /// Passive marks of the tree: `(node, input)` pairs on which nothing may fire.
     pub passive_marks: usize,
+    /// Variables written, summed over every (re)build of the encoding and every negative
+    /// scenario or environment added.
     pub variables: usize,
+    /// Clauses written, counted like `variables`.
     pub clauses: usize,
+    /// SAT calls made, over every minimization of this synthesizer.
     pub solver_calls: usize,
+    /// Wall-clock seconds of steps 1-3 (`C`, `K`, `T`) of the latest minimization.
     pub sat_seconds: f64,
+    /// Wall-clock seconds of step 4 (guards, `N`) of the latest minimization.
     pub guard_seconds: f64,
 }
 
@@ -391,6 +408,8 @@ pub struct Synthesizer<'a> {
 }
 
 impl<'a> Synthesizer<'a> {
+    /// A synthesizer for `tree` (built from `set`, which the final replay uses) that proves every
+    /// bound ([`Proofs::Full`]). Nothing is solved before [`Self::minimize`].
     pub fn new(set: &'a ScenarioSet, tree: &'a ScenarioTree, opts: &Options) -> Synthesizer<'a> {
         Synthesizer::with_proofs(set, tree, opts, Proofs::Full)
     }
@@ -536,6 +555,8 @@ impl<'a> Synthesizer<'a> {
         self.environments.len()
     }
 
+    /// The negative scenarios added so far ([`Self::add_negative`]), in order; the CEGIS loop
+    /// reads them to count counterexamples and to skip one it already has.
     pub fn negatives(&self) -> &[NegativeScenario] {
         &self.negatives
     }
@@ -1212,6 +1233,10 @@ fn least_guards_over_structures(
     (best, exact && complete, best_colors)
 }
 
+/// One minimal ECC for the scenarios: least `C`, optionally least `K`, least `T`, then guards
+/// with least `N` (Algorithm 1), on a fresh [`Synthesizer`]. Fails with
+/// [`SatError::TooManyStates`] or [`SatError::OutOfBounds`] when no machine of at most
+/// `opts.max_states` states reproduces the tree.
 pub fn synthesize(
     set: &ScenarioSet,
     tree: &ScenarioTree,

@@ -19,6 +19,7 @@ pub struct Structure {
     pub colors: Vec<usize>,
     /// `delta[q][u]`: target of state `q` on input `u`, `None` if nothing fires (or unobserved).
     pub delta: Vec<Vec<Option<usize>>>,
+    /// `algorithms[q]`: the output algorithm of state `q`.
     pub algorithms: Vec<Algorithm>,
     /// `care_inputs[q]`: alphabet inputs on which negative scenarios need state `q` to behave
     /// exactly as the solver chose (beyond what the scenario tree fixes).

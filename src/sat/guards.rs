@@ -26,6 +26,7 @@ use varisat::{ExtendFormula, Lit};
 /// Guards of one state, in priority order.
 #[derive(Debug, Clone)]
 pub struct StateGuards {
+    /// The state's transitions in priority order (the first whose guard holds fires).
     pub transitions: Vec<Transition>,
     /// Whether the literal count is proven minimal.
     pub exact: bool,
@@ -40,6 +41,7 @@ pub struct GuardProblem {
     pub positive: Vec<Vec<Vec<bool>>>,
     /// Input vectors on which nothing fires.
     pub negative: Vec<Vec<bool>>,
+    /// Number of input variables `X` the guards range over (the length of every vector).
     pub inputs: usize,
 }
 

@@ -54,20 +54,35 @@ pub use step::{Bound, Progress, Step};
 /// Why synthesis produced no machine.
 #[derive(Debug, thiserror::Error)]
 pub enum SatError {
+    /// Every number of states up to the limit is UNSAT for the scenarios (exact synthesis,
+    /// noisy synthesis without an error bound, and the CEGIS loop once it runs out of states).
     #[error(
         "no ECC with at most {max_states} states reproduces the scenarios (raise --max-states)"
     )]
-    TooManyStates { max_states: usize },
+    TooManyStates {
+        /// The `--max-states` limit that was exhausted.
+        max_states: usize,
+    },
     /// Noisy synthesis within an error bound: the bound is the likelier culprit, since the
     /// glitches a bound leaves uncorrected contradict the recordings for every number of states.
     #[error("no ECC with at most {max_states} states reproduces the recordings with at most {max_errors} corrected samples: raise --max-errors (a log with more scan-cycle glitches needs more corrections), or --max-states")]
     TooFewErrors {
+        /// The `--max-states` limit that was exhausted.
         max_states: usize,
+        /// The `--max-errors` bound on corrected samples that was in force.
         max_errors: usize,
     },
     /// Fixed bounds ([`basic::Fixed`]) no machine meets.
     #[error("no ECC with at most {max_states} states within the bounds given ({bounds}) reproduces the scenarios")]
-    OutOfBounds { bounds: String, max_states: usize },
+    OutOfBounds {
+        /// The fixed bounds as the user gave them (the `Display` of [`basic::Fixed`]).
+        bounds: String,
+        /// The `--max-states` limit that was exhausted.
+        max_states: usize,
+    },
+    /// A broken internal invariant: a decoded machine that does not replay its scenarios, a
+    /// model lost between two solver calls, an encoding misused by its caller. The message says
+    /// which.
     #[error("internal error (a bug in synth, please report it): {0}")]
     Bug(String),
 }

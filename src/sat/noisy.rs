@@ -56,6 +56,7 @@ use varisat::{ExtendFormula, Lit};
 /// Settings of a noisy synthesis run.
 #[derive(Debug, Clone)]
 pub struct NoisyOptions {
+    /// The algorithm form of every state: `Tri` (`{0, 1, x}` per output) or fbSAT's `Binary`.
     pub algorithms: AlgorithmKind,
     /// Give up above this many states.
     pub max_states: usize,
@@ -86,7 +87,9 @@ impl Default for NoisyOptions {
 /// One minimal machine with the edge choice that gave it.
 #[derive(Debug, Clone)]
 pub struct Candidate {
+    /// The machine, replayed through the simulator on its corrected traces.
     pub ecc: Ecc,
+    /// Its size `C, K, T, N`: `C, K, T` are Algorithm 1's least `N, K, R`.
     pub size: Size,
     /// Number of alternative edges used: errors corrected in the traces.
     pub errors: usize,
@@ -101,19 +104,28 @@ pub struct Candidate {
 /// What the caller wants after seeing a candidate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Flow {
+    /// Look for the next candidate.
     Continue,
+    /// End the enumeration with the candidates so far (`exhausted` is false).
     Stop,
 }
 
 /// Figures of a run.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct NoisyStats {
+    /// Nodes of the trace graph.
     pub graph_nodes: usize,
+    /// Distinct scenarios (one chain each) in the graph.
     pub distinct_traces: usize,
+    /// Alternative edges: places where a scan-cycle glitch may be corrected.
     pub alternatives: usize,
+    /// Distinct input vectors in the graph.
     pub distinct_inputs: usize,
+    /// Variables of the encoding as built, summed over every window of states tried.
     pub variables: usize,
+    /// Clauses of the encoding as built (blocking clauses of the enumeration not counted).
     pub clauses: usize,
+    /// SAT calls made, minimization and enumeration.
     pub solver_calls: usize,
     /// Seconds to find `N, K, R`.
     pub minimize_seconds: f64,
@@ -135,6 +147,7 @@ pub struct NoisySynthesis {
     /// Whether enumeration ran until no further choice exists within the error bound
     /// (false: stopped by `enumerate`, `max_calls` or the caller).
     pub exhausted: bool,
+    /// Figures of the run (graph, encoding size, solver calls, time).
     pub stats: NoisyStats,
 }
 

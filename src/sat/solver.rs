@@ -18,8 +18,11 @@ use varisat::{ExtendFormula, Lit, Var};
 /// What a solver has been given and asked.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SolverStats {
+    /// Variables allocated.
     pub variables: usize,
+    /// Clauses added (assumptions are not clauses).
     pub clauses: usize,
+    /// Solve calls made, budgeted ones ([`Solver::solve_within`]) included.
     pub calls: usize,
 }
 
@@ -33,7 +36,10 @@ pub struct Solver {
 
 /// The outcome of a solve with a time budget.
 pub enum Bounded {
+    /// Satisfiable under the assumptions, with a model.
     Sat(Model),
+    /// Unsatisfiable under the assumptions (in a minimization: nothing within the bounds they
+    /// state).
     Unsat,
     /// The budget ran out first.
     Unknown,
@@ -64,6 +70,7 @@ impl Default for Solver {
 }
 
 impl Solver {
+    /// An empty solver that keeps no copy of its clauses.
     pub fn new() -> Solver {
         Solver {
             inner: varisat::Solver::new(),
@@ -199,6 +206,8 @@ impl ExtendFormula for Solver {
 pub struct Model(Vec<bool>);
 
 impl Model {
+    /// The assignment that makes every literal of `lits` true (varisat's model);
+    /// variables not mentioned are false.
     pub fn new(lits: &[Lit]) -> Model {
         let mut values = vec![false; lits.len() + 1];
         for l in lits {
@@ -211,6 +220,7 @@ impl Model {
         Model(values)
     }
 
+    /// Whether `l` is true in the model (a variable beyond the model counts as false).
     pub fn value(&self, l: Lit) -> bool {
         self.0.get(l.var().index()).copied().unwrap_or(false) == l.is_positive()
     }

@@ -41,53 +41,106 @@ impl fmt::Display for Bound {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
     /// The solver is asked for a machine with `bound <= value`.
-    Trying { bound: Bound, value: usize },
+    Trying {
+        /// The size bounded.
+        bound: Bound,
+        /// The bound assumed in this call.
+        value: usize,
+    },
     /// `value` is the least `bound`.
-    Minimal { bound: Bound, value: usize },
+    Minimal {
+        /// The size minimized.
+        bound: Bound,
+        /// The least value found: satisfiable here, refuted one below (unless a floor or a
+        /// proof budget ended the descent).
+        value: usize,
+    },
     /// The first states bound of a single machine, with the problem's figures.
     TryingStates {
+        /// The number of states `C` tried.
         c: usize,
+        /// Nodes of the scenario tree, root included.
         tree_nodes: usize,
+        /// Input vectors of the alphabet (the tree's, then those counterexamples brought).
         inputs: usize,
+        /// Negative scenarios encoded so far.
         negatives: usize,
     },
     /// The least C, and the first machine's K and T.
-    StatesMinimal { c: usize, k: usize, t: usize },
+    StatesMinimal {
+        /// The least number of states.
+        c: usize,
+        /// Largest out-degree of the first machine found with `c` states (not yet minimized).
+        k: usize,
+        /// Transitions of that machine (not yet minimized).
+        t: usize,
+    },
     /// Guards minimized after the structure (tree-exact model).
-    Guards { n: usize, exact: bool },
+    Guards {
+        /// Guard literals in all.
+        n: usize,
+        /// Whether `n` is proven least (the guard search finished within its budget).
+        exact: bool,
+    },
     /// The encoding is rebuilt for a larger window of states.
-    Reencoding { states: usize, per_module: bool },
+    Reencoding {
+        /// The new window: states at most (per module with `per_module`).
+        states: usize,
+        /// Whether the window bounds each module of a modular controller.
+        per_module: bool,
+    },
     /// The trace graph of a noisy log.
     TraceGraph {
+        /// Nodes of the graph.
         nodes: usize,
+        /// Distinct scenarios (chains) in the graph.
         traces: usize,
+        /// Alternative edges: places where a glitch may be corrected.
         alternatives: usize,
+        /// Distinct input vectors.
         inputs: usize,
     },
     /// A candidate of the noisy enumeration.
     Candidate {
+        /// Its position in the enumeration, from 1.
         number: usize,
+        /// Corrected errors `ε`: alternative edges it uses.
         errors: usize,
+        /// Its size `C, K, T, N`.
         size: Size,
     },
     /// Modular: the states bound per module.
     TryingModules {
+        /// States per module at most, tried.
         states: usize,
+        /// The number of modules `M`.
         modules: usize,
+        /// Nodes of the scenario tree, root included.
         tree_nodes: usize,
     },
     /// Modular: the least largest module.
-    LargestModule { states: usize },
+    LargestModule {
+        /// States of the largest module.
+        states: usize,
+    },
     /// The plateau search: with at most `states` states the least machine has `n` guard
     /// literals; the fewest so far are `best`.
     Plateau {
+        /// The number of states of this round (fixed, as fbSAT's `-C`).
         states: usize,
+        /// Guard literals of the least machine with that many states.
         n: usize,
+        /// The fewest guard literals so far, this round included.
         best: usize,
     },
     /// Modular: no module of at most `states` states fits, which the least single machine shows
     /// is for want of slots: `slots` per state from now on.
-    WideningSlots { slots: usize, states: usize },
+    WideningSlots {
+        /// Transition slots per state from now on (one more than before).
+        slots: usize,
+        /// The states bound refuted: the least single machine's number of states.
+        states: usize,
+    },
 }
 
 impl fmt::Display for Step {

@@ -14,7 +14,9 @@ use varisat::{ExtendFormula, Lit};
 /// is written once for the basic, noisy and modular encodings.
 #[derive(Debug, Clone, Copy)]
 pub struct Coloring<'a> {
+    /// `C_max`: states allocated (the window); those in use are a prefix `0..C`.
     pub c_max: usize,
+    /// Number of outputs `Z` (the row length of `a0` and `a1`).
     pub outputs: usize,
     /// `used[q]`: state `q` exists; states in use form a prefix `0..C`.
     pub used: &'a [Lit],
@@ -22,12 +24,14 @@ pub struct Coloring<'a> {
     pub color: &'a [Lit],
     /// `a0[q][z]` / `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0 / 1.
     pub a0: &'a [Lit],
+    /// `a1[q][z]`: see `a0`, when output `z` was 1.
     pub a1: &'a [Lit],
     /// `edge[q][q']`: some transition leads from `q` to `q'` (the basic encoding's `t`, the
     /// modular encoding's `tr`).
     pub edge: &'a [Lit],
     /// `parent[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
     pub parent: &'a [Lit],
+    /// The whole controller, or one module with its ownership and firing literals.
     pub scope: Scope<'a>,
 }
 
@@ -39,22 +43,29 @@ pub enum Scope<'a> {
     /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
     /// with `reads[x]` (α) and fires on the tree edge into `v` iff `fires[v]`.
     Module {
+        /// `owns[z]` (θ): the module owns output `z`.
         owns: &'a [Lit],
+        /// `reads[x]` (α): the module reads input variable `x`.
         reads: &'a [Lit],
+        /// `fires[v]`: the module makes a transition on the tree edge into node `v`.
         fires: &'a [Lit],
     },
 }
 
 impl Coloring<'_> {
+    /// `used[q]`: state `q` exists.
     pub fn used(&self, q: usize) -> Lit {
         self.used[q]
     }
+    /// `color[v][q]`: tree node `v` is coloured with state `q`.
     pub fn color(&self, v: NodeId, q: usize) -> Lit {
         self.color[v.0 * self.c_max + q]
     }
+    /// `a0[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0.
     pub fn a0(&self, q: usize, z: usize) -> Lit {
         self.a0[q * self.outputs + z]
     }
+    /// `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 1.
     pub fn a1(&self, q: usize, z: usize) -> Lit {
         self.a1[q * self.outputs + z]
     }
@@ -66,9 +77,11 @@ impl Coloring<'_> {
             self.a0(q, z)
         }
     }
+    /// `edge[q][target]`: some transition leads from `q` to `target`.
     pub fn edge(&self, q: usize, target: usize) -> Lit {
         self.edge[q * self.c_max + target]
     }
+    /// `parent[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
     pub fn parent(&self, j: usize, i: usize) -> Lit {
         self.parent[j * self.c_max + i]
     }
@@ -91,9 +104,15 @@ pub enum GuardModel {
 /// All variables of the basic ECC encoding for at most `c_max` states.
 #[derive(Debug, Clone)]
 pub struct Vars {
+    /// `C_max`: states allocated (the window); a smaller `C` is an assumption
+    /// ([`Vars::states_at_most`]).
     pub c_max: usize,
+    /// Number of scenario-tree nodes coloured.
     pub nodes: usize,
+    /// Input vectors allocated so far: the tree's, then those counterexamples bring
+    /// ([`Vars::add_input`]).
     pub inputs: usize,
+    /// Number of outputs `Z`.
     pub outputs: usize,
     used: Vec<Lit>,
     color: Vec<Lit>,
@@ -109,6 +128,7 @@ pub struct Vars {
     m: Vec<Vec<Lit>>,
     /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
     nm: Vec<Vec<Lit>>,
+    /// How guards are modelled; in the cube model it holds the slot variables.
     pub guards: GuardModel,
 }
 
@@ -192,12 +212,16 @@ impl Vars {
         self.c_max
     }
 
+    /// `used[q]`: state `q` exists (states in use form a prefix).
     pub fn used(&self, q: usize) -> Lit {
         self.used[q]
     }
+    /// `color[v][q]`: tree node `v` is coloured with state `q`.
     pub fn color(&self, v: NodeId, q: usize) -> Lit {
         self.color[v.0 * self.c_max + q]
     }
+    /// `y[u][q][target]`: in state `q`, input `u` leads to `target` (`target = C_max` is `⊥`:
+    /// nothing fires).
     pub fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
         self.y[u.0][q * (self.c_max + 1) + target]
     }
@@ -205,12 +229,15 @@ impl Vars {
     pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
         self.coloring().a(q, z, old)
     }
+    /// `t[q][target]`: some input leads from `q` to `target`.
     pub fn t(&self, q: usize, target: usize) -> Lit {
         self.t[q * self.c_max + target]
     }
+    /// `m[u][i][j]`: `u` is the smallest input on which `i` goes to `j` (BFS symmetry breaking).
     pub fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
         self.m[u.0][i * self.c_max + j]
     }
+    /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
     pub fn nm(&self, i: usize, u: usize, j: usize) -> Lit {
         self.nm[u][i * self.c_max + j]
     }
@@ -232,9 +259,13 @@ impl Vars {
 /// at once ([`Self::add_inputs`]); only a single machine's alphabet grows one vector at a time.
 #[derive(Debug, Clone)]
 pub struct CubeVars {
+    /// Machines sharing the layout: 1 for an ECC, `M` for a modular controller.
     pub machines: usize,
+    /// States per machine `C_max`.
     pub c_max: usize,
+    /// Transition slots per state `K`: the bound on a state's out-degree.
     pub slots: usize,
+    /// Input variables `X` a guard may test.
     pub bits: usize,
     /// Input vectors allocated so far.
     vectors: usize,
@@ -294,18 +325,24 @@ impl CubeVars {
     fn at(&self, m: usize, u: InputVec, q: usize) -> usize {
         (m * self.vectors + u.0) * self.c_max + q
     }
+    /// `en[m][q][k]`: slot `k` of state `q` of machine `m` holds a transition.
     pub fn en(&self, m: usize, q: usize, k: usize) -> Lit {
         self.en[self.slot(m, q, k)]
     }
+    /// `tgt[m][q][k][t]`: that slot's transition leads to state `t`.
     pub fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
         self.tgt[self.slot(m, q, k) * self.c_max + t]
     }
+    /// `pos[m][q][k][x]`: that slot's guard contains the literal `x`.
     pub fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
         self.pos[self.slot(m, q, k) * self.bits + x]
     }
+    /// `neg[m][q][k][x]`: that slot's guard contains the literal `!x`.
     pub fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
         self.neg[self.slot(m, q, k) * self.bits + x]
     }
+    /// `fire[m][u][q][k]`: the guard of slot `k` of state `q` holds on input vector `u` (whether
+    /// or not an earlier slot fires first).
     pub fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
         self.fire[self.at(m, u, q) * self.slots + k]
     }

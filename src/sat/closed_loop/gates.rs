@@ -10,7 +10,9 @@ use varisat::{ExtendFormula, Lit};
 /// A Boolean that is a constant or a literal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum B {
+    /// A constant, folded away by every gate.
     C(bool),
+    /// A solver literal.
     L(Lit),
 }
 
@@ -30,10 +32,12 @@ impl std::ops::Not for B {
 pub struct Fd(pub Vec<(Value, B)>);
 
 impl Fd {
+    /// The value `v` unconditionally.
     pub fn constant(v: Value) -> Fd {
         Fd(vec![(v, B::C(true))])
     }
 
+    /// A Boolean as a value of the domain `{FALSE, TRUE}`.
     pub fn of_bool(b: B) -> Fd {
         match b {
             B::C(c) => Fd::constant(Value::Bool(c)),
@@ -61,10 +65,13 @@ impl Fd {
 
 /// Gate builder over a clause sink.
 pub struct Gates<'f, F: ExtendFormula> {
+    /// The clause sink every gate writes into (the solver, or a `CnfFormula` in tests).
     pub f: &'f mut F,
 }
 
 impl<F: ExtendFormula> Gates<'_, F> {
+    /// Adds `OR lits`: skipped when a constant is true, false constants dropped (so all-false
+    /// constants add the empty clause and make the formula UNSAT).
     pub fn clause(&mut self, lits: &[B]) {
         if lits.contains(&B::C(true)) {
             return;
@@ -79,6 +86,7 @@ impl<F: ExtendFormula> Gates<'_, F> {
         self.f.add_clause(&ls);
     }
 
+    /// A fresh unconstrained literal.
     pub fn fresh(&mut self) -> Lit {
         self.f.new_lit()
     }
@@ -122,10 +130,12 @@ impl<F: ExtendFormula> Gates<'_, F> {
         !self.and(&neg)
     }
 
+    /// `o <-> a & b`.
     pub fn and2(&mut self, a: B, b: B) -> B {
         self.and(&[a, b])
     }
 
+    /// `o <-> a | b`.
     pub fn or2(&mut self, a: B, b: B) -> B {
         self.or(&[a, b])
     }

@@ -20,6 +20,7 @@ use varisat::ExtendFormula;
 pub struct MachineState {
     /// One-hot over `0..C_max`.
     pub state: Vec<B>,
+    /// Output values, one per machine output (scenario order).
     pub outputs: Vec<B>,
 }
 

@@ -44,6 +44,7 @@ use varisat::ExtendFormula;
 /// How machine, plant and properties fit together, checked by the caller.
 #[derive(Debug, Clone)]
 pub struct Spec {
+    /// The plant as a finite-state model (the SMV subset the plants use).
     pub plant: Arc<Model>,
     /// Per machine input (scenario order): the plant variable or define it reads.
     pub inputs: Vec<Name>,
@@ -56,6 +57,7 @@ pub struct Spec {
     /// Steps unrolled after the environment's end: within them eventualities must be
     /// fulfilled, and safety properties are required on them too.
     pub response_bound: usize,
+    /// The machine's output values before its first step (scenario order).
     pub initial_outputs: Vec<bool>,
 }
 
@@ -81,6 +83,7 @@ impl Environment {
 /// Figures of one encoded environment.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Unrolled {
+    /// Positions unrolled: the environment's steps plus [`Spec::response_bound`].
     pub steps: usize,
 }
 

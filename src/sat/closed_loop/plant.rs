@@ -13,8 +13,11 @@ use varisat::ExtendFormula;
 /// One step's view for evaluation: the state, the controller outputs the plant reads (per
 /// parameter), and the defines evaluated so far.
 pub struct Frame<'s> {
+    /// The plant state: one value per plant variable ([`crate::plant::VarId`] order).
     pub state: &'s [Fd],
+    /// Per plant parameter: the controller output it reads ([`super::Spec::params`]).
     pub params: &'s [B],
+    /// `defines[d]`: define `d` once evaluated on this frame (memo; `None` until read).
     pub defines: Vec<Option<Fd>>,
     /// While the next state is computed: the environment's next values and the next values
     /// found so far (a `next` assignment may read another variable's next value; the parser
@@ -23,6 +26,7 @@ pub struct Frame<'s> {
 }
 
 impl<'s> Frame<'s> {
+    /// A frame on `state` and `params` with no define evaluated yet, before the next state.
     pub fn new(model: &Model, state: &'s [Fd], params: &'s [B]) -> Frame<'s> {
         Frame {
             state,

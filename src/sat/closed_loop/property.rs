@@ -35,6 +35,8 @@ pub struct Run<'a> {
     pub env: &'a [HashMap<String, Value>],
     /// The environment's lasso: position `t` of the run is environment position `lasso(t)`.
     pub env_len: usize,
+    /// Where the environment's loop starts: environment position `p >= env_len` is
+    /// `env_loop + (p - env_loop) % (env_len - env_loop)`.
     pub env_loop: usize,
     /// Symbolic constants of the plant, for comparisons such as `mode = idle`.
     pub symbol: &'a dyn Fn(&str) -> Option<Value>,
@@ -112,6 +114,7 @@ struct ChainKey {
 }
 
 impl<'r> Bounded<'r> {
+    /// An encoding of `run` with nothing required yet.
     pub fn new(run: &'r Run<'r>) -> Bounded<'r> {
         Bounded {
             run,

@@ -52,6 +52,7 @@ pub struct ModularOptions {
     pub slots: usize,
     /// Give up above this many states in one module.
     pub max_states: usize,
+    /// The algorithm form of every module's states (`Tri` or fbSAT's `Binary`).
     pub algorithms: AlgorithmKind,
     /// `pins[m]`: outputs that must belong to module `m` (0-based; may be shorter than `M`).
     pub pins: Vec<Vec<OutputId>>,
@@ -78,18 +79,26 @@ impl Default for ModularOptions {
 /// The result of a modular synthesis run.
 #[derive(Debug, Clone)]
 pub struct ModularSynthesis {
+    /// The controller, replayed through the simulator on every scenario.
     pub modular: Modular,
+    /// Largest module, inputs read `A`, states in all `N'`, and each module's size.
     pub size: ModularSize,
+    /// Figures of the run (encoding size, solver calls, time, slots).
     pub stats: ModularStats,
 }
 
 /// Figures of a run.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct ModularStats {
+    /// Nodes of the scenario tree, root included.
     pub tree_nodes: usize,
+    /// Variables of the encoding as built, summed over every window of states tried.
     pub variables: usize,
+    /// Clauses of the encoding as built, summed like `variables`.
     pub clauses: usize,
+    /// SAT calls made.
     pub solver_calls: usize,
+    /// Wall-clock seconds of the minimization (before decoding and pruning).
     pub sat_seconds: f64,
     /// Transition slots per state of the result (more than asked when widened).
     pub slots: usize,
@@ -98,14 +107,22 @@ pub struct ModularStats {
 /// Why modular synthesis produced no controller.
 #[derive(Debug, thiserror::Error)]
 pub enum ModularError {
+    /// Every module size up to `max_states` is UNSAT with this many modules and slots (and
+    /// widening the slots, when on, did not help).
     #[error("no modular controller with {modules} modules of at most {max_states} states and {slots} transitions per state reproduces the scenarios (raise --max-states or --slots)")]
     NoController {
+        /// The number of modules `M` asked for.
         modules: usize,
+        /// The `--max-states` limit per module that was exhausted.
         max_states: usize,
+        /// Transition slots per state `K` at the end (after any widening).
         slots: usize,
     },
+    /// `--modules 0`: a controller needs at least one module.
     #[error("--modules must be at least 1")]
     NoModules,
+    /// A broken internal invariant (a decoded controller that does not replay its scenarios,
+    /// pins for more modules than exist); the message says which.
     #[error("internal error (a bug in synth, please report it): {0}")]
     Bug(String),
 }
@@ -113,24 +130,40 @@ pub enum ModularError {
 /// A bad `--pin` argument.
 #[derive(Debug, thiserror::Error)]
 pub enum PinError {
+    /// Not of the form `MODULE=OUTPUT[,OUTPUT...]`: no `=`, or an empty output name.
     #[error("--pin `{text}`: expected MODULE=OUTPUT[,OUTPUT...], e.g. 1=start_led,reset_led")]
-    Syntax { text: String },
+    Syntax {
+        /// The whole `--pin` argument.
+        text: String,
+    },
+    /// The module number is not an integer in `1..=modules`.
     #[error("--pin `{text}`: module {module} does not exist; modules are numbered 1 to {modules}")]
     Module {
+        /// The whole `--pin` argument.
         text: String,
+        /// The module part as written (before `=`).
         module: String,
+        /// The number of modules `M`.
         modules: usize,
     },
+    /// A name after `=` is not an output of the scenarios.
     #[error("--pin `{text}`: `{name}` is not an output; the outputs are {}", outputs.join(", "))]
     Output {
+        /// The whole `--pin` argument.
         text: String,
+        /// The name that is not an output.
         name: String,
+        /// Every output name, for the message.
         outputs: Vec<String>,
     },
+    /// An output is pinned to two different modules.
     #[error("--pin `{text}`: output `{name}` is already pinned to module {other}")]
     Twice {
+        /// The whole `--pin` argument.
         text: String,
+        /// The output pinned twice.
         name: String,
+        /// The module (numbered from 1) it was pinned to first.
         other: usize,
     },
 }

@@ -34,6 +34,7 @@ pub struct Dims {
 /// All variables of the modular encoding; per module `m` every block is contiguous.
 #[derive(Debug, Clone)]
 pub struct ModVars {
+    /// The encoding's dimensions, from which every index below is computed.
     pub d: Dims,
     /// `uc[m][q]`: module `m` uses state `q`; used states form a prefix.
     used: Vec<Lit>,
@@ -58,6 +59,9 @@ pub struct ModVars {
 }
 
 impl ModVars {
+    /// Allocates every variable for `modules` modules of at most `c_max` states and `slots`
+    /// transition slots per state over `tree`, including the cube variables of the tree's input
+    /// vectors.
     pub fn new(
         f: &mut impl ExtendFormula,
         tree: &ScenarioTree,
@@ -124,27 +128,35 @@ impl ModVars {
         (0..self.d.modules).map(|m| self.module(m)).collect()
     }
 
+    /// `uc[m][q]`: module `m` uses state `q`.
     pub fn used(&self, m: usize, q: usize) -> Lit {
         self.used[m * self.d.c_max + q]
     }
+    /// `c[m][v][q]`: tree node `v` is coloured with state `q` of module `m`.
     pub fn color(&self, m: usize, v: NodeId, q: usize) -> Lit {
         self.color[(m * self.d.nodes + v.0) * self.d.c_max + q]
     }
+    /// `θ[m][z]`: output `z` belongs to module `m`.
     pub fn theta(&self, m: usize, z: usize) -> Lit {
         self.theta[m * self.d.outputs + z]
     }
+    /// `α[m][x]`: module `m` reads input variable `x`.
     pub fn alpha(&self, m: usize, x: usize) -> Lit {
         self.alpha[m * self.d.bits + x]
     }
+    /// `d0[m][q][z]`: the algorithm of state `q` of module `m` sets output `z` to 1 when it was 0.
     pub fn a0(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a0[(m * self.d.c_max + q) * self.d.outputs + z]
     }
+    /// `d1[m][q][z]`: the algorithm of state `q` of module `m` sets output `z` to 1 when it was 1.
     pub fn a1(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a1[(m * self.d.c_max + q) * self.d.outputs + z]
     }
+    /// `fired[m][v]`: module `m` makes a transition on the tree edge into `v`.
     pub fn fired(&self, m: usize, v: NodeId) -> Lit {
         self.fired[m * self.d.nodes + v.0]
     }
+    /// `tr[m][q][t]`: some slot of state `q` of module `m` leads to state `t`.
     pub fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
         self.tr[(m * self.d.c_max + q) * self.d.c_max + t]
     }
