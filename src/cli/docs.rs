@@ -1,5 +1,6 @@
 //! `synth completions SHELL` and `synth man`: shell completion scripts and the manual page,
-//! generated from the same clap definitions that parse the command line.
+//! generated from the same clap definitions that parse the command line; `synth schema`: the
+//! JSON Schema of the machine contract, derived from the types that read it.
 
 use super::{Cli, Failure};
 use clap::{Args, CommandFactory};
@@ -55,5 +56,27 @@ pub fn man(args: &ManArgs) -> Result<(), Failure> {
         out!("wrote {}", path.display());
     }
     super::note_written(&written.into_iter().map(|(p, _)| p).collect::<Vec<_>>());
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct SchemaArgs {
+    /// Write the schema to this file instead of stdout (e.g. `machine.schema.json`, for an
+    /// editor: a machine may name it in `"$schema"`).
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// `synth schema`: the JSON Schema of the machine contract.
+pub fn schema(args: &SchemaArgs) -> Result<(), Failure> {
+    let mut text = serde_json::to_string_pretty(&fbsynth::export::json::schema())
+        .expect("a schema is JSON");
+    text.push('\n');
+    let Some(path) = args.out.as_ref().filter(|p| !fbsynth::files::is_stdin(p)) else {
+        return super::write_data(text.as_bytes());
+    };
+    fbsynth::files::write_atomic(path, text.as_bytes()).map_err(Failure::input)?;
+    out!("wrote {}", path.display());
+    super::note_written(std::slice::from_ref(path));
     Ok(())
 }

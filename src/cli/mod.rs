@@ -271,6 +271,8 @@ pub enum Command {
     Completions(docs::CompletionsArgs),
     /// Print the manual page (roff), or write one page per command with --out.
     Man(docs::ManArgs),
+    /// Print the JSON Schema of the machine contract (the JSON files synth writes and reads).
+    Schema(docs::SchemaArgs),
     /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot, pnml,
     /// PLCopen XML.
     Export(export::ExportArgs),
@@ -410,6 +412,7 @@ pub fn run() -> i32 {
         Some(Command::Export(a)) => export::export(&a),
         Some(Command::Completions(a)) => docs::completions(&a),
         Some(Command::Man(a)) => docs::man(&a),
+        Some(Command::Schema(a)) => docs::schema(&a),
         Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),

@@ -35,6 +35,12 @@
 //!   have priority in the order they appear; writing sorts the array by `from`, keeping that
 //!   order, and reading accepts any interleaving of states.
 //!
+//! - `format`: the version of the contract, [`FORMAT`] (1). Always written; optional when
+//!   reading (files from before it existed), and a newer version is refused with a message
+//!   saying so rather than misread.
+//! - `$schema`: accepted and ignored, so that editors can be pointed at the contract's JSON
+//!   Schema ([`schema`], `synth schema`); never written.
+//!
 //! Unknown fields are errors, so a misspelt field name is not silently ignored. Errors of
 //! syntax carry line and column; errors of content carry the JSON path of the offending value
 //! (`transitions[3].guard`), plus the column inside the string where one applies.
@@ -44,40 +50,86 @@ use crate::ecc::{bits_from_str, bits_to_string, Algorithm, AlgorithmKind, Ecc, S
 use crate::ecc::{StateId, Transition, Tri};
 use crate::quote::backquote;
 use crate::smv::check_identifier;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-#[derive(Serialize, Deserialize)]
+/// The version of the contract this build writes, and the newest it reads.
+pub const FORMAT: u32 = 1;
+
+// The serde types are the contract: their doc comments become the JSON Schema's descriptions.
+
+/// An IEC 61499 basic function block's Execution Control Chart (a Moore machine over Boolean
+/// inputs and outputs), as fbsynth writes and reads it.
+#[derive(Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(title = "fbsynth machine")]
 struct Document {
+    /// The address of this schema, for editors; ignored.
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    schema: Option<String>,
+    /// The version of the contract (1); optional when read, always written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 1, max = 1))]
+    format: Option<u32>,
+    /// Input variable names in interface order: identifiers, distinct ignoring case, no NuSMV
+    /// keyword, not REQ or CNF.
+    #[schemars(inner(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]*$")))]
     inputs: Vec<String>,
+    /// Output variable names in interface order, under the same rules as the inputs.
+    #[schemars(inner(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]*$")))]
     outputs: Vec<String>,
+    /// The outputs before the first event: one 0/1 per output (default all 0).
     #[serde(default)]
+    #[schemars(regex(pattern = r"^[01]*$"))]
     initial_outputs: Option<String>,
+    /// The states; index 0 is the initial state.
+    #[schemars(length(min = 1))]
     states: Vec<StateEntry>,
+    /// The transitions; those of one state have priority in the order they appear.
     transitions: Vec<TransitionEntry>,
 }
 
-#[derive(Serialize, Deserialize)]
+/// A state: its name and its output algorithm, either three-valued (`algorithm`) or binary
+/// (`algorithm0` and `algorithm1`); all states use the same form.
+#[derive(Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct StateEntry {
+    /// Unique identifier of the state.
+    #[schemars(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]*$"))]
     name: String,
+    /// Per output: 0 (clear), 1 (set) or x (keep).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(regex(pattern = r"^[01xX]*$"))]
     algorithm: Option<String>,
+    /// Binary algorithm: per output, its new value when it was 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(regex(pattern = r"^[01]*$"))]
     algorithm0: Option<String>,
+    /// Binary algorithm: per output, its new value when it was 1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(regex(pattern = r"^[01]*$"))]
     algorithm1: Option<String>,
 }
 
-#[derive(Serialize, Deserialize)]
+/// A transition: on REQ, the first transition of the current state whose guard holds fires.
+#[derive(Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct TransitionEntry {
+    /// Index of the source state.
     from: usize,
+    /// Index of the target state.
     to: usize,
+    /// A Boolean formula over the input names: `!`, `&`, `|`, parentheses, `TRUE`, `FALSE`.
+    #[schemars(length(min = 1))]
     guard: String,
+}
+
+/// The JSON Schema (draft 2020-12) of the contract, as `synth schema` prints it.
+pub fn schema() -> serde_json::Value {
+    serde_json::to_value(schemars::schema_for!(Document)).expect("a schema is JSON")
 }
 
 /// Why a JSON file does not describe a usable ECC.
@@ -110,6 +162,12 @@ pub enum JsonError {
 /// What is wrong with one value of a well-formed document.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ContentProblem {
+    /// A `format` this build does not read (a newer synth wrote it, or a typo).
+    #[error("format {found} is not one this synth reads (it reads format {FORMAT}); a newer synth wrote it?")]
+    Format {
+        /// The version given.
+        found: u32,
+    },
     /// `states` is empty: a machine needs its initial state.
     #[error("the ECC has no states")]
     NoStates,
@@ -178,6 +236,8 @@ pub enum ContentProblem {
 /// The `Ecc` is expected to be valid ([`Ecc::validate`]).
 pub fn write_json(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     let doc = Document {
+        schema: None,
+        format: Some(FORMAT),
         inputs: ecc.inputs.clone(),
         outputs: ecc.outputs.clone(),
         initial_outputs: Some(bits_to_string(&ecc.initial_outputs)),
@@ -241,6 +301,9 @@ pub fn read_json(text: &str, file: &Path) -> Result<Ecc, JsonError> {
         problem,
     };
 
+    if let Some(found) = doc.format.filter(|&f| f != FORMAT) {
+        return Err(fail("format".into(), ContentProblem::Format { found }));
+    }
     check_names(&doc).map_err(|(at, p)| fail(at, p))?;
     let outputs = doc.outputs.len();
     let initial_outputs = match &doc.initial_outputs {
@@ -475,6 +538,24 @@ mod tests {
         assert!(out.contains("\"algorithm\": \"1x\""), "{out}");
         let first_from_1 = out.find("\"from\": 1").unwrap();
         assert!(out.rfind("\"from\": 0").unwrap() < first_from_1, "{out}");
+    }
+
+    /// `format` is written first, read when it is 1 or absent, refused when newer; `$schema` is
+    /// accepted and ignored.
+    #[test]
+    fn the_format_version_and_a_schema_reference() {
+        let text = to_string(&samples::tri());
+        assert!(text.starts_with("{\n  \"format\": 1,\n"), "{text}");
+        let marked = text.replacen('{', r#"{"$schema": "machine.schema.json","#, 1);
+        assert_eq!(read_json(&marked, Path::new("t.json")).unwrap(), samples::tri());
+        let unversioned = text.replacen("\"format\": 1,", "", 1);
+        assert_eq!(read_json(&unversioned, Path::new("t.json")).unwrap(), samples::tri());
+        let newer = text.replacen("\"format\": 1", "\"format\": 2", 1);
+        assert_eq!(
+            read_json(&newer, Path::new("t.json")).unwrap_err().to_string(),
+            "t.json: format: format 2 is not one this synth reads (it reads format 1); a newer \
+             synth wrote it?"
+        );
     }
 
     #[test]

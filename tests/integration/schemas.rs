@@ -318,3 +318,116 @@ fn the_schemas_refuse_what_the_standards_refuse() {
         assert!(!ok, "{schema} takes {file} with {what}");
     }
 }
+
+/// `synth schema` is a JSON Schema a real validator (boon, draft 2020-12) compiles; every
+/// machine synth writes, and the shipped ones, validate against it; it refuses a misspelt
+/// field, a symbol no algorithm has and a newer format, as `synth` itself does.
+#[test]
+fn machines_validate_against_the_json_schema_synth_prints() {
+    let dir = tempfile::tempdir().unwrap();
+    let schema = dir.path().join("machine.schema.json");
+    let o = synth(dir.path(), &["schema", "-o", schema.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut schemas = boon::Schemas::new();
+    let index = boon::Compiler::new()
+        .compile(schema.to_str().unwrap(), &mut schemas)
+        .expect("the schema compiles");
+    let validate = |file: &Path| {
+        let value: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+        schemas.validate(&value, index).map_err(|e| e.to_string())
+    };
+    let mut written = machines(dir.path());
+    for (k, json) in machines(dir.path()).iter().enumerate() {
+        let out = dir.path().join(format!("out{k}"));
+        let o = synth(
+            dir.path(),
+            &[
+                "export",
+                "--ecc",
+                json.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--format",
+                "json",
+            ],
+        );
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        written.push(out.join("SynthesizedFB.json"));
+    }
+    let modular = dir.path().join("modular");
+    let o = synth(
+        dir.path(),
+        &[
+            "infer",
+            "-q",
+            "--modules",
+            "2",
+            "--traces",
+            root()
+                .join("tests/data/scenarios/lamps.traces")
+                .to_str()
+                .unwrap(),
+            "--out",
+            modular.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let modules: Vec<PathBuf> = files_in(&modular)
+        .into_iter()
+        .filter(|f| {
+            f.to_str().unwrap().ends_with("_M1.json") || f.to_str().unwrap().ends_with("_M2.json")
+        })
+        .collect();
+    assert_eq!(modules.len(), 2);
+    written.extend(modules);
+    for file in &written {
+        if let Err(e) = validate(file) {
+            panic!("{}: {e}", file.display());
+        }
+    }
+    // A machine synth wrote names the schema for editors, and synth still reads it.
+    let exported = dir.path().join("out0/SynthesizedFB.json");
+    let text_of = std::fs::read_to_string(&exported).unwrap();
+    assert!(text_of.contains("\"format\": 1"), "{text_of}");
+    let marked = dir.path().join("marked.json");
+    std::fs::write(
+        &marked,
+        text_of.replacen('{', "{\"$schema\": \"machine.schema.json\",", 1),
+    )
+    .unwrap();
+    assert!(validate(&marked).is_ok());
+    let o = synth(
+        dir.path(),
+        &[
+            "export",
+            "--ecc",
+            "marked.json",
+            "--out",
+            "m",
+            "--format",
+            "json",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for (what, from, to) in [
+        ("a misspelt field", "\"guard\":", "\"guards\":"),
+        (
+            "a symbol no algorithm has",
+            "\"algorithm\": \"1x\"",
+            "\"algorithm\": \"2x\"",
+        ),
+        ("a newer format", "\"format\": 1", "\"format\": 2"),
+    ] {
+        assert!(text_of.contains(from), "{what}: {text_of}");
+        let bad = dir.path().join("bad.json");
+        std::fs::write(&bad, text_of.replacen(from, to, 1)).unwrap();
+        assert!(validate(&bad).is_err(), "the schema takes {what}");
+        let o = synth(
+            dir.path(),
+            &["export", "--ecc", "bad.json", "--out", "b", "--format", "json"],
+        );
+        assert_eq!(o.status.code(), Some(4), "synth takes {what}");
+        assert!(text(&o.stderr).contains("bad.json"), "{}", text(&o.stderr));
+    }
+}
