@@ -59,8 +59,8 @@ pub struct InferArgs {
     #[arg(long, default_value = "SynthesizedFB", value_parser = super::args::block_name)]
     pub name: String,
     /// Modular synthesis: distribute the outputs over M basic FBs wired by a composite FB
-    /// (writes `<name>.fbt/.smv/.modules.json` and `<name>_M<i>.fbt/.json/.dot`; --format is
-    /// ignored).
+    /// (writes `<name>.fbt/.smv/.st/.xml/.dot/.modules.json` and
+    /// `<name>_M<i>.fbt/.json/.dot`; --format is ignored).
     #[arg(long, value_name = "M", value_parser = super::args::modules())]
     pub modules: Option<usize>,
     /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`

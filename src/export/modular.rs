@@ -7,6 +7,11 @@
 //! - `<stem>_M<i>.fbt`, `.json`, `.dot` (and `.svg` with Graphviz): module `i` (1-based) as a
 //!   basic FB of type `<stem>_M<i>` over its own inputs and outputs;
 //! - `<stem>.smv`: the module SMVs and `MODULE <stem>(REQ, inputs...)` composing them;
+//! - `<stem>.st`: every module as a Structured Text `FUNCTION_BLOCK` (as the `.st` export of
+//!   one ECC), then the composite block calling them ([`write_composite_st`]);
+//! - `<stem>.xml`: the same blocks as a PLCopen TC6 XML project ([`write_composite_plcopen`]);
+//! - `<stem>.dot` (and `.svg` with Graphviz): the network, inputs to modules to outputs
+//!   ([`composite_dot`]);
 //! - `<stem>.modules.json`: the decomposition (inputs, outputs, sizes per module).
 //!
 //! # Composite FB network
@@ -21,6 +26,12 @@
 //! values of [`crate::ecc::modular`]. A consumer that needs exactly one `CNF` per `REQ` should
 //! read the outputs on the last one.
 //!
+//! # Composite Structured Text
+//! The composite `FUNCTION_BLOCK <stem>` has the interface of one ECC's block and one instance
+//! `M<i>` of each module type. A call passes `REQ` and each module's inputs to every module,
+//! in module order, then copies each output from its owner and sets `CNF` when some module
+//! fired: one call is one `REQ` of [`crate::ecc::modular`], with one `CNF`.
+//!
 //! # Composite SMV
 //! `MODULE <stem>(REQ, x1, ..., xX)` has the signature and the variables (`CNF`, every output)
 //! of a single ECC's module ([`crate::smv::ecc_module`]): instances `_m1.._mM` of the module
@@ -30,6 +41,7 @@
 
 use super::fbt::write_head;
 use super::{check_iec_identifier, ExportError, Format, NameError};
+use crate::ecc::ident::BLOCK_MEMBERS;
 use crate::ecc::modular::Modular;
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
 use crate::files::xml::XmlWriter;
@@ -267,6 +279,189 @@ pub fn composite_smv_to_string(modular: &Modular, module_name: &str) -> Result<S
     Ok(String::from_utf8(buf).expect("the SMV emitter writes UTF-8 only"))
 }
 
+/// Checks every name the `.st` and PLCopen files would contain: the composite's interface
+/// (which may not use an instance name `M<i>` either) and type name, and every module.
+pub fn check_st_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
+    let mut reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
+    reserved.extend((0..modular.modules.len()).map(instance_name));
+    super::check_iec_names(&interface(modular), "Structured Text", stem, &reserved)?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        super::st::check_names(&module.ecc, &module_type_name(stem, m))?;
+    }
+    Ok(())
+}
+
+/// The composite block's statements: call every module, copy the outputs, `CNF` if some
+/// module fired.
+fn composite_statements(modular: &Modular) -> String {
+    let mut text = String::new();
+    for (m, module) in modular.modules.iter().enumerate() {
+        let args: Vec<String> = std::iter::once("REQ".to_string())
+            .chain(module.ecc.inputs.iter().cloned())
+            .map(|x| format!("{x} := {x}"))
+            .collect();
+        text.push_str(&format!("{}({});\n", instance_name(m), args.join(", ")));
+    }
+    for (z, name) in modular.outputs.iter().enumerate() {
+        let owner = modular
+            .owner(crate::ecc::OutputId(z))
+            .expect("a valid composite has an owner for every output");
+        text.push_str(&format!("{name} := {}.{name};\n", instance_name(owner)));
+    }
+    let cnf: Vec<String> = (0..modular.modules.len())
+        .map(|m| format!("{}.CNF", instance_name(m)))
+        .collect();
+    text.push_str(&format!("CNF := {};\n", cnf.join(" OR ")));
+    text
+}
+
+/// Writes every module's `FUNCTION_BLOCK` and the composite's; see the module header. Fails
+/// with [`io::ErrorKind::InvalidInput`] before writing anything if a name is unusable.
+pub fn write_composite_st(modular: &Modular, stem: &str, w: &mut impl Write) -> io::Result<()> {
+    check_st_names(modular, stem)?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        super::st::write_st(&module.ecc, &module_type_name(stem, m), w)?;
+        writeln!(w)?;
+    }
+    writeln!(w, "FUNCTION_BLOCK {stem}")?;
+    writeln!(
+        w,
+        "(* Composite of {} modules synthesized by fbsynth: each call passes REQ to every",
+        modular.modules.len()
+    )?;
+    writeln!(w, "   module; CNF is TRUE when some module fired. *)")?;
+    writeln!(w, "VAR_INPUT")?;
+    writeln!(w, "    REQ : BOOL;")?;
+    for x in &modular.inputs {
+        writeln!(w, "    {x} : BOOL;")?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w, "VAR_OUTPUT")?;
+    writeln!(w, "    CNF : BOOL;")?;
+    for (z, &init) in modular.outputs.iter().zip(&modular.initial_outputs) {
+        let initial = if init { " := TRUE" } else { "" };
+        writeln!(w, "    {z} : BOOL{initial};")?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w, "VAR")?;
+    for m in 0..modular.modules.len() {
+        writeln!(
+            w,
+            "    {} : {};",
+            instance_name(m),
+            module_type_name(stem, m)
+        )?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w)?;
+    w.write_all(composite_statements(modular).as_bytes())?;
+    writeln!(w, "END_FUNCTION_BLOCK")
+}
+
+/// Writes the modules and the composite as one PLCopen project named `stem`, created at
+/// `created` (an `xsd:dateTime`). Fails like [`write_composite_st`].
+pub fn write_composite_plcopen(
+    modular: &Modular,
+    stem: &str,
+    created: &str,
+    w: &mut impl Write,
+) -> io::Result<()> {
+    use super::plcopen::{Pou, TypeName, Var};
+    check_st_names(modular, stem)?;
+    let mut pous = Vec::new();
+    for (m, module) in modular.modules.iter().enumerate() {
+        pous.push(Pou::of_ecc(&module.ecc, &module_type_name(stem, m))?);
+    }
+    pous.push(Pou {
+        name: stem.to_string(),
+        inputs: std::iter::once(Var::boolean("REQ", false))
+            .chain(modular.inputs.iter().map(|x| Var::boolean(x, false)))
+            .collect(),
+        outputs: std::iter::once(Var::boolean("CNF", false))
+            .chain(
+                (modular.outputs.iter())
+                    .zip(&modular.initial_outputs)
+                    .map(|(z, &init)| Var::boolean(z, init)),
+            )
+            .collect(),
+        locals: (0..modular.modules.len())
+            .map(|m| Var {
+                name: instance_name(m),
+                type_name: TypeName::Derived(module_type_name(stem, m)),
+                initial: None,
+            })
+            .collect(),
+        body: composite_statements(modular),
+    });
+    let size = modular.size();
+    let description = format!(
+        "Composite function block synthesized by fbsynth: {} modules, largest {} states, \
+         A={}, N'={}",
+        modular.modules.len(),
+        size.max_states,
+        size.inputs_used,
+        size.total_states
+    );
+    super::plcopen::write_project(stem, created, &description, &pous, w)
+}
+
+/// The network as a Graphviz drawing: each input, module and output a node, an edge from each
+/// input to every module that reads it and from each module to the outputs it owns.
+pub fn composite_dot(modular: &Modular, stem: &str) -> String {
+    // DOT strings escape quotes and backslashes; `\n` is DOT's line break.
+    let quote = |s: &str| {
+        let escaped = s.replace('\\', "\\\\").replace('"', "\\\"");
+        format!("\"{}\"", escaped.replace('\n', "\\n"))
+    };
+    let mut text = format!("digraph {} {{\n", quote(stem));
+    text.push_str("  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n");
+    for x in &modular.inputs {
+        text.push_str(&format!(
+            "  {} [shape=plaintext];\n",
+            quote(&format!("in {x}"))
+        ));
+    }
+    for (m, module) in modular.modules.iter().enumerate() {
+        let size = module.ecc.size();
+        let label = format!(
+            "{}: {}\n{} states, {} transitions",
+            instance_name(m),
+            module_type_name(stem, m),
+            size.c,
+            size.t
+        );
+        text.push_str(&format!(
+            "  {} [shape=box, label={}];\n",
+            instance_name(m),
+            quote(&label)
+        ));
+        for &i in &module.inputs {
+            let x = &modular.inputs[i.0];
+            text.push_str(&format!(
+                "  {} -> {};\n",
+                quote(&format!("in {x}")),
+                instance_name(m)
+            ));
+        }
+        for &z in &module.outputs {
+            let name = &modular.outputs[z.0];
+            text.push_str(&format!(
+                "  {} -> {};\n",
+                instance_name(m),
+                quote(&format!("out {name}"))
+            ));
+        }
+    }
+    for z in &modular.outputs {
+        text.push_str(&format!(
+            "  {} [shape=plaintext];\n",
+            quote(&format!("out {z}"))
+        ));
+    }
+    text.push_str("}\n");
+    text
+}
+
 /// The decomposition as JSON: per module, its type name, inputs, outputs and size.
 pub fn decomposition_json(modular: &Modular, stem: &str) -> String {
     let modules: Vec<serde_json::Value> = modular
@@ -312,12 +507,26 @@ pub fn write_modular(
         format: Format::Fbt,
         source,
     })?;
+    check_st_names(modular, stem).map_err(|source| ExportError::Name {
+        format: Format::St,
+        source,
+    })?;
     let smv = composite_smv_to_string(modular, stem).map_err(ExportError::Smv)?;
     let fbt = composite_fbt_to_string(modular, stem).expect("names are checked");
+    let mut st = Vec::new();
+    write_composite_st(modular, stem, &mut st).expect("names are checked");
+    let mut xml = Vec::new();
+    let created = super::plcopen::creation_time();
+    write_composite_plcopen(modular, stem, &created, &mut xml).expect("names are checked");
+    let utf8 = |b: Vec<u8>| String::from_utf8(b).expect("the emitters write UTF-8");
+    let dot = composite_dot(modular, stem);
     let mut written = Vec::new();
     let texts = [
         (format!("{stem}.fbt"), fbt),
         (format!("{stem}.smv"), smv),
+        (format!("{stem}.st"), utf8(st)),
+        (format!("{stem}.xml"), utf8(xml)),
+        (format!("{stem}.dot"), dot.clone()),
         (
             format!("{stem}.modules.json"),
             decomposition_json(modular, stem),
@@ -327,6 +536,12 @@ pub fn write_modular(
         let path = dir.join(file);
         super::write_file(&path, text.as_bytes())?;
         written.push(path);
+    }
+    let svg = dir.join(format!("{stem}.svg"));
+    match super::dot::render_svg(&dot, &svg) {
+        Ok(true) => written.push(svg),
+        Ok(false) => {}
+        Err(source) => return Err(ExportError::Render { path: svg, source }),
     }
     for (m, module) in modular.modules.iter().enumerate() {
         let name = module_type_name(stem, m);
@@ -357,6 +572,46 @@ mod tests {
     #[test]
     fn composite_fbt_snapshot() {
         insta::assert_snapshot!(composite_fbt_to_string(&two_toggles(), "Lamps").unwrap());
+    }
+
+    #[test]
+    fn composite_st_plcopen_and_dot_snapshots() {
+        let mut st = Vec::new();
+        write_composite_st(&two_toggles(), "Lamps", &mut st).unwrap();
+        insta::assert_snapshot!("composite_st", String::from_utf8(st).unwrap());
+        let mut xml = Vec::new();
+        write_composite_plcopen(&two_toggles(), "Lamps", "2026-12-03T09:00:00Z", &mut xml)
+            .unwrap();
+        insta::assert_snapshot!("composite_plcopen", String::from_utf8(xml).unwrap());
+        insta::assert_snapshot!("composite_dot", composite_dot(&two_toggles(), "Lamps"));
+    }
+
+    /// The composite block calls every module with its own inputs and takes each output from
+    /// its owner; an input named like an instance is refused before anything is written.
+    #[test]
+    fn the_composite_st_wires_each_module() {
+        let modular = two_toggles();
+        let mut st = Vec::new();
+        write_composite_st(&modular, "Lamps", &mut st).unwrap();
+        let text = String::from_utf8(st).unwrap();
+        assert_eq!(text.matches("FUNCTION_BLOCK Lamps_M").count(), 2, "{text}");
+        for (m, module) in modular.modules.iter().enumerate() {
+            let call = format!("M{}(REQ := REQ", m + 1);
+            let line = text.lines().find(|l| l.starts_with(&call)).expect("a call");
+            for x in &module.ecc.inputs {
+                assert!(line.contains(&format!("{x} := {x}")), "{line}");
+            }
+            for z in &module.ecc.outputs {
+                assert!(text.contains(&format!("{z} := M{}.{z};", m + 1)), "{text}");
+            }
+        }
+        let mut clash = modular.clone();
+        clash.inputs[0] = "m1".into();
+        clash.modules[0].ecc.inputs[0] = "m1".into();
+        let mut buf = Vec::new();
+        let e = write_composite_st(&clash, "Lamps", &mut buf).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::InvalidInput, "{e}");
+        assert!(buf.is_empty());
     }
 
     #[test]

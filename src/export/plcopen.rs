@@ -69,10 +69,88 @@ pub fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
 pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) -> io::Result<()> {
     let name = options.block_name.as_str();
     check_names(ecc, name)?;
-    let mut body = Vec::new();
-    st::write_statements(ecc, &mut body)?;
-    let body = String::from_utf8(body).expect("the ST emitter writes UTF-8 only");
+    let pou = Pou::of_ecc(ecc, name)?;
+    write_project(name, &options.created, &ecc_comment(ecc), &[pou], w)
+}
 
+/// A variable of a POU's interface.
+pub(crate) struct Var {
+    /// Its name.
+    pub name: String,
+    /// An elementary type (`BOOL`, `INT`), or a function block type for an instance.
+    pub type_name: TypeName,
+    /// Its initial value as IEC 61131-3 text, if it has one.
+    pub initial: Option<&'static str>,
+}
+
+/// The type of a [`Var`].
+pub(crate) enum TypeName {
+    /// An elementary type: `<BOOL/>`.
+    Elementary(&'static str),
+    /// A POU of the project: `<derived name="..."/>`.
+    Derived(String),
+}
+
+impl Var {
+    /// A `BOOL`, TRUE at the start when `initial`.
+    pub fn boolean(name: &str, initial: bool) -> Var {
+        Var {
+            name: name.to_string(),
+            type_name: TypeName::Elementary("BOOL"),
+            initial: initial.then_some("TRUE"),
+        }
+    }
+}
+
+/// One function block of a project: its interface and its body in ST.
+pub(crate) struct Pou {
+    /// The block's type name.
+    pub name: String,
+    /// `REQ` first, then the inputs.
+    pub inputs: Vec<Var>,
+    /// `CNF` first, then the outputs.
+    pub outputs: Vec<Var>,
+    /// Internal variables (the state, module instances).
+    pub locals: Vec<Var>,
+    /// The statements.
+    pub body: String,
+}
+
+impl Pou {
+    /// The POU of one ECC, named `name`: the `.st` export's interface and statements.
+    pub fn of_ecc(ecc: &Ecc, name: &str) -> io::Result<Pou> {
+        let mut body = Vec::new();
+        st::write_statements(ecc, &mut body)?;
+        Ok(Pou {
+            name: name.to_string(),
+            inputs: std::iter::once(Var::boolean("REQ", false))
+                .chain(ecc.inputs.iter().map(|i| Var::boolean(i, false)))
+                .collect(),
+            outputs: std::iter::once(Var::boolean("CNF", false))
+                .chain(
+                    (ecc.outputs.iter())
+                        .zip(&ecc.initial_outputs)
+                        .map(|(z, &init)| Var::boolean(z, init)),
+                )
+                .collect(),
+            locals: vec![Var {
+                name: "state".into(),
+                type_name: TypeName::Elementary("INT"),
+                initial: Some("0"),
+            }],
+            body: String::from_utf8(body).expect("the ST emitter writes UTF-8 only"),
+        })
+    }
+}
+
+/// Writes a project named `name` holding `pous` (names already checked).
+pub(crate) fn write_project(
+    name: &str,
+    created: &str,
+    description: &str,
+    pous: &[Pou],
+    w: &mut impl Write,
+) -> io::Result<()> {
     let mut x = XmlWriter::new(w);
     x.declaration()?;
     x.open(
@@ -87,8 +165,8 @@ pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) ->
             ("companyName", "fbsynth"),
             ("productName", "fbsynth"),
             ("productVersion", env!("CARGO_PKG_VERSION")),
-            ("creationDateTime", &options.created),
-            ("contentDescription", &ecc_comment(ecc)),
+            ("creationDateTime", created),
+            ("contentDescription", description),
         ],
     )?;
     x.open(1, "contentHeader", &[("name", name)])?;
@@ -105,34 +183,32 @@ pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) ->
     x.open(1, "types", &[])?;
     x.leaf(2, "dataTypes", &[])?;
     x.open(2, "pous", &[])?;
-    x.open(3, "pou", &[("name", name), ("pouType", "functionBlock")])?;
-    x.open(4, "interface", &[])?;
-    let inputs: Vec<(&str, bool)> = std::iter::once(("REQ", false))
-        .chain(ecc.inputs.iter().map(|i| (i.as_str(), false)))
-        .collect();
-    let outputs: Vec<(&str, bool)> = std::iter::once(("CNF", false))
-        .chain(
-            (ecc.outputs.iter())
-                .zip(&ecc.initial_outputs)
-                .map(|(z, &init)| (z.as_str(), init)),
-        )
-        .collect();
-    variables(&mut x, "inputVars", "BOOL", &inputs)?;
-    variables(&mut x, "outputVars", "BOOL", &outputs)?;
-    x.open(5, "localVars", &[])?;
-    variable(&mut x, "state", "INT", Some("0"))?;
-    x.close(5, "localVars")?;
-    x.close(4, "interface")?;
-    x.open(4, "body", &[])?;
-    x.indent(5)?;
-    x.start("ST", &[])?;
-    x.start("xhtml:p", &[])?;
-    x.text(&body)?;
-    x.end("xhtml:p")?;
-    x.end("ST")?;
-    x.newline()?;
-    x.close(4, "body")?;
-    x.close(3, "pou")?;
+    for pou in pous {
+        x.open(3, "pou", &[("name", &pou.name), ("pouType", "functionBlock")])?;
+        x.open(4, "interface", &[])?;
+        for (list, vars) in [
+            ("inputVars", &pou.inputs),
+            ("outputVars", &pou.outputs),
+            ("localVars", &pou.locals),
+        ] {
+            x.open(5, list, &[])?;
+            for var in vars {
+                variable(&mut x, var)?;
+            }
+            x.close(5, list)?;
+        }
+        x.close(4, "interface")?;
+        x.open(4, "body", &[])?;
+        x.indent(5)?;
+        x.start("ST", &[])?;
+        x.start("xhtml:p", &[])?;
+        x.text(&pou.body)?;
+        x.end("xhtml:p")?;
+        x.end("ST")?;
+        x.newline()?;
+        x.close(4, "body")?;
+        x.close(3, "pou")?;
+    }
     x.close(2, "pous")?;
     x.close(1, "types")?;
     x.open(1, "instances", &[])?;
@@ -150,33 +226,17 @@ fn ecc_comment(ecc: &Ecc) -> String {
     )
 }
 
-/// A variable list (`inputVars`, `outputVars`) of `BOOL`s; `true` marks an initial TRUE.
-fn variables<W: Write>(
-    x: &mut XmlWriter<W>,
-    list: &str,
-    type_name: &str,
-    vars: &[(&str, bool)],
-) -> io::Result<()> {
-    x.open(5, list, &[])?;
-    for &(name, init) in vars {
-        variable(x, name, type_name, init.then_some("TRUE"))?;
-    }
-    x.close(5, list)
-}
-
-/// One `<variable>` of an elementary type, with its initial value if any.
-fn variable<W: Write>(
-    x: &mut XmlWriter<W>,
-    name: &str,
-    type_name: &str,
-    initial: Option<&str>,
-) -> io::Result<()> {
+/// One `<variable>`, with its initial value if any.
+fn variable<W: Write>(x: &mut XmlWriter<W>, var: &Var) -> io::Result<()> {
     x.indent(6)?;
-    x.start("variable", &[("name", name)])?;
+    x.start("variable", &[("name", &var.name)])?;
     x.start("type", &[])?;
-    x.empty(type_name, &[])?;
+    match &var.type_name {
+        TypeName::Elementary(t) => x.empty(t, &[])?,
+        TypeName::Derived(t) => x.empty("derived", &[("name", t)])?,
+    }
     x.end("type")?;
-    if let Some(value) = initial {
+    if let Some(value) = var.initial {
         x.start("initialValue", &[])?;
         x.empty("simpleValue", &[("value", value)])?;
         x.end("initialValue")?;
