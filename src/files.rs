@@ -193,28 +193,46 @@ impl<R: Read> Read for WithoutBom<R> {
 /// Why the text of a user's file could not be read (the file is named by [`FileReadError`]).
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
+    /// Opening or reading the file failed (missing, unreadable, a folder, ...).
     #[error(transparent)]
     Io(#[from] std::io::Error),
     /// A line holds more than `limit` bytes, its line break not counted.
     #[error("line {line} is longer than {limit} bytes")]
-    LineTooLong { line: usize, limit: usize },
+    LineTooLong {
+        /// 1-based number of the long line.
+        line: usize,
+        /// The most bytes a line may hold.
+        limit: usize,
+    },
     /// A CSV record that quoted line breaks spread over several lines holds more than `limit`
     /// bytes: most likely a quote that is never closed.
     #[error("the record from line {first} to line {line} is longer than {limit} bytes (is a quote left open?)")]
     RecordTooLong {
+        /// 1-based line the record starts on.
         first: usize,
+        /// 1-based line where the record went over the limit.
         line: usize,
+        /// The most bytes a record may hold.
         limit: usize,
     },
     /// A file read whole holds more than `limit` bytes (after gunzipping).
     #[error("larger than {}, the most read from one file", bytes(*limit))]
-    TooLarge { limit: u64 },
+    TooLarge {
+        /// The most bytes read from one file.
+        limit: u64,
+    },
     /// A gzip file whose stream is broken (truncated, corrupted).
     #[error("not a valid gzip stream: {message}")]
-    Gzip { message: String },
+    Gzip {
+        /// The decompressor's description of the fault.
+        message: String,
+    },
     /// A byte sequence that is not UTF-8, first on `line`.
     #[error("not UTF-8 text")]
-    NotUtf8 { line: usize },
+    NotUtf8 {
+        /// 1-based line of the first invalid byte.
+        line: usize,
+    },
 }
 
 impl ReadError {
@@ -241,7 +259,9 @@ impl ReadError {
 /// `FILE: ...` otherwise.
 #[derive(Debug, thiserror::Error)]
 pub struct FileReadError {
+    /// The file, as the user named it.
     pub file: PathBuf,
+    /// What went wrong in it.
     #[source]
     pub error: ReadError,
 }
@@ -399,7 +419,9 @@ pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, FileRea
 #[derive(Debug, thiserror::Error)]
 #[error("cannot write {path}: {source}")]
 pub struct WriteError {
+    /// The file that was being written.
     pub path: PathBuf,
+    /// The I/O failure: creating a folder or the temporary file, writing, or renaming it.
     #[source]
     pub source: std::io::Error,
 }

@@ -28,11 +28,13 @@ use std::time::Instant;
 /// The verdict on one property.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct PropertyReport {
+    /// The property's name: its label, or `p<k>` for the unlabelled `k`-th one.
     pub name: String,
     /// The formula as the user wrote it.
     pub text: String,
     /// Line in the spec file.
     pub line: usize,
+    /// Whether NuSMV found the property true on the closed loop.
     pub holds: bool,
     /// NuSMV's own verdict line, verbatim.
     pub verdict_line: String,
@@ -43,17 +45,21 @@ pub struct PropertyReport {
 /// The verdicts on every property, in spec order.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Report {
+    /// One report per property, in spec order.
     pub properties: Vec<PropertyReport>,
+    /// Wall-clock time NuSMV took to check the closed loop, in seconds.
     pub nusmv_seconds: f64,
     /// What NuSMV printed on stderr that no verdict accounts for ([`Session::warnings`]).
     pub nusmv_warnings: Vec<String>,
 }
 
 impl Report {
+    /// Whether every property holds: the controller passed verification.
     pub fn all_hold(&self) -> bool {
         self.properties.iter().all(|p| p.holds)
     }
 
+    /// The names of the violated properties, in spec order.
     pub fn failing(&self) -> Vec<&str> {
         self.properties
             .iter()
@@ -92,6 +98,7 @@ impl Report {
 /// A counterexample of one property, as a lasso over full closed-loop states.
 #[derive(Debug, Clone)]
 pub struct Counterexample {
+    /// Name of the violated property (as in [`PropertyReport::name`]).
     pub property: String,
     /// States of the lasso without the repeated last state.
     pub states: Vec<BTreeMap<String, String>>,
@@ -156,24 +163,47 @@ impl Counterexample {
 /// Why a verification could not give verdicts.
 #[derive(Debug, thiserror::Error)]
 pub enum VerifyError {
+    /// NuSMV rejected the closed-loop model; each error is mapped back to the plant file, the
+    /// spec file or the generated model.
     #[error("{}", describe(.0))]
     Model(Vec<LocatedError>),
+    /// Running NuSMV failed otherwise (not found, crashed, unparsable output, ...).
     #[error("{0}")]
     Nusmv(#[from] NusmvError),
+    /// The ECC could not be emitted as an SMV module.
     #[error("{0}")]
     Smv(#[from] SmvError),
+    /// Creating the work folder or writing the closed-loop model file failed.
     #[error("cannot write the closed-loop model: {0}")]
     Io(#[from] std::io::Error),
+    /// NuSMV exceeded its timeout on the closed loop and was killed.
     #[error("NuSMV did not finish checking the closed loop with plant {} within {seconds} s and was killed; raise --timeout SECONDS or make the plant model smaller", plant.display())]
-    Timeout { seconds: f64, plant: PathBuf },
+    Timeout {
+        /// The timeout that was exceeded, in seconds.
+        seconds: f64,
+        /// The plant file of the closed loop.
+        plant: PathBuf,
+    },
+    /// The closed loop has no initial state or no fair infinite path, so every property would
+    /// hold vacuously (from [`NusmvError::Vacuous`]).
     #[error("the closed loop with plant {} has no {what}: the plant allows no behaviour, so every property would hold vacuously and nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", plant.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
     Vacuous {
+        /// The plant file of the closed loop.
         plant: PathBuf,
+        /// What is missing: `initial state`, `state` or `fair infinite path`.
         what: &'static str,
+        /// NuSMV's own warning about the empty set, if it printed one.
         warning: Option<String>,
     },
+    /// NuSMV returned a different number of verdicts than the model has properties.
     #[error("NuSMV reported {got} verdicts for {expected} properties")]
-    Count { expected: usize, got: usize },
+    Count {
+        /// The number of properties in the model.
+        expected: usize,
+        /// The number of verdicts NuSMV printed.
+        got: usize,
+    },
+    /// A verdict's formula (carried, as NuSMV reprinted it) equals no remaining property's.
     #[error("NuSMV reported a verdict on `{0}`, which matches none of the properties")]
     Unmatched(String),
 }
@@ -181,8 +211,11 @@ pub enum VerifyError {
 /// A NuSMV error mapped back to the user's file.
 #[derive(Debug, Clone)]
 pub struct LocatedError {
+    /// The plant file, the spec file, or the generated closed-loop model.
     pub file: PathBuf,
+    /// 1-based line in `file`.
     pub line: usize,
+    /// NuSMV's message.
     pub message: String,
     /// The error is in generated code, not in a user file.
     pub generated: bool,
@@ -231,14 +264,23 @@ pub struct Problem {
 /// Why a verification problem could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum ProblemError {
+    /// The LTL specification file could not be read or parsed.
     #[error(transparent)]
     Spec(#[from] crate::ltl::LtlError),
+    /// The plant file could not be read or breaks the coupling convention.
     #[error(transparent)]
     Plant(#[from] crate::smv::plant::PlantError),
+    /// Plant, controller interface and properties do not fit together.
     #[error(transparent)]
     Coupling(#[from] crate::smv::closed_loop::CouplingError),
+    /// [`Problem::select`] was asked for a property name the spec does not define.
     #[error("{file}: no property named {}", crate::quote::backquote(name), file = .file.display())]
-    UnknownProperty { file: PathBuf, name: String },
+    UnknownProperty {
+        /// The spec file.
+        file: PathBuf,
+        /// The name asked for.
+        name: String,
+    },
 }
 
 impl Problem {
@@ -381,6 +423,7 @@ impl Verifier {
 
 /// The result of one verification run.
 pub struct Verification {
+    /// The verdict on every property.
     pub report: Report,
     /// Counterexamples of the violated properties that have a trace, in spec order.
     pub counterexamples: Vec<Counterexample>,

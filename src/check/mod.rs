@@ -191,6 +191,7 @@ impl Coupling {
 /// The verdict on one property.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Verdict {
+    /// The property holds on every fair run of the closed loop.
     Holds,
     /// A run of the closed loop on which the property is false.
     Violated(Lasso),
@@ -201,7 +202,9 @@ pub enum Verdict {
 /// A lasso-shaped run: `states[..loop_start]` followed by `states[loop_start..]` forever.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Lasso {
+    /// The run's states; the last one's successor is `states[loop_start]`.
     pub states: Vec<LoopState>,
+    /// Index in `states` where the repeated cycle starts (`< states.len()`).
     pub loop_start: usize,
 }
 
@@ -210,6 +213,7 @@ pub struct Lasso {
 pub struct LoopState {
     /// The plant's variables, indexed by [`crate::plant::VarId`].
     pub plant: Vec<Value>,
+    /// The ECC's state.
     pub ctrl: StateId,
     /// The ECC's outputs, in interface order.
     pub outputs: Vec<bool>,
@@ -234,19 +238,34 @@ impl Default for Limits {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum CheckError {
+    /// The plant and the controller interface do not fit together (an input the plant lacks or
+    /// that is not Boolean, a parameter that is no output, a name clash, too many outputs, ...).
     #[error("{file}: {message}")]
-    Coupling { file: String, message: String },
+    Coupling {
+        /// The plant file, as displayed.
+        file: String,
+        /// What does not fit.
+        message: String,
+    },
+    /// The ECC is invalid, or its interface is not the one the [`Coupling`] was made for.
     #[error("the controller: {0}")]
     Ecc(String),
+    /// Evaluating a plant expression failed (located in the plant file).
     #[error(transparent)]
     Eval(#[from] EvalError),
+    /// The reachable states exceed [`Limits::max_states`].
     #[error("more than {limit} reachable states: raise the limit or check with NuSMV")]
-    TooManyStates { limit: usize },
+    TooManyStates {
+        /// The limit that was exceeded.
+        limit: usize,
+    },
     /// No initial state, or no infinite path that is fair to every `FAIRNESS` condition: every
     /// property would hold vacuously.
     #[error("the {scope} has no {what}: every property would hold vacuously; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints")]
     NoBehaviour {
+        /// `closed loop` or `plant`.
         scope: &'static str,
+        /// `initial state` or `fair infinite path`.
         what: &'static str,
     },
     /// A property reads a name or compares values the closed loop does not have.
@@ -254,7 +273,9 @@ pub enum CheckError {
     Property {
         /// 0-based position in the property list.
         index: usize,
+        /// 1-based line of the property in its file.
         line: usize,
+        /// What is wrong with it.
         message: String,
     },
     /// The checker contradicts itself (a counterexample that does not violate its property):
@@ -269,6 +290,7 @@ pub enum CheckError {
 pub struct Automata(Vec<Result<Gba, gba::Refused>>);
 
 impl Automata {
+    /// Builds the automaton of each property's negation (or why it is refused), in order.
     pub fn of(props: &[Property]) -> Automata {
         Automata(
             props

@@ -69,8 +69,8 @@ pub struct SchemaArgs {
 
 /// `synth schema`: the JSON Schema of the machine contract.
 pub fn schema(args: &SchemaArgs) -> Result<(), Failure> {
-    let mut text = serde_json::to_string_pretty(&fbsynth::export::json::schema())
-        .expect("a schema is JSON");
+    let mut text =
+        serde_json::to_string_pretty(&fbsynth::export::json::schema()).expect("a schema is JSON");
     text.push('\n');
     let Some(path) = args.out.as_ref().filter(|p| !fbsynth::files::is_stdin(p)) else {
         return super::write_data(text.as_bytes());

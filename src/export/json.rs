@@ -547,12 +547,20 @@ mod tests {
         let text = to_string(&samples::tri());
         assert!(text.starts_with("{\n  \"format\": 1,\n"), "{text}");
         let marked = text.replacen('{', r#"{"$schema": "machine.schema.json","#, 1);
-        assert_eq!(read_json(&marked, Path::new("t.json")).unwrap(), samples::tri());
+        assert_eq!(
+            read_json(&marked, Path::new("t.json")).unwrap(),
+            samples::tri()
+        );
         let unversioned = text.replacen("\"format\": 1,", "", 1);
-        assert_eq!(read_json(&unversioned, Path::new("t.json")).unwrap(), samples::tri());
+        assert_eq!(
+            read_json(&unversioned, Path::new("t.json")).unwrap(),
+            samples::tri()
+        );
         let newer = text.replacen("\"format\": 1", "\"format\": 2", 1);
         assert_eq!(
-            read_json(&newer, Path::new("t.json")).unwrap_err().to_string(),
+            read_json(&newer, Path::new("t.json"))
+                .unwrap_err()
+                .to_string(),
             "t.json: format: format 2 is not one this synth reads (it reads format 1); a newer \
              synth wrote it?"
         );

@@ -580,8 +580,7 @@ mod tests {
         write_composite_st(&two_toggles(), "Lamps", &mut st).unwrap();
         insta::assert_snapshot!("composite_st", String::from_utf8(st).unwrap());
         let mut xml = Vec::new();
-        write_composite_plcopen(&two_toggles(), "Lamps", "2026-12-03T09:00:00Z", &mut xml)
-            .unwrap();
+        write_composite_plcopen(&two_toggles(), "Lamps", "2026-12-03T09:00:00Z", &mut xml).unwrap();
         insta::assert_snapshot!("composite_plcopen", String::from_utf8(xml).unwrap());
         insta::assert_snapshot!("composite_dot", composite_dot(&two_toggles(), "Lamps"));
     }

@@ -184,7 +184,11 @@ pub(crate) fn write_project(
     x.leaf(2, "dataTypes", &[])?;
     x.open(2, "pous", &[])?;
     for pou in pous {
-        x.open(3, "pou", &[("name", &pou.name), ("pouType", "functionBlock")])?;
+        x.open(
+            3,
+            "pou",
+            &[("name", &pou.name), ("pouType", "functionBlock")],
+        )?;
         x.open(4, "interface", &[])?;
         for (list, vars) in [
             ("inputVars", &pou.inputs),

@@ -13,7 +13,9 @@ use std::path::Path;
 /// Where a signal's value goes in a sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Slot {
+    /// The signal is this input variable of the interface.
     Input(InputId),
+    /// The signal is this output variable of the interface.
     Output(OutputId),
 }
 

@@ -63,24 +63,49 @@ pub const MAX_TIMESTAMP: f64 = 9e12;
 #[derive(Debug, Clone, PartialEq)]
 pub enum BadRow {
     /// A cell that is not a value (`0/1/true/false`) or, in the timestamp column, a number.
-    Value { column: String, cell: String },
+    Value {
+        /// Header name of the column holding the cell.
+        column: String,
+        /// The cell's text as read.
+        cell: String,
+    },
     /// A timestamp beyond [`MAX_TIMESTAMP`] either side of 0.
-    TimeRange { column: String, cell: String },
+    TimeRange {
+        /// Header name of the timestamp column.
+        column: String,
+        /// The timestamp cell's text as read.
+        cell: String,
+    },
     /// An address (long format) that the mapping does not know.
     UnknownAddress(String),
     /// A timestamp smaller than the one before.
-    TimeBackwards { time: f64, previous: f64 },
+    TimeBackwards {
+        /// This row's timestamp, in seconds.
+        time: f64,
+        /// The timestamp of the row before, in seconds.
+        previous: f64,
+    },
     /// A row with more or fewer cells than the header.
-    CellCount { found: usize, expected: usize },
+    CellCount {
+        /// Number of cells in the row.
+        found: usize,
+        /// Number of columns in the header.
+        expected: usize,
+    },
 }
 
 /// The kinds of [`BadRow`], for counting skipped rows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RowKind {
+    /// [`BadRow::Value`]: an unparsable value or timestamp.
     Value,
+    /// [`BadRow::TimeRange`]: a timestamp beyond [`MAX_TIMESTAMP`].
     TimeRange,
+    /// [`BadRow::UnknownAddress`]: an address not in the mapping.
     UnknownAddress,
+    /// [`BadRow::TimeBackwards`]: a timestamp smaller than the one before.
     TimeBackwards,
+    /// [`BadRow::CellCount`]: a row whose cell count differs from the header's.
     CellCount,
 }
 
@@ -150,28 +175,43 @@ pub enum IngestError {
     /// A Parquet log that cannot be decoded (naming the file and row).
     #[error(transparent)]
     Parquet(Box<crate::scenario::ScenarioError>),
+    /// A file (log, mapping or output) could not be opened or read.
     #[error("{file}: {source}")]
     Io {
+        /// The file concerned.
         file: PathBuf,
+        /// The underlying I/O error.
         #[source]
         source: std::io::Error,
     },
+    /// A malformed mapping file line (bad syntax, duplicate address or name).
     #[error("{file}:{line}: {message}")]
     Mapping {
+        /// The mapping file.
         file: PathBuf,
+        /// 1-based line number in the mapping file.
         line: usize,
+        /// What is wrong with the line.
         message: String,
     },
+    /// A log header that is neither format's, or whose columns do not match the mapping.
     #[error("{file}:{line}: {message}")]
     Header {
+        /// The log file.
         file: PathBuf,
+        /// 1-based line number of the header.
         line: usize,
+        /// What is wrong with the header.
         message: String,
     },
+    /// A bad data row, in strict mode (lenient mode skips it).
     #[error("{file}:{line}: {problem}")]
     Row {
+        /// The log file.
         file: PathBuf,
+        /// 1-based line number of the row in the (decompressed) file.
         line: usize,
+        /// What is wrong with the row.
         problem: BadRow,
     },
     /// A line longer than the limit, in the log or the mapping.
@@ -186,7 +226,12 @@ pub enum IngestError {
         0 => String::new(),
         n => format!(" that could be read ({n} bad rows skipped)"),
     })]
-    NoData { file: PathBuf, skipped: u64 },
+    NoData {
+        /// The log file.
+        file: PathBuf,
+        /// Bad rows skipped in lenient mode.
+        skipped: u64,
+    },
 }
 
 /// Streams a whole log through the SAT reconstruction paper's conversion, handing each step to `sink` as soon as
@@ -212,9 +257,11 @@ pub fn convert_log<R: std::io::BufRead, E: From<IngestError>>(
 /// What [`write_scenario`] read and wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Written {
+    /// What the log reader counted (rows, samples, skipped bad rows).
     pub stats: ReadStats,
     /// Steps written, and those of them with a `CNF`.
     pub steps: u64,
+    /// Steps written that carry a `CNF` output event (some output changed).
     pub active: u64,
 }
 

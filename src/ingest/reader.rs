@@ -393,7 +393,11 @@ fn sniff_delimiter(src: &mut impl BufRead) -> std::io::Result<u8> {
 
 fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
     // A decimal comma (`5,25`) can only reach here from a `;`-separated log.
-    let decimal = |c: &str| c.parse::<f64>().ok().or_else(|| c.replacen(',', ".", 1).parse().ok());
+    let decimal = |c: &str| {
+        c.parse::<f64>()
+            .ok()
+            .or_else(|| c.replacen(',', ".", 1).parse().ok())
+    };
     let time = std::str::from_utf8(cell)
         .ok()
         .and_then(|c| decimal(c).or_else(|| iso_seconds(c)))

@@ -33,31 +33,53 @@ use std::collections::BTreeMap;
 /// given state slice.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum EvalError {
+    /// The state slice is empty.
     #[error("the lasso has no state")]
     Empty,
+    /// The loop start is not an index into the states.
     #[error("loop start {loop_start} is outside the lasso of {len} states")]
-    LoopStart { loop_start: usize, len: usize },
+    LoopStart {
+        /// The given 0-based loop start.
+        loop_start: usize,
+        /// Number of states in the lasso.
+        len: usize,
+    },
+    /// An atom of the formula has no value in a state.
     #[error("state {state} has no value for {}", crate::quote::quote(name))]
-    Missing { name: String, state: usize },
+    Missing {
+        /// The variable's name.
+        name: String,
+        /// 0-based index of the state.
+        state: usize,
+    },
+    /// An atom used as a formula whose value in a state is not `TRUE` or `FALSE`.
     #[error(
         "state {state}: {} is {}, not TRUE or FALSE",
         crate::quote::quote(name),
         crate::quote::cut(value)
     )]
     NotBoolean {
+        /// The variable's name.
         name: String,
+        /// Its value in that state, as given.
         value: String,
+        /// 0-based index of the state.
         state: usize,
     },
+    /// An operand of an ordering comparison (`<`, `<=`, ...) whose value is not an integer.
     #[error(
         "state {state}: {} is {}, not an integer, in a '{op}' comparison",
         crate::quote::quote(operand),
         crate::quote::cut(value)
     )]
     NotInteger {
+        /// The operand as written (a variable or constant name).
         operand: String,
+        /// Its value in that state, as given.
         value: String,
+        /// The comparison's NuSMV symbol, e.g. `<=`.
         op: &'static str,
+        /// 0-based index of the state.
         state: usize,
     },
     /// An [`Ltl::Int`] outside a comparison (the parser never builds one).

@@ -51,11 +51,17 @@ use std::fmt;
 /// A comparison operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CmpOp {
+    /// `=`: equal.
     Eq,
+    /// `!=`: not equal.
     Ne,
+    /// `<`: less than (integers).
     Lt,
+    /// `<=`: less than or equal (integers).
     Le,
+    /// `>`: greater than (integers).
     Gt,
+    /// `>=`: greater than or equal (integers).
     Ge,
 }
 
@@ -84,18 +90,27 @@ impl CmpOp {
 /// [`Ltl::to_smv`] prints back what was written, up to spacing and redundant parentheses.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Ltl {
+    /// The constant `TRUE`.
     True,
+    /// The constant `FALSE`.
     False,
     /// A name: a Boolean variable as a formula, a variable or symbolic constant in a comparison.
     Atom(String),
     /// An integer; only ever an operand of [`Ltl::Cmp`].
     Int(i64),
+    /// Negation `!a`.
     Not(Box<Ltl>),
+    /// Conjunction `a & b`.
     And(Box<Ltl>, Box<Ltl>),
+    /// Disjunction `a | b`.
     Or(Box<Ltl>, Box<Ltl>),
+    /// Exclusive or `a xor b`.
     Xor(Box<Ltl>, Box<Ltl>),
+    /// Negated exclusive or `a xnor b` (true when both agree).
     Xnor(Box<Ltl>, Box<Ltl>),
+    /// Implication `a -> b`.
     Implies(Box<Ltl>, Box<Ltl>),
+    /// Equivalence `a <-> b`.
     Iff(Box<Ltl>, Box<Ltl>),
     /// A comparison; both operands are [`Ltl::Atom`], [`Ltl::Int`], [`Ltl::True`] or
     /// [`Ltl::False`] (the parser guarantees it).
@@ -129,6 +144,7 @@ pub enum Ltl {
 pub struct Property {
     /// The label written before the formula, if any.
     pub label: Option<String>,
+    /// The parsed formula.
     pub formula: Ltl,
     /// 1-based line of the file.
     pub line: usize,

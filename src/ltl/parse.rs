@@ -21,26 +21,35 @@ struct LineParser;
 /// Why a specification file was rejected.
 #[derive(Debug, thiserror::Error)]
 pub enum LtlError {
+    /// The specification file could not be opened or read.
     #[error("cannot read LTL specification {}", path.display())]
     Io {
+        /// The specification file.
         path: PathBuf,
+        /// The underlying I/O error.
         #[source]
         source: std::io::Error,
     },
     /// A line over the limit, or a file too large to read.
     #[error(transparent)]
     Read(crate::files::FileReadError),
+    /// The file holds only comments and blank lines.
     #[error("{}: no property (the file holds only comments and blank lines)", file.display())]
-    Empty { file: PathBuf },
+    Empty {
+        /// The specification file.
+        file: PathBuf,
+    },
     /// A problem at a place in the file. Displayed as `file:line:column: message`, then the
     /// source line (the part around the column, when it is long) and a caret under the column.
     #[error("{}:{line}:{column}: {kind}\n{}", file.display(), Pointed(source_line, *column))]
     At {
+        /// The specification file.
         file: PathBuf,
         /// 1-based line.
         line: usize,
         /// 1-based column, in characters.
         column: usize,
+        /// What is wrong there.
         kind: LtlErrorKind,
         /// The offending line, as written.
         source_line: String,
@@ -53,15 +62,28 @@ pub enum LtlErrorKind {
     /// The formula does not parse, or breaks a rule of the format (the message says which).
     #[error("syntax error: {0}")]
     Syntax(String),
+    /// A label that is not an identifier, or is a NuSMV keyword.
     #[error("illegal label {}: a label is an identifier [A-Za-z_][A-Za-z0-9_$#-]*, not a NuSMV keyword", quote(.0))]
     IllegalLabel(String),
+    /// A label already given to an earlier property.
     #[error("duplicate label {} (first used on line {first_line})", quote(label))]
-    DuplicateLabel { label: String, first_line: usize },
+    DuplicateLabel {
+        /// The repeated label.
+        label: String,
+        /// 1-based line where the label was first used.
+        first_line: usize,
+    },
+    /// An explicit label equal to the default name given to an unlabelled property.
     #[error(
         "label {} is the default name of the unlabelled property on line {line}",
         quote(label)
     )]
-    LabelClash { label: String, line: usize },
+    LabelClash {
+        /// The clashing label.
+        label: String,
+        /// 1-based line of the unlabelled property whose default name it is.
+        line: usize,
+    },
 }
 
 /// A line, indented, and a caret under its 1-based character column on the next line,

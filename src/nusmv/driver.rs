@@ -28,6 +28,7 @@ use std::time::{Duration, Instant};
 /// A NuSMV binary and how long one model may take.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Nusmv {
+    /// The NuSMV executable (as found by [`locate`](super::locate())).
     pub path: PathBuf,
     /// Wall-clock limit per model; the process is killed when it is exceeded.
     pub timeout: Duration,

@@ -31,20 +31,33 @@ use std::path::PathBuf;
 pub enum NusmvError {
     /// No NuSMV binary anywhere we look; `hint` says how to get one.
     #[error("NuSMV not found: {hint}")]
-    NotFound { hint: String },
+    NotFound {
+        /// Where we looked and how to install NuSMV or point to it.
+        hint: String,
+    },
     /// The binary named by `--nusmv` or `$NUSMV` does not exist.
     #[error("NuSMV binary `{}` (from --nusmv or NUSMV) does not exist", .0.display())]
     ExplicitPathMissing(PathBuf),
     /// NuSMV ran longer than the configured timeout on `model`; the process was killed.
     #[error("NuSMV ran longer than {seconds} s on `{}` and was killed", model.display())]
-    Timeout { seconds: f64, model: PathBuf },
+    Timeout {
+        /// The timeout that was exceeded, in seconds.
+        seconds: f64,
+        /// The SMV file being checked.
+        model: PathBuf,
+    },
     /// NuSMV rejected the model; each error carries the file and line NuSMV reported.
     #[error("NuSMV rejected the model: {}", describe_model_errors(.0))]
     Model(Vec<ModelError>),
     /// NuSMV failed without saying where: `status` tells how it ended, `stderr_tail` holds
     /// the last lines it printed on stderr.
     #[error("NuSMV failed ({status}): {stderr_tail}")]
-    Crashed { status: String, stderr_tail: String },
+    Crashed {
+        /// How the process ended (exit status or signal), or what was wrong with its answer.
+        status: String,
+        /// The last lines NuSMV printed on stderr.
+        stderr_tail: String,
+    },
     /// A model path NuSMV's interactive shell would mangle (`!` and `%` trigger its history
     /// expansion, `#` starts a comment, `"` ends the quoting).
     #[error("model path `{}` contains a character NuSMV's shell cannot take (one of ! % # \" \\ or a control character)", .0.display())]
@@ -60,8 +73,11 @@ pub enum NusmvError {
     /// vacuously. `warning` is what NuSMV said about it, if anything.
     #[error("the model `{}` has no {what}: every property would hold vacuously, so nothing is verified; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints{}", model.display(), warning.as_deref().map(|w| format!(" (NuSMV: {w})")).unwrap_or_default())]
     Vacuous {
+        /// The SMV file being checked.
         model: PathBuf,
+        /// What is missing: `initial state`, `state` or `fair infinite path`.
         what: &'static str,
+        /// NuSMV's warning that a set of the finite state machine is empty, if it printed one.
         warning: Option<String>,
     },
 }

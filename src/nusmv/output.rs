@@ -14,9 +14,13 @@ use pest::Parser;
 use std::collections::BTreeMap;
 use std::fmt;
 
-#[derive(pest_derive::Parser)]
-#[grammar = "../grammar/nusmv_output.pest"]
-struct OutputGrammar;
+// The parser and its `Rule` enum stay private: no pest type leaves this module.
+mod parser {
+    #[derive(pest_derive::Parser)]
+    #[grammar = "../grammar/nusmv_output.pest"]
+    pub(super) struct OutputGrammar;
+}
+use parser::{OutputGrammar, Rule};
 
 /// The verdict on one property, as NuSMV printed it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -29,12 +33,14 @@ pub struct PropertyResult {
     pub formula: String,
     /// The whole verdict line, `-- specification ... is true|false`, without the newline.
     pub verdict_line: String,
+    /// Whether the property holds, with the counterexample when it does not.
     pub verdict: Verdict,
 }
 
 /// Whether a property holds on the model.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Verdict {
+    /// NuSMV printed `is true`: the property holds on every fair path of the model.
     Holds,
     /// The property is false; the counterexample when NuSMV printed one (it does not with
     /// the `EL_fwd` emptiness algorithm).
@@ -86,6 +92,8 @@ pub struct OutputParseError {
     pub line: usize,
     /// 1-based column.
     pub column: usize,
+    /// What is wrong there: what the grammar expected, or an inconsistency such as an input
+    /// section without a following state.
     pub message: String,
 }
 

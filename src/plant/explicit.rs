@@ -69,10 +69,13 @@ impl Site {
 pub enum EvalErrorKind {
     /// No condition of a `case` holds.
     NoCaseBranch,
+    /// An integer division or `mod` by zero.
     DivisionByZero,
     /// `init`/`next` gives a variable a value outside its type.
     OutOfDomain {
+        /// The variable assigned.
         var: String,
+        /// The offending value, as NuSMV prints it.
         value: String,
     },
     /// An operand of the wrong type (`3 & TRUE`, `idle < 2`, a set inside an operator, ...).
@@ -86,11 +89,13 @@ pub enum EvalErrorKind {
 /// An evaluation error, located at a construct of the plant file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct EvalError {
+    /// Path of the plant file.
     pub file: PathBuf,
     /// 1-based line of the construct (0: a caller's expression).
     pub line: usize,
     /// `next(pos)`, `DEFINE grip1`, `TRANS`, ...
     pub construct: String,
+    /// What went wrong.
     pub kind: EvalErrorKind,
 }
 
@@ -363,6 +368,7 @@ pub struct Semantics<'m> {
 }
 
 impl<'m> Semantics<'m> {
+    /// Prepares the semantics of `model` (classifies each `init` by whether it reads the state).
     pub fn new(model: &'m Model) -> Semantics<'m> {
         let init_mode = model
             .vars
@@ -376,6 +382,7 @@ impl<'m> Semantics<'m> {
         Semantics { model, init_mode }
     }
 
+    /// The model these semantics run.
     pub fn model(&self) -> &'m Model {
         self.model
     }

@@ -62,14 +62,18 @@ pub struct ParamId(pub usize);
 /// A value of the subset. Symbolic constants are interned in [`Model::symbols`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Value {
+    /// A Boolean (`TRUE`/`FALSE`).
     Bool(bool),
+    /// An integer (of a range or an enumeration).
     Int(i64),
+    /// A symbolic constant: index in [`Model::symbols`].
     Sym(u32),
 }
 
 /// The declared type of a variable.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Type {
+    /// `boolean`.
     Bool,
     /// `lo..hi`, both included.
     Range(i64, i64),
@@ -80,15 +84,20 @@ pub enum Type {
 /// State variable (`VAR`) or input variable (`IVAR`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VarKind {
+    /// A `VAR`: part of the state, constrained by `init`/`next`.
     State,
+    /// An `IVAR`: chosen freely at every step, not part of `INIT`/`INVAR`.
     Input,
 }
 
 /// A declared variable.
 #[derive(Debug, Clone)]
 pub struct Var {
+    /// The name as declared.
     pub name: String,
+    /// The declared type.
     pub ty: Type,
+    /// Whether it was declared under `VAR` or `IVAR`.
     pub kind: VarKind,
     /// 1-based line of the declaration.
     pub line: usize,
@@ -103,43 +112,66 @@ pub struct Var {
 /// A `DEFINE name := expr;`.
 #[derive(Debug, Clone)]
 pub struct Define {
+    /// The defined name.
     pub name: String,
+    /// 1-based line of the definition.
     pub line: usize,
+    /// The right-hand side, evaluated on the same state.
     pub expr: Expr,
 }
 
 /// A constraint section entry (`INIT`, `INVAR`, `TRANS`, `FAIRNESS`/`JUSTICE`), Boolean.
 #[derive(Debug, Clone)]
 pub struct Constraint {
+    /// 1-based line of the entry.
     pub line: usize,
+    /// The Boolean condition.
     pub expr: Expr,
 }
 
 /// Binary operators of the subset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BinOp {
+    /// `&`.
     And,
+    /// `|`.
     Or,
+    /// `xor`.
     Xor,
+    /// `xnor`.
     Xnor,
+    /// `->`.
     Implies,
+    /// `<->`.
     Iff,
+    /// `=`.
     Eq,
+    /// `!=`.
     Ne,
+    /// `<`.
     Lt,
+    /// `<=`.
     Le,
+    /// `>`.
     Gt,
+    /// `>=`.
     Ge,
+    /// `+`.
     Add,
+    /// `-`.
     Sub,
+    /// `*`.
     Mul,
+    /// `/` (integer division; by zero is an evaluation error).
     Div,
+    /// `mod` (by zero is an evaluation error).
     Mod,
 }
 
 /// An expression with every name resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
+    /// A literal value.
     Const(Value),
     /// Current value of a variable.
     Var(VarId),
@@ -149,9 +181,11 @@ pub enum Expr {
     Define(DefineId),
     /// A formal parameter: the controller output of the current step.
     Param(ParamId),
+    /// Boolean negation `!`.
     Not(Box<Expr>),
     /// Unary minus.
     Neg(Box<Expr>),
+    /// A binary operation `lhs op rhs`.
     Bin(BinOp, Box<Expr>, Box<Expr>),
     /// `case c1 : e1; ...; esac`: the first branch whose condition holds.
     Case(Vec<(Expr, Expr)>),
@@ -162,13 +196,19 @@ pub enum Expr {
 /// The plant, resolved.
 #[derive(Debug, Clone)]
 pub struct Model {
+    /// Path of the plant file the model was read from (for messages).
     pub file: PathBuf,
     /// Formal parameters of `MODULE plant`, in order: controller outputs the plant reads.
     pub params: Vec<String>,
+    /// Declared variables (`VAR` and `IVAR`), indexed by [`VarId`].
     pub vars: Vec<Var>,
+    /// Defines, indexed by [`DefineId`], each referring only to earlier ones.
     pub defines: Vec<Define>,
+    /// `INIT` constraints: every one holds in an initial state.
     pub init: Vec<Constraint>,
+    /// `INVAR` constraints: every one holds in every reachable state.
     pub invar: Vec<Constraint>,
+    /// `TRANS` constraints: every one holds between a state and its successor.
     pub trans: Vec<Constraint>,
     /// `FAIRNESS p` / `JUSTICE p`: along every fair path `p` holds infinitely often.
     pub fairness: Vec<Constraint>,
@@ -179,8 +219,11 @@ pub struct Model {
 /// What a bare name of the plant stands for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Name {
+    /// A variable (`VAR` or `IVAR`).
     Var(VarId),
+    /// A `DEFINE`.
     Define(DefineId),
+    /// A formal parameter of `MODULE plant` (a controller output).
     Param(ParamId),
 }
 
@@ -199,6 +242,7 @@ impl Model {
             .map(|i| Name::Param(ParamId(i)))
     }
 
+    /// The declaration of variable `v` (panics if `v` is not an index of [`Model::vars`]).
     pub fn var(&self, v: VarId) -> &Var {
         &self.vars[v.0]
     }
@@ -234,9 +278,12 @@ impl Model {
 /// Why a plant file is not a [`Model`] of the subset.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
+    /// The plant file could not be read.
     #[error("cannot read plant {}", file.display())]
     Io {
+        /// Path of the plant file.
         file: PathBuf,
+        /// The underlying I/O error.
         #[source]
         source: std::io::Error,
     },
@@ -246,9 +293,13 @@ pub enum ModelError {
     /// Displayed as `file:line:column: message`.
     #[error("{}:{line}:{column}: {message}", file.display())]
     At {
+        /// Path of the plant file.
         file: PathBuf,
+        /// 1-based line of the offending construct.
         line: usize,
+        /// 1-based column of the offending construct.
         column: usize,
+        /// What is wrong (e.g. a construct outside the subset, a type error).
         message: String,
     },
 }

@@ -25,6 +25,7 @@ use std::path::{Path, PathBuf};
 /// One `REQ` of a scenario.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Step {
+    /// Input variable values sampled with this `REQ`, in interface order.
     pub inputs: Vec<bool>,
     /// Outputs emitted with `CNF`, or `None` for a passive step.
     pub outputs: Option<Vec<bool>>,
@@ -33,6 +34,7 @@ pub struct Step {
 /// Where a scenario came from, for error messages.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Origin {
+    /// The file the scenario was read from.
     pub file: PathBuf,
     /// 1-based line of the file where the scenario starts.
     pub line: usize,
@@ -66,56 +68,84 @@ impl fmt::Display for Origin {
 /// One recorded run of the controller from its initial state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Scenario {
+    /// Where the scenario was read from.
     pub origin: Origin,
+    /// The `REQ`s of the run, in order.
     pub steps: Vec<Step>,
 }
 
 /// Scenarios over one interface.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ScenarioSet {
+    /// Names of the input variables, in the order of [`Step::inputs`].
     pub inputs: Vec<String>,
+    /// Names of the output variables, in the order of [`Step::outputs`].
     pub outputs: Vec<String>,
     /// Output values before the first step of every scenario.
     pub initial_outputs: Vec<bool>,
+    /// The scenarios, in file order.
     pub scenarios: Vec<Scenario>,
 }
 
 /// An error in scenario input, always with its place.
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
+    /// A file could not be opened, read or written.
     #[error("{file}: {source}")]
     Io {
+        /// The file concerned.
         file: PathBuf,
+        /// The underlying I/O error.
         #[source]
         source: std::io::Error,
     },
+    /// A `.gz` file whose compressed stream is corrupt.
     #[error("{file}: not a valid gzip stream: {message}")]
-    Gzip { file: PathBuf, message: String },
+    Gzip {
+        /// The compressed file.
+        file: PathBuf,
+        /// The decoder's complaint.
+        message: String,
+    },
     /// A line over the limit, or a file too large to read.
     #[error(transparent)]
     Read(#[from] crate::files::FileReadError),
+    /// A malformed scenario file (fbSAT text, CSV log or Parquet) at a line or row.
     #[error("{file}:{line}: {message}")]
     Syntax {
+        /// The scenario file.
         file: PathBuf,
+        /// 1-based line (or row) of the problem.
         line: usize,
+        /// What is wrong there.
         message: String,
     },
+    /// A bad step of a scenario (e.g. a vector of the wrong width).
     #[error("{file}:{line}: step {step}: {message}")]
     Step {
+        /// The scenario file.
         file: PathBuf,
+        /// 1-based line where the scenario starts.
         line: usize,
         /// 1-based number of the `REQ` within the scenario.
         step: usize,
+        /// What is wrong with the step.
         message: String,
     },
+    /// A bad interface names file: an invalid or duplicate name, or a wrong count.
     #[error("{file}:{line}: {message}")]
     Names {
+        /// The names file.
         file: PathBuf,
+        /// 1-based line of the problem.
         line: usize,
+        /// What is wrong there.
         message: String,
     },
+    /// Two scenarios answer the same input history differently (found building the tree).
     #[error("{0}")]
     Contradiction(Box<Contradiction>),
+    /// Any other problem, e.g. merging scenario sets over different interfaces.
     #[error("{0}")]
     Other(String),
 }
@@ -124,11 +154,17 @@ pub enum ScenarioError {
 #[derive(Debug, thiserror::Error)]
 #[error("contradictory scenarios: {} {first_says}, but {} {second_says} after the same input history", first.step(*first_step), second.step(*second_step))]
 pub struct Contradiction {
+    /// Where the scenario seen first comes from.
     pub first: Origin,
+    /// 1-based step of the first scenario where it answers.
     pub first_step: usize,
+    /// What the first scenario does there ([`Step::describe`]).
     pub first_says: String,
+    /// Where the contradicting scenario comes from.
     pub second: Origin,
+    /// 1-based step of the second scenario where it answers differently.
     pub second_step: usize,
+    /// What the second scenario does there ([`Step::describe`]).
     pub second_says: String,
 }
 
@@ -216,6 +252,7 @@ pub struct Divergence {
     pub scenario: usize,
     /// 0-based step.
     pub step: usize,
+    /// The step's input values.
     pub inputs: Vec<bool>,
     /// Outputs recorded with `CNF`, or `None` if no `CNF` was recorded.
     pub recorded: Option<Vec<bool>>,

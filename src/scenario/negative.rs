@@ -18,6 +18,7 @@ use std::path::Path;
 /// One step of a negative scenario.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct NegativeStep {
+    /// Input values of the step's `REQ`.
     pub inputs: Vec<bool>,
     /// Controller outputs when the step starts.
     pub before: Vec<bool>,
@@ -31,7 +32,9 @@ pub struct NegativeStep {
 /// safety violation is reached at its end).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct NegativeScenario {
+    /// The steps, prefix then loop.
     pub steps: Vec<NegativeStep>,
+    /// 0-based index of the first step of the loop, or `None` for a finite prefix.
     pub loop_start: Option<usize>,
     /// What it came from, for messages (e.g. the property name).
     pub label: String,
@@ -122,9 +125,11 @@ fn from_scenario(s: &Scenario, initial_outputs: &[bool]) -> NegativeScenario {
 #[derive(Debug, thiserror::Error)]
 #[error("{negative}: every machine that reproduces the recordings shows this negative scenario (its {steps} steps follow the recorded behaviour, last through {place}), so none can avoid it: remove it or the recording")]
 pub struct Recorded {
+    /// The negative scenario's label.
     pub negative: String,
     /// The recorded step the scenario's last active step coincides with (or the start).
     pub place: String,
+    /// Number of steps of the negative scenario.
     pub steps: usize,
 }
 

@@ -17,7 +17,9 @@ use super::Step;
 /// One sample: input and output values.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Sample {
+    /// Input values at the sample, in interface order.
     pub inputs: Vec<bool>,
+    /// Output values at the sample, in interface order.
     pub outputs: Vec<bool>,
 }
 

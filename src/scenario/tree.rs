@@ -49,7 +49,9 @@ struct Seen {
 /// The merged scenarios, ready to be coloured.
 #[derive(Debug, Clone)]
 pub struct ScenarioTree {
+    /// The distinct input vectors of the scenarios, indexed by [`InputVec`].
     pub input_vectors: Vec<Vec<bool>>,
+    /// The nodes, indexed by [`NodeId`]; node 0 is the root (initial outputs).
     pub nodes: Vec<Node>,
     /// For every node, the first scenario and step that reached it (`step` 0 = the root).
     pub witness: Vec<(usize, usize)>,
@@ -136,6 +138,7 @@ impl ScenarioTree {
         Ok(tree)
     }
 
+    /// The root node, which holds the initial outputs.
     pub fn root(&self) -> NodeId {
         NodeId(0)
     }

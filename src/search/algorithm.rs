@@ -52,6 +52,7 @@ pub struct Config {
     pub stagnation_checks: u64,
     /// Where a stagnating colony restarts.
     pub restart: Restart,
+    /// The fitness constants `c1..c5`.
     pub weights: Weights,
     /// Probability `p` of verifying a child whose scenario part is below the threshold.
     pub verify_probability: f64,
@@ -64,9 +65,11 @@ pub struct Config {
     /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
     /// verdicts: those properties fail, the rest inherited), beyond the verification-in-the-loop paper.
     pub replay_counterexamples: bool,
+    /// Seed of every colony's generator (colony `k` uses stream `k`): same seed, same run.
     pub seed: u64,
     /// Worker threads (rayon).
     pub threads: usize,
+    /// Stop after the round in which this much wall-clock time has passed; `None`: no limit.
     pub time_limit: Option<Duration>,
     /// Stop after the round in which this many scenario evaluations were reached.
     pub max_evaluations: Option<u64>,
@@ -122,12 +125,16 @@ pub enum Restart {
 /// Why a search stopped without an outcome.
 #[derive(Debug, thiserror::Error)]
 pub enum SearchError {
+    /// A colony's checker failed to verify a candidate (NuSMV or the in-process checker).
     #[error("verification of a candidate failed: {0}")]
     Verify(#[from] OracleError),
+    /// [`Config::states`], [`Config::colonies`] or [`Config::offspring`] is 0.
     #[error("the search needs at least one state, one colony and one child per generation")]
     Config,
+    /// Rayon could not build the thread pool (carries its message).
     #[error("cannot start the thread pool: {0}")]
     Threads(String),
+    /// Checkers were given, but not one per colony: `(checkers, colonies)`.
     #[error("{0} checkers given for {1} colonies")]
     Checkers(usize, usize),
 }
@@ -141,34 +148,45 @@ pub struct Stats {
     pub verifications: u64,
     /// Verifications saved because the child still followed a parent's counterexample.
     pub replayed: u64,
+    /// Rounds run (each `generations_per_round` generations of every colony, then sharing).
     pub rounds: usize,
+    /// Wall-clock time of the run, in seconds.
     pub seconds: f64,
 }
 
 /// What the progress callback sees after every round.
 #[derive(Debug, Clone)]
 pub struct Progress {
+    /// The round just finished (1-based).
     pub round: usize,
+    /// Fitness of the best machine so far (over all colonies and rounds).
     pub best_fitness: f64,
+    /// Scenario terms of the best machine so far.
     pub best_score: ScenarioScore,
     /// `(satisfied, total)` of the best machine's latest verdicts, if it has any.
     pub properties: Option<(usize, usize)>,
+    /// Scenario evaluations so far, over all colonies.
     pub evaluations: u64,
+    /// Wall-clock time since the start of the run, in seconds.
     pub seconds: f64,
 }
 
 /// The result of a run.
 #[derive(Debug, Clone)]
 pub struct Outcome {
+    /// The best machine found, in the search's representation.
     pub machine: Machine,
     /// The machine with its labeled algorithms.
     pub ecc: Ecc,
+    /// Its scenario terms.
     pub score: ScenarioScore,
     /// Verdicts the search saw for it (computed for this machine, not inherited).
     pub verdicts: Option<Verdicts>,
+    /// Its fitness `F` under [`Config::weights`].
     pub fitness: f64,
     /// Every scenario reproduced and (with properties) every property held in the search.
     pub perfect: bool,
+    /// Figures of the run.
     pub stats: Stats,
 }
 

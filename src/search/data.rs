@@ -30,8 +30,11 @@ pub(crate) struct StepData {
 /// The scenarios as flat bit-mask arrays.
 #[derive(Debug, Clone)]
 pub struct ScenarioData {
+    /// Input variable names; input `i` is bit `i` of a step's input mask.
     pub inputs: Vec<String>,
+    /// Output variable names; output `i` is bit `i` of an output mask.
     pub outputs: Vec<String>,
+    /// Output values before the first step of every scenario.
     pub initial_outputs: Vec<bool>,
     pub(crate) initial: u32,
     pub(crate) steps: Vec<StepData>,
@@ -45,15 +48,29 @@ pub struct ScenarioData {
 /// Why scenarios cannot be searched.
 #[derive(Debug, thiserror::Error)]
 pub enum DataError {
+    /// More inputs than fit the bit masks of the search.
     #[error("the search handles at most {max} inputs, the scenarios have {got}")]
-    TooManyInputs { max: usize, got: usize },
+    TooManyInputs {
+        /// The most inputs the search handles.
+        max: usize,
+        /// The number of inputs of the scenarios.
+        got: usize,
+    },
+    /// More outputs than [`MAX_OUTPUTS`].
     #[error("the search handles at most {max} outputs, the scenarios have {got}")]
-    TooManyOutputs { max: usize, got: usize },
+    TooManyOutputs {
+        /// The most outputs the search handles ([`MAX_OUTPUTS`]).
+        max: usize,
+        /// The number of outputs of the scenarios.
+        got: usize,
+    },
+    /// Every scenario is empty: there is nothing to fit.
     #[error("no scenario has a step")]
     Empty,
 }
 
 impl ScenarioData {
+    /// Precomputes `set` (skipping empty scenarios), or says why the search cannot take it.
     pub fn new(set: &ScenarioSet) -> Result<ScenarioData, DataError> {
         if set.inputs.len() > MAX_INPUTS {
             return Err(DataError::TooManyInputs {

@@ -29,11 +29,15 @@ use crate::scenario::negative::NegativeScenario;
 /// The scenario terms of one machine.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScenarioScore {
+    /// `F_ed`: one minus the normalized edit distance of the `CNF` outputs, in `[0, 1]`.
     pub ed: f64,
+    /// `F_fe`: how far into each scenario the first wrong output comes, in `[0, 1]`.
     pub fe: f64,
+    /// `F_sc`: one minus the share of steps that change state, in `[0, 1]`.
     pub sc: f64,
     /// Scenarios reproduced exactly.
     pub reproduced: usize,
+    /// Number of (non-empty) scenarios scored.
     pub scenarios: usize,
 }
 
@@ -47,7 +51,9 @@ impl ScenarioScore {
 /// What NuSMV said about a candidate, reduced to what the search uses.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Verdicts {
+    /// Number of properties that hold.
     pub satisfied: usize,
+    /// Number of properties checked.
     pub total: usize,
     /// Longest counterexample (states of the lasso); 0 when every property holds.
     pub longest_counterexample: usize,
@@ -60,6 +66,7 @@ pub struct Verdicts {
 }
 
 impl Verdicts {
+    /// Whether every property holds (also without properties).
     pub fn all_hold(&self) -> bool {
         self.satisfied == self.total
     }
@@ -95,10 +102,15 @@ pub fn f_ce(l_max: usize) -> f64 {
 /// The constants `c1..c5`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Weights {
+    /// `c1`, the weight of `F_ed`.
     pub ed: f64,
+    /// `c2`, the weight of `F_fe`.
     pub fe: f64,
+    /// `c3`, the weight of `F_sc`.
     pub sc: f64,
+    /// `c4`, the weight of `F_sat`.
     pub sat: f64,
+    /// `c5`, the weight of `F_ce`.
     pub ce: f64,
 }
 
@@ -153,6 +165,7 @@ pub struct Evaluator<'a> {
 }
 
 impl<'a> Evaluator<'a> {
+    /// An evaluator over `data` with empty buffers (they grow on the first evaluations).
     pub fn new(data: &'a ScenarioData) -> Evaluator<'a> {
         Evaluator {
             data,
@@ -164,6 +177,7 @@ impl<'a> Evaluator<'a> {
         }
     }
 
+    /// The scenarios this evaluator scores against.
     pub fn data(&self) -> &'a ScenarioData {
         self.data
     }

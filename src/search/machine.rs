@@ -30,6 +30,7 @@ pub struct Group {
 /// One state: its transition groups in priority order.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
 pub struct SearchState {
+    /// The groups; on `REQ` the first whose entry for the input vector is present fires.
     pub groups: Vec<Group>,
 }
 
@@ -45,8 +46,11 @@ pub struct Machine {
 /// Names one present table entry: state, group, entry index (all 0-based).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TransitionRef {
+    /// The source state (index in [`Machine::states`]).
     pub state: StateId,
+    /// Index of the group in the state's [`SearchState::groups`].
     pub group: usize,
+    /// Index in the group's [`Group::table`] (the significant inputs read as a number).
     pub entry: usize,
 }
 

@@ -26,14 +26,18 @@ use std::sync::{Arc, Mutex};
 /// Why a candidate could not be judged.
 #[derive(Debug, thiserror::Error)]
 pub enum OracleError {
+    /// The closed-loop verification with NuSMV failed (see [`VerifyError`]).
     #[error(transparent)]
     Nusmv(#[from] VerifyError),
+    /// The in-process checker refused the candidate or the plant (not for too many states:
+    /// those candidates go to NuSMV).
     #[error("the in-process checker: {0}")]
     InProcess(#[from] CheckError),
 }
 
 /// Something that gives verdicts on candidates; one per colony.
 pub trait Checker: Send {
+    /// The verdicts on `ecc` in closed loop with the plant (both checkers cache them).
     fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError>;
 }
 
@@ -168,6 +172,8 @@ pub struct InProcess {
 }
 
 impl InProcess {
+    /// A colony's in-process checker of `closed`, falling back to `nusmv` (whose cache it
+    /// shares) when it cannot decide.
     pub fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
         InProcess {
             closed,

@@ -35,6 +35,7 @@ use std::path::{Path, PathBuf};
 pub const CONTROLLER_MODULE: &str = "ECC";
 /// Instance names in `main`.
 pub const CONTROLLER_INSTANCE: &str = "ctrl";
+/// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
 pub const PLANT_INSTANCE: &str = "plant";
 
 const RESERVED: &[&str] = &["ctrl", "plant", "main", "ECC"];
@@ -42,12 +43,18 @@ const RESERVED: &[&str] = &["ctrl", "plant", "main", "ECC"];
 /// A coupling mistake, found before NuSMV runs.
 #[derive(Debug, thiserror::Error)]
 pub enum CouplingError {
+    /// A name breaks the convention: a reserved or unusable name, a plant parameter that is no
+    /// controller output, a controller input the plant lacks, an unknown name in a property.
     #[error("{file}:{line}: {message}")]
     At {
+        /// The plant file or the specification file, whichever holds the mistake.
         file: PathBuf,
+        /// 1-based line: the declaration, the property, or `MODULE plant` for interface names.
         line: usize,
+        /// What is wrong.
         message: String,
     },
+    /// The controller cannot be emitted as SMV (e.g. an unusable identifier).
     #[error("{0}")]
     Smv(#[from] SmvError),
 }
@@ -55,7 +62,10 @@ pub enum CouplingError {
 /// What a bare name stands for in the closed loop.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Binding {
+    /// An output of the controller: `main` defines it as `ctrl.<name>`.
     ControllerOutput,
+    /// A `VAR`, `IVAR`, `FROZENVAR` or `DEFINE` of module `plant`: `main` defines it as
+    /// `plant.<name>`.
     Plant,
 }
 
@@ -190,6 +200,7 @@ pub enum Source {
 /// A composed closed-loop model.
 #[derive(Debug, Clone)]
 pub struct ClosedLoop {
+    /// The whole NuSMV model: controller module, plant file verbatim, `main`, `LTLSPEC`s.
     pub text: String,
     /// First model line (1-based) holding plant line 1.
     plant_first: usize,

@@ -38,9 +38,12 @@ pub enum SmvError {
     Identifier {
         /// Where the name comes from: `module name`, `input 3`, `output 1` (1-based).
         role: String,
+        /// The offending name, as given.
         name: String,
+        /// Why it cannot be used (not an identifier, a keyword, a clash, ...).
         reason: String,
     },
+    /// Writing the module to the output failed.
     #[error(transparent)]
     Io(#[from] io::Error),
 }

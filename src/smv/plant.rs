@@ -10,14 +10,18 @@ use std::path::{Path, PathBuf};
 /// A name in the plant file and the line it is declared on (1-based).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Declared {
+    /// The name as written.
     pub name: String,
+    /// 1-based line of the declaration (or of the parameter in `MODULE plant(...)`).
     pub line: usize,
 }
 
 /// The plant file with the parts of `MODULE plant` the coupling needs.
 #[derive(Debug, Clone)]
 pub struct Plant {
+    /// Path of the plant file (for messages and for mapping NuSMV's errors back).
     pub file: PathBuf,
+    /// The whole file as read, copied unchanged into the closed-loop model.
     pub text: String,
     /// Line of `MODULE plant`.
     pub module_line: usize,
@@ -33,10 +37,15 @@ pub enum PlantError {
     /// The file cannot be read, has a line over the limit or is too large.
     #[error(transparent)]
     Read(#[from] crate::files::FileReadError),
+    /// A construct that breaks the convention (no or a second `MODULE plant`, a `main` or
+    /// controller module, a specification, a `process`, a bad parameter list).
     #[error("{file}:{line}: {message}")]
     At {
+        /// Path of the plant file.
         file: PathBuf,
+        /// 1-based line of the offending construct (1 when `MODULE plant` is missing).
         line: usize,
+        /// What is wrong and what the convention asks for.
         message: String,
     },
 }
