@@ -425,7 +425,9 @@ fn machines_validate_against_the_json_schema_synth_prints() {
         assert!(validate(&bad).is_err(), "the schema takes {what}");
         let o = synth(
             dir.path(),
-            &["export", "--ecc", "bad.json", "--out", "b", "--format", "json"],
+            &[
+                "export", "--ecc", "bad.json", "--out", "b", "--format", "json",
+            ],
         );
         assert_eq!(o.status.code(), Some(4), "synth takes {what}");
         assert!(text(&o.stderr).contains("bad.json"), "{}", text(&o.stderr));
