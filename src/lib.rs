@@ -25,6 +25,9 @@
 //! The `synth` command line and the benchmark cases (plant simulations with their reference
 //! controllers) are not part of the library: they live beside the binary and the tests.
 
+// Every public item says what it means in the domain; clippy's -D warnings keeps it so.
+#![warn(missing_docs)]
+
 // The benchmark cases are written against the public API (`fbsynth::...`), so the binary,
 // the integration tests and the unit tests here can all compile the same files.
 #[cfg(test)]

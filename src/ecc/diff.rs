@@ -24,16 +24,20 @@ pub struct Difference {
     pub inputs: Vec<Vec<bool>>,
     /// What each machine answers to the last `REQ`: `CNF` outputs, or `None` for nothing.
     pub first: Option<Vec<bool>>,
+    /// The same for the second machine.
     pub second: Option<Vec<bool>>,
 }
 
 /// Why two machines cannot be compared.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum DiffError {
+    /// The input names differ (both lists, comma-separated).
     #[error("the machines have different interfaces: inputs [{0}] and [{1}]")]
     Inputs(String, String),
+    /// The output names differ (both lists, comma-separated).
     #[error("the machines have different interfaces: outputs [{0}] and [{1}]")]
     Outputs(String, String),
+    /// The exhaustive comparison would enumerate more input vectors than it allows.
     #[error("{0} inputs are too many to compare every input vector (at most {MAX_INPUTS})")]
     TooManyInputs(usize),
 }
@@ -136,7 +140,9 @@ pub fn difference_from(
 /// Two states put side by side by [`structure`], with what differs between them.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct StatePair {
+    /// The state of the first machine.
     pub first: StateId,
+    /// The state of the second machine matched to it.
     pub second: StateId,
     /// One line per difference (algorithm, transitions by priority), empty when alike.
     pub changes: Vec<String>,
@@ -149,6 +155,7 @@ pub struct Structure {
     pub pairs: Vec<StatePair>,
     /// States of either machine that no state of the other was matched to.
     pub unmatched_first: Vec<StateId>,
+    /// The same for the second machine.
     pub unmatched_second: Vec<StateId>,
 }
 

@@ -10,11 +10,17 @@ use std::fmt;
 /// A Boolean formula over the inputs.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Guard {
+    /// Always true (`TRUE`).
     True,
+    /// Never true (`FALSE`).
     False,
+    /// True when this input is 1.
     Var(InputId),
+    /// Negation (`!`).
     Not(Box<Guard>),
+    /// Conjunction (`&`); true when empty.
     And(Vec<Guard>),
+    /// Disjunction (`|`); false when empty.
     Or(Vec<Guard>),
 }
 

@@ -57,6 +57,7 @@ pub enum Tri {
 }
 
 impl Tri {
+    /// The symbol of the JSON contract and the seeds: `0`, `1` or `x`.
     pub fn symbol(self) -> char {
         match self {
             Tri::Zero => '0',
@@ -65,6 +66,7 @@ impl Tri {
         }
     }
 
+    /// Reads a symbol (`0`, `1`, `x` or `X`); `None` for any other character.
     pub fn from_symbol(c: char) -> Option<Tri> {
         match c {
             '0' => Some(Tri::Zero),
@@ -82,7 +84,12 @@ pub enum Algorithm {
     Tri(Vec<Tri>),
     /// The public fbSAT tool's form: new value of output `z` is `a1[z]` if its old value was 1,
     /// else `a0[z]`. This can also express "flip" (`a0 = 1, a1 = 0`).
-    Binary { a0: Vec<bool>, a1: Vec<bool> },
+    Binary {
+        /// New value of each output whose old value is 0.
+        a0: Vec<bool>,
+        /// New value of each output whose old value is 1.
+        a1: Vec<bool>,
+    },
 }
 
 /// Which algorithm form a synthesis run uses.
@@ -107,6 +114,7 @@ impl Algorithm {
         }
     }
 
+    /// Which of the two forms this algorithm is written in.
     pub fn kind(&self) -> AlgorithmKind {
         match self {
             Algorithm::Tri(_) => AlgorithmKind::Tri,
@@ -122,6 +130,7 @@ impl Algorithm {
         }
     }
 
+    /// True when the algorithm is written for no output at all.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -190,14 +199,18 @@ pub fn bits_from_str(s: &str) -> Option<Vec<bool>> {
 /// One outgoing transition of a state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Transition {
+    /// The state entered when the transition fires.
     pub target: StateId,
+    /// The condition on the inputs under which it fires (if no earlier transition does).
     pub guard: Guard,
 }
 
 /// One state of the ECC with its algorithm and its transitions in priority order.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct State {
+    /// The state's name in every export (`s0`, `s1`, ... unless the user named it).
     pub name: String,
+    /// The outputs it sets when entered.
     pub algorithm: Algorithm,
     /// Outgoing transitions, highest priority first.
     pub transitions: Vec<Transition>,
@@ -206,8 +219,11 @@ pub struct State {
 /// An Execution Control Chart with its interface.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Ecc {
+    /// Names of the Boolean inputs (sampled on every `REQ`), in interface order.
     pub inputs: Vec<String>,
+    /// Names of the Boolean outputs (sent with every `CNF`), in interface order.
     pub outputs: Vec<String>,
+    /// Output values before the first `REQ`.
     pub initial_outputs: Vec<bool>,
     /// States; index 0 is the initial state.
     pub states: Vec<State>,
@@ -233,10 +249,12 @@ impl fmt::Display for Size {
 }
 
 impl Ecc {
+    /// The state with this id (panics on an id of another machine).
     pub fn state(&self, id: StateId) -> &State {
         &self.states[id.0]
     }
 
+    /// Its size as the seeds count it: states, largest out-degree, transitions, guard literals.
     pub fn size(&self) -> Size {
         Size {
             c: self.states.len(),
@@ -256,6 +274,8 @@ impl Ecc {
         }
     }
 
+    /// The algorithm form of its states (the initial state's; [`AlgorithmKind::Tri`] when
+    /// it has no state).
     pub fn algorithm_kind(&self) -> AlgorithmKind {
         self.states
             .first()

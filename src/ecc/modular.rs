@@ -25,15 +25,20 @@ pub struct Module {
     pub inputs: Vec<InputId>,
     /// Composite outputs owned by the module, ascending; the ECC's output `j` is `outputs[j]`.
     pub outputs: Vec<OutputId>,
+    /// The module's own machine, over its inputs and outputs only.
     pub ecc: Ecc,
 }
 
 /// A modular controller: modules in order (module `m` is numbered `m + 1` for users).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Modular {
+    /// Names of the composite's inputs (every module reads a subset).
     pub inputs: Vec<String>,
+    /// Names of the composite's outputs (each owned by exactly one module).
     pub outputs: Vec<String>,
+    /// Output values before the first `REQ`.
     pub initial_outputs: Vec<bool>,
+    /// The modules, each called once per `REQ` in this order.
     pub modules: Vec<Module>,
 }
 
@@ -103,6 +108,7 @@ impl Modular {
         Ok(())
     }
 
+    /// Its size: per module and the totals the modular minimization works on.
     pub fn size(&self) -> ModularSize {
         let modules: Vec<Size> = self.modules.iter().map(|m| m.ecc.size()).collect();
         ModularSize {
@@ -123,11 +129,14 @@ impl Modular {
 #[derive(Debug, Clone)]
 pub struct ModularRun<'a> {
     modular: &'a Modular,
+    /// Each module's run, in module order.
     pub runs: Vec<Run<'a>>,
+    /// The composite's current output values.
     pub outputs: Vec<bool>,
 }
 
 impl<'a> ModularRun<'a> {
+    /// Every module in its initial state, the composite outputs at their initial values.
     pub fn new(modular: &'a Modular) -> ModularRun<'a> {
         ModularRun {
             modular,

@@ -21,7 +21,9 @@ pub struct Fired {
 #[derive(Debug, Clone)]
 pub struct Run<'a> {
     ecc: &'a Ecc,
+    /// The current state.
     pub state: StateId,
+    /// The current output values.
     pub outputs: Vec<bool>,
 }
 
@@ -84,6 +86,7 @@ impl Reactive for Run<'_> {
 /// A controller a recorded trace can be replayed on: an [`Ecc`] or a
 /// [`super::modular::Modular`] composite.
 pub trait Controller {
+    /// The running instance [`Controller::start`] returns.
     type Run<'a>: Reactive
     where
         Self: 'a;

@@ -59,7 +59,9 @@
 //! # Petri nets of synthesized machines
 //! With `--ecc M.json --pnml NET`, `synth events` also writes the machine as a PNML net
 //! ([`crate::export::pnml`]) whose labels are the mapping's addresses, so they match the
-//! activities of the XES. The net assumes one `REQ` per scan and replays a log only if every
+//! activities of the XES. `--pnml-dialect iso` (the default) writes the ISO/IEC 15909-2 P/T
+//! net in the PNML namespace; `--pnml-dialect prom` writes the dialect ProM and pm4py read
+//! (the pm4py tests use it). The net assumes one `REQ` per scan and replays a log only if every
 //! output event follows the input event that, in the machine's state, causes it; merged input
 //! events and two output events in a row are not represented. The tank case
 //! (`src/cases/tank.rs`) shows what this buys: only the machine's net notices a controller
@@ -108,7 +110,9 @@ pub const JOIN: &str = " + ";
 /// The two classes of the process-mining paper: data read by the PLC, or written by it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EventClass {
+    /// A change of a signal the PLC reads.
     Input,
+    /// A change of a signal the PLC writes.
     Output,
 }
 
@@ -125,7 +129,9 @@ impl EventClass {
 /// One address taking a value.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Change {
+    /// The signal's address as the log names it.
     pub address: String,
+    /// The value it takes.
     pub value: bool,
 }
 
@@ -140,6 +146,7 @@ impl fmt::Display for Change {
 pub struct Event {
     /// Seconds, as in the log.
     pub time: f64,
+    /// Whether the changes are of inputs or of outputs.
     pub class: EventClass,
     /// In mapping order; never empty.
     pub changes: Vec<Change>,
@@ -159,17 +166,26 @@ impl Event {
 /// A problem with the conversion's input.
 #[derive(Debug, thiserror::Error)]
 pub enum EventsError {
+    /// The log cannot be read (file, line and cell named).
     #[error(transparent)]
     Log(#[from] IngestError),
     /// The `--reset` activity cannot be read; `text` is the whole argument.
     #[error("reset activity {}: {message}", crate::quote::quote(text))]
-    Reset { text: String, message: String },
+    Reset {
+        /// The argument as given.
+        text: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// An output file cannot be written.
     #[error(transparent)]
     Write(#[from] crate::files::WriteError),
     /// A sink failed while writing; the paths name the files being written.
     #[error("cannot write {paths}: {source}")]
     Sink {
+        /// The files being written, comma-separated.
         paths: String,
+        /// The error of the write.
         #[source]
         source: std::io::Error,
     },
@@ -178,7 +194,9 @@ pub enum EventsError {
 /// The activity that starts a new trace: one or more changes of one class.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ResetActivity {
+    /// The class of the event it matches.
     pub class: EventClass,
+    /// The changes the event must consist of, in mapping order.
     pub changes: Vec<Change>,
 }
 
@@ -347,7 +365,9 @@ impl EventStream {
 pub trait EventSink {
     /// A new trace starts; `case` is its 1-based number.
     fn begin_trace(&mut self, case: usize) -> std::io::Result<()>;
+    /// One event of the current trace.
     fn event(&mut self, event: &Event) -> std::io::Result<()>;
+    /// The current trace is complete.
     fn end_trace(&mut self) -> std::io::Result<()>;
 }
 
@@ -420,13 +440,17 @@ impl<'a> TraceSlicer<'a> {
 /// What a conversion produced.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Summary {
+    /// Traces written.
     pub traces: usize,
+    /// Events written, over all traces.
     pub events: u64,
     /// Events that matched the reset activity.
     pub resets: u64,
     /// Samples and data rows read, rows skipped (lenient mode).
     pub samples: u64,
+    /// Data rows read.
     pub rows: u64,
+    /// Rows skipped (lenient mode only).
     pub skipped: u64,
 }
 
@@ -463,8 +487,10 @@ pub fn convert<R: BufRead>(
 /// which files its sinks write).
 #[derive(Debug, thiserror::Error)]
 pub enum ConvertError {
+    /// The log cannot be read.
     #[error(transparent)]
     Log(#[from] IngestError),
+    /// A sink failed.
     #[error("{0}")]
     Sink(std::io::Error),
 }

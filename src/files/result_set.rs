@@ -35,8 +35,13 @@ pub struct ResultSet {
 /// Why an output folder cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum ResultSetError {
+    /// Another run holds the folder's lock.
     #[error("another synth run is writing into {} (it holds {}); wait for it to finish or give another output folder", .out.display(), .out.join(LOCK).display())]
-    Busy { out: PathBuf },
+    Busy {
+        /// The output folder.
+        out: PathBuf,
+    },
+    /// The folder or its staging area cannot be made.
     #[error(transparent)]
     Write(#[from] WriteError),
 }

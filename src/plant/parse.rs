@@ -21,9 +21,13 @@ use pest::iterators::Pair;
 use pest::Parser;
 use std::path::Path;
 
-#[derive(pest_derive::Parser)]
-#[grammar = "grammar/smv.pest"]
-struct SmvParser;
+// In a module of its own so that the generated `Rule` enum stays private.
+mod parser {
+    #[derive(pest_derive::Parser)]
+    #[grammar = "grammar/smv.pest"]
+    pub(super) struct SmvParser;
+}
+use parser::{Rule, SmvParser};
 
 /// Reads and parses a plant file.
 pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
