@@ -434,6 +434,11 @@ pub fn held_out_cases() -> Vec<UseCase> {
 /// returns one sample per scan and the station at the end; `None` if the run does not settle
 /// within [`MAX_SCANS`].
 pub fn simulate(ecc: &Ecc, case: &UseCase) -> Option<(Vec<Sample>, Station)> {
+    simulate_within(ecc, case, MAX_SCANS)
+}
+
+/// [`simulate`] with another bound on the scans.
+fn simulate_within(ecc: &Ecc, case: &UseCase, max_scans: usize) -> Option<(Vec<Sample>, Station)> {
     let mut quiet = 0;
     let mut actions = case.actions.iter();
     // Pending button: which one and scans left to hold it.
@@ -447,7 +452,7 @@ pub fn simulate(ecc: &Ecc, case: &UseCase) -> Option<(Vec<Sample>, Station)> {
                 quiet += 1;
             }
         }
-        if k == MAX_SCANS {
+        if k == max_scans {
             return Drive::Stop;
         }
         if let Some((b, left)) = pressing {
@@ -471,7 +476,7 @@ pub fn simulate(ecc: &Ecc, case: &UseCase) -> Option<(Vec<Sample>, Station)> {
         }
         Drive::Scan
     };
-    let (scans, station) = closed_loop(ecc, Station::new(), MAX_SCANS, drive);
+    let (scans, station) = closed_loop(ecc, Station::new(), max_scans, drive);
     settled.then(|| {
         let samples = scans
             .into_iter()
@@ -638,6 +643,37 @@ pub fn random_logs(samples: usize, seed: u64) -> Vec<Vec<Sample>> {
         logs.push(log);
     }
     logs
+}
+
+/// One long run for benchmarks: the station left in automatic mode for shift after shift
+/// (seeded rounds of loading 1 to 8 pieces, start, sometimes an emergency, stop), recorded by
+/// the reference controller until the run holds at least `steps` steps after the usual
+/// preprocessing; the scenario is then cut to exactly `steps` (a prefix of a real run).
+pub fn long_run(steps: usize, seed: u64) -> ScenarioSet {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut actions = vec![Action::Auto(true)];
+    loop {
+        for _ in 0..(actions.len() / 2).max(8) {
+            actions.push(Action::Load(rng.gen_range(1..=8)));
+            actions.push(Action::Press(Button::Start));
+            if rng.gen_bool(0.3) {
+                actions.push(Action::Press(Button::Emergency));
+            }
+            actions.push(Action::Press(Button::Stop));
+        }
+        let case = UseCase {
+            name: "long run",
+            actions: actions.clone(),
+        };
+        // Far more scans than one use case takes; the rounds, not the bound, end the run.
+        let (log, _) = simulate_within(&reference(), &case, usize::MAX)
+            .expect("the reference controller settles after every action");
+        let mut set = to_scenarios(&[log], "<long run>");
+        if set.step_count() >= steps {
+            set.scenarios[0].steps.truncate(steps);
+            return set;
+        }
+    }
 }
 
 /// Writes [`CLEAN_FILE`], [`NOISY_FILE`] (rate [`SHIPPED_RATE`], seed [`SHIPPED_SEED`]),

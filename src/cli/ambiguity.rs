@@ -11,7 +11,6 @@ use fbsynth::export;
 use fbsynth::files::ResultSet;
 use fbsynth::pipeline::ambiguity::{self, Ambiguity, Verdict};
 use fbsynth::pipeline::{self, exact};
-use fbsynth::scenario::tree::ScenarioTree;
 use fbsynth::scenario::ScenarioSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -26,13 +25,12 @@ pub fn report(
     progress: &Progress,
     dir: Option<&Path>,
 ) -> Result<(Ambiguity, Vec<PathBuf>), Failure> {
-    let tree = ScenarioTree::build(set).map_err(pipeline::Error::from)?;
     progress.line(&format!(
         "ambiguity: looking for up to {} other machines with {} states that fit the recordings",
         args.rivals,
         machine.states.len()
     ));
-    let found = ambiguity::check(set, &tree, machine, &args.options(algorithms.into())?)?;
+    let found = ambiguity::check_long(set, machine, &args.options(algorithms.into())?)?;
     let text = describe(set, machine, &found);
     out_raw!("{text}");
     let mut files = Vec::new();

@@ -5,7 +5,8 @@
 //!   scenario sets; then the main job (exact synthesis verified by NuSMV);
 //! - `synth bench-noisy`: noisy synthesis on generated distribution-station logs;
 //! - `synth bench-modular`: modular synthesis for M = 1..4;
-//! - `synth bench-search`: the search's scenario-fitness evaluations per second.
+//! - `synth bench-search`: the search's scenario-fitness evaluations per second;
+//! - `synth bench-long`: exact synthesis on one long generated run (lazy synthesis).
 
 use super::args::{problem, TraceArgs};
 use super::progress::Progress;
@@ -260,6 +261,76 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
             total
         );
     }
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct BenchLongArgs {
+    /// Lengths of the run in steps, comma-separated; one row each, in this order.
+    #[arg(long, value_delimiter = ',', default_value = "10000,100000,1000000")]
+    pub steps: Vec<usize>,
+    /// Seed of the operator's rounds.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Also write each run as a scenario file `DIR/long-<steps>.traces` (names in
+    /// `DIR/long.inputs`, `DIR/long.outputs`), to time `synth infer` on it on its own.
+    #[arg(long, value_name = "DIR")]
+    pub save: Option<PathBuf>,
+}
+
+/// `synth bench-long`: exact synthesis (no properties) on one long run of the distribution
+/// station ([`distribution::long_run`]); every machine is replayed on the whole run.
+pub fn bench_long(args: &BenchLongArgs) -> Result<(), Failure> {
+    out!("steps     C  K  T   N   rounds  encoded  generate_s  synth_s  peak_rss");
+    for &steps in &args.steps {
+        let t = Instant::now();
+        let set = distribution::long_run(steps, args.seed);
+        let generate = t.elapsed().as_secs_f64();
+        if let Some(dir) = &args.save {
+            save_run(&set, dir, steps)?;
+        }
+        let t = Instant::now();
+        let progress = Progress::new(!super::verbose());
+        let r = exact::run(&set, None, &exact::Options::default(), &mut |e| {
+            progress.event(e)
+        })
+        .map_err(|e| Failure::with_code(exit::BUG, e))?
+        .synthesis;
+        let seconds = t.elapsed().as_secs_f64();
+        set.check(&r.ecc).map_err(|e| {
+            Failure::msg(
+                exit::BUG,
+                format!("the machine does not replay the run: {e}"),
+            )
+        })?;
+        out!(
+            "{:<9} {:<2} {:<2} {:<3} {:<3} {:<7} {:<8} {:<11.2} {:<8.2} {}",
+            steps,
+            r.size.c,
+            r.size.k,
+            r.size.t,
+            r.size.n,
+            r.stats.rounds,
+            r.stats.steps_encoded,
+            generate,
+            seconds,
+            super::ingest::peak_rss()
+        );
+    }
+    Ok(())
+}
+
+fn save_run(set: &fbsynth::scenario::ScenarioSet, dir: &Path, steps: usize) -> Result<(), Failure> {
+    use fbsynth::files::write_atomic;
+    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+    let mut text = Vec::new();
+    fbsynth::scenario::fbsat::write(set, &mut text).map_err(Failure::input)?;
+    write_atomic(&dir.join(format!("long-{steps}.traces")), &text).map_err(Failure::input)?;
+    let names = |n: &[String]| format!("{}\n", n.join("\n"));
+    write_atomic(&dir.join("long.inputs"), names(&set.inputs).as_bytes())
+        .map_err(Failure::input)?;
+    write_atomic(&dir.join("long.outputs"), names(&set.outputs).as_bytes())
+        .map_err(Failure::input)?;
     Ok(())
 }
 

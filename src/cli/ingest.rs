@@ -175,7 +175,7 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
 }
 
 /// Peak resident set size of this process (`VmHWM`), as the kernel reports it.
-fn peak_rss() -> String {
+pub(super) fn peak_rss() -> String {
     std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| {

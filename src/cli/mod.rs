@@ -306,6 +306,8 @@ pub enum Command {
     BenchAmbiguity(bench::BenchAmbiguityArgs),
     /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
     BenchNoisy(bench::BenchNoisyArgs),
+    /// Measure exact synthesis on one long generated recording (lazy synthesis).
+    BenchLong(bench::BenchLongArgs),
 }
 
 /// A failure the CLI reports: message, causes, exit code.
@@ -427,6 +429,7 @@ pub fn run() -> i32 {
         Some(Command::Experiment(a)) => experiment::experiment(&a),
         Some(Command::BenchSearch(a)) => bench::bench_search(&a),
         Some(Command::BenchNoisy(a)) => bench::bench_noisy(&a),
+        Some(Command::BenchLong(a)) => bench::bench_long(&a),
         Some(Command::Verify(a)) => main_job::verify(&a),
         Some(Command::Generate(a)) => generate::generate(&a),
         None => main_job::main_job(&cli.main),

@@ -110,6 +110,19 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::ClosedLoopOf { candidate, errors } => format!(
             "candidate {candidate} (ε = {errors}): the closed loop on its corrected traces"
         ),
+        Event::Lazy {
+            round,
+            encoded,
+            total,
+            diverging,
+        } => format!(
+            "part {round}: {encoded} of {total} recorded steps encoded; {}",
+            match diverging {
+                0 => "the machine reproduces every step".to_string(),
+                1 => "1 scenario departs from the machine: its prefix grows".to_string(),
+                n => format!("{n} scenarios depart from the machine: their prefixes grow"),
+            }
+        ),
         Event::Followed(r) => format!(
             "controller {}: largest part {} states, {} states in all; {}; SAT {:.2} s, NuSMV {:.3} s",
             r.number,

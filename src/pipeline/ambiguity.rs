@@ -120,6 +120,11 @@ pub struct Ambiguity {
     pub all_inputs: bool,
     /// Wall-clock seconds the check took.
     pub seconds: f64,
+    /// Recorded steps whose points the check started from: all of them, or on long
+    /// recordings the part of them that [`check_long`] encoded last.
+    pub steps_encoded: usize,
+    /// Recorded steps in all.
+    pub steps: usize,
 }
 
 impl Ambiguity {
@@ -140,9 +145,16 @@ impl Ambiguity {
         )
         .trim_start()
         .to_string();
+        let points = match self.steps_encoded < self.steps {
+            true => format!(
+                "a point of the first {} of the {} recorded steps",
+                self.steps_encoded, self.steps
+            ),
+            false => "a recorded point".to_string(),
+        };
         match self.verdict {
             Verdict::Unique => format!(
-                "unique: no other machine with {size} reproduces the recordings and answers differently within {} step{} of a recorded point (inputs: {over}; {:.2} s)",
+                "unique: no other machine with {size} reproduces the recordings and answers differently within {} step{} of {points} (inputs: {over}; {:.2} s)",
                 self.depth,
                 if self.depth == 1 { "" } else { "s" },
                 self.seconds
@@ -258,7 +270,41 @@ pub fn check(
         alphabet: alphabet.len(),
         all_inputs: opts.all_inputs,
         seconds: t0.elapsed().as_secs_f64(),
+        steps_encoded: set.step_count(),
+        steps: set.step_count(),
     })
+}
+
+/// [`check`] on recordings of any length. Long ones (see [`super::lazy`]) are searched a part
+/// at a time: rivals are looked for on prefixes of the scenarios, each rival found is replayed
+/// on the whole recordings, and a scenario it departs from gets a longer prefix before the
+/// search is repeated. Every rival returned reproduces every recorded step; "unique" is
+/// claimed for distinguishing sequences started in the part encoded (the summary says so),
+/// since any machine that fits the whole fits the part.
+pub fn check_long(set: &ScenarioSet, machine: &Ecc, opts: &Options) -> Result<Ambiguity, Error> {
+    use super::lazy::{first_lengths, grow, prefixes, FIRST_PART_STEPS, LAZY_FROM_STEPS};
+    let t0 = Instant::now();
+    if set.step_count() < LAZY_FROM_STEPS {
+        return check(set, &ScenarioTree::build(set)?, machine, opts);
+    }
+    let mut lens = first_lengths(set, FIRST_PART_STEPS);
+    loop {
+        let part = prefixes(set, &lens);
+        let mut found = check(&part, &ScenarioTree::build(&part)?, machine, opts)?;
+        let divergences: Vec<_> = found
+            .rivals
+            .iter()
+            .flat_map(|r| set.divergences(&r.ecc))
+            .collect();
+        if divergences.is_empty() {
+            found.steps = set.step_count();
+            found.seconds = t0.elapsed().as_secs_f64();
+            return Ok(found);
+        }
+        for d in divergences {
+            grow(set, &mut lens, &d)?;
+        }
+    }
 }
 
 /// The rival with the shortest sequence, from a recorded point, on which it answers

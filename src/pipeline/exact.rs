@@ -144,6 +144,26 @@ pub fn run(
     opts: &Options,
     events: Events<'_>,
 ) -> Result<Exact, Error> {
+    if check.is_none() && opts.negatives.is_empty() {
+        // Long recordings are encoded a part at a time (same answer, see `lazy`).
+        let sat = opts.sat(false);
+        // Both the solver's steps and the rounds go to the one caller's sink.
+        let sink = std::cell::RefCell::new(events);
+        let synthesis = super::lazy::synthesize(
+            set,
+            |part| {
+                let tree = ScenarioTree::build(part)?;
+                let mut synth = sat::Synthesizer::new(part, &tree, &sat);
+                Ok(synth.minimize(&mut |m| (*sink.borrow_mut())(Event::Solver(m)))?)
+            },
+            &mut |e| (*sink.borrow_mut())(e),
+        )?;
+        return Ok(Exact {
+            synthesis,
+            certificate: None,
+            iterations: Vec::new(),
+        });
+    }
     let tree = ScenarioTree::build(set)?;
     negative::check_not_recorded(set, &tree, &opts.negatives)?;
     let Some(check) = check else {

@@ -81,11 +81,24 @@ pub fn exact_within(
 /// An event of any pipeline, owned so that it can cross threads ([`within`]).
 enum Owned {
     Solver(crate::sat::Step),
-    LowerBounds { c: usize, t: usize, seconds: f64 },
+    LowerBounds {
+        c: usize,
+        t: usize,
+        seconds: f64,
+    },
     Candidate(Iteration),
     CandidateVerdict(Vec<String>),
-    ClosedLoopOf { candidate: usize, errors: usize },
+    ClosedLoopOf {
+        candidate: usize,
+        errors: usize,
+    },
     Followed(super::follow::Round),
+    Lazy {
+        round: usize,
+        encoded: usize,
+        total: usize,
+        diverging: usize,
+    },
 }
 
 impl Owned {
@@ -97,6 +110,17 @@ impl Owned {
             Event::CandidateVerdict { failing } => Owned::CandidateVerdict(failing.to_vec()),
             Event::ClosedLoopOf { candidate, errors } => Owned::ClosedLoopOf { candidate, errors },
             Event::Followed(r) => Owned::Followed(r.clone()),
+            Event::Lazy {
+                round,
+                encoded,
+                total,
+                diverging,
+            } => Owned::Lazy {
+                round,
+                encoded,
+                total,
+                diverging,
+            },
             // The search has its own clock.
             _ => return None,
         })
@@ -112,6 +136,17 @@ impl Owned {
                 events(Event::ClosedLoopOf { candidate, errors })
             }
             Owned::Followed(r) => events(Event::Followed(r)),
+            &Owned::Lazy {
+                round,
+                encoded,
+                total,
+                diverging,
+            } => events(Event::Lazy {
+                round,
+                encoded,
+                total,
+                diverging,
+            }),
         }
     }
 }

@@ -35,6 +35,7 @@ pub mod closed_loop;
 pub mod exact;
 pub mod explain;
 pub mod follow;
+pub mod lazy;
 pub mod limit;
 pub mod modular;
 pub mod noisy;
@@ -140,6 +141,17 @@ pub enum Event<'a> {
     },
     /// One controller checked in [`follow`] (a composite following a verified machine).
     Followed(&'a follow::Round),
+    /// A round of [`lazy`] synthesis over long recordings ended.
+    Lazy {
+        /// The round, 1-based.
+        round: usize,
+        /// Recorded steps encoded in this round.
+        encoded: usize,
+        /// Recorded steps in all.
+        total: usize,
+        /// Scenarios the round's machine departs from (0: the last round).
+        diverging: usize,
+    },
 }
 
 /// A sink for [`Event`]s.

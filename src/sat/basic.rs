@@ -158,6 +158,11 @@ pub struct Stats {
     pub sat_seconds: f64,
     /// Wall-clock seconds of step 4 (guards, `N`) of the latest minimization.
     pub guard_seconds: f64,
+    /// Syntheses over growing parts of long recordings ([`crate::pipeline::lazy`]); 1 when
+    /// the recordings were encoded whole, 0 when not counted.
+    pub rounds: usize,
+    /// Recorded steps in the part encoded last (all of them when `rounds` is 1).
+    pub steps_encoded: usize,
 }
 
 /// The incremental solver with the basic encoding for up to `c_max` states, its input
