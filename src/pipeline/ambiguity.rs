@@ -282,10 +282,10 @@ pub fn check(
 /// claimed for distinguishing sequences started in the part encoded (the summary says so),
 /// since any machine that fits the whole fits the part.
 pub fn check_long(set: &ScenarioSet, machine: &Ecc, opts: &Options) -> Result<Ambiguity, Error> {
-    use super::lazy::{first_lengths, grow, prefixes, FIRST_PART_STEPS, LAZY_FROM_STEPS};
+    use super::lazy::{first_lengths, grow, prefixes, whole_tree, FIRST_PART_STEPS};
     let t0 = Instant::now();
-    if set.step_count() < LAZY_FROM_STEPS {
-        return check(set, &ScenarioTree::build(set)?, machine, opts);
+    if let Some(tree) = whole_tree(set)? {
+        return check(set, &tree, machine, opts);
     }
     let mut lens = first_lengths(set, FIRST_PART_STEPS);
     loop {

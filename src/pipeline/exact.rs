@@ -151,9 +151,8 @@ pub fn run(
         let sink = std::cell::RefCell::new(events);
         let synthesis = super::lazy::synthesize(
             set,
-            |part| {
-                let tree = ScenarioTree::build(part)?;
-                let mut synth = sat::Synthesizer::new(part, &tree, &sat);
+            |part, tree| {
+                let mut synth = sat::Synthesizer::new(part, tree, &sat);
                 Ok(synth.minimize(&mut |m| (*sink.borrow_mut())(Event::Solver(m)))?)
             },
             &mut |e| (*sink.borrow_mut())(e),

@@ -20,16 +20,16 @@
 //! by the rounds instead, a contradiction would first read as a glitch that costs states, and
 //! the climb would take minutes.
 //!
-//! Below [`LAZY_FROM_STEPS`] recorded steps the whole is encoded at once (one round), as the
-//! encoding of a few thousand steps is cheap and the loop would only add rounds.
+//! When the whole makes a scenario tree of fewer than [`LAZY_FROM_NODES`] nodes it is encoded at
+//! once (one round), as such an encoding is cheap and the loop would only add rounds.
 
 use super::{Error, Event, Events};
 use crate::sat::Synthesis;
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::{Divergence, Scenario, ScenarioSet};
 
-/// Recordings with at least this many steps are synthesized lazily.
-pub const LAZY_FROM_STEPS: usize = 4_096;
+/// Recordings whose scenario tree has at least this many nodes are synthesized lazily.
+pub const LAZY_FROM_NODES: usize = 4_096;
 
 /// The steps of the first part, shared among the scenarios.
 pub const FIRST_PART_STEPS: usize = 1_024;
@@ -66,23 +66,36 @@ pub(super) fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> 
         .collect()
 }
 
-/// Runs `synthesize` on growing parts of `set` until its machine reproduces all of `set`
-/// (see the module documentation), starting from [`FIRST_PART_STEPS`]; with fewer than
-/// [`LAZY_FROM_STEPS`] steps, once on the whole. The machine returned is replayed on every
-/// step of `set`.
+/// Runs `synthesize` (given a part and its scenario tree) on growing parts of `set` until its
+/// machine reproduces all of `set` (see the module documentation), starting from
+/// [`FIRST_PART_STEPS`]; once on the whole when its tree has fewer than [`LAZY_FROM_NODES`]
+/// nodes (scenarios sharing their beginnings, as fbSAT's sets of hundreds of thousands of
+/// steps do, make a small tree). The machine returned is replayed on every step of `set`.
 pub fn synthesize(
     set: &ScenarioSet,
-    mut synthesize: impl FnMut(&ScenarioSet) -> Result<Synthesis, Error>,
+    mut synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
-    let total = set.step_count();
-    if total < LAZY_FROM_STEPS {
-        let mut s = synthesize(set)?;
+    if let Some(tree) = whole_tree(set)? {
+        let mut s = synthesize(set, &tree)?;
         s.stats.rounds = 1;
-        s.stats.steps_encoded = total;
+        s.stats.steps_encoded = set.step_count();
         return Ok(s);
     }
     in_parts(set, FIRST_PART_STEPS, synthesize, events)
+}
+
+/// The tree of the whole when it is small enough to encode at once (fewer than
+/// [`LAZY_FROM_NODES`] nodes), `None` when the recordings are to be taken in parts. Fails on
+/// contradictory recordings.
+pub(super) fn whole_tree(set: &ScenarioSet) -> Result<Option<ScenarioTree>, Error> {
+    // One scenario's tree has a node per active step: its length decides without building it
+    // (and one scenario cannot contradict itself).
+    if set.scenarios.len() == 1 && set.active_count() >= LAZY_FROM_NODES {
+        return Ok(None);
+    }
+    let tree = ScenarioTree::build(set)?;
+    Ok((tree.nodes.len() < LAZY_FROM_NODES).then_some(tree))
 }
 
 /// [`synthesize`] in parts whatever the length, the first part holding about `first_part`
@@ -90,7 +103,7 @@ pub fn synthesize(
 pub fn in_parts(
     set: &ScenarioSet,
     first_part: usize,
-    mut synthesize: impl FnMut(&ScenarioSet) -> Result<Synthesis, Error>,
+    mut synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
     let total = set.step_count();
@@ -101,7 +114,7 @@ pub fn in_parts(
     for round in 1.. {
         let part = prefixes(set, &lens);
         let encoded = part.step_count();
-        let mut s = synthesize(&part)?;
+        let mut s = synthesize(&part, &ScenarioTree::build(&part)?)?;
         let divergences = set.divergences(&s.ecc);
         events(Event::Lazy {
             round,
@@ -145,16 +158,15 @@ mod tests {
     use crate::cases::distribution;
     use crate::scenario::ScenarioError;
 
-    fn whole(set: &ScenarioSet) -> Result<Synthesis, Error> {
-        let tree = ScenarioTree::build(set)?;
+    fn whole(set: &ScenarioSet, tree: &ScenarioTree) -> Result<Synthesis, Error> {
         let opts = crate::sat::Options::default();
-        Ok(crate::sat::Synthesizer::new(set, &tree, &opts).minimize(&mut |_| {})?)
+        Ok(crate::sat::Synthesizer::new(set, tree, &opts).minimize(&mut |_| {})?)
     }
 
     #[test]
     fn parts_give_the_least_size_of_the_whole_recording() {
         let set = distribution::long_run(2_000, 7);
-        let all = whole(&set).unwrap();
+        let all = whole(&set, &ScenarioTree::build(&set).unwrap()).unwrap();
         let mut rounds = Vec::new();
         let lazy = in_parts(&set, 64, whole, &mut |e| {
             if let Event::Lazy { encoded, .. } = e {
