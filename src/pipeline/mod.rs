@@ -18,6 +18,9 @@
 //! | how far the recordings determine the machine: rivals and distinguishing sequences | [`ambiguity::check`] | [`ambiguity::Ambiguity`] |
 //! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
 //!
+//! Long recordings (days of one run) are taken a part at a time by [`lazy`], for exact
+//! synthesis without NuSMV and for the ambiguity check, with the answer of the whole.
+//!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
 //! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
 //! [`crate::nusmv`] and [`crate::verify`]; the command line only parses, calls one function
