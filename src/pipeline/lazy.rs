@@ -82,7 +82,8 @@ pub fn synthesize(
         s.stats.steps_encoded = set.step_count();
         return Ok(s);
     }
-    in_parts(set, FIRST_PART_STEPS, synthesize, events)
+    // `whole_tree` has refused contradictory recordings.
+    rounds(set, FIRST_PART_STEPS, synthesize, events)
 }
 
 /// The tree of the whole when it is small enough to encode at once (fewer than
@@ -103,13 +104,23 @@ pub(super) fn whole_tree(set: &ScenarioSet) -> Result<Option<ScenarioTree>, Erro
 pub fn in_parts(
     set: &ScenarioSet,
     first_part: usize,
+    synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
+    events: Events<'_>,
+) -> Result<Synthesis, Error> {
+    if set.scenarios.len() > 1 {
+        ScenarioTree::build(set)?;
+    }
+    rounds(set, first_part, synthesize, events)
+}
+
+/// The rounds of [`in_parts`], on recordings known to be free of contradictions.
+fn rounds(
+    set: &ScenarioSet,
+    first_part: usize,
     mut synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
     let total = set.step_count();
-    if set.scenarios.len() > 1 {
-        ScenarioTree::build(set)?;
-    }
     let mut lens = first_lengths(set, first_part);
     for round in 1.. {
         let part = prefixes(set, &lens);
