@@ -282,29 +282,24 @@ pub fn check(
 /// claimed for distinguishing sequences started in the part encoded (the summary says so),
 /// since any machine that fits the whole fits the part.
 pub fn check_long(set: &ScenarioSet, machine: &Ecc, opts: &Options) -> Result<Ambiguity, Error> {
-    use super::lazy::{first_lengths, grow, prefixes, whole_tree, FIRST_PART_STEPS};
+    use super::lazy::{until_reproduced, whole_tree, FIRST_PART_STEPS};
     let t0 = Instant::now();
     if let Some(tree) = whole_tree(set)? {
         return check(set, &tree, machine, opts);
     }
-    let mut lens = first_lengths(set, FIRST_PART_STEPS);
-    loop {
-        let part = prefixes(set, &lens);
-        let mut found = check(&part, &ScenarioTree::build(&part)?, machine, opts)?;
-        let divergences: Vec<_> = found
-            .rivals
-            .iter()
-            .flat_map(|r| set.divergences(&r.ecc))
-            .collect();
-        if divergences.is_empty() {
-            found.steps = set.step_count();
-            found.seconds = t0.elapsed().as_secs_f64();
-            return Ok(found);
-        }
-        for d in divergences {
-            grow(set, &mut lens, &d)?;
-        }
-    }
+    let (mut found, _) = until_reproduced(
+        set,
+        FIRST_PART_STEPS,
+        &mut |part, tree, _| check(part, tree, machine, opts),
+        &|found: &Ambiguity| {
+            let rivals = found.rivals.iter();
+            rivals.flat_map(|r| set.divergences(&r.ecc)).collect()
+        },
+        &mut |_| {},
+    )?;
+    found.steps = set.step_count();
+    found.seconds = t0.elapsed().as_secs_f64();
+    Ok(found)
 }
 
 /// The rival with the shortest sequence, from a recorded point, on which it answers

@@ -147,15 +147,13 @@ pub fn run(
     if check.is_none() && opts.negatives.is_empty() {
         // Long recordings are encoded a part at a time (same answer, see `lazy`).
         let sat = opts.sat(false);
-        // Both the solver's steps and the rounds go to the one caller's sink.
-        let sink = std::cell::RefCell::new(events);
         let synthesis = super::lazy::synthesize(
             set,
-            |part, tree| {
+            &mut |part, tree, events| {
                 let mut synth = sat::Synthesizer::new(part, tree, &sat);
-                Ok(synth.minimize(&mut |m| (*sink.borrow_mut())(Event::Solver(m)))?)
+                Ok(synth.minimize(&mut |m| events(Event::Solver(m)))?)
             },
-            &mut |e| (*sink.borrow_mut())(e),
+            events,
         )?;
         return Ok(Exact {
             synthesis,

@@ -58,7 +58,7 @@ pub fn prefixes(set: &ScenarioSet, lens: &[usize]) -> ScenarioSet {
 
 /// The first part's prefix lengths: `first_part` steps shared evenly, at least
 /// [`MIN_PREFIX`] each.
-pub(super) fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> {
+fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> {
     let share = (first_part / set.scenarios.len().max(1)).max(MIN_PREFIX);
     set.scenarios
         .iter()
@@ -66,24 +66,28 @@ pub(super) fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> 
         .collect()
 }
 
-/// Runs `synthesize` (given a part and its scenario tree) on growing parts of `set` until its
-/// machine reproduces all of `set` (see the module documentation), starting from
-/// [`FIRST_PART_STEPS`]; once on the whole when its tree has fewer than [`LAZY_FROM_NODES`]
-/// nodes (scenarios sharing their beginnings, as fbSAT's sets of hundreds of thousands of
-/// steps do, make a small tree). The machine returned is replayed on every step of `set`.
+/// What a round runs on a part: the part, its scenario tree, and the caller's event sink.
+pub type Round<'f, T> =
+    dyn FnMut(&ScenarioSet, &ScenarioTree, Events<'_>) -> Result<T, Error> + 'f;
+
+/// Runs `synthesize` on growing parts of `set` until its machine reproduces all of `set`
+/// (see the module documentation), starting from [`FIRST_PART_STEPS`]; once on the whole when
+/// its tree has fewer than [`LAZY_FROM_NODES`] nodes (scenarios sharing their beginnings, as
+/// fbSAT's sets of hundreds of thousands of steps do, make a small tree). The machine returned
+/// is replayed on every step of `set`.
 pub fn synthesize(
     set: &ScenarioSet,
-    mut synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
+    synthesize: &mut Round<'_, Synthesis>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
     if let Some(tree) = whole_tree(set)? {
-        let mut s = synthesize(set, &tree)?;
+        let mut s = synthesize(set, &tree, events)?;
         s.stats.rounds = 1;
         s.stats.steps_encoded = set.step_count();
         return Ok(s);
     }
     // `whole_tree` has refused contradictory recordings.
-    rounds(set, FIRST_PART_STEPS, synthesize, events)
+    machine_in_parts(set, FIRST_PART_STEPS, synthesize, events)
 }
 
 /// The tree of the whole when it is small enough to encode at once (fewer than
@@ -104,29 +108,59 @@ pub(super) fn whole_tree(set: &ScenarioSet) -> Result<Option<ScenarioTree>, Erro
 pub fn in_parts(
     set: &ScenarioSet,
     first_part: usize,
-    synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
+    synthesize: &mut Round<'_, Synthesis>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
     if set.scenarios.len() > 1 {
         ScenarioTree::build(set)?;
     }
-    rounds(set, first_part, synthesize, events)
+    machine_in_parts(set, first_part, synthesize, events)
 }
 
 /// The rounds of [`in_parts`], on recordings known to be free of contradictions.
-fn rounds(
+fn machine_in_parts(
     set: &ScenarioSet,
     first_part: usize,
-    mut synthesize: impl FnMut(&ScenarioSet, &ScenarioTree) -> Result<Synthesis, Error>,
+    synthesize: &mut Round<'_, Synthesis>,
     events: Events<'_>,
 ) -> Result<Synthesis, Error> {
+    let (mut s, part) = until_reproduced(
+        set,
+        first_part,
+        synthesize,
+        &|s| set.divergences(&s.ecc),
+        events,
+    )?;
+    s.stats.rounds = part.round;
+    s.stats.steps_encoded = part.encoded;
+    Ok(s)
+}
+
+/// The part a run in parts ended with.
+pub(super) struct LastPart {
+    /// Its round, 1-based.
+    pub round: usize,
+    /// Its recorded steps.
+    pub encoded: usize,
+}
+
+/// The loop of every run in parts: `run` on the part, `departures` of what it found from the
+/// whole recordings (its machines replayed on every step), and while there are any, each
+/// scenario a machine departs from gets a longer prefix. Returns the last result and its part.
+pub(super) fn until_reproduced<T>(
+    set: &ScenarioSet,
+    first_part: usize,
+    run: &mut Round<'_, T>,
+    departures: &dyn Fn(&T) -> Vec<Divergence>,
+    events: Events<'_>,
+) -> Result<(T, LastPart), Error> {
     let total = set.step_count();
     let mut lens = first_lengths(set, first_part);
     for round in 1.. {
         let part = prefixes(set, &lens);
         let encoded = part.step_count();
-        let mut s = synthesize(&part, &ScenarioTree::build(&part)?)?;
-        let divergences = set.divergences(&s.ecc);
+        let found = run(&part, &ScenarioTree::build(&part)?, events)?;
+        let divergences = departures(&found);
         events(Event::Lazy {
             round,
             encoded,
@@ -134,9 +168,7 @@ fn rounds(
             diverging: divergences.len(),
         });
         if divergences.is_empty() {
-            s.stats.rounds = round;
-            s.stats.steps_encoded = encoded;
-            return Ok(s);
+            return Ok((found, LastPart { round, encoded }));
         }
         for d in divergences {
             grow(set, &mut lens, &d)?;
@@ -147,7 +179,7 @@ fn rounds(
 
 /// Lengthens the prefix of the scenario `d` departs at, past the departure. A departure
 /// inside the prefix is a bug: the machine was made to reproduce the prefix.
-pub(super) fn grow(set: &ScenarioSet, lens: &mut [usize], d: &Divergence) -> Result<(), Error> {
+fn grow(set: &ScenarioSet, lens: &mut [usize], d: &Divergence) -> Result<(), Error> {
     let len = &mut lens[d.scenario];
     if d.step < *len {
         return Err(Error::Bug(format!(
@@ -169,7 +201,7 @@ mod tests {
     use crate::cases::distribution;
     use crate::scenario::ScenarioError;
 
-    fn whole(set: &ScenarioSet, tree: &ScenarioTree) -> Result<Synthesis, Error> {
+    fn whole(set: &ScenarioSet, tree: &ScenarioTree, _: Events<'_>) -> Result<Synthesis, Error> {
         let opts = crate::sat::Options::default();
         Ok(crate::sat::Synthesizer::new(set, tree, &opts).minimize(&mut |_| {})?)
     }
@@ -177,9 +209,9 @@ mod tests {
     #[test]
     fn parts_give_the_least_size_of_the_whole_recording() {
         let set = distribution::long_run(2_000, 7);
-        let all = whole(&set, &ScenarioTree::build(&set).unwrap()).unwrap();
+        let all = whole(&set, &ScenarioTree::build(&set).unwrap(), &mut |_| {}).unwrap();
         let mut rounds = Vec::new();
-        let lazy = in_parts(&set, 64, whole, &mut |e| {
+        let lazy = in_parts(&set, 64, &mut whole, &mut |e| {
             if let Event::Lazy { encoded, .. } = e {
                 rounds.push(encoded)
             }
@@ -211,7 +243,7 @@ mod tests {
         out[0] = !out[0];
         set.scenarios.push(copy);
         let mut rounds = 0;
-        let e = in_parts(&set, 64, whole, &mut |_| rounds += 1).unwrap_err();
+        let e = in_parts(&set, 64, &mut whole, &mut |_| rounds += 1).unwrap_err();
         assert_eq!(rounds, 0, "found before any round");
         match e {
             Error::Scenario(ScenarioError::Contradiction(c)) => {
