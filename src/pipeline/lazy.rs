@@ -67,8 +67,7 @@ fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> {
 }
 
 /// What a round runs on a part: the part, its scenario tree, and the caller's event sink.
-pub type Round<'f, T> =
-    dyn FnMut(&ScenarioSet, &ScenarioTree, Events<'_>) -> Result<T, Error> + 'f;
+pub type Round<'f, T> = dyn FnMut(&ScenarioSet, &ScenarioTree, Events<'_>) -> Result<T, Error> + 'f;
 
 /// Runs `synthesize` on growing parts of `set` until its machine reproduces all of `set`
 /// (see the module documentation), starting from [`FIRST_PART_STEPS`]; once on the whole when
