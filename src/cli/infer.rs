@@ -63,6 +63,11 @@ pub struct InferArgs {
     /// `<name>_M<i>.fbt/.json/.dot`; --format is ignored).
     #[arg(long, value_name = "M", value_parser = super::args::modules())]
     pub modules: Option<usize>,
+    /// With --modules: how the modules are wired. parallel: every module gets REQ and writes
+    /// the outputs it owns; consecutive: a chain, REQ to module 1, each module's CNF to the
+    /// next, each module rewrites every output in turn and the last one's are the composite's.
+    #[arg(long, value_enum, default_value_t = TopologyArg::Parallel, requires = "modules")]
+    pub topology: TopologyArg,
     /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`
     /// (modules numbered from 1); repeatable. The solver places the other outputs.
     #[arg(long, value_name = "MODULE=OUTPUTS", requires = "modules")]
@@ -155,6 +160,24 @@ pub struct NoisyArgs {
     /// With --noisy: stop after this many distinct candidate machines.
     #[arg(long, default_value_t = 5, value_name = "N", requires = "noisy")]
     pub enumerate: usize,
+}
+
+/// `--topology`.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum TopologyArg {
+    /// Every module gets REQ and owns some outputs.
+    Parallel,
+    /// A chain of modules, each rewriting every output.
+    Consecutive,
+}
+
+impl From<TopologyArg> for modular::Topology {
+    fn from(t: TopologyArg) -> Self {
+        match t {
+            TopologyArg::Parallel => modular::Topology::Parallel,
+            TopologyArg::Consecutive => modular::Topology::Consecutive,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -799,14 +822,19 @@ fn modular_options(
         algorithms: args.algorithms.into(),
         pins: modular::parse_pins(&args.pin, &set.outputs, modules)
             .map_err(|e| Failure::with_code(exit::USAGE, e))?,
+        topology: args.topology.into(),
     })
 }
 
 /// Prints a modular controller's sizes and modules.
 fn describe_modular(modules: usize, result: &modular::ModularSynthesis) {
     let s = &result.size;
+    let chain = match result.modular.topology {
+        modular::Topology::Consecutive => " in a chain",
+        modular::Topology::Parallel => "",
+    };
     out!(
-        "modules = {}  largest module = {} states  A = {} inputs used  N' = {} states in all  (K = {} slots per state{})",
+        "modules = {}{chain}  largest module = {} states  A = {} inputs used  N' = {} states in all  (K = {} slots per state{})",
         modules,
         s.max_states,
         s.inputs_used,

@@ -15,8 +15,51 @@
 //!   fired nothing happens. So a recorded active step ([`Step`](crate::scenario::Step) with
 //!   `Some` outputs) needs at least one module to fire and a passive step needs all of them to
 //!   stay put: the composite is a drop-in replacement for a single ECC on scenarios.
+//!
+//! # Consecutive composites ([`Topology::Consecutive`], fbSAT's consecutive-modular)
+//! - The modules form a chain. Each reads any subset of the inputs and every module has every
+//!   output: its algorithm rewrites the whole output vector.
+//! - On `REQ`, module 1 steps as a basic ECC, its algorithm applied to the composite's outputs
+//!   before the step. If it fired, its `CNF` is module 2's `REQ`: module 2 steps on the same
+//!   inputs, its algorithm applied to module 1's results (`x` passes module 1's value on), and
+//!   so on down the chain. The composite's outputs and `CNF` are the last module's.
+//! - If module 1 does not fire nothing happens. Every later module is *complete*: the last
+//!   transition of each of its states is unconditional, so it fires whenever it gets `REQ` and
+//!   the whole chain fires whenever module 1 does (the synthesis makes it so, which changes
+//!   nothing on the recordings, where every active step runs the whole chain). A recorded active
+//!   step thus needs every module to fire and a passive step needs module 1 not to fire.
+//! - So the chain is one ECC over the product of the modules' states ([`Modular::flatten`]):
+//!   what the single-block exports write for it.
 
-use super::{Controller, Ecc, InputId, OutputId, Reactive, Run, Size};
+use super::{
+    Algorithm, Controller, Ecc, Fired, Guard, InputId, OutputId, Reactive, Run, Size, State,
+    StateId, Transition, Tri,
+};
+use std::collections::HashMap;
+
+/// How the modules of a composite are wired (see the module documentation).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Topology {
+    /// Every module gets `REQ` and owns some of the outputs; `CNF` if some module fired.
+    #[default]
+    Parallel,
+    /// A chain: `REQ` to module 1, each module's `CNF` to the next, every module rewrites
+    /// every output in turn; `CNF` if the last module fired.
+    Consecutive,
+}
+
+impl Topology {
+    /// The name users write (`--topology`) and the JSON files carry.
+    pub fn name(self) -> &'static str {
+        match self {
+            Topology::Parallel => "parallel",
+            Topology::Consecutive => "consecutive",
+        }
+    }
+}
 
 /// One module: which composite inputs it reads, which outputs it owns, and its ECC over them.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -40,6 +83,8 @@ pub struct Modular {
     pub initial_outputs: Vec<bool>,
     /// The modules, each called once per `REQ` in this order.
     pub modules: Vec<Module>,
+    /// How they are wired.
+    pub topology: Topology,
 }
 
 /// Size figures of a modular controller, as the SAT reconstruction paper minimizes them.
@@ -63,6 +108,7 @@ impl Modular {
             return Err("initial_outputs does not match the outputs".into());
         }
         let mut owner = vec![None; self.outputs.len()];
+        let chain = self.topology == Topology::Consecutive;
         for (m, module) in self.modules.iter().enumerate() {
             let e = &module.ecc;
             e.validate().map_err(|s| format!("module {}: {s}", m + 1))?;
@@ -84,7 +130,7 @@ impl Modular {
                 let slot = owner
                     .get_mut(z.0)
                     .ok_or_else(|| format!("module {} owns a missing output", m + 1))?;
-                if let Some(other) = slot.replace(m) {
+                if let (Some(other), false) = (slot.replace(m), chain) {
                     return Err(format!(
                         "output {} belongs to modules {} and {}",
                         self.outputs[z.0],
@@ -105,7 +151,127 @@ impl Modular {
         if let Some(z) = owner.iter().position(Option::is_none) {
             return Err(format!("output {} belongs to no module", self.outputs[z]));
         }
+        if let Some(m) =
+            (self.modules.iter()).position(|m| chain && m.outputs.len() != self.outputs.len())
+        {
+            return Err(format!(
+                "module {} of a consecutive composite lacks outputs",
+                m + 1
+            ));
+        }
+        for (m, module) in self.modules.iter().enumerate().skip(1) {
+            if let Some(q) = (module.ecc.states.iter()).position(|s| {
+                chain
+                    && !s
+                        .transitions
+                        .last()
+                        .is_some_and(|t| unconditional(&t.guard))
+            }) {
+                return Err(format!(
+                    "module {} of a consecutive composite: state {} does not end with an unconditional transition",
+                    m + 1,
+                    module.ecc.states[q].name
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// A consecutive composite as one ECC over the composite's interface: its states are the
+    /// tuples of module states reachable from the initial one (named `s0_s1...` after the
+    /// modules' states), entered when the whole chain fires; a transition's guard is "module
+    /// `m` takes its `k_m`-th transition" for every `m`, and a state's algorithm is the modules'
+    /// algorithms composed. Fails on a parallel composite or past `limit` states.
+    pub fn flatten(&self, limit: usize) -> Result<Ecc, String> {
+        if self.topology != Topology::Consecutive {
+            return Err("only a consecutive composite is flattened".into());
+        }
+        self.validate()?;
+        let start = vec![StateId(0); self.modules.len()];
+        let mut index: HashMap<Vec<StateId>, usize> = HashMap::from([(start.clone(), 0)]);
+        let mut tuples = vec![start];
+        let mut states: Vec<State> = Vec::new();
+        while let Some(tuple) = tuples.get(states.len()).cloned() {
+            let counts: Vec<usize> = (self.modules.iter().zip(&tuple))
+                .map(|(m, q)| m.ecc.states[q.0].transitions.len())
+                .collect();
+            let mut transitions = Vec::new();
+            // Every choice of one transition per module, the last module's varying fastest;
+            // none when module 1 has no transition here (the others always have one).
+            let mut choice = Some(vec![0usize; tuple.len()]).filter(|_| counts[0] > 0);
+            while let Some(ks) = choice {
+                let mut parts = Vec::new();
+                let mut target = Vec::new();
+                for ((module, q), &k) in self.modules.iter().zip(&tuple).zip(&ks) {
+                    let ts = &module.ecc.states[q.0].transitions;
+                    parts.extend(
+                        (ts[..k].iter()).map(|t| Guard::Not(Box::new(widen(module, &t.guard)))),
+                    );
+                    parts.push(widen(module, &ts[k].guard));
+                    target.push(ts[k].target);
+                }
+                let next = index.len();
+                let id = *index.entry(target.clone()).or_insert(next);
+                if id == next {
+                    if next >= limit {
+                        return Err(format!("the chain has more than {limit} states"));
+                    }
+                    tuples.push(target);
+                }
+                parts.retain(|g| !unconditional(g));
+                transitions.push(Transition {
+                    target: StateId(id),
+                    guard: match parts.len() {
+                        0 => Guard::True,
+                        1 => parts.pop().expect("one part"),
+                        _ => Guard::And(parts),
+                    },
+                });
+                choice = odometer(ks, &counts);
+            }
+            let names: Vec<&str> = (self.modules.iter().zip(&tuple))
+                .map(|(m, q)| m.ecc.states[q.0].name.as_str())
+                .collect();
+            states.push(State {
+                name: names.join("_"),
+                algorithm: self.composed(&tuple),
+                transitions,
+            });
+        }
+        let ecc = Ecc {
+            inputs: self.inputs.clone(),
+            outputs: self.outputs.clone(),
+            initial_outputs: self.initial_outputs.clone(),
+            states,
+        };
+        ecc.validate()?;
+        Ok(ecc)
+    }
+
+    /// The algorithms of the states in `tuple` applied one after the other, as one algorithm
+    /// of the first module's form.
+    fn composed(&self, tuple: &[StateId]) -> Algorithm {
+        let algorithms: Vec<&Algorithm> = (self.modules.iter().zip(tuple))
+            .map(|(m, q)| &m.ecc.states[q.0].algorithm)
+            .collect();
+        let after = |z: usize, old: bool| algorithms.iter().fold(old, |v, a| a.apply_one(z, v));
+        let z_count = self.outputs.len();
+        match algorithms[0] {
+            Algorithm::Tri(_) => Algorithm::Tri(
+                (0..z_count)
+                    .map(|z| match (after(z, false), after(z, true)) {
+                        (false, false) => Tri::Zero,
+                        (true, true) => Tri::One,
+                        // No composition of 0, 1 and keep flips.
+                        _ => Tri::Keep,
+                    })
+                    .collect(),
+            ),
+            Algorithm::Binary { .. } => Algorithm::Binary {
+                a0: (0..z_count).map(|z| after(z, false)).collect(),
+                a1: (0..z_count).map(|z| after(z, true)).collect(),
+            },
+        }
     }
 
     /// Its size: per module and the totals the modular minimization works on.
@@ -119,10 +285,48 @@ impl Modular {
         }
     }
 
-    /// The module owning output `z`.
+    /// The module owning output `z`: in a consecutive composite the last one, whose values
+    /// are the composite's.
     pub fn owner(&self, z: OutputId) -> Option<usize> {
-        self.modules.iter().position(|m| m.outputs.contains(&z))
+        match self.topology {
+            Topology::Parallel => self.modules.iter().position(|m| m.outputs.contains(&z)),
+            Topology::Consecutive => self.modules.len().checked_sub(1),
+        }
     }
+}
+
+/// Whether a guard holds whatever the inputs (as the synthesis writes "always": `TRUE` or an
+/// empty conjunction).
+fn unconditional(g: &Guard) -> bool {
+    match g {
+        Guard::True => true,
+        Guard::And(hs) => hs.iter().all(unconditional),
+        _ => false,
+    }
+}
+
+/// A module's guard over the composite's inputs.
+fn widen(module: &Module, g: &Guard) -> Guard {
+    match g {
+        Guard::True | Guard::False => g.clone(),
+        Guard::Var(i) => Guard::Var(module.inputs[i.0]),
+        Guard::Not(h) => Guard::Not(Box::new(widen(module, h))),
+        Guard::And(hs) => Guard::And(hs.iter().map(|h| widen(module, h)).collect()),
+        Guard::Or(hs) => Guard::Or(hs.iter().map(|h| widen(module, h)).collect()),
+    }
+}
+
+/// The choice after `ks` (one index per position below `counts`), the last position varying
+/// fastest; `None` after the last.
+fn odometer(mut ks: Vec<usize>, counts: &[usize]) -> Option<Vec<usize>> {
+    for m in (0..ks.len()).rev() {
+        ks[m] += 1;
+        if ks[m] < counts[m] {
+            return Some(ks);
+        }
+        ks[m] = 0;
+    }
+    None
 }
 
 /// A running composite: one [`Run`] per module and the composite's output vector.
@@ -133,6 +337,9 @@ pub struct ModularRun<'a> {
     pub runs: Vec<Run<'a>>,
     /// The composite's current output values.
     pub outputs: Vec<bool>,
+    /// Per module, the transition it fired on the last `REQ` (`None`: it did not fire or, in
+    /// a chain, got no `REQ`).
+    pub fired: Vec<Option<Fired>>,
 }
 
 impl<'a> ModularRun<'a> {
@@ -142,6 +349,7 @@ impl<'a> ModularRun<'a> {
             modular,
             runs: modular.modules.iter().map(|m| Run::new(&m.ecc)).collect(),
             outputs: modular.initial_outputs.clone(),
+            fired: vec![None; modular.modules.len()],
         }
     }
 
@@ -149,10 +357,18 @@ impl<'a> ModularRun<'a> {
     /// whether the composite emitted `CNF` (some module fired); `self.outputs` then holds the
     /// values emitted.
     pub fn step(&mut self, x: &[bool]) -> bool {
+        self.fired.iter_mut().for_each(|f| *f = None);
+        if self.modular.topology == Topology::Consecutive {
+            return self.chain(x);
+        }
         let mut any = false;
-        for (module, run) in self.modular.modules.iter().zip(&mut self.runs) {
+        for ((module, run), fired) in (self.modular.modules.iter())
+            .zip(&mut self.runs)
+            .zip(&mut self.fired)
+        {
             let local: Vec<bool> = module.inputs.iter().map(|i| x[i.0]).collect();
-            if run.step(&local).is_some() {
+            *fired = run.step(&local);
+            if fired.is_some() {
                 any = true;
                 for (j, z) in module.outputs.iter().enumerate() {
                     self.outputs[z.0] = run.outputs[j];
@@ -160,6 +376,27 @@ impl<'a> ModularRun<'a> {
             }
         }
         any
+    }
+
+    /// One `REQ` down a consecutive chain: each module starts from the values the one before
+    /// produced (module 1 from the composite's), and the chain stops at a module that does not
+    /// fire.
+    fn chain(&mut self, x: &[bool]) -> bool {
+        let mut values = self.outputs.clone();
+        for ((module, run), fired) in (self.modular.modules.iter())
+            .zip(&mut self.runs)
+            .zip(&mut self.fired)
+        {
+            let local: Vec<bool> = module.inputs.iter().map(|i| x[i.0]).collect();
+            run.outputs.clone_from(&values);
+            *fired = run.step(&local);
+            if fired.is_none() {
+                return false;
+            }
+            values.clone_from(&run.outputs);
+        }
+        self.outputs = values;
+        true
     }
 }
 
@@ -218,6 +455,7 @@ pub(crate) mod tests {
                     ecc: toggle("b", "lb"),
                 },
             ],
+            topology: Topology::Parallel,
         }
     }
 

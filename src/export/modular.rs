@@ -14,6 +14,14 @@
 //!   ([`composite_dot`]);
 //! - `<stem>.modules.json`: the decomposition (inputs, outputs, sizes per module).
 //!
+//! # Consecutive composites
+//! A chain ([`Topology::Consecutive`]) is not written as an FB network: a module's `x` passes
+//! on the previous module's value, which a basic FB of the module alone cannot read. It is one
+//! ECC ([`Modular::flatten`]), so `<stem>.fbt`, `.smv`, `.st`, `.json` and `.dot` are the
+//! single-block exports of that ECC, which behaves as the chain; `<stem>_M<i>.json` and `.dot`
+//! show each module (its `x` meaning "the previous module's value"), and
+//! `<stem>.modules.json` says `"topology": "consecutive"`.
+//!
 //! # Composite FB network
 //! IEC 61499 allows neither fan-out nor fan-in of event connections, so the events go through
 //! the standard event FBs: `REQ` reaches the modules' `REQ` in module order through a chain of
@@ -42,7 +50,7 @@
 use super::fbt::write_head;
 use super::{check_iec_identifier, ExportError, Format, NameError};
 use crate::ecc::ident::BLOCK_MEMBERS;
-use crate::ecc::modular::Modular;
+use crate::ecc::modular::{Modular, Topology};
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
 use crate::files::xml::XmlWriter;
 use crate::smv::ecc_module::{self, write_ecc_module};
@@ -226,13 +234,21 @@ pub fn check_smv_names(modular: &Modular, module_name: &str) -> Result<(), SmvEr
     Ok(())
 }
 
+/// The most states a chain's single ECC may have before the export gives up.
+pub const FLAT_LIMIT: usize = 4096;
+
 /// Writes the composite as SMV: every module's ECC module, then `MODULE module_name`; see the
-/// module header.
+/// module header. A chain is written as its single ECC.
 pub fn write_composite_smv(
     modular: &Modular,
     module_name: &str,
     w: &mut impl Write,
 ) -> Result<(), SmvError> {
+    if modular.topology == Topology::Consecutive {
+        let flat = (modular.flatten(FLAT_LIMIT))
+            .map_err(|e| SmvError::Io(io::Error::new(io::ErrorKind::InvalidInput, e)))?;
+        return write_ecc_module(&flat, module_name, w);
+    }
     check_smv_names(modular, module_name)?;
     for (m, module) in modular.modules.iter().enumerate() {
         write_ecc_module(&module.ecc, &module_type_name(module_name, m), w)?;
@@ -484,6 +500,7 @@ pub fn decomposition_json(modular: &Modular, stem: &str) -> String {
     let size = modular.size();
     let doc = serde_json::json!({
         "composite": stem,
+        "topology": modular.topology.name(),
         "largest_module_states": size.max_states,
         "inputs_used": size.inputs_used,
         "total_states": size.total_states,
@@ -503,6 +520,9 @@ pub fn write_modular(
     stem: &str,
 ) -> Result<Vec<PathBuf>, ExportError> {
     modular.validate().map_err(ExportError::InvalidEcc)?;
+    if modular.topology == Topology::Consecutive {
+        return write_chain(modular, dir, stem);
+    }
     check_fbt_names(modular, stem).map_err(|source| ExportError::Name {
         format: Format::Fbt,
         source,
@@ -551,6 +571,55 @@ pub fn write_modular(
             &name,
             &[Format::Fbt, Format::Json, Format::Dot],
         )?);
+    }
+    Ok(written)
+}
+
+/// [`write_modular`] for a chain: its single ECC in the block formats, each module as JSON
+/// and Graphviz, and the decomposition (see the module header). Every text is made, and so
+/// every name checked, before the first file is written.
+fn write_chain(modular: &Modular, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, ExportError> {
+    let flat = modular
+        .flatten(FLAT_LIMIT)
+        .map_err(ExportError::InvalidEcc)?;
+    let block = [
+        Format::Fbt,
+        Format::Smv,
+        Format::St,
+        Format::Json,
+        Format::Dot,
+    ];
+    let mut texts = Vec::new();
+    for format in block {
+        texts.push((
+            format!("{stem}.{}", format.extension()),
+            super::text(&flat, stem, format)?,
+        ));
+    }
+    for (m, module) in modular.modules.iter().enumerate() {
+        let name = module_type_name(stem, m);
+        for format in [Format::Json, Format::Dot] {
+            let text = super::text(&module.ecc, &name, format)?;
+            texts.push((format!("{name}.{}", format.extension()), text));
+        }
+    }
+    texts.push((
+        format!("{stem}.modules.json"),
+        decomposition_json(modular, stem),
+    ));
+    let mut written = Vec::new();
+    for (file, text) in texts {
+        let path = dir.join(&file);
+        super::write_file(&path, text.as_bytes())?;
+        written.push(path.clone());
+        if file.ends_with(".dot") {
+            let svg = path.with_extension("svg");
+            match super::dot::render_svg(&text, &svg) {
+                Ok(true) => written.push(svg),
+                Ok(false) => {}
+                Err(source) => return Err(ExportError::Render { path: svg, source }),
+            }
+        }
     }
     Ok(written)
 }

@@ -286,9 +286,9 @@ impl Error {
             | Error::Cegis(cegis::CegisError::Disagreement { .. })
             | Error::Modular(ModularError::Bug(_))
             | Error::Bug(_) => Class::Bug,
-            Error::Modular(ModularError::NoModules) | Error::Pin(_) | Error::Usage(_) => {
-                Class::Usage
-            }
+            Error::Modular(ModularError::NoModules | ModularError::PinsInChain)
+            | Error::Pin(_)
+            | Error::Usage(_) => Class::Usage,
             _ => Class::Input,
         }
     }

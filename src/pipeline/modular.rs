@@ -33,6 +33,13 @@
 //! ([`crate::ecc::modular::ModularRun`]). As in the paper, a module may own no output; it then
 //! only contributes `CNF`s and, in the `.fbt`, has no output data connection.
 //!
+//! With [`Topology::Consecutive`] the modules form a chain instead (fbSAT's consecutive
+//! modular synthesis; semantics in [`crate::ecc::modular`]): every module fires on every
+//! active step, each rewriting the outputs of the one before, and module 1 alone decides the
+//! passive steps. The encoding ([`crate::sat::modular::constraints::chain_values`]) passes the
+//! output values down the chain; the decoded chain is made complete after module 1 and written
+//! as one ECC ([`crate::ecc::modular::Modular::flatten`]).
+//!
 //! Files (`N` is `--name`, default `SynthesizedFB`):
 //! - `N.fbt`: an IEC 61499 composite FB type with one instance `M<i>` of `N_M<i>` per module.
 //!   IEC 61499 forbids event fan-in and fan-out, so `REQ` goes through a chain of `E_SPLIT` to
@@ -92,6 +99,7 @@ use crate::sat::modular::synthesize_modular;
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 
+pub use crate::ecc::modular::Topology;
 pub use crate::sat::modular::{
     parse_pins, ModularOptions as Options, ModularSynthesis, DEFAULT_SLOTS,
 };

@@ -108,6 +108,7 @@ pub fn check_exportable_modular(
         outputs: set.outputs.clone(),
         initial_outputs: set.initial_outputs.clone(),
         modules: (0..modules.max(1)).map(|m| module(m == 0)).collect(),
+        topology: crate::ecc::modular::Topology::Parallel,
     };
     export::modular::check_fbt_names(&composite, name)?;
     Ok(export::modular::check_smv_names(&composite, name)?)

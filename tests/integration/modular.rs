@@ -1,7 +1,7 @@
 //! Modular synthesis as a user runs it (`synth infer --modules`), its files read back and
 //! replayed, and the composite SMV checked against the simulator inside NuSMV.
 
-use fbsynth::ecc::modular::{Modular, Module};
+use fbsynth::ecc::modular::{Modular, Module, Topology};
 use fbsynth::ecc::{InputId, OutputId};
 use fbsynth::export::json::read_json;
 use fbsynth::export::modular::composite_smv_to_string;
@@ -86,6 +86,7 @@ fn read_back(dir: &Path, stem: &str, set: &ScenarioSet) -> Modular {
         outputs: set.outputs.clone(),
         initial_outputs: set.initial_outputs.clone(),
         modules,
+        topology: Topology::Parallel,
     }
 }
 
@@ -576,4 +577,49 @@ fn every_method_stops_at_the_time_limit_with_exit_3_and_no_files() {
         );
         assert!(!dir.exists(), "{extra:?}");
     }
+}
+
+/// `--topology consecutive`: a chain of two blocks, each rewriting both outputs. The files
+/// give the chain as one block (which replays every recording) and each module, and say
+/// "consecutive"; pins are refused for a chain (usage, exit 2).
+#[test]
+fn a_chain_of_two_blocks_is_written_as_one_block_that_replays_the_recordings() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = infer_lamps(dir, &["--topology", "consecutive"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("modules = 2 in a chain"), "{stdout}");
+    let set = lamps();
+    let file = out.path().join("SynthesizedFB.json");
+    let block = read_json(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    set.check(&block).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.path().join("SynthesizedFB.modules.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(doc["topology"], "consecutive");
+    for m in doc["modules"].as_array().unwrap() {
+        assert_eq!(m["outputs"].as_array().unwrap().len(), 2, "{m}");
+        let ty = m["type"].as_str().unwrap();
+        assert!(out.path().join(format!("{ty}.json")).is_file(), "{ty}");
+    }
+    for ext in ["fbt", "smv", "st"] {
+        assert!(
+            out.path().join(format!("SynthesizedFB.{ext}")).is_file(),
+            "{ext}"
+        );
+    }
+    let pinned = tempfile::tempdir().unwrap();
+    let o = infer_lamps(
+        pinned.path().to_str().unwrap(),
+        &["--topology", "consecutive", "--pin", "1=motor"],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("parallel composites only"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(std::fs::read_dir(pinned.path()).unwrap().count(), 0);
 }

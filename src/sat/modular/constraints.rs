@@ -11,6 +11,7 @@
 //! every module's [`crate::sat::vars::Coloring`]; only what ties the modules together is here.
 
 use super::vars::ModVars;
+use crate::ecc::modular::Topology;
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::sat::constraints::{self as shared, at_most_one, tree_edges};
 use crate::sat::cubes;
@@ -130,6 +131,79 @@ pub fn active_edges(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree
     }
 }
 
+/// Consecutive: every module owns every output (`θ[m,z]`), and every module fires on every
+/// active edge, since each module's `CNF` is the next one's `REQ` and the composite's `CNF` is
+/// the last module's (`fired[m,w]`).
+pub fn chain_fires(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree) {
+    for m in 0..v.d.modules {
+        for z in 0..v.d.outputs {
+            f.add_clause(&[v.theta(m, z)]);
+        }
+        for (_, _, w) in tree_edges(tree) {
+            f.add_clause(&[v.fired(m, w)]);
+        }
+    }
+}
+
+/// Consecutive outputs on active edge `p -> w`, through `val[m,w,z]`:
+/// - module 1 rewrites the outputs of `p`: `c[0,w,q] -> (val[0,w,z] <-> a_{z_p}[0,q,z])`;
+/// - module `m > 1` rewrites module `m-1`'s values:
+///   `c[m,w,q] & val[m-1,w,z] -> (val[m,w,z] <-> a1[m,q,z])`, and with `¬val[m-1,w,z]` `a0`;
+/// - the last module's values are the recorded ones: `val[M-1,w,z] = z_w`.
+///
+/// Per state: tri algorithms forbid "flip", `a0 -> a1`; unused states' entries are 0.
+pub fn chain_values(
+    f: &mut impl ExtendFormula,
+    v: &ModVars,
+    tree: &ScenarioTree,
+    kind: AlgorithmKind,
+) {
+    let d = v.d;
+    let iff_under = |f: &mut dyn FnMut(&[Lit]), given: &[Lit], a: Lit, b: Lit| {
+        let mut one: Vec<Lit> = given.iter().map(|&l| !l).collect();
+        let mut two = one.clone();
+        one.extend([!a, b]);
+        two.extend([a, !b]);
+        f(&one);
+        f(&two);
+    };
+    let mut add = |c: &[Lit]| f.add_clause(c);
+    for (p, _, w) in tree_edges(tree) {
+        let old = &tree.nodes[p.0].outputs;
+        for q in 0..d.c_max {
+            for (z, &was) in old.iter().enumerate() {
+                let a = if was { v.a1(0, q, z) } else { v.a0(0, q, z) };
+                iff_under(&mut add, &[v.color(0, w, q)], v.value(0, w, z), a);
+            }
+        }
+        for m in 1..d.modules {
+            for q in 0..d.c_max {
+                for z in 0..d.outputs {
+                    let (c, prev, now) = (v.color(m, w, q), v.value(m - 1, w, z), v.value(m, w, z));
+                    iff_under(&mut add, &[c, prev], now, v.a1(m, q, z));
+                    iff_under(&mut add, &[c, !prev], now, v.a0(m, q, z));
+                }
+            }
+        }
+        for (z, &now) in tree.nodes[w.0].outputs.iter().enumerate() {
+            let last = v.value(d.modules - 1, w, z);
+            add(&[if now { last } else { !last }]);
+        }
+    }
+    for m in 0..d.modules {
+        for q in 0..d.c_max {
+            for z in 0..d.outputs {
+                let (a0, a1) = (v.a0(m, q, z), v.a1(m, q, z));
+                if kind == AlgorithmKind::Tri {
+                    add(&[!a0, a1]);
+                }
+                add(&[v.used(m, q), !a0]);
+                add(&[v.used(m, q), !a1]);
+            }
+        }
+    }
+}
+
 /// The transition relation of each module: `tr[m,q,q'] <-> OR_k tgt[m,q,k,q']`.
 pub fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
     let d = v.d;
@@ -149,14 +223,16 @@ pub fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
     }
 }
 
-/// Every family. `pins[m]`: outputs pinned to module `m` (modules are ordered by
-/// [`module_order`] only when nothing is pinned).
+/// Every family. `pins[m]`: outputs pinned to module `m` (parallel modules are ordered by
+/// [`module_order`] only when nothing is pinned; a chain's modules are not interchangeable and
+/// own every output).
 pub fn all(
     f: &mut impl ExtendFormula,
     v: &ModVars,
     tree: &ScenarioTree,
     kind: AlgorithmKind,
     pins: &[Vec<OutputId>],
+    topology: Topology,
 ) {
     let modules = v.modules();
     for c in &modules {
@@ -165,9 +241,14 @@ pub fn all(
     for c in &modules {
         shared::coloring(f, c);
     }
-    output_owner(f, v, pins);
-    if pins.iter().all(Vec::is_empty) {
-        module_order(f, v);
+    let chain = topology == Topology::Consecutive;
+    if chain {
+        chain_fires(f, v, tree);
+    } else {
+        output_owner(f, v, pins);
+        if pins.iter().all(Vec::is_empty) {
+            module_order(f, v);
+        }
     }
     slots(f, v);
     for (g, bits) in tree.input_vectors.iter().enumerate() {
@@ -175,8 +256,14 @@ pub fn all(
     }
     active_edges(f, v, tree);
     let none = |m: usize, q: usize, g: InputVec| v.cubes.nf(m, g, q, v.d.slots);
-    shared::passive_marks(f, tree, &modules, none);
-    shared::algorithms(f, tree, &modules, kind);
+    if chain {
+        // Only module 1 gets the passive step's REQ.
+        shared::passive_marks(f, tree, &modules[..1], none);
+        chain_values(f, v, tree, kind);
+    } else {
+        shared::passive_marks(f, tree, &modules, none);
+        shared::algorithms(f, tree, &modules, kind);
+    }
     transition_relation(f, v);
     for c in &modules {
         shared::bfs_parents(f, c);

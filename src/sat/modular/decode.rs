@@ -6,15 +6,21 @@
 //! enabled slots in priority order with their cubes, and the algorithms of the owned outputs.
 
 use super::vars::ModVars;
-use crate::ecc::modular::{Modular, Module};
-use crate::ecc::{AlgorithmKind, Ecc, Guard, InputId, OutputId, Run, State, StateId};
+use crate::ecc::modular::{Modular, ModularRun, Module, Topology};
+use crate::ecc::{AlgorithmKind, Ecc, Guard, InputId, OutputId, State, StateId, Transition};
 use crate::sat::decode::{algorithm, cube_transition};
 use crate::sat::solver::Model;
 use crate::scenario::ScenarioSet;
 use std::collections::HashSet;
 
 /// Reads the controller out of `model`.
-pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind) -> Modular {
+pub fn decode(
+    model: &Model,
+    v: &ModVars,
+    set: &ScenarioSet,
+    kind: AlgorithmKind,
+    topology: Topology,
+) -> Modular {
     let d = v.d;
     let modules = (0..d.modules)
         .map(|m| {
@@ -74,24 +80,24 @@ pub fn decode(model: &Model, v: &ModVars, set: &ScenarioSet, kind: AlgorithmKind
         outputs: set.outputs.clone(),
         initial_outputs: set.initial_outputs.clone(),
         modules,
+        topology,
     }
 }
 
 /// Removes every transition no scenario fires. What the scenarios see is unchanged: a slot
-/// that never fires first on a recorded step decides nothing there, and each module runs on its
-/// own inputs, independently of the others.
+/// that never fires first on a step where its module gets `REQ` decides nothing there.
 pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
-    for module in &mut modular.modules {
-        let mut fired: HashSet<(StateId, usize)> = HashSet::new();
-        for sc in &set.scenarios {
-            let mut run = Run::new(&module.ecc);
-            for step in &sc.steps {
-                let local: Vec<bool> = module.inputs.iter().map(|i| step.inputs[i.0]).collect();
-                if let Some(f) = run.step(&local) {
-                    fired.insert((f.source, f.index));
-                }
+    let mut fired: Vec<HashSet<(StateId, usize)>> = vec![HashSet::new(); modular.modules.len()];
+    for sc in &set.scenarios {
+        let mut run = ModularRun::new(modular);
+        for step in &sc.steps {
+            run.step(&step.inputs);
+            for (seen, f) in fired.iter_mut().zip(&run.fired) {
+                seen.extend(f.map(|f| (f.source, f.index)));
             }
         }
+    }
+    for (module, fired) in modular.modules.iter_mut().zip(&fired) {
         for (q, state) in module.ecc.states.iter_mut().enumerate() {
             let mut k = 0;
             state.transitions.retain(|_| {
@@ -128,6 +134,25 @@ pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
                         i += 1;
                     }
                 }
+            }
+        }
+    }
+}
+
+/// Makes every module after the first of a chain complete, as a consecutive composite's are
+/// (see [`crate::ecc::modular`]): the last transition of each state becomes unconditional, and
+/// a state without transitions gets an unconditional loop. What the scenarios see is
+/// unchanged: such a module gets `REQ` only on active steps, where it fires anyway, and a state
+/// without transitions never gets one.
+pub fn complete_chain(modular: &mut Modular) {
+    for module in modular.modules.iter_mut().skip(1) {
+        for (q, state) in module.ecc.states.iter_mut().enumerate() {
+            match state.transitions.last_mut() {
+                Some(t) => t.guard = Guard::True,
+                None => state.transitions.push(Transition {
+                    target: StateId(q),
+                    guard: Guard::True,
+                }),
             }
         }
     }

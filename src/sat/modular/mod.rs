@@ -35,7 +35,7 @@ pub mod vars;
 
 use super::card::Totalizer;
 use super::solver::Solver;
-use crate::ecc::modular::{Modular, ModularSize};
+use crate::ecc::modular::{Modular, ModularSize, Topology};
 use crate::ecc::{AlgorithmKind, OutputId};
 use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::tree::ScenarioTree;
@@ -58,6 +58,8 @@ pub struct ModularOptions {
     pub pins: Vec<Vec<OutputId>>,
     /// Widen `slots` one at a time when they are too few ([`synthesize_modular`]).
     pub widen_slots: bool,
+    /// How the modules are wired.
+    pub topology: Topology,
 }
 
 /// The transition slots per state a run starts with when none are given.
@@ -72,6 +74,7 @@ impl Default for ModularOptions {
             algorithms: AlgorithmKind::Tri,
             pins: Vec::new(),
             widen_slots: true,
+            topology: Topology::Parallel,
         }
     }
 }
@@ -118,6 +121,9 @@ pub enum ModularError {
         /// Transition slots per state `K` at the end (after any widening).
         slots: usize,
     },
+    /// `--pin` with a consecutive composite, whose modules all write every output.
+    #[error("--pin applies to parallel composites only: in a consecutive one every module writes every output")]
+    PinsInChain,
     /// `--modules 0`: a controller needs at least one module.
     #[error("--modules must be at least 1")]
     NoModules,
@@ -239,8 +245,16 @@ impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &ModularOptions) -> Encoding {
         let mut solver = Solver::new();
         let sink = &mut solver;
-        let vars = ModVars::new(sink, tree, opts.modules, c_max, opts.slots.max(1));
-        constraints::all(sink, &vars, tree, opts.algorithms, &opts.pins);
+        let chain = opts.topology == Topology::Consecutive;
+        let vars = ModVars::new(sink, tree, opts.modules, c_max, opts.slots.max(1), chain);
+        constraints::all(
+            sink,
+            &vars,
+            tree,
+            opts.algorithms,
+            &opts.pins,
+            opts.topology,
+        );
         let total_alpha = Totalizer::new(sink, vars.all_alpha(), vars.all_alpha().len());
         let total_used = Totalizer::new(sink, vars.all_used(), vars.all_used().len());
         Encoding {
@@ -258,6 +272,9 @@ fn check_options(opts: &ModularOptions) -> Result<(), ModularError> {
     }
     if opts.pins.len() > opts.modules {
         return Err(ModularError::Bug("pins for more modules than exist".into()));
+    }
+    if opts.topology == Topology::Consecutive && opts.pins.iter().any(|p| !p.is_empty()) {
+        return Err(ModularError::PinsInChain);
     }
     Ok(())
 }
@@ -385,10 +402,13 @@ pub fn synthesize_modular(
     stats.sat_seconds = t0.elapsed().as_secs_f64();
     stats.slots = opts.slots;
 
-    let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms);
+    let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms, opts.topology);
     decode::prune_unfired(&mut modular, set);
     if set.check(&modular).is_ok() {
         decode::prune_literals(&mut modular, set);
+    }
+    if opts.topology == Topology::Consecutive {
+        decode::complete_chain(&mut modular);
     }
     modular.validate().map_err(ModularError::Bug)?;
     set.check(&modular)

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::ecc::modular::tests::two_toggles;
-use crate::ecc::modular::{ModularRun, Module};
+use crate::ecc::modular::{ModularRun, Module, Topology};
 use crate::ecc::InputId;
 use crate::scenario::{Origin, Scenario, Step};
 
@@ -236,6 +236,7 @@ fn random_composites_are_rebuilt_no_larger() {
                     ecc: e2,
                 },
             ],
+            topology: Topology::Parallel,
         };
         original.validate().unwrap();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -269,4 +270,115 @@ fn too_few_states_is_reported_with_the_limits() {
         "{e}"
     );
     assert!(e.to_string().contains("raise --max-states"), "{e}");
+}
+
+/// A random chain of two machines over overlapping inputs, both writing both outputs (the
+/// second one always fires, so every active step runs the whole chain, as the encoding
+/// assumes): consecutive synthesis with two modules rebuilds it with modules no larger than
+/// the larger original, and the result replays every run as a chain.
+#[test]
+fn random_consecutive_composites_are_rebuilt_no_larger() {
+    use crate::ecc::random::random_ecc;
+    use crate::ecc::{Guard, StateId, Transition};
+    use rand::{Rng, SeedableRng};
+    for seed in 0..6u64 {
+        let (c1, c2) = (2 + seed as usize % 2, 2 + (seed as usize / 2) % 2);
+        let mut e1 = random_ecc(seed, c1, 2, 2);
+        let mut e2 = random_ecc(seed + 100, c2, 2, 2);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        for state in &mut e2.states {
+            state.transitions.push(Transition {
+                target: StateId(rng.gen_range(0..c2)),
+                guard: Guard::True,
+            });
+        }
+        e1.inputs = vec!["a".into(), "b".into()];
+        e2.inputs = vec!["b".into(), "c".into()];
+        for e in [&mut e1, &mut e2] {
+            e.outputs = vec!["p".into(), "q".into()];
+        }
+        let original = Modular {
+            inputs: ["a", "b", "c"].map(String::from).to_vec(),
+            outputs: ["p", "q"].map(String::from).to_vec(),
+            initial_outputs: vec![false; 2],
+            modules: vec![
+                Module {
+                    inputs: vec![InputId(0), InputId(1)],
+                    outputs: vec![OutputId(0), OutputId(1)],
+                    ecc: e1,
+                },
+                Module {
+                    inputs: vec![InputId(1), InputId(2)],
+                    outputs: vec![OutputId(0), OutputId(1)],
+                    ecc: e2,
+                },
+            ],
+            topology: Topology::Consecutive,
+        };
+        original.validate().unwrap();
+        let runs: Vec<Vec<Vec<bool>>> = (0..6)
+            .map(|_| {
+                (0..12)
+                    .map(|_| (0..3).map(|_| rng.gen_bool(0.5)).collect())
+                    .collect()
+            })
+            .collect();
+        let set = record(&original, &runs);
+        let tree = ScenarioTree::build(&set).unwrap();
+        let mut o = opts(2);
+        o.topology = Topology::Consecutive;
+        let two = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap();
+        assert_eq!(two.modular.topology, Topology::Consecutive);
+        assert!(
+            two.size.max_states <= c1.max(c2),
+            "seed {seed}: {:?}",
+            two.size
+        );
+        set.check(&two.modular).unwrap();
+        two.modular.validate().unwrap();
+        // The flattened chains behave as the chains, on the recordings and off them.
+        set.check(&two.modular.flatten(10_000).unwrap()).unwrap();
+        let other: Vec<Vec<Vec<bool>>> = (0..6)
+            .map(|_| {
+                (0..12)
+                    .map(|_| (0..3).map(|_| rng.gen_bool(0.5)).collect())
+                    .collect()
+            })
+            .collect();
+        let fresh = record(&original, &other);
+        fresh.check(&original.flatten(10_000).unwrap()).unwrap();
+    }
+}
+
+/// Pins have no meaning in a chain, where every module writes every output.
+#[test]
+fn pins_in_a_chain_are_refused() {
+    let (set, tree) = toggles();
+    let mut o = opts(2);
+    o.topology = Topology::Consecutive;
+    o.pins = vec![vec![OutputId(0)], vec![]];
+    let e = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap_err();
+    assert!(matches!(e, ModularError::PinsInChain), "{e}");
+}
+
+/// A synthesized chain flattens into one ECC that replays the recordings too, and the chain's
+/// modules after the first end every state with an unconditional transition.
+#[test]
+fn a_synthesized_chain_flattens_into_one_machine_with_the_same_behaviour() {
+    let (set, tree) = toggles();
+    let mut o = opts(2);
+    o.topology = Topology::Consecutive;
+    let r = synthesize_modular(&set, &tree, &o, &mut |_| {}).unwrap();
+    let flat = r.modular.flatten(1000).unwrap();
+    set.check(&flat).unwrap();
+    let mut parallel = r.modular.clone();
+    parallel.topology = Topology::Parallel;
+    assert!(parallel.flatten(1000).is_err());
+    let mut broken = r.modular.clone();
+    broken.modules[1].ecc.states[0].transitions.clear();
+    let e = broken.validate().unwrap_err();
+    assert!(
+        e.contains("does not end with an unconditional transition"),
+        "{e}"
+    );
 }

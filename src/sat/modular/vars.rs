@@ -56,18 +56,22 @@ pub struct ModVars {
     tr: Vec<Lit>,
     /// `p[m][j][i]`: `i` is the BFS parent of `j`.
     parent: Vec<Lit>,
+    /// Consecutive composites only (empty otherwise): `val[m][v][z]`, the value of output `z`
+    /// after module `m` on the tree edge into `v` (root unused).
+    values: Vec<Lit>,
 }
 
 impl ModVars {
     /// Allocates every variable for `modules` modules of at most `c_max` states and `slots`
     /// transition slots per state over `tree`, including the cube variables of the tree's input
-    /// vectors.
+    /// vectors, and with `chain` the values passed along a consecutive composite.
     pub fn new(
         f: &mut impl ExtendFormula,
         tree: &ScenarioTree,
         modules: usize,
         c_max: usize,
         slots: usize,
+        chain: bool,
     ) -> ModVars {
         let d = Dims {
             modules,
@@ -98,6 +102,11 @@ impl ModVars {
             fired: alloc(f, m * d.nodes),
             tr: alloc(f, m * n * n),
             parent: alloc(f, m * n * n),
+            values: if chain {
+                alloc(f, m * d.nodes * d.outputs)
+            } else {
+                Vec::new()
+            },
             d,
         }
     }
@@ -155,6 +164,11 @@ impl ModVars {
     /// `fired[m][v]`: module `m` makes a transition on the tree edge into `v`.
     pub fn fired(&self, m: usize, v: NodeId) -> Lit {
         self.fired[m * self.d.nodes + v.0]
+    }
+    /// `val[m][v][z]`: output `z` after module `m` of a consecutive composite on the edge into
+    /// `v`.
+    pub fn value(&self, m: usize, v: NodeId, z: usize) -> Lit {
+        self.values[(m * self.d.nodes + v.0) * self.d.outputs + z]
     }
     /// `tr[m][q][t]`: some slot of state `q` of module `m` leads to state `t`.
     pub fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
