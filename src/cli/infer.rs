@@ -63,6 +63,13 @@ pub struct InferArgs {
     /// `<name>_M<i>.fbt/.json/.dot`; --format is ignored).
     #[arg(long, value_name = "M", value_parser = super::args::modules())]
     pub modules: Option<usize>,
+    /// Distributed synthesis: several controllers, each with the interface FILE gives it
+    /// (JSON: `{"controllers": [{"name": "Feeder", "inputs": ["start", "busy"], "outputs":
+    /// ["feed"]}, ...]}`; an input is a recorded input or another controller's output, read as
+    /// it was before the scan), synthesized together from recordings of the whole network.
+    /// Writes each controller's block and the network (`<name>.smv/.dot/.network.json`).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["noisy", "modules", "ltl", "negative", "dump_cnf"])]
+    pub distributed: Option<PathBuf>,
     /// With --modules: how the modules are wired. parallel: every module gets REQ and writes
     /// the outputs it owns; consecutive: a chain, REQ to module 1, each module's CNF to the
     /// next, each module rewrites every output in turn and the last one's are the composite's.
@@ -169,12 +176,16 @@ pub enum TopologyArg {
     Parallel,
     /// A chain of modules, each rewriting every output.
     Consecutive,
+    /// Modules wired as the solver chooses: each reads recorded inputs and other modules'
+    /// outputs (before the scan) and writes some outputs.
+    Arbitrary,
 }
 
 impl From<TopologyArg> for modular::Topology {
     fn from(t: TopologyArg) -> Self {
         match t {
-            TopologyArg::Parallel => modular::Topology::Parallel,
+            // An arbitrary network is a parallel composite over the extended inputs.
+            TopologyArg::Parallel | TopologyArg::Arbitrary => modular::Topology::Parallel,
             TopologyArg::Consecutive => modular::Topology::Consecutive,
         }
     }
@@ -264,10 +275,10 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
     // With --json, --out -, --noisy and --modules give the generic summary (their files and
     // lines; the machine of --out - in its `output`).
     if to_stdout {
-        if args.noisy.noisy || args.modules.is_some() {
+        if args.noisy.noisy || args.modules.is_some() || args.distributed.is_some() {
             return Err(Failure::msg(
                 exit::USAGE,
-                "--out - (the machine on stdout) is for one machine: --noisy and --modules write result folders",
+                "--out - (the machine on stdout) is for one machine: --noisy, --modules and --distributed write result folders",
             ));
         }
         super::data_on_stdout();
@@ -280,6 +291,18 @@ pub fn infer(args: &InferArgs) -> Result<(), Failure> {
             exit::USAGE,
             "--out - (the machine on stdout) is for one machine without --ltl: a verified machine comes with its report in a result folder",
         ));
+    }
+    if let Some(file) = &args.distributed {
+        return infer_network(args, Some(file));
+    }
+    if args.topology == TopologyArg::Arbitrary {
+        if args.ltl.is_some() || args.noisy.noisy {
+            return Err(Failure::msg(
+                exit::USAGE,
+                "--topology arbitrary is for recordings alone: not with --ltl or --noisy",
+            ));
+        }
+        return infer_network(args, None);
     }
     if let Some(m) = args.modules {
         let progress = Progress::new(super::quiet());
@@ -610,6 +633,91 @@ fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     }
 }
 
+/// `synth infer --distributed FILE` (the described controllers, synthesized together) or,
+/// without a file, `--modules M --topology arbitrary` (a network wired by the solver).
+fn infer_network(args: &InferArgs, file: Option<&PathBuf>) -> Result<(), Failure> {
+    use fbsynth::pipeline::distributed;
+    let progress = Progress::new(super::quiet());
+    let set = args.traces.load()?;
+    report_loaded(&progress, &set);
+    // The controllers described in the file, or blocks the solver wires.
+    enum Wiring {
+        Given(distributed::Interfaces),
+        Chosen(modular::Options, Vec<String>),
+    }
+    let wiring = match file {
+        Some(file) => Wiring::Given(
+            distributed::read_description(file)
+                .and_then(|d| d.resolve(&set, file))
+                .map_err(|e| Failure::input(pipeline::Error::from(e)))?,
+        ),
+        None => {
+            let m = args.modules.unwrap_or(1);
+            check_exportable_modular(&set, &args.name, m)?;
+            let names = (0..m)
+                .map(|k| export::modular::module_type_name(&args.name, k))
+                .collect();
+            Wiring::Chosen(modular_options(args, m, &set)?, names)
+        }
+    };
+    let results = infer_out(args)?;
+    let opts = distributed::Options {
+        slots: args.slots.unwrap_or(modular::DEFAULT_SLOTS),
+        max_states: args.max_states,
+        algorithms: args.algorithms.into(),
+    };
+    let job_set = set.clone();
+    let result = limited(
+        args,
+        &progress,
+        move |events| match wiring {
+            Wiring::Given(interfaces) => distributed::run(&job_set, &interfaces, &opts, events),
+            Wiring::Chosen(o, names) => distributed::run_arbitrary(&job_set, names, &o, events),
+        },
+        &mut |e| progress.event(e),
+    )?;
+    let s = &result.synthesis.size;
+    out!(
+        "controllers = {}  largest = {} states  A = {} inputs read  N' = {} states in all  (K = {} slots per state)",
+        result.network.names.len(),
+        s.max_states,
+        s.inputs_used,
+        s.total_states,
+        result.synthesis.stats.slots
+    );
+    for (module, name) in result
+        .network
+        .modular
+        .modules
+        .iter()
+        .zip(&result.network.names)
+    {
+        let size = module.ecc.size();
+        out!(
+            "  {name}: {} states, {} transitions, {} guard literals; writes {}; reads {}",
+            size.c,
+            size.t,
+            size.n,
+            module.ecc.outputs.join(", "),
+            if module.ecc.inputs.is_empty() {
+                "-".to_string()
+            } else {
+                module.ecc.inputs.join(", ")
+            }
+        );
+    }
+    out!(
+        "time {:.2} s (SAT {:.2} s); replayed {} scenarios on the network: all reproduced",
+        progress.elapsed(),
+        result.synthesis.stats.sat_seconds,
+        set.scenarios.len()
+    );
+    let staged = export::network::write_network(&result.network, results.staging(), &args.name)
+        .map_err(Failure::input)?;
+    print_written(&publish(results, &staged)?);
+    Ok(())
+}
+
 /// Modular synthesis of `set` into `out` (also the second stage of `--noisy --modules`, on
 /// the corrected traces); the files written.
 fn distribute(
@@ -823,6 +931,8 @@ fn modular_options(
         pins: modular::parse_pins(&args.pin, &set.outputs, modules)
             .map_err(|e| Failure::with_code(exit::USAGE, e))?,
         topology: args.topology.into(),
+        reads: None,
+        feedback: (args.topology == TopologyArg::Arbitrary).then_some(set.inputs.len()),
     })
 }
 

@@ -19,6 +19,7 @@ pub mod diff;
 pub mod guard;
 pub mod ident;
 pub mod modular;
+pub mod network;
 pub mod random;
 pub mod sim;
 

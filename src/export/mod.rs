@@ -13,6 +13,7 @@ pub mod fbt;
 pub mod guard_text;
 pub mod json;
 pub mod modular;
+pub mod network;
 pub mod plcopen;
 pub mod pnml;
 pub mod st;

@@ -14,6 +14,7 @@
 //! | metaheuristic search with verification-aware fitness | [`search::run`] | [`search::Searched`] |
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
+//! | distributed: several controllers with interfaces of their own | [`distributed::run`] | [`distributed::Distributed`] |
 //! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
 //! | how far the recordings determine the machine: rivals and distinguishing sequences | [`ambiguity::check`] | [`ambiguity::Ambiguity`] |
 //! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
@@ -35,6 +36,7 @@ pub mod ambiguity;
 pub mod batch;
 pub mod cegis;
 pub mod closed_loop;
+pub mod distributed;
 pub mod exact;
 pub mod explain;
 pub mod follow;
@@ -194,6 +196,9 @@ pub enum Error {
     /// Modular synthesis found no controller of M modules, or was given none.
     #[error(transparent)]
     Modular(#[from] crate::sat::modular::ModularError),
+    /// A network description that does not fit the recordings.
+    #[error(transparent)]
+    Network(#[from] distributed::DescriptionError),
     /// A bad `--pin` argument of modular synthesis.
     #[error(transparent)]
     Pin(#[from] crate::sat::modular::PinError),

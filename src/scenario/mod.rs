@@ -183,6 +183,42 @@ impl Step {
 }
 
 impl ScenarioSet {
+    /// The answers of `controller` (from its initial state each time) to every input sequence
+    /// of `runs`, as scenarios named `recorded:<k>`, over the given interface.
+    pub fn recorded<C: Controller>(
+        controller: &C,
+        inputs: Vec<String>,
+        outputs: Vec<String>,
+        initial_outputs: Vec<bool>,
+        runs: &[Vec<Vec<bool>>],
+    ) -> ScenarioSet {
+        use crate::ecc::Reactive;
+        let scenarios = (runs.iter().enumerate())
+            .map(|(i, xs)| {
+                let mut run = controller.start();
+                Scenario {
+                    origin: Origin {
+                        file: "recorded".into(),
+                        line: i + 1,
+                        rows: None,
+                    },
+                    steps: (xs.iter())
+                        .map(|x| Step {
+                            inputs: x.clone(),
+                            outputs: run.react(x).map(<[bool]>::to_vec),
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        ScenarioSet {
+            inputs,
+            outputs,
+            initial_outputs,
+            scenarios,
+        }
+    }
+
     /// Total number of steps over all scenarios.
     pub fn step_count(&self) -> usize {
         self.scenarios.iter().map(|s| s.steps.len()).sum()

@@ -185,9 +185,16 @@ fn composite_smv_agrees_with_the_recordings_in_nusmv() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let set = lamps();
     let modular = read_back(out.path(), "SynthesizedFB", &set);
+    let smv = composite_smv_to_string(&modular, "ECC").unwrap();
+    nusmv_replays(&nusmv, &smv, &set, out.path());
+}
+
+/// Inside NuSMV, the controller module `ECC` of `smv` emits exactly the CNFs and outputs of
+/// every scenario of `set`, step by step (one model per scenario, written into `dir`).
+fn nusmv_replays(nusmv: &fbsynth::nusmv::Nusmv, smv: &str, set: &ScenarioSet, dir: &Path) {
     let b = |v: bool| if v { "TRUE" } else { "FALSE" };
     for (k, sc) in set.scenarios.iter().enumerate() {
-        let mut model = composite_smv_to_string(&modular, "ECC").unwrap();
+        let mut model = smv.to_string();
         let len = sc.steps.len();
         model.push_str(&format!(
             "\nMODULE main\nVAR\n  t : 0..{};\n  ctrl : ECC(TRUE, {});\n",
@@ -223,12 +230,103 @@ fn composite_smv_agrees_with_the_recordings_in_nusmv() {
             expect.push(format!("(t = {} -> {})", t + 1, parts.join(" & ")));
         }
         model.push_str(&format!("LTLSPEC G ({});\n", expect.join(" & ")));
-        let file = out.path().join(format!("check{k}.smv"));
+        let file = dir.join(format!("check{k}.smv"));
         std::fs::write(&file, model).unwrap();
         let results = nusmv.check_file(&file).unwrap();
         assert_eq!(results.len(), 1);
         assert_eq!(results[0].verdict, Verdict::Holds, "scenario {k}");
     }
+}
+
+/// Distributed synthesis from the CLI: two controllers that read each other's outputs,
+/// recorded as a whole network, rebuilt with no controller larger than the originals; the
+/// files replay the recordings, and inside NuSMV the network's SMV module (each controller
+/// reading the others' values from before the scan) gives the recorded CNFs and outputs.
+#[test]
+fn a_network_of_controllers_is_rebuilt_and_its_smv_agrees_in_nusmv() {
+    use fbsynth::ecc::random::random_network;
+    use rand::{Rng, SeedableRng};
+    let original = random_network(3, 3, 2);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let runs: Vec<Vec<Vec<bool>>> = (0..6)
+        .map(|_| {
+            (0..14)
+                .map(|_| vec![rng.gen_bool(0.5), rng.gen_bool(0.5)])
+                .collect()
+        })
+        .collect();
+    let m = &original.modular;
+    let set = ScenarioSet::recorded(
+        &original,
+        original.inputs().to_vec(),
+        m.outputs.clone(),
+        m.initial_outputs.clone(),
+        &runs,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let traces = dir.path().join("net.traces");
+    let mut text_of_set = Vec::new();
+    fbsat::write(&set, &mut text_of_set).unwrap();
+    std::fs::write(&traces, text_of_set).unwrap();
+    std::fs::write(dir.path().join("in.names"), "a\nb\n").unwrap();
+    std::fs::write(dir.path().join("out.names"), "p\nq\nr\n").unwrap();
+    let net = dir.path().join("net.json");
+    std::fs::write(
+        &net,
+        r#"{"controllers": [
+            {"name": "C1", "inputs": ["a", "q"], "outputs": ["p"]},
+            {"name": "C2", "inputs": ["b", "p"], "outputs": ["q", "r"]}]}"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let p = |f: &Path| f.to_str().unwrap().to_string();
+    let o = synth(&[
+        "infer",
+        "-q",
+        "--distributed",
+        &p(&net),
+        "--name",
+        "Net",
+        "--traces",
+        &p(&traces),
+        "--input-names",
+        &p(&dir.path().join("in.names")),
+        "--output-names",
+        &p(&dir.path().join("out.names")),
+        "--out",
+        &p(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("Net.network.json")).unwrap())
+            .unwrap();
+    let largest = doc["largest_controller_states"].as_u64().unwrap();
+    assert!(largest <= 3, "{doc}");
+    for c in doc["controllers"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        let file = out.join(format!("{name}.json"));
+        let ecc = read_json(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+        assert_eq!(
+            ecc.inputs,
+            c["inputs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_str().unwrap().to_string())
+                .collect::<Vec<_>>()
+        );
+        assert!(out.join(format!("{name}.fbt")).is_file());
+    }
+    let Some(nusmv) = nusmv_or_skip() else {
+        return;
+    };
+    let smv = std::fs::read_to_string(out.join("Net.smv")).unwrap();
+    nusmv_replays(
+        &nusmv,
+        &smv.replace("MODULE Net(", "MODULE ECC("),
+        &set,
+        dir.path(),
+    );
 }
 
 /// The composite SMV takes the controller's place in the closed loop with the Pick-and-Place
@@ -622,4 +720,57 @@ fn a_chain_of_two_blocks_is_written_as_one_block_that_replays_the_recordings() {
         text(&o.stderr)
     );
     assert_eq!(std::fs::read_dir(pinned.path()).unwrap().count(), 0);
+}
+
+/// `--topology arbitrary`: the solver wires the blocks; the files are a network whose blocks
+/// replay the recordings side by side. With `--ltl` it is a usage error, with no files.
+#[test]
+fn an_arbitrary_network_is_written_as_blocks_that_replay_the_recordings() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let o = infer_lamps(dir, &["--topology", "arbitrary", "--name", "Line"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("controllers = 2"),
+        "{}",
+        text(&o.stdout)
+    );
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.path().join("Line.network.json")).unwrap(),
+    )
+    .unwrap();
+    let mut written = Vec::new();
+    for c in doc["controllers"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        assert!(name.starts_with("Line_M"), "{name}");
+        for ext in ["fbt", "st", "smv", "json"] {
+            assert!(
+                out.path().join(format!("{name}.{ext}")).is_file(),
+                "{name}.{ext}"
+            );
+        }
+        written.extend(
+            c["outputs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.to_string()),
+        );
+    }
+    written.sort();
+    assert_eq!(written, ["\"motor\"", "\"start_led\""]);
+    let refused = tempfile::tempdir().unwrap();
+    let o = infer_lamps(
+        refused.path().to_str().unwrap(),
+        &[
+            "--topology",
+            "arbitrary",
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read_dir(refused.path()).unwrap().count(), 0);
 }

@@ -12,7 +12,7 @@
 
 use super::vars::ModVars;
 use crate::ecc::modular::Topology;
-use crate::ecc::{AlgorithmKind, OutputId};
+use crate::ecc::{AlgorithmKind, InputId, OutputId};
 use crate::sat::constraints::{self as shared, at_most_one, tree_edges};
 use crate::sat::cubes;
 use crate::scenario::tree::{InputVec, ScenarioTree};
@@ -200,6 +200,27 @@ pub fn chain_values(
                 add(&[v.used(m, q), !a0]);
                 add(&[v.used(m, q), !a1]);
             }
+        }
+    }
+}
+
+/// A fixed interface: module `m` reads no input outside `reads[m]`, `¬α[m,x]`.
+pub fn allowed_reads(f: &mut impl ExtendFormula, v: &ModVars, reads: &[Vec<InputId>]) {
+    for (m, allowed) in reads.iter().enumerate() {
+        for x in 0..v.d.bits {
+            if !allowed.contains(&InputId(x)) {
+                f.add_clause(&[!v.alpha(m, x)]);
+            }
+        }
+    }
+}
+
+/// A network's module never reads its own output: with the outputs before the step as inputs
+/// `external..`, `¬α[m,external+z] ∨ ¬θ[m,z]`.
+pub fn no_self_reads(f: &mut impl ExtendFormula, v: &ModVars, external: usize) {
+    for m in 0..v.d.modules {
+        for z in 0..v.d.outputs.min(v.d.bits.saturating_sub(external)) {
+            f.add_clause(&[!v.alpha(m, external + z), !v.theta(m, z)]);
         }
     }
 }

@@ -36,7 +36,7 @@ pub mod vars;
 use super::card::Totalizer;
 use super::solver::Solver;
 use crate::ecc::modular::{Modular, ModularSize, Topology};
-use crate::ecc::{AlgorithmKind, OutputId};
+use crate::ecc::{AlgorithmKind, InputId, OutputId};
 use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
@@ -60,6 +60,12 @@ pub struct ModularOptions {
     pub widen_slots: bool,
     /// How the modules are wired.
     pub topology: Topology,
+    /// `reads[m]`: the only inputs module `m` may read (a distributed controller's interface);
+    /// `None`: any input.
+    pub reads: Option<Vec<Vec<InputId>>>,
+    /// `Some(X)`: the inputs from `X` on are the outputs before the step (a network's extended
+    /// inputs, [`crate::ecc::network`]), and no module reads its own.
+    pub feedback: Option<usize>,
 }
 
 /// The transition slots per state a run starts with when none are given.
@@ -75,6 +81,8 @@ impl Default for ModularOptions {
             pins: Vec::new(),
             widen_slots: true,
             topology: Topology::Parallel,
+            reads: None,
+            feedback: None,
         }
     }
 }
@@ -255,6 +263,12 @@ impl Encoding {
             &opts.pins,
             opts.topology,
         );
+        if let Some(reads) = &opts.reads {
+            constraints::allowed_reads(sink, &vars, reads);
+        }
+        if let Some(external) = opts.feedback {
+            constraints::no_self_reads(sink, &vars, external);
+        }
         let total_alpha = Totalizer::new(sink, vars.all_alpha(), vars.all_alpha().len());
         let total_used = Totalizer::new(sink, vars.all_used(), vars.all_used().len());
         Encoding {
@@ -269,6 +283,11 @@ impl Encoding {
 fn check_options(opts: &ModularOptions) -> Result<(), ModularError> {
     if opts.modules == 0 {
         return Err(ModularError::NoModules);
+    }
+    if opts.reads.as_ref().is_some_and(|r| r.len() != opts.modules) {
+        return Err(ModularError::Bug(
+            "reads for a different number of modules".into(),
+        ));
     }
     if opts.pins.len() > opts.modules {
         return Err(ModularError::Bug("pins for more modules than exist".into()));
@@ -294,7 +313,9 @@ pub fn synthesize_modular(
         tree_nodes: tree.nodes.len(),
         ..ModularStats::default()
     };
-    let ceiling = if opts.widen_slots {
+    // The ceiling's copies of the single machine read every input: not when reads are fixed or
+    // a module may not read its own outputs.
+    let ceiling = if opts.widen_slots && opts.reads.is_none() && opts.feedback.is_none() {
         single_machine_ceiling(set, tree, opts)
     } else {
         None
