@@ -1,7 +1,7 @@
 //! Distributed controllers (fbSAT's distributed synthesis): several basic function blocks, each
 //! with an interface of its own, that read the plant's signals and each other's outputs.
 //!
-//! In: the controllers, each a [`Module`] of a parallel [`Modular`] over an *extended* input
+//! In: the controllers, each a [`Module`](super::modular::Module) of a parallel [`Modular`] over an *extended* input
 //! vector: the plant-side inputs, then every output of the network. Out: the network's
 //! behaviour on the plant-side inputs ([`NetworkRun`]), as one controller of the recordings.
 //!
