@@ -9,11 +9,18 @@
 //!   them side by side, each reading the others' output variables, which in SMV hold the
 //!   values before the step: the network's semantics, with the signature of a single ECC's
 //!   module;
+//! - `<stem>.st`: every controller's Structured Text `FUNCTION_BLOCK`, then
+//!   `FUNCTION_BLOCK <stem>` with one instance `M<i>` of each ([`write_network_st`]): a call
+//!   passes `REQ` and each controller's inputs, the other controllers' outputs taken from the
+//!   block's own output variables, which still hold the values before the scan; only after
+//!   every call are the outputs copied from their owners and `CNF` set if some controller
+//!   fired. So one call is one `REQ` of the network, as in the simulator;
 //! - `<stem>.dot` (and `.svg`): the network, plant-side inputs to controllers, controllers to
 //!   each other and to the outputs;
 //! - `<stem>.network.json`: per controller its inputs, outputs and size.
 
 use super::{ExportError, Format};
+use crate::ecc::ident::BLOCK_MEMBERS;
 use crate::ecc::network::Network;
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, State};
 use crate::smv::ecc_module::{self, write_ecc_module};
@@ -100,6 +107,83 @@ pub fn network_smv_to_string(net: &Network, module_name: &str) -> Result<String,
     let mut buf = Vec::new();
     write_network_smv(net, module_name, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the SMV emitter writes UTF-8 only"))
+}
+
+/// Instance name of controller `m` (0-based) in the network's Structured Text block.
+fn st_instance(m: usize) -> String {
+    format!("M{}", m + 1)
+}
+
+/// Checks every name of the network's Structured Text: the block's interface and type name
+/// (none an instance `M<i>` or a controller's name) and every controller.
+pub fn check_st_names(net: &Network, stem: &str) -> Result<(), super::NameError> {
+    let mut reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
+    reserved.extend((0..net.modular.modules.len()).map(st_instance));
+    reserved.extend(net.names.iter().cloned());
+    super::check_iec_names(&interface(net), "Structured Text", stem, &reserved)?;
+    for (module, name) in net.modular.modules.iter().zip(&net.names) {
+        super::st::check_names(&module.ecc, name)?;
+    }
+    Ok(())
+}
+
+/// Writes every controller's `FUNCTION_BLOCK` and the network's; see the module header.
+/// Fails with [`std::io::ErrorKind::InvalidInput`] before writing anything if a name is
+/// unusable.
+pub fn write_network_st(net: &Network, stem: &str, w: &mut impl Write) -> std::io::Result<()> {
+    check_st_names(net, stem)?;
+    let m = &net.modular;
+    for (module, name) in m.modules.iter().zip(&net.names) {
+        super::st::write_st(&module.ecc, name, w)?;
+        writeln!(w)?;
+    }
+    writeln!(w, "FUNCTION_BLOCK {stem}")?;
+    writeln!(
+        w,
+        "(* Network of {} controllers synthesized by fbsynth: each call is one scan of every",
+        m.modules.len()
+    )?;
+    writeln!(
+        w,
+        "   controller, reading the others' outputs from before the scan; CNF is TRUE when"
+    )?;
+    writeln!(w, "   some controller fired. *)")?;
+    writeln!(w, "VAR_INPUT")?;
+    writeln!(w, "    REQ : BOOL;")?;
+    for x in net.inputs() {
+        writeln!(w, "    {x} : BOOL;")?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w, "VAR_OUTPUT")?;
+    writeln!(w, "    CNF : BOOL;")?;
+    for (z, &init) in m.outputs.iter().zip(&m.initial_outputs) {
+        let initial = if init { " := TRUE" } else { "" };
+        writeln!(w, "    {z} : BOOL{initial};")?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w, "VAR")?;
+    for (k, name) in net.names.iter().enumerate() {
+        writeln!(w, "    {} : {name};", st_instance(k))?;
+    }
+    writeln!(w, "END_VAR")?;
+    writeln!(w)?;
+    for (k, module) in m.modules.iter().enumerate() {
+        let args: Vec<String> = std::iter::once("REQ".to_string())
+            .chain(module.ecc.inputs.iter().cloned())
+            .map(|x| format!("{x} := {x}"))
+            .collect();
+        writeln!(w, "{}({});", st_instance(k), args.join(", "))?;
+    }
+    for (z, name) in m.outputs.iter().enumerate() {
+        let owner = (m.owner(crate::ecc::OutputId(z)))
+            .expect("a valid network has an owner for every output");
+        writeln!(w, "{name} := {}.{name};", st_instance(owner))?;
+    }
+    let cnf: Vec<String> = (0..m.modules.len())
+        .map(|k| format!("{}.CNF", st_instance(k)))
+        .collect();
+    writeln!(w, "CNF := {};", cnf.join(" OR "))?;
+    writeln!(w, "END_FUNCTION_BLOCK")
 }
 
 /// The network as a Graphviz drawing.
@@ -190,6 +274,15 @@ pub fn network_json(net: &Network, stem: &str) -> String {
 /// checked) before the first file is written. Returns the paths in the order written.
 pub fn write_network(net: &Network, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, ExportError> {
     net.validate().map_err(ExportError::InvalidEcc)?;
+    if let Some(name) = net.names.iter().find(|n| n.eq_ignore_ascii_case(stem)) {
+        return Err(ExportError::InvalidEcc(format!(
+            "controller {name} is named like the network (--name): their files would collide"
+        )));
+    }
+    check_st_names(net, stem).map_err(|source| ExportError::Name {
+        format: Format::St,
+        source,
+    })?;
     let block = [
         Format::Fbt,
         Format::St,
@@ -206,6 +299,12 @@ pub fn write_network(net: &Network, dir: &Path, stem: &str) -> Result<Vec<PathBu
             ));
         }
     }
+    let mut st = Vec::new();
+    write_network_st(net, stem, &mut st).expect("names are checked");
+    texts.push((
+        format!("{stem}.st"),
+        String::from_utf8(st).expect("the ST emitter writes UTF-8"),
+    ));
     texts.push((
         format!("{stem}.smv"),
         network_smv_to_string(net, stem).map_err(ExportError::Smv)?,
@@ -249,6 +348,9 @@ mod tests {
         insta::assert_snapshot!("network_smv", network_smv_to_string(&net, "Net").unwrap());
         insta::assert_snapshot!("network_dot", network_dot(&net, "Net"));
         insta::assert_snapshot!("network_json", network_json(&net, "Net"));
+        let mut st = Vec::new();
+        write_network_st(&net, "Net", &mut st).unwrap();
+        insta::assert_snapshot!("network_st", String::from_utf8(st).unwrap());
     }
 
     /// A controller named like the network would overwrite its SMV file: nothing is written.
