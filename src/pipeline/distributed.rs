@@ -28,7 +28,7 @@ use crate::ecc::ident::check_block_name;
 use crate::ecc::modular::Topology;
 use crate::ecc::network::Network;
 use crate::ecc::{AlgorithmKind, InputId, OutputId};
-use crate::sat::modular::{synthesize_modular, ModularOptions, ModularSynthesis};
+use crate::sat::modular::{synthesize_modular, ModularError, ModularOptions, ModularSynthesis};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::{Scenario, ScenarioSet, Step};
 use std::path::{Path, PathBuf};
@@ -319,7 +319,22 @@ fn synthesize(
     events: Events<'_>,
 ) -> Result<Distributed, Error> {
     let tree = ScenarioTree::build(extended)?;
-    let synthesis = synthesize_modular(extended, &tree, opts, &mut |m| events(Event::Solver(m)))?;
+    let found = synthesize_modular(extended, &tree, opts, &mut |m| events(Event::Solver(m)));
+    let synthesis = match found {
+        Err(ModularError::NoController {
+            max_states, slots, ..
+        }) => {
+            let reads = match opts.reads {
+                Some(_) => ", or let a controller read more signals",
+                None => "",
+            };
+            return Err(Error::NoMachine(format!(
+                "no network of {} blocks with at most {max_states} states each and {slots} transitions per state reproduces the recordings (raise --max-states or --slots{reads})",
+                names.len()
+            )));
+        }
+        found => found?,
+    };
     let network = Network {
         names,
         external: set.inputs.len(),
