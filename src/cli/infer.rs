@@ -67,12 +67,14 @@ pub struct InferArgs {
     /// (JSON: `{"controllers": [{"name": "Feeder", "inputs": ["start", "busy"], "outputs":
     /// ["feed"]}, ...]}`; an input is a recorded input or another controller's output, read as
     /// it was before the scan), synthesized together from recordings of the whole network.
-    /// Writes each controller's block and the network (`<name>.smv/.dot/.network.json`).
+    /// Writes each controller's block and the network (`<name>.smv/.st/.dot/.network.json`).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["noisy", "modules", "ltl", "negative", "dump_cnf"])]
     pub distributed: Option<PathBuf>,
     /// With --modules: how the modules are wired. parallel: every module gets REQ and writes
     /// the outputs it owns; consecutive: a chain, REQ to module 1, each module's CNF to the
-    /// next, each module rewrites every output in turn and the last one's are the composite's.
+    /// next, each module rewrites every output in turn and the last one's are the composite's;
+    /// arbitrary: a network the solver wires, each block reading recorded inputs and other
+    /// blocks' outputs (from before the scan), written as for --distributed.
     #[arg(long, value_enum, default_value_t = TopologyArg::Parallel, requires = "modules")]
     pub topology: TopologyArg,
     /// With --modules: pin outputs to a module, e.g. `--pin 1=start_led,reset_led`
