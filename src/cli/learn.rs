@@ -32,6 +32,10 @@ pub struct LearnArgs {
     /// Random recordings for the passive comparison (seeds 1..=N; 0: no comparison).
     #[arg(long, default_value_t = 5, value_name = "N", value_parser = super::args::runs())]
     pub passive_runs: usize,
+    /// Only look for rivals: do not first record a tour trying every letter of the alphabet
+    /// in every configuration of the machine.
+    #[arg(long)]
+    pub no_tour: bool,
     /// Write the final machine here (JSON).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -87,15 +91,17 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
     let opts = Options {
         ambiguity: args.ambiguity.options(args.algorithms.into())?,
         max_rounds: args.max_rounds.max(1),
+        tour: !args.no_tour,
     };
     let initial_steps = initial.step_count();
     let mut round = 0;
     let learned = active::learn(&initial, &oracle, &opts, &mut |r| {
         round += 1;
         let verdict = match r.verdict {
-            Verdict::Unique => "unique",
-            Verdict::Ambiguous => "ambiguous",
-            Verdict::Unknown => "unknown",
+            Some(Verdict::Unique) => "unique",
+            Some(Verdict::Ambiguous) => "ambiguous",
+            Some(Verdict::Unknown) => "unknown",
+            None => "tour",
         };
         progress.line(&format!(
             "round {round}: C = {}, {verdict}; {} steps recorded",
@@ -129,7 +135,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         learned.recorded_steps,
         initial_steps,
         learned.machine.states.len(),
-        match learned.rounds.last().map(|r| r.verdict) {
+        match learned.rounds.last().and_then(|r| r.verdict) {
             Some(Verdict::Unique) => "unique",
             Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
             _ => "no verdict within the budget",

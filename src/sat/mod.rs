@@ -48,7 +48,7 @@ pub mod solver;
 pub mod step;
 pub mod vars;
 
-pub use basic::{satisfiable, synthesize, Fixed, Options, Stats, Synthesis, Synthesizer};
+pub use basic::{satisfiable, synthesize, Fixed, Options, Proofs, Stats, Synthesis, Synthesizer};
 pub use step::{Bound, Progress, Step};
 
 /// Why synthesis produced no machine.
