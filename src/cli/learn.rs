@@ -101,7 +101,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             Some(Verdict::Unique) => "unique",
             Some(Verdict::Ambiguous) => "ambiguous",
             Some(Verdict::Unknown) => "unknown",
-            None => "tour",
+            None => r.asked.name(),
         };
         progress.line(&format!(
             "round {round}: C = {}, {verdict}; {} steps recorded",
@@ -194,6 +194,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         let summary = serde_json::json!({
             "rounds": learned.rounds.iter().map(|r| serde_json::json!({
                 "states": r.states,
+                "asked": r.asked,
                 "verdict": r.verdict,
                 "recorded_steps": r.recorded_steps,
             })).collect::<Vec<_>>(),

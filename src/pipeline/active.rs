@@ -29,13 +29,38 @@ pub struct Options {
     pub tour: bool,
 }
 
+/// What a round asked the oracle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Asked {
+    /// A [`tour`]: some configuration had a letter no recorded point of it tried.
+    Tour,
+    /// [`probes`]: some configuration's access sequence had a letter not tried after it.
+    Probes,
+    /// The rivals' sequences (or nothing, when the round ended the loop).
+    Rivals,
+}
+
+impl Asked {
+    /// The word for it in progress lines and recordings' origins.
+    pub fn name(self) -> &'static str {
+        match self {
+            Asked::Tour => "tour",
+            Asked::Probes => "probes",
+            Asked::Rivals => "rivals",
+        }
+    }
+}
+
 /// One round of the loop.
 #[derive(Debug, Clone)]
 pub struct Round {
     /// States of the machine inferred in this round.
     pub states: usize,
+    /// What the round recorded.
+    pub asked: Asked,
     /// What the ambiguity check said about this round's machine; `None` when the round
-    /// recorded a tour instead (some configuration had a letter the recordings never tried).
+    /// recorded a tour or probes instead.
     pub verdict: Option<Verdict>,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
     pub recorded_steps: usize,
@@ -133,20 +158,21 @@ pub fn learn(
         let tree = ScenarioTree::build(&set)?;
         if opts.tour && rounds.len() + 1 < opts.max_rounds {
             let letters = ambiguity::alphabet(&tree, set.inputs.len(), opts.ambiguity.all_inputs)?;
-            let mut sequences = tour(&machine, &tree, &letters);
+            let (mut asked, mut sequences) = (Asked::Tour, tour(&machine, &tree, &letters));
             if sequences.is_empty() {
-                sequences = probes(&machine, &tree, &letters);
+                (asked, sequences) = (Asked::Probes, probes(&machine, &tree, &letters));
             }
             if !sequences.is_empty() {
                 let round = Round {
                     states: machine.states.len(),
+                    asked,
                     verdict: None,
                     recorded_steps: sequences.iter().map(Vec::len).sum(),
                 };
                 for inputs in &sequences {
                     let k = set.scenarios.len() + 1;
                     set.scenarios
-                        .push(record(oracle, inputs, origin("tour", k)));
+                        .push(record(oracle, inputs, origin(asked.name(), k)));
                 }
                 if set.check(&machine).is_ok() {
                     kept = Some(machine);
@@ -160,6 +186,7 @@ pub fn learn(
         let found = ambiguity::check_long(&set, &machine, &opts.ambiguity)?;
         let mut round = Round {
             states: machine.states.len(),
+            asked: Asked::Rivals,
             verdict: Some(found.verdict),
             recorded_steps: 0,
         };

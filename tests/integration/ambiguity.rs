@@ -221,6 +221,14 @@ fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
     assert_eq!(v["unique"], true);
     assert_eq!(v["equivalent"], true);
     assert!(v["recorded_steps"].as_u64().unwrap() > 0);
+    // Tours and probes come before rivals; the last round asked for rivals and found none.
+    let rounds = v["rounds"].as_array().unwrap();
+    assert_eq!(rounds[0]["asked"], "tour", "{rounds:?}");
+    let last = rounds.last().unwrap();
+    assert_eq!(
+        (&last["asked"], &last["verdict"]),
+        (&"rivals".into(), &"unique".into())
+    );
     // The loop recorded something: the shipped recordings alone leave the machine ambiguous.
     let rounds: usize = stdout
         .split("active: ")
