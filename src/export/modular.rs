@@ -69,7 +69,7 @@ fn instance_name(m: usize) -> String {
 }
 
 /// Instance name of module `m` (0-based) in the composite SMV module: `_m<m+1>`.
-fn smv_instance(m: usize) -> String {
+pub(super) fn smv_instance(m: usize) -> String {
     format!("_m{}", m + 1)
 }
 
@@ -274,6 +274,13 @@ pub fn write_composite_smv(
             args.join(", ")
         )?;
     }
+    write_smv_defines(modular, w)?;
+    Ok(())
+}
+
+/// The `DEFINE` section of a composite or network SMV module: `CNF` when any instance
+/// emits it, and each output from the instance that owns it.
+pub(super) fn write_smv_defines(modular: &Modular, w: &mut impl Write) -> std::io::Result<()> {
     writeln!(w, "DEFINE")?;
     let cnf: Vec<String> = (0..modular.modules.len())
         .map(|m| format!("{}.CNF", smv_instance(m)))
@@ -282,7 +289,7 @@ pub fn write_composite_smv(
     for (z, name) in modular.outputs.iter().enumerate() {
         let owner = modular
             .owner(crate::ecc::OutputId(z))
-            .expect("a valid composite has an owner for every output");
+            .expect("a validated composite or network has an owner for every output");
         writeln!(w, "  {name} := {}.{name};", smv_instance(owner))?;
     }
     Ok(())

@@ -28,10 +28,8 @@ use crate::smv::SmvError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Instance name of controller `m` (0-based) in the network's SMV module.
-fn instance(m: usize) -> String {
-    format!("_m{}", m + 1)
-}
+/// Instance name of controller `m` (0-based) in the network's SMV module: as a composite's.
+use super::modular::smv_instance as instance;
 
 /// The network's outer interface as an ECC without behaviour, to check its names.
 fn interface(net: &Network) -> Ecc {
@@ -88,17 +86,7 @@ pub fn write_network_smv(
         }
         writeln!(w, "  {} : {}({});", instance(k), name, args.join(", "))?;
     }
-    writeln!(w, "DEFINE")?;
-    let cnf: Vec<String> = (0..m.modules.len())
-        .map(|k| format!("{}.CNF", instance(k)))
-        .collect();
-    writeln!(w, "  CNF := {};", cnf.join(" | "))?;
-    for (z, name) in m.outputs.iter().enumerate() {
-        let owner = m
-            .owner(crate::ecc::OutputId(z))
-            .expect("a valid network has an owner for every output");
-        writeln!(w, "  {name} := {}.{name};", instance(owner))?;
-    }
+    super::modular::write_smv_defines(m, w)?;
     Ok(())
 }
 

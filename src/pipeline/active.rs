@@ -277,6 +277,17 @@ impl Graph {
     }
 }
 
+/// The letters the recordings tried at node `v` of `tree` (active steps and passive marks).
+fn tried_at<'t>(
+    tree: &'t ScenarioTree,
+    v: NodeId,
+    letter: &'t std::collections::HashMap<&[bool], usize>,
+) -> impl Iterator<Item = usize> + 't {
+    let node = &tree.nodes[v.0];
+    let edges = node.children.iter().map(|(u, _)| u).chain(&node.passive);
+    edges.filter_map(|u| letter.get(tree.input_vectors[u.0].as_slice()).copied())
+}
+
 fn letter_index(letters: &[Vec<bool>]) -> std::collections::HashMap<&[bool], usize> {
     letters
         .iter()
@@ -315,13 +326,7 @@ pub fn probes(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<
             });
         }
         let tried: std::collections::HashSet<usize> = match v {
-            Some(v) => {
-                let node = &tree.nodes[v.0];
-                let edges = node.children.iter().map(|(u, _)| u).chain(&node.passive);
-                edges
-                    .filter_map(|u| letter.get(tree.input_vectors[u.0].as_slice()).copied())
-                    .collect()
-            }
+            Some(v) => tried_at(tree, v, &letter).collect(),
             None => Default::default(),
         };
         for (l, x) in letters.iter().enumerate() {
@@ -362,12 +367,7 @@ pub fn tour(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Ve
         let Some(&c) = index.get(&(at[v], node.outputs.clone())) else {
             continue;
         };
-        let edges = node.children.iter().map(|(u, _)| u).chain(&node.passive);
-        for u in edges {
-            if let Some(&l) = letter.get(tree.input_vectors[u.0].as_slice()) {
-                tried.insert((c, l));
-            }
-        }
+        tried.extend(tried_at(tree, NodeId(v), &letter).map(|l| (c, l)));
     }
     let untried = |c: usize, tried: &HashSet<(usize, usize)>| {
         (0..letters.len()).find(|&l| !tried.contains(&(c, l)))
