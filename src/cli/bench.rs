@@ -217,11 +217,12 @@ pub struct BenchNoisyArgs {
 /// ([`distribution::random_logs`], skew injected per log).
 pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
     out!(
-        "samples  steps   nodes   alts  injected  C  K  T   ε(first)  vars      clauses    minimize_s  enumerate_s  total_s"
+        "samples  steps    nodes   traces  injected  C  K  T   ε      rounds  encoded  vars      clauses    sizes_s  epsilon_s  total_s  clean  peak_rss"
     );
     for &len in &args.samples {
         let mut injected = 0;
-        let noisy: Vec<_> = distribution::random_logs(len, args.seed)
+        let clean = distribution::random_logs(len, args.seed);
+        let noisy: Vec<_> = clean
             .iter()
             .enumerate()
             .map(|(k, log)| {
@@ -243,22 +244,34 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::with_code(exit::BUG, e))?
             .synthesis;
         let total = t.elapsed().as_secs_f64();
+        let first = r.candidates.first();
+        // The candidate has been replayed on its corrected traces; the logs before the
+        // injected errors are the ground truth it should reproduce as well.
+        let replays_clean = first.is_some_and(|c| {
+            distribution::to_scenarios(&clean, "<clean>")
+                .check(&c.ecc)
+                .is_ok()
+        });
         out!(
-            "{:<8} {:<7} {:<7} {:<5} {:<9} {:<2} {:<2} {:<3} {:<9} {:<9} {:<10} {:<11.2} {:<12.2} {:.2}",
+            "{:<8} {:<8} {:<7} {:<7} {:<9} {:<2} {:<2} {:<3} {:<6} {:<7} {:<8} {:<9} {:<10} {:<8.2} {:<10.2} {:<8.2} {:<6} {}",
             len,
             set.step_count(),
             r.stats.graph_nodes,
-            r.stats.alternatives,
+            r.stats.distinct_traces,
             injected,
             r.n,
             r.k,
             r.r,
-            r.candidates.first().map_or(0, |c| c.errors),
+            first.map_or(0, |c| c.errors),
+            r.stats.rounds,
+            if r.stats.rounds == 0 { r.stats.graph_nodes } else { r.stats.encoded_nodes },
             r.stats.variables,
             r.stats.clauses,
             r.stats.minimize_seconds,
             r.stats.enumerate_seconds,
-            total
+            total,
+            if replays_clean { "yes" } else { "no" },
+            super::ingest::peak_rss()
         );
     }
     Ok(())

@@ -110,6 +110,27 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::ClosedLoopOf { candidate, errors } => format!(
             "candidate {candidate} (ε = {errors}): the closed loop on its corrected traces"
         ),
+        Event::NoisyPart {
+            round,
+            traces,
+            total,
+            unexplained,
+            corrections,
+        } => format!(
+            "part {round}: {traces} of {total} distinct traces encoded; {}",
+            match unexplained {
+                0 => format!("the machine explains every trace with {corrections} corrections"),
+                n => format!("the machine cannot explain {n} traces: some join the part"),
+            }
+        ),
+        Event::NoisyBound {
+            parts,
+            lower,
+            upper,
+        } => format!(
+            "least ε: at least {lower} (summed over {parts} parts), the machine needs {upper}{}",
+            if lower == upper { ": proven" } else { "" }
+        ),
         Event::Lazy {
             round,
             encoded,

@@ -93,6 +93,8 @@ enum Owned {
         errors: usize,
     },
     Followed(super::follow::Round),
+    NoisyPart([usize; 5]),
+    NoisyBound([usize; 3]),
     Lazy {
         round: usize,
         encoded: usize,
@@ -110,6 +112,18 @@ impl Owned {
             Event::CandidateVerdict { failing } => Owned::CandidateVerdict(failing.to_vec()),
             Event::ClosedLoopOf { candidate, errors } => Owned::ClosedLoopOf { candidate, errors },
             Event::Followed(r) => Owned::Followed(r.clone()),
+            Event::NoisyPart {
+                round,
+                traces,
+                total,
+                unexplained,
+                corrections,
+            } => Owned::NoisyPart([round, traces, total, unexplained, corrections]),
+            Event::NoisyBound {
+                parts,
+                lower,
+                upper,
+            } => Owned::NoisyBound([parts, lower, upper]),
             Event::Lazy {
                 round,
                 encoded,
@@ -136,6 +150,20 @@ impl Owned {
                 events(Event::ClosedLoopOf { candidate, errors })
             }
             Owned::Followed(r) => events(Event::Followed(r)),
+            &Owned::NoisyPart([round, traces, total, unexplained, corrections]) => {
+                events(Event::NoisyPart {
+                    round,
+                    traces,
+                    total,
+                    unexplained,
+                    corrections,
+                })
+            }
+            &Owned::NoisyBound([parts, lower, upper]) => events(Event::NoisyBound {
+                parts,
+                lower,
+                upper,
+            }),
             &Owned::Lazy {
                 round,
                 encoded,

@@ -76,8 +76,9 @@
 //! check the rest with `synth replay` or `synth conform`.
 
 use super::exact::{self, Exact};
+use super::lazy_noisy;
 use super::{Check, Class, Error, Event, Events};
-use crate::sat::noisy::{synthesize_noisy, Flow, NoisySynthesis};
+use crate::sat::noisy::NoisySynthesis;
 use crate::scenario::ScenarioSet;
 
 pub use crate::sat::noisy::NoisyOptions as Options;
@@ -138,9 +139,7 @@ pub fn run(
     opts: &Options,
     events: Events<'_>,
 ) -> Result<Noisy, Error> {
-    let synthesis = synthesize_noisy(set, opts, &mut |m| events(Event::Solver(m)), &mut |_| {
-        Flow::Continue
-    })?;
+    let synthesis = lazy_noisy::synthesize(set, opts, lazy_noisy::Parts::default(), events)?;
     let mut closed: Vec<Option<InLoop>> = Vec::new();
     let mut as_found = Vec::new();
     if let Some((check, _)) = check {

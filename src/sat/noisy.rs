@@ -69,6 +69,10 @@ pub struct NoisyOptions {
     pub max_calls: usize,
     /// Time for guard minimization of one candidate.
     pub guard_budget: Duration,
+    /// `C, K, T` known not to be undercut (proven on a part of the log): the search starts
+    /// there instead of proving every smaller size again. Sound only for a part of these
+    /// recordings, as [`crate::pipeline::lazy_noisy`] uses it.
+    pub at_least: Option<(usize, usize, usize)>,
 }
 
 impl Default for NoisyOptions {
@@ -80,6 +84,7 @@ impl Default for NoisyOptions {
             enumerate: 5,
             max_calls: 200,
             guard_budget: Duration::from_secs(10),
+            at_least: None,
         }
     }
 }
@@ -127,6 +132,10 @@ pub struct NoisyStats {
     pub clauses: usize,
     /// SAT calls made, minimization and enumeration.
     pub solver_calls: usize,
+    /// Rounds of synthesis in parts (0: the whole log encoded at once).
+    pub rounds: usize,
+    /// Graph nodes of the last part encoded (in parts; 0 otherwise).
+    pub encoded_nodes: usize,
     /// Seconds to find `N, K, R`.
     pub minimize_seconds: f64,
     /// Seconds spent enumerating (SAT calls, decoding, guards, replay, caller's checks).
@@ -363,7 +372,8 @@ pub fn synthesize_noisy(
     // 1. least N. One encoding per N, for exactly N states (the seed's findModel(T, N)):
     // an encoding with spare states leaves the solver symmetric choices that slow down every
     // later call far more than re-encoding costs.
-    let mut n = 1;
+    let (c0, k0, t0_) = opts.at_least.unwrap_or((1, 1, 0));
+    let mut n = c0.max(1);
     let mut enc = loop {
         if n > opts.max_states {
             return Err(match opts.max_errors {
@@ -395,7 +405,7 @@ pub fn synthesize_noisy(
     });
 
     // 2. least K: ascending, as Algorithm 1 does (K = n always holds).
-    let mut k = 1;
+    let mut k = if n == c0 { k0.max(1) } else { 1 };
     while k < n
         && enc
             .solve(&[base.clone(), enc.k_at_most(k)].concat())
@@ -409,16 +419,26 @@ pub fn synthesize_noisy(
         value: k,
     });
 
-    // 3. least R, descending from the current model's count.
-    let first = enc
-        .solve(&base)
-        .ok_or_else(|| SatError::Bug("N, K satisfiable, then not".into()))?;
+    // 3. least R, descending from the current model's count. With a proven floor at these
+    // N and K, the floor is tried first: on a grown part it usually still holds.
+    let t_floor = if (n, k) == (c0, k0) { t0_ } else { 0 };
+    let at_floor = enc
+        .total_t
+        .at_most(t_floor)
+        .filter(|_| t_floor > 0)
+        .and_then(|b| enc.solve(&[base.clone(), vec![b]].concat()));
+    let first = match at_floor {
+        Some(m) => m,
+        None => enc
+            .solve(&base)
+            .ok_or_else(|| SatError::Bug("N, K satisfiable, then not".into()))?,
+    };
     let r = enc.decode(&first, &graph, kind).transition_count();
     let (vars, total_t) = (&enc.vars, &enc.total_t);
     let r = enc.solver.descend(
         &base,
         r,
-        0,
+        t_floor,
         |b| total_t.at_most(b),
         |b| {
             progress(Step::Trying {
@@ -535,6 +555,49 @@ pub fn synthesize_noisy(
     })
 }
 
+/// The least number of alternative edges with which some machine of at most `c` states, at
+/// most `k` successors per state and at most `t` transitions reproduces the noisy `set`, when
+/// one with at most `upper` is known to exist (a machine within those sizes replays `set`
+/// with `upper` corrections; not checked here). A lower bound, for a part of a log, on the corrections of every
+/// machine of those sizes: [`crate::pipeline::noisy`] sums them over disjoint parts to prove
+/// the least `ε` of a whole log without encoding it whole.
+pub fn least_errors_within(
+    set: &ScenarioSet,
+    kind: AlgorithmKind,
+    (c, k, t): (usize, usize, usize),
+    upper: usize,
+) -> Result<usize, SatError> {
+    if upper == 0 {
+        return Ok(0);
+    }
+    let graph = TraceGraph::build(set);
+    let mut enc = NoisyEncoding::new(&graph, c, kind, Some(upper), &mut NoisyStats::default());
+    let base: Vec<Lit> = enc
+        .k_at_most(k)
+        .into_iter()
+        .chain(enc.total_t.at_most(t))
+        .collect();
+    // The machine's count is usually the least: one UNSAT call below it decides.
+    let below: Vec<Lit> = base
+        .iter()
+        .copied()
+        .chain(enc.errors.at_most(upper - 1))
+        .collect();
+    let Some(m) = enc.solve(&below) else {
+        return Ok(upper);
+    };
+    let (e, errors) = (&enc.e, &enc.errors);
+    let found = m.count(e);
+    Ok(enc.solver.descend(
+        &base,
+        found,
+        0,
+        |b| errors.at_most(b),
+        |_| {},
+        |m| m.count(e),
+    ))
+}
+
 /// Whether some machine with at most `n` states (and at most `r` transitions) reproduces the
 /// noisy traces with at most `eps` alternative edges. For tests of known minima.
 pub fn satisfiable(
@@ -618,6 +681,46 @@ mod tests {
             matches!(none, Err(SatError::TooFewErrors { max_errors: 0, .. })),
             "{none:?}"
         );
+    }
+
+    #[test]
+    fn a_fixed_machine_explains_each_trace_with_its_least_corrections() {
+        use crate::scenario::trace_graph::least_corrections;
+        let s = set(SKEWED);
+        let r = run(&s, &NoisyOptions::default());
+        let first = &r.candidates[0];
+        let fixes: Vec<_> = s
+            .scenarios
+            .iter()
+            .map(|sc| least_corrections(&first.ecc, &s.initial_outputs, &sc.steps).unwrap())
+            .collect();
+        // Trace 1 as recorded; trace 2 with its first step on 11.
+        assert_eq!(fixes[0].steps, Vec::<usize>::new());
+        assert_eq!(fixes[1].steps, vec![0]);
+        // One entry per alternative, in the graph's order: the candidate's edge choice.
+        let used: Vec<bool> = fixes.iter().flat_map(|f| f.used.clone()).collect();
+        assert_eq!(used, first.used);
+        // Outputs that rise on 00, where the machine stays idle and no alternative exists.
+        let bad = set("1\nin=REQ[00]; out=CNF[1];\n");
+        assert_eq!(
+            least_corrections(&first.ecc, &bad.initial_outputs, &bad.scenarios[0].steps),
+            None
+        );
+    }
+
+    #[test]
+    fn the_least_errors_within_sizes_bound_every_machine_of_those_sizes() {
+        let s = set(SKEWED);
+        let kind = AlgorithmKind::Tri;
+        // No machine explains both traces without a correction, whatever its size.
+        assert_eq!(least_errors_within(&s, kind, (2, 1, 2), 1).unwrap(), 1);
+        assert_eq!(least_errors_within(&s, kind, (4, 4, 16), 1).unwrap(), 1);
+        // Trace 1 alone needs none: the bound comes down to 0 from a loose upper bound.
+        let one = ScenarioSet {
+            scenarios: vec![s.scenarios[0].clone()],
+            ..s.clone()
+        };
+        assert_eq!(least_errors_within(&one, kind, (2, 1, 2), 1).unwrap(), 0);
     }
 
     #[test]

@@ -27,6 +27,7 @@
 
 use super::tree::{InputVec, Node, NodeId, ScenarioTree};
 use super::{ScenarioSet, Step};
+use crate::ecc::{Ecc, Run, StateId};
 use std::collections::HashMap;
 
 /// A hypothesis edge: the active step into `node` may really have happened on `input`.
@@ -103,16 +104,13 @@ impl TraceGraph {
                 });
                 tree.witness.push((si, k + 1));
                 tree.nodes[at.0].children.push((u, child));
-                if let Some(next) = sc.steps.get(k + 1).filter(|_| changed) {
-                    let alt = intern(&mut tree, &next.inputs);
-                    // Equal inputs would make the alternative the recorded edge itself.
-                    if alt != u {
-                        alternative_of.insert(child, alternatives.len());
-                        alternatives.push(Alternative {
-                            node: child,
-                            input: alt,
-                        });
-                    }
+                if let Some(next) = alternative_input(&sc.steps, k, changed) {
+                    let alt = intern(&mut tree, next);
+                    alternative_of.insert(child, alternatives.len());
+                    alternatives.push(Alternative {
+                        node: child,
+                        input: alt,
+                    });
                 }
                 nodes.push(Some(child));
                 at = child;
@@ -157,6 +155,115 @@ impl TraceGraph {
             .parent
             .expect("every node but the root has a parent")
     }
+}
+
+/// The input of the alternative edge of active step `k` of `steps`, if it has one: the step
+/// `changed` the outputs and a next step exists on other inputs (equal inputs would make the
+/// alternative the recorded edge itself). The one rule of the error model, shared by the
+/// graph and [`least_corrections`].
+pub fn alternative_input(steps: &[Step], k: usize, changed: bool) -> Option<&[bool]> {
+    let next = steps.get(k + 1).filter(|_| changed)?;
+    (next.inputs != steps[k].inputs).then_some(next.inputs.as_slice())
+}
+
+/// How a fixed machine explains one noisy trace with the fewest corrections.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Corrections {
+    /// The steps (0-based) whose alternative edge is taken: the corrected errors.
+    pub steps: Vec<usize>,
+    /// Per alternative of the trace, in step order (the order of [`TraceGraph::alternatives`]
+    /// along the trace's chain): taken or not.
+    pub used: Vec<bool>,
+}
+
+/// The fewest alternative edges with which `ecc` reproduces `steps` (from its initial state
+/// and `initial_outputs`), or `None` when no choice of edges does. A dynamic programme over
+/// the machine's states, linear in the trace: along every surviving choice the outputs are
+/// the recorded ones, so a state is all a choice leaves behind.
+///
+/// This replays a machine under the error model of [`TraceGraph`] without encoding the trace:
+/// the noisy encoding over a graph of this trace alone, with the machine's transitions fixed,
+/// has a model with `ε` errors exactly when this finds at most `ε`.
+pub fn least_corrections(
+    ecc: &Ecc,
+    initial_outputs: &[bool],
+    steps: &[Step],
+) -> Option<Corrections> {
+    let states = ecc.states.len();
+    // cost[q]: fewest corrections reaching state q after the steps so far.
+    let mut cost: Vec<Option<usize>> = vec![None; states];
+    cost[0] = Some(0);
+    // Per active step: its index, whether it has an alternative, and for each state entered
+    // the state left and whether the alternative was taken.
+    type Back = Vec<Option<(usize, bool)>>;
+    let mut back: Vec<(usize, bool, Back)> = Vec::new();
+    let mut outputs = initial_outputs.to_vec();
+    let fire = |q: usize, outputs: &[bool], x: &[bool]| {
+        let mut run = Run::new(ecc);
+        run.state = StateId(q);
+        run.outputs = outputs.to_vec();
+        run.step(x).map(|f| (f.target.0, run.outputs))
+    };
+    for (k, step) in steps.iter().enumerate() {
+        let Some(out) = &step.outputs else {
+            for (q, c) in cost.iter_mut().enumerate() {
+                if c.is_some() && fire(q, &outputs, &step.inputs).is_some() {
+                    *c = None;
+                }
+            }
+            if cost.iter().all(Option::is_none) {
+                return None;
+            }
+            continue;
+        };
+        let alt = alternative_input(steps, k, *out != outputs);
+        let mut next: Vec<Option<usize>> = vec![None; states];
+        let mut from: Vec<Option<(usize, bool)>> = vec![None; states];
+        for (q, c) in cost.iter().enumerate() {
+            let Some(c) = *c else { continue };
+            let labels =
+                std::iter::once((step.inputs.as_slice(), false)).chain(alt.map(|a| (a, true)));
+            for (x, taken) in labels {
+                let Some((q2, emitted)) = fire(q, &outputs, x) else {
+                    continue;
+                };
+                let c2 = c + usize::from(taken);
+                if emitted == *out && next[q2].is_none_or(|n| c2 < n) {
+                    next[q2] = Some(c2);
+                    from[q2] = Some((q, taken));
+                }
+            }
+        }
+        if next.iter().all(Option::is_none) {
+            return None;
+        }
+        cost = next;
+        back.push((k, alt.is_some(), from));
+        outputs.clone_from(out);
+    }
+    let (mut q, _) = cost
+        .iter()
+        .enumerate()
+        .filter_map(|(q, c)| c.map(|c| (q, c)))
+        .min_by_key(|&(_, c)| c)?;
+    let mut taken = Vec::new();
+    let mut with_alt = Vec::new();
+    for (k, has_alt, from) in back.iter().rev() {
+        let (p, alt) = from[q].expect("a surviving state has a predecessor");
+        if alt {
+            taken.push(*k);
+        }
+        if *has_alt {
+            with_alt.push(alt);
+        }
+        q = p;
+    }
+    taken.reverse();
+    with_alt.reverse();
+    Some(Corrections {
+        steps: taken,
+        used: with_alt,
+    })
 }
 
 #[cfg(test)]

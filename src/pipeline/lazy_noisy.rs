@@ -1,0 +1,715 @@
+//! Noisy synthesis in parts: Algorithm 1 on a few traces, the error model replayed on the
+//! rest, and the least ε proven part by part.
+//!
+//! In: a noisy [`ScenarioSet`] whose trace graph is too large to encode whole (at least
+//! [`LAZY_FROM_NODES`] nodes), and the [`Options`]. Out: a [`NoisySynthesis`] with one
+//! candidate, the least-ε machine of the least size, its corrected traces covering the whole
+//! log; the same `C`, `K`, `T` and `ε` as [`synthesize_noisy`] on the whole log.
+//!
+//! # Why
+//! The whole-log encoding spends its time in UNSAT proofs over every trace (no machine with
+//! `C-1` states, `K-1`, `T-1`, `ε-1` errors): on 10^5 samples of the distribution station the
+//! sizes alone took 14 minutes. Most traces repeat what a few already show.
+//!
+//! # How
+//! 1. The part starts as the first distinct traces with [`FIRST_PART_NODES`] active steps.
+//!    Algorithm 1 on the part gives the least `C, K, T` of the part and its least-ε machine.
+//! 2. The machine is replayed under the error model on every distinct trace
+//!    ([`least_corrections`]: a dynamic programme over its states, linear in the trace). Traces
+//!    it cannot explain join the part (a few per round), and so do traces with corrections when
+//!    their sum exceeds `--max-errors`; then back to 1.
+//! 3. When it explains every trace within the bound, its sizes are the whole log's least:
+//!    a machine for the whole, with its unused transitions removed, explains the part with no
+//!    more states, successors or transitions, so the part's least sizes bound the whole's from
+//!    below, and this machine attains them on the whole.
+//! 4. The least ε. Let `E` be the corrections the machine needs in all. The traces it explains
+//!    without correction need none from any machine. The others are cut into *segments*, one
+//!    per correction the machine makes, at steps that carry no alternative edge (so a segment
+//!    keeps every alternative its trace has there). A segment is a trace of its own: it starts
+//!    with the outputs recorded before it, in a state that numbering the states from it makes
+//!    state 0. For each, the least corrections of *any* machine within the sizes is computed
+//!    ([`least_errors_within`], in parallel; one UNSAT call when it is the machine's count).
+//!    The corrections of every minimal machine for the whole log are a sum over the segments
+//!    and the part, each at least its least, and the part's least is its Algorithm 1 ε: when
+//!    the bounds sum to `E`, `E` is the least ε. A segment whose bound falls short (its
+//!    correction is forced only by what happened before it) is joined with its neighbour and
+//!    bounded again; a whole trace that falls short is joined with another, pairwise, and the
+//!    last one with the part. If even that falls short, another machine needs fewer
+//!    corrections, and the whole log is encoded after all.
+//!
+//! Measured with `synth bench-noisy` (README): 10^4 samples 72.5 s whole, about 30 s in
+//! parts; 10^5 samples, not finished in 14 minutes whole, 172 s in parts (17 s for the sizes
+//! in two rounds, the rest proving ε = 350 over 340 segments).
+//!
+//! The machine is replayed on its corrected traces before it is returned, as every candidate.
+
+use super::{Error, Event, Events};
+use crate::ecc::Ecc;
+use crate::sat::noisy::{
+    least_errors_within, synthesize_noisy, Candidate, Flow, NoisyOptions as Options, NoisyStats,
+    NoisySynthesis,
+};
+use crate::sat::SatError;
+use crate::scenario::trace_graph::{alternative_input, least_corrections, Corrections};
+use crate::scenario::{ScenarioSet, Step};
+use rayon::prelude::*;
+use std::collections::{HashMap, HashSet};
+use std::time::Instant;
+
+/// Logs whose trace graph has at least this many nodes are synthesized in parts.
+pub const LAZY_FROM_NODES: usize = 2_048;
+
+/// Active steps (graph nodes) of the first part.
+pub const FIRST_PART_NODES: usize = 128;
+
+/// Traces that join the part in one round.
+const JOIN_PER_ROUND: usize = 4;
+
+/// Where the parts start; [`Default`] is what
+/// `synth infer --noisy` uses.
+#[derive(Debug, Clone, Copy)]
+pub struct Parts {
+    /// Logs with fewer graph nodes are encoded whole.
+    pub from_nodes: usize,
+    /// Active steps of the first part.
+    pub first_nodes: usize,
+}
+
+impl Default for Parts {
+    fn default() -> Self {
+        Parts {
+            from_nodes: LAZY_FROM_NODES,
+            first_nodes: FIRST_PART_NODES,
+        }
+    }
+}
+
+/// Algorithm 1 on `set`, in parts when its trace graph has at least `parts.from_nodes` nodes
+/// (then one candidate, whatever `opts.enumerate` says), else whole.
+pub fn synthesize(
+    set: &ScenarioSet,
+    opts: &Options,
+    parts: Parts,
+    events: Events<'_>,
+) -> Result<NoisySynthesis, Error> {
+    let distinct = distinct_traces(set);
+    let nodes = 1 + distinct
+        .iter()
+        .map(|&i| active(&set.scenarios[i].steps))
+        .sum::<usize>();
+    if nodes < parts.from_nodes || distinct.len() < 2 {
+        return whole(set, opts, events);
+    }
+    in_parts(set, &distinct, nodes, opts, parts, events)
+}
+
+fn whole(set: &ScenarioSet, opts: &Options, events: Events<'_>) -> Result<NoisySynthesis, Error> {
+    Ok(synthesize_noisy(
+        set,
+        opts,
+        &mut |m| events(Event::Solver(m)),
+        &mut |_| Flow::Continue,
+    )?)
+}
+
+/// Indices of the first scenario of every distinct trace, in order.
+fn distinct_traces(set: &ScenarioSet) -> Vec<usize> {
+    let mut seen: HashSet<&[Step]> = HashSet::new();
+    (0..set.scenarios.len())
+        .filter(|&i| seen.insert(set.scenarios[i].steps.as_slice()))
+        .collect()
+}
+
+fn active(steps: &[Step]) -> usize {
+    steps.iter().filter(|s| s.outputs.is_some()).count()
+}
+
+/// The scenarios `which` of `set`, in that order.
+fn subset(set: &ScenarioSet, which: &[usize]) -> ScenarioSet {
+    ScenarioSet {
+        inputs: set.inputs.clone(),
+        outputs: set.outputs.clone(),
+        initial_outputs: set.initial_outputs.clone(),
+        scenarios: which.iter().map(|&i| set.scenarios[i].clone()).collect(),
+    }
+}
+
+/// The corrections `ecc` needs on each distinct trace (`None`: it cannot explain it).
+fn replay(set: &ScenarioSet, distinct: &[usize], ecc: &Ecc) -> Vec<Option<Corrections>> {
+    distinct
+        .par_iter()
+        .map(|&i| least_corrections(ecc, &set.initial_outputs, &set.scenarios[i].steps))
+        .collect()
+}
+
+fn in_parts(
+    set: &ScenarioSet,
+    distinct: &[usize],
+    nodes: usize,
+    opts: &Options,
+    parts: Parts,
+    events: Events<'_>,
+) -> Result<NoisySynthesis, Error> {
+    let t0 = Instant::now();
+    let nodes_of = |d: usize| active(&set.scenarios[distinct[d]].steps);
+    // Positions in `distinct` of the part's traces.
+    let mut part: Vec<usize> = Vec::new();
+    let mut in_part = vec![false; distinct.len()];
+    let mut encoded = 0;
+    for (d, inside) in in_part.iter_mut().enumerate() {
+        if encoded >= parts.first_nodes {
+            break;
+        }
+        part.push(d);
+        *inside = true;
+        encoded += nodes_of(d);
+    }
+    let mut one = Options {
+        enumerate: 1,
+        ..opts.clone()
+    };
+    let mut stats = NoisyStats::default();
+    let mut round = 0;
+    let ((s, candidate), fixes) = loop {
+        round += 1;
+        let traces: Vec<usize> = part.iter().map(|&d| distinct[d]).collect();
+        let s = synthesize_noisy(
+            &subset(set, &traces),
+            &one,
+            &mut |m| events(Event::Solver(m)),
+            &mut |_| Flow::Continue,
+        )?;
+        stats.variables += s.stats.variables;
+        stats.clauses += s.stats.clauses;
+        stats.solver_calls += s.stats.solver_calls;
+        // Every later part holds this one: its least sizes are proven for them too.
+        one.at_least = Some((s.n, s.k, s.r));
+        let candidate = s
+            .candidates
+            .first()
+            .ok_or_else(|| SatError::Bug("Algorithm 1 ended without a candidate".into()))?;
+        let fixes = replay(set, distinct, &candidate.ecc);
+        let unexplained: Vec<usize> = (0..distinct.len())
+            .filter(|&d| fixes[d].is_none())
+            .collect();
+        if let Some(&d) = unexplained.iter().find(|&&d| in_part[d]) {
+            return Err(SatError::Bug(format!(
+                "the machine made for a part of the log cannot explain trace {} of that part",
+                set.scenarios[distinct[d]].origin
+            ))
+            .into());
+        }
+        let corrections: usize = fixes.iter().flatten().map(|f| f.steps.len()).sum();
+        events(Event::NoisyPart {
+            round,
+            traces: part.len(),
+            total: distinct.len(),
+            unexplained: unexplained.len(),
+            corrections,
+        });
+        let over = opts.max_errors.is_some_and(|m| corrections > m);
+        let join: Vec<usize> = if !unexplained.is_empty() {
+            unexplained
+        } else if over {
+            (0..distinct.len())
+                .filter(|&d| !in_part[d] && fixes[d].as_ref().is_some_and(|f| !f.steps.is_empty()))
+                .collect()
+        } else {
+            break ((s.clone(), candidate.clone()), fixes);
+        };
+        if join.is_empty() {
+            return Err(SatError::Bug(
+                "the corrections exceed the bound, yet the part holds every corrected trace".into(),
+            )
+            .into());
+        }
+        for d in join.into_iter().take(JOIN_PER_ROUND) {
+            part.push(d);
+            in_part[d] = true;
+        }
+    };
+    let fixes: Vec<Corrections> = fixes
+        .into_iter()
+        .map(|f| f.expect("every trace explained"))
+        .collect();
+    stats.minimize_seconds = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let upper: usize = fixes.iter().map(|f| f.steps.len()).sum();
+    let sizes = (s.n, s.k, s.r);
+    if !least_proven(
+        set,
+        distinct,
+        &part,
+        &fixes,
+        candidate.errors,
+        sizes,
+        opts,
+        events,
+    )? {
+        // Another machine of these sizes needs fewer corrections: only the whole log says which.
+        return whole(set, opts, events);
+    }
+
+    let mut corrected = set.clone();
+    let at: HashMap<&[Step], usize> = distinct
+        .iter()
+        .enumerate()
+        .map(|(d, &i)| (set.scenarios[i].steps.as_slice(), d))
+        .collect();
+    let mut fixed_steps: Vec<Vec<Step>> = Vec::with_capacity(distinct.len());
+    for (d, &i) in distinct.iter().enumerate() {
+        let steps = &set.scenarios[i].steps;
+        let mut out = steps.clone();
+        for &k in &fixes[d].steps {
+            out[k].inputs = steps[k + 1].inputs.clone();
+        }
+        fixed_steps.push(out);
+    }
+    for sc in &mut corrected.scenarios {
+        sc.steps = fixed_steps[at[sc.steps.as_slice()]].clone();
+    }
+    let ecc = candidate.ecc;
+    corrected.check(&ecc).map_err(|m| {
+        SatError::Bug(format!(
+            "the machine found in parts does not replay its corrected traces: {m}"
+        ))
+    })?;
+    let used: Vec<bool> = fixes.iter().flat_map(|f| f.used.iter().copied()).collect();
+    let inputs: HashSet<&[bool]> = distinct
+        .iter()
+        .flat_map(|&i| set.scenarios[i].steps.iter().map(|s| s.inputs.as_slice()))
+        .collect();
+    stats.graph_nodes = nodes;
+    stats.distinct_traces = distinct.len();
+    stats.alternatives = used.len();
+    stats.distinct_inputs = inputs.len();
+    stats.rounds = round;
+    stats.encoded_nodes = 1 + part.iter().map(|&d| nodes_of(d)).sum::<usize>();
+    stats.enumerate_seconds = t1.elapsed().as_secs_f64();
+    Ok(NoisySynthesis {
+        n: s.n,
+        k: s.k,
+        r: s.r,
+        candidates: vec![Candidate {
+            size: ecc.size(),
+            ecc,
+            errors: upper,
+            used,
+            corrected,
+            guards_exact: candidate.guards_exact,
+        }],
+        exhausted: false,
+        stats,
+    })
+}
+
+/// Steps `from..to` of distinct trace `d`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Piece {
+    d: usize,
+    from: usize,
+    to: usize,
+}
+
+/// Pieces of the log bounded together, with the corrections the machine needs on them and,
+/// once computed, the least any machine of the sizes needs. Either one segment of a trace or
+/// whole traces.
+#[derive(Debug, Clone)]
+struct Group {
+    pieces: Vec<Piece>,
+    upper: usize,
+    lower: Option<usize>,
+}
+
+impl Group {
+    fn new(pieces: Vec<Piece>, upper: usize) -> Group {
+        Group {
+            pieces,
+            upper,
+            lower: None,
+        }
+    }
+
+    fn short(&self) -> bool {
+        self.lower != Some(self.upper)
+    }
+}
+
+/// Where trace `steps` may be cut: before step `l` when step `l - 1` has no alternative edge
+/// (a passive step, or one that changed nothing), so each side keeps every alternative the
+/// trace has. `cut[l]` for `l` in `0..=len`.
+fn cuts(steps: &[Step], initial_outputs: &[bool]) -> Vec<bool> {
+    let mut cut = vec![true; steps.len() + 1];
+    let mut outputs = initial_outputs;
+    for (k, step) in steps.iter().enumerate() {
+        if let Some(out) = &step.outputs {
+            cut[k + 1] = alternative_input(steps, k, *out != outputs).is_none();
+            outputs = out;
+        }
+    }
+    cut
+}
+
+/// The segments of a trace, one per correction the machine makes in it (`corrections`,
+/// sorted): each boundary is the allowed cut nearest the middle between two corrections,
+/// past the step after the first (its alternative reads that step's inputs). Corrections
+/// with no cut between them share a segment. Returns `(from, to, corrections in it)`.
+fn segments(cut: &[bool], corrections: &[usize]) -> Vec<(usize, usize, usize)> {
+    let len = cut.len() - 1;
+    let mut out = Vec::new();
+    let (mut from, mut count) = (0, 0);
+    for (i, &c) in corrections.iter().enumerate() {
+        count += 1;
+        let Some(&next) = corrections.get(i + 1) else {
+            break;
+        };
+        let mid = (c + next).div_ceil(2);
+        let best = (c + 2..=next)
+            .filter(|&l| cut[l])
+            .min_by_key(|&l| l.abs_diff(mid));
+        if let Some(l) = best {
+            out.push((from, l, count));
+            from = l;
+            count = 0;
+        }
+    }
+    out.push((from, len, count));
+    out
+}
+
+/// The recordings of a group: whole traces as they are, or one segment as a trace of its own
+/// that starts with the outputs recorded before it. The segment's first state is unknown, but
+/// numbering the states of any machine from it makes it state 0, so the segment's least
+/// corrections bound those of every machine on that stretch of the trace.
+fn group_set(set: &ScenarioSet, distinct: &[usize], g: &Group) -> ScenarioSet {
+    let len = |p: &Piece| set.scenarios[distinct[p.d]].steps.len();
+    match g.pieces.as_slice() {
+        [p] if p.from > 0 || p.to < len(p) => {
+            let sc = &set.scenarios[distinct[p.d]];
+            let before = sc.steps[..p.from]
+                .iter()
+                .rev()
+                .find_map(|s| s.outputs.clone())
+                .unwrap_or_else(|| set.initial_outputs.clone());
+            ScenarioSet {
+                inputs: set.inputs.clone(),
+                outputs: set.outputs.clone(),
+                initial_outputs: before,
+                scenarios: vec![crate::scenario::Scenario {
+                    origin: sc.origin.clone(),
+                    steps: sc.steps[p.from..p.to].to_vec(),
+                }],
+            }
+        }
+        pieces => {
+            let traces: Vec<usize> = pieces.iter().map(|p| distinct[p.d]).collect();
+            subset(set, &traces)
+        }
+    }
+}
+
+/// The segments of one trace, in order, with every short one joined to its neighbour: the
+/// next one, or the previous one when it is the last. Joined segments are bounded anew.
+fn join_short_segments(segs: Vec<Group>) -> Vec<Group> {
+    let mut out: Vec<Group> = Vec::new();
+    let mut it = segs.into_iter().peekable();
+    while let Some(g) = it.next() {
+        if !g.short() {
+            out.push(g);
+            continue;
+        }
+        let p = g.pieces[0];
+        if let Some(n) = it.next() {
+            let q = n.pieces[0];
+            out.push(Group::new(vec![Piece { to: q.to, ..p }], g.upper + n.upper));
+        } else if let Some(prev) = out.pop() {
+            let q = prev.pieces[0];
+            out.push(Group::new(
+                vec![Piece { from: q.from, ..p }],
+                prev.upper + g.upper,
+            ));
+        } else {
+            // A trace in one segment: bounded as it is, a whole-trace group.
+            out.push(g);
+        }
+    }
+    out
+}
+
+/// Whether the least ε of the whole log is the machine's `fixes` (step 4 of the module doc):
+/// `part_errors` is the part's Algorithm 1 ε.
+#[allow(clippy::too_many_arguments)]
+fn least_proven(
+    set: &ScenarioSet,
+    distinct: &[usize],
+    part: &[usize],
+    fixes: &[Corrections],
+    part_errors: usize,
+    sizes: (usize, usize, usize),
+    opts: &Options,
+    events: Events<'_>,
+) -> Result<bool, Error> {
+    let errs = |d: usize| fixes[d].steps.len();
+    let len = |d: usize| set.scenarios[distinct[d]].steps.len();
+    let whole = |d: usize| Piece {
+        d,
+        from: 0,
+        to: len(d),
+    };
+    let upper: usize = (0..distinct.len()).map(errs).sum();
+    let part_upper: usize = part.iter().map(|&d| errs(d)).sum();
+    if part_upper != part_errors {
+        return Err(SatError::Bug(format!(
+            "the part's least ε is {part_errors}, its machine replays the part with {part_upper}"
+        ))
+        .into());
+    }
+    let in_part: HashSet<usize> = part.iter().copied().collect();
+    let mut groups: Vec<Group> = Vec::new();
+    for d in (0..distinct.len()).filter(|d| !in_part.contains(d) && errs(*d) > 0) {
+        let steps = &set.scenarios[distinct[d]].steps;
+        let cut = cuts(steps, &set.initial_outputs);
+        for (from, to, n) in segments(&cut, &fixes[d].steps) {
+            groups.push(Group::new(vec![Piece { d, from, to }], n));
+        }
+    }
+    // The part is a group whose bound is known: its own least ε.
+    let mut part_group = Group {
+        pieces: part.iter().map(|&d| whole(d)).collect(),
+        upper: part_errors,
+        lower: Some(part_errors),
+    };
+    loop {
+        let bound = |g: &Group| -> Result<usize, SatError> {
+            least_errors_within(
+                &group_set(set, distinct, g),
+                opts.algorithms,
+                sizes,
+                g.upper,
+            )
+        };
+        let lowers: Vec<Result<usize, SatError>> = groups
+            .par_iter()
+            .map(|g| g.lower.map_or_else(|| bound(g), Ok))
+            .collect();
+        for (g, l) in groups.iter_mut().zip(lowers) {
+            g.lower = Some(l?);
+        }
+        if part_group.lower.is_none() {
+            part_group.lower = Some(bound(&part_group)?);
+        }
+        if let Some(g) = groups
+            .iter()
+            .chain([&part_group])
+            .find(|g| g.lower > Some(g.upper))
+        {
+            return Err(SatError::Bug(format!(
+                "a part of the log needs at least {} corrections, its machine replays it with {}",
+                g.lower.unwrap_or(0),
+                g.upper
+            ))
+            .into());
+        }
+        let lower: usize = groups
+            .iter()
+            .chain([&part_group])
+            .map(|g| g.lower.expect("every group bounded"))
+            .sum();
+        events(Event::NoisyBound {
+            parts: groups.len() + 1,
+            lower,
+            upper,
+        });
+        if lower == upper {
+            return Ok(true);
+        }
+        let is_segment = |g: &Group| matches!(g.pieces.as_slice(), [p] if *p != whole(p.d));
+        // A segment that falls short is joined with its neighbour in the trace (the one after
+        // it, or before it when it is the last) and the two are bounded again as one.
+        let resegment: HashSet<usize> = groups
+            .iter()
+            .filter(|g| g.short() && is_segment(g))
+            .map(|g| g.pieces[0].d)
+            .collect();
+        let mut next: Vec<Group> = Vec::new();
+        let mut short: Vec<Group> = Vec::new();
+        let mut by_trace: HashMap<usize, Vec<Group>> = HashMap::new();
+        for g in groups {
+            if is_segment(&g) && resegment.contains(&g.pieces[0].d) {
+                by_trace.entry(g.pieces[0].d).or_default().push(g);
+            } else if g.short() {
+                short.push(g);
+            } else {
+                next.push(g);
+            }
+        }
+        let mut traces: Vec<(usize, Vec<Group>)> = by_trace.into_iter().collect();
+        traces.sort_unstable_by_key(|(d, _)| *d);
+        for (_, mut segs) in traces {
+            segs.sort_unstable_by_key(|g| g.pieces[0].from);
+            next.extend(join_short_segments(segs));
+        }
+        let pending = next.iter().any(|g| g.lower.is_none());
+        if short.is_empty() && !pending {
+            // Every group is tight: the shortfall is the part's, merged with the last short
+            // group. Another machine of these sizes needs fewer corrections.
+            return Ok(false);
+        }
+        let mut merged = Vec::new();
+        if short.len() == 1 && !pending {
+            // The last short group joins the part.
+            let a = short.pop().expect("one short group");
+            part_group = Group::new(
+                [std::mem::take(&mut part_group.pieces), a.pieces].concat(),
+                part_group.upper + a.upper,
+            );
+        } else {
+            // Short groups of whole traces are merged pairwise; an odd one left over keeps its
+            // bound and is merged in the next round.
+            let mut short = short.into_iter();
+            while let Some(a) = short.next() {
+                merged.push(match short.next() {
+                    Some(b) => Group::new([a.pieces, b.pieces].concat(), a.upper + b.upper),
+                    None => a,
+                });
+            }
+        }
+        next.extend(merged);
+        groups = next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cases::distribution;
+
+    /// Distribution-station logs of `samples` samples with skew injected, and the number
+    /// injected.
+    fn noisy_logs(samples: usize, seed: u64) -> (ScenarioSet, usize) {
+        let mut injected = 0;
+        let logs: Vec<_> = distribution::random_logs(samples, seed)
+            .iter()
+            .enumerate()
+            .map(|(k, log)| {
+                let (n, i) = distribution::inject_skew(log, 0.05, seed + k as u64);
+                injected += i;
+                n
+            })
+            .collect();
+        (distribution::to_scenarios(&logs, "<generated>"), injected)
+    }
+
+    #[test]
+    fn parts_give_the_sizes_and_the_least_errors_of_the_whole_log() {
+        let (set, injected) = noisy_logs(1_500, 3);
+        let opts = Options {
+            enumerate: 1,
+            max_errors: Some(injected),
+            ..Options::default()
+        };
+        let whole = synthesize_noisy(&set, &opts, &mut |_| {}, &mut |_| Flow::Continue).unwrap();
+        let small = Parts {
+            from_nodes: 0,
+            first_nodes: 40,
+        };
+        let mut rounds = 0;
+        let mut bounds = Vec::new();
+        let parts = synthesize(&set, &opts, small, &mut |e| match e {
+            Event::NoisyPart { round, .. } => rounds = round,
+            Event::NoisyBound {
+                parts: n,
+                lower,
+                upper,
+            } => bounds.push((n, lower, upper)),
+            _ => {}
+        })
+        .unwrap();
+        assert_eq!(
+            (parts.n, parts.k, parts.r, parts.candidates[0].errors),
+            (whole.n, whole.k, whole.r, whole.candidates[0].errors)
+        );
+        // Encoded in parts, not whole, and the least ε proven by the bounds.
+        assert!(
+            rounds >= 1 && parts.stats.encoded_nodes < parts.stats.graph_nodes,
+            "{rounds} rounds, {} of {} nodes encoded",
+            parts.stats.encoded_nodes,
+            parts.stats.graph_nodes
+        );
+        // Segments bounded beside the part, and the bounds meet the machine's count.
+        let &(n, lower, upper) = bounds.last().unwrap();
+        assert!(n > 1, "{bounds:?}");
+        assert_eq!(lower, upper);
+        let c = &parts.candidates[0];
+        assert_eq!(c.corrected.check(&c.ecc), Ok(()));
+        let changed: usize = set
+            .scenarios
+            .iter()
+            .zip(&c.corrected.scenarios)
+            .map(|(a, b)| a.steps.iter().zip(&b.steps).filter(|(x, y)| x != y).count())
+            .sum();
+        assert!(
+            changed >= c.errors,
+            "{changed} steps changed, ε = {}",
+            c.errors
+        );
+        assert_eq!(c.used.iter().filter(|&&u| u).count(), c.errors);
+    }
+
+    fn step(inputs: &[bool], outputs: Option<&[bool]>) -> Step {
+        Step {
+            inputs: inputs.to_vec(),
+            outputs: outputs.map(<[bool]>::to_vec),
+        }
+    }
+
+    #[test]
+    fn segments_are_cut_only_where_no_alternative_is_lost() {
+        let (t, f) = (true, false);
+        let steps = [
+            step(&[f], Some(&[t])), // 0: changes the output, next inputs differ: alternative
+            step(&[t], None),       // 1: passive
+            step(&[f], Some(&[f])), // 2: changes, alternative
+            step(&[t], Some(&[f])), // 3: changes nothing
+            step(&[f], Some(&[t])), // 4: changes, alternative
+            step(&[t], None),       // 5: passive
+        ];
+        let cut = cuts(&steps, &[f]);
+        // Before step l when step l - 1 has no alternative.
+        assert_eq!(cut, vec![true, false, true, false, true, false, true]);
+        // Corrections at 0 and 4: the cut nearest the middle, past step 1.
+        assert_eq!(segments(&cut, &[0, 4]), vec![(0, 2, 1), (2, 6, 1)]);
+        // Step 3 changes nothing: the segment of correction 2 ends after it.
+        assert_eq!(
+            segments(&cut, &[0, 2, 4]),
+            vec![(0, 2, 1), (2, 4, 1), (4, 6, 1)]
+        );
+        assert_eq!(segments(&cut, &[2]), vec![(0, 6, 1)]);
+        // Corrections on consecutive steps: the first one's alternative reads the second's
+        // inputs, so no cut separates them.
+        let steps = [
+            step(&[f], Some(&[t])),
+            step(&[t], Some(&[f])),
+            step(&[f], None),
+        ];
+        let cut = cuts(&steps, &[f]);
+        assert_eq!(segments(&cut, &[0, 1]), vec![(0, 3, 2)]);
+    }
+
+    #[test]
+    fn small_logs_are_encoded_whole() {
+        let (set, injected) = noisy_logs(300, 5);
+        let opts = Options {
+            enumerate: 1,
+            max_errors: Some(injected),
+            ..Options::default()
+        };
+        let mut parted = false;
+        let r = synthesize(&set, &opts, Parts::default(), &mut |e| {
+            parted |= matches!(e, Event::NoisyPart { .. })
+        })
+        .unwrap();
+        assert!(!parted);
+        assert_eq!(r.stats.rounds, 0);
+    }
+}
