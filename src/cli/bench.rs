@@ -211,6 +211,10 @@ pub struct BenchNoisyArgs {
     /// Bound on corrected errors, as a multiple of the number injected (0: no bound).
     #[arg(long, default_value_t = 1.0)]
     pub error_bound: f64,
+    /// Also write each size's logs as `DIR/noisy-<samples>.csv` and `DIR/clean-<samples>.csv`
+    /// (the format of `specs/distribution_noisy.csv`), to time `synth infer --noisy` on them.
+    #[arg(long, value_name = "DIR")]
+    pub save: Option<PathBuf>,
 }
 
 /// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
@@ -231,6 +235,10 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
                 n
             })
             .collect();
+        if let Some(dir) = &args.save {
+            save_logs(dir, &format!("noisy-{len}.csv"), &noisy)?;
+            save_logs(dir, &format!("clean-{len}.csv"), &clean)?;
+        }
         let set = distribution::to_scenarios(&noisy, "<generated>");
         let opts = noisy::Options {
             enumerate: args.enumerate.max(1),
@@ -275,6 +283,17 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+fn save_logs(
+    dir: &Path,
+    name: &str,
+    logs: &[Vec<fbsynth::scenario::csvlog::Sample>],
+) -> Result<(), Failure> {
+    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+    let mut text = Vec::new();
+    distribution::write_csv(logs, &mut text).map_err(Failure::input)?;
+    fbsynth::files::write_atomic(&dir.join(name), &text).map_err(Failure::input)
 }
 
 #[derive(Debug, Args)]

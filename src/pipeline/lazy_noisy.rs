@@ -49,6 +49,7 @@ use crate::sat::noisy::{
     least_errors_within, synthesize_noisy, Candidate, Flow, NoisyOptions as Options, NoisyStats,
     NoisySynthesis,
 };
+use crate::sat::step::{Bound, Step as Solver};
 use crate::sat::SatError;
 use crate::scenario::trace_graph::{alternative_input, least_corrections, Corrections};
 use crate::scenario::{ScenarioSet, Step};
@@ -173,10 +174,18 @@ fn in_parts(
     let ((s, candidate), fixes) = loop {
         round += 1;
         let traces: Vec<usize> = part.iter().map(|&d| distinct[d]).collect();
+        // The part's own ε and candidate are not the log's: their lines are left out.
         let s = synthesize_noisy(
             &subset(set, &traces),
             &one,
-            &mut |m| events(Event::Solver(m)),
+            &mut |m| match m {
+                Solver::Candidate { .. }
+                | Solver::Minimal {
+                    bound: Bound::Errors,
+                    ..
+                } => {}
+                m => events(Event::Solver(m)),
+            },
             &mut |_| Flow::Continue,
         )?;
         stats.variables += s.stats.variables;
@@ -274,6 +283,15 @@ fn in_parts(
             "the machine found in parts does not replay its corrected traces: {m}"
         ))
     })?;
+    events(Event::Solver(Solver::Minimal {
+        bound: Bound::Errors,
+        value: upper,
+    }));
+    events(Event::Solver(Solver::Candidate {
+        number: 1,
+        errors: upper,
+        size: ecc.size(),
+    }));
     let used: Vec<bool> = fixes.iter().flat_map(|f| f.used.iter().copied()).collect();
     let inputs: HashSet<&[bool]> = distinct
         .iter()
