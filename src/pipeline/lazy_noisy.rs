@@ -427,25 +427,26 @@ fn group_set(set: &ScenarioSet, distinct: &[usize], g: &Group) -> ScenarioSet {
 }
 
 /// The segments of one trace, in order, with every short one joined to its neighbour: the
-/// next one, or the previous one when it is the last. Joined segments are bounded anew.
+/// one before it, whose steps may pin the state it starts in, or the one after it when it is
+/// the first. Joined segments are bounded anew.
 fn join_short_segments(segs: Vec<Group>) -> Vec<Group> {
     let mut out: Vec<Group> = Vec::new();
-    let mut it = segs.into_iter().peekable();
+    let mut it = segs.into_iter();
     while let Some(g) = it.next() {
         if !g.short() {
             out.push(g);
             continue;
         }
         let p = g.pieces[0];
-        if let Some(n) = it.next() {
-            let q = n.pieces[0];
-            out.push(Group::new(vec![Piece { to: q.to, ..p }], g.upper + n.upper));
-        } else if let Some(prev) = out.pop() {
+        if let Some(prev) = out.pop() {
             let q = prev.pieces[0];
             out.push(Group::new(
                 vec![Piece { from: q.from, ..p }],
                 prev.upper + g.upper,
             ));
+        } else if let Some(n) = it.next() {
+            let q = n.pieces[0];
+            out.push(Group::new(vec![Piece { to: q.to, ..p }], g.upper + n.upper));
         } else {
             // A trace in one segment: bounded as it is, a whole-trace group.
             out.push(g);
@@ -712,6 +713,26 @@ mod tests {
         ];
         let cut = cuts(&steps, &[f]);
         assert_eq!(segments(&cut, &[0, 1]), vec![(0, 3, 2)]);
+    }
+
+    #[test]
+    fn a_short_segment_is_joined_with_the_one_before_it() {
+        let seg = |from, to, lower| Group {
+            pieces: vec![Piece { d: 0, from, to }],
+            upper: 1,
+            lower: Some(lower),
+        };
+        let range = |gs: &[Group]| -> Vec<(usize, usize, usize, Option<usize>)> {
+            gs.iter()
+                .map(|g| (g.pieces[0].from, g.pieces[0].to, g.upper, g.lower))
+                .collect()
+        };
+        // The middle one falls short: it takes the first one's steps, the last stays.
+        let joined = join_short_segments(vec![seg(0, 5, 1), seg(5, 9, 0), seg(9, 12, 1)]);
+        assert_eq!(range(&joined), vec![(0, 9, 2, None), (9, 12, 1, Some(1))]);
+        // The first one has nothing before it: it takes the next one.
+        let joined = join_short_segments(vec![seg(0, 5, 0), seg(5, 9, 1)]);
+        assert_eq!(range(&joined), vec![(0, 9, 2, None)]);
     }
 
     #[test]
