@@ -1,5 +1,6 @@
 //! Progress on stderr: the library's [`Event`]s as lines prefixed with the elapsed time.
 
+use fbsynth::pipeline::lazy_noisy::{Bounds, PartRound};
 use fbsynth::pipeline::Event;
 use std::time::Instant;
 
@@ -110,24 +111,24 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::ClosedLoopOf { candidate, errors } => format!(
             "candidate {candidate} (ε = {errors}): the closed loop on its corrected traces"
         ),
-        Event::NoisyPart {
+        Event::NoisyPart(PartRound {
             round,
             traces,
             total,
             unexplained,
             corrections,
-        } => format!(
+        }) => format!(
             "part {round}: {traces} of {total} distinct traces encoded; {}",
             match unexplained {
                 0 => format!("the machine explains every trace with {corrections} corrections"),
                 n => format!("the machine cannot explain {n} traces: some join the part"),
             }
         ),
-        Event::NoisyBound {
+        Event::NoisyBound(Bounds {
             parts,
             lower,
             upper,
-        } => format!(
+        }) => format!(
             "least ε: at least {lower} (summed over {parts} parts), the machine needs {upper}{}",
             if lower == upper { ": proven" } else { "" }
         ),

@@ -37,6 +37,15 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// The machine in state `state` with output values `outputs`, as if it had run there.
+    pub fn at(ecc: &'a Ecc, state: StateId, outputs: Vec<bool>) -> Run<'a> {
+        Run {
+            ecc,
+            state,
+            outputs,
+        }
+    }
+
     /// One `REQ` with input vector `x`. Returns the fired transition (the machine then emitted
     /// `CNF` with `self.outputs`), or `None` when no guard held (no `CNF`, nothing changed).
     pub fn step(&mut self, x: &[bool]) -> Option<Fired> {

@@ -66,6 +66,33 @@ pub const FIRST_PART_NODES: usize = 128;
 /// Traces that join the part in one round.
 const JOIN_PER_ROUND: usize = 4;
 
+/// What a round of [`synthesize`] in parts found ([`Event::NoisyPart`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PartRound {
+    /// The round, 1-based.
+    pub round: usize,
+    /// Distinct traces encoded in this round.
+    pub traces: usize,
+    /// Distinct traces in all.
+    pub total: usize,
+    /// Traces the round's machine cannot explain, even with corrections (0: the last round,
+    /// unless the corrections exceed the bound).
+    pub unexplained: usize,
+    /// Corrections the machine needs over every trace it explains.
+    pub corrections: usize,
+}
+
+/// The least ε so far ([`Event::NoisyBound`]): lower bounds summed over disjoint parts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Bounds {
+    /// Parts whose least corrections were computed.
+    pub parts: usize,
+    /// The sum of the parts' least corrections.
+    pub lower: usize,
+    /// The corrections the machine needs (the least ε when equal to `lower`).
+    pub upper: usize,
+}
+
 /// Where the parts start; [`Default`] is what
 /// `synth infer --noisy` uses.
 #[derive(Debug, Clone, Copy)]
@@ -171,7 +198,7 @@ fn in_parts(
     };
     let mut stats = NoisyStats::default();
     let mut round = 0;
-    let ((s, candidate), fixes) = loop {
+    let (s, fixes) = loop {
         round += 1;
         let traces: Vec<usize> = part.iter().map(|&d| distinct[d]).collect();
         // The part's own ε and candidate are not the log's: their lines are left out.
@@ -209,13 +236,13 @@ fn in_parts(
             .into());
         }
         let corrections: usize = fixes.iter().flatten().map(|f| f.steps.len()).sum();
-        events(Event::NoisyPart {
+        events(Event::NoisyPart(PartRound {
             round,
             traces: part.len(),
             total: distinct.len(),
             unexplained: unexplained.len(),
             corrections,
-        });
+        }));
         let over = opts.max_errors.is_some_and(|m| corrections > m);
         let join: Vec<usize> = if !unexplained.is_empty() {
             unexplained
@@ -224,7 +251,7 @@ fn in_parts(
                 .filter(|&d| !in_part[d] && fixes[d].as_ref().is_some_and(|f| !f.steps.is_empty()))
                 .collect()
         } else {
-            break ((s.clone(), candidate.clone()), fixes);
+            break (s, fixes);
         };
         if join.is_empty() {
             return Err(SatError::Bug(
@@ -237,6 +264,11 @@ fn in_parts(
             in_part[d] = true;
         }
     };
+    let candidate = s
+        .candidates
+        .into_iter()
+        .next()
+        .expect("checked in the loop");
     let fixes: Vec<Corrections> = fixes
         .into_iter()
         .map(|f| f.expect("every trace explained"))
@@ -534,11 +566,11 @@ fn least_proven(
             .chain([&part_group])
             .map(|g| g.lower.expect("every group bounded"))
             .sum();
-        events(Event::NoisyBound {
+        events(Event::NoisyBound(Bounds {
             parts: groups.len() + 1,
             lower,
             upper,
-        });
+        }));
         if lower == upper {
             return Ok(true);
         }
@@ -635,12 +667,8 @@ mod tests {
         let mut rounds = 0;
         let mut bounds = Vec::new();
         let parts = synthesize(&set, &opts, small, &mut |e| match e {
-            Event::NoisyPart { round, .. } => rounds = round,
-            Event::NoisyBound {
-                parts: n,
-                lower,
-                upper,
-            } => bounds.push((n, lower, upper)),
+            Event::NoisyPart(r) => rounds = r.round,
+            Event::NoisyBound(b) => bounds.push((b.parts, b.lower, b.upper)),
             _ => {}
         })
         .unwrap();
@@ -745,7 +773,7 @@ mod tests {
         };
         let mut parted = false;
         let r = synthesize(&set, &opts, Parts::default(), &mut |e| {
-            parted |= matches!(e, Event::NoisyPart { .. })
+            parted |= matches!(e, Event::NoisyPart(_))
         })
         .unwrap();
         assert!(!parted);

@@ -93,8 +93,8 @@ enum Owned {
         errors: usize,
     },
     Followed(super::follow::Round),
-    NoisyPart([usize; 5]),
-    NoisyBound([usize; 3]),
+    NoisyPart(super::lazy_noisy::PartRound),
+    NoisyBound(super::lazy_noisy::Bounds),
     Lazy {
         round: usize,
         encoded: usize,
@@ -112,18 +112,8 @@ impl Owned {
             Event::CandidateVerdict { failing } => Owned::CandidateVerdict(failing.to_vec()),
             Event::ClosedLoopOf { candidate, errors } => Owned::ClosedLoopOf { candidate, errors },
             Event::Followed(r) => Owned::Followed(r.clone()),
-            Event::NoisyPart {
-                round,
-                traces,
-                total,
-                unexplained,
-                corrections,
-            } => Owned::NoisyPart([round, traces, total, unexplained, corrections]),
-            Event::NoisyBound {
-                parts,
-                lower,
-                upper,
-            } => Owned::NoisyBound([parts, lower, upper]),
+            Event::NoisyPart(r) => Owned::NoisyPart(r),
+            Event::NoisyBound(b) => Owned::NoisyBound(b),
             Event::Lazy {
                 round,
                 encoded,
@@ -150,20 +140,8 @@ impl Owned {
                 events(Event::ClosedLoopOf { candidate, errors })
             }
             Owned::Followed(r) => events(Event::Followed(r)),
-            &Owned::NoisyPart([round, traces, total, unexplained, corrections]) => {
-                events(Event::NoisyPart {
-                    round,
-                    traces,
-                    total,
-                    unexplained,
-                    corrections,
-                })
-            }
-            &Owned::NoisyBound([parts, lower, upper]) => events(Event::NoisyBound {
-                parts,
-                lower,
-                upper,
-            }),
+            &Owned::NoisyPart(r) => events(Event::NoisyPart(r)),
+            &Owned::NoisyBound(b) => events(Event::NoisyBound(b)),
             &Owned::Lazy {
                 round,
                 encoded,

@@ -147,29 +147,10 @@ pub enum Event<'a> {
     },
     /// One controller checked in [`follow`] (a composite following a verified machine).
     Followed(&'a follow::Round),
-    /// A round of noisy synthesis in parts ([`noisy`]) ended.
-    NoisyPart {
-        /// The round, 1-based.
-        round: usize,
-        /// Distinct traces encoded in this round.
-        traces: usize,
-        /// Distinct traces in all.
-        total: usize,
-        /// Traces the round's machine cannot explain, even with corrections (0: the last
-        /// round, unless the corrections exceed the bound).
-        unexplained: usize,
-        /// Corrections the machine needs over every trace it explains.
-        corrections: usize,
-    },
+    /// A round of noisy synthesis in parts ([`lazy_noisy`]) ended.
+    NoisyPart(lazy_noisy::PartRound),
     /// The least ε of a noisy log in parts: lower bounds summed over disjoint parts.
-    NoisyBound {
-        /// Parts whose least corrections were computed.
-        parts: usize,
-        /// The sum of the parts' least corrections.
-        lower: usize,
-        /// The corrections the machine needs (the least ε when equal to `lower`).
-        upper: usize,
-    },
+    NoisyBound(lazy_noisy::Bounds),
     /// A round of [`lazy`] synthesis over long recordings ended.
     Lazy {
         /// The round, 1-based.

@@ -199,9 +199,7 @@ pub fn least_corrections(
     let mut back: Vec<(usize, bool, Back)> = Vec::new();
     let mut outputs = initial_outputs.to_vec();
     let fire = |q: usize, outputs: &[bool], x: &[bool]| {
-        let mut run = Run::new(ecc);
-        run.state = StateId(q);
-        run.outputs = outputs.to_vec();
+        let mut run = Run::at(ecc, StateId(q), outputs.to_vec());
         run.step(x).map(|f| (f.target.0, run.outputs))
     };
     for (k, step) in steps.iter().enumerate() {
