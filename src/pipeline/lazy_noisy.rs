@@ -28,7 +28,8 @@
 //!    keeps every alternative its trace has there). A segment is a trace of its own: it starts
 //!    with the outputs recorded before it, in a state that numbering the states from it makes
 //!    state 0. For each, the least corrections of *any* machine within the sizes is computed
-//!    ([`least_errors_within`], in parallel; one UNSAT call when it is the machine's count).
+//!    ([`least_errors_within`], in parallel; one UNSAT call when it is the machine's count),
+//!    first on windows of a few steps around its correction, which are parts of it too.
 //!    The corrections of every minimal machine for the whole log are a sum over the segments
 //!    and the part, each at least its least, and the part's least is its Algorithm 1 ε: when
 //!    the bounds sum to `E`, `E` is the least ε. A segment whose bound falls short (its
@@ -37,9 +38,10 @@
 //!    last one with the part. If even that falls short, another machine needs fewer
 //!    corrections, and the whole log is encoded after all.
 //!
-//! Measured with `synth bench-noisy` (README): 10^4 samples 72.5 s whole, about 30 s in
-//! parts; 10^5 samples, not finished in 14 minutes whole, 172 s in parts (17 s for the sizes
-//! in two rounds, the rest proving ε = 350 over 340 segments).
+//! Measured with `synth bench-noisy` (README): 10^4 samples 72.5 s whole, 27 s in parts;
+//! 10^5 samples, not finished in 14 minutes whole, 135 s in parts (15 s for the sizes in two
+//! rounds, 23 s for the first pass over 340 segments, the rest joining the 59 that fell
+//! short).
 //!
 //! The machine is replayed on its corrected traces before it is returned, as every candidate.
 
