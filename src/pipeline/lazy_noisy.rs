@@ -713,14 +713,19 @@ mod tests {
         (distribution::to_scenarios(&logs, "<generated>"), injected)
     }
 
-    #[test]
-    fn parts_give_the_sizes_and_the_least_errors_of_the_whole_log() {
-        let (set, injected) = noisy_logs(1_500, 3);
-        let opts = Options {
+    /// One candidate, with at most the injected errors.
+    fn one_candidate(injected: usize) -> Options {
+        Options {
             enumerate: 1,
             max_errors: Some(injected),
             ..Options::default()
-        };
+        }
+    }
+
+    #[test]
+    fn parts_give_the_sizes_and_the_least_errors_of_the_whole_log() {
+        let (set, injected) = noisy_logs(1_500, 3);
+        let opts = one_candidate(injected);
         let whole = synthesize_noisy(&set, &opts, &mut |_| {}, &mut |_| Flow::Continue).unwrap();
         let small = Parts {
             from_nodes: 0,
@@ -871,11 +876,7 @@ mod tests {
     #[test]
     fn small_logs_are_encoded_whole() {
         let (set, injected) = noisy_logs(300, 5);
-        let opts = Options {
-            enumerate: 1,
-            max_errors: Some(injected),
-            ..Options::default()
-        };
+        let opts = one_candidate(injected);
         let mut parted = false;
         let r = synthesize(&set, &opts, Parts::default(), &mut |e| {
             parted |= matches!(e, Event::NoisyPart(_))
