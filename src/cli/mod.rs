@@ -184,7 +184,8 @@ pub mod exit {
     /// Success (for the main job and `verify`: every property verified).
     pub const OK: i32 = 0;
     /// The check asked for came out negative: `verify` found a violated property, `diff` a
-    /// difference, `replay` or `conform` a step the machine does not reproduce.
+    /// difference, `replay` or `conform` a step the machine does not reproduce; the main job
+    /// and `verify` were given a plant that allows no behaviour (nothing can be verified).
     pub const FAILED: i32 = 1;
     /// Command-line usage error (clap).
     pub const USAGE: i32 = 2;
@@ -201,7 +202,7 @@ const EXIT_HELP: &str = "\
 Exit codes:
   0   success
   1   the check came out negative: a violated property (verify), a difference (diff), a
-      step not reproduced (replay, conform)
+      step not reproduced (replay, conform), a plant with no behaviour (main job, verify)
   2   command-line usage error
   3   no machine exists within the given limits (--max-states, --max-iterations,
       --time-limit)
@@ -348,6 +349,7 @@ impl From<pipeline::Error> for Failure {
     fn from(e: pipeline::Error) -> Failure {
         let code = match e.class() {
             Class::Input => exit::INPUT,
+            Class::Vacuous => exit::FAILED,
             Class::Usage => exit::USAGE,
             Class::NoMachine => exit::NO_MACHINE,
             Class::Bug => exit::BUG,

@@ -170,8 +170,11 @@ pub type Events<'a> = &'a mut dyn FnMut(Event<'_>);
 /// What kind of failure an [`Error`] is; the command line maps each to one exit code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Class {
-    /// Bad input (file, line, step named) or a failed check.
+    /// Bad input (file, line, step named) or a failed tool.
     Input,
+    /// The check came out negative without a verdict to show: the plant allows no behaviour,
+    /// so every property would hold vacuously and nothing is verified.
+    Vacuous,
     /// An option out of its range or a combination the method does not take.
     Usage,
     /// No machine within the limits given.
@@ -278,7 +281,16 @@ impl Error {
     pub fn class(&self) -> Class {
         use crate::sat::modular::ModularError;
         use crate::sat::SatError;
+        use crate::search::algorithm::SearchError;
+        use crate::search::oracle::OracleError;
+        use crate::verify::VerifyError::Vacuous;
         match self {
+            Error::Verify(Vacuous { .. })
+            | Error::Cegis(cegis::CegisError::Verify(Vacuous { .. }))
+            | Error::Search(SearchError::Verify(OracleError::Nusmv(Vacuous { .. })))
+            | Error::Search(SearchError::Verify(OracleError::InProcess(
+                crate::check::CheckError::NoBehaviour { .. },
+            ))) => Class::Vacuous,
             Error::Sat(
                 SatError::TooManyStates { .. }
                 | SatError::TooFewErrors { .. }
