@@ -45,9 +45,19 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
     let out = out_dir(&args.out, &stem);
     // A result folder holds one result: publishing into the folder the machine is read from
     // would replace or remove the input.
-    let parent = args.ecc.parent().filter(|p| !p.as_os_str().is_empty());
+    // Through a symbolic link the folder is the link target's; a hard link is caught by
+    // looking for the input among the folder's files.
+    let real = std::fs::canonicalize(&args.ecc).unwrap_or_else(|_| args.ecc.clone());
+    let parent = real.parent().filter(|p| !p.as_os_str().is_empty());
     let parent = parent.unwrap_or(std::path::Path::new("."));
-    if out.exists() && fbsynth::files::same_file(&out, parent) {
+    let holds_input = || {
+        std::fs::read_dir(&out).is_ok_and(|entries| {
+            entries
+                .flatten()
+                .any(|e| fbsynth::files::same_file(&e.path(), &args.ecc))
+        })
+    };
+    if out.exists() && (fbsynth::files::same_file(&out, parent) || holds_input()) {
         return Err(Failure::msg(
             super::exit::USAGE,
             format!(

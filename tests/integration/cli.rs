@@ -1904,3 +1904,39 @@ fn the_plateau_search_trades_a_state_for_fewer_guard_literals() {
         text(&o.stdout)
     );
 }
+
+/// `export` never writes over the machine it reads, also when the `--ecc` path is a symbolic
+/// or a hard link to a file inside the output folder.
+#[cfg(unix)]
+#[test]
+fn export_refuses_an_output_folder_that_holds_its_input_through_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("ow");
+    std::fs::create_dir(&folder).unwrap();
+    let input = folder.join("cyl.json");
+    std::fs::copy("tests/data/export/cylinder.json", &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let soft = dir.path().join("soft.json");
+    std::os::unix::fs::symlink(&input, &soft).unwrap();
+    let hard = dir.path().join("hard.json");
+    std::fs::hard_link(&input, &hard).unwrap();
+    for link in [&soft, &hard] {
+        let o = synth(&[
+            "export",
+            "--ecc",
+            link.to_str().unwrap(),
+            "--out",
+            folder.to_str().unwrap(),
+            "--name",
+            "cyl",
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(String::from_utf8_lossy(&o.stderr).contains("choose another output folder"));
+        assert_eq!(std::fs::read(&input).unwrap(), before, "{}", link.display());
+    }
+}
