@@ -44,20 +44,14 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
     }
     let out = out_dir(&args.out, &stem);
     // A result folder holds one result: publishing into the folder the machine is read from
-    // would replace or remove the input.
-    // Through a symbolic link the folder is the link target's; a hard link is caught by
-    // looking for the input among the folder's files.
-    let real = std::fs::canonicalize(&args.ecc).unwrap_or_else(|_| args.ecc.clone());
-    let parent = real.parent().filter(|p| !p.as_os_str().is_empty());
-    let parent = parent.unwrap_or(std::path::Path::new("."));
-    let holds_input = || {
-        std::fs::read_dir(&out).is_ok_and(|entries| {
-            entries
-                .flatten()
-                .any(|e| fbsynth::files::same_file(&e.path(), &args.ecc))
-        })
-    };
-    if out.exists() && (fbsynth::files::same_file(&out, parent) || holds_input()) {
+    // would replace or remove the input. Looking for the input's file among the folder's
+    // (same device and inode) also finds it through a symbolic or hard link.
+    let holds_input = std::fs::read_dir(&out).is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| fbsynth::files::same_file(&e.path(), &args.ecc))
+    });
+    if holds_input {
         return Err(Failure::msg(
             super::exit::USAGE,
             format!(
