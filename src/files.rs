@@ -31,10 +31,25 @@ pub fn remove_on_signal(path: &Path) {
 
 /// Forgets `path` for [`remove_on_signal`]: it is gone, or it is a result now.
 pub fn keep_on_signal(path: &Path) {
-    TEMPORARIES
+    for list in [&TEMPORARIES, &MADE_FOLDERS] {
+        list.lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|p| p != path);
+    }
+}
+
+/// Folders a run made for its results: removed, if empty by then, when a termination signal
+/// ends the program before [`keep_on_signal`] (after the temporaries inside them went).
+static MADE_FOLDERS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes the folder `path` if it is empty once the temporaries are gone, when a termination
+/// signal ends the program before [`keep_on_signal`].
+pub fn remove_empty_on_signal(path: &Path) {
+    MADE_FOLDERS
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .retain(|p| p != path);
+        .push(path.to_path_buf());
+    crate::signals::on_termination(remove_temporaries);
 }
 
 fn remove_temporaries() {
@@ -48,6 +63,13 @@ fn remove_temporaries() {
         } else {
             let _ = std::fs::remove_file(&p);
         }
+    }
+    let folders = MADE_FOLDERS
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone();
+    for p in folders.iter().rev() {
+        let _ = std::fs::remove_dir(p);
     }
 }
 
@@ -184,6 +206,16 @@ impl<R: Read> Read for WithoutBom<R> {
             let n = (self.head_len - self.head_pos).min(buf.len());
             buf[..n].copy_from_slice(&self.head[self.head_pos..self.head_pos + n]);
             self.head_pos += n;
+            // The rest of the buffer too: a reader that looks at its first `fill_buf` (the
+            // delimiter sniffing of raw logs) must see a whole line, not the three bytes
+            // read to look for the mark.
+            if n < buf.len() {
+                match self.inner.read(&mut buf[n..]) {
+                    Ok(m) => return Ok(n + m),
+                    // Reported by the next read, which meets it again.
+                    Err(_) => return Ok(n),
+                }
+            }
             return Ok(n);
         }
         self.inner.read(buf)

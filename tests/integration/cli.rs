@@ -1534,6 +1534,10 @@ fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
     }
     assert!(log.contains(",00;"), "{log}");
     assert_eq!(run("semicolons.csv", &log), expected);
+    // The same without the byte order mark (the delimiter was once sniffed from the three
+    // bytes read to look for the mark, and only a marked file was read).
+    let bare = log.trim_start_matches('\u{feff}');
+    assert_eq!(run("semicolons-bare.csv", bare), expected);
 }
 
 /// `--json` puts one machine-readable summary on stdout, and nothing else there.
@@ -1939,4 +1943,54 @@ fn export_refuses_an_output_folder_that_holds_its_input_through_a_link() {
         assert!(String::from_utf8_lossy(&o.stderr).contains("choose another output folder"));
         assert_eq!(std::fs::read(&input).unwrap(), before, "{}", link.display());
     }
+}
+
+/// Recordings that name one signal both ways, or hold no step, and an output folder that is a
+/// file, are refused with the places that say so (found by fuzzing the command line).
+#[test]
+fn names_clashing_empty_recordings_and_a_file_as_output_folder_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.traces"), "1\nin=REQ[10]; out=CNF[1];\n").unwrap();
+    std::fs::write(d.join("t.inputs"), "a\nb\n").unwrap();
+    std::fs::write(d.join("t.outputs"), "b\n").unwrap();
+    let path = |n: &str| d.join(n).to_str().unwrap().to_string();
+    let o = synth(&["infer", "--traces", &path("t.traces"), "--out", &path("o")]);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("'b' is named both as an input (")
+            && e.contains("t.inputs:2) and as an output (")
+            && e.contains("t.outputs:1)"),
+        "{e}"
+    );
+    assert!(!d.join("o").exists());
+
+    std::fs::write(d.join("z.traces"), "0\n").unwrap();
+    std::fs::write(d.join("z.inputs"), "a\n").unwrap();
+    std::fs::write(d.join("z.outputs"), "b\n").unwrap();
+    let o = synth(&["infer", "--traces", &path("z.traces"), "--out", &path("o")]);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("z.traces: no recorded step"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!d.join("o").exists());
+
+    std::fs::write(d.join("f"), "mine").unwrap();
+    let o = synth(&[
+        "infer",
+        "--traces",
+        "specs/tank1.traces",
+        "--out",
+        &path("f"),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("it is a file, not a folder"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(d.join("f")).unwrap(), "mine");
 }
