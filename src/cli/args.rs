@@ -111,12 +111,25 @@ pub fn check(problem: Problem, nusmv: &NusmvArgs) -> Result<Check, Failure> {
     Ok(Check::new(problem, nusmv.nusmv()?))
 }
 
-/// Refuses to run when an output path names one of the input files: the atomic rename
-/// would replace the input with the result.
+/// Refuses to run when an output path names one of the input files (the atomic rename
+/// would replace the input with the result), or a folder (found only when the first files
+/// of the result were already written).
 pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
     outputs: &[P],
     inputs: &[Q],
 ) -> Result<(), Failure> {
+    for out in outputs {
+        let out = out.as_ref();
+        if out.is_dir() {
+            return Err(Failure::msg(
+                exit::INPUT,
+                format!(
+                    "the output {} is a folder; give a file name (or move the folder away)",
+                    out.display()
+                ),
+            ));
+        }
+    }
     for out in outputs {
         for input in inputs {
             if fbsynth::files::same_file(out.as_ref(), input.as_ref()) {

@@ -53,8 +53,19 @@ impl ResultSet {
             let path = path.to_path_buf();
             move |source| WriteError { path, source }
         };
+        if out.exists() && !out.is_dir() {
+            return Err(ResultSetError::Write(WriteError {
+                path: out.to_path_buf(),
+                source: std::io::Error::other(
+                    "it is a file, not a folder: give a folder for the results",
+                ),
+            }));
+        }
         let created = !out.exists();
         std::fs::create_dir_all(out).map_err(err(out))?;
+        if created {
+            super::remove_empty_on_signal(out);
+        }
         let lock_path = out.join(LOCK);
         let lock_created = !lock_path.exists();
         let lock = std::fs::OpenOptions::new()
@@ -106,16 +117,49 @@ impl ResultSet {
             source,
         })?;
         files.sort();
+        // A folder where a file goes (or a file where a folder goes) would stop the moves
+        // half-way: found before the first one.
         for rel in &files {
             let to = self.out.join(rel);
-            let err = |source| WriteError {
-                path: to.clone(),
-                source,
+            let leaf = std::fs::symlink_metadata(&to).is_ok_and(|m| m.is_dir());
+            let clash = if leaf {
+                Some((to.clone(), "a folder"))
+            } else {
+                // A parent that exists as something else than a folder (links followed).
+                to.ancestors()
+                    .skip(1)
+                    .take_while(|a| *a != self.out)
+                    .find(|a| a.exists() && !a.is_dir())
+                    .map(|a| (a.to_path_buf(), "a file"))
             };
-            if let Some(dir) = to.parent() {
-                std::fs::create_dir_all(dir).map_err(err)?;
+            if let Some((at, what)) = clash {
+                return Err(WriteError {
+                    path: to,
+                    source: std::io::Error::other(format!(
+                        "{} is {what}; move it away or give another output folder",
+                        at.display()
+                    )),
+                });
             }
-            std::fs::rename(self.staging.path().join(rel), &to).map_err(err)?;
+        }
+        // The files replaced are kept aside in the staging folder until every new one is in
+        // place, and put back if a move still fails: the folder holds one result or the other.
+        let previous = self.staging.path().join(".previous");
+        let mut moved: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
+        for rel in &files {
+            let to = self.out.join(rel);
+            match self.move_in(rel, &to, &previous.join(rel)) {
+                Ok(saved) => moved.push((to, saved)),
+                Err(source) => {
+                    for (to, saved) in moved.into_iter().rev() {
+                        let _ = std::fs::remove_file(&to);
+                        if let Some(saved) = saved {
+                            let _ = std::fs::rename(saved, &to);
+                        }
+                    }
+                    return Err(WriteError { path: to, source });
+                }
+            }
         }
         let manifest = self.out.join(MANIFEST);
         let now: BTreeSet<&PathBuf> = files.iter().collect();
@@ -141,11 +185,38 @@ impl ResultSet {
     }
 }
 
+impl ResultSet {
+    /// Moves the staged file `rel` to `to`, first moving a file already there to `saved`
+    /// (returned when it did).
+    fn move_in(&self, rel: &Path, to: &Path, saved: &Path) -> std::io::Result<Option<PathBuf>> {
+        if let Some(dir) = to.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        let kept = if std::fs::symlink_metadata(to).is_ok() {
+            if let Some(dir) = saved.parent() {
+                std::fs::create_dir_all(dir)?;
+            }
+            std::fs::rename(to, saved)?;
+            Some(saved.to_path_buf())
+        } else {
+            None
+        };
+        if let Err(e) = std::fs::rename(self.staging.path().join(rel), to) {
+            if let Some(saved) = &kept {
+                let _ = std::fs::rename(saved, to);
+            }
+            return Err(e);
+        }
+        Ok(kept)
+    }
+}
+
 impl Drop for ResultSet {
     fn drop(&mut self) {
         // The staging folder goes with its TempDir right after this.
         super::keep_on_signal(self.staging.path());
         super::keep_on_signal(&self.out.join(LOCK));
+        super::keep_on_signal(&self.out);
         if self.published {
             return;
         }
@@ -233,6 +304,23 @@ mod tests {
             .filter(|n| n.starts_with(".synth-staging"))
             .collect();
         assert!(left.is_empty(), "{left:?}");
+    }
+
+    #[test]
+    fn a_publish_that_cannot_place_every_file_changes_none() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.json"), "old").unwrap();
+        std::fs::create_dir(dir.path().join("b.st")).unwrap();
+        let set = ResultSet::open(dir.path()).unwrap();
+        write_atomic(&set.staging().join("a.json"), b"new").unwrap();
+        write_atomic(&set.staging().join("b.st"), b"new").unwrap();
+        let e = set.publish().unwrap_err();
+        assert!(e.to_string().contains("is a folder"), "{e}");
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("a.json")).unwrap(),
+            "old"
+        );
+        assert!(dir.path().join("b.st").is_dir());
     }
 
     #[test]

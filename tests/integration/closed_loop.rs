@@ -260,6 +260,11 @@ const BAD: &[(&str, &str, &str)] = &[
         "error: NuSMV rejected the closed-loop model:\n  tests/data/closed_loop/broken_plant.smv:10: at token \"DEFINE\": syntax error",
     ),
     (
+        "open_case_plant.smv",
+        "lamp.ltl",
+        "error: NuSMV rejected the closed-loop model:\n  tests/data/closed_loop/open_case_plant.smv:13: at token \"MODULE\": syntax error after the end of the plant: something is left open",
+    ),
+    (
         "typo_plant.smv",
         "lamp.ltl",
         "error: NuSMV rejected the closed-loop model:\n  tests/data/closed_loop/typo_plant.smv:8: \"plant.one\" undefined",
@@ -559,7 +564,8 @@ fn termination_signals_leave_no_nusmv_behind() {
                 "--traces",
                 "tests/data/closed_loop/lamp.traces",
                 "--out",
-                out.path().to_str().unwrap(),
+                // A folder the run makes: it goes too.
+                out.path().join("r").to_str().unwrap(),
                 "--nusmv",
                 n.path.to_str().unwrap(),
             ])
@@ -601,7 +607,7 @@ fn termination_signals_leave_no_nusmv_behind() {
                 .is_ok_and(|s| !s.contains(") Z "));
             assert!(!alive, "NuSMV {pid} survived signal {signal}");
         }
-        // Neither NuSMV's work folder nor the staging folder of the results is left.
+        // Neither NuSMV's work folder nor the output folder the run made is left.
         let left: Vec<_> = std::fs::read_dir(tmp.path())
             .unwrap()
             .chain(std::fs::read_dir(out.path()).unwrap())
