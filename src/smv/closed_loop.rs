@@ -54,6 +54,10 @@ pub enum CouplingError {
         /// What is wrong.
         message: String,
     },
+    /// A name of the controller's interface (from the recordings' names or the machine, not
+    /// from the plant file) cannot be used in the closed loop.
+    #[error("{0}")]
+    ControllerName(String),
     /// The controller cannot be emitted as SMV (e.g. an unusable identifier).
     #[error("{0}")]
     Smv(#[from] SmvError),
@@ -91,23 +95,18 @@ pub fn check_coupling(
         message,
     };
     let pf = plant.file.as_path();
-    for n in inputs.iter().chain(outputs) {
+    for (n, side) in
+        (inputs.iter().map(|n| (n, "input"))).chain(outputs.iter().map(|n| (n, "output")))
+    {
         check_identifier(n).map_err(|m| {
-            at(
-                pf,
-                plant.module_line,
-                format!("controller name {}: {m}", quote(n)),
-            )
+            CouplingError::ControllerName(format!("controller {side} name {}: {m}", quote(n)))
         })?;
         if RESERVED.contains(&n.as_str()) {
-            return Err(at(
-                pf,
-                plant.module_line,
-                format!(
-                    "controller name {} is reserved by the closed loop",
-                    quote(n)
-                ),
-            ));
+            return Err(CouplingError::ControllerName(format!(
+                "controller {side} name {} is reserved by the closed loop (like {}): rename it in the recordings' names files or the machine",
+                quote(n),
+                RESERVED.join(", ")
+            )));
         }
     }
     for p in &plant.params {
@@ -219,6 +218,13 @@ impl ClosedLoop {
             Some((_, s, _)) => Source::Spec(*s),
             None => Source::Generated,
         }
+    }
+
+    /// Whether `model_line` is one of the two generated lines right after the plant (a blank
+    /// line and `MODULE main`).
+    pub fn follows_plant(&self, model_line: usize) -> bool {
+        let end = self.plant_first + self.plant_lines;
+        (end..end + 2).contains(&model_line)
     }
 
     /// Property names in order.
