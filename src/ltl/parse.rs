@@ -563,6 +563,12 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
         };
         return syntax(pos, msg);
     }
+    if found == ":" {
+        return syntax(
+            pos,
+            "unexpected ':' (a label stands only at the start of a line)",
+        );
+    }
     // A keyword read as a name stops the parse at the token after it: blame the keyword.
     if is_keyword(prev) {
         return syntax(prev_pos, format!("'{prev}' is a NuSMV keyword, not a name"));
@@ -580,10 +586,6 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
             None => syntax(pos, "missing ')'"),
         },
         ")" if !close_allowed => syntax(pos, "unmatched ')'"),
-        ":" => syntax(
-            pos,
-            "unexpected ':' (a label stands only at the start of a line)",
-        ),
         _ => {
             let expected = if close_allowed {
                 "an operator or ')'"
@@ -863,6 +865,14 @@ mod tests {
         (
             "a: b: c",
             "specs/pnp.ltl:1:5: syntax error: unexpected ':' (a label stands only at the start of a line)\n  a: b: c\n      ^",
+        ),
+        (
+            "G (vac : pp1)",
+            "specs/pnp.ltl:1:8: syntax error: unexpected ':' (a label stands only at the start of a line)\n  G (vac : pp1)\n         ^",
+        ),
+        (
+            "p: G (TRUE : pp1)",
+            "specs/pnp.ltl:1:12: syntax error: unexpected ':' (a label stands only at the start of a line)\n  p: G (TRUE : pp1)\n             ^",
         ),
         (
             "G a ~ b",

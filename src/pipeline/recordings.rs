@@ -82,10 +82,14 @@ impl Recordings {
         let inputs = in_file.as_deref().map(names::read_names).transpose()?;
         let outputs = out_file.as_deref().map(names::read_names).transpose()?;
         if let (Some(i), Some(o)) = (&inputs, &outputs) {
-            if let Some(n) = i.iter().find(|n| o.contains(n)) {
+            if let Some((k, n)) = i.iter().enumerate().find(|(_, n)| o.contains(n)) {
+                let j = o.iter().position(|m| m == n).unwrap_or(0);
+                let place = |output, index| self.name_place(output, index).unwrap_or_default();
                 return Err(Error::Input(format!(
-                    "{} is named both as an input and as an output",
-                    crate::quote::quote(n)
+                    "{} is named both as an input ({}) and as an output ({})",
+                    crate::quote::quote(n),
+                    place(false, k),
+                    place(true, j)
                 )));
             }
         }
@@ -103,7 +107,21 @@ impl Recordings {
                 Some(all) => all.merge(s)?,
             }
         }
-        Ok(set.expect("at least one trace file"))
+        let set = set.expect("at least one trace file");
+        // A CSV log without rows is refused by its reader; an fbSAT file counting 0 scenarios
+        // would otherwise give a one-state machine "reproducing" nothing.
+        if set.scenarios.iter().all(|s| s.steps.is_empty()) {
+            let files: Vec<String> = self
+                .traces
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect();
+            return Err(Error::Input(format!(
+                "{}: no recorded step (the recordings hold no scenario, or only empty ones)",
+                files.join(", ")
+            )));
+        }
+        Ok(set)
     }
 
     /// The trace files, a folder standing for the logs inside it ([`logs_in`]).
