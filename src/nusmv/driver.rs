@@ -630,6 +630,33 @@ fn kill_group(child: &Child) {
     }
 }
 
+/// The address space a NuSMV process may take: `FBSYNTH_NUSMV_MEMORY_MB` megabytes, by default
+/// half of the machine's memory. A plant with a huge range made NuSMV grow to 13.5 GB before
+/// the timeout ended it; with the cap it fails early and says it ran out of memory.
+pub fn memory_cap() -> libc::rlim_t {
+    let from_env = std::env::var("FBSYNTH_NUSMV_MEMORY_MB")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .filter(|&mb| mb > 0);
+    let bytes = match from_env {
+        Some(mb) => mb.saturating_mul(1 << 20),
+        None => {
+            // SAFETY: sysconf only reads system constants.
+            let (pages, size) = unsafe {
+                (
+                    libc::sysconf(libc::_SC_PHYS_PAGES),
+                    libc::sysconf(libc::_SC_PAGESIZE),
+                )
+            };
+            if pages <= 0 || size <= 0 {
+                return libc::RLIM_INFINITY;
+            }
+            (pages as u64).saturating_mul(size as u64) / 2
+        }
+    };
+    bytes as libc::rlim_t
+}
+
 fn install_ctrl_c_handler() {
     crate::signals::on_termination(kill_all_children);
 }
@@ -656,6 +683,19 @@ impl Tracked {
             // Its own process group, killed as one: see `kill_group`. (A Ctrl-C at the
             // terminal then reaches synth alone, whose handler kills the group.)
             .process_group(0);
+        let cap = memory_cap();
+        // SAFETY: setrlimit is async-signal-safe and touches only the child's own limits.
+        unsafe {
+            command.pre_exec(move || {
+                let limit = libc::rlimit {
+                    rlim_cur: cap,
+                    rlim_max: cap,
+                };
+                // Best effort: a hard limit the parent already has below `cap` stays.
+                let _ = libc::setrlimit(libc::RLIMIT_AS, &limit);
+                Ok(())
+            });
+        }
         let mut registry = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
         // Spawning under the lock: a Ctrl-C in between cannot miss the new child.
         let mut child = command.spawn()?;

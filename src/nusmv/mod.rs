@@ -51,7 +51,7 @@ pub enum NusmvError {
     Model(Vec<ModelError>),
     /// NuSMV failed without saying where: `status` tells how it ended, `stderr_tail` holds
     /// the last lines it printed on stderr.
-    #[error("NuSMV failed ({status}): {stderr_tail}")]
+    #[error("NuSMV failed ({status}): {stderr_tail}{}", out_of_memory(.stderr_tail))]
     Crashed {
         /// How the process ended (exit status or signal), or what was wrong with its answer.
         status: String,
@@ -133,4 +133,16 @@ mod tests {
             "NuSMV rejected the model: m.smv:3: syntax error (and 1 more)"
         );
     }
+}
+
+/// What to do when NuSMV said it ran out of memory: it runs under a cap
+/// ([`driver::memory_cap`]).
+fn out_of_memory(stderr: &str) -> String {
+    if !stderr.contains("Out of memory") {
+        return String::new();
+    }
+    format!(
+        "\n(NuSMV may take {} MB; the model is too large for that: narrow the plant's ranges, or raise the cap with FBSYNTH_NUSMV_MEMORY_MB)",
+        driver::memory_cap() / (1 << 20)
+    )
 }

@@ -847,3 +847,38 @@ fn infer_with_properties_gives_a_verified_machine() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     assert!(text(&o.stderr).contains("--out -"), "{}", text(&o.stderr));
 }
+
+/// NuSMV runs under a memory cap: a plant too large for it fails at once with NuSMV's own
+/// "Out of memory" and what to do, not after gigabytes and a timeout (exit 4, no result).
+#[test]
+fn nusmv_out_of_memory_is_an_early_error_with_advice() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let res = out.path().join("res");
+    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+        .args([
+            "-q",
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/huge_range_plant.smv",
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--out",
+            res.to_str().unwrap(),
+            "--nusmv",
+            n.path.to_str().unwrap(),
+        ])
+        .env("FBSYNTH_NUSMV_MEMORY_MB", "300")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(4), "{e}");
+    assert!(e.contains("Out of memory"), "{e}");
+    assert!(
+        e.contains("NuSMV may take 300 MB") && e.contains("FBSYNTH_NUSMV_MEMORY_MB"),
+        "{e}"
+    );
+    assert!(!res.join("SynthesizedFB.json").exists());
+}
