@@ -116,6 +116,18 @@ pub(crate) fn nusmv_for_tests() -> Option<Nusmv> {
     test_support::nusmv_or_skip()
 }
 
+/// What to do when NuSMV said it ran out of memory: it runs under a cap
+/// ([`driver::memory_cap`]).
+fn out_of_memory(stderr: &str) -> String {
+    if !stderr.contains("Out of memory") {
+        return String::new();
+    }
+    format!(
+        "\n(NuSMV may take {} MB; the model is too large for that: narrow the plant's ranges, or raise the cap with FBSYNTH_NUSMV_MEMORY_MB)",
+        driver::memory_cap() / (1 << 20)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -133,16 +145,4 @@ mod tests {
             "NuSMV rejected the model: m.smv:3: syntax error (and 1 more)"
         );
     }
-}
-
-/// What to do when NuSMV said it ran out of memory: it runs under a cap
-/// ([`driver::memory_cap`]).
-fn out_of_memory(stderr: &str) -> String {
-    if !stderr.contains("Out of memory") {
-        return String::new();
-    }
-    format!(
-        "\n(NuSMV may take {} MB; the model is too large for that: narrow the plant's ranges, or raise the cap with FBSYNTH_NUSMV_MEMORY_MB)",
-        driver::memory_cap() / (1 << 20)
-    )
 }
