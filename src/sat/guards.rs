@@ -211,9 +211,29 @@ fn decode(model: &Model, v: &GuardVars, p: &GuardProblem) -> Vec<Transition> {
                 .collect();
             Transition {
                 target: StateId(p.targets[i]),
-                guard: Guard::dnf(&cubes),
+                guard: Guard::dnf(&absorbed(cubes)),
             }
         })
+        .collect()
+}
+
+/// `cubes` without the ones another cube absorbs (`a | a & b` is `a`; a repeated cube counts
+/// once): the same function in fewer literals. A minimization cut by its deadline can leave
+/// them (`emergency | emergency` was seen on the distribution station).
+fn absorbed(cubes: Vec<Vec<Literal>>) -> Vec<Vec<Literal>> {
+    let within = |k: &[Literal], c: &[Literal]| k.iter().all(|l| c.contains(l));
+    // The order of the rest is kept: it is how the guard reads.
+    let drop: Vec<bool> = (0..cubes.len())
+        .map(|i| {
+            (0..cubes.len()).any(|j| {
+                j != i && within(&cubes[j], &cubes[i]) && (!within(&cubes[i], &cubes[j]) || j < i)
+            })
+        })
+        .collect();
+    cubes
+        .into_iter()
+        .zip(drop)
+        .filter_map(|(c, d)| (!d).then_some(c))
         .collect()
 }
 
@@ -415,5 +435,17 @@ mod tests {
         check(&p, &g);
         assert!(g.exact);
         assert_eq!(g.transitions[0].guard.literal_count(), 4);
+    }
+
+    #[test]
+    fn absorbed_cubes_are_dropped() {
+        let (a, b) = ((InputId(0), true), (InputId(1), false));
+        assert_eq!(absorbed(vec![vec![a], vec![a]]), vec![vec![a]]);
+        assert_eq!(absorbed(vec![vec![b, a], vec![a]]), vec![vec![a]]);
+        assert_eq!(
+            absorbed(vec![vec![b], vec![a, b], vec![a]]),
+            vec![vec![b], vec![a]]
+        );
+        assert_eq!(absorbed(vec![vec![a], vec![b]]), vec![vec![a], vec![b]]);
     }
 }
