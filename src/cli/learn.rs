@@ -103,8 +103,13 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
             Some(Verdict::Unknown) => "unknown",
             None => r.asked.name(),
         };
+        let widened = if r.widened {
+            " over the recorded combinations; now over every input vector"
+        } else {
+            ""
+        };
         progress.line(&format!(
-            "round {round}: C = {}, {verdict}; {} steps recorded",
+            "round {round}: C = {}, {verdict}{widened}; {} steps recorded",
             r.states, r.recorded_steps
         ));
     })?;
@@ -197,6 +202,7 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
                 "asked": r.asked,
                 "verdict": r.verdict,
                 "recorded_steps": r.recorded_steps,
+                "widened": r.widened,
             })).collect::<Vec<_>>(),
             "recorded_steps": learned.recorded_steps,
             "initial_steps": initial_steps,

@@ -64,6 +64,9 @@ pub struct Round {
     pub verdict: Option<Verdict>,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
     pub recorded_steps: usize,
+    /// The round found no rival over the recorded combinations and widened the alphabet to
+    /// every input vector (`all_inputs`) rather than ending the loop.
+    pub widened: bool,
 }
 
 /// The result of [`learn`].
@@ -184,6 +187,7 @@ pub fn learn(
                     asked,
                     verdict: None,
                     recorded_steps: sequences.iter().map(Vec::len).sum(),
+                    widened: false,
                 };
                 for inputs in &sequences {
                     let k = set.scenarios.len() + 1;
@@ -205,10 +209,12 @@ pub fn learn(
             asked: Asked::Rivals,
             verdict: Some(found.verdict),
             recorded_steps: 0,
+            widened: false,
         };
         if widen && found.verdict != Verdict::Ambiguous && rounds.len() + 1 < opts.max_rounds {
             widen = false;
             asking.all_inputs = true;
+            round.widened = true;
             progress(&round);
             rounds.push(round);
             kept = Some(machine);
