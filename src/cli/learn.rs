@@ -95,24 +95,30 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
     };
     let initial_steps = initial.step_count();
     let mut round = 0;
-    let learned = active::learn(&initial, &oracle, &opts, &mut |r| {
-        round += 1;
-        let verdict = match r.verdict {
-            Some(Verdict::Unique) => "unique",
-            Some(Verdict::Ambiguous) => "ambiguous",
-            Some(Verdict::Unknown) => "unknown",
-            None => r.asked.name(),
-        };
-        let widened = if r.widened {
-            " over the recorded combinations; now over every input vector"
-        } else {
-            ""
-        };
-        progress.line(&format!(
-            "round {round}: C = {}, {verdict}{widened}; {} steps recorded",
-            r.states, r.recorded_steps
-        ));
-    })?;
+    let learned = active::learn(
+        &initial,
+        &oracle,
+        &opts,
+        &mut |r| {
+            round += 1;
+            let verdict = match r.verdict {
+                Some(Verdict::Unique) => "unique",
+                Some(Verdict::Ambiguous) => "ambiguous",
+                Some(Verdict::Unknown) => "unknown",
+                None => r.asked.name(),
+            };
+            let widened = if r.widened {
+                " over the recorded combinations; now over every input vector"
+            } else {
+                ""
+            };
+            progress.line(&format!(
+                "round {round}: C = {}, {verdict}{widened}; {} steps recorded",
+                r.states, r.recorded_steps
+            ));
+        },
+        &mut |e| progress.event(e),
+    )?;
     let tree = ScenarioTree::build(&learned.recordings).map_err(fbsynth::pipeline::Error::from)?;
     let letters = alphabet(&tree, initial.inputs.len(), opts.ambiguity.all_inputs)?;
     // Whether `m` is equivalent to the oracle, and the words for it.

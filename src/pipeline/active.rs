@@ -11,7 +11,7 @@
 //! service. The recorded steps count both parts.
 
 use super::ambiguity::{self, Verdict};
-use super::Error;
+use super::{Error, Events};
 use crate::ecc::{Ecc, Run, StateId};
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use crate::scenario::{Origin, Scenario, ScenarioSet, Step};
@@ -110,42 +110,56 @@ fn origin(what: &str, k: usize) -> Origin {
 /// infer`), with no fewer than `at_least` states (the caller knows it from fewer recordings:
 /// more never lower `C`). Every round's machine is proven least, on the part of the
 /// recordings that suffices for it (see [`super::lazy`]).
-fn infer(set: &ScenarioSet, opts: &Options, at_least: usize) -> Result<Ecc, Error> {
+fn infer(
+    set: &ScenarioSet,
+    opts: &Options,
+    at_least: usize,
+    events: Events<'_>,
+) -> Result<Ecc, Error> {
     let sat = crate::sat::Options {
         algorithms: opts.ambiguity.algorithms,
         ..crate::sat::Options::default()
     };
     // A part the machine does not reproduce the whole from is followed by a longer one: its
     // `T` and `N` are not proven (on a tour over every input vector the proofs were half of
-    // each part's time), only those of a part that suffices.
+    // each part's time), and its guards get a second, not the 10 s that a structure with
+    // more transitions than the least used up on every part; only a part that suffices is
+    // proven.
+    let quick = crate::sat::Options {
+        guard_budget: std::time::Duration::from_secs(1),
+        ..sat.clone()
+    };
     let synthesis = super::lazy::synthesize(
         set,
         &mut |part, tree, _| {
-            let run = |proofs, least_n| -> Result<crate::sat::Synthesis, Error> {
-                let mut synth = crate::sat::Synthesizer::with_proofs(part, tree, &sat, proofs);
+            let run = |opts, proofs| -> Result<crate::sat::Synthesis, Error> {
+                let mut synth = crate::sat::Synthesizer::with_proofs(part, tree, opts, proofs);
                 synth.assume_lower_bounds(at_least, 0);
-                synth.set_minimize_n(least_n);
+                synth.set_minimize_n(proofs == crate::sat::Proofs::Full);
                 Ok(synth.minimize(&mut |_| {})?)
             };
             if part.step_count() < set.step_count() {
-                let quick = run(crate::sat::Proofs::Skip, false)?;
-                if !set.divergences(&quick.ecc).is_empty() {
-                    return Ok(quick);
+                let found = run(&quick, crate::sat::Proofs::Skip)?;
+                if !set.divergences(&found.ecc).is_empty() {
+                    return Ok(found);
                 }
             }
-            run(crate::sat::Proofs::Full, true)
+            run(&sat, crate::sat::Proofs::Full)
         },
-        &mut |_| {},
+        events,
     )?;
     Ok(synthesis.ecc)
 }
 
-/// Runs the loop from `initial` (which the oracle must reproduce).
+/// Runs the loop from `initial` (which the oracle must reproduce). `progress` hears of every
+/// round when it ends, `events` of the parts of each round's inference (on long recordings
+/// one inference can take minutes).
 pub fn learn(
     initial: &ScenarioSet,
     oracle: &Ecc,
     opts: &Options,
     progress: &mut dyn FnMut(&Round),
+    events: Events<'_>,
 ) -> Result<Learned, Error> {
     initial.check(oracle).map_err(|m| {
         Error::Input(format!(
@@ -171,7 +185,7 @@ pub fn learn(
     loop {
         let machine = match kept.take() {
             Some(m) => m,
-            None => infer(&set, opts, at_least)?,
+            None => infer(&set, opts, at_least, events)?,
         };
         at_least = machine.states.len();
         let tree = ScenarioTree::build(&set)?;
@@ -479,7 +493,7 @@ pub fn passive(
             .push(record(oracle, &inputs, origin("random", k)));
         left -= n;
     }
-    infer(&set, opts, 1)
+    infer(&set, opts, 1, &mut |_| {})
 }
 
 #[cfg(test)]
@@ -556,7 +570,7 @@ mod tests {
                 max_rounds: 50,
                 tour: true,
             };
-            let learned = learn(&initial, &oracle, &opts, &mut |_| {}).unwrap();
+            let learned = learn(&initial, &oracle, &opts, &mut |_| {}, &mut |_| {}).unwrap();
             learned.recordings.check(&learned.machine).unwrap();
             assert!(learned.unique, "seed {seed}: {:?}", learned.rounds);
             // Over the recorded combinations first: a round found no rival over them before
