@@ -119,18 +119,15 @@ pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
     inputs: &[Q],
 ) -> Result<(), Failure> {
     for out in outputs {
-        let out = out.as_ref();
-        if out.is_dir() {
+        if out.as_ref().is_dir() {
             return Err(Failure::msg(
                 exit::INPUT,
                 format!(
                     "the output {} is a folder; give a file name (or move the folder away)",
-                    out.display()
+                    out.as_ref().display()
                 ),
             ));
         }
-    }
-    for out in outputs {
         for input in inputs {
             if fbsynth::files::same_file(out.as_ref(), input.as_ref()) {
                 return Err(Failure::msg(

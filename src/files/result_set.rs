@@ -183,9 +183,7 @@ impl ResultSet {
         write_atomic(&manifest, list.as_bytes())?;
         Ok(files)
     }
-}
 
-impl ResultSet {
     /// Moves the staged file `rel` to `to`, first moving a file already there to `saved`
     /// (returned when it did).
     fn move_in(&self, rel: &Path, to: &Path, saved: &Path) -> std::io::Result<Option<PathBuf>> {
