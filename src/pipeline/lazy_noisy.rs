@@ -28,28 +28,38 @@
 //!    keeps every alternative its trace has there). A segment is a trace of its own: it starts
 //!    with the outputs recorded before it, in a state that numbering the states from it makes
 //!    state 0. For each, the least corrections of *any* machine within the sizes is computed
-//!    ([`least_errors_within`], in parallel; one UNSAT call when it is the machine's count),
+//!    ([`least_errors_within`](crate::sat::noisy::least_errors_within), in parallel; one UNSAT call when it is the machine's count),
 //!    first on windows of a few steps around its correction, which are parts of it too.
 //!    The corrections of every minimal machine for the whole log are a sum over the segments
 //!    and the part, each at least its least, and the part's least is its Algorithm 1 ε: when
-//!    the bounds sum to `E`, `E` is the least ε. A segment whose bound falls short (its
-//!    correction is forced only by what happened before it) is joined with its neighbour and
-//!    bounded again; a whole trace that falls short is joined with another, pairwise, and the
-//!    last one with the part. If even that falls short, another machine needs fewer
-//!    corrections, and the whole log is encoded after all.
+//!    the bounds sum to `E`, `E` is the least ε.
+//! 5. A segment whose bound falls short has its correction forced by what the rest of the log
+//!    shows of the machine, not by its own steps. Two things are then given to the next proof:
+//!    - *context*: traces the machine explains as recorded count for nothing in the sum, yet
+//!      pin the machine down. Each falls-short group takes some (shared evenly, each used
+//!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
+//!      its trace up to its end, so that it starts in the initial state, like the context;
+//!    - *known bounds*: the windows and segments already proven inside the group
+//!      ([`least_errors_knowing`]). They are implied constraints; when they add up to one
+//!      less than the group's corrections, every other step is taken as recorded, and the
+//!      proof is an exact-consistency check per choice of a few corrections.
+//!
+//!    Once no context is left, a short segment is joined with its neighbour, and short groups
+//!    of whole traces pairwise, the last one with the part. If even that falls short, another
+//!    machine needs fewer corrections, and the whole log is encoded after all.
 //!
 //! Measured with `synth bench-noisy` (README): 10^4 samples 72.5 s whole, 27 s in parts;
-//! 10^5 samples, not finished in 14 minutes whole, 135 s in parts (15 s for the sizes in two
-//! rounds, 23 s for the first pass over 340 segments, the rest joining the 59 that fell
-//! short).
+//! 10^5 samples, not finished in 14 minutes whole; in parts 135-173 s with joins alone
+//! (first pass over 340 segments, then 5 rounds joining the 59 that fell short), 97-104 s with
+//! context and known bounds (one round; about 25 s sizes, 30 s first pass, 37 s that round).
 //!
 //! The machine is replayed on its corrected traces before it is returned, as every candidate.
 
 use super::{Error, Event, Events};
 use crate::ecc::Ecc;
 use crate::sat::noisy::{
-    least_errors_within, synthesize_noisy, Candidate, Flow, NoisyOptions as Options, NoisyStats,
-    NoisySynthesis,
+    least_errors_knowing, synthesize_noisy, Candidate, Flow, NoisyOptions as Options, NoisyStats,
+    NoisySynthesis, Stretch,
 };
 use crate::sat::step::{Bound, Step as Solver};
 use crate::sat::SatError;
@@ -64,6 +74,10 @@ pub const LAZY_FROM_NODES: usize = 2_048;
 
 /// Active steps (graph nodes) of the first part.
 pub const FIRST_PART_NODES: usize = 128;
+
+/// Steps of recorded traces without correction that a short group of whole traces takes as
+/// context in one round at least (see [`least_proven`]).
+const CONTEXT_STEPS: usize = 150;
 
 /// Traces that join the part in one round.
 const JOIN_PER_ROUND: usize = 4;
@@ -371,6 +385,12 @@ struct Group {
     pieces: Vec<Piece>,
     upper: usize,
     lower: Option<usize>,
+    /// For a one-piece group whose bound is proven: the stretch of it that proved it (a
+    /// window, or the whole piece), kept in [`Group::known`].
+    proof: Option<Piece>,
+    /// Bounds proven on disjoint stretches of it (pieces, least corrections): told to the
+    /// solver when the group is bounded ([`least_errors_knowing`]).
+    known: Vec<(Vec<Piece>, usize)>,
 }
 
 impl Group {
@@ -379,11 +399,30 @@ impl Group {
             pieces,
             upper,
             lower: None,
+            proof: None,
+            known: Vec::new(),
         }
     }
 
     fn short(&self) -> bool {
         self.lower != Some(self.upper)
+    }
+
+    /// Keeps the bound just computed as a known one, unless the known ones already say more.
+    fn remember(&mut self) {
+        let lower = self.lower.unwrap_or(0);
+        if lower > self.known.iter().map(|(_, n)| n).sum::<usize>() {
+            let stretch = self.proof.map_or_else(|| self.pieces.clone(), |p| vec![p]);
+            self.known = vec![(stretch, lower)];
+        }
+    }
+
+    /// Two groups as one, with what is known of each.
+    fn join(a: Group, b: Group, pieces: Vec<Piece>) -> Group {
+        Group {
+            known: [a.known, b.known].concat(),
+            ..Group::new(pieces, a.upper + b.upper)
+        }
     }
 }
 
@@ -429,6 +468,18 @@ fn segments(cut: &[bool], corrections: &[usize]) -> Vec<(usize, usize, usize)> {
     out
 }
 
+/// The known bounds of `g` ([`Group::known`]) in the steps of its [`group_set`].
+fn stretches(g: &Group) -> Vec<(Vec<Stretch>, usize)> {
+    let at = |p: &Piece| -> Option<Stretch> {
+        let (s, whole) = g.pieces.iter().enumerate().find(|(_, w)| w.d == p.d)?;
+        Some((s, p.from - whole.from..p.to - whole.from))
+    };
+    g.known
+        .iter()
+        .map(|(pieces, n)| (pieces.iter().filter_map(at).collect(), *n))
+        .collect()
+}
+
 /// The recordings of a group: whole traces as they are, or one segment as a trace of its own
 /// that starts with the outputs recorded before it. The segment's first state is unknown, but
 /// numbering the states of any machine from it makes it state 0, so the segment's least
@@ -454,8 +505,17 @@ fn group_set(set: &ScenarioSet, distinct: &[usize], g: &Group) -> ScenarioSet {
             }
         }
         pieces => {
+            // Pieces bounded together all start with their trace (whole traces, prefixes).
             let traces: Vec<usize> = pieces.iter().map(|p| distinct[p.d]).collect();
-            subset(set, &traces)
+            let mut out = subset(set, &traces);
+            for (sc, p) in out.scenarios.iter_mut().zip(pieces) {
+                debug_assert_eq!(
+                    p.from, 0,
+                    "only a group's one piece may start inside a trace"
+                );
+                sc.steps.truncate(p.to);
+            }
+            out
         }
     }
 }
@@ -522,13 +582,10 @@ fn join_short_segments(segs: Vec<Group>) -> Vec<Group> {
         let p = g.pieces[0];
         if let Some(prev) = out.pop() {
             let q = prev.pieces[0];
-            out.push(Group::new(
-                vec![Piece { from: q.from, ..p }],
-                prev.upper + g.upper,
-            ));
+            out.push(Group::join(prev, g, vec![Piece { from: q.from, ..p }]));
         } else if let Some(n) = it.next() {
             let q = n.pieces[0];
-            out.push(Group::new(vec![Piece { to: q.to, ..p }], g.upper + n.upper));
+            out.push(Group::join(g, n, vec![Piece { to: q.to, ..p }]));
         } else {
             // A trace in one segment: bounded as it is, a whole-trace group.
             out.push(g);
@@ -566,6 +623,11 @@ fn least_proven(
         .into());
     }
     let in_part: HashSet<usize> = part.iter().copied().collect();
+    // Traces outside the part that the machine explains without a correction, longest last.
+    let mut pool: Vec<usize> = (0..distinct.len())
+        .filter(|d| !in_part.contains(d) && errs(*d) == 0)
+        .collect();
+    pool.sort_by_key(|&d| len(d));
     let mut groups: Vec<Group> = Vec::new();
     for d in (0..distinct.len()).filter(|d| !in_part.contains(d) && errs(*d) > 0) {
         let steps = &set.scenarios[distinct[d]].steps;
@@ -579,37 +641,46 @@ fn least_proven(
         pieces: part.iter().map(|&d| whole(d)).collect(),
         upper: part_errors,
         lower: Some(part_errors),
+        proof: None,
+        known: vec![(part.iter().map(|&d| whole(d)).collect(), part_errors)],
     };
     loop {
         // A window that needs as many corrections as its group proves the group's bound. The
         // group keeps its whole piece all the same: shrunk to the window, it would leave its
         // neighbours less to be joined with, and on 10^5 samples the joins then took longer
         // than the windows saved.
-        let bound = |g: &Group| -> Result<usize, SatError> {
-            let within = |g: &Group| {
-                least_errors_within(
-                    &group_set(set, distinct, g),
-                    opts.algorithms,
-                    sizes,
-                    g.upper,
-                )
-            };
+        let within = |g: &Group| {
+            least_errors_knowing(
+                &group_set(set, distinct, g),
+                opts.algorithms,
+                sizes,
+                g.upper,
+                &stretches(g),
+            )
+        };
+        let bound = |g: &Group| -> Result<(usize, Option<Piece>), SatError> {
             for w in windows(set, distinct, fixes, g) {
                 if within(&w)? == g.upper {
-                    return Ok(g.upper);
+                    return Ok((g.upper, Some(w.pieces[0])));
                 }
             }
-            within(g)
+            let lower = within(g)?;
+            let proof = match g.pieces.as_slice() {
+                [p] if lower == g.upper => Some(*p),
+                _ => None,
+            };
+            Ok((lower, proof))
         };
-        let lowers: Vec<Result<usize, SatError>> = groups
+        let lowers: Vec<Result<(usize, Option<Piece>), SatError>> = groups
             .par_iter()
-            .map(|g| g.lower.map_or_else(|| bound(g), Ok))
+            .map(|g| g.lower.map_or_else(|| bound(g), |l| Ok((l, g.proof))))
             .collect();
         for (g, l) in groups.iter_mut().zip(lowers) {
-            g.lower = Some(l?);
+            (g.lower, g.proof) = l.map(|(l, p)| (Some(l), p))?;
+            g.remember();
         }
         if part_group.lower.is_none() {
-            part_group.lower = Some(bound(&part_group)?);
+            part_group.lower = Some(bound(&part_group)?.0);
         }
         if let Some(g) = groups
             .iter()
@@ -658,9 +729,29 @@ fn least_proven(
         }
         let mut traces: Vec<(usize, Vec<Group>)> = by_trace.into_iter().collect();
         traces.sort_unstable_by_key(|(d, _)| *d);
-        for (_, mut segs) in traces {
+        for (d, mut segs) in traces {
+            if pool.is_empty() {
+                segs.sort_unstable_by_key(|g| g.pieces[0].from);
+                next.extend(join_short_segments(segs));
+                continue;
+            }
+            // With context to give, the trace is bounded from its start up to its last short
+            // segment, with what its segments proved: the steps before a short segment pin
+            // the state it starts in, and the context the machine.
             segs.sort_unstable_by_key(|g| g.pieces[0].from);
-            next.extend(join_short_segments(segs));
+            let j = segs
+                .iter()
+                .rposition(Group::short)
+                .expect("a short segment");
+            let rest = segs.split_off(j + 1);
+            let to = segs[j].pieces[0].to;
+            let upper = segs.iter().map(|g| g.upper).sum();
+            let known = segs.into_iter().flat_map(|g| g.known).collect();
+            short.push(Group {
+                known,
+                ..Group::new(vec![Piece { d, from: 0, to }], upper)
+            });
+            next.extend(rest);
         }
         let pending = next.iter().any(|g| g.lower.is_none());
         if short.is_empty() && !pending {
@@ -669,20 +760,42 @@ fn least_proven(
             return Ok(false);
         }
         let mut merged = Vec::new();
-        if short.len() == 1 && !pending {
+        if !pool.is_empty() {
+            // Traces the machine explains as recorded count for nothing in the sum, yet they
+            // pin down the machine: a short group of whole traces takes some of them and is
+            // bounded again with the corrections it has, an exact-consistency proof where
+            // joining two short groups needs a proof of two corrections.
+            // Shared evenly, so that later rounds have some left too.
+            let left: usize = pool.iter().map(|&d| len(d)).sum();
+            let each = (left / (2 * short.len())).max(CONTEXT_STEPS);
+            for a in short {
+                let mut pieces = a.pieces.clone();
+                let mut steps = 0;
+                while steps < each {
+                    let Some(d) = pool.pop() else { break };
+                    pieces.push(whole(d));
+                    steps += len(d);
+                }
+                merged.push(Group {
+                    known: a.known,
+                    ..Group::new(pieces, a.upper)
+                });
+            }
+        } else if short.len() == 1 && !pending {
             // The last short group joins the part.
             let a = short.pop().expect("one short group");
-            part_group = Group::new(
-                [std::mem::take(&mut part_group.pieces), a.pieces].concat(),
-                part_group.upper + a.upper,
-            );
+            let pieces = [part_group.pieces.clone(), a.pieces.clone()].concat();
+            part_group = Group::join(part_group, a, pieces);
         } else {
             // Short groups of whole traces are merged pairwise; an odd one left over keeps its
             // bound and is merged in the next round.
             let mut short = short.into_iter();
             while let Some(a) = short.next() {
                 merged.push(match short.next() {
-                    Some(b) => Group::new([a.pieces, b.pieces].concat(), a.upper + b.upper),
+                    Some(b) => {
+                        let pieces = [a.pieces.clone(), b.pieces.clone()].concat();
+                        Group::join(a, b, pieces)
+                    }
                     None => a,
                 });
             }
@@ -696,6 +809,7 @@ fn least_proven(
 mod tests {
     use super::*;
     use crate::cases::distribution;
+    use crate::sat::noisy::least_errors_within;
 
     /// Distribution-station logs of `samples` samples with skew injected, and the number
     /// injected.
@@ -768,6 +882,83 @@ mod tests {
             c.errors
         );
         assert_eq!(c.used.iter().filter(|&&u| u).count(), c.errors);
+    }
+
+    #[test]
+    fn known_bounds_leave_a_traces_least_corrections_as_they_are() {
+        let (set, injected) = noisy_logs(1_500, 3);
+        let opts = one_candidate(injected);
+        let small = Parts {
+            from_nodes: 0,
+            first_nodes: 40,
+        };
+        let s = synthesize(&set, &opts, small, &mut |_| {}).unwrap();
+        let sizes = (s.n, s.k, s.r);
+        let distinct = distinct_traces(&set);
+        let fixes: Vec<Corrections> = replay(&set, &distinct, &s.candidates[0].ecc)
+            .into_iter()
+            .map(Option::unwrap)
+            .collect();
+        // The shortest traces with two corrections or more: the proofs stay short.
+        let mut two: Vec<usize> = (0..distinct.len())
+            .filter(|&d| fixes[d].steps.len() >= 2)
+            .collect();
+        two.sort_by_key(|&d| set.scenarios[distinct[d]].steps.len());
+        assert!(!two.is_empty(), "no trace with two corrections");
+        for d in two.into_iter().take(2) {
+            let steps = &set.scenarios[distinct[d]].steps;
+            let cut = cuts(steps, &set.initial_outputs);
+            let whole = Piece {
+                d,
+                from: 0,
+                to: steps.len(),
+            };
+            let mut trace = Group::new(vec![whole], 0);
+            for (from, to, n) in segments(&cut, &fixes[d].steps) {
+                let mut g = Group::new(vec![Piece { d, from, to }], n);
+                let alone = group_set(&set, &distinct, &g);
+                g.lower = Some(least_errors_within(&alone, opts.algorithms, sizes, n).unwrap());
+                g.remember();
+                trace = Group::join(trace, g, vec![whole]);
+            }
+            let traced = group_set(&set, &distinct, &trace);
+            let least = least_errors_within(&traced, opts.algorithms, sizes, trace.upper).unwrap();
+            // With a loose upper bound too: the known bounds must not cut off the least.
+            for upper in [trace.upper, trace.upper + 1] {
+                let known = stretches(&trace);
+                let with = least_errors_knowing(&traced, opts.algorithms, sizes, upper, &known);
+                assert_eq!(with.unwrap(), least, "trace {d}: {:?}", trace.known);
+            }
+        }
+    }
+
+    #[test]
+    fn groups_of_several_pieces_hold_trace_prefixes_from_their_start() {
+        let (set, _) = noisy_logs(1_000, 1);
+        let distinct = distinct_traces(&set);
+        let len = |d: usize| set.scenarios[distinct[d]].steps.len();
+        let g = Group::new(
+            vec![
+                Piece {
+                    d: 0,
+                    from: 0,
+                    to: len(0) / 2,
+                },
+                Piece {
+                    d: 1,
+                    from: 0,
+                    to: len(1),
+                },
+            ],
+            0,
+        );
+        let s = group_set(&set, &distinct, &g);
+        assert_eq!(
+            s.scenarios[0].steps,
+            set.scenarios[distinct[0]].steps[..len(0) / 2]
+        );
+        assert_eq!(s.scenarios[1].steps, set.scenarios[distinct[1]].steps);
+        assert_eq!(s.initial_outputs, set.initial_outputs);
     }
 
     fn step(inputs: &[bool], outputs: Option<&[bool]>) -> Step {
@@ -859,6 +1050,8 @@ mod tests {
             pieces: vec![Piece { d: 0, from, to }],
             upper: 1,
             lower: Some(lower),
+            proof: None,
+            known: Vec::new(),
         };
         let range = |gs: &[Group]| -> Vec<(usize, usize, usize, Option<usize>)> {
             gs.iter()

@@ -564,18 +564,64 @@ pub fn synthesize_noisy(
 pub fn least_errors_within(
     set: &ScenarioSet,
     kind: AlgorithmKind,
+    sizes: (usize, usize, usize),
+    upper: usize,
+) -> Result<usize, SatError> {
+    least_errors_knowing(set, kind, sizes, upper, &[])
+}
+
+/// Steps of a scenario set: `(scenario, steps)`.
+pub type Stretch = (usize, std::ops::Range<usize>);
+
+/// [`least_errors_within`], told bounds already proven on disjoint stretches of `set`: every
+/// machine within the sizes needs at least `n` corrections on the stretches of each
+/// `(stretches, n)` of `known`. Implied constraints, so the answer is the same; they make the
+/// proof short when the stretches' bounds add up to one less than `upper`: then every step
+/// outside them is taken as recorded, and the proof is about which of a few corrections to
+/// make, not about every step of the set.
+pub fn least_errors_knowing(
+    set: &ScenarioSet,
+    kind: AlgorithmKind,
     (c, k, t): (usize, usize, usize),
     upper: usize,
+    known: &[(Vec<Stretch>, usize)],
 ) -> Result<usize, SatError> {
     if upper == 0 {
         return Ok(0);
     }
     let graph = TraceGraph::build(set);
     let mut enc = NoisyEncoding::new(&graph, c, kind, Some(upper), &mut NoisyStats::default());
+    let chain_of = |s: usize| graph.chains.iter().find(|ch| ch.scenarios.contains(&s));
+    let mut inside = vec![false; enc.e.len()];
+    for (stretches, n) in known {
+        let alternatives: Vec<usize> = stretches
+            .iter()
+            .filter_map(|(s, steps)| Some((chain_of(*s)?, steps)))
+            .flat_map(|(ch, steps)| ch.nodes[steps.clone()].iter().flatten())
+            .filter_map(|node| graph.alternative_of.get(node).copied())
+            .collect();
+        for &a in &alternatives {
+            inside[a] = true;
+        }
+        if *n == 1 {
+            let clause: Vec<Lit> = alternatives.iter().map(|&a| enc.e[a]).collect();
+            enc.solver.add_clause(&clause);
+        }
+    }
+    let tight = known.iter().map(|(_, n)| n).sum::<usize>() + 1 >= upper;
+    let outside: Vec<Lit> = if tight {
+        (enc.e.iter().zip(&inside))
+            .filter(|(_, &i)| !i)
+            .map(|(&e, _)| !e)
+            .collect()
+    } else {
+        Vec::new()
+    };
     let base: Vec<Lit> = enc
         .k_at_most(k)
         .into_iter()
         .chain(enc.total_t.at_most(t))
+        .chain(outside)
         .collect();
     // The machine's count is usually the least: one UNSAT call below it decides.
     let below: Vec<Lit> = base
