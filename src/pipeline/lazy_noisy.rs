@@ -28,15 +28,16 @@
 //!    keeps every alternative its trace has there). A segment is a trace of its own: it starts
 //!    with the outputs recorded before it, in a state that numbering the states from it makes
 //!    state 0. For each, the least corrections of *any* machine within the sizes is computed
-//!    ([`least_errors_within`](crate::sat::noisy::least_errors_within), in parallel; one UNSAT call when it is the machine's count),
-//!    first on windows of a few steps around its correction, which are parts of it too.
+//!    ([`least_errors_within`](crate::sat::noisy::least_errors_within), in parallel; one
+//!    UNSAT call when it is the machine's count), first on windows of a few steps around its
+//!    correction, which are parts of it too.
 //!    The corrections of every minimal machine for the whole log are a sum over the segments
 //!    and the part, each at least its least, and the part's least is its Algorithm 1 ε: when
 //!    the bounds sum to `E`, `E` is the least ε.
 //! 5. A segment whose bound falls short has its correction forced by what the rest of the log
 //!    shows of the machine, not by its own steps. Two things are then given to the next proof:
 //!    - *context*: traces the machine explains as recorded count for nothing in the sum, yet
-//!      pin the machine down. Each falls-short group takes some (shared evenly, each used
+//!      pin the machine down. Each group that falls short takes some (shared evenly, each used
 //!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
 //!      its trace up to its end, so that it starts in the initial state, like the context;
 //!    - *known bounds*: the windows and segments already proven inside the group
