@@ -386,9 +386,6 @@ struct Group {
     pieces: Vec<Piece>,
     upper: usize,
     lower: Option<usize>,
-    /// For a one-piece group whose bound is proven: the stretch of it that proved it (a
-    /// window, or the whole piece), kept in [`Group::known`].
-    proof: Option<Piece>,
     /// Bounds proven on disjoint stretches of it (pieces, least corrections): told to the
     /// solver when the group is bounded ([`least_errors_knowing`]).
     known: Vec<(Vec<Piece>, usize)>,
@@ -400,7 +397,6 @@ impl Group {
             pieces,
             upper,
             lower: None,
-            proof: None,
             known: Vec::new(),
         }
     }
@@ -409,21 +405,28 @@ impl Group {
         self.lower != Some(self.upper)
     }
 
-    /// Keeps the bound just computed as a known one, unless the known ones already say more.
-    fn remember(&mut self) {
+    /// Keeps the bound just computed as a known one (on `window`, the stretch that proved it,
+    /// or on the whole group), unless the known ones already say more.
+    fn remember(&mut self, window: Option<Piece>) {
         let lower = self.lower.unwrap_or(0);
         if lower > self.known.iter().map(|(_, n)| n).sum::<usize>() {
-            let stretch = self.proof.map_or_else(|| self.pieces.clone(), |p| vec![p]);
+            let stretch = window.map_or_else(|| self.pieces.clone(), |p| vec![p]);
             self.known = vec![(stretch, lower)];
         }
     }
 
-    /// Two groups as one, with what is known of each.
+    /// Two groups as one, covering `pieces`, with what is known of each.
     fn join(a: Group, b: Group, pieces: Vec<Piece>) -> Group {
         Group {
             known: [a.known, b.known].concat(),
             ..Group::new(pieces, a.upper + b.upper)
         }
+    }
+
+    /// Two groups of whole traces or prefixes as one: the pieces of both.
+    fn merge(mut a: Group, mut b: Group) -> Group {
+        let pieces = [std::mem::take(&mut a.pieces), std::mem::take(&mut b.pieces)].concat();
+        Group::join(a, b, pieces)
     }
 }
 
@@ -642,7 +645,6 @@ fn least_proven(
         pieces: part.iter().map(|&d| whole(d)).collect(),
         upper: part_errors,
         lower: Some(part_errors),
-        proof: None,
         known: vec![(part.iter().map(|&d| whole(d)).collect(), part_errors)],
     };
     loop {
@@ -659,26 +661,25 @@ fn least_proven(
                 &stretches(g),
             )
         };
+        // The bound, and the window that proved it if one did.
         let bound = |g: &Group| -> Result<(usize, Option<Piece>), SatError> {
             for w in windows(set, distinct, fixes, g) {
                 if within(&w)? == g.upper {
                     return Ok((g.upper, Some(w.pieces[0])));
                 }
             }
-            let lower = within(g)?;
-            let proof = match g.pieces.as_slice() {
-                [p] if lower == g.upper => Some(*p),
-                _ => None,
-            };
-            Ok((lower, proof))
+            Ok((within(g)?, None))
         };
-        let lowers: Vec<Result<(usize, Option<Piece>), SatError>> = groups
+        let lowers: Vec<_> = groups
             .par_iter()
-            .map(|g| g.lower.map_or_else(|| bound(g), |l| Ok((l, g.proof))))
+            .map(|g| g.lower.is_none().then(|| bound(g)))
             .collect();
         for (g, l) in groups.iter_mut().zip(lowers) {
-            (g.lower, g.proof) = l.map(|(l, p)| (Some(l), p))?;
-            g.remember();
+            if let Some(l) = l {
+                let (lower, window) = l?;
+                g.lower = Some(lower);
+                g.remember(window);
+            }
         }
         if part_group.lower.is_none() {
             part_group.lower = Some(bound(&part_group)?.0);
@@ -785,18 +786,14 @@ fn least_proven(
         } else if short.len() == 1 && !pending {
             // The last short group joins the part.
             let a = short.pop().expect("one short group");
-            let pieces = [part_group.pieces.clone(), a.pieces.clone()].concat();
-            part_group = Group::join(part_group, a, pieces);
+            part_group = Group::merge(part_group, a);
         } else {
             // Short groups of whole traces are merged pairwise; an odd one left over keeps its
             // bound and is merged in the next round.
             let mut short = short.into_iter();
             while let Some(a) = short.next() {
                 merged.push(match short.next() {
-                    Some(b) => {
-                        let pieces = [a.pieces.clone(), b.pieces.clone()].concat();
-                        Group::join(a, b, pieces)
-                    }
+                    Some(b) => Group::merge(a, b),
                     None => a,
                 });
             }
@@ -919,7 +916,7 @@ mod tests {
                 let mut g = Group::new(vec![Piece { d, from, to }], n);
                 let alone = group_set(&set, &distinct, &g);
                 g.lower = Some(least_errors_within(&alone, opts.algorithms, sizes, n).unwrap());
-                g.remember();
+                g.remember(None);
                 trace = Group::join(trace, g, vec![whole]);
             }
             let traced = group_set(&set, &distinct, &trace);
@@ -1051,7 +1048,6 @@ mod tests {
             pieces: vec![Piece { d: 0, from, to }],
             upper: 1,
             lower: Some(lower),
-            proof: None,
             known: Vec::new(),
         };
         let range = |gs: &[Group]| -> Vec<(usize, usize, usize, Option<usize>)> {
