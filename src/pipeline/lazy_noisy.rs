@@ -39,7 +39,10 @@
 //!    - *context*: traces the machine explains as recorded count for nothing in the sum, yet
 //!      pin the machine down. Each group that falls short takes some (shared evenly, each used
 //!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
-//!      its trace up to its end, so that it starts in the initial state, like the context;
+//!      its trace up to its end, so that it starts in the initial state, like the context.
+//!      Once those traces are used up, a trace whose segments are all proven lends the steps
+//!      before the window that proved its first one: they are rooted and
+//!      need no correction either, and the bound of that segment holds on its window alone;
 //!    - *known bounds*: the windows and segments already proven inside the group
 //!      ([`least_errors_knowing`]). They are implied constraints; when they add up to one
 //!      less than the group's corrections, every other step is taken as recorded, and the
@@ -598,6 +601,40 @@ fn join_short_segments(segs: Vec<Group>) -> Vec<Group> {
     out
 }
 
+/// Steps shorter than this at the start of a trace are not worth lending as context.
+const FREE_PREFIX_STEPS: usize = 16;
+
+/// The free prefixes of traces whose segments are all proven, each trace once (`lent`): the
+/// steps before the window that proved its first segment's bound. That bound holds on the
+/// window alone, so the group gives up the steps before it (its piece shrinks to start there)
+/// and they can join another group as context: rooted in the initial state, and explained by
+/// the machine as recorded, like a trace without corrections.
+fn free_prefixes(groups: &mut [Group], lent: &mut HashSet<usize>) -> Vec<Piece> {
+    let mut settled: HashMap<usize, bool> = HashMap::new();
+    for g in groups.iter() {
+        if let [p] = g.pieces.as_slice() {
+            *settled.entry(p.d).or_insert(true) &= !g.short();
+        }
+    }
+    let mut out = Vec::new();
+    for g in groups.iter_mut() {
+        let (&[p], &[(ref stretch, _)]) = (g.pieces.as_slice(), g.known.as_slice()) else {
+            continue;
+        };
+        let &[w] = stretch.as_slice() else { continue };
+        if p.from != 0 || g.short() || !settled[&p.d] || lent.contains(&p.d) {
+            continue;
+        }
+        if w.d != p.d || w.from < FREE_PREFIX_STEPS {
+            continue;
+        }
+        out.push(Piece { to: w.from, ..p });
+        g.pieces[0].from = w.from;
+        lent.insert(p.d);
+    }
+    out
+}
+
 /// Whether the least ε of the whole log is the machine's `fixes` (step 4 of the module doc):
 /// `part_errors` is the part's Algorithm 1 ε.
 #[allow(clippy::too_many_arguments)]
@@ -628,10 +665,14 @@ fn least_proven(
     }
     let in_part: HashSet<usize> = part.iter().copied().collect();
     // Traces outside the part that the machine explains without a correction, longest last.
-    let mut pool: Vec<usize> = (0..distinct.len())
+    let mut pool: Vec<Piece> = (0..distinct.len())
         .filter(|d| !in_part.contains(d) && errs(*d) == 0)
+        .map(whole)
         .collect();
-    pool.sort_by_key(|&d| len(d));
+    pool.sort_by_key(|p| p.to);
+    // Traces whose free prefix went to the pool.
+    let mut lent: HashSet<usize> = HashSet::new();
+    let mut reserve: Vec<Piece> = Vec::new();
     let mut groups: Vec<Group> = Vec::new();
     for d in (0..distinct.len()).filter(|d| !in_part.contains(d) && errs(*d) > 0) {
         let steps = &set.scenarios[distinct[d]].steps;
@@ -709,6 +750,13 @@ fn least_proven(
         if lower == upper {
             return Ok(true);
         }
+        // Free prefixes are context of a second kind: lent only once the traces without
+        // corrections are used up (more context than needed makes every proof longer).
+        reserve.extend(free_prefixes(&mut groups, &mut lent));
+        if pool.is_empty() {
+            pool = std::mem::take(&mut reserve);
+            pool.sort_by_key(|p| p.to);
+        }
         let is_segment = |g: &Group| matches!(g.pieces.as_slice(), [p] if *p != whole(p.d));
         // A segment that falls short is joined with its neighbour in the trace (the one after
         // it, or before it when it is the last) and the two are bounded again as one.
@@ -768,15 +816,15 @@ fn least_proven(
             // bounded again with the corrections it has, an exact-consistency proof where
             // joining two short groups needs a proof of two corrections.
             // Shared evenly, so that later rounds have some left too.
-            let left: usize = pool.iter().map(|&d| len(d)).sum();
+            let left: usize = pool.iter().map(|p| p.to).sum();
             let each = (left / (2 * short.len())).max(CONTEXT_STEPS);
             for a in short {
                 let mut pieces = a.pieces.clone();
                 let mut steps = 0;
                 while steps < each {
-                    let Some(d) = pool.pop() else { break };
-                    pieces.push(whole(d));
-                    steps += len(d);
+                    let Some(p) = pool.pop() else { break };
+                    pieces.push(p);
+                    steps += p.to;
                 }
                 merged.push(Group {
                     known: a.known,
@@ -1061,6 +1109,61 @@ mod tests {
         // The first one has nothing before it: it takes the next one.
         let joined = join_short_segments(vec![seg(0, 5, 0), seg(5, 9, 1)]);
         assert_eq!(range(&joined), vec![(0, 9, 2, None)]);
+    }
+
+    #[test]
+    fn only_traces_whose_segments_are_all_proven_lend_the_steps_before_their_first_window() {
+        let seg = |d, from, to, window: Option<(usize, usize)>, proven: bool| Group {
+            pieces: vec![Piece { d, from, to }],
+            upper: 1,
+            lower: Some(usize::from(proven)),
+            known: window
+                .map(|(from, to)| (vec![Piece { d, from, to }], 1))
+                .into_iter()
+                .collect(),
+        };
+        let mut groups = vec![
+            // Trace 0: both segments proven, the first by a window from step 20.
+            seg(0, 0, 50, Some((20, 40)), true),
+            seg(0, 50, 100, Some((60, 80)), true),
+            // Trace 1: its first window starts too early to leave anything worth lending.
+            seg(1, 0, 50, Some((5, 30)), true),
+            // Trace 2: its second segment falls short, so its prefix is bounded again.
+            seg(2, 0, 60, Some((30, 50)), true),
+            seg(2, 60, 90, None, false),
+            // Trace 3: proven on the whole segment, no window: nothing is free.
+            seg(3, 0, 40, None, true),
+        ];
+        groups[5].remember(None);
+        let mut lent = HashSet::new();
+        let free = free_prefixes(&mut groups, &mut lent);
+        assert_eq!(
+            free,
+            vec![Piece {
+                d: 0,
+                from: 0,
+                to: 20
+            }]
+        );
+        // The lender keeps the steps its bound was proven on, so the groups stay disjoint.
+        assert_eq!(
+            groups[0].pieces,
+            vec![Piece {
+                d: 0,
+                from: 20,
+                to: 50
+            }]
+        );
+        assert_eq!(
+            groups[3].pieces,
+            vec![Piece {
+                d: 2,
+                from: 0,
+                to: 60
+            }]
+        );
+        // Lent once only.
+        assert!(free_prefixes(&mut groups, &mut lent).is_empty());
     }
 
     #[test]
