@@ -41,8 +41,8 @@
 //!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
 //!      its trace up to its end, so that it starts in the initial state, like the context.
 //!      Once those traces are used up, a trace whose segments are all proven lends the steps
-//!      before the window that proved its first one: they are rooted and
-//!      need no correction either, and the bound of that segment holds on its window alone;
+//!      before the window that proved its first one: they are rooted and need no correction
+//!      either, and the bound of that segment holds on its window alone;
 //!    - *known bounds*: the windows and segments already proven inside the group
 //!      ([`least_errors_knowing`]). They are implied constraints; when they add up to one
 //!      less than the group's corrections, every other step is taken as recorded, and the
