@@ -35,7 +35,9 @@
 //!    and the part, each at least its least, and the part's least is its Algorithm 1 ε: when
 //!    the bounds sum to `E`, `E` is the least ε.
 //! 5. A segment whose bound falls short has its correction forced by what the rest of the log
-//!    shows of the machine, not by its own steps. Two things are then given to the next proof:
+//!    shows of the machine, not by its own steps. First it takes the steps its neighbours'
+//!    windows leave (`widen_short_segments`); those still short are given two things in
+//!    the next proof:
 //!    - *context*: traces the machine explains as recorded count for nothing in the sum, yet
 //!      pin the machine down. Each group that falls short takes some (shared evenly, each used
 //!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
@@ -604,6 +606,57 @@ fn join_short_segments(segs: Vec<Group>) -> Vec<Group> {
     out
 }
 
+/// Widens every short segment of the first pass over the steps its neighbours in the trace
+/// do not need: a neighbour whose bound a window proved keeps its piece only up to (or from)
+/// that window, and the short segment takes the rest, with no correction more. The longer
+/// stretch before its correction pins the state it starts in better. Returns whether one
+/// was widened (its bound is then computed anew).
+///
+/// Why: on 10^5 samples of the distribution station 15 of the 59 short segments could
+/// widen, 5 of them were proven so in about a second, and the round with context that
+/// followed was that much shorter.
+fn widen_short_segments(groups: &mut [Group]) -> bool {
+    // The window that proved a one-piece group's bound, if one did.
+    let window = |g: &Group| -> Option<Piece> {
+        let ([p], [(w, _)], false) = (g.pieces.as_slice(), g.known.as_slice(), g.short()) else {
+            return None;
+        };
+        match w.as_slice() {
+            [w] if w.d == p.d => Some(*w),
+            _ => None,
+        }
+    };
+    let mut any = false;
+    for i in 0..groups.len() {
+        let (&[p], true) = (groups[i].pieces.as_slice(), groups[i].short()) else {
+            continue;
+        };
+        let mut q = p;
+        if let Some(prev) = i.checked_sub(1).map(|j| &groups[j]) {
+            if let (Some(w), &[b]) = (window(prev), prev.pieces.as_slice()) {
+                if b.d == p.d && b.to == p.from && w.to < p.from {
+                    q.from = w.to;
+                    groups[i - 1].pieces[0].to = w.to;
+                }
+            }
+        }
+        if let Some(next) = groups.get(i + 1) {
+            if let (Some(w), &[b]) = (window(next), next.pieces.as_slice()) {
+                if b.d == p.d && b.from == p.to && w.from > p.to {
+                    q.to = w.from;
+                    groups[i + 1].pieces[0].from = w.from;
+                }
+            }
+        }
+        if q != p {
+            groups[i].pieces[0] = q;
+            groups[i].lower = None;
+            any = true;
+        }
+    }
+    any
+}
+
 /// Steps shorter than this at the start of a trace are not worth lending as context.
 const FREE_PREFIX_STEPS: usize = 16;
 
@@ -710,6 +763,7 @@ fn least_proven(
     // distribution station 256 of the 339 first windows and 176 of the 325 second ones repeat
     // another segment's (the same skew at the same point of the same cycle).
     let proven: Mutex<HashMap<Recorded, usize>> = Mutex::new(HashMap::new());
+    let mut widened = false;
     loop {
         // A window that needs as many corrections as its group proves the group's bound. The
         // group keeps its whole piece all the same: shrunk to the window, it would leave its
@@ -779,6 +833,9 @@ fn least_proven(
         }));
         if lower == upper {
             return Ok(true);
+        }
+        if !std::mem::replace(&mut widened, true) && widen_short_segments(&mut groups) {
+            continue;
         }
         // Free prefixes are context of a second kind: lent only once the traces without
         // corrections are used up (more context than needed makes every proof longer).
@@ -1139,6 +1196,49 @@ mod tests {
         // The first one has nothing before it: it takes the next one.
         let joined = join_short_segments(vec![seg(0, 5, 0), seg(5, 9, 1)]);
         assert_eq!(range(&joined), vec![(0, 9, 2, None)]);
+    }
+
+    #[test]
+    fn a_short_segment_widens_over_what_its_neighbours_windows_leave() {
+        let seg = |d, from, to, window: Option<(usize, usize)>, proven: bool| Group {
+            pieces: vec![Piece { d, from, to }],
+            upper: 1,
+            lower: Some(usize::from(proven)),
+            known: window
+                .map(|(from, to)| (vec![Piece { d, from, to }], 1))
+                .into_iter()
+                .collect(),
+        };
+        let pieces = |gs: &[Group]| -> Vec<(usize, usize, usize, Option<usize>)> {
+            gs.iter()
+                .map(|g| (g.pieces[0].d, g.pieces[0].from, g.pieces[0].to, g.lower))
+                .collect()
+        };
+        // Trace 0: proven by windows on both sides of the short segment, which takes 8..22
+        // and is bounded anew. Trace 1: its neighbour was proven on its whole piece, nothing
+        // to take. Trace 2: the group before it is another trace's.
+        let mut groups = vec![
+            seg(0, 0, 10, Some((4, 8)), true),
+            seg(0, 10, 20, None, false),
+            seg(0, 20, 30, Some((22, 26)), true),
+            seg(1, 0, 10, Some((0, 10)), true),
+            seg(1, 10, 20, None, false),
+            seg(2, 0, 12, None, false),
+        ];
+        assert!(widen_short_segments(&mut groups));
+        assert_eq!(
+            pieces(&groups),
+            vec![
+                (0, 0, 8, Some(1)),
+                (0, 8, 22, None),
+                (0, 22, 30, Some(1)),
+                (1, 0, 10, Some(1)),
+                (1, 10, 20, Some(0)),
+                (2, 0, 12, Some(0)),
+            ]
+        );
+        // Nothing left to take the second time.
+        assert!(!widen_short_segments(&mut groups));
     }
 
     #[test]
