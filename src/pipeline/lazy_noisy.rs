@@ -1288,9 +1288,16 @@ mod tests {
         assert_eq!(first_part(&set, &distinct, 1), vec![2]);
     }
 
-    #[test]
-    fn a_short_segment_widens_over_what_its_neighbours_windows_leave() {
-        let seg = |d, from, to, window: Option<(usize, usize)>, proven: bool| Group {
+    /// Segment `from..to` of trace `d` with one correction, proven or not, and the window that
+    /// proved its bound if one did.
+    fn seg(
+        d: usize,
+        from: usize,
+        to: usize,
+        window: Option<(usize, usize)>,
+        proven: bool,
+    ) -> Group {
+        Group {
             pieces: vec![Piece { d, from, to }],
             upper: 1,
             lower: Some(usize::from(proven)),
@@ -1298,7 +1305,11 @@ mod tests {
                 .map(|(from, to)| (vec![Piece { d, from, to }], 1))
                 .into_iter()
                 .collect(),
-        };
+        }
+    }
+
+    #[test]
+    fn a_short_segment_widens_over_what_its_neighbours_windows_leave() {
         let pieces = |gs: &[Group]| -> Vec<(usize, usize, usize, Option<usize>)> {
             gs.iter()
                 .map(|g| (g.pieces[0].d, g.pieces[0].from, g.pieces[0].to, g.lower))
@@ -1333,15 +1344,6 @@ mod tests {
 
     #[test]
     fn only_traces_whose_segments_are_all_proven_lend_the_steps_before_their_first_window() {
-        let seg = |d, from, to, window: Option<(usize, usize)>, proven: bool| Group {
-            pieces: vec![Piece { d, from, to }],
-            upper: 1,
-            lower: Some(usize::from(proven)),
-            known: window
-                .map(|(from, to)| (vec![Piece { d, from, to }], 1))
-                .into_iter()
-                .collect(),
-        };
         let mut groups = vec![
             // Trace 0: both segments proven, the first by a window from step 20.
             seg(0, 0, 50, Some((20, 40)), true),
