@@ -761,6 +761,9 @@ fn loop_check(
         let explained = fbsynth::pipeline::explain::refuse_violations(set, props, ltl)
             .map_err(pipeline::Error::from)?;
         progress.line(&super::main_job::recordings_line(&explained, props.len()));
+        if let Some(line) = super::main_job::unrecorded_line(&explained) {
+            progress.line(&line);
+        }
     }
     Ok(check)
 }

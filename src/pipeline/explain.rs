@@ -5,7 +5,8 @@
 //! for every property the recordings violate, a [`RecordedViolation`] with the first place
 //! (file, line, step) and how much of the recordings violates it; and the properties the
 //! recordings cannot decide because they read names that are not recorded (the plant's own
-//! variables) or compare integers.
+//! variables) or compare integers; and the controller inputs the recordings show with one
+//! value only, which properties read ([`Unrecorded`]).
 //!
 //! # A recorded scenario as a closed-loop run
 //! In the closed loop ([`crate::smv::closed_loop`]) the controller reads the plant's values of
@@ -124,6 +125,33 @@ pub struct Undecidable {
     pub reason: NotEvaluable,
 }
 
+/// A controller input that keeps one value through every recorded step, read by properties.
+/// What the machine does once it takes the other value is in no recording: only the
+/// properties, through the closed loop, shape it, and the loop can take long to find it (the
+/// Pick-and-Place loop from a recording without pieces on tracks 2 and 3 had no verified
+/// machine after minutes; with them, seconds).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Unrecorded {
+    /// The input's name.
+    pub input: String,
+    /// The value no recorded step shows.
+    pub never: bool,
+    /// The properties that read the input, in spec order.
+    pub properties: Vec<String>,
+}
+
+impl fmt::Display for Unrecorded {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let value = if self.never { "TRUE" } else { "FALSE" };
+        write!(
+            f,
+            "{} = {value} (read by {})",
+            self.input,
+            self.properties.join(", ")
+        )
+    }
+}
+
 /// What the recordings say about the properties.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Explanation {
@@ -133,6 +161,9 @@ pub struct Explanation {
     pub checked: usize,
     /// Properties that read names not recorded or compare integers.
     pub undecidable: Vec<Undecidable>,
+    /// Inputs the properties read that the recordings show with one value only, in input
+    /// order.
+    pub unrecorded: Vec<Unrecorded>,
 }
 
 /// The recordings violate properties: no machine that reproduces them satisfies those.
@@ -185,6 +216,7 @@ pub fn explain(set: &ScenarioSet, props: &[Property]) -> Explanation {
         violations: Vec::new(),
         checked: 0,
         undecidable: Vec::new(),
+        unrecorded: unrecorded(set, props),
     };
     for (k, p) in props.iter().enumerate() {
         let property = property_name(k, p);
@@ -203,6 +235,39 @@ pub fn explain(set: &ScenarioSet, props: &[Property]) -> Explanation {
         }
     }
     out
+}
+
+/// The inputs every recorded step shows with the same value, with the properties that read
+/// them; none when nothing is recorded.
+fn unrecorded(set: &ScenarioSet, props: &[Property]) -> Vec<Unrecorded> {
+    let mut seen = vec![[false; 2]; set.inputs.len()];
+    for step in set.scenarios.iter().flat_map(|s| &s.steps) {
+        for (x, &v) in step.inputs.iter().enumerate() {
+            seen[x][usize::from(v)] = true;
+        }
+    }
+    set.inputs
+        .iter()
+        .zip(&seen)
+        .filter_map(|(input, seen)| {
+            let never = match seen {
+                [true, false] => true,
+                [false, true] => false,
+                _ => return None,
+            };
+            let properties: Vec<String> = props
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.formula.names().iter().any(|n| n == input))
+                .map(|(k, p)| property_name(k, p))
+                .collect();
+            (!properties.is_empty()).then(|| Unrecorded {
+                input: input.clone(),
+                never,
+                properties,
+            })
+        })
+        .collect()
 }
 
 /// Refuses recordings that violate a property (see [`explain`]); otherwise what was checked.
@@ -439,6 +504,34 @@ mod tests {
                 of: 1
             }
         );
+    }
+
+    #[test]
+    fn inputs_with_one_recorded_value_are_named_with_the_properties_that_read_them() {
+        // `home` is always TRUE, `go` shows both values: only `home` is unrecorded, and only
+        // for the properties that read it.
+        let s = set(&[&[("10", None), ("11", Some("10"))], &[("10", None)]]);
+        let e = explain(
+            &s,
+            &props("a: G (go -> F move)\nback: G (!home -> F down)\nc: G (home | move)\n"),
+        );
+        assert_eq!(
+            e.unrecorded,
+            [Unrecorded {
+                input: "home".into(),
+                never: false,
+                properties: vec!["back".into(), "c".into()],
+            }]
+        );
+        assert_eq!(
+            e.unrecorded[0].to_string(),
+            "home = FALSE (read by back, c)"
+        );
+        // Both values recorded: nothing to say.
+        let both = set(&[&[("10", None), ("01", None)]]);
+        assert!(explain(&both, &props("G (home -> F move)\n"))
+            .unrecorded
+            .is_empty());
     }
 
     #[test]

@@ -547,6 +547,39 @@ fn the_time_limit_ends_the_main_job_with_what_was_found() {
     assert!(!out.path().join("SynthesizedFB.json").exists());
 }
 
+/// Recordings that never show an input value the properties read (Pick-and-Place's first
+/// scenario: no piece on track 2 or 3) are named before the loop and again when it gives up.
+#[test]
+fn inputs_the_recordings_never_vary_are_named_when_the_loop_gives_up() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("r");
+    let o = synth(
+        &n.path,
+        &[
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            "specs/pnp_first/first1.traces",
+            "--time-limit",
+            "1",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    let named = "the recordings never show pp2 = TRUE (read by track2_served), pp3 = TRUE (read by track3_served)";
+    assert_eq!(err.matches(named).count(), 2, "{err}");
+    assert!(
+        err.contains("time limit of 1 s reached before a verified machine"),
+        "{err}"
+    );
+    assert!(!dir.exists());
+}
+
 /// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.
 #[test]
 fn termination_signals_leave_no_nusmv_behind() {
