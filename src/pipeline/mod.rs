@@ -277,6 +277,19 @@ pub enum Error {
 }
 
 impl Error {
+    /// Whether NuSMV rejected code synth generated (not the user's plant or spec): the
+    /// closed-loop model is then worth keeping for the bug report.
+    pub fn in_generated_code(&self) -> bool {
+        use crate::verify::VerifyError::Model;
+        match self {
+            Error::Verify(Model(errors))
+            | Error::Cegis(cegis::CegisError::Verify(Model(errors))) => {
+                errors.iter().any(|e| e.generated)
+            }
+            _ => false,
+        }
+    }
+
     /// The kind of failure, for the exit code.
     pub fn class(&self) -> Class {
         use crate::sat::modular::ModularError;
@@ -345,4 +358,28 @@ pub fn nusmv(path: Option<&std::path::Path>, timeout_seconds: f64) -> Result<Nus
 /// Verifies an existing machine in closed loop (no synthesis).
 pub fn verify(ecc: &crate::ecc::Ecc, check: &Check) -> Result<crate::verify::Verification, Error> {
     Ok(check.verifier()?.verify(ecc)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::verify::{LocatedError, VerifyError};
+
+    fn rejected(generated: bool) -> VerifyError {
+        VerifyError::Model(vec![LocatedError {
+            file: "closed_loop.smv".into(),
+            line: 3,
+            message: "syntax error".into(),
+            generated,
+        }])
+    }
+
+    /// The main job keeps the model NuSMV rejected only when the fault is in synth's code.
+    #[test]
+    fn only_errors_in_generated_code_count_as_such() {
+        assert!(Error::Verify(rejected(true)).in_generated_code());
+        assert!(Error::Cegis(cegis::CegisError::Verify(rejected(true))).in_generated_code());
+        assert!(!Error::Verify(rejected(false)).in_generated_code());
+        assert!(!Error::NoMachine("none".into()).in_generated_code());
+    }
 }
