@@ -263,14 +263,8 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 fbsynth::nusmv::kill_all_children();
             }
             let r = r.map_err(|e| {
-                let gave_up = matches!(
-                    e,
-                    pipeline::Error::TimeLimit { .. }
-                        | pipeline::Error::Cegis(
-                            pipeline::cegis::CegisError::Iterations { .. }
-                                | pipeline::cegis::CegisError::Exhausted { .. }
-                        )
-                );
+                // Every way of finding no machine within the limits (exit 3).
+                let gave_up = e.class() == pipeline::Class::NoMachine;
                 let generated = e.in_generated_code();
                 let mut f = Failure::from(e);
                 if let (true, Some(line)) = (gave_up, unrecorded_line(&explained)) {
