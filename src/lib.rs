@@ -13,6 +13,8 @@
 //! - [`plant`]: the surrogate plant as a finite-state model (the SMV subset the plants use);
 //! - [`check`]: an in-process explicit-state model checker of the closed loop (plant model ×
 //!   ECC × LTL), fast enough to prune synthesis candidates; NuSMV stays the authority;
+//! - [`game`]: the closed loop as a game (plant × outputs × property monitors × recordings),
+//!   solved explicitly: whether any controller keeps the properties after the recordings;
 //! - [`smv`]: SMV emission of an ECC and of the closed loop;
 //! - [`nusmv`]: running the NuSMV model checker and parsing its output (never imports `sat`);
 //! - [`verify`]: the verification problem and the one verifier (closed loop, counterexamples
@@ -42,6 +44,7 @@ pub mod ecc;
 pub mod events;
 pub mod export;
 pub mod files;
+pub mod game;
 pub mod ingest;
 pub mod ltl;
 pub mod nusmv;

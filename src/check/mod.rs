@@ -45,11 +45,11 @@ use std::sync::Arc;
 #[derive(Debug, Clone)]
 pub struct Coupling {
     /// Per ECC input (interface order): the plant variable or define it reads.
-    inputs: Vec<Name>,
+    pub(crate) inputs: Vec<Name>,
     /// Per plant parameter ([`crate::plant::ParamId`] order): the ECC output it is.
-    params: Vec<usize>,
+    pub(crate) params: Vec<usize>,
     /// The ECC outputs, by name (LTL atoms may name them).
-    outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
 }
 
 impl Coupling {
@@ -118,7 +118,7 @@ impl Coupling {
     }
 
     /// The plant parameters for the output bits `o` (bit `z`: output `z`).
-    fn params(&self, o: u64) -> Vec<bool> {
+    pub(crate) fn params(&self, o: u64) -> Vec<bool> {
         self.params.iter().map(|&z| o >> z & 1 == 1).collect()
     }
 
@@ -129,7 +129,7 @@ impl Coupling {
     }
 
     /// The controller's inputs on plant state `plant` under plant parameters `params`.
-    fn read_inputs(
+    pub(crate) fn read_inputs(
         &self,
         sem: &Semantics,
         plant: &[Value],
@@ -906,7 +906,7 @@ impl Graph for FreePlant<'_> {
 }
 
 /// Why an atom could not be evaluated on a state.
-enum AtomError {
+pub(crate) enum AtomError {
     Eval(EvalError),
     Type(String),
 }
@@ -919,7 +919,7 @@ impl From<EvalError> for AtomError {
 
 /// Where the value of a name comes from.
 #[derive(Debug, Clone, Copy)]
-enum Source {
+pub(crate) enum Source {
     Output(usize),
     Plant(Name),
     Const(Value),
@@ -927,13 +927,23 @@ enum Source {
 
 /// An LTL atom resolved against the closed loop.
 #[derive(Debug, Clone)]
-enum Atom {
+pub(crate) enum Atom {
     Bool(Source, String),
     Cmp(CmpOp, Source, Source, String),
 }
 
 impl Atom {
-    fn resolve(a: &Ltl, model: &Model, coupling: &Coupling) -> Result<Atom, String> {
+    /// The sources the atom reads.
+    pub(crate) fn sources(&self) -> Vec<Source> {
+        match self {
+            Atom::Bool(s, _) => vec![*s],
+            Atom::Cmp(_, l, r, _) => vec![*l, *r],
+        }
+    }
+}
+
+impl Atom {
+    pub(crate) fn resolve(a: &Ltl, model: &Model, coupling: &Coupling) -> Result<Atom, String> {
         let name = |n: &str| -> Option<Source> {
             if let Some(z) = coupling.outputs.iter().position(|o| o == n) {
                 return Some(Source::Output(z));
@@ -982,14 +992,26 @@ impl Atom {
     }
 
     fn holds(&self, c: &ClosedLoop, k: &Key, params: &[bool]) -> Result<bool, AtomError> {
+        self.holds_on(&c.sem, &k.plant, k.outputs, params)
+    }
+
+    /// The atom on plant state `plant` with controller outputs `outputs` (bits) and the plant
+    /// parameters they make.
+    pub(crate) fn holds_on(
+        &self,
+        sem: &Semantics,
+        plant: &[Value],
+        outputs: u64,
+        params: &[bool],
+    ) -> Result<bool, AtomError> {
         let value = |s: Source| -> Result<Value, AtomError> {
             Ok(match s {
-                Source::Output(z) => Value::Bool(k.outputs >> z & 1 == 1),
-                Source::Plant(n) => c.sem.read(n, &k.plant, params)?,
+                Source::Output(z) => Value::Bool(outputs >> z & 1 == 1),
+                Source::Plant(n) => sem.read(n, plant, params)?,
                 Source::Const(v) => v,
             })
         };
-        let model = c.sem.model();
+        let model = sem.model();
         match self {
             Atom::Bool(s, text) => match value(*s)? {
                 Value::Bool(b) => Ok(b),

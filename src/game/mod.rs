@@ -1,0 +1,720 @@
+//! A controller from the properties themselves: the closed loop as a game between the
+//! controller and the plant, solved explicitly, where the recordings leave the machine open.
+//!
+//! In: a plant [`Model`] with its [`Coupling`], properties in the fragment of [`Monitors`],
+//! and the recordings' [`ScenarioTree`]. Out: a winning [`Strategy`] (a [`Controller`] that
+//! answers every recorded step as recorded and keeps every property in closed loop with every
+//! behaviour of the plant), or why there is none here ([`Outcome`]), or why the engine does not
+//! apply ([`GameError::Outside`]). A strategy is large and irregular; the pipeline makes the least
+//! machine that behaves like it wherever the closed loop goes, and NuSMV judges that machine.
+//!
+//! # The game
+//! A position is `(s, o, m, τ)`: the plant's state without its free inputs (variables with
+//! neither `init` nor `next`, and `IVAR`s), the controller's outputs, the monitors' memory and
+//! the node of the scenario tree the run is in (or none). The controller reads its inputs on
+//! `s` and chooses the next outputs `o'` (the recorded ones while the run follows a recording);
+//! the environment then chooses the free inputs of this step and the plant's successor: the
+//! monitors read the step, and the next position is `(s', o', m', τ')`. Choosing the free inputs
+//! after the controller only strengthens the environment, so a strategy that wins this game wins
+//! the real one; it does not read them, which a controller cannot. Where the next position is
+//! not told apart by the controller's inputs, the engine does not apply (it checks, along the
+//! strategy).
+//!
+//! Safety parts lose at once; the recurring goals form a generalized Büchi condition, solved
+//! with the classical nested fixpoint (attractors per goal inside the greatest fixpoint). The
+//! strategy pursues one goal at a time along its attractor's layers, preferring to keep its
+//! outputs (a PLC's natural "nothing to do"), then the fewest changed outputs.
+
+mod monitor;
+#[cfg(test)]
+mod tests;
+
+pub use monitor::{Monitors, Outside};
+
+use crate::check::{CheckError, Coupling};
+use crate::ecc::sim::{Controller, Reactive};
+use crate::ltl::Property;
+use crate::plant::explicit::Semantics;
+use crate::plant::{Model, Value, VarKind};
+use crate::scenario::tree::ScenarioTree;
+use std::collections::{HashMap, VecDeque};
+
+const NONE: u32 = u32::MAX;
+
+/// Why the engine does not give an answer.
+#[derive(Debug, thiserror::Error)]
+pub enum GameError {
+    /// The problem is outside what the engine solves (the property's form, a plant whose
+    /// state the controller cannot know, too many positions).
+    #[error("{0}")]
+    Outside(String),
+    /// Evaluating the plant failed.
+    #[error(transparent)]
+    Check(#[from] CheckError),
+}
+
+/// What the game says.
+pub enum Outcome {
+    /// The controller wins: a strategy.
+    Won(Box<Strategy>),
+    /// The environment wins from an initial position: no controller of any size that answers
+    /// the recordings as recorded keeps the properties against every behaviour of the plant
+    /// (as far as this game's controller, which cannot see the free inputs, is concerned).
+    Lost,
+}
+
+/// The plant side of a position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct Side {
+    plant: u32,
+    memory: u64,
+    tau: u32,
+}
+
+/// A position the controller has reached and may move from.
+struct Expanded {
+    /// The controller's inputs here (bits).
+    obs: u64,
+    /// Per environment outcome: the next plant side and the goals met on the way.
+    out: Vec<(u32, u64)>,
+    /// The outputs the controller may choose.
+    moves: Vec<u64>,
+    /// Per move and outcome (`moves.len() × out.len()`): the next position.
+    succ: Vec<u32>,
+}
+
+/// The explicit game.
+struct Arena<'a> {
+    sem: Semantics<'a>,
+    coupling: &'a Coupling,
+    monitors: Monitors,
+    tree: &'a ScenarioTree,
+    tree_inputs: HashMap<u64, usize>,
+    free: Vec<usize>,
+    combos: Vec<Vec<Value>>,
+    plants: Vec<Box<[Value]>>,
+    plant_index: HashMap<Box<[Value]>, u32>,
+    /// Per plant and free-input combination: the plant-only atoms.
+    plant_atoms: Vec<u64>,
+    sides: Vec<Side>,
+    side_index: HashMap<Side, u32>,
+    nodes: Vec<(u32, u64)>,
+    node_index: HashMap<(u32, u64), u32>,
+    expanded: Vec<Option<Box<Expanded>>>,
+    successors: HashMap<(u32, usize, u64), Vec<u32>>,
+    n_outputs: usize,
+    max_positions: usize,
+}
+
+fn bits(v: &[bool]) -> u64 {
+    v.iter()
+        .enumerate()
+        .fold(0, |a, (i, &b)| a | (b as u64) << i)
+}
+
+impl<'a> Arena<'a> {
+    fn new(
+        model: &'a Model,
+        coupling: &'a Coupling,
+        props: &[Property],
+        tree: &'a ScenarioTree,
+        max_positions: usize,
+    ) -> Result<Arena<'a>, GameError> {
+        let outside = |m: &str| Err(GameError::Outside(m.to_string()));
+        if !model.invar.is_empty() || !model.trans.is_empty() || !model.init.is_empty() {
+            return outside("the plant has INIT, INVAR or TRANS constraints");
+        }
+        if !model.fairness.is_empty() {
+            return outside("the plant has FAIRNESS constraints");
+        }
+        if coupling.outputs.len() > 12 || coupling.inputs.len() > 64 {
+            return outside("more than 12 controller outputs");
+        }
+        let monitors = Monitors::of(props, model, coupling).map_err(|o| GameError::Outside(o.0))?;
+        let free: Vec<usize> = (model.vars.iter().enumerate())
+            .filter(|(_, v)| v.kind == VarKind::Input || (v.init.is_none() && v.next.is_none()))
+            .map(|(i, _)| i)
+            .collect();
+        let mut combos = vec![Vec::new()];
+        for &i in &free {
+            combos = (combos.iter())
+                .flat_map(|c| {
+                    model.vars[i].domain.iter().map(move |v| {
+                        let mut c = c.clone();
+                        c.push(*v);
+                        c
+                    })
+                })
+                .collect();
+            if combos.len() > 256 {
+                return outside("more than 256 combinations of the plant's free inputs");
+            }
+        }
+        let tree_inputs = (tree.input_vectors.iter().enumerate())
+            .map(|(u, v)| (bits(v), u))
+            .collect();
+        Ok(Arena {
+            sem: Semantics::new(model),
+            coupling,
+            monitors,
+            tree,
+            tree_inputs,
+            free,
+            combos,
+            plants: Vec::new(),
+            plant_index: HashMap::new(),
+            plant_atoms: Vec::new(),
+            sides: Vec::new(),
+            side_index: HashMap::new(),
+            nodes: Vec::new(),
+            node_index: HashMap::new(),
+            expanded: Vec::new(),
+            successors: HashMap::new(),
+            n_outputs: coupling.outputs.len(),
+            max_positions,
+        })
+    }
+
+    fn full(&self, plant: u32, combo: usize) -> Vec<Value> {
+        let mut s = self.plants[plant as usize].to_vec();
+        for (k, &i) in self.free.iter().enumerate() {
+            s[i] = self.combos[combo][k];
+        }
+        s
+    }
+
+    fn plant(&mut self, mut s: Vec<Value>) -> Result<u32, GameError> {
+        for &i in &self.free {
+            s[i] = self.sem.model().vars[i].domain[0];
+        }
+        if let Some(&p) = self.plant_index.get(s.as_slice()) {
+            return Ok(p);
+        }
+        let p = self.plants.len() as u32;
+        self.plants.push(s.clone().into());
+        self.plant_index.insert(s.into(), p);
+        let no_params = vec![false; self.sem.model().params.len()];
+        for c in 0..self.combos.len() {
+            let full = self.full(p, c);
+            let v = (self.monitors.plant_atoms(&self.sem, &full, &no_params))
+                .map_err(|e| atom_error(e, self.sem.model()))?;
+            self.plant_atoms.push(v);
+        }
+        Ok(p)
+    }
+
+    fn side(&mut self, s: Side) -> u32 {
+        *self.side_index.entry(s).or_insert_with(|| {
+            self.sides.push(s);
+            self.sides.len() as u32 - 1
+        })
+    }
+
+    fn node(&mut self, side: u32, o: u64, queue: &mut VecDeque<u32>) -> Result<u32, GameError> {
+        if let Some(&n) = self.node_index.get(&(side, o)) {
+            return Ok(n);
+        }
+        if self.nodes.len() >= self.max_positions {
+            return Err(GameError::Outside(format!(
+                "more than {} positions of the game",
+                self.max_positions
+            )));
+        }
+        let n = self.nodes.len() as u32;
+        self.nodes.push((side, o));
+        self.node_index.insert((side, o), n);
+        self.expanded.push(None);
+        queue.push_back(n);
+        Ok(n)
+    }
+
+    fn build(&mut self, initial_outputs: u64) -> Result<Vec<u32>, GameError> {
+        let mut queue = VecDeque::new();
+        let params = self.coupling.params(initial_outputs);
+        let mut initial = Vec::new();
+        for s in self.sem.initial_states(&params).map_err(CheckError::Eval)? {
+            let p = self.plant(s)?;
+            let side = self.side(Side {
+                plant: p,
+                memory: 0,
+                tau: 0,
+            });
+            let n = self.node(side, initial_outputs, &mut queue)?;
+            if !initial.contains(&n) {
+                initial.push(n);
+            }
+        }
+        while let Some(n) = queue.pop_front() {
+            self.expand(n, &mut queue)?;
+        }
+        Ok(initial)
+    }
+
+    fn expand(&mut self, n: u32, queue: &mut VecDeque<u32>) -> Result<(), GameError> {
+        let (side, o) = self.nodes[n as usize];
+        let Side { plant, memory, tau } = self.sides[side as usize];
+        let params = self.coupling.params(o);
+        let mut obs = None;
+        let mut steps = Vec::with_capacity(self.combos.len());
+        for c in 0..self.combos.len() {
+            let full = self.full(plant, c);
+            let v = self.plant_atoms[plant as usize * self.combos.len() + c]
+                | (self.monitors.output_atoms(&self.sem, &full, o, &params))
+                    .map_err(|e| atom_error(e, self.sem.model()))?;
+            let step = self.monitors.step(memory, v);
+            if step.bad {
+                return Ok(());
+            }
+            let x = bits(&self.coupling.read_inputs(&self.sem, &full, &params)?);
+            if obs.is_some_and(|y| y != x) {
+                return Err(GameError::Outside(
+                    "a controller input reads a free input of the plant".into(),
+                ));
+            }
+            obs = Some(x);
+            steps.push(step);
+        }
+        let obs = obs.expect("at least one combination");
+        let (forced, tau_next) = if tau == NONE {
+            (None, NONE)
+        } else {
+            let node = &self.tree.nodes[tau as usize];
+            match self.tree_inputs.get(&obs) {
+                Some(&u) => {
+                    if let Some(&(_, child)) = node.children.iter().find(|(i, _)| i.0 == u) {
+                        let out = bits(&self.tree.nodes[child.0].outputs);
+                        (Some(Some(out)), child.0 as u32)
+                    } else if node.passive.iter().any(|i| i.0 == u) {
+                        (Some(None), tau)
+                    } else {
+                        (None, NONE)
+                    }
+                }
+                None => (None, NONE),
+            }
+        };
+        let mut out: Vec<(u32, u64)> = Vec::new();
+        for (c, step) in steps.iter().enumerate() {
+            let key = (plant, c, o);
+            let succ = match self.successors.get(&key) {
+                Some(s) => s.clone(),
+                None => {
+                    let full = self.full(plant, c);
+                    let mut ids = Vec::new();
+                    for s in
+                        (self.sem.successors(&full, &params, &params)).map_err(CheckError::Eval)?
+                    {
+                        let p = self.plant(s)?;
+                        if !ids.contains(&p) {
+                            ids.push(p);
+                        }
+                    }
+                    self.successors.insert(key, ids.clone());
+                    ids
+                }
+            };
+            for p in succ {
+                let side = self.side(Side {
+                    plant: p,
+                    memory: step.memory,
+                    tau: tau_next,
+                });
+                // Kept apart even when they lead to the same position: the environment picks
+                // the edge, and with it which goals are met.
+                if !out.contains(&(side, step.goals)) {
+                    out.push((side, step.goals));
+                }
+            }
+        }
+        if out.is_empty() {
+            return Ok(());
+        }
+        let moves: Vec<u64> = match forced {
+            Some(answer) => vec![answer.unwrap_or(o)],
+            None => (0..1u64 << self.n_outputs).collect(),
+        };
+        let mut succ = Vec::with_capacity(moves.len() * out.len());
+        for &m in &moves {
+            for &(side, _) in &out {
+                succ.push(self.node(side, m, queue)?);
+            }
+        }
+        self.expanded[n as usize] = Some(Box::new(Expanded {
+            obs,
+            out,
+            moves,
+            succ,
+        }));
+        Ok(())
+    }
+}
+
+fn atom_error(e: crate::check::AtomError, model: &Model) -> GameError {
+    match e {
+        crate::check::AtomError::Eval(e) => GameError::Check(CheckError::Eval(e)),
+        crate::check::AtomError::Type(m) => {
+            GameError::Outside(format!("{}: {m}", model.file.display()))
+        }
+    }
+}
+
+/// The solved game: the winning positions and, per goal, each position's attractor layer.
+struct Solution {
+    winning: Vec<bool>,
+    layers: Vec<Vec<u32>>,
+}
+
+impl Arena<'_> {
+    fn goal_met(&self, goals: u64, j: usize) -> bool {
+        self.monitors.goal_count() == 0 || goals >> j & 1 == 1
+    }
+
+    fn solve(&self) -> Solution {
+        let n = self.nodes.len();
+        // Who moves into whom: (position, move × outcome) per successor position.
+        let mut starts = vec![0u32; n + 1];
+        for e in self.expanded.iter().flatten() {
+            for &s in &e.succ {
+                starts[s as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            starts[i + 1] += starts[i];
+        }
+        let mut fill = starts.clone();
+        let mut rev = vec![(0u32, 0u32); starts[n] as usize];
+        for (c, e) in self.expanded.iter().enumerate() {
+            if let Some(e) = e {
+                for (mk, &s) in e.succ.iter().enumerate() {
+                    rev[fill[s as usize] as usize] = (c as u32, mk as u32);
+                    fill[s as usize] += 1;
+                }
+            }
+        }
+        let mut offsets = vec![0usize; n + 1];
+        for (c, e) in self.expanded.iter().enumerate() {
+            offsets[c + 1] = offsets[c] + e.as_ref().map_or(0, |e| e.moves.len());
+        }
+        let goals = self.monitors.goal_count().max(1);
+        let mut winning: Vec<bool> = self.expanded.iter().map(Option::is_some).collect();
+        loop {
+            let layers: Vec<Vec<u32>> = (0..goals)
+                .map(|j| self.attractor(j, &winning, &starts, &rev, &offsets))
+                .collect();
+            let next: Vec<bool> = (0..n)
+                .map(|c| winning[c] && layers.iter().all(|l| l[c] != NONE))
+                .collect();
+            if next == winning {
+                return Solution { winning, layers };
+            }
+            winning = next;
+        }
+    }
+
+    fn attractor(
+        &self,
+        j: usize,
+        z: &[bool],
+        starts: &[u32],
+        rev: &[(u32, u32)],
+        offsets: &[usize],
+    ) -> Vec<u32> {
+        let n = self.nodes.len();
+        let mut layer = vec![NONE; n];
+        let mut count = vec![NONE; offsets[n]];
+        let mut queue = VecDeque::new();
+        for (c, e) in self.expanded.iter().enumerate() {
+            let Some(e) = e.as_ref().filter(|_| z[c]) else {
+                continue;
+            };
+            let k = e.out.len();
+            for m in 0..e.moves.len() {
+                let succ = &e.succ[m * k..(m + 1) * k];
+                if succ.iter().all(|&s| z[s as usize]) {
+                    let open = (e.out.iter())
+                        .filter(|(_, g)| !self.goal_met(*g, j))
+                        .count();
+                    count[offsets[c] + m] = open as u32;
+                    if open == 0 && layer[c] == NONE {
+                        layer[c] = 0;
+                        queue.push_back(c as u32);
+                    }
+                }
+            }
+        }
+        while let Some(s) = queue.pop_front() {
+            let l = layer[s as usize];
+            for &(c, mk) in &rev[starts[s as usize] as usize..starts[s as usize + 1] as usize] {
+                let c = c as usize;
+                if !z[c] || layer[c] != NONE {
+                    continue;
+                }
+                let e = self.expanded[c]
+                    .as_ref()
+                    .expect("a predecessor is expanded");
+                let (m, k) = (mk as usize / e.out.len(), mk as usize % e.out.len());
+                if self.goal_met(e.out[k].1, j) {
+                    continue;
+                }
+                let cnt = &mut count[offsets[c] + m];
+                if *cnt == NONE {
+                    continue;
+                }
+                *cnt -= 1;
+                if *cnt == 0 {
+                    layer[c] = l + 1;
+                    queue.push_back(c as u32);
+                }
+            }
+        }
+        layer
+    }
+}
+
+/// A winning strategy, as a controller.
+pub struct Strategy {
+    arena: ArenaData,
+    /// Per position and goal: the move (index into the position's moves), `NONE` if not
+    /// winning.
+    choice: Vec<u32>,
+    goals: usize,
+    initial: Vec<u32>,
+    initial_outputs: Vec<bool>,
+    /// Positions of the game, for the figures.
+    pub positions: usize,
+    /// Positions × goals the strategy can reach.
+    pub reachable: usize,
+}
+
+/// What a strategy needs of the arena once it is solved.
+struct ArenaData {
+    tree: ScenarioTree,
+    tree_inputs: HashMap<u64, usize>,
+    nodes: Vec<(u32, u64)>,
+    expanded: Vec<Option<Box<Expanded>>>,
+}
+
+/// Solves the game of `props` in closed loop with `model`, for controllers answering the
+/// recordings of `tree` as recorded, from `initial_outputs`.
+pub fn solve(
+    model: &Model,
+    coupling: &Coupling,
+    props: &[Property],
+    tree: &ScenarioTree,
+    initial_outputs: &[bool],
+    max_positions: usize,
+) -> Result<Outcome, GameError> {
+    let mut arena = Arena::new(model, coupling, props, tree, max_positions)?;
+    let o0 = bits(initial_outputs);
+    let initial = arena.build(o0)?;
+    let solution = arena.solve();
+    if initial.is_empty() {
+        return Err(GameError::Check(CheckError::NoBehaviour {
+            scope: "plant",
+            what: "initial state",
+        }));
+    }
+    if initial.iter().any(|&i| !solution.winning[i as usize]) {
+        return Ok(Outcome::Lost);
+    }
+    let goals = arena.monitors.goal_count().max(1);
+    let n = arena.nodes.len();
+    let mut choice = vec![NONE; n * goals];
+    for c in 0..n {
+        if !solution.winning[c] {
+            continue;
+        }
+        let e = arena.expanded[c]
+            .as_ref()
+            .expect("winning positions are expanded");
+        let o = arena.nodes[c].1;
+        let k = e.out.len();
+        let progress = |m: usize, j: usize| {
+            let lc = solution.layers[j][c];
+            let succ = &e.succ[m * k..(m + 1) * k];
+            succ.iter().zip(&e.out).all(|(&s, (_, g))| {
+                solution.winning[s as usize]
+                    && (arena.goal_met(*g, j) || solution.layers[j][s as usize] < lc)
+            })
+        };
+        // Moves that serve more goals at once first: the fewer the moves depend on the goal
+        // pursued (the strategy's memory), the smaller the machine that copies them.
+        let serves: Vec<usize> = (0..e.moves.len())
+            .map(|m| (0..goals).filter(|&j| progress(m, j)).count())
+            .collect();
+        for j in 0..goals {
+            let best = (0..e.moves.len())
+                .filter(|&m| progress(m, j))
+                .min_by_key(|&m| {
+                    let d = (e.moves[m] ^ o).count_ones();
+                    (d, std::cmp::Reverse(serves[m]), e.moves[m])
+                });
+            choice[c * goals + j] = best.map_or(NONE, |m| m as u32);
+        }
+    }
+    let data = ArenaData {
+        tree: tree.clone(),
+        tree_inputs: arena.tree_inputs.clone(),
+        nodes: arena.nodes,
+        expanded: arena.expanded,
+    };
+    let mut strategy = Strategy {
+        arena: data,
+        choice,
+        goals,
+        initial,
+        initial_outputs: initial_outputs.to_vec(),
+        positions: n,
+        reachable: 0,
+    };
+    strategy.reachable = strategy.check_observable()?;
+    Ok(Outcome::Won(Box::new(strategy)))
+}
+
+impl Strategy {
+    fn next_goal(&self, mut j: usize, goals: u64) -> usize {
+        for _ in 0..self.goals {
+            if self.goals > 1 && goals >> j & 1 == 0 {
+                break;
+            }
+            j = (j + 1) % self.goals;
+        }
+        j
+    }
+
+    /// The move at `c` pursuing goal `j`, and the next positions with the goals met.
+    fn play(&self, c: u32, j: usize) -> (u64, Vec<(u32, u64)>) {
+        let e = self.arena.expanded[c as usize]
+            .as_ref()
+            .expect("the strategy stays in winning positions");
+        let m = self.choice[c as usize * self.goals + j];
+        assert!(
+            m != NONE,
+            "the strategy has a move in every winning position"
+        );
+        let (m, k) = (m as usize, e.out.len());
+        let next = (e.succ[m * k..(m + 1) * k].iter().zip(&e.out))
+            .map(|(&s, &(_, g))| (s, g))
+            .collect();
+        (e.moves[m], next)
+    }
+
+    /// Every position the strategy reaches must be told apart from its siblings by the
+    /// controller's inputs; the count of (position, goal) pairs it reaches.
+    fn check_observable(&self) -> Result<usize, GameError> {
+        let distinct = |ns: &mut dyn Iterator<Item = u32>| -> Result<(), GameError> {
+            let mut seen: HashMap<u64, u32> = HashMap::new();
+            for n in ns {
+                let obs = self.arena.expanded[n as usize]
+                    .as_ref()
+                    .expect("winning")
+                    .obs;
+                if seen.insert(obs, n).is_some_and(|m| m != n) {
+                    return Err(GameError::Outside(
+                        "the controller's inputs do not tell the plant's state (two states give the same inputs)".into(),
+                    ));
+                }
+            }
+            Ok(())
+        };
+        distinct(&mut self.initial.iter().copied())?;
+        let mut seen = vec![false; self.arena.nodes.len() * self.goals];
+        let mut stack: Vec<(u32, usize)> = self.initial.iter().map(|&c| (c, 0)).collect();
+        let mut count = 0;
+        while let Some((c, j)) = stack.pop() {
+            if std::mem::replace(&mut seen[c as usize * self.goals + j], true) {
+                continue;
+            }
+            count += 1;
+            let (_, next) = self.play(c, j);
+            distinct(&mut next.iter().map(|&(s, _)| s))?;
+            for (s, g) in next {
+                stack.push((s, self.next_goal(j, g)));
+            }
+        }
+        Ok(count)
+    }
+}
+
+/// A strategy running as a controller.
+pub struct StrategyRun<'a> {
+    s: &'a Strategy,
+    /// The positions the plant may be in now, with the goals met on the way there.
+    candidates: Vec<(u32, u64)>,
+    goal: usize,
+    tau: u32,
+    outputs: Vec<bool>,
+    lost: bool,
+}
+
+impl Controller for Strategy {
+    type Run<'a> = StrategyRun<'a>;
+    fn start(&self) -> StrategyRun<'_> {
+        StrategyRun {
+            s: self,
+            candidates: self.initial.iter().map(|&c| (c, 0)).collect(),
+            goal: 0,
+            tau: 0,
+            outputs: self.initial_outputs.clone(),
+            lost: false,
+        }
+    }
+}
+
+impl Reactive for StrategyRun<'_> {
+    fn react(&mut self, x: &[bool]) -> Option<&[bool]> {
+        let a = &self.s.arena;
+        let xb = bits(x);
+        // The recordings come first: off the plant's behaviour they are all there is.
+        let mut recorded = None;
+        if self.tau != NONE {
+            let node = &a.tree.nodes[self.tau as usize];
+            let u = a.tree_inputs.get(&xb).copied();
+            if let Some(&(_, child)) = node.children.iter().find(|(i, _)| Some(i.0) == u) {
+                recorded = Some(Some(a.tree.nodes[child.0].outputs.clone()));
+                self.tau = child.0 as u32;
+            } else if node.passive.iter().any(|i| Some(i.0) == u) {
+                recorded = Some(None);
+            } else {
+                self.tau = NONE;
+            }
+        }
+        let mut played = None;
+        if !self.lost {
+            // Edges into one position may differ in the goals they meet (by free inputs the
+            // controller does not see): only the goals met on all of them count.
+            let mut here: Option<(u32, u64)> = None;
+            for &(c, g) in &self.candidates {
+                if a.expanded[c as usize].as_ref().is_some_and(|e| e.obs == xb) {
+                    here = Some(here.map_or((c, g), |(c, h)| (c, h & g)));
+                }
+            }
+            match here {
+                None => self.lost = true,
+                Some((c, g)) => {
+                    self.goal = self.s.next_goal(self.goal, g);
+                    let (o, next) = self.s.play(c, self.goal);
+                    self.candidates = next;
+                    played = Some(o);
+                }
+            }
+        }
+        let answer: Option<Vec<bool>> = match recorded {
+            Some(r) => r,
+            None => match played {
+                // Always an answer, even with the outputs unchanged: a machine that lets a
+                // step pass stays in its state, so it cannot act later on the same inputs
+                // (the strategy may, having seen the plant move where the inputs did not).
+                Some(o) => Some((0..self.outputs.len()).map(|z| o >> z & 1 == 1).collect()),
+                None => None,
+            },
+        };
+        match answer {
+            Some(o) => {
+                self.outputs = o;
+                Some(&self.outputs)
+            }
+            None => None,
+        }
+    }
+}
