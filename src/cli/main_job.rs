@@ -270,6 +270,12 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 if let (true, Some(line)) = (gave_up, unrecorded_line(&explained)) {
                     f.message.push_str(&format!("\n({line})"));
                 }
+                if gave_up {
+                    progress.line("no verified machine within the limits; solving the closed-loop game to tell whether any controller exists");
+                    if let Some(line) = pipeline::explain::realizability(&set, &check.problem) {
+                        f.message.push_str(&format!("\n({line})"));
+                    }
+                }
                 let kept = out.join("closed_loop.last.smv");
                 if generated && kept.is_file() {
                     f.message.push_str(&format!(

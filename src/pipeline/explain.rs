@@ -403,6 +403,43 @@ fn violation(
     }))
 }
 
+/// Most positions of the closed-loop game [`realizability`] explores (Pick-and-Place from
+/// one recorded scenario: 601,356).
+pub const GAME_POSITIONS: usize = 1_000_000;
+
+/// What the closed-loop game ([`crate::game`]) says about a problem the loop found no machine
+/// for: whether any controller, of any size, answers the recordings as recorded and keeps every
+/// property against every behaviour of the plant. `None` when the game does not apply (a
+/// property outside its fragment, a plant it does not take, too many positions).
+///
+/// Neither answer is a verdict of NuSMV: a won game says a controller exists, as far as the
+/// tool's own semantics of the plant go; a lost one says none does.
+pub fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Option<String> {
+    let model = problem.model.as_ref().ok()?;
+    let coupling = crate::check::Coupling::new(model, &set.inputs, &set.outputs).ok()?;
+    let tree = crate::scenario::tree::ScenarioTree::build(set).ok()?;
+    let started = std::time::Instant::now();
+    let outcome = crate::game::solve(
+        model,
+        &coupling,
+        &problem.props,
+        &tree,
+        &set.initial_outputs,
+        GAME_POSITIONS,
+    )
+    .ok()?;
+    let seconds = started.elapsed().as_secs_f64();
+    Some(match outcome {
+        crate::game::Outcome::Won(s) => format!(
+            "the closed-loop game is won ({} positions, {seconds:.1} s): a controller that answers the recordings as recorded and keeps every property exists (in the tool's own model of the plant; NuSMV has not checked it); the loop found none within its limits",
+            s.positions
+        ),
+        crate::game::Outcome::Lost => format!(
+            "the closed-loop game is lost ({seconds:.1} s): no controller of any size answers the recordings as recorded and keeps every property against every behaviour of the plant (in the tool's own model of it)"
+        ),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
