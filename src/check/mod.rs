@@ -940,9 +940,7 @@ impl Atom {
             Atom::Cmp(_, l, r, _) => vec![*l, *r],
         }
     }
-}
 
-impl Atom {
     pub(crate) fn resolve(a: &Ltl, model: &Model, coupling: &Coupling) -> Result<Atom, String> {
         let name = |n: &str| -> Option<Source> {
             if let Some(z) = coupling.outputs.iter().position(|o| o == n) {

@@ -267,10 +267,10 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 let gave_up = e.class() == pipeline::Class::NoMachine;
                 let generated = e.in_generated_code();
                 let mut f = Failure::from(e);
-                if let (true, Some(line)) = (gave_up, unrecorded_line(&explained)) {
-                    f.message.push_str(&format!("\n({line})"));
-                }
                 if gave_up {
+                    if let Some(line) = unrecorded_line(&explained) {
+                        f.message.push_str(&format!("\n({line})"));
+                    }
                     progress.line("no verified machine within the limits; solving the closed-loop game to tell whether any controller exists");
                     if let Some(line) = pipeline::explain::realizability(&set, &check.problem) {
                         f.message.push_str(&format!("\n({line})"));

@@ -101,7 +101,8 @@ struct Arena<'a> {
     nodes: Vec<(u32, u64)>,
     node_index: HashMap<(u32, u64), u32>,
     expanded: Vec<Option<Box<Expanded>>>,
-    successors: HashMap<(u32, usize, u64), Vec<u32>>,
+    /// Per plant, free-input combination and outputs: the plant's successors.
+    successors: HashMap<(u32, usize, u64), std::rc::Rc<[u32]>>,
     n_outputs: usize,
     max_positions: usize,
 }
@@ -127,8 +128,11 @@ impl<'a> Arena<'a> {
         if !model.fairness.is_empty() {
             return outside("the plant has FAIRNESS constraints");
         }
-        if coupling.outputs.len() > 12 || coupling.inputs.len() > 64 {
+        if coupling.outputs.len() > 12 {
             return outside("more than 12 controller outputs");
+        }
+        if coupling.inputs.len() > 64 {
+            return outside("more than 64 controller inputs");
         }
         let monitors = Monitors::of(props, model, coupling).map_err(|o| GameError::Outside(o.0))?;
         let free: Vec<usize> = (model.vars.iter().enumerate())
@@ -256,16 +260,18 @@ impl<'a> Arena<'a> {
         let params = self.coupling.params(o);
         let mut obs = None;
         let mut steps = Vec::with_capacity(self.combos.len());
-        for c in 0..self.combos.len() {
-            let full = self.full(plant, c);
+        let fulls: Vec<Vec<Value>> = (0..self.combos.len())
+            .map(|c| self.full(plant, c))
+            .collect();
+        for (c, full) in fulls.iter().enumerate() {
             let v = self.plant_atoms[plant as usize * self.combos.len() + c]
-                | (self.monitors.output_atoms(&self.sem, &full, o, &params))
+                | (self.monitors.output_atoms(&self.sem, full, o, &params))
                     .map_err(|e| atom_error(e, self.sem.model()))?;
             let step = self.monitors.step(memory, v);
             if step.bad {
                 return Ok(());
             }
-            let x = bits(&self.coupling.read_inputs(&self.sem, &full, &params)?);
+            let x = bits(&self.coupling.read_inputs(&self.sem, full, &params)?);
             if obs.is_some_and(|y| y != x) {
                 return Err(GameError::Outside(
                     "a controller input reads a free input of the plant".into(),
@@ -275,45 +281,29 @@ impl<'a> Arena<'a> {
             steps.push(step);
         }
         let obs = obs.expect("at least one combination");
-        let (forced, tau_next) = if tau == NONE {
-            (None, NONE)
-        } else {
-            let node = &self.tree.nodes[tau as usize];
-            match self.tree_inputs.get(&obs) {
-                Some(&u) => {
-                    if let Some(&(_, child)) = node.children.iter().find(|(i, _)| i.0 == u) {
-                        let out = bits(&self.tree.nodes[child.0].outputs);
-                        (Some(Some(out)), child.0 as u32)
-                    } else if node.passive.iter().any(|i| i.0 == u) {
-                        (Some(None), tau)
-                    } else {
-                        (None, NONE)
-                    }
-                }
-                None => (None, NONE),
-            }
-        };
+        let (recorded, tau_next) = recorded_step(self.tree, &self.tree_inputs, tau, obs);
+        let forced = recorded.map(|a| a.map(|child| bits(&self.tree.nodes[child].outputs)));
         let mut out: Vec<(u32, u64)> = Vec::new();
         for (c, step) in steps.iter().enumerate() {
             let key = (plant, c, o);
             let succ = match self.successors.get(&key) {
                 Some(s) => s.clone(),
                 None => {
-                    let full = self.full(plant, c);
                     let mut ids = Vec::new();
-                    for s in
-                        (self.sem.successors(&full, &params, &params)).map_err(CheckError::Eval)?
+                    for s in (self.sem.successors(&fulls[c], &params, &params))
+                        .map_err(CheckError::Eval)?
                     {
                         let p = self.plant(s)?;
                         if !ids.contains(&p) {
                             ids.push(p);
                         }
                     }
+                    let ids: std::rc::Rc<[u32]> = ids.into();
                     self.successors.insert(key, ids.clone());
                     ids
                 }
             };
-            for p in succ {
+            for &p in succ.iter() {
                 let side = self.side(Side {
                     plant: p,
                     memory: step.memory,
@@ -346,6 +336,29 @@ impl<'a> Arena<'a> {
             succ,
         }));
         Ok(())
+    }
+}
+
+/// What the recordings say at tree node `tau` (or `NONE`) on inputs `x`: the answer
+/// (`Some(None)` passive, `Some(Some(node))` active, entering `node`) and the node after; no
+/// answer and `NONE` once the run has left the recordings.
+fn recorded_step(
+    tree: &ScenarioTree,
+    tree_inputs: &HashMap<u64, usize>,
+    tau: u32,
+    x: u64,
+) -> (Option<Option<usize>>, u32) {
+    if tau == NONE {
+        return (None, NONE);
+    }
+    let node = &tree.nodes[tau as usize];
+    let u = tree_inputs.get(&x).copied();
+    if let Some(&(_, child)) = node.children.iter().find(|(i, _)| Some(i.0) == u) {
+        (Some(Some(child.0)), child.0 as u32)
+    } else if node.passive.iter().any(|i| Some(i.0) == u) {
+        (Some(None), tau)
+    } else {
+        (None, NONE)
     }
 }
 
@@ -666,19 +679,9 @@ impl Reactive for StrategyRun<'_> {
         let a = &self.s.arena;
         let xb = bits(x);
         // The recordings come first: off the plant's behaviour they are all there is.
-        let mut recorded = None;
-        if self.tau != NONE {
-            let node = &a.tree.nodes[self.tau as usize];
-            let u = a.tree_inputs.get(&xb).copied();
-            if let Some(&(_, child)) = node.children.iter().find(|(i, _)| Some(i.0) == u) {
-                recorded = Some(Some(a.tree.nodes[child.0].outputs.clone()));
-                self.tau = child.0 as u32;
-            } else if node.passive.iter().any(|i| Some(i.0) == u) {
-                recorded = Some(None);
-            } else {
-                self.tau = NONE;
-            }
-        }
+        let (recorded, tau) = recorded_step(&a.tree, &a.tree_inputs, self.tau, xb);
+        self.tau = tau;
+        let recorded = recorded.map(|r| r.map(|child| a.tree.nodes[child].outputs.clone()));
         let mut played = None;
         if !self.lost {
             // Edges into one position may differ in the goals they meet (by free inputs the
