@@ -28,8 +28,8 @@ pub struct ResultSet {
     lock_created: bool,
     published: bool,
     staging: tempfile::TempDir,
-    // Held for the whole run: the lock goes with the file.
-    _lock: std::fs::File,
+    // Held for the whole run, released in `drop`.
+    lock: std::fs::File,
 }
 
 /// Why an output folder cannot be used.
@@ -89,7 +89,7 @@ impl ResultSet {
             lock_created,
             published: false,
             staging,
-            _lock: lock,
+            lock,
         })
     }
 
@@ -211,6 +211,7 @@ impl ResultSet {
 
 impl Drop for ResultSet {
     fn drop(&mut self) {
+        unlock(&self.lock);
         // The staging folder goes with its TempDir right after this.
         super::keep_on_signal(self.staging.path());
         super::keep_on_signal(&self.out.join(LOCK));
@@ -262,6 +263,19 @@ fn lock_exclusively(file: &std::fs::File, out: &Path) -> Result<(), ResultSetErr
         })),
     }
 }
+
+/// Releases the folder's lock now. Closing the file is not enough: a child process that
+/// another thread is starting may hold a copy of the descriptor until its `exec`, and the
+/// lock belongs to the open file, so it would outlive this run for that moment.
+#[cfg(unix)]
+fn unlock(file: &std::fs::File) {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a file descriptor this function borrows for the call.
+    unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_UN) };
+}
+
+#[cfg(not(unix))]
+fn unlock(_: &std::fs::File) {}
 
 #[cfg(not(unix))]
 fn lock_exclusively(_: &std::fs::File, _: &Path) -> Result<(), ResultSetError> {
@@ -342,6 +356,48 @@ mod tests {
         );
         drop(first);
         assert!(ResultSet::open(dir.path()).is_ok());
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_finished_run_frees_the_folder_while_other_threads_start_processes() {
+        // A process started from another thread holds copies of this run's descriptors
+        // until it execs; the folder must be free again the moment the run ends.
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let spawner = {
+            let stop = stop.clone();
+            std::thread::spawn(move || {
+                use std::os::unix::process::CommandExt;
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    let mut command = std::process::Command::new("true");
+                    // SAFETY: usleep is async-signal-safe; the pause widens the window
+                    // between fork and exec, as the NuSMV driver's own pre_exec does.
+                    unsafe {
+                        command.pre_exec(|| {
+                            libc::usleep(2000);
+                            Ok(())
+                        });
+                    }
+                    let _ = command.status();
+                }
+            })
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let busy = (0..100)
+            .filter(|_| {
+                let first = ResultSet::open(dir.path()).unwrap();
+                std::thread::sleep(std::time::Duration::from_millis(1));
+                // Published, so the lock file stays for the next run.
+                first.publish().unwrap();
+                ResultSet::open(dir.path()).is_err()
+            })
+            .count();
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        spawner.join().unwrap();
+        assert_eq!(
+            busy, 0,
+            "runs found the folder taken after the previous run ended"
+        );
     }
 
     #[test]
