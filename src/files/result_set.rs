@@ -211,7 +211,15 @@ impl ResultSet {
 
 impl Drop for ResultSet {
     fn drop(&mut self) {
+        self.leave();
+        // Last, once the lock file is gone if this run made it: released before that, another
+        // run could lock the file this one is about to remove.
         unlock(&self.lock);
+    }
+}
+
+impl ResultSet {
+    fn leave(&mut self) {
         // The staging folder goes with its TempDir right after this.
         super::keep_on_signal(self.staging.path());
         super::keep_on_signal(&self.out.join(LOCK));
