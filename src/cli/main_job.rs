@@ -247,7 +247,21 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         spec_file: ltl,
     };
 
+    // Properties that read what nobody recorded: the game guides SAT there, the exact loop
+    // being slow to learn it one counterexample at a time.
+    let guide = args.method == Method::Sat
+        && !explained.unrecorded.is_empty()
+        && args.algorithms == AlgorithmsArg::Tri
+        && negatives.is_empty();
+    let guided = if guide {
+        guided(&set, &check, args.max_states, time_limit, &progress)?
+    } else {
+        None
+    };
+    let time_limit =
+        time_limit.saturating_sub(std::time::Duration::from_secs_f64(progress.elapsed()));
     let (ecc, size, certificate, summary, closing) = match args.method {
+        _ if guided.is_some() => guided.expect("checked"),
         Method::Sat => {
             let opts = exact_options(
                 args,
@@ -468,6 +482,77 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         return super::write_json(&summary);
     }
     Ok(())
+}
+
+/// What a run of the main job gives: the machine, its size, NuSMV's verdicts, the JSON
+/// summary and the closing line.
+type Outcome = (
+    fbsynth::ecc::Ecc,
+    fbsynth::ecc::Size,
+    exact::Certificate,
+    serde_json::Value,
+    String,
+);
+
+/// The closed-loop game's guide ([`pipeline::guide`]) within `time_limit`: its verified machine,
+/// or `None` (said in progress) when it has none and the exact loop goes on.
+fn guided(
+    set: &fbsynth::scenario::ScenarioSet,
+    check: &pipeline::Check,
+    max_states: usize,
+    time_limit: std::time::Duration,
+    progress: &Progress,
+) -> Result<Option<Outcome>, Failure> {
+    use pipeline::guide;
+    progress.line("solving the closed-loop game to guide the synthesis where nothing was recorded");
+    let r = limit::guide_within(set, check, time_limit, &mut |e| progress.event(e));
+    let why = match r {
+        Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
+            let summary = serde_json::json!({
+                "method": "game guide",
+                "size": g.size,
+                "least_for_recordings_and_runs": g.least_for_runs,
+                "guide": g.stages.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+                "report": g.certificate.report,
+                "sat_seconds": g.sat_seconds,
+                "nusmv_calls": g.nusmv_calls,
+                "nusmv_seconds": g.nusmv_seconds,
+                "total_seconds": progress.elapsed(),
+            });
+            let closing = format!(
+                "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {} check{})\n{}",
+                progress.elapsed(),
+                g.sat_seconds,
+                g.nusmv_seconds,
+                g.nusmv_calls,
+                if g.nusmv_calls == 1 { "" } else { "s" },
+                if g.least_for_runs {
+                    "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out"
+                } else {
+                    "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal"
+                }
+            );
+            let (size, ecc) = (g.size, g.ecc);
+            return Ok(Some((ecc, size, g.certificate, summary, closing)));
+        }
+        Ok(guide::Outcome::Verified(g)) => format!(
+            "its machine has {} states, more than --max-states {max_states}",
+            g.size.c
+        ),
+        Ok(guide::Outcome::NotHere(why)) => why,
+        Err(pipeline::Error::Interrupted { .. }) => {
+            fbsynth::nusmv::kill_all_children();
+            return Err(Failure::from(pipeline::Error::TimeLimit {
+                seconds: time_limit.as_secs_f64(),
+                so_far: limit::SoFar::default(),
+            }));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    progress.line(&format!(
+        "guide: no machine ({why}); the exact loop goes on"
+    ));
+    Ok(None)
 }
 
 /// The progress line after the recordings were checked against the properties.

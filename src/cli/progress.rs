@@ -132,6 +132,7 @@ pub fn describe(e: &Event<'_>) -> String {
             "least ε: at least {lower} (summed over {parts} parts), the machine needs {upper}{}",
             if lower == upper { ": proven" } else { "" }
         ),
+        Event::Guide(stage) => stage.to_string(),
         Event::Lazy {
             round,
             encoded,

@@ -26,6 +26,7 @@
 //! outputs (a PLC's natural "nothing to do"), then the fewest changed outputs.
 
 mod monitor;
+pub mod repair;
 #[cfg(test)]
 mod tests;
 
@@ -491,6 +492,12 @@ pub struct Strategy {
     /// winning.
     choice: Vec<u32>,
     goals: usize,
+    /// The monitors' recurring goals (0: safety only, every step counts as goal 0).
+    goal_count: usize,
+    /// Per position: whether the controller wins from it.
+    winning: Vec<bool>,
+    /// Per goal and position: the attractor layer (steps to the goal at most), `NONE` outside.
+    layers: Vec<Vec<u32>>,
     initial: Vec<u32>,
     initial_outputs: Vec<bool>,
     /// Positions of the game, for the figures.
@@ -575,6 +582,9 @@ pub fn solve(
         arena: data,
         choice,
         goals,
+        goal_count: arena.monitors.goal_count(),
+        winning: solution.winning,
+        layers: solution.layers,
         initial,
         initial_outputs: initial_outputs.to_vec(),
         positions: n,

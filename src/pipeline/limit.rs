@@ -78,6 +78,20 @@ pub fn exact_within(
     }
 }
 
+/// The closed-loop game's guide ([`super::guide::run`]) with `check`, given up after `limit`
+/// ([`within`]) with [`Error::Interrupted`].
+pub fn guide_within(
+    set: &ScenarioSet,
+    check: &Check,
+    limit: Duration,
+    events: Events<'_>,
+) -> Result<super::guide::Outcome, Error> {
+    let (set, check) = (set.clone(), check.clone());
+    within(limit, events, move |events| {
+        super::guide::run(&set, &check, events)
+    })
+}
+
 /// An event of any pipeline, owned so that it can cross threads ([`within`]).
 enum Owned {
     Solver(crate::sat::Step),
@@ -95,6 +109,7 @@ enum Owned {
     Followed(super::follow::Round),
     NoisyPart(super::lazy_noisy::PartRound),
     NoisyBound(super::lazy_noisy::Bounds),
+    Guide(super::guide::Stage),
     Lazy {
         round: usize,
         encoded: usize,
@@ -114,6 +129,7 @@ impl Owned {
             Event::Followed(r) => Owned::Followed(r.clone()),
             Event::NoisyPart(r) => Owned::NoisyPart(r),
             Event::NoisyBound(b) => Owned::NoisyBound(b),
+            Event::Guide(s) => Owned::Guide(s),
             Event::Lazy {
                 round,
                 encoded,
@@ -142,6 +158,7 @@ impl Owned {
             Owned::Followed(r) => events(Event::Followed(r)),
             &Owned::NoisyPart(r) => events(Event::NoisyPart(r)),
             &Owned::NoisyBound(b) => events(Event::NoisyBound(b)),
+            Owned::Guide(s) => events(Event::Guide(s.clone())),
             &Owned::Lazy {
                 round,
                 encoded,

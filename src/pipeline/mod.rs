@@ -40,6 +40,7 @@ pub mod distributed;
 pub mod exact;
 pub mod explain;
 pub mod follow;
+pub mod guide;
 pub mod lazy;
 pub mod lazy_noisy;
 pub mod limit;
@@ -151,6 +152,8 @@ pub enum Event<'a> {
     NoisyPart(lazy_noisy::PartRound),
     /// The least ε of a noisy log in parts: lower bounds summed over disjoint parts.
     NoisyBound(lazy_noisy::Bounds),
+    /// A stage of the closed-loop game's guide ([`guide`]).
+    Guide(guide::Stage),
     /// A round of [`lazy`] synthesis over long recordings ended.
     Lazy {
         /// The round, 1-based.

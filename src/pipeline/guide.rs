@@ -1,0 +1,293 @@
+//! A verified machine where the properties ask for behaviour nobody recorded: the closed-loop
+//! game as a guide for SAT.
+//!
+//! In: the recordings and a [`Check`]. Out: a machine that reproduces the recordings and that
+//! NuSMV verifies ([`Outcome::Verified`]), or why the guide has none ([`Outcome::NotHere`]; the
+//! caller goes on with the exact loop).
+//!
+//! The exact loop learns what the recordings do not show one counterexample at a time, and
+//! where a property needs a whole behaviour nobody recorded (Pick-and-Place from one scenario:
+//! tracks 2 and 3 never carry a work piece) there are too many wrong machines to rule out one by
+//! one. The game ([`crate::game`]) answers that question for every behaviour of the plant at
+//! once, but its strategy is large. So:
+//! 1. solve the game (positions: plant × outputs × property monitors × recordings);
+//! 2. the least machine SAT finds for the recordings alone, repaired until it wins the game
+//!    ([`crate::game::repair`]): its answers to the recordings are kept;
+//! 3. that machine recorded along every node of its closed loop with the game, and the least
+//!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]);
+//! 4. NuSMV judges it; if it fails, the repaired machine itself, which the game says wins: if
+//!    NuSMV refutes that one too, one of the two checkers is wrong ([`Error::Bug`]).
+//!
+//! The result is least (C, then T, then N) for the recordings *and the runs*; a smaller
+//! machine that answers differently where nothing was recorded is not ruled out.
+//!
+//! Measured (Pick-and-Place, `specs/pnp.ltl`, release build, see the README): from its first
+//! scenario alone C 8 in about 9 s, most of it the game.
+
+use super::exact::Certificate;
+use super::{Check, Error, Event, Events};
+use crate::ecc::{Ecc, Size};
+use crate::game::{self, repair};
+use crate::nusmv::CheckMode;
+use crate::sat;
+use crate::scenario::tree::ScenarioTree;
+use crate::scenario::ScenarioSet;
+use std::time::Instant;
+
+/// Most fixes the repair makes before it gives up.
+pub const MAX_ROUNDS: usize = 1_000;
+
+/// One stage of the guide, for progress.
+#[derive(Debug, Clone)]
+pub enum Stage {
+    /// The game is solved and won.
+    Game {
+        /// Positions of the game.
+        positions: usize,
+        /// Seconds it took.
+        seconds: f64,
+    },
+    /// The least machine for the recordings alone, repaired until it wins the game.
+    Repaired {
+        /// The least machine for the recordings alone.
+        base: Size,
+        /// The repaired machine (overrides on whole input vectors).
+        size: Size,
+        /// Fixes made.
+        rounds: usize,
+        /// Seconds for both.
+        seconds: f64,
+    },
+    /// The repaired machine recorded along its closed loop, and the least machine for the
+    /// recordings and those runs.
+    Small {
+        /// Runs that pass every node of the closed loop.
+        runs: usize,
+        /// Their steps.
+        steps: usize,
+        /// The machine.
+        size: Size,
+        /// SAT seconds.
+        seconds: f64,
+    },
+    /// NuSMV's verdict on a machine.
+    Verdict {
+        /// Which machine: "least" or "repaired".
+        machine: &'static str,
+        /// The properties it fails (empty: verified).
+        failing: Vec<String>,
+        /// NuSMV seconds.
+        seconds: f64,
+    },
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stage::Game { positions, seconds } => write!(
+                f,
+                "guide: the closed-loop game is won ({positions} positions, {seconds:.2} s)"
+            ),
+            Stage::Repaired {
+                base,
+                size,
+                rounds,
+                seconds,
+            } => write!(
+                f,
+                "guide: the least machine for the recordings alone ({base}) repaired in {rounds} rounds until it wins the game: C={} ({seconds:.2} s)",
+                size.c
+            ),
+            Stage::Small {
+                runs,
+                steps,
+                size,
+                seconds,
+            } => write!(
+                f,
+                "guide: least machine for the recordings and {runs} closed-loop runs of it ({steps} steps): {size} (SAT {seconds:.2} s)"
+            ),
+            Stage::Verdict {
+                machine,
+                failing,
+                seconds,
+            } if failing.is_empty() => write!(
+                f,
+                "guide: NuSMV: every property holds on the {machine} machine ({seconds:.2} s)"
+            ),
+            Stage::Verdict {
+                machine,
+                failing,
+                seconds,
+            } => write!(
+                f,
+                "guide: NuSMV: the {machine} machine fails {} ({seconds:.2} s)",
+                failing.join(", ")
+            ),
+        }
+    }
+}
+
+/// A verified machine from the guide.
+pub struct Guided {
+    /// The machine; it reproduces the recordings.
+    pub ecc: Ecc,
+    /// Its size.
+    pub size: Size,
+    /// NuSMV's verdicts on it (all hold) and the model it checked.
+    pub certificate: Certificate,
+    /// Whether it is the least machine for the recordings and the runs (else the repaired one).
+    pub least_for_runs: bool,
+    /// Every stage, in order.
+    pub stages: Vec<Stage>,
+    /// NuSMV checks made.
+    pub nusmv_calls: usize,
+    /// Seconds in NuSMV.
+    pub nusmv_seconds: f64,
+    /// Seconds in SAT.
+    pub sat_seconds: f64,
+}
+
+/// What the guide gives.
+pub enum Outcome {
+    /// A verified machine.
+    Verified(Box<Guided>),
+    /// No machine from the guide, and why.
+    NotHere(String),
+}
+
+/// The guide (module documentation) on `set` with `check`.
+pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
+    let not_here = |why: String| Ok(Outcome::NotHere(why));
+    let problem = &check.problem;
+    let Ok(model) = problem.model.as_ref() else {
+        return not_here("the game does not read this plant".into());
+    };
+    let coupling = match crate::check::Coupling::new(model, &set.inputs, &set.outputs) {
+        Ok(c) => c,
+        Err(e) => return not_here(format!("the game does not apply: {e}")),
+    };
+    let tree = ScenarioTree::build(set)?;
+    let started = Instant::now();
+    let outcome = game::solve(
+        model,
+        &coupling,
+        &problem.props,
+        &tree,
+        &set.initial_outputs,
+        super::explain::GAME_POSITIONS,
+    );
+    let strategy = match outcome {
+        Ok(game::Outcome::Won(s)) => s,
+        Ok(game::Outcome::Lost) => return not_here("the closed-loop game is lost".into()),
+        Err(e) => return not_here(format!("the game does not apply: {e}")),
+    };
+    let mut stages = Vec::new();
+    let mut stage = |s: Stage, events: Events<'_>| {
+        events(Event::Guide(s.clone()));
+        stages.push(s);
+    };
+    stage(
+        Stage::Game {
+            positions: strategy.positions,
+            seconds: started.elapsed().as_secs_f64(),
+        },
+        events,
+    );
+
+    let started = Instant::now();
+    let base = sat::synthesize(set, &tree, &sat::Options::default(), &mut |_| {})?;
+    set.check(&base.ecc).map_err(|d| {
+        Error::Bug(format!(
+            "the machine for the recordings does not replay them: {d}"
+        ))
+    })?;
+    let repaired = match repair::repair(&strategy, &base.ecc, MAX_ROUNDS) {
+        Ok(r) => r,
+        Err(e) => return not_here(format!("the repair failed: {e}")),
+    };
+    let mut sat_seconds = started.elapsed().as_secs_f64();
+    stage(
+        Stage::Repaired {
+            base: base.size,
+            size: repaired.ecc.size(),
+            rounds: repaired.rounds,
+            seconds: sat_seconds,
+        },
+        events,
+    );
+    set.check(&repaired.ecc).map_err(|d| {
+        Error::Bug(format!(
+            "the repaired machine does not replay the recordings: {d}"
+        ))
+    })?;
+
+    let started = Instant::now();
+    let runs = repair::covering_runs(&strategy, &repaired.ecc)
+        .map_err(|e| Error::Bug(format!("the repaired machine loses the game: {e}")))?;
+    let steps = runs.iter().map(|r| r.steps.len()).sum();
+    let n_runs = runs.len();
+    let mut guided = set.clone();
+    guided.scenarios.extend(runs);
+    let tree = ScenarioTree::build(&guided)?;
+    let small = sat::synthesize(&guided, &tree, &sat::Options::default(), &mut |_| {})?;
+    guided.check(&small.ecc).map_err(|d| {
+        Error::Bug(format!(
+            "the least machine does not replay its scenarios: {d}"
+        ))
+    })?;
+    let seconds = started.elapsed().as_secs_f64();
+    sat_seconds += seconds;
+    stage(
+        Stage::Small {
+            runs: n_runs,
+            steps,
+            size: small.size,
+            seconds,
+        },
+        events,
+    );
+
+    let mut verifier = check.verifier()?;
+    let (mut nusmv_calls, mut nusmv_seconds) = (0, 0.0);
+    let mut judge = |ecc: &Ecc, machine: &'static str, events: Events<'_>| {
+        let v = verifier.verify_with(ecc, CheckMode::VerdictsOnly)?;
+        nusmv_calls += 1;
+        nusmv_seconds += v.report.nusmv_seconds;
+        let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
+        stage(
+            Stage::Verdict {
+                machine,
+                failing: failing.clone(),
+                seconds: v.report.nusmv_seconds,
+            },
+            events,
+        );
+        Ok::<_, Error>((v, failing.is_empty()))
+    };
+    let (certificate, least_for_runs, ecc) = match judge(&small.ecc, "least", events)? {
+        (v, true) => (v, true, small.ecc),
+        (_, false) => match judge(&repaired.ecc, "repaired", events)? {
+            (v, true) => (v, false, repaired.ecc),
+            (v, false) => {
+                return Err(Error::Bug(format!(
+                    "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
+                    v.report.failing().join(", ")
+                )))
+            }
+        },
+    };
+    Ok(Outcome::Verified(Box::new(Guided {
+        size: ecc.size(),
+        ecc,
+        certificate: Certificate {
+            report: certificate.report,
+            model_text: certificate.model.text,
+        },
+        least_for_runs,
+        stages,
+        nusmv_calls,
+        nusmv_seconds,
+        sat_seconds,
+    })))
+}
