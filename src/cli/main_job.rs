@@ -254,7 +254,14 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         && args.algorithms == AlgorithmsArg::Tri
         && negatives.is_empty();
     let guided = if guide {
-        guided(&set, &check, args.max_states, time_limit, &progress)?
+        guided(
+            &set,
+            &check,
+            args.max_states,
+            time_limit,
+            unrecorded_line(&explained),
+            &progress,
+        )?
     } else {
         None
     };
@@ -495,12 +502,14 @@ type Outcome = (
 );
 
 /// The closed-loop game's guide ([`pipeline::guide`]) within `time_limit`: its verified machine,
-/// or `None` (said in progress) when it has none and the exact loop goes on.
+/// or `None` (said in progress) when it has none and the exact loop goes on; `unrecorded` says
+/// what the recordings never show, for the message when the limit passes.
 fn guided(
     set: &fbsynth::scenario::ScenarioSet,
     check: &pipeline::Check,
     max_states: usize,
     time_limit: std::time::Duration,
+    unrecorded: Option<String>,
     progress: &Progress,
 ) -> Result<Option<Outcome>, Failure> {
     use pipeline::guide;
@@ -540,12 +549,15 @@ fn guided(
             g.size.c
         ),
         Ok(guide::Outcome::NotHere(why)) => why,
-        Err(pipeline::Error::Interrupted { .. }) => {
+        Err(pipeline::Error::Interrupted { seconds, .. }) => {
             fbsynth::nusmv::kill_all_children();
-            return Err(Failure::from(pipeline::Error::TimeLimit {
-                seconds: time_limit.as_secs_f64(),
-                so_far: limit::SoFar::default(),
-            }));
+            let mut f = Failure::from(pipeline::Error::NoMachine(format!(
+                "time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): the closed-loop game's guide had not ended"
+            )));
+            if let Some(line) = unrecorded {
+                f.message.push_str(&format!("\n({line})"));
+            }
+            return Err(f);
         }
         Err(e) => return Err(e.into()),
     };

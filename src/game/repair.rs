@@ -248,7 +248,7 @@ fn explore(s: &Strategy, table: &mut Table) -> Result<Product, (u32, u32)> {
 }
 
 /// Strongly connected components (Tarjan, without recursion): per node its component.
-fn components(adj: &[Vec<u32>]) -> Vec<u32> {
+pub(super) fn components(adj: &[Vec<u32>]) -> Vec<u32> {
     let n = adj.len();
     let (mut index, mut low) = (vec![NONE; n], vec![0u32; n]);
     let mut on_stack = vec![false; n];

@@ -165,3 +165,99 @@ fn monitors_follow_the_forms_step_by_step() {
     assert!(m.step(r.memory, 0).bad);
     assert!(!m.step(r.memory, busy | work).bad);
 }
+
+fn won(spec: &str, set: &ScenarioSet) -> Box<Strategy> {
+    match solve_queue(spec, set).unwrap() {
+        Outcome::Won(s) => s,
+        Outcome::Lost => panic!("the game is won"),
+    }
+}
+
+/// The least machine SAT finds for `set` alone, as the guide starts from.
+fn least(set: &ScenarioSet) -> crate::ecc::Ecc {
+    let tree = ScenarioTree::build(set).unwrap();
+    crate::sat::synthesize(set, &tree, &Default::default(), &mut |_| {})
+        .unwrap()
+        .ecc
+}
+
+#[test]
+fn a_machine_that_never_works_is_repaired_until_it_serves_every_job() {
+    let set = recorded(&[&[(false, Some(false)), (false, None)]]);
+    let s = won(SERVED, &set);
+    let base = least(&set);
+    // The recording never shows a job, and the least machine for it never works.
+    assert!(!repair::wins(&s, &base).unwrap(), "{base:?}");
+    assert!(matches!(
+        repair::repair(&s, &base, 0),
+        Err(repair::RepairError::Rounds(0))
+    ));
+    let r = repair::repair(&s, &base, 100).unwrap();
+    assert!(r.rounds > 0);
+    assert!(repair::wins(&s, &r.ecc).unwrap());
+    set.check(&r.ecc).unwrap();
+    // Runs through every node of its closed loop; the least machine for them and the
+    // recording wins too.
+    let runs = repair::covering_runs(&s, &r.ecc).unwrap();
+    assert!(!runs.is_empty());
+    let mut guided = set.clone();
+    guided.scenarios.extend(runs);
+    guided.check(&r.ecc).unwrap();
+    let small = least(&guided);
+    guided.check(&small).unwrap();
+    assert!(repair::wins(&s, &small).unwrap(), "{small:?}");
+    assert!(small.states.len() <= r.ecc.states.len());
+}
+
+#[test]
+fn an_answer_that_breaks_a_safety_property_is_replaced_and_the_recorded_ones_kept() {
+    use crate::ecc::{Algorithm, Ecc, Guard, State, StateId, Transition, Tri};
+    let set = recorded(&[&[(false, Some(false))]]);
+    let s = won(SERVED, &set);
+    // s0 answers the recording (work off), then the machine works for ever, busy or not.
+    let state = |name: &str, work: Tri, next: usize| State {
+        name: name.into(),
+        algorithm: Algorithm::Tri(vec![work]),
+        transitions: vec![Transition {
+            target: StateId(next),
+            guard: Guard::True,
+        }],
+    };
+    let base = Ecc {
+        inputs: vec!["busy".into()],
+        outputs: vec!["work".into()],
+        initial_outputs: vec![false],
+        states: vec![
+            state("s0", Tri::Zero, 1),
+            state("s1", Tri::Zero, 2),
+            state("s2", Tri::One, 2),
+        ],
+    };
+    set.check(&base).unwrap();
+    assert!(!repair::wins(&s, &base).unwrap());
+    let r = repair::repair(&s, &base, 100).unwrap();
+    assert!(repair::wins(&s, &r.ecc).unwrap());
+    set.check(&r.ecc).unwrap();
+    // The recorded answer of s0 is still the base's: its first transition is unchanged.
+    assert_eq!(
+        r.ecc.states[0].transitions[0],
+        base.states[0].transitions[0]
+    );
+}
+
+#[test]
+fn strongly_connected_components_are_found_without_recursion() {
+    // 0 -> 1 -> 2 -> 0 is one cycle; 3 only reaches it; 4 loops on itself; a long chain
+    // checks the depth.
+    let mut adj: Vec<Vec<u32>> = vec![vec![1], vec![2], vec![0], vec![0], vec![4]];
+    for k in 5..100_000u32 {
+        adj.push(vec![k + 1]);
+    }
+    adj.push(vec![]);
+    let comp = repair::components(&adj);
+    assert_eq!(comp[0], comp[1]);
+    assert_eq!(comp[1], comp[2]);
+    assert_ne!(comp[3], comp[0]);
+    assert_ne!(comp[4], comp[0]);
+    assert_ne!(comp[5], comp[6]);
+}

@@ -548,9 +548,10 @@ fn the_time_limit_ends_the_main_job_with_what_was_found() {
 }
 
 /// Recordings that never show an input value the properties read (Pick-and-Place's first
-/// scenario: no piece on track 2 or 3) are named before the loop and again when it gives up.
+/// scenario: no piece on track 2 or 3) are named before the synthesis and again when it gives
+/// up.
 #[test]
-fn inputs_the_recordings_never_vary_are_named_when_the_loop_gives_up() {
+fn inputs_the_recordings_never_vary_are_named_when_the_time_runs_out() {
     let Some(n) = nusmv_or_skip() else { return };
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().join("r");
@@ -564,7 +565,7 @@ fn inputs_the_recordings_never_vary_are_named_when_the_loop_gives_up() {
             "--traces",
             "specs/pnp_first/first1.traces",
             "--time-limit",
-            "1",
+            "0.5",
             "--out",
             dir.to_str().unwrap(),
         ],
@@ -574,15 +575,71 @@ fn inputs_the_recordings_never_vary_are_named_when_the_loop_gives_up() {
     let named = "the recordings never show pp2 = TRUE (read by track2_served), pp3 = TRUE (read by track3_served)";
     assert_eq!(err.matches(named).count(), 2, "{err}");
     assert!(
-        err.contains("time limit of 1 s reached before a verified machine"),
-        "{err}"
-    );
-    // The properties can be kept after this recording: the game says a controller exists.
-    assert!(
-        err.contains("(the closed-loop game is won (") && err.contains("positions"),
+        err.contains("time limit of 0.5 s reached before a verified machine (raise --time-limit SECONDS): the closed-loop game's guide had not ended"),
         "{err}"
     );
     assert!(!dir.exists());
+}
+
+/// Pick-and-Place from its first scenario alone: tracks 2 and 3 never carry a piece there, so
+/// the properties alone say what to do with one. The closed-loop game guides SAT, and NuSMV
+/// verifies the machine.
+#[test]
+fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("r");
+    let o = synth(
+        &n.path,
+        &[
+            "--json",
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            "specs/pnp_first/first1.traces",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+    );
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("guide: the closed-loop game is won"), "{err}");
+    assert!(
+        err.contains("guide: NuSMV: every property holds on the least machine"),
+        "{err}"
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["method"], "game guide");
+    assert_eq!(summary["least_for_recordings_and_runs"], true);
+    // 8 states (the recordings alone need 6; the tracks they never show need 2 more).
+    assert_eq!(summary["size"]["c"], 8, "{summary}");
+    let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
+    assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
+    // The published machine, judged again by NuSMV on its own, and replayed on the recording.
+    let ecc = dir.join("SynthesizedFB.json");
+    let o = synth(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let machine =
+        fbsynth::export::json::read_json(&std::fs::read_to_string(&ecc).unwrap(), &ecc).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let set =
+        fbsynth::pipeline::Recordings::files(vec![root.join("specs/pnp_first/first1.traces")])
+            .load()
+            .unwrap();
+    set.check(&machine).unwrap();
 }
 
 /// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.
