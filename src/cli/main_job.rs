@@ -265,8 +265,6 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     } else {
         None
     };
-    let time_limit =
-        time_limit.saturating_sub(std::time::Duration::from_secs_f64(progress.elapsed()));
     let (ecc, size, certificate, summary, closing) = match args.method {
         _ if guided.is_some() => guided.expect("checked"),
         Method::Sat => {
@@ -277,8 +275,18 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                 Some(out.join("closed_loop.last.smv")),
                 proof_budget,
             );
-            let r =
-                limit::exact_within(&set, &check, &opts, time_limit, &mut |e| progress.event(e));
+            // The limit counts from the start: the guide's time is spent.
+            let left =
+                time_limit.saturating_sub(std::time::Duration::from_secs_f64(progress.elapsed()));
+            let r = limit::exact_within(&set, &check, &opts, left, &mut |e| progress.event(e))
+                .map_err(|e| match e {
+                    // The user's limit, not what was left of it.
+                    pipeline::Error::TimeLimit { so_far, .. } => pipeline::Error::TimeLimit {
+                        seconds: time_limit.as_secs_f64(),
+                        so_far,
+                    },
+                    e => e,
+                });
             if let Err(pipeline::Error::TimeLimit { .. }) = &r {
                 // The loop's thread is still running: its NuSMV must not outlive us.
                 fbsynth::nusmv::kill_all_children();
