@@ -253,7 +253,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         && !explained.unrecorded.is_empty()
         && args.algorithms == AlgorithmsArg::Tri
         && negatives.is_empty();
-    let guided = if guide {
+    let (guided, guide_said) = if guide {
         guided(
             &set,
             &check,
@@ -263,7 +263,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
             &progress,
         )?
     } else {
-        None
+        (None, None)
     };
     let (ecc, size, certificate, summary, closing) = match args.method {
         _ if guided.is_some() => guided.expect("checked"),
@@ -300,9 +300,15 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
                     if let Some(line) = unrecorded_line(&explained) {
                         f.message.push_str(&format!("\n({line})"));
                     }
-                    progress.line("no verified machine within the limits; solving the closed-loop game to tell whether any controller exists");
-                    if let Some(line) = pipeline::explain::realizability(&set, &check.problem) {
-                        f.message.push_str(&format!("\n({line})"));
+                    // The guide has solved the game already: its word stands.
+                    if let Some(said) = &guide_said {
+                        f.message.push_str(&format!("\n(guide: {said})"));
+                    } else {
+                        progress.line("no verified machine within the limits; solving the closed-loop game to tell whether any controller exists");
+                        if let Some(line) = pipeline::explain::realizability(&set, &check.problem)
+                        {
+                            f.message.push_str(&format!("\n({line})"));
+                        }
                     }
                 }
                 let kept = out.join("closed_loop.last.smv");
@@ -510,8 +516,8 @@ type Outcome = (
 );
 
 /// The closed-loop game's guide ([`pipeline::guide`]) within `time_limit`: its verified machine,
-/// or `None` (said in progress) when it has none and the exact loop goes on; `unrecorded` says
-/// what the recordings never show, for the message when the limit passes.
+/// or why it has none (said in progress too; the exact loop goes on); `unrecorded` says what the
+/// recordings never show, for the message when the limit passes.
 fn guided(
     set: &fbsynth::scenario::ScenarioSet,
     check: &pipeline::Check,
@@ -519,7 +525,7 @@ fn guided(
     time_limit: std::time::Duration,
     unrecorded: Option<String>,
     progress: &Progress,
-) -> Result<Option<Outcome>, Failure> {
+) -> Result<(Option<Outcome>, Option<String>), Failure> {
     use pipeline::guide;
     progress.line("solving the closed-loop game to guide the synthesis where nothing was recorded");
     let r = limit::guide_within(set, check, time_limit, &mut |e| progress.event(e));
@@ -550,7 +556,7 @@ fn guided(
                 }
             );
             let (size, ecc) = (g.size, g.ecc);
-            return Ok(Some((ecc, size, g.certificate, summary, closing)));
+            return Ok((Some((ecc, size, g.certificate, summary, closing)), None));
         }
         Ok(guide::Outcome::Verified(g)) => format!(
             "its machine has {} states, more than --max-states {max_states}",
@@ -572,7 +578,7 @@ fn guided(
     progress.line(&format!(
         "guide: no machine ({why}); the exact loop goes on"
     ));
-    Ok(None)
+    Ok((None, Some(why)))
 }
 
 /// The progress line after the recordings were checked against the properties.

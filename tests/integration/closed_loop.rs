@@ -642,6 +642,35 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     set.check(&machine).unwrap();
 }
 
+/// A lost game stops nothing by itself (its verdict is not NuSMV's): the exact loop goes on,
+/// and when it gives up the guide's verdict is part of the message.
+#[test]
+fn the_guide_says_when_the_game_is_lost_and_the_loop_goes_on() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("r");
+    let o = main_job(
+        &n.path,
+        "lamp_never_times_out.ltl",
+        "lamp_latched_plant.smv",
+        &dir,
+        &["--time-limit", "60"],
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("(guide: the closed-loop game is lost (")
+            && err.contains("no controller of any size answers the recordings as recorded"),
+        "{err}"
+    );
+    // The game was solved once, by the guide.
+    assert!(
+        !err.contains("solving the closed-loop game to tell"),
+        "{err}"
+    );
+    assert!(!dir.exists());
+}
+
 /// SIGTERM and SIGHUP, like Ctrl-C, take the NuSMV processes down with synth.
 #[test]
 fn termination_signals_leave_no_nusmv_behind() {
