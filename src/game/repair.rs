@@ -34,6 +34,9 @@ pub enum RepairError {
     /// A defect whose every culprit is an answer the recordings fix.
     #[error("a {0} the recordings themselves lead to (their answers are kept)")]
     Recorded(&'static str),
+    /// The machine does not win the game (runs through its closed loop need one that does).
+    #[error("the machine does not win the game")]
+    Loses,
     /// Still defects after the last round.
     #[error("still not winning after {0} rounds")]
     Rounds(usize),
@@ -469,7 +472,7 @@ pub fn wins(s: &Strategy, ecc: &Ecc) -> Result<bool, RepairError> {
 /// (one per leaf of its breadth-first tree), as scenarios with the machine's answers.
 pub fn covering_runs(s: &Strategy, ecc: &Ecc) -> Result<Vec<Scenario>, RepairError> {
     let mut table = Table::of(ecc)?;
-    let p = explore(s, &mut table).map_err(|_| RepairError::Recorded("losing machine"))?;
+    let p = explore(s, &mut table).map_err(|_| RepairError::Loses)?;
     let mut is_parent = vec![false; p.nodes.len()];
     for &u in &p.parent {
         if u != NONE {

@@ -66,8 +66,8 @@ pub enum Stage {
         runs: usize,
         /// Their steps.
         steps: usize,
-        /// The machine.
-        size: Size,
+        /// The machine (`None`: none within the state limit).
+        size: Option<Size>,
         /// SAT seconds.
         seconds: f64,
     },
@@ -106,7 +106,11 @@ impl std::fmt::Display for Stage {
                 seconds,
             } => write!(
                 f,
-                "guide: least machine for the recordings and {runs} closed-loop runs of it ({steps} steps): {size} (SAT {seconds:.2} s)"
+                "guide: least machine for the recordings and {runs} closed-loop runs of it ({steps} steps): {} (SAT {seconds:.2} s)",
+                match size {
+                    Some(size) => size.to_string(),
+                    None => "none within the state limit, the repaired machine is judged".into(),
+                }
             ),
             Stage::Verdict {
                 machine,
@@ -200,7 +204,13 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
     );
 
     let started = Instant::now();
-    let base = sat::synthesize(set, &tree, &sat::Options::default(), &mut |_| {})?;
+    let base = match sat::synthesize(set, &tree, &sat::Options::default(), &mut |_| {}) {
+        Ok(b) => b,
+        Err(e @ (sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. })) => {
+            return not_here(format!("for the recordings alone: {e}"))
+        }
+        Err(e) => return Err(e.into()),
+    };
     set.check(&base.ecc).map_err(|d| {
         Error::Bug(format!(
             "the machine for the recordings does not replay them: {d}"
@@ -239,19 +249,26 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
     let mut guided = set.clone();
     guided.scenarios.extend(runs);
     let tree = ScenarioTree::build(&guided)?;
-    let small = sat::synthesize(&guided, &tree, &sat::Options::default(), &mut |_| {})?;
-    guided.check(&small.ecc).map_err(|d| {
-        Error::Bug(format!(
-            "the least machine does not replay its scenarios: {d}"
-        ))
-    })?;
+    // Too many states for the runs: the repaired machine is judged alone.
+    let small = match sat::synthesize(&guided, &tree, &sat::Options::default(), &mut |_| {}) {
+        Ok(small) => {
+            guided.check(&small.ecc).map_err(|d| {
+                Error::Bug(format!(
+                    "the least machine does not replay its scenarios: {d}"
+                ))
+            })?;
+            Some(small)
+        }
+        Err(sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. }) => None,
+        Err(e) => return Err(e.into()),
+    };
     let seconds = started.elapsed().as_secs_f64();
     sat_seconds += seconds;
     stage(
         Stage::Small {
             runs: n_runs,
             steps,
-            size: small.size,
+            size: small.as_ref().map(|s| s.size),
             seconds,
         },
         events,
@@ -274,9 +291,16 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
         );
         Ok::<_, Error>((v, failing.is_empty()))
     };
-    let (certificate, least_for_runs, ecc) = match judge(&small.ecc, "least", events)? {
-        (v, true) => (v, true, small.ecc),
-        (_, false) => match judge(&repaired.ecc, "repaired", events)? {
+    let verified_small = match small {
+        Some(small) => match judge(&small.ecc, "least", events)? {
+            (v, true) => Some((v, small.ecc)),
+            (_, false) => None,
+        },
+        None => None,
+    };
+    let (certificate, least_for_runs, ecc) = match verified_small {
+        Some((v, ecc)) => (v, true, ecc),
+        None => match judge(&repaired.ecc, "repaired", events)? {
             (v, true) => (v, false, repaired.ecc),
             (v, false) => {
                 return Err(Error::Bug(format!(
