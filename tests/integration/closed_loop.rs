@@ -613,6 +613,14 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(summary["method"], "game guide");
     assert_eq!(summary["least_for_recordings_and_runs"], true);
+    // The exact loop had its turn below the guide's machine and found none smaller.
+    assert!(
+        summary["exact_loop_below_it"]
+            .as_str()
+            .unwrap()
+            .starts_with("no smaller verified machine within"),
+        "{summary}"
+    );
     // 8 states (the recordings alone need 6; the tracks they never show need 2 more).
     assert_eq!(summary["size"]["c"], 8, "{summary}");
     let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
@@ -640,6 +648,37 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
             .load()
             .unwrap();
     set.check(&machine).unwrap();
+}
+
+/// The guide's machine is least only for its own runs; where the exact loop finds a smaller
+/// verified one in its short turn after the guide, that one is the result.
+#[test]
+fn the_exact_loop_below_the_guide_replaces_its_machine_when_it_finds_a_smaller_one() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let o = main_job(
+        &n.path,
+        "lamp_timeout.ltl",
+        "lamp_latched_plant.smv",
+        out.path(),
+        &["--json"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["method"], "exact loop after the game's guide");
+    let key = |z: &serde_json::Value| {
+        (
+            z["c"].as_u64().unwrap(),
+            z["t"].as_u64().unwrap(),
+            z["n"].as_u64().unwrap(),
+        )
+    };
+    assert!(
+        key(&summary["size"]) < key(&summary["guide_size"]),
+        "{summary}"
+    );
+    let report = std::fs::read_to_string(out.path().join("verification.txt")).unwrap();
+    assert_eq!(report.matches("\nHOLDS ").count(), 2, "{report}");
 }
 
 /// A lost game stops nothing by itself (its verdict is not NuSMV's): the exact loop goes on,
