@@ -571,12 +571,16 @@ fn guided(
                         return Ok((Some((ecc, size, certificate, summary, closing)), None));
                     }
                     Ok(_) => after = "no smaller machine".into(),
-                    Err(pipeline::Error::TimeLimit { .. }) => {
+                    Err(pipeline::Error::TimeLimit { so_far, .. }) => {
                         // Its thread is still running: its NuSMV must not outlive the job.
                         fbsynth::nusmv::kill_all_children();
+                        let by_nusmv = (so_far.candidates.iter())
+                            .filter(|c| c.checked_by == "NuSMV")
+                            .count();
                         after = format!(
-                            "no smaller verified machine within {:.1} s",
-                            budget.as_secs_f64()
+                            "no smaller verified machine within {:.1} s ({} candidates, {by_nusmv} checked by NuSMV)",
+                            budget.as_secs_f64(),
+                            so_far.candidates.len()
                         );
                     }
                     Err(e) if e.class() == pipeline::Class::NoMachine => after = e.to_string(),
