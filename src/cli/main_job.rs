@@ -583,8 +583,9 @@ fn guided(
                             so_far.candidates.len()
                         );
                     }
-                    Err(e) if e.class() == pipeline::Class::NoMachine => after = e.to_string(),
-                    Err(e) => return Err(e.into()),
+                    // A bug stays one; anything else ends the turn, not the verified result.
+                    Err(e) if e.class() == pipeline::Class::Bug => return Err(e.into()),
+                    Err(e) => after = format!("stopped: {e}"),
                 }
                 progress.line(&format!(
                     "the exact loop: {after}; the guide's machine stands"
