@@ -106,7 +106,13 @@ struct Arena<'a> {
     successors: HashMap<(u32, usize, u64), std::rc::Rc<[u32]>>,
     n_outputs: usize,
     max_positions: usize,
+    /// Successor entries (moves × outcomes) stored so far: with many outputs each position
+    /// holds thousands, and memory, not positions, is the limit.
+    entries: usize,
 }
+
+/// Successor entries allowed per position of the limit (1 GB of them at a million positions).
+const ENTRIES_PER_POSITION: usize = 256;
 
 fn bits(v: &[bool]) -> u64 {
     v.iter()
@@ -177,6 +183,7 @@ impl<'a> Arena<'a> {
             successors: HashMap::new(),
             n_outputs: coupling.outputs.len(),
             max_positions,
+            entries: 0,
         })
     }
 
@@ -324,6 +331,13 @@ impl<'a> Arena<'a> {
             Some(answer) => vec![answer.unwrap_or(o)],
             None => (0..1u64 << self.n_outputs).collect(),
         };
+        self.entries += moves.len() * out.len();
+        if self.entries > self.max_positions.saturating_mul(ENTRIES_PER_POSITION) {
+            return Err(GameError::Outside(format!(
+                "more than {} moves of the game (positions × outputs × plant outcomes)",
+                self.max_positions.saturating_mul(ENTRIES_PER_POSITION)
+            )));
+        }
         let mut succ = Vec::with_capacity(moves.len() * out.len());
         for &m in &moves {
             for &(side, _) in &out {
