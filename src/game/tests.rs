@@ -261,3 +261,40 @@ fn strongly_connected_components_are_found_without_recursion() {
     assert_ne!(comp[4], comp[0]);
     assert_ne!(comp[5], comp[6]);
 }
+
+#[test]
+fn many_outputs_stop_at_the_move_cap_before_memory_runs_out() {
+    // Nine outputs: 512 moves at every position off the recordings.
+    let outputs: Vec<String> = (1..=9).map(|k| format!("o{k}")).collect();
+    let text = format!(
+        "MODULE plant({})\nVAR\n    busy : boolean;\nASSIGN\n    init(busy) := FALSE;\n    next(busy) := o1;\n",
+        outputs.join(", ")
+    );
+    let model = crate::plant::parse::parse_str(&text, Path::new("wide.smv")).unwrap();
+    let coupling = Coupling::new(&model, &["busy".into()], &outputs).unwrap();
+    let set = ScenarioSet {
+        inputs: vec!["busy".into()],
+        outputs: outputs.clone(),
+        initial_outputs: vec![false; 9],
+        scenarios: Vec::new(),
+    };
+    let tree = ScenarioTree::build(&set).unwrap();
+    let props = crate::ltl::parse_spec(Path::new("wide.ltl"), "never: G !(busy & o2)\n").unwrap();
+    // A limit of one position allows 256 moves: the first position has 512.
+    match solve(&model, &coupling, &props, &tree, &set.initial_outputs, 1) {
+        Err(GameError::Outside(why)) => assert!(why.contains("more than 256 moves"), "{why}"),
+        other => panic!("expected the move cap, got {:?}", other.map(|_| ())),
+    }
+    // With room for them the game is solved.
+    assert!(matches!(
+        solve(
+            &model,
+            &coupling,
+            &props,
+            &tree,
+            &set.initial_outputs,
+            100_000
+        ),
+        Ok(Outcome::Won(_))
+    ));
+}
