@@ -545,6 +545,7 @@ fn guided(
                 .saturating_sub(std::time::Duration::from_secs_f64(spent))
                 .min(std::time::Duration::from_secs_f64((spent / 2.0).max(2.0)));
             opts.sat.max_states = g.size.c;
+            let stages: Vec<String> = g.stages.iter().map(|s| s.to_string()).collect();
             let key = |z: &fbsynth::ecc::Size| (z.c, z.t, z.n);
             let mut after = "not run: no time left".to_string();
             if !budget.is_zero() {
@@ -559,11 +560,7 @@ fn guided(
                             exact_outcome(r, progress);
                         summary["method"] = "exact loop after the game's guide".into();
                         summary["guide_size"] = serde_json::json!(g.size);
-                        summary["guide"] = serde_json::json!(g
-                            .stages
-                            .iter()
-                            .map(|s| s.to_string())
-                            .collect::<Vec<_>>());
+                        summary["guide"] = serde_json::json!(stages);
                         let closing = format!(
                             "{closing}\n(the exact loop found it below the game's guide's {})",
                             g.size
@@ -596,7 +593,7 @@ fn guided(
                 "exact_loop_below_it": after,
                 "size": g.size,
                 "least_for_recordings_and_runs": g.least_for_runs,
-                "guide": g.stages.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+                "guide": stages,
                 "report": g.certificate.report,
                 "sat_seconds": g.sat_seconds,
                 "nusmv_calls": g.nusmv_calls,

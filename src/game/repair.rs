@@ -262,27 +262,23 @@ pub(super) fn components(adj: &[Vec<u32>]) -> Vec<u32> {
         if index[root as usize] != NONE {
             continue;
         }
-        let mut visit = |v: u32, stack: &mut Vec<u32>, calls: &mut Vec<(u32, usize)>| {
-            index[v as usize] = next;
-            low[v as usize] = next;
-            next += 1;
-            stack.push(v);
-            on_stack[v as usize] = true;
-            calls.push((v, 0));
-        };
-        visit(root, &mut stack, &mut calls);
-        while let Some(&(v, i)) = calls.last() {
+        // The node to enter next: the root, then each unvisited successor, in one place.
+        let mut enter = Some(root);
+        loop {
+            if let Some(w) = enter.take() {
+                index[w as usize] = next;
+                low[w as usize] = next;
+                next += 1;
+                stack.push(w);
+                on_stack[w as usize] = true;
+                calls.push((w, 0));
+            }
+            let Some(&(v, i)) = calls.last() else { break };
             let vu = v as usize;
             if let Some(&w) = adj[vu].get(i) {
                 calls.last_mut().expect("not empty").1 += 1;
                 if index[w as usize] == NONE {
-                    // `visit` holds `index`: repeat its body here.
-                    index[w as usize] = next;
-                    low[w as usize] = next;
-                    next += 1;
-                    stack.push(w);
-                    on_stack[w as usize] = true;
-                    calls.push((w, 0));
+                    enter = Some(w);
                 } else if on_stack[w as usize] {
                     low[vu] = low[vu].min(index[w as usize]);
                 }

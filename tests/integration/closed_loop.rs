@@ -547,6 +547,22 @@ fn the_time_limit_ends_the_main_job_with_what_was_found() {
     assert!(!out.path().join("SynthesizedFB.json").exists());
 }
 
+/// The main job on Pick-and-Place's first scenario alone, into `out`.
+fn pnp_first1(nusmv: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "--ltl",
+        "specs/pnp.ltl",
+        "--plant",
+        "smv/pnp_surrogate.smv",
+        "--traces",
+        "specs/pnp_first/first1.traces",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    synth(nusmv, &args)
+}
+
 /// Recordings that never show an input value the properties read (Pick-and-Place's first
 /// scenario: no piece on track 2 or 3) are named before the synthesis and again when it gives
 /// up.
@@ -555,21 +571,7 @@ fn inputs_the_recordings_never_vary_are_named_when_the_time_runs_out() {
     let Some(n) = nusmv_or_skip() else { return };
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().join("r");
-    let o = synth(
-        &n.path,
-        &[
-            "--ltl",
-            "specs/pnp.ltl",
-            "--plant",
-            "smv/pnp_surrogate.smv",
-            "--traces",
-            "specs/pnp_first/first1.traces",
-            "--time-limit",
-            "0.5",
-            "--out",
-            dir.to_str().unwrap(),
-        ],
-    );
+    let o = pnp_first1(&n.path, &dir, &["--time-limit", "0.5"]);
     assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
     let err = text(&o.stderr);
     let named = "the recordings never show pp2 = TRUE (read by track2_served), pp3 = TRUE (read by track3_served)";
@@ -589,20 +591,7 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     let Some(n) = nusmv_or_skip() else { return };
     let out = tempfile::tempdir().unwrap();
     let dir = out.path().join("r");
-    let o = synth(
-        &n.path,
-        &[
-            "--json",
-            "--ltl",
-            "specs/pnp.ltl",
-            "--plant",
-            "smv/pnp_surrogate.smv",
-            "--traces",
-            "specs/pnp_first/first1.traces",
-            "--out",
-            dir.to_str().unwrap(),
-        ],
-    );
+    let o = pnp_first1(&n.path, &dir, &["--json"]);
     let err = text(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(err.contains("guide: the closed-loop game is won"), "{err}");
