@@ -4,7 +4,7 @@
 //! an error message ([`quote`], [`backquote`], [`cut`], [`message`] for another library's
 //! message, and [`around`] for a line with a caret under a column), never much longer than a
 //! line of a terminal. A file may hold one 50 MB token,
-//! and a message that echoed it whole once wrote 50 MB to stderr; every message that shows
+//! and a message that echoed it whole would write 50 MB to stderr; every message that shows
 //! user input goes through here, so none can.
 
 use std::fmt;

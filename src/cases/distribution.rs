@@ -44,8 +44,7 @@
 //! smv/distribution_surrogate.smv`).
 //!
 //! # What it showed
-//! `synth infer --noisy --max-errors 2 --enumerate 4 --traces specs/distribution_noisy.csv`
-//! (debug build, about 5 s):
+//! `synth infer --noisy --max-errors 2 --enumerate 4 --traces specs/distribution_noisy.csv`:
 //!
 //! | candidate | ε | C | K | T | N | replays the held-out runs |
 //! |---|---|---|---|---|---|---|
@@ -64,7 +63,7 @@
 //! business of the verified main job, not of trace correction.
 //!
 //! In two modules (the paper's Fig. 6): `synth infer --modules 2 --traces
-//! specs/distribution.csv` gives two 5-state modules (A = 12, N' = 10, 0.44 s) that together
+//! specs/distribution.csv` gives two 5-state modules (A = 12, N' = 10) that together
 //! replay all six use cases, but the split the objective prefers (least largest module) mixes
 //! lamps and actuators: `retract, vacuum_on, to_magazine` in one module, `vacuum_off,
 //! to_client, start_led, reset_led` in the other. Pinning gives the paper's split:
@@ -78,10 +77,10 @@
 //! ```
 //!
 //! that is, the HMI as a 3-state module over its three buttons and the station as a 7-state
-//! module (0.18 s; the monolithic minimum is C = 9, T = 13). `synth infer --noisy --max-errors
+//! module (the monolithic minimum is C = 9, T = 13). `synth infer --noisy --max-errors
 //! 2 --modules 2 --pin ...` on `specs/distribution_noisy.csv` runs both steps of the paper's
 //! toolchain: it corrects the traces, then distributes the chosen candidate (the first
-//! verified one with `--ltl/--plant`, else the first) into `modular/` (2.1 s, the same split;
+//! verified one with `--ltl/--plant`, else the first) into `modular/` (the same split;
 //! test `modular::distribution_station_splits_in_two_and_pins_give_the_hmi_module`). The
 //! composite is exact on its training logs but not on every held-out run (one diverges at
 //! step 9: the modules' guards are minimized for the recorded inputs only).
@@ -518,8 +517,9 @@ pub fn record(case: &UseCase) -> Vec<Sample> {
 /// probability `rate`, sample `k-1` gets the outputs of sample `k`. Returns the noisy samples
 /// and the number of errors injected. Seeded, so reproducible.
 ///
-/// Only errors of the seed's model are injected: a skew is skipped where the samples before
-/// `k-1` with the same inputs start with a transition (e.g. `start` pressed, then released):
+/// Only errors of the SAT reconstruction paper's error model are injected: a skew is skipped
+/// where the samples before `k-1` with the same inputs start with a transition (e.g. `start`
+/// pressed, then released):
 /// preprocessing would drop that transition together with the skewed sample, an error no
 /// alternative edge can undo.
 pub fn inject_skew(samples: &[Sample], rate: f64, seed: u64) -> (Vec<Sample>, usize) {

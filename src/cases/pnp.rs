@@ -142,7 +142,7 @@ pub enum PnpError {
     Unfinished { order: String, scans: usize },
 }
 
-/// An input track, 0-based inside (track `1` of the seeds is `Track(0)`).
+/// An input track, 0-based inside (track `1` of the papers is `Track(0)`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Track(pub usize);
 

@@ -5,7 +5,8 @@
 //! In: nothing but this file's constants (and a seed for the noisy plant). Out: simulated runs
 //! ([`simulate`]) of a reference program ([`Program::reference`]) on a plant ([`Plant`]), as
 //! scenario steps (one per PLC scan), as raw long-format data-flow logs with the PLC addresses
-//! of the seed ([`write_long_log`], [`MAP_TEXT`]), and the committed files ([`write_files`]).
+//! of the paper's case study ([`write_long_log`], [`MAP_TEXT`]), and the committed files
+//! ([`write_files`]).
 //!
 //! # Plant
 //! A tank of [`CAPACITY`] gallons with a binary inlet valve (`inlet`, `%QX0.0`) and a binary
@@ -60,13 +61,13 @@
 //! ```
 //!
 //! # Results
-//! Release build on the shared 2-core machine, NuSMV 2.5.4, three runs each:
+//! (Times in `BENCHMARKS.md`.)
 //!
-//! | program | scenarios | result | candidates | time | properties |
-//! |---|---|---|---|---|---|
-//! | 1 | 1 (600 steps) | C = 2, T = 2, N = 2 | 1 | 0.14-0.29 s | 5 of 5 hold |
-//! | 2 | 2 + 3 (1200 steps) | C = 8, T = 8, N = 8 | 1 | 0.42-0.48 s | 6 of 6 hold |
-//! | 2, raw logs via `ingest` + `infer` | 2 + 3 (261 steps) | C = 8, T = 8, N = 8 | - | 0.12 s (dev build) | 6 of 6 hold (`synth verify`) |
+//! | program | scenarios | result | properties |
+//! |---|---|---|---|
+//! | 1 | 1 (600 steps) | C = 2, T = 2, N = 2 | 5 of 5 hold |
+//! | 2 | 2 + 3 (1200 steps) | C = 8, T = 8, N = 8 | 6 of 6 hold |
+//! | 2, raw logs via `ingest` + `infer` | 2 + 3 (261 steps) | C = 8, T = 8, N = 8 | 6 of 6 hold (`synth verify`) |
 //!
 //! The machines are the reference programs up to state names: program 2's counter became the
 //! six states of the three drain/fill cycles, with guards `!ll`, `ul`, `!ml`. On 20 held-out

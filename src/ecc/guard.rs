@@ -102,7 +102,7 @@ impl Guard {
         }
     }
 
-    /// Number of variable occurrences (the guard size N of the seeds).
+    /// Number of variable occurrences (the guard size N of the papers).
     pub fn literal_count(&self) -> usize {
         match self {
             Guard::True | Guard::False => 0,

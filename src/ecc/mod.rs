@@ -58,7 +58,7 @@ pub enum Tri {
 }
 
 impl Tri {
-    /// The symbol of the JSON contract and the seeds: `0`, `1` or `x`.
+    /// The symbol of the JSON contract and the papers: `0`, `1` or `x`.
     pub fn symbol(self) -> char {
         match self {
             Tri::Zero => '0',
@@ -81,7 +81,7 @@ impl Tri {
 /// The output algorithm of a state, executed when the state is entered.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Algorithm {
-    /// One symbol per output from `{0, 1, x}` (the seeds' form).
+    /// One symbol per output from `{0, 1, x}` (the papers' form).
     Tri(Vec<Tri>),
     /// The public fbSAT tool's form: new value of output `z` is `a1[z]` if its old value was 1,
     /// else `a0[z]`. This can also express "flip" (`a0 = 1, a1 = 0`).
@@ -230,7 +230,7 @@ pub struct Ecc {
     pub states: Vec<State>,
 }
 
-/// Size figures of an ECC, as the seeds report them.
+/// Size figures of an ECC, as the papers report them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 pub struct Size {
     /// Number of states.
@@ -255,7 +255,7 @@ impl Ecc {
         &self.states[id.0]
     }
 
-    /// Its size as the seeds count it: states, largest out-degree, transitions, guard literals.
+    /// Its size as the papers count it: states, largest out-degree, transitions, guard literals.
     pub fn size(&self) -> Size {
         Size {
             c: self.states.len(),

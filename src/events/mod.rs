@@ -20,7 +20,7 @@
 //! 4. The stream is sliced into traces at the reset activity: an event that contains every
 //!    change of the reset activity starts a new trace (the reset is that trace's first event).
 //!
-//! Choices where the seed is silent:
+//! Choices where the process-mining paper is silent:
 //! - The first sample is compared with all signals `false`, the state the log formats assume
 //!   before the first row (the long format starts every signal at 0). A signal that is `true`
 //!   in the first sample therefore gives an event at the first timestamp.
@@ -68,11 +68,10 @@
 //! that counts its cycles wrongly.
 //!
 //! # Throughput
-//! Release build, 2-core Intel Xeon VM: a random long-format log of 10^7 rows (16 signals, each
-//! row toggling one, the timestamp advancing on about half of the rows, 178 MB) becomes
-//! 6,472,634 events in 277,845 traces in 16.9 s (0.59 M rows/s; writing the 1.7 GB of XES and
-//! 0.4 GB of CSV is the bottleneck), with a peak RSS of 4.5 MB, flat in the log length. The log
-//! and the run:
+//! Memory stays flat in the log length; writing the XES, about ten times the log's size, is
+//! the bottleneck. The benchmark log (10^7 rows, 16 signals, each row toggling one, the
+//! timestamp advancing on about half of the rows) and the run whose figures `BENCHMARKS.md`
+//! shows:
 //!
 //! ```text
 //! python3 - <<'EOF'

@@ -631,8 +631,8 @@ fn kill_group(child: &Child) {
 }
 
 /// The address space a NuSMV process may take: `FBSYNTH_NUSMV_MEMORY_MB` megabytes, by default
-/// half of the machine's memory. A plant with a huge range made NuSMV grow to 13.5 GB before
-/// the timeout ended it; with the cap it fails early and says it ran out of memory.
+/// half of the machine's memory. A plant with a huge range can make NuSMV grow past 10 GB
+/// before the timeout ends it; with the cap it fails early and says it ran out of memory.
 pub fn memory_cap() -> libc::rlim_t {
     let from_env = std::env::var("FBSYNTH_NUSMV_MEMORY_MB")
         .ok()

@@ -9,7 +9,7 @@
 //!
 //! Parallel over PLCs with rayon: each reconstruction is one SAT solver (and one NuSMV
 //! session), so `threads` PLCs run at once. Scaling beyond one machine is left to the engines
-//! built for it (see the README): a Spark or DataFusion job writes one Parquet partition per
+//! built for it: a Spark or DataFusion job writes one Parquet partition per
 //! PLC, and an array job of `synth batch` runs over partitions.
 
 use super::exact::{self, Certificate};

@@ -107,8 +107,8 @@ impl ClosedLoop {
             .collect();
         // Safety properties need no response bound: only as many steps past the environment
         // as their deepest `X`, for the step a counterexample violates to be read. Every step
-        // more is a copy of machine and plant in the solver (the Pick-and-Place loop with
-        // four scenarios went from not done in 90 s to about a minute without them).
+        // more is a copy of machine and plant in the solver (with the response bound's steps
+        // the Pick-and-Place loop from four scenarios takes far longer).
         if spec
             .properties
             .iter()

@@ -25,7 +25,7 @@
 //! priority, as in the modular synthesis of the same paper. The solver's machine is then the
 //! machine on *every* input vector, not only on the recorded ones, which the loop needs:
 //! counterexamples run on inputs nobody recorded. The loop starts at the tree-exact minimum,
-//! a proven lower bound on C and T in this model (it costs about 1 s on Pick-and-Place). Each
+//! a proven lower bound on C and T in this model. Each
 //! candidate is composed with the plant and checked by one long-lived `NuSMV -int` session
 //! ([`crate::verify::Verifier`]). A violated safety property `G p` yields the finite prefix up
 //! to the first state where `p` fails; any other property yields a lasso, whose loop point is
@@ -34,21 +34,17 @@
 //! ([`crate::sat::negative`]), and the loop goes on on the same solver. Every "verified" comes
 //! from NuSMV.
 //!
-//! # Measured (see the README's benchmark table for the commands)
-//! - Pick-and-Place, main job (`synth bench`, three runs): 3 candidates, C 8, T 13, N 18,
-//!   2.5-2.6 s in all. The first candidate fails three liveness properties; the in-process
-//!   checker's lasso becomes a negative scenario, the second candidate is verified by NuSMV
-//!   (0.1-0.2 s), and the final pass (0.5 s budget) finds nothing smaller. For comparison, the
-//!   verification-in-the-loop paper's search needed 164 / 563 / 1575 s (min / mean / max) on
-//!   16 cores.
+//! # Results
+//! - Pick-and-Place, main job: C 8, K 5, T 13, N 18 in three candidates. The first fails
+//!   liveness properties; the in-process checker's lasso becomes a negative scenario, NuSMV
+//!   verifies the next one, and the final pass finds nothing smaller.
 //! - fbSAT's Pick-and-Place scenario sets with `binary` algorithms: with `--start-state` the
 //!   published minimal sizes come out exactly (tests-1: C 6, T 8; tests-10: C 8, T 15). Without
 //!   it one state fewer is enough (tests-1: C 5, T 7; tests-10: C 7, T 12): fbSAT's initial
 //!   state is a dedicated start state that emits `INITO` and is never re-entered, while here
-//!   state 0 is an ordinary state that transitions may return to. The targets were minimal C
-//!   and T for tests-10 in under 2 s and tests-39 in under 10 s (measured: 0.187 s and 0.362 s
-//!   median with the start state); the fbSAT tool took 3.2 s for tests-10 on its authors'
-//!   machine.
+//!   state 0 is an ordinary state that transitions may return to.
+//!
+//! Times, and the commands that reproduce them, are in `BENCHMARKS.md`.
 
 use super::cegis::{self, Iteration};
 use super::{Check, Error, Event, Events};
@@ -98,9 +94,8 @@ impl Default for Options {
 }
 
 /// The default of [`Options::proof_budget`].
-/// Proving the literal count minimal in closed loop usually takes longer than the whole
-/// synthesis (Pick-and-Place: N = 18 in 19 s, after 1.7 s for the machine), so by default the
-/// final pass only looks briefly for a smaller machine.
+/// Proving the literal count minimal in closed loop usually takes far longer than the whole
+/// synthesis, so by default the final pass only looks briefly for a smaller machine.
 pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The out-degree bound of the closed-loop guard model when none is given.

@@ -21,9 +21,8 @@
 //! The result is least (C, then T, then N) for the recordings *and the runs*; a smaller
 //! machine that answers differently where nothing was recorded is not ruled out.
 //!
-//! Measured (Pick-and-Place, `specs/pnp.ltl`, release build, see the README): from its first
-//! scenario alone C 8, K 3, T 17, N 40 in 4.4 s (the game 3.1 s); from its first two, C 9 in
-//! 10.4 s.
+//! Pick-and-Place (`specs/pnp.ltl`) from its first scenario alone gives C 8, K 3, T 17, N 40;
+//! from its first two, C 9, K 5, T 21, N 48. Times are in `BENCHMARKS.md`.
 
 use super::exact::Certificate;
 use super::{Check, Error, Event, Events};

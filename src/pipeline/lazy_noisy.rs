@@ -8,8 +8,9 @@
 //!
 //! # Why
 //! The whole-log encoding spends its time in UNSAT proofs over every trace (no machine with
-//! `C-1` states, `K-1`, `T-1`, `ε-1` errors): on 10^5 samples of the distribution station the
-//! sizes alone took 14 minutes. Most traces repeat what a few already show.
+//! `C-1` states, `K-1`, `T-1`, `ε-1` errors), and they grow much faster than the log: on 10^5
+//! samples of the distribution station the sizes alone do not end within minutes. Most traces
+//! repeat what a few already show.
 //!
 //! # How
 //! 1. The part starts as a few traces that show every kind of step the log shows, up to
@@ -40,9 +41,10 @@
 //!    windows leave (`widen_short_segments`); those still short are given two things in
 //!    the next proof:
 //!    - *context*: traces the machine explains as recorded count for nothing in the sum, yet
-//!      pin the machine down. Each group that falls short takes some (shared evenly, each used
-//!      once, so the groups stay disjoint); a segment that falls short becomes the prefix of
-//!      its trace up to its end, so that it starts in the initial state, like the context.
+//!      pin the machine down. Each group that falls short takes some (the longest first, about
+//!      one trace each, each used once, so the groups stay disjoint); a segment that falls
+//!      short becomes the prefix of its trace up to its end, so that it starts in the initial
+//!      state, like the context.
 //!      Once those traces are used up, a trace whose segments are all proven lends the steps
 //!      before the window that proved its first one: they are rooted and need no correction
 //!      either, and the bound of that segment holds on its window alone;
@@ -55,15 +57,7 @@
 //!    of whole traces pairwise, the last one with the part. If even that falls short, another
 //!    machine needs fewer corrections, and the whole log is encoded after all.
 //!
-//! Measured with `synth bench-noisy` (README): 10^4 samples 72.5 s whole, 27 s in parts;
-//! 10^5 samples, not finished in 14 minutes whole; in parts 135-173 s with joins alone
-//! (first pass over 340 segments, then 5 rounds joining the 59 that fell short), 97-104 s with
-//! context and known bounds (one round; about 25 s sizes, 30 s first pass, 37 s that round).
-//! 10^6 samples: 915 s with correction-free traces as the only context (7 rounds of joins once
-//! they were used up), 674 s with free prefixes lent after them. With the first part picked
-//! by the kinds of step it shows (one part round), bounds of repeated windows remembered, short
-//! segments widened first and one trace of context each: 10^5 in 50 s (sizes 7 s), 10^6 in
-//! 439 s.
+//! Times, and the commands that reproduce them, are in `BENCHMARKS.md`.
 //!
 //! The machine is replayed on its corrected traces before it is returned, as every candidate.
 
@@ -203,8 +197,9 @@ type Seen<'a> = (&'a [bool], &'a [bool], Option<&'a [bool]>);
 /// made for them then fails on the traces that do, which costs a second part round. On 10^5
 /// samples of the distribution station the first 128 active steps (3 traces) left 28 traces
 /// unexplained; four traces picked so show 46 of the log's 47 step kinds, their machine
-/// explains every trace, and the sizes took 7 s instead of 15-21 s. A fifth trace for the
-/// last kind made them 18 s: a kind one trace adds alone is often one skewed step.
+/// explains every trace, and the sizes take half the time or less. A fifth trace for the
+/// last kind would more than double it again: a kind one trace adds alone is often one skewed
+/// step.
 fn first_part(set: &ScenarioSet, distinct: &[usize], max_nodes: usize) -> Vec<usize> {
     let seen: Vec<HashSet<Seen<'_>>> = distinct
         .iter()
@@ -950,10 +945,9 @@ fn least_proven(
             // bounded again with the corrections it has, an exact-consistency proof where
             // joining two short groups needs a proof of two corrections.
             // The longest first, and only as many as CONTEXT_STEPS asks: one whole trace
-            // usually. Shared out evenly instead (half the pool over the short groups, 150
-            // steps at least), every proof was longer and no more of them held: on 10^5
-            // samples the round took 28.6 s against 21.4 s, on 10^6 285 s against 254 s,
-            // proving 3,287 corrections of 3,382 against 3,370.
+            // usually. An even share of the pool (half of it over the short groups, 150 steps
+            // at least) makes every proof longer and proves no more bounds: on 10^5 samples
+            // the round takes a third longer.
             for a in short {
                 let mut pieces = a.pieces.clone();
                 let mut steps = 0;

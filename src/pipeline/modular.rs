@@ -55,21 +55,11 @@
 //! - `N.modules.json`: per module its type name, inputs, outputs, states, transitions, guard
 //!   literals, and the three minimized figures.
 //!
-//! # Measured: `synth bench-modular --traces specs/pnp.traces --runs 3`
-//! The project's Pick-and-Place scenarios (10 scenarios, 566 steps, 147 tree nodes, 10 inputs,
-//! 7 outputs), K = 3, release build, on the 2-core machine with a load average of about 4-5
-//! (an earlier run under heavier load took about twice as long: read the times as upper bounds):
-//!
-//! | M | largest module | A | N' | transitions | variables | clauses | solver calls | time min / median / max (s) |
-//! |---|---|---|---|---|---|---|---|---|
-//! | 1 | 9 | 8 | 9 | 17 | 24350 | 340332 | 13 | 0.49 / 0.49 / 0.50 |
-//! | 2 | 5 | 14 | 10 | 23 | 20560 | 220766 | 13 | 1.04 / 1.28 / 1.28 |
-//! | 3 | 4 | 15 | 11 | 21 | 10344 | 93755 | 22 | 0.91 / 0.91 / 1.26 |
-//! | 4 | 3 | 20 | 12 | 26 | 13816 | 125228 | 23 | 0.29 / 0.43 / 0.60 |
-//!
-//! Times include the clean-up and the replay; variables and clauses are summed over the
-//! encodings built (the window of states per module starts at 4 and doubles when exhausted).
-//! Sizes and decompositions are deterministic; only times vary. M = 2 puts `c1Extend`,
+//! # Pick-and-Place
+//! On the project's scenarios (`specs/pnp.traces`: 10 scenarios, 566 steps, 10 inputs, 7
+//! outputs), K = 3, M = 1..4 give largest modules of 9, 5, 4 and 3 states, A = 8, 14, 15, 20
+//! and N' = 9, 10, 11, 12 (`synth bench-modular --traces specs/pnp.traces`; sizes and
+//! decompositions are deterministic, times are in `BENCHMARKS.md`). M = 2 puts `c1Extend`,
 //! `c1Retract`, `c2Retract` and `vcExtend` in one module (5 states, 7 inputs) and `c2Extend`
 //! with `vacuum_on`/`vacuum_off` in the other (5 states, 7 inputs); from M = 3 on the vacuum is
 //! a module of its own reading `vcEnd` (and `vac` at M = 4). The largest module falls from 9
@@ -78,21 +68,19 @@
 //! In closed loop, the M = 2 composite with `smv/pnp_surrogate.smv` and `specs/pnp.ltl` is
 //! accepted by NuSMV and 6 of the 8 properties hold: modular synthesis learns from the
 //! scenarios only. [`run_verified`] closes the loop: `synth infer --modules 2 --traces
-//! specs/pnp.traces --ltl specs/pnp.ltl --plant smv/pnp_surrogate.smv` checked 11 composites
-//! (the first failing 2 properties) and ended with one NuSMV verifies (largest module 6
-//! states, A = 16, N' = 12; 111 s on this machine, 66 s of it NuSMV printing a
-//! counterexample for every violated property, which saves composites: one per round took
-//! 40 composites and 168 s).
+//! specs/pnp.traces --ltl specs/pnp.ltl --plant smv/pnp_surrogate.smv` checks composites (the
+//! first failing 2 properties) until NuSMV verifies one (largest module 6 states, A = 16,
+//! N' = 12). NuSMV prints a counterexample for every violated property in each round, which
+//! takes fewer rounds than one counterexample per round.
 //!
 //! # Limits
 //! Guards inside the encoding make the search harder than the tree-exact monolithic model, the
 //! more so with more inputs and more irregular recordings (`synth infer --time-limit` bounds a
 //! run). On the structured Pick-and-Place recordings every M takes about a second; on a
 //! synthetic instance of two *random* machines over 11 inputs (3 + 6 states, inputs flipping
-//! at random, 8 recordings of 25 steps, 104 tree nodes) M = 2 took 48 s (12 s to find the
-//! largest module, the rest proving A and N' minimal), and 8 recordings of 50 steps did not
-//! finish in 100 s. A coverage constraint (every transition fired by a recording, as in the
-//! paper) did not help there and is not used.
+//! at random, 8 recordings of 25 steps) M = 2 takes tens of seconds, most of it proving A and
+//! N' minimal, and longer recordings take minutes. The paper's coverage constraint (every
+//! transition fired by a recording) is not used: it does not make such instances faster.
 
 use super::{Error, Event, Events};
 use crate::sat::modular::synthesize_modular;

@@ -35,8 +35,7 @@
 //!   T (one minimized guard per transition), then every distinct minimal machine by
 //!   increasing ε, each edge choice blocked once found. The least ε is found by descending
 //!   from a model's error count (a few SAT calls and one UNSAT proof) rather than by climbing
-//!   from 0, which spent one UNSAT proof per value below it: on the 10^4-sample benchmark log
-//!   enumeration went from 48.8 s (98.8 s wall, 60.5 CPU s in all) to 1.9 s.
+//!   from 0, which would cost one UNSAT proof per value below it.
 //! - Every candidate is replayed by the simulator on its corrected traces before it is
 //!   written. With a check, the verified machine is replayed on its corrected traces too
 //!   (the loop replays every machine it returns); `synth infer` exits 3 if no correction has
@@ -49,31 +48,15 @@
 //! `--max-errors` at or a little above the expected error count the size is right, and the
 //! error totalizer stays small (its size grows with alternatives times bound).
 //!
-//! # Measured: `synth bench-noisy`
-//! Distribution-station logs of random use cases (seed 1; 1 to 3 rounds of loading 1 to 8
-//! pieces, start, sometimes emergency, stop; one log per use case, the last one cut so the
-//! total is exact), skew injected at rate 0.02 (seeded per log), `--max-errors` = the number
-//! injected (`--error-bound` scales it), one candidate. Release build, 2026-11-22, on the 2-core
-//! machine shared with three other builders (wall times inflated by up to 2x):
-//!
-//! | samples | steps | graph nodes | alternatives | injected | C K T | least ε | clauses | C, K, T s | enumerate s | total s (wall) |
-//! |---|---|---|---|---|---|---|---|---|---|---|
-//! | 10^3 | 434 | 253 | 252 | 4 | 9 3 12 | 4 | 0.45 M | 9.3 | 3.7 | 13.0 |
-//! | 10^4 | 4 676 | 2 554 | 2 553 | 36 | 9 3 12 | 36 | 4.6 M | 70.6 | 1.9 | 72.5 |
-//! | 10^5 | n/a | 24 102 | 24 101 | n/a | 9 3 12 | not reached | n/a | 833.9 | not reached | killed at 840 |
-//!
-//! The first two rows ran in one process (47.6 CPU s, 1:25.6 wall, peak RSS 107 MB). The 10^5
-//! run was stopped by `timeout 840` (766.9 CPU s, peak RSS 1.39 GB) right after C = 9 (at
-//! 410 s), K = 3 and T = 12 (at 833.9 s) had been proven; the least ε and the candidate did not
-//! fit. The encoding is linear in the log (one node per active step, about 1.8 k clauses per
-//! node for this 10-input, 7-output station at C = 9; variables and clauses grow 8-10x per 10x
-//! samples), the solving is not: from 10^3 to 10^4 samples time grows about 6x, and from 10^4
-//! to 10^5 the minimization of C, K, T alone grows 12x (70.6 s to 833.9 s) and memory 13x.
-//! Most of the time goes into the UNSAT proofs of the minimization (no machine with C-1
-//! states, K-1, T-1), each over the whole log. That is why logs of
-//! [`lazy_noisy::LAZY_FROM_NODES`] graph nodes or more are now taken in parts
-//! ([`lazy_noisy`]): the proofs run on a few traces and on one segment per correction, and
-//! 10^5 samples take 172 s (10^4: 33.7 s), with the same C, K, T and least ε.
+//! # Large logs
+//! The encoding is linear in the log (one node per active step, about 1.8 k clauses per node
+//! for the 10-input, 7-output distribution station at C = 9); the solving is not. Most of the
+//! time goes into the UNSAT proofs of the minimization (no machine with C-1 states, K-1, T-1),
+//! each over the whole log, and they grow faster than the log: whole, 10^5 samples do not get
+//! past the sizes within minutes. That is why logs of [`lazy_noisy::LAZY_FROM_NODES`] graph
+//! nodes or more are taken in parts ([`lazy_noisy`]): the proofs run on a few traces and on
+//! one segment per correction, with the same C, K, T and least ε. `synth bench-noisy`
+//! measures it on generated distribution-station logs; its figures are in `BENCHMARKS.md`.
 
 use super::exact::{self, Exact};
 use super::lazy_noisy;
@@ -127,9 +110,10 @@ impl Noisy {
 /// The log alone does not say which correction is right: on the shipped distribution log the
 /// ε = 1 correction reads a real transition as a glitch, and its closed loop still finds a
 /// verified machine (one that diverges on a held-out recording). The corrections are tried
-/// in the order of the seed's Algorithm 1, sizes first and errors last, with the guards'
-/// literal count among the sizes: least C, K, T, then N of the correction's own minimal
-/// machine, then least ε. The first whose closed loop gives a verified machine is the result.
+/// in the order of the SAT reconstruction paper's Algorithm 1, sizes first and errors last,
+/// with the guards' literal count among the sizes: least C, K, T, then N of the correction's
+/// own minimal machine, then least ε. The first whose closed loop gives a verified machine is
+/// the result.
 /// On that log it is the ε = 2 correction whose machine needs 13 literals where the others
 /// need 14 and 15, the right one. The order depends on the recordings only (every size is
 /// proven), not on the closed loop's timing.

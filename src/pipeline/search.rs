@@ -48,54 +48,37 @@
 //!   cached by machine. Either way NuSMV alone judges the machine a run ends with.
 //! - Algorithm ([`crate::search::algorithm`]): pMuACO-style parallel search: 4 colonies, each a
 //!   (1+8) evolution strategy with neutral moves, 25 generations per round, sharing their best
-//!   between rounds (a colony stagnating 10 rounds restarts from the elite or from a random
-//!   machine). Verification terms are recomputed with probability `p`, else inherited from the
-//!   parent, and always when the scenario part exceeds 99 % of its maximum. Each colony has its
-//!   own ChaCha generator seeded from `(seed, colony)`: the same seed gives the same machine
-//!   whatever the number of threads (when the run ends on a solution, not on the clock).
+//!   between rounds (a colony stagnating 10 rounds restarts from the elite; from random starts,
+//!   after 100 rounds or 400 verifications, from a fresh random machine). Verification terms
+//!   are recomputed with probability `p`, else inherited from the parent, and always when the
+//!   scenario part exceeds 99 % of its maximum. Each colony has its own ChaCha generator
+//!   seeded from `(seed, colony)`: the same seed gives the same machine whatever the number of
+//!   threads (when the run ends on a solution, not on the clock).
 //!
 //! # Beyond the papers
-//! - Counterexample replay: every counterexample is kept by its colony as a negative scenario.
-//!   A child that still follows one violates that property for sure and gets that verdict
-//!   without a NuSMV run. Measured during development on configuration 3 of Table I (3 runs
-//!   each, 60 s limit; steps not isolated, so indicative only): no replay, p = 0.001, debug
-//!   build: 0/3 solved; replay of the parent's counterexamples only, release: 0/3 (about 20
-//!   NuSMV runs/s, about 1,000 saved per run); replay of every counterexample the colony has
-//!   seen, release (the shipped version): 2/3 solved, in 1.3 s and 7.7 s. `--no-replay`
+//! - Counterexample replay: every counterexample is kept by its colony as a negative scenario
+//!   (the 64 newest). A child that still follows one violates that property for sure and gets
+//!   that verdict without a model-checker run, which saves most of them. `--no-replay`
 //!   switches it off for `experiment table1`.
-//! - `p = 0.001` by default instead of the paper's 0.99 ("a small probability" in its text):
-//!   here a scenario evaluation costs about 12–25 µs and a NuSMV run 50–2000 ms, a ratio of
-//!   10^4 against the paper's ~10.
+//! - The probability `p` of judging a child is 0.01 with the in-process judge and 0.001 with
+//!   NuSMV, instead of the paper's 0.99 ("a small probability" in its text): here a scenario
+//!   evaluation costs microseconds and a NuSMV run tens to thousands of milliseconds, a ratio
+//!   of about 10^4 against the paper's ~10.
 //! - [`Start::Sat`] (the main job's default) starts every colony from the minimal machine SAT
 //!   finds for the scenarios alone; the search then only has to make the properties hold.
 //!
-//! # Measured (2-core Intel Xeon VM, release build, NuSMV 2.5.4)
-//! - Main job with `--method search --seed 1` (idle machine, 2026-11-22, twice): verified, all
-//!   8 properties, 10 scenarios; C 8, K 13, T 50, N 160; 93.0 s and 97.1 s (the SAT start,
-//!   13.6 s, is the scenarios-only machine C 8, T 13 of the cube guard model, which violates 2
-//!   of the 8 properties; then 13,566 evaluations and 69 NuSMV runs). Both runs wrote
-//!   byte-identical `SynthesizedFB.json`. The SAT main job gives C 8, T 13, N 18 in about 12 s:
-//!   on this case SAT is both faster and much smaller.
-//! - Table I of the verification-in-the-loop paper (figures in the README). From SAT's machine
-//!   for the scenario (C 6, T 9, found in 0.2 s; it violates `track1_served`) the paper's
-//!   qualitative result shows: scenarios alone never give `G (pp1 -> F vp1)`
-//!   (`track1_served` 0/10, the safety properties 10/10), with the LTL terms every run ends
-//!   verified; configuration 1 is immediate because SAT's machine already reproduces the
-//!   scenario. From random machines with 60 s per run: configuration 1 satisfies
-//!   `track1_served` in 1/10 runs (the safety properties only in 5/10, because transitions on
-//!   inputs the scenario never shows are left free), configurations 2 and 3 finish 3/10 and
-//!   4/10, every finished run satisfying every property, and the counterexample term helps as
-//!   in the paper. But on 2 cores within 60 s only 30-40 % of the random-start runs finish; the
-//!   paper's runs took up to 28 min on 16 cores, a budget not affordable here (an earlier 45 s
-//!   measurement, taken while other builds ran, solved 2/10 and 3/10). So from random starts
-//!   "configurations 2 and 3 always succeed" is not reproduced in this budget; from the SAT
-//!   start it is.
-//! - `synth bench-search` (`specs/pnp.traces`, 8-state machines as the search produces them,
-//!   idle machine, 2026-11-22): 131,631 scenario-fitness evaluations/s on 1 thread, 146,625 per
-//!   thread on 2 (293,250 in all); 85,376 on 1 thread on the shared machine during development.
-//!   The target was 10,000 per thread; before the bit-parallel edit distance it was 10,244/s.
-//!   Inside the search (with mutation, cloning and bookkeeping) the scenarios-only run on all
-//!   ten scenarios reached about 65,000–83,000 evaluations/s on 2 threads.
+//! # Results
+//! - Main job with `--method search --seed 1`: the same seed gives the same machine. The
+//!   search's machine is larger than SAT's (transition groups give many transitions); made
+//!   small along the closed loop and then undercut by the exact loop, it ends at SAT's size.
+//! - Table I of the verification-in-the-loop paper (`synth experiment table1`). From SAT's
+//!   machine for the first scenario (C 6, T 9; it violates `track1_served`) the paper's
+//!   qualitative result shows: scenarios alone never give `G (pp1 -> F vp1)`, with the LTL
+//!   terms every run ends verified; configuration 1 is immediate because SAT's machine already
+//!   reproduces the scenario. From random machines configurations 2 and 3 solve every run
+//!   within the 60 s limit on 2 cores, where the paper's runs took up to 28 min on 16.
+//!
+//! Times, evaluation rates and the commands that reproduce them are in `BENCHMARKS.md`.
 
 use super::{Check, Error, Event, Events};
 use crate::ecc::Ecc;
@@ -112,7 +95,7 @@ use std::time::{Duration, Instant};
 /// Where the colonies start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Start {
-    /// Random machines (the seeds' method).
+    /// Random machines (the method of the metaheuristic and verification-in-the-loop papers).
     Random,
     /// The minimal machine SAT finds for the scenarios alone (verification left to the search).
     Sat,
@@ -368,11 +351,10 @@ pub fn run(
 
 /// How colonies restart: near the start machines when there are some, else from fresh
 /// random machines, each colony's try ending after 100 rounds or 400 verifications without
-/// improvement. Table I from random starts, 10 seeds per configuration, in-process verdicts:
-/// restarting at the shared best after 10 rounds solved configuration 3 in 2 of 4 runs
-/// within 60 s; fresh machines after 10 rounds: 10 of 10, but up to 60 s; after 40 rounds 19
-/// of 20 in both configurations; after 100 rounds 19 of 20, the miss spending its minute on a
-/// plateau where every round verified 800 children (about 1.2 s a round).
+/// improvement. From random starts the shared best is a poor place to go back to (see
+/// [`search::Restart::Random`]); a colony needs many rounds to leave a start behind, so an
+/// early restart throws away tries that were about to succeed; and the verification count
+/// ends a try stuck on a plateau where every round verifies hundreds of children.
 fn restarts(initial: &[Machine]) -> search::Config {
     if initial.is_empty() {
         search::Config {

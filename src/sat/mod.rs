@@ -26,8 +26,10 @@
 //! - [`basic`], [`noisy`], [`modular`]: the three encodings' minimization loops.
 //!
 //! # References
-//! - The SAT reconstruction paper (the project's seed paper, see the README): Algorithm 1, noisy traces (section
-//!   IV), modular synthesis (section V).
+//! - D. Chivilikhin, S. Patil, K. Chukharev, A. Cordonnier, V. Vyatkin. Automatic state machine
+//!   reconstruction from legacy PLC using data collection and SAT solver. IEEE Transactions on
+//!   Industrial Informatics 16(12), 2020 ("the SAT reconstruction paper"): Algorithm 1, noisy
+//!   traces (section IV), modular synthesis (section V).
 //! - V. Ulyantsev, I. Zakirzyanov, A. Shalyto. BFS-based symmetry breaking predicates for DFA
 //!   identification. LATA 2015 (the BFS families).
 //! - O. Bailleux, Y. Boufkhad. Efficient CNF encoding of Boolean cardinality constraints.

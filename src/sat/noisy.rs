@@ -13,12 +13,12 @@
 //! do not depend on which label an edge carries. What does is written here, one function per
 //! family:
 //! - [`selection`]: `e[a]` (one per alternative `a`) chooses the alternative edge over the
-//!   recorded one. The seed's `e_{u,v,g}` with ALO/AMO over the two edges of a pair is exactly
+//!   recorded one. The paper's `e_{u,v,g}` with ALO/AMO over the two edges of a pair is exactly
 //!   one Boolean: `e[a]` for the alternative, `!e[a]` for the recorded edge.
-//! - [`selected_edges`]: the seed's `c[u,n1] & c[v,n2] & e_{u,v,g} -> y[n1,g,n2]`, plus the
+//! - [`selected_edges`]: the paper's `c[u,n1] & c[v,n2] & e_{u,v,g} -> y[n1,g,n2]`, plus the
 //!   propagation `c[u,n1] & e_{u,v,g} & y[n1,g,n2] -> c[v,n2]`.
 //! - [`no_unselected_transitions`]: a transition exists only on an input where a *selected*
-//!   edge leaves a node of its colour (the tree-exact model's rule; the seed makes uncovered
+//!   edge leaves a node of its colour (the tree-exact model's rule; the paper makes uncovered
 //!   transitions self-loops instead, ours do not exist, which the project's ECC semantics
 //!   writes as "nothing fires").
 //! - the cardinality constraint (3), `card({e[a]}, ε)`, is a [`Totalizer`] over the `e[a]`.
@@ -178,14 +178,14 @@ fn edges_into(graph: &TraceGraph, e: &[Lit], w: NodeId) -> Vec<(InputVec, Option
     }
 }
 
-/// Selected active edges become transitions (the SAT reconstruction paper, IV.B), in a compact form of the seed's
-/// `c[u,n1] & c[v,n2] & e_{u,v,g} -> y[n1,g,n2]`:
+/// Selected active edges become transitions (the SAT reconstruction paper, IV.B), in a
+/// compact form of the paper's `c[u,n1] & c[v,n2] & e_{u,v,g} -> y[n1,g,n2]`:
 /// - `c[p,q] & sel -> !y[q,g,⊥]` (something fires), and
 /// - `c[p,q] & sel & y[q,g,q'] -> c[w,q']` (and it enters the child's colour),
 ///
 /// where `sel` is `!e[a]` for the recorded edge, `e[a]` for the alternative, and true for an
 /// edge without alternative. Together with "exactly one target per `(q, g)`" and "exactly one
-/// colour per node" they imply the seed's clause: the target is not `⊥`, and any target other
+/// colour per node" they imply the paper's clause: the target is not `⊥`, and any target other
 /// than `c[w]`'s colour would give `w` a second colour. `C` + `C²` clauses per edge instead of
 /// `2·C²`, which matters on logs of 10^5 samples.
 pub fn selected_edges(f: &mut impl ExtendFormula, v: &Vars, graph: &TraceGraph, e: &[Lit]) {
@@ -369,7 +369,7 @@ pub fn synthesize_noisy(
     let kind = opts.algorithms;
     let err_bound = |enc: &NoisyEncoding| opts.max_errors.and_then(|m| enc.errors.at_most(m));
 
-    // 1. least N. One encoding per N, for exactly N states (the seed's findModel(T, N)):
+    // 1. least N. One encoding per N, for exactly N states (the paper's findModel(T, N)):
     // an encoding with spare states leaves the solver symmetric choices that slow down every
     // later call far more than re-encoding costs.
     let (c0, k0, t0_) = opts.at_least.unwrap_or((1, 1, 0));
@@ -482,7 +482,7 @@ pub fn synthesize_noisy(
         },
     );
     // The descent's last model is the first candidate: found again after the UNSAT proof
-    // below it, it cost a call as long as the proof (3 s of 20 on a part of 10^5 samples).
+    // below it, it would cost a call as long as the proof.
     let mut first = Some(last);
     progress(Step::Minimal {
         bound: Bound::Errors,

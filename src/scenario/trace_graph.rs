@@ -4,7 +4,7 @@
 //! In: a [`ScenarioSet`] whose scenarios may be noisy (steps from
 //! [`csvlog::samples_to_steps`](super::csvlog::samples_to_steps) or any scenario file).
 //! Out: a [`TraceGraph`]: one chain per *distinct* scenario, all chains hanging from one shared
-//! root (every trace starts in the initial state with the initial outputs, so the seed's
+//! root (every trace starts in the initial state with the initial outputs, so the paper's
 //! per-trace roots, all coloured 0, are one node here), and the list of [`Alternative`] edges.
 //!
 //! # Layout
@@ -13,7 +13,7 @@
 //! *recorded* input, and passive steps as passive marks on the node they leave unchanged
 //! (exactly as in the tree: a passive step does not change state or outputs). Unlike a tree
 //! built by [`ScenarioTree::build`], nothing is merged beyond the root, so a node may have two
-//! children on one input (the noise the seed speaks of); the SAT encoding decides which edges
+//! children on one input (the noise the paper speaks of); the SAT encoding decides which edges
 //! are real.
 //!
 //! # Error model (scan-cycle skew)

@@ -11,7 +11,7 @@
 //!   "no CNF") and `n` the number of steps;
 //! - `F_fe = i / n` for the first step `i` where they differ (`1` without error);
 //! - `F_sc = 1 - changes / steps`, over all scenarios, where a change is a step that enters a
-//!   state other than the current one (the seeds want fewer; they give no normalization).
+//!   state other than the current one (the papers want fewer; they give no normalization).
 //!
 //! The verification terms: `F_sat` = share of properties that hold; `F_ce = 1` when all hold,
 //! else `1 - 1/(1 + l/10)^(1/10)` with `l` the longest counterexample (the verification-in-the-loop paper).

@@ -10,16 +10,16 @@
 //! `C = {0: M10 + M00, 1: M01 + M11, x: M00 + M11}`, the number of counted steps each symbol
 //! reproduces.
 //!
-//! The seed's relation is `C = {0: M10, 1: M01, x: M00 + M11}`. It cannot label a state that
+//! The paper's relation is `C = {0: M10, 1: M01, x: M00 + M11}`. It cannot label a state that
 //! is entered both from `0` and from `1` and must set `0` (or `1`): `0 -> 0` steps vote for
-//! `x` although `0` reproduces them too. On the first Pick-and-Place scenario the seed's rule
+//! `x` although `0` reproduces them too. On the first Pick-and-Place scenario the paper's rule
 //! gives the minimal machine SAT finds `F_ed = 0.75` instead of 1, and the search stalled on
 //! exactly such a plateau; the relation above reproduces every step any symbol can.
 //!
 //! Two adaptations to this project's scenarios, which record passive steps (no `CNF`): only
 //! steps where the recording *and* the machine produce `CNF` are counted (a passive step has no
 //! new output values to learn from), and a step whose outputs did not change at all counts as
-//! "unchanged" for every output (the seed skips it; with `CNF` it is evidence for `x`). Ties go
+//! "unchanged" for every output (the paper skips it; with `CNF` it is evidence for `x`). Ties go
 //! to `x`, then `0`: a state never entered keeps everything.
 
 use super::data::{ScenarioData, PASSIVE};
@@ -169,7 +169,7 @@ mod tests {
         assert_eq!(decide([0, 0, 2, 2]), Tri::Keep);
         assert_eq!(decide([2, 2, 0, 0]), Tri::Zero);
         assert_eq!(decide([0, 0, 0, 0]), Tri::Keep);
-        // The seed's relation would say `x` here (3 unchanged against 1 fall); `0`
+        // The paper's relation would say `x` here (3 unchanged against 1 fall); `0`
         // reproduces all four steps, `x` three.
         assert_eq!(decide([1, 0, 3, 0]), Tri::Zero);
         assert_eq!(decide([0, 1, 0, 3]), Tri::One);

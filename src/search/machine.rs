@@ -6,10 +6,10 @@
 //! algorithms from [`super::labeling`], the project's [`Ecc`] ([`Machine::to_ecc`]) that every
 //! exporter, the simulator and the verifier take.
 //!
-//! A [`Group`] has a set of significant inputs (the seed's significance mask, kept as the sorted
+//! A [`Group`] has a set of significant inputs (the paper's significance mask, kept as the sorted
 //! list of significant [`InputId`]s) and a table with one optional target per assignment of
 //! them. The entry index reads the significant inputs as a binary number, the first
-//! significant input being the most significant bit (the seed's `(x0, x1, x2, x3) = 0101 -> 5`).
+//! significant input being the most significant bit (the paper's `(x0, x1, x2, x3) = 0101 -> 5`).
 //! On `REQ` the groups of the current state are tried in order; the first whose entry for the
 //! input vector is present fires. In the [`Ecc`] every present entry becomes one transition
 //! guarded by the conjunction of all significant literals, in group order then entry order,
@@ -21,9 +21,9 @@ use rand::Rng;
 /// A transition group of one state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Group {
-    /// Significant inputs, ascending (the seed's mask `m_t`).
+    /// Significant inputs, ascending (the paper's mask `m_t`).
     pub vars: Vec<InputId>,
-    /// `2^vars.len()` entries: the target for that assignment, or `None` (the seed's `-1`).
+    /// `2^vars.len()` entries: the target for that assignment, or `None` (the paper's `-1`).
     pub table: Vec<Option<StateId>>,
 }
 
@@ -290,7 +290,7 @@ mod tests {
     #[test]
     fn entry_index_reads_the_first_significant_input_as_the_high_bit() {
         let g = Group::empty(vec![InputId(3), InputId(0), InputId(1), InputId(2)]);
-        // x0..x3 = 0101 -> entry 5, as in the seed's example.
+        // x0..x3 = 0101 -> entry 5, as in the paper's example.
         let x = input_bits(&[false, true, false, true]);
         assert_eq!(g.index(x), 5);
         assert_eq!(

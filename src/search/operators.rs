@@ -6,7 +6,7 @@
 //! `false` (and leaves the machine as it was) when it has nothing to act on.
 //!
 //! Every operator keeps the invariants of [`Machine::validate`]; none changes the number of
-//! states (the seeds search a fixed number of states).
+//! states (the metaheuristic paper searches a fixed number of states).
 
 use super::machine::{Group, Machine, TransitionRef};
 use crate::ecc::{InputId, StateId};
