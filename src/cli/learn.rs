@@ -5,6 +5,7 @@ use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
 use super::progress::Progress;
 use super::{exit, Failure};
 use clap::Args;
+use fbsynth::cases::reference;
 use fbsynth::ecc::diff::{difference, difference_from};
 use fbsynth::ecc::{Ecc, StateId};
 use fbsynth::pipeline::active::{self, Options};
@@ -43,26 +44,25 @@ pub struct LearnArgs {
 
 /// The oracle named by `--oracle`.
 fn oracle(name: &str) -> Result<Ecc, Failure> {
-    use crate::cases::{distribution, pnp, tank};
-    Ok(match name {
-        "case:pnp" => pnp::reference(),
-        "case:distribution" => distribution::reference(),
-        "case:tank1" => tank::Program::FillDrain.reference(),
-        "case:tank2" => tank::Program::Cycles.reference(),
-        n if n.starts_with("case:") => {
-            return Err(Failure::msg(
+    if let Some(case) = name.strip_prefix("case:") {
+        return reference::named(case).ok_or_else(|| {
+            let names: Vec<String> = reference::NAMES
+                .iter()
+                .map(|n| format!("case:{n}"))
+                .collect();
+            Failure::msg(
                 exit::USAGE,
                 format!(
-                    "unknown case {n:?}: case:pnp, case:distribution, case:tank1 or case:tank2"
+                    "unknown case {name:?}: {} or {}",
+                    names[..names.len() - 1].join(", "),
+                    names[names.len() - 1]
                 ),
-            ))
-        }
-        file => {
-            let path = PathBuf::from(file);
-            let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
-            fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)?
-        }
-    })
+            )
+        });
+    }
+    let path = PathBuf::from(name);
+    let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
+    fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)
 }
 
 /// `synth learn`.
