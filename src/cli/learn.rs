@@ -45,18 +45,13 @@ pub struct LearnArgs {
 fn oracle(name: &str) -> Result<Ecc, Failure> {
     if let Some(case) = name.strip_prefix("case:") {
         return reference::named(case).ok_or_else(|| {
-            let names: Vec<String> = reference::NAMES
+            let known: Vec<String> = reference::NAMES
                 .iter()
                 .map(|n| format!("case:{n}"))
                 .collect();
-            Failure::msg(
-                exit::USAGE,
-                format!(
-                    "unknown case {name:?}: {} or {}",
-                    names[..names.len() - 1].join(", "),
-                    names[names.len() - 1]
-                ),
-            )
+            let (last, rest) = known.split_last().expect("at least one case");
+            let message = format!("unknown case {name:?}: {} or {last}", rest.join(", "));
+            Failure::msg(exit::USAGE, message)
         });
     }
     let path = PathBuf::from(name);
