@@ -22,23 +22,16 @@
 //! - [`export`]: JSON, IEC 61499 `.fbt`, Structured Text, PLCopen XML, Graphviz, PNML;
 //! - [`ingest`] and [`events`]: raw PLC I/O logs to scenarios and to process-mining event logs;
 //! - [`files`]: reading user files (gzip, byte order mark) and atomic writing;
-//! - [`quote`]: user input quoted in messages, cut when it is long.
+//! - [`quote`]: user input quoted in messages, cut when it is long;
+//! - [`cases`]: the project's benchmark cases, reference controllers with (feature `cases`)
+//!   their plant simulations and the recorders of the shipped data.
 //!
-//! The `synth` command line and the benchmark cases (plant simulations with their reference
-//! controllers) are not part of the library: they live beside the binary and the tests.
+//! The `synth` command line is not part of the library: it lives beside the binary.
 
 // Every public item says what it means in the domain; clippy's -D warnings keeps it so.
 #![warn(missing_docs)]
 
-// The benchmark cases are written against the public API (`fbsynth::...`), so the binary,
-// the integration tests and the unit tests here can all compile the same files.
-#[cfg(test)]
-extern crate self as fbsynth;
-
-#[cfg(test)]
-#[allow(dead_code)]
-mod cases;
-
+pub mod cases;
 pub mod check;
 pub mod ecc;
 pub mod events;

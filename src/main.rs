@@ -1,9 +1,6 @@
-//! The `synth` binary: the command line ([`cli`]) over the `fbsynth` library, and the
-//! benchmark cases (`synth generate`, `synth bench-noisy`).
+//! The `synth` binary: the command line ([`cli`]) over the `fbsynth` library. The developer's
+//! commands (benchmarks, experiments, the generators of the shipped data) are `synth-dev`.
 
-// The tests use more of the cases than the commands do.
-#[allow(dead_code)]
-mod cases;
 mod cli;
 
 fn main() {

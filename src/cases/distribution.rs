@@ -34,7 +34,7 @@
 //! [`reference()`] is a hand-made 9-state controller; [`Station`] the plant; six recorded use
 //! cases (1 to 8 pieces, manual and automatic mode, stop, emergency and acknowledge) and three
 //! held-out runs. [`inject_skew`] (ChaCha8, seeded) only injects errors of the paper's model.
-//! `synth generate distribution` writes into `specs/`: `distribution.csv` (clean, 6 use cases,
+//! `synth-dev generate distribution` writes into `specs/`: `distribution.csv` (clean, 6 use cases,
 //! 684 samples, 27 KB), `distribution_noisy.csv` (the same with skew at rate 0.05, seed 2024: 2
 //! errors), `distribution_heldout.csv` (3 clean runs, 419 samples, never used for synthesis)
 //! and `distribution_reference.json`. Beside them: `smv/distribution_surrogate.smv`
@@ -85,40 +85,16 @@
 //! composite is exact on its training logs but not on every held-out run (one diverges at
 //! step 9: the modules' guards are minimized for the recorded inputs only).
 
+pub use super::reference::distribution::{input_names, output_names, reference, INPUTS, OUTPUTS};
 use super::{closed_loop, Drive, Scanned, Simulated};
-use fbsynth::ecc::Ecc;
-use fbsynth::files::{write_atomic, WriteError};
-use fbsynth::scenario::csvlog::{self, Sample};
-use fbsynth::scenario::{Origin, Scenario, ScenarioSet};
+use crate::ecc::Ecc;
+use crate::files::{write_atomic, WriteError};
+use crate::scenario::csvlog::{self, Sample};
+use crate::scenario::{Origin, Scenario, ScenarioSet};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Controller inputs (sensors and HMI), in interface order.
-pub const INPUTS: [&str; 10] = [
-    "empty",
-    "retracted",
-    "extended",
-    "at_magazine",
-    "at_client",
-    "vac_on",
-    "start",
-    "stop",
-    "auto_man",
-    "emergency",
-];
-
-/// Controller outputs (commands and lamps), in interface order.
-pub const OUTPUTS: [&str; 7] = [
-    "retract",
-    "vacuum_on",
-    "vacuum_off",
-    "to_magazine",
-    "to_client",
-    "start_led",
-    "reset_led",
-];
 
 const RETRACT: usize = 0;
 const VACUUM_ON: usize = 1;
@@ -138,73 +114,18 @@ pub const SETTLE: usize = 8;
 /// A use case that has not finished after this many scans is cut off.
 pub const MAX_SCANS: usize = 20_000;
 
-/// File names [`write_files`] writes into `specs/`.
+/// File names [`write_files`] writes into `specs/`: the clean logs of the use cases,
 pub const CLEAN_FILE: &str = "distribution.csv";
+/// the same with the injected skew,
 pub const NOISY_FILE: &str = "distribution_noisy.csv";
+/// and the clean logs of the held-out runs.
 pub const HELDOUT_FILE: &str = "distribution_heldout.csv";
 /// The reference controller in the project's JSON format.
 pub const REFERENCE_FILE: &str = "distribution_reference.json";
-/// Error rate and seed of the shipped noisy log.
+/// Error rate of the shipped noisy log.
 pub const SHIPPED_RATE: f64 = 0.05;
+/// Seed of the errors injected into the shipped noisy log.
 pub const SHIPPED_SEED: u64 = 2024;
-
-/// States of the reference controller: name and algorithm (one symbol per output).
-const STATES: [(&str, &str); 9] = [
-    ("Idle", "0000000"),
-    ("Ready", "0000010"),
-    ("Retract", "1000010"),
-    ("Push", "0000010"),
-    ("Suck", "0100010"),
-    ("ToClient", "0000110"),
-    ("Release", "0010010"),
-    ("ToMagazine", "0001010"),
-    ("EmergencyStop", "0000001"),
-];
-
-/// Transitions in priority order per source state: (from, to, guard).
-const TRANSITIONS: [(&str, &str, &str); 19] = [
-    ("Idle", "EmergencyStop", "emergency"),
-    ("Idle", "Ready", "start & !stop"),
-    ("Ready", "EmergencyStop", "emergency"),
-    ("Ready", "Idle", "stop"),
-    ("Ready", "Retract", "!start & auto_man & !empty"),
-    ("Retract", "EmergencyStop", "emergency"),
-    ("Retract", "Push", "retracted"),
-    ("Push", "EmergencyStop", "emergency"),
-    ("Push", "Suck", "extended & at_magazine"),
-    ("Suck", "EmergencyStop", "emergency"),
-    ("Suck", "ToClient", "vac_on"),
-    ("ToClient", "Release", "at_client"),
-    ("Release", "EmergencyStop", "emergency"),
-    ("Release", "ToMagazine", "!vac_on"),
-    ("ToMagazine", "EmergencyStop", "emergency"),
-    ("ToMagazine", "Retract", "at_magazine & auto_man & !empty"),
-    ("ToMagazine", "Ready", "at_magazine"),
-    ("EmergencyStop", "Idle", "!emergency & stop"),
-    ("ToClient", "EmergencyStop", "emergency"),
-];
-
-/// Input names in interface order.
-pub fn input_names() -> Vec<String> {
-    INPUTS.iter().map(|s| s.to_string()).collect()
-}
-
-/// Output names in interface order.
-pub fn output_names() -> Vec<String> {
-    OUTPUTS.iter().map(|s| s.to_string()).collect()
-}
-
-/// The hand-made reference controller ("the legacy PLC"): 9 states, state 0 (`Idle`)
-/// initial, all outputs 0 initially. In automatic mode it takes pieces from the magazine to the
-/// client one by one while the magazine is not empty; `stop` in `Ready` goes back to `Idle`;
-/// `emergency` stops every motion (lamp `reset_led`) until `stop` acknowledges it.
-pub fn reference() -> Ecc {
-    // Emergency first in every state: the priority order is what makes it win. The sort is
-    // stable, so the other transitions keep their table order.
-    let mut ordered = TRANSITIONS.to_vec();
-    ordered.sort_by_key(|(_, to, _)| *to != "EmergencyStop");
-    super::table_ecc(&INPUTS, &OUTPUTS, &STATES, &ordered)
-}
 
 /// The simulated station (everything but the controller).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -219,14 +140,21 @@ pub struct Station {
     pub pusher: u8,
     /// Arm: 0 = at the magazine, [`ARM_STROKE`] = at the client.
     pub arm: u8,
+    /// Suction switched on.
     pub suction: bool,
+    /// The cup holds a piece.
     pub held: bool,
+    /// Pieces dropped at the client.
     pub delivered: usize,
+    /// Pieces dropped anywhere else.
     pub lost: usize,
-    /// HMI inputs as the operator sets them.
+    /// HMI inputs as the operator sets them: `start` pressed,
     pub start: bool,
+    /// `stop` pressed,
     pub stop: bool,
+    /// the mode switch on automatic,
     pub auto_man: bool,
+    /// `emergency` pressed.
     pub emergency: bool,
 }
 
@@ -326,15 +254,20 @@ pub enum Action {
 /// An HMI button.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Button {
+    /// `start`.
     Start,
+    /// `stop`, which also acknowledges an emergency.
     Stop,
+    /// `emergency`.
     Emergency,
 }
 
 /// A recorded run: a name and the operator's actions in order.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct UseCase {
+    /// The run's name.
     pub name: &'static str,
+    /// The operator's actions, in order.
     pub actions: Vec<Action>,
 }
 
@@ -589,9 +522,13 @@ pub fn to_scenarios(logs: &[Vec<Sample>], file: &str) -> ScenarioSet {
 /// The shipped data: clean logs of [`use_cases`], the same with skew at `rate` (seeded), and
 /// clean logs of [`held_out_cases`]; plus the number of errors injected.
 pub struct Logs {
+    /// The clean logs of the use cases.
     pub clean: Vec<Vec<Sample>>,
+    /// The same with skew injected.
     pub noisy: Vec<Vec<Sample>>,
+    /// The clean logs of the held-out runs.
     pub held_out: Vec<Vec<Sample>>,
+    /// Errors injected into `noisy`.
     pub injected: usize,
 }
 
@@ -696,7 +633,7 @@ pub fn write_files(dir: &Path) -> Result<(Vec<PathBuf>, usize), WriteError> {
     let path = dir.join(REFERENCE_FILE);
     write_atomic(
         &path,
-        fbsynth::export::json::to_string(&reference()).as_bytes(),
+        crate::export::json::to_string(&reference()).as_bytes(),
     )?;
     written.push(path);
     Ok((written, logs.injected))
@@ -745,7 +682,7 @@ mod tests {
             let (noisy, injected) = inject_skew(clean, 0.05, k as u64);
             total += injected;
             let set = to_scenarios(&[noisy], "n.csv");
-            let g = fbsynth::scenario::trace_graph::TraceGraph::build(&set);
+            let g = crate::scenario::trace_graph::TraceGraph::build(&set);
             let mut used = vec![false; g.alternatives.len()];
             loop {
                 let fixed = g.corrected(&set, &used);

@@ -51,7 +51,7 @@
 //!
 //! # What the case shows
 //! The reference controller has 11 states. Its runs on the ten orders (`1`, `1-2`, `1-2-3`,
-//! `2`, `2-1`, `2-3`, `3`, `3-2`, `3-2-1`, `123`) are `specs/pnp.traces`, 566 steps; `synth
+//! `2`, `2-1`, `2-3`, `3`, `3-2`, `3-2-1`, `123`) are `specs/pnp.traces`, 566 steps; `synth-dev
 //! generate pnp` writes them again. From them the main job finds an 8-state, 13-transition
 //! controller that NuSMV verifies against all 8 properties of `specs/pnp.ltl` with
 //! `smv/pnp_surrogate.smv`.
@@ -67,29 +67,14 @@
 //! # VIOLATED held_until_placed, track3_served; the other five hold; exit code 1
 //! ```
 
+pub use super::reference::pnp::{input_names, output_names, reference, INPUTS, OUTPUTS};
 use super::{closed_loop, Drive, Scanned, Simulated};
-use fbsynth::ecc::Ecc;
-use fbsynth::files::{write_atomic, WriteError};
-use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
+use crate::ecc::Ecc;
+use crate::files::{write_atomic, WriteError};
+use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-
-/// Controller inputs (plant sensors), in interface order.
-pub const INPUTS: [&str; 10] = [
-    "c1Home", "c1End", "c2Home", "c2End", "vcHome", "vcEnd", "pp1", "pp2", "pp3", "vac",
-];
-
-/// Controller outputs (plant commands), in interface order.
-pub const OUTPUTS: [&str; 7] = [
-    "c1Extend",
-    "c1Retract",
-    "c2Extend",
-    "c2Retract",
-    "vcExtend",
-    "vacuum_on",
-    "vacuum_off",
-];
 
 // Output indices, for the plant and the safety checks.
 const C1_EXTEND: usize = 0;
@@ -118,28 +103,32 @@ pub const IDLE_AFTER: usize = 3;
 /// A run that is not at rest after this many scans is cut off.
 pub const MAX_SCANS: usize = 2_000;
 
-/// File names [`write_files`] writes, in its order.
+/// File names [`write_files`] writes, in its order: the scenarios,
 pub const TRACES_FILE: &str = "pnp.traces";
+/// the input names,
 pub const INPUTS_FILE: &str = "pnp.inputs";
+/// the output names.
 pub const OUTPUTS_FILE: &str = "pnp.outputs";
-
-/// Input names in interface order.
-pub fn input_names() -> Vec<String> {
-    INPUTS.iter().map(|s| s.to_string()).collect()
-}
-
-/// Output names in interface order.
-pub fn output_names() -> Vec<String> {
-    OUTPUTS.iter().map(|s| s.to_string()).collect()
-}
 
 /// An error in a work-piece order, or a run that did not finish.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum PnpError {
+    /// The order cannot be read.
     #[error("work-piece order '{order}': {message}")]
-    Order { order: String, message: String },
+    Order {
+        /// The order as written.
+        order: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The run did not come to rest within [`MAX_SCANS`].
     #[error("work-piece order '{order}': the machine is not at rest after {scans} scans")]
-    Unfinished { order: String, scans: usize },
+    Unfinished {
+        /// The order as written.
+        order: String,
+        /// Scans run.
+        scans: usize,
+    },
 }
 
 /// An input track, 0-based inside (track `1` of the papers is `Track(0)`).
@@ -155,7 +144,9 @@ impl fmt::Display for Track {
 /// Groups of pieces in the order they are placed; see the module doc.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct WorkOrder {
+    /// The order as written.
     pub text: String,
+    /// The groups of pieces, each placed at one scan.
     pub groups: Vec<Vec<Track>>,
 }
 
@@ -193,7 +184,9 @@ impl FromStr for WorkOrder {
 /// Where the hand is horizontally.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Over {
+    /// Over an input track.
     Track(Track),
+    /// Over the output slider.
     Slider,
     /// A horizontal cylinder is between its ends.
     Between,
@@ -212,10 +205,15 @@ pub struct Held {
 /// end: `0..=H_STROKE` horizontally, `0..=V_STROKE` vertically (`V_STROKE` = bottom).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PlantState {
+    /// Horizontal cylinder I.
     pub c1: u8,
+    /// Horizontal cylinder II.
     pub c2: u8,
+    /// The vertical cylinder.
     pub vc: u8,
+    /// Suction switched on.
     pub suction: bool,
+    /// The piece in the cup, if any.
     pub held: Option<Held>,
     /// A piece lies on track `i`.
     pub on_track: [bool; 3],
@@ -329,50 +327,6 @@ impl PlantState {
     }
 }
 
-// The reference controller as tables. Algorithms list one symbol per output in OUTPUTS order:
-//                          c1Extend c1Retract c2Extend c2Retract vcExtend vacuum_on vacuum_off
-const STATES: [(&str, &str); 11] = [
-    ("Idle", "0000000"),       // waiting for a piece, everything off
-    ("ToTrack2", "1000000"),   // cylinder I out: hand over track 2
-    ("ToTrack3", "0010000"),   // cylinder II out: hand over track 3
-    ("Down", "0000100"),       // lower the cup onto the piece
-    ("Suck", "0000110"),       // keep down, suction on
-    ("Lift", "0000000"),       // release vcExtend: the spring lifts the piece
-    ("ToSlider", "1010000"),   // both horizontal cylinders out: over the slider
-    ("DownSlider", "0000100"), // lower the piece onto the slider
-    ("Release", "0000101"),    // keep down, suction off
-    ("Up", "0000000"),         // back up
-    ("Return", "0101000"),     // both horizontal cylinders in: home over track 1
-];
-
-// (from, to, guard) in priority order per state. Idle serves track 1 before 2 before 3.
-const TRANSITIONS: [(&str, &str, &str); 13] = [
-    ("Idle", "Down", "pp1"),
-    ("Idle", "ToTrack2", "pp2"),
-    ("Idle", "ToTrack3", "pp3"),
-    ("ToTrack2", "Down", "c1End"),
-    ("ToTrack3", "Down", "c2End"),
-    ("Down", "Suck", "vcEnd"),
-    ("Suck", "Lift", "vac"),
-    ("Lift", "ToSlider", "vcHome"),
-    ("ToSlider", "DownSlider", "c1End & c2End"),
-    ("DownSlider", "Release", "vcEnd"),
-    ("Release", "Up", "!vac"),
-    ("Up", "Return", "vcHome"),
-    ("Return", "Idle", "c1Home & c2Home"),
-];
-
-/// The hand-made reference controller: 11 states, state 0 (`Idle`) initial, all outputs 0
-/// initially. One cycle: move over the track of a waiting piece (priority 1 > 2 > 3), go down,
-/// suck, go up, move over the output slider, go down, release, go up, return home.
-///
-/// By construction it never commands extend and retract of one cylinder together, never
-/// `vacuum_on` with `vacuum_off`, and commands horizontal moves only in states entered with the
-/// vertical cylinder up and not commanded down.
-pub fn reference() -> Ecc {
-    super::table_ecc(&INPUTS, &OUTPUTS, &STATES, &TRANSITIONS)
-}
-
 /// One scan of a simulated run.
 pub type ScanRecord = Scanned<PlantState>;
 
@@ -388,6 +342,7 @@ impl Simulated for PlantState {
 /// A simulated run of a controller on the plant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Recording {
+    /// Every scan of the run.
     pub scans: Vec<ScanRecord>,
     /// The plant after the last scan.
     pub last: PlantState,
@@ -515,13 +470,27 @@ pub fn write_files(dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Hazard {
     /// Extend and retract of one horizontal cylinder commanded together (`cylinder` 1 or 2).
-    ExtendAndRetract { scan: usize, cylinder: u8 },
+    ExtendAndRetract {
+        /// 0-based scan.
+        scan: usize,
+        /// 1 or 2.
+        cylinder: u8,
+    },
     /// `vacuum_on` and `vacuum_off` together.
-    VacuumOnAndOff { scan: usize },
+    VacuumOnAndOff {
+        /// 0-based scan.
+        scan: usize,
+    },
     /// A horizontal command while the vertical cylinder is not up or is commanded down.
-    HorizontalWhileDown { scan: usize },
+    HorizontalWhileDown {
+        /// 0-based scan.
+        scan: usize,
+    },
     /// A piece dropped anywhere but on the output slider.
-    PieceLost { track: Track },
+    PieceLost {
+        /// The track the piece came from.
+        track: Track,
+    },
 }
 
 impl fmt::Display for Hazard {
@@ -579,8 +548,8 @@ pub fn hazards(rec: &Recording) -> Vec<Hazard> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fbsynth::ecc::{Algorithm, Tri};
-    use fbsynth::scenario::tree::ScenarioTree;
+    use crate::ecc::{Algorithm, Tri};
+    use crate::scenario::tree::ScenarioTree;
 
     fn orders() -> Vec<WorkOrder> {
         SEED_ORDERS.iter().map(|o| o.parse().unwrap()).collect()

@@ -36,7 +36,7 @@
 //! # Scenarios (the paper's section VI-C)
 //! [`SCENARIOS`]: 1 = program 1 on the constant plant, 2 = program 2 on the constant plant,
 //! 3 = program 2 on the noisy plant, 600 scans each; [`HELD_OUT`] lists runs never used for
-//! training. `synth generate tank` writes the per-scan scenarios `specs/tank1.traces`
+//! training. `synth-dev generate tank` writes the per-scan scenarios `specs/tank1.traces`
 //! (scenario 1) and `specs/tank2.traces` (scenarios 2 and 3) with their names files, and under
 //! `specs/tank/` the mapping `tank.map`, the raw long-format logs `scenario1.csv` to
 //! `scenario3.csv` and two held-out runs on the noisy plant (`heldout1.csv`, `heldout2.csv`,
@@ -109,22 +109,19 @@
 //! $PY tests/pm4py_check.py out/tank/scenario2.xes --pnml out/tank/tank2.pnml [--replay OTHER.xes]
 //! ```
 
-use super::table_ecc;
+pub use super::reference::tank::{CYCLES, INPUTS, OUTPUTS};
 use super::{closed_loop, Drive, Simulated};
-use fbsynth::ecc::{Ecc, Run};
-use fbsynth::files::{write_atomic, WriteError};
-use fbsynth::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
+use crate::ecc::{Ecc, Run};
+use crate::files::{write_atomic, WriteError};
+use crate::scenario::{fbsat, Origin, Scenario, ScenarioSet, Step};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Controller inputs (level sensors), in interface order.
-pub const INPUTS: [&str; 3] = ["ll", "ml", "ul"];
-/// Controller outputs (valves), in interface order.
-pub const OUTPUTS: [&str; 2] = ["inlet", "outlet"];
-/// OpenPLC addresses of [`INPUTS`] and [`OUTPUTS`], as in the process-mining paper.
+/// OpenPLC addresses of [`INPUTS`], as in the process-mining paper.
 pub const INPUT_ADDRESSES: [&str; 3] = ["%IX0.1", "%IX0.2", "%IX0.0"];
+/// OpenPLC addresses of [`OUTPUTS`].
 pub const OUTPUT_ADDRESSES: [&str; 2] = ["%QX0.0", "%QX0.1"];
 /// The mapping file of the logs.
 pub const MAP_TEXT: &str = "\
@@ -140,9 +137,11 @@ pub const RESET: &str = "%IX0.1 false";
 
 /// Tank volume, gallons.
 pub const CAPACITY: f64 = 100.0;
-/// Sensor heights, gallons.
+/// Height of the lower level sensor `ll`, gallons.
 pub const LL: f64 = 20.0;
+/// Height of the middle level sensor `ml`, gallons.
 pub const ML: f64 = 50.0;
+/// Height of the upper level sensor `ul`, gallons.
 pub const UL: f64 = 80.0;
 /// Flow of an open valve (constant plant; mean of the noisy plant), gallons per second.
 pub const FLOW: f64 = 4.0;
@@ -152,8 +151,6 @@ pub const FLOW_SD: f64 = 1.0;
 pub const LEAK: f64 = 0.2;
 /// Seconds per PLC scan.
 pub const SCAN: f64 = 1.0;
-/// Program 2's number of middle-to-upper cycles.
-pub const CYCLES: usize = 3;
 
 /// One of the two PLC programs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -164,37 +161,12 @@ pub enum Program {
     Cycles,
 }
 
-// Algorithms are `inlet outlet`.
-const P1_STATES: [(&str, &str); 2] = [("Drain", "01"), ("Fill", "10")];
-const P1_TRANSITIONS: [(&str, &str, &str); 2] = [("Drain", "Fill", "!ll"), ("Fill", "Drain", "ul")];
-
-const P2_STATES: [(&str, &str); 2 + 2 * CYCLES] = [
-    ("Drain", "01"),
-    ("Fill", "10"),
-    ("Lower1", "01"),
-    ("Raise1", "10"),
-    ("Lower2", "01"),
-    ("Raise2", "10"),
-    ("Lower3", "01"),
-    ("Raise3", "10"),
-];
-const P2_TRANSITIONS: [(&str, &str, &str); 2 + 2 * CYCLES] = [
-    ("Drain", "Fill", "!ll"),
-    ("Fill", "Lower1", "ul"),
-    ("Lower1", "Raise1", "!ml"),
-    ("Raise1", "Lower2", "ul"),
-    ("Lower2", "Raise2", "!ml"),
-    ("Raise2", "Lower3", "ul"),
-    ("Lower3", "Raise3", "!ml"),
-    ("Raise3", "Drain", "ul"),
-];
-
 impl Program {
     /// The program as an ECC: state 0 (`Drain`) initial, valves closed initially.
     pub fn reference(self) -> Ecc {
         match self {
-            Program::FillDrain => table_ecc(&INPUTS, &OUTPUTS, &P1_STATES, &P1_TRANSITIONS),
-            Program::Cycles => table_ecc(&INPUTS, &OUTPUTS, &P2_STATES, &P2_TRANSITIONS),
+            Program::FillDrain => super::reference::tank::fill_drain(),
+            Program::Cycles => super::reference::tank::cycles(),
         }
     }
 }
@@ -202,16 +174,25 @@ impl Program {
 /// One of the two plants.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Plant {
+    /// Constant flows, no leakage.
     Constant,
-    Noisy { seed: u64 },
+    /// Random flows and leakage.
+    Noisy {
+        /// Seed of the flows and leaks.
+        seed: u64,
+    },
 }
 
 /// A recorded run: scenario name, program, plant, number of scans.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RunSpec {
+    /// The scenario's name.
     pub name: &'static str,
+    /// The PLC program.
     pub program: Program,
+    /// The plant it runs on.
     pub plant: Plant,
+    /// Scans recorded.
     pub scans: usize,
 }
 
@@ -308,6 +289,7 @@ pub struct Scan {
     pub time: f64,
     /// Gallons when the sensors were read.
     pub level: f64,
+    /// The sensor values read.
     pub inputs: Vec<bool>,
     /// Whether a transition fired (the step is active).
     pub fired: bool,
@@ -464,7 +446,7 @@ pub fn write_files(dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fbsynth::ingest::{read_scenarios, Mapping};
+    use crate::ingest::{read_scenarios, Mapping};
 
     fn reset_times(scans: &[Scan]) -> usize {
         scans
@@ -536,11 +518,12 @@ mod tests {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs");
         for path in write_files(dir.path()).unwrap() {
             let rel = path.strip_prefix(dir.path()).unwrap();
-            let shipped = std::fs::read(root.join(rel))
-                .unwrap_or_else(|e| panic!("{}: {e} (run `synth generate tank`)", rel.display()));
+            let shipped = std::fs::read(root.join(rel)).unwrap_or_else(|e| {
+                panic!("{}: {e} (run `synth-dev generate tank`)", rel.display())
+            });
             assert!(
                 shipped == std::fs::read(&path).unwrap(),
-                "specs/{} differs from the generator (run `synth generate tank`)",
+                "specs/{} differs from the generator (run `synth-dev generate tank`)",
                 rel.display()
             );
         }

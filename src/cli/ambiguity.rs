@@ -6,13 +6,12 @@ use super::progress::Progress;
 use super::show::print_written;
 use super::{exit, Failure};
 use clap::Args;
-use fbsynth::ecc::{bits_to_string, Ecc};
+use fbsynth::ecc::Ecc;
 use fbsynth::export;
 use fbsynth::files::ResultSet;
 use fbsynth::pipeline::ambiguity::{self, Ambiguity, Verdict};
 use fbsynth::pipeline::{self, exact};
 use fbsynth::scenario::ScenarioSet;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Runs the check on `machine` (minimal for `set`), prints the verdict and every rival, and
@@ -31,7 +30,7 @@ pub fn report(
         machine.states.len()
     ));
     let found = ambiguity::check_long(set, machine, &args.options(algorithms.into())?)?;
-    let text = describe(set, machine, &found);
+    let text = found.to_text(set, machine);
     out_raw!("{text}");
     let mut files = Vec::new();
     let Some(dir) = dir else {
@@ -61,11 +60,9 @@ pub fn report_verified(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, Failure> {
     let (found, files) = report(set, machine, args, algorithms, progress, Some(dir))?;
-    let mut verifier = check.verifier()?;
     let mut fitting = 0;
-    for (k, r) in found.rivals.iter().enumerate() {
-        let v = verifier.verify(&r.ecc).map_err(pipeline::Error::from)?;
-        if v.report.all_hold() {
+    for (k, failing) in found.verify_rivals(check)?.iter().enumerate() {
+        if failing.is_empty() {
             fitting += 1;
             out!(
                 "rival {}: NuSMV: every property holds in closed loop too",
@@ -75,7 +72,7 @@ pub fn report_verified(
             out!(
                 "rival {}: NuSMV: violates {} (the properties rule it out)",
                 k + 1,
-                v.report.failing().join(", ")
+                failing.join(", ")
             );
         }
     }
@@ -91,34 +88,6 @@ pub fn report_verified(
         _ => {}
     }
     Ok(files)
-}
-
-/// The verdict and every rival with its sequence, as printed and written to `ambiguity.txt`.
-pub fn describe(set: &ScenarioSet, machine: &Ecc, a: &Ambiguity) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "{}", a.summary());
-    if !a.rivals.is_empty() {
-        let _ = writeln!(
-            s,
-            "  inputs: {}; outputs: {}",
-            set.inputs.join(" "),
-            set.outputs.join(" ")
-        );
-    }
-    for (k, r) in a.rivals.iter().enumerate() {
-        let name = format!("rival {} (rival{}.json)", k + 1, k + 1);
-        let _ = writeln!(s, "  {name}: {}", r.ecc.size());
-        for line in r.describe(set, machine, &format!("rival {}", k + 1)) {
-            let _ = writeln!(s, "    {line}");
-        }
-    }
-    if a.verdict == Verdict::Ambiguous {
-        let _ = writeln!(
-            s,
-            "  to tell them apart, record the sequences above on the machine in service (`synth next-recording` writes them as a plan)"
-        );
-    }
-    s
 }
 
 #[derive(Debug, Args)]
@@ -182,7 +151,10 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         &progress,
         Some(results.staging()),
     )?;
-    let (csv, txt) = plan(&set, &machine, &found);
+    let (csv, txt) = (
+        found.plan_csv(&set, &machine),
+        found.plan_text(&set, &machine),
+    );
     let json = export::json::to_string(&machine);
     for (name, text) in [("plan.csv", csv), ("plan.txt", txt), ("machine.json", json)] {
         let path = results.staging().join(name);
@@ -215,51 +187,4 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         return super::write_json(&summary);
     }
     Ok(())
-}
-
-/// The plan as a CSV (one row per step to apply: `scenario`, `step`, `phase` (`replay` for the
-/// recorded prefix, `probe` after it), the inputs, and what the machine and the rival would
-/// answer) and as a table.
-fn plan(set: &ScenarioSet, machine: &Ecc, found: &Ambiguity) -> (String, String) {
-    let mut csv = String::from("scenario,step,phase");
-    for x in &set.inputs {
-        let _ = write!(csv, ",in:{x}");
-    }
-    csv.push_str(",expect_machine,expect_rival\n");
-    let mut txt = String::new();
-    let answer = |o: &Option<Vec<bool>>| match o {
-        Some(z) => bits_to_string(z),
-        None => "-".to_string(),
-    };
-    for (k, r) in found.rivals.iter().enumerate() {
-        let answers = r.answers(set, machine);
-        let _ = writeln!(
-            txt,
-            "sequence {}: {} steps ({} to reproduce a recording, {} new), tells rival {} apart",
-            k + 1,
-            answers.len(),
-            r.start.step,
-            answers.len() - r.start.step,
-            k + 1
-        );
-        for (i, a) in answers.iter().enumerate() {
-            let phase = if a.recorded { "replay" } else { "probe" };
-            let _ = write!(csv, "{},{},{phase}", k + 1, i + 1);
-            for &b in &a.inputs {
-                let _ = write!(csv, ",{}", u8::from(b));
-            }
-            let _ = writeln!(csv, ",{},{}", answer(&a.machine), answer(&a.rival));
-            if !a.recorded {
-                let _ = writeln!(
-                    txt,
-                    "  {:>4}  {}  machine {:<12} rival {}",
-                    i + 1,
-                    bits_to_string(&a.inputs),
-                    answer(&a.machine),
-                    answer(&a.rival)
-                );
-            }
-        }
-    }
-    (csv, txt)
 }

@@ -3,12 +3,12 @@
 use super::args::{out_dir, parse_formats, AlgorithmsArg, NusmvArgs};
 use super::progress::Progress;
 use super::show::print_written;
-use super::{exit, Failure};
+use super::Failure;
 use clap::Args;
 use fbsynth::files::ResultSet;
 use fbsynth::ingest::Mapping;
-use fbsynth::pipeline::batch::{self, Outcome, Verification};
-use fbsynth::pipeline::{self, exact, Class};
+use fbsynth::pipeline::batch::{self, Outcome, Row, Verification};
+use fbsynth::pipeline::{self, exact};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -53,28 +53,6 @@ pub struct BatchArgs {
     /// Seconds each PLC may take (its row then says so; the others go on).
     #[arg(long, default_value_t = 600.0, value_name = "SECONDS")]
     pub time_limit: f64,
-}
-
-/// One row of the summary.
-#[derive(Debug, serde::Serialize)]
-struct Row {
-    plc: String,
-    source: String,
-    /// `ok`, `verified` or `failed`.
-    status: &'static str,
-    scenarios: usize,
-    steps: usize,
-    #[serde(rename = "C")]
-    c: Option<usize>,
-    #[serde(rename = "K")]
-    k: Option<usize>,
-    #[serde(rename = "T")]
-    t: Option<usize>,
-    #[serde(rename = "N")]
-    n: Option<usize>,
-    seconds: f64,
-    /// Why a PLC has no machine.
-    message: String,
 }
 
 /// `synth batch --logs DIR [--map M] [--ltl F --plant P]`.
@@ -128,97 +106,54 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
         &opts,
         limit,
         threads,
-        &|o: &Outcome| {
-            progress.line(&match &o.result {
-                Ok(r) => format!(
-                    "{}: {}{} ({:.2} s)",
-                    o.plc.name,
-                    r.synthesis.size,
-                    if r.certificate.is_some() {
-                        ", verified"
-                    } else {
-                        ""
-                    },
-                    o.seconds
-                ),
-                Err(e) => format!("{}: failed: {e}", o.plc.name),
-            })
-        },
+        &|o: &Outcome| progress.line(&outcome_line(o)),
     )?;
-
-    if outcomes.iter().any(|o| {
-        matches!(
-            o.result,
-            Err(pipeline::Error::TimeLimit { .. } | pipeline::Error::Interrupted { .. })
-        )
-    }) {
-        // A PLC given up on at its time limit left its loop running: its NuSMV must not
-        // outlive us. Every other PLC is done by now.
-        fbsynth::nusmv::kill_all_children();
-    }
-    let staging = results.staging().to_path_buf();
-    let mut staged = Vec::new();
-    let mut rows = Vec::new();
-    // Whether every PLC without a machine failed for want of one within the limits.
-    let mut only_no_machine = true;
-    for o in &outcomes {
-        let mut row = Row {
-            plc: o.plc.name.clone(),
-            source: o.plc.source.display().to_string(),
-            status: "failed",
-            scenarios: o.scenarios,
-            steps: o.steps,
-            c: None,
-            k: None,
-            t: None,
-            n: None,
-            seconds: o.seconds,
-            message: String::new(),
-        };
-        match &o.result {
-            Ok(r) => {
-                let dir = staging.join(&o.plc.name);
-                let written = batch::write(&dir, r, &args.name, &formats, verification.as_ref());
-                match written {
-                    Ok(files) => {
-                        staged.extend(files);
-                        let s = r.synthesis.size;
-                        (row.c, row.k, row.t, row.n) = (Some(s.c), Some(s.k), Some(s.t), Some(s.n));
-                        row.status = if r.certificate.is_some() {
-                            "verified"
-                        } else {
-                            "ok"
-                        };
-                    }
-                    Err(e) => {
-                        only_no_machine = false;
-                        row.message = e.to_string();
-                    }
-                }
-            }
-            Err(e) => {
-                only_no_machine &= e.class() == Class::NoMachine;
-                row.message = e.to_string();
-            }
-        }
-        rows.push(row);
-    }
-    let csv_file = staging.join("summary.csv");
-    let json_file = staging.join("summary.json");
-    let summary = serde_json::json!({ "logs": args.logs, "plcs": rows });
-    fbsynth::files::write_atomic(&csv_file, summary_csv(&rows).as_bytes())
-        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    fbsynth::files::write_atomic(&json_file, format!("{summary:#}\n").as_bytes())
-        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    staged.extend([csv_file, json_file]);
-    let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
+    let summary = batch::write_results(
+        results.staging(),
+        &args.logs,
+        &outcomes,
+        &args.name,
+        &formats,
+        verification.as_ref(),
+    )?;
+    let files: Vec<PathBuf> = summary.files.iter().map(|f| results.published(f)).collect();
     results
         .publish()
         .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
+    print_table(&summary.rows);
+    print_written(&files);
+    if super::json() {
+        super::write_json(&summary.to_json())?;
+    }
+    match summary.failure() {
+        Some(e) => Err(e.into()),
+        None => Ok(()),
+    }
+}
 
+/// The progress line of one PLC done.
+fn outcome_line(o: &Outcome) -> String {
+    match &o.result {
+        Ok(r) => format!(
+            "{}: {}{} ({:.2} s)",
+            o.plc.name,
+            r.synthesis.size,
+            if r.certificate.is_some() {
+                ", verified"
+            } else {
+                ""
+            },
+            o.seconds
+        ),
+        Err(e) => format!("{}: failed: {e}", o.plc.name),
+    }
+}
+
+/// The summary as a Markdown table on stdout.
+fn print_table(rows: &[Row]) {
     out!("| PLC | status | scenarios | steps | C | K | T | N | seconds |");
     out!("|---|---|---|---|---|---|---|---|---|");
-    for r in &rows {
+    for r in rows {
         let cell = |v: Option<usize>| v.map_or("-".to_string(), |v| v.to_string());
         out!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
@@ -233,50 +168,4 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
             r.seconds
         );
     }
-    print_written(&files);
-    if super::json() {
-        super::write_json(&summary)?;
-    }
-    let failed: Vec<&Row> = rows.iter().filter(|r| r.status == "failed").collect();
-    if failed.is_empty() {
-        return Ok(());
-    }
-    let names: Vec<&str> = failed.iter().map(|r| r.plc.as_str()).collect();
-    Err(Failure::msg(
-        if only_no_machine {
-            exit::NO_MACHINE
-        } else {
-            exit::INPUT
-        },
-        format!(
-            "{} of {} PLCs have no machine: {} (summary.csv says why)",
-            failed.len(),
-            rows.len(),
-            names.join(", ")
-        ),
-    ))
-}
-
-/// The rows as CSV (RFC 4180 quoting where a cell needs it).
-fn summary_csv(rows: &[Row]) -> String {
-    use fbsynth::files::csv::quote_cell as quote;
-    let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
-    let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
-    for r in rows {
-        text.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{}\n",
-            quote(&r.plc),
-            quote(&r.source),
-            r.status,
-            r.scenarios,
-            r.steps,
-            cell(r.c),
-            cell(r.k),
-            cell(r.t),
-            cell(r.n),
-            r.seconds,
-            quote(&r.message)
-        ));
-    }
-    text
 }

@@ -5,11 +5,11 @@ use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
 use super::progress::Progress;
 use super::{exit, Failure};
 use clap::Args;
-use fbsynth::ecc::diff::{difference, difference_from};
-use fbsynth::ecc::{Ecc, StateId};
-use fbsynth::pipeline::active::{self, Options};
-use fbsynth::pipeline::ambiguity::{alphabet, Verdict};
-use fbsynth::scenario::tree::ScenarioTree;
+use fbsynth::cases::reference;
+use fbsynth::ecc::Ecc;
+use fbsynth::pipeline::active::{self, Comparison, Learned, Options, Round};
+use fbsynth::pipeline::ambiguity::Verdict;
+use fbsynth::scenario::ScenarioSet;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -43,26 +43,20 @@ pub struct LearnArgs {
 
 /// The oracle named by `--oracle`.
 fn oracle(name: &str) -> Result<Ecc, Failure> {
-    use crate::cases::{distribution, pnp, tank};
-    Ok(match name {
-        "case:pnp" => pnp::reference(),
-        "case:distribution" => distribution::reference(),
-        "case:tank1" => tank::Program::FillDrain.reference(),
-        "case:tank2" => tank::Program::Cycles.reference(),
-        n if n.starts_with("case:") => {
-            return Err(Failure::msg(
-                exit::USAGE,
-                format!(
-                    "unknown case {n:?}: case:pnp, case:distribution, case:tank1 or case:tank2"
-                ),
-            ))
-        }
-        file => {
-            let path = PathBuf::from(file);
-            let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
-            fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)?
-        }
-    })
+    if let Some(case) = name.strip_prefix("case:") {
+        return reference::named(case).ok_or_else(|| {
+            let known: Vec<String> = reference::NAMES
+                .iter()
+                .map(|n| format!("case:{n}"))
+                .collect();
+            let (last, rest) = known.split_last().expect("at least one case");
+            let message = format!("unknown case {name:?}: {} or {last}", rest.join(", "));
+            Failure::msg(exit::USAGE, message)
+        });
+    }
+    let path = PathBuf::from(name);
+    let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
+    fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)
 }
 
 /// `synth learn`.
@@ -93,7 +87,6 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         max_rounds: args.max_rounds.max(1),
         tour: !args.no_tour,
     };
-    let initial_steps = initial.step_count();
     let mut round = 0;
     let learned = active::learn(
         &initial,
@@ -101,94 +94,29 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         &opts,
         &mut |r| {
             round += 1;
-            let verdict = match r.verdict {
-                Some(Verdict::Unique) => "unique",
-                Some(Verdict::Ambiguous) => "ambiguous",
-                Some(Verdict::Unknown) => "unknown",
-                None => r.asked.name(),
-            };
-            let widened = if r.widened {
-                " over the recorded combinations; now over every input vector"
-            } else {
-                ""
-            };
-            progress.line(&format!(
-                "round {round}: C = {}, {verdict}{widened}; {} steps recorded",
-                r.states, r.recorded_steps
-            ));
+            progress.line(&round_line(round, r));
         },
         &mut |e| progress.event(e),
     )?;
-    let tree = ScenarioTree::build(&learned.recordings).map_err(fbsynth::pipeline::Error::from)?;
-    let letters = alphabet(&tree, initial.inputs.len(), opts.ambiguity.all_inputs)?;
-    // Whether `m` is equivalent to the oracle, and the words for it.
-    let verdict = |m: &Ecc| -> (bool, String) {
-        let found = difference(m, &oracle);
-        let equivalent = matches!(found, Ok(None));
-        let full = match found {
-            Ok(None) => "equivalent to the oracle".to_string(),
-            Ok(Some(d)) => format!("differs from the oracle after {} steps", d.inputs.len()),
-            Err(e) => format!("not compared on every input vector ({e})"),
-        };
-        let start = (
-            (StateId(0), m.initial_outputs.clone()),
-            (StateId(0), oracle.initial_outputs.clone()),
-        );
-        let over = match difference_from(m, &oracle, &[start], &letters) {
-            None => "agrees on every sequence of the alphabet",
-            Some(_) => "disagrees on some sequence of the alphabet",
-        };
-        (equivalent, format!("{full}; {over}"))
-    };
-    out!(
-        "active: {} rounds, {} steps recorded beyond the initial {}; C = {}; {}; {}",
-        learned.rounds.len(),
-        learned.recorded_steps,
-        initial_steps,
-        learned.machine.states.len(),
-        match learned.rounds.last().and_then(|r| r.verdict) {
-            Some(Verdict::Unique) => "unique",
-            Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
-            _ => "no verdict within the budget",
-        },
-        verdict(&learned.machine).1
-    );
-    let length = learned
-        .recordings
-        .scenarios
-        .iter()
-        .skip(initial.scenarios.len())
-        .map(|s| s.steps.len())
-        .max()
-        .unwrap_or(1);
-    let mut equivalent = 0;
+    let comparison = Comparison::new(&initial, &oracle, &learned, &opts)?;
+    let agreement = comparison.agreement(&learned.machine);
+    out!("{}", active_line(&learned, &initial, &agreement));
     let mut passive = Vec::new();
     for seed in 1..=args.passive_runs as u64 {
-        let m = active::passive(
-            &initial,
-            &oracle,
-            &letters,
-            learned.recorded_steps,
-            length,
-            seed,
-            &opts,
-        )?;
-        let (same, v) = verdict(&m);
-        equivalent += usize::from(same);
-        passive.push(serde_json::json!({
-            "seed": seed,
-            "states": m.states.len(),
-            "equivalent": same,
-        }));
+        let m = comparison.passive(seed)?;
+        let a = comparison.agreement(&m);
         out!(
-            "passive (seed {seed}): {} random steps in scenarios of {length}; C = {}; {v}",
+            "passive (seed {seed}): {} random steps in scenarios of {}; C = {}; {a}",
             learned.recorded_steps,
+            comparison.length(),
             m.states.len()
         );
+        passive.push((seed, m.states.len(), a.equivalent()));
     }
     if args.passive_runs > 0 {
         out!(
-            "passive: {equivalent} of {} random recordings of equal length give a machine equivalent to the oracle",
+            "passive: {} of {} random recordings of equal length give a machine equivalent to the oracle",
+            passive.iter().filter(|p| p.2).count(),
             args.passive_runs
         );
     }
@@ -202,22 +130,76 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         super::note_written(std::slice::from_ref(out));
     }
     if super::json() {
-        let summary = serde_json::json!({
-            "rounds": learned.rounds.iter().map(|r| serde_json::json!({
-                "states": r.states,
-                "asked": r.asked,
-                "verdict": r.verdict,
-                "recorded_steps": r.recorded_steps,
-                "widened": r.widened,
-            })).collect::<Vec<_>>(),
-            "recorded_steps": learned.recorded_steps,
-            "initial_steps": initial_steps,
-            "unique": learned.unique,
-            "states": learned.machine.states.len(),
-            "equivalent": verdict(&learned.machine).0,
-            "passive": passive,
-        });
-        return super::write_json(&summary);
+        return super::write_json(&summary(
+            &learned,
+            &initial,
+            agreement.equivalent(),
+            &passive,
+        ));
     }
     Ok(())
+}
+
+/// The progress line of round `number`.
+fn round_line(number: usize, r: &Round) -> String {
+    let verdict = match r.verdict {
+        Some(Verdict::Unique) => "unique",
+        Some(Verdict::Ambiguous) => "ambiguous",
+        Some(Verdict::Unknown) => "unknown",
+        None => r.asked.name(),
+    };
+    let widened = if r.widened {
+        " over the recorded combinations; now over every input vector"
+    } else {
+        ""
+    };
+    format!(
+        "round {number}: C = {}, {verdict}{widened}; {} steps recorded",
+        r.states, r.recorded_steps
+    )
+}
+
+/// The line of the active loop's result.
+fn active_line(learned: &Learned, initial: &ScenarioSet, agreement: &active::Agreement) -> String {
+    format!(
+        "active: {} rounds, {} steps recorded beyond the initial {}; C = {}; {}; {agreement}",
+        learned.rounds.len(),
+        learned.recorded_steps,
+        initial.step_count(),
+        learned.machine.states.len(),
+        match learned.rounds.last().and_then(|r| r.verdict) {
+            Some(Verdict::Unique) => "unique",
+            Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
+            _ => "no verdict within the budget",
+        },
+    )
+}
+
+/// The `--json` summary: every round, the result, and each passive run as `(seed, C,
+/// equivalent)`.
+fn summary(
+    learned: &Learned,
+    initial: &ScenarioSet,
+    equivalent: bool,
+    passive: &[(u64, usize, bool)],
+) -> serde_json::Value {
+    serde_json::json!({
+        "rounds": learned.rounds.iter().map(|r| serde_json::json!({
+            "states": r.states,
+            "asked": r.asked,
+            "verdict": r.verdict,
+            "recorded_steps": r.recorded_steps,
+            "widened": r.widened,
+        })).collect::<Vec<_>>(),
+        "recorded_steps": learned.recorded_steps,
+        "initial_steps": initial.step_count(),
+        "unique": learned.unique,
+        "states": learned.machine.states.len(),
+        "equivalent": equivalent,
+        "passive": passive.iter().map(|(seed, states, equivalent)| serde_json::json!({
+            "seed": seed,
+            "states": states,
+            "equivalent": equivalent,
+        })).collect::<Vec<_>>(),
+    })
 }

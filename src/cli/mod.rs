@@ -3,7 +3,9 @@
 //! In: `std::env::args`. Out: files written by the library and a summary on stdout.
 //! Everything that computes lives in the library ([`fbsynth::pipeline`] above all); each
 //! command file parses its arguments, calls the library and prints. Command files never
-//! import each other: what they share is here, in [`args`] and in [`progress`].
+//! import each other: what they share is here, in [`args`], [`progress`] and [`show`]. The
+//! developer binary `synth-dev` compiles this module too, for the same output flags, errors,
+//! exit codes, argument groups and progress lines.
 
 /// `println!` for the results on stdout, which survives a reader that went away (`synth ... |
 /// head`): the run goes on and finishes its files. A panic there, or death by SIGPIPE (which
@@ -159,22 +161,19 @@ fn write_stdout(bytes: &[u8]) -> Result<(), Failure> {
 }
 
 mod ambiguity;
-mod args;
+pub(crate) mod args;
 mod batch;
-mod bench;
 mod conform;
 mod diff;
 mod docs;
 mod events;
-mod experiment;
 mod export;
-mod generate;
 mod infer;
 mod ingest;
 mod learn;
 mod main_job;
-mod progress;
-mod show;
+pub(crate) mod progress;
+pub(crate) mod show;
 
 use clap::{Parser, Subcommand};
 use fbsynth::pipeline::{self, Class};
@@ -281,34 +280,15 @@ pub enum Command {
     Convert(infer::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
     Verify(main_job::VerifyArgs),
-    /// Regenerate a shipped case's scenario files from its reference controller and plant
-    /// simulation (`pnp`: the Pick-and-Place manipulator).
-    Generate(generate::GenerateArgs),
-    /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
-    Bench(bench::BenchArgs),
     /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
     /// mapping into one fbSAT scenario, streaming.
     Ingest(ingest::IngestArgs),
     /// One reconstruction per PLC over a folder of logs (CSV, Parquet, or raw logs with
     /// --map), on all cores; each machine in its folder, and a summary table (CSV, JSON).
     Batch(batch::BatchArgs),
-    /// Measure ingestion throughput and peak memory on a generated long-format log.
-    BenchIngest(ingest::BenchIngestArgs),
     /// Turn a raw PLC I/O log into an event log (XES and CSV) for process-mining tools,
     /// sliced into traces at a reset activity (the process-mining paper's conversion).
     Events(events::EventsArgs),
-    /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
-    BenchModular(bench::BenchModularArgs),
-    /// Reproduce a paper's experiment (`table1`: the verification-in-the-loop paper's Table I with the search).
-    Experiment(experiment::ExperimentArgs),
-    /// Measure the search's scenario-fitness evaluations per second per thread.
-    BenchSearch(bench::BenchSearchArgs),
-    /// Measure the ambiguity check of `synth infer` on each shipped case.
-    BenchAmbiguity(bench::BenchAmbiguityArgs),
-    /// Measure noisy synthesis (--noisy) on generated distribution-station logs.
-    BenchNoisy(bench::BenchNoisyArgs),
-    /// Measure exact synthesis on one long generated recording (lazy synthesis).
-    BenchLong(bench::BenchLongArgs),
 }
 
 /// A failure the CLI reports: message, causes, exit code.
@@ -397,13 +377,7 @@ pub fn run() -> i32 {
             };
         }
     };
-    let o = &cli.output;
-    QUIET.store(o.quiet, std::sync::atomic::Ordering::Relaxed);
-    VERBOSE.store(o.verbose, std::sync::atomic::Ordering::Relaxed);
-    JSON.store(o.json, std::sync::atomic::Ordering::Relaxed);
-    if o.json {
-        data_on_stdout();
-    }
+    start(&cli.output);
     let command = std::env::args()
         .skip(1)
         .find(|a| !a.starts_with('-'))
@@ -417,25 +391,32 @@ pub fn run() -> i32 {
         Some(Command::Completions(a)) => docs::completions(&a),
         Some(Command::Man(a)) => docs::man(&a),
         Some(Command::Schema(a)) => docs::schema(&a),
-        Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),
         Some(Command::Convert(a)) => infer::convert(&a),
         Some(Command::Replay(a)) => infer::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),
         Some(Command::Conform(a)) => conform::conform(&a),
-        Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::Batch(a)) => batch::batch(&a),
-        Some(Command::BenchIngest(a)) => ingest::bench_ingest(&a),
         Some(Command::Events(a)) => events::events(&a),
-        Some(Command::BenchModular(a)) => bench::bench_modular(&a),
-        Some(Command::Experiment(a)) => experiment::experiment(&a),
-        Some(Command::BenchSearch(a)) => bench::bench_search(&a),
-        Some(Command::BenchNoisy(a)) => bench::bench_noisy(&a),
-        Some(Command::BenchLong(a)) => bench::bench_long(&a),
         Some(Command::Verify(a)) => main_job::verify(&a),
-        Some(Command::Generate(a)) => generate::generate(&a),
         None => main_job::main_job(&cli.main),
     };
+    finish(&command, result)
+}
+
+/// Sets the flags every command takes (`-q`, `-v`, `--json`).
+pub(crate) fn start(o: &OutputArgs) {
+    QUIET.store(o.quiet, std::sync::atomic::Ordering::Relaxed);
+    VERBOSE.store(o.verbose, std::sync::atomic::Ordering::Relaxed);
+    JSON.store(o.json, std::sync::atomic::Ordering::Relaxed);
+    if o.json {
+        data_on_stdout();
+    }
+}
+
+/// Reports the result of `command` (`error: ...`; with `--json` the generic summary when the
+/// command wrote none); returns the exit code.
+pub(crate) fn finish(command: &str, result: Result<(), Failure>) -> i32 {
     let (code, error) = match &result {
         Ok(()) => (exit::OK, None),
         Err(f) => {
@@ -444,7 +425,7 @@ pub fn run() -> i32 {
         }
     };
     if json() && !JSON_WRITTEN.load(std::sync::atomic::Ordering::Relaxed) {
-        let summary = generic_summary(&command, code, error);
+        let summary = generic_summary(command, code, error);
         let _ = write_stdout(format!("{summary:#}\n").as_bytes());
     }
     code

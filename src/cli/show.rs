@@ -1,6 +1,7 @@
 //! What several commands print the same way.
 
 use fbsynth::ecc::modular::Modular;
+use fbsynth::ingest::{ReadStats, RowKind};
 use std::path::{Path, PathBuf};
 
 /// The list of files written, on stdout.
@@ -58,4 +59,20 @@ pub fn describe_modules(modular: &Modular) -> Vec<String> {
             )
         })
         .collect()
+}
+
+/// What reading a raw log took: rows, samples, rows skipped by kind, time and throughput.
+pub fn print_read_stats(stats: &ReadStats, secs: f64) {
+    out!("rows:    {}", stats.rows);
+    out!("samples: {}", stats.samples);
+    for kind in RowKind::ALL {
+        let n = stats.skipped(kind);
+        if n > 0 {
+            out!("skipped: {n} rows ({})", kind.label());
+        }
+    }
+    out!(
+        "time:    {secs:.2} s ({:.2} M rows/s)",
+        stats.rows as f64 / secs.max(1e-9) / 1e6
+    );
 }

@@ -12,6 +12,7 @@
 
 use super::ambiguity::{self, Verdict};
 use super::{Error, Events};
+use crate::ecc::diff::{difference, difference_from};
 use crate::ecc::{Ecc, Run, StateId};
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use crate::scenario::{Origin, Scenario, ScenarioSet, Step};
@@ -494,6 +495,113 @@ pub fn passive(
         left -= n;
     }
     infer(&set, opts, 1, &mut |_| {})
+}
+
+/// How a machine compares with the oracle.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Agreement {
+    /// Over every input vector: `Ok(None)` equivalent, `Ok(Some(n))` they answer differently
+    /// after `n` steps (the shortest such sequence), `Err` why they were not compared.
+    pub difference: Result<Option<usize>, String>,
+    /// Whether the machine answers as the oracle on every sequence over the alphabet of the
+    /// comparison, from both initial states.
+    pub over_alphabet: bool,
+}
+
+impl Agreement {
+    /// Whether the machine is equivalent to the oracle over every input sequence.
+    pub fn equivalent(&self) -> bool {
+        self.difference == Ok(None)
+    }
+}
+
+impl std::fmt::Display for Agreement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.difference {
+            Ok(None) => write!(f, "equivalent to the oracle")?,
+            Ok(Some(n)) => write!(f, "differs from the oracle after {n} steps")?,
+            Err(e) => write!(f, "not compared on every input vector ({e})")?,
+        }
+        match self.over_alphabet {
+            true => write!(f, "; agrees on every sequence of the alphabet"),
+            false => write!(f, "; disagrees on some sequence of the alphabet"),
+        }
+    }
+}
+
+/// The active loop's result beside passive learning: machines inferred from random
+/// recordings of as many steps as the loop recorded ([`passive`]), in scenarios as long as the
+/// longest it recorded, over the alphabet of its final recordings; each compared with the
+/// oracle as the loop's machine is ([`Agreement`]).
+pub struct Comparison<'a> {
+    initial: &'a ScenarioSet,
+    oracle: &'a Ecc,
+    opts: &'a Options,
+    letters: Vec<Vec<bool>>,
+    steps: usize,
+    length: usize,
+}
+
+impl<'a> Comparison<'a> {
+    /// The comparison for what [`learn`] gave from `initial`.
+    pub fn new(
+        initial: &'a ScenarioSet,
+        oracle: &'a Ecc,
+        learned: &Learned,
+        opts: &'a Options,
+    ) -> Result<Comparison<'a>, Error> {
+        let tree = ScenarioTree::build(&learned.recordings)?;
+        let letters = ambiguity::alphabet(&tree, initial.inputs.len(), opts.ambiguity.all_inputs)?;
+        let length = (learned.recordings.scenarios.iter())
+            .skip(initial.scenarios.len())
+            .map(|s| s.steps.len())
+            .max()
+            .unwrap_or(1);
+        Ok(Comparison {
+            initial,
+            oracle,
+            opts,
+            letters,
+            steps: learned.recorded_steps,
+            length,
+        })
+    }
+
+    /// Steps of each random scenario: the longest the loop recorded.
+    pub fn length(&self) -> usize {
+        self.length
+    }
+
+    /// How `machine` compares with the oracle.
+    pub fn agreement(&self, machine: &Ecc) -> Agreement {
+        let difference = match difference(machine, self.oracle) {
+            Ok(found) => Ok(found.map(|d| d.inputs.len())),
+            Err(e) => Err(e.to_string()),
+        };
+        let start = (
+            (StateId(0), machine.initial_outputs.clone()),
+            (StateId(0), self.oracle.initial_outputs.clone()),
+        );
+        let over_alphabet =
+            difference_from(machine, self.oracle, &[start], &self.letters).is_none();
+        Agreement {
+            difference,
+            over_alphabet,
+        }
+    }
+
+    /// The machine passive learning infers from random recordings drawn with `seed`.
+    pub fn passive(&self, seed: u64) -> Result<Ecc, Error> {
+        passive(
+            self.initial,
+            self.oracle,
+            &self.letters,
+            self.steps,
+            self.length,
+            seed,
+            self.opts,
+        )
+    }
 }
 
 #[cfg(test)]

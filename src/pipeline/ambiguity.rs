@@ -21,6 +21,7 @@ use crate::sat::ambiguity::{self, node_states, Outcome, Query};
 use crate::sat::SatError;
 use crate::scenario::tree::{NodeId, ScenarioTree};
 use crate::scenario::ScenarioSet;
+use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 /// Settings of the ambiguity check.
@@ -450,5 +451,112 @@ impl Ambiguity {
             "seconds": self.seconds,
             "rivals": rivals,
         })
+    }
+}
+
+impl Ambiguity {
+    /// NuSMV's verdict on every rival in closed loop, in order: the properties it violates
+    /// (none: every property holds for the rival too).
+    pub fn verify_rivals(&self, check: &super::Check) -> Result<Vec<Vec<String>>, Error> {
+        let mut verifier = check.verifier()?;
+        let mut out = Vec::new();
+        for r in &self.rivals {
+            let v = verifier.verify(&r.ecc)?;
+            out.push(v.report.failing().iter().map(|s| s.to_string()).collect());
+        }
+        Ok(out)
+    }
+
+    /// The verdict and every rival with its sequence, as `synth infer` prints it and writes
+    /// `ambiguity.txt`.
+    pub fn to_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "{}", self.summary());
+        if !self.rivals.is_empty() {
+            let _ = writeln!(
+                s,
+                "  inputs: {}; outputs: {}",
+                set.inputs.join(" "),
+                set.outputs.join(" ")
+            );
+        }
+        for (k, r) in self.rivals.iter().enumerate() {
+            let name = format!("rival {} (rival{}.json)", k + 1, k + 1);
+            let _ = writeln!(s, "  {name}: {}", r.ecc.size());
+            for line in r.describe(set, machine, &format!("rival {}", k + 1)) {
+                let _ = writeln!(s, "    {line}");
+            }
+        }
+        if self.verdict == Verdict::Ambiguous {
+            let _ = writeln!(
+                s,
+                "  to tell them apart, record the sequences above on the machine in service (`synth next-recording` writes them as a plan)"
+            );
+        }
+        s
+    }
+
+    /// The plan of what to record (`plan.csv`): one row per step to apply, `scenario`,
+    /// `step`, `phase` (`replay` for the recorded prefix, `probe` after it), the inputs, and
+    /// what the machine and the rival would answer (`-` for no `CNF`).
+    pub fn plan_csv(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+        let mut csv = String::from("scenario,step,phase");
+        for x in &set.inputs {
+            let _ = write!(csv, ",in:{x}");
+        }
+        csv.push_str(",expect_machine,expect_rival\n");
+        for (k, r) in self.rivals.iter().enumerate() {
+            for (i, a) in r.answers(set, machine).iter().enumerate() {
+                let phase = if a.recorded { "replay" } else { "probe" };
+                let _ = write!(csv, "{},{},{phase}", k + 1, i + 1);
+                for &b in &a.inputs {
+                    let _ = write!(csv, ",{}", u8::from(b));
+                }
+                let _ = writeln!(
+                    csv,
+                    ",{},{}",
+                    plan_answer(&a.machine),
+                    plan_answer(&a.rival)
+                );
+            }
+        }
+        csv
+    }
+
+    /// The plan as a table (`plan.txt`): per sequence, its length and the steps to probe
+    /// after the recorded prefix.
+    pub fn plan_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+        let mut txt = String::new();
+        for (k, r) in self.rivals.iter().enumerate() {
+            let answers = r.answers(set, machine);
+            let _ = writeln!(
+                txt,
+                "sequence {}: {} steps ({} to reproduce a recording, {} new), tells rival {} apart",
+                k + 1,
+                answers.len(),
+                r.start.step,
+                answers.len() - r.start.step,
+                k + 1
+            );
+            for (i, a) in answers.iter().enumerate().filter(|(_, a)| !a.recorded) {
+                let _ = writeln!(
+                    txt,
+                    "  {:>4}  {}  machine {:<12} rival {}",
+                    i + 1,
+                    crate::ecc::bits_to_string(&a.inputs),
+                    plan_answer(&a.machine),
+                    plan_answer(&a.rival)
+                );
+            }
+        }
+        txt
+    }
+}
+
+/// An answer in the plan: the outputs with `CNF`, `-` without.
+fn plan_answer(o: &Option<Vec<bool>>) -> String {
+    match o {
+        Some(z) => crate::ecc::bits_to_string(z),
+        None => "-".to_string(),
     }
 }

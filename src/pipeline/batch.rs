@@ -5,7 +5,9 @@
 //! `plc=3/part-00000.parquet`, each file one scenario), and the exact method's options; with a
 //! [`Verification`], the properties and plant every machine must satisfy in closed loop.
 //! Out: an [`Outcome`] per PLC, in the folder's order: the machine (and NuSMV's certificate),
-//! or why there is none. A PLC that fails does not stop the others.
+//! or why there is none. A PLC that fails does not stop the others. [`write_results`] writes
+//! every machine into its folder and the [`Summary`] (one [`Row`] per PLC) as `summary.csv`
+//! and `summary.json`.
 //!
 //! Parallel over PLCs with rayon: each reconstruction is one SAT solver (and one NuSMV
 //! session), so `threads` PLCs run at once. Scaling beyond one machine is left to the engines
@@ -149,7 +151,7 @@ pub fn run(
         .num_threads(threads.max(1))
         .build()
         .map_err(|e| Error::Bug(format!("the thread pool: {e}")))?;
-    Ok(pool.install(|| {
+    let outcomes: Vec<Outcome> = pool.install(|| {
         plcs.par_iter()
             .map(|plc| {
                 let outcome = one(plc, mapping, verification, opts, limit);
@@ -157,7 +159,18 @@ pub fn run(
                 outcome
             })
             .collect()
-    }))
+    });
+    if outcomes.iter().any(|o| {
+        matches!(
+            o.result,
+            Err(Error::TimeLimit { .. } | Error::Interrupted { .. })
+        )
+    }) {
+        // A PLC given up on at its time limit left its loop running: its NuSMV must not
+        // outlive us. Every other PLC is done by now.
+        crate::nusmv::kill_all_children();
+    }
+    Ok(outcomes)
 }
 
 fn one(
@@ -234,4 +247,166 @@ pub fn write(
         )?);
     }
     Ok(files)
+}
+
+/// One row of the summary: a PLC, its figures and whether it has a machine.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Row {
+    /// The PLC's name.
+    pub plc: String,
+    /// Its log file or folder.
+    pub source: String,
+    /// `ok`, `verified` or `failed`.
+    pub status: &'static str,
+    /// Scenarios read.
+    pub scenarios: usize,
+    /// Steps read.
+    pub steps: usize,
+    /// States of the machine.
+    #[serde(rename = "C")]
+    pub c: Option<usize>,
+    /// Largest out-degree of the machine.
+    #[serde(rename = "K")]
+    pub k: Option<usize>,
+    /// Transitions of the machine.
+    #[serde(rename = "T")]
+    pub t: Option<usize>,
+    /// Guard literals of the machine.
+    #[serde(rename = "N")]
+    pub n: Option<usize>,
+    /// Wall-clock seconds for this PLC.
+    pub seconds: f64,
+    /// Why a PLC has no machine.
+    pub message: String,
+}
+
+/// What a batch wrote: one row per PLC, and the files.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    /// The folder of logs.
+    pub logs: PathBuf,
+    /// One row per PLC, in the folder's order.
+    pub rows: Vec<Row>,
+    /// Every file written: the machines' and the summaries.
+    pub files: Vec<PathBuf>,
+    /// Whether every PLC without a machine failed for want of one within the limits.
+    only_no_machine: bool,
+}
+
+impl Summary {
+    /// `summary.json`: the folder of logs and the rows.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({ "logs": self.logs, "plcs": self.rows })
+    }
+
+    /// `summary.csv`: the rows (RFC 4180 quoting where a cell needs it).
+    pub fn to_csv(&self) -> String {
+        use crate::files::csv::quote_cell as quote;
+        let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
+        let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
+        for r in &self.rows {
+            text.push_str(&format!(
+                "{},{},{},{},{},{},{},{},{},{:.3},{}\n",
+                quote(&r.plc),
+                quote(&r.source),
+                r.status,
+                r.scenarios,
+                r.steps,
+                cell(r.c),
+                cell(r.k),
+                cell(r.t),
+                cell(r.n),
+                r.seconds,
+                quote(&r.message)
+            ));
+        }
+        text
+    }
+
+    /// With a PLC left without a machine: the error that says which (no machine within the
+    /// limits when that is why every one failed, else bad input).
+    pub fn failure(&self) -> Option<Error> {
+        let failed: Vec<&str> = (self.rows.iter())
+            .filter(|r| r.status == "failed")
+            .map(|r| r.plc.as_str())
+            .collect();
+        if failed.is_empty() {
+            return None;
+        }
+        let message = format!(
+            "{} of {} PLCs have no machine: {} (summary.csv says why)",
+            failed.len(),
+            self.rows.len(),
+            failed.join(", ")
+        );
+        Some(match self.only_no_machine {
+            true => Error::NoMachine(message),
+            false => Error::Input(message),
+        })
+    }
+}
+
+/// Writes each PLC's machine into `dir/<plc>` ([`write()`]) and the [`Summary`] as
+/// `dir/summary.csv` and `dir/summary.json`. A machine that cannot be written fails its row,
+/// not the batch.
+pub fn write_results(
+    dir: &Path,
+    logs: &Path,
+    outcomes: &[Outcome],
+    name: &str,
+    formats: &[crate::export::Format],
+    verification: Option<&Verification>,
+) -> Result<Summary, Error> {
+    let mut summary = Summary {
+        logs: logs.to_path_buf(),
+        rows: Vec::new(),
+        files: Vec::new(),
+        only_no_machine: true,
+    };
+    for o in outcomes {
+        let mut row = Row {
+            plc: o.plc.name.clone(),
+            source: o.plc.source.display().to_string(),
+            status: "failed",
+            scenarios: o.scenarios,
+            steps: o.steps,
+            c: None,
+            k: None,
+            t: None,
+            n: None,
+            seconds: o.seconds,
+            message: String::new(),
+        };
+        let written = match &o.result {
+            Ok(r) => write(&dir.join(&o.plc.name), r, name, formats, verification).map(|f| (r, f)),
+            Err(e) => {
+                summary.only_no_machine &= e.class() == super::Class::NoMachine;
+                row.message = e.to_string();
+                summary.rows.push(row);
+                continue;
+            }
+        };
+        match written {
+            Ok((r, files)) => {
+                summary.files.extend(files);
+                let s = r.synthesis.size;
+                (row.c, row.k, row.t, row.n) = (Some(s.c), Some(s.k), Some(s.t), Some(s.n));
+                row.status = match r.certificate {
+                    Some(_) => "verified",
+                    None => "ok",
+                };
+            }
+            Err(e) => {
+                summary.only_no_machine = false;
+                row.message = e.to_string();
+            }
+        }
+        summary.rows.push(row);
+    }
+    let csv_file = dir.join("summary.csv");
+    let json_file = dir.join("summary.json");
+    crate::files::write_atomic(&csv_file, summary.to_csv().as_bytes())?;
+    crate::files::write_atomic(&json_file, format!("{:#}\n", summary.to_json()).as_bytes())?;
+    summary.files.extend([csv_file, json_file]);
+    Ok(summary)
 }

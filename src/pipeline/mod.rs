@@ -50,6 +50,7 @@ pub mod output;
 pub mod recordings;
 pub mod refine;
 pub mod search;
+pub mod table1;
 
 pub use crate::nusmv::Nusmv;
 pub use crate::verify::{Problem, Report};

@@ -1769,19 +1769,30 @@ fn fixed_bounds_ask_for_a_size_and_say_when_none_fits() {
 
 #[test]
 fn every_command_takes_quiet_verbose_and_json() {
-    let o = synth(&["--help"]);
-    let help = text(&o.stdout);
-    let commands: Vec<String> = help
-        .lines()
-        .skip_while(|l| !l.starts_with("Commands:"))
-        .skip(1)
-        .take_while(|l| l.starts_with("  "))
-        .filter_map(|l| l.split_whitespace().next().map(String::from))
-        .filter(|c| c != "help")
-        .collect();
+    // The user's commands, and the developer's in synth-dev.
+    let run = |binary: &str, args: &[&str]| {
+        Command::new(binary)
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("run the binary")
+    };
+    let mut commands: Vec<(&str, String)> = Vec::new();
+    for binary in [env!("CARGO_BIN_EXE_synth"), env!("CARGO_BIN_EXE_synth-dev")] {
+        let help = text(&run(binary, &["--help"]).stdout);
+        commands.extend(
+            help.lines()
+                .skip_while(|l| !l.starts_with("Commands:"))
+                .skip(1)
+                .take_while(|l| l.starts_with("  "))
+                .filter_map(|l| l.split_whitespace().next().map(String::from))
+                .filter(|c| c != "help")
+                .map(|c| (binary, c)),
+        );
+    }
     assert!(commands.len() >= 20, "{commands:?}");
-    for c in &commands {
-        let h = text(&synth(&[c, "--help"]).stdout);
+    for (binary, c) in &commands {
+        let h = text(&run(binary, &[c, "--help"]).stdout);
         for flag in ["-q, --quiet", "-v, --verbose", "--json"] {
             assert!(h.contains(flag), "synth {c} lacks {flag}");
         }

@@ -1,9 +1,8 @@
 //! Integration tests: one test binary, one submodule per area (fast links).
 
-// The benchmark cases are not part of the library; the tests compile the binary's copy.
-#[path = "../../src/cases/mod.rs"]
-#[allow(dead_code)]
-mod cases;
+// The benchmark cases, from the library (its feature `cases`, which the dev-dependency on this
+// crate turns on), as `crate::cases` in every test module.
+use fbsynth::cases;
 
 mod ambiguity;
 mod cli;

@@ -9,7 +9,17 @@ use std::process::Command;
 
 /// Runs `synth` under umask 022; panics with its stderr when it fails.
 fn synth(args: &[&str]) {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_synth"));
+    run(env!("CARGO_BIN_EXE_synth"), args)
+}
+
+/// Runs the developer binary `synth-dev` likewise.
+fn synth_dev(args: &[&str]) {
+    run(env!("CARGO_BIN_EXE_synth-dev"), args)
+}
+
+/// Runs `binary` under umask 022; panics with its stderr when it fails.
+fn run(binary: &str, args: &[&str]) {
+    let mut cmd = Command::new(binary);
     cmd.args(args).current_dir(env!("CARGO_MANIFEST_DIR"));
     // SAFETY: umask is async-signal-safe; nothing else runs between fork and exec.
     unsafe {
@@ -18,10 +28,10 @@ fn synth(args: &[&str]) {
             Ok(())
         });
     }
-    let o = cmd.output().expect("run synth");
+    let o = cmd.output().expect("run the binary");
     assert!(
         o.status.success(),
-        "synth {}: {}",
+        "{binary} {}: {}",
         args.join(" "),
         String::from_utf8_lossy(&o.stderr)
     );
@@ -111,7 +121,7 @@ fn every_file_a_command_writes_is_0644() {
         "--out",
         &at("refined"),
     ]);
-    synth(&["generate", "pnp", "--out", &at("generate")]);
+    synth_dev(&["generate", "pnp", "--out", &at("generate")]);
     if let Some(n) = nusmv_or_skip() {
         synth(&[
             "--ltl",

@@ -47,7 +47,7 @@ fn noisy_distribution_logs_give_the_reference_behaviour() {
     assert!(good.is_some(), "no candidate replays the held-out runs");
 }
 
-/// `specs/` holds exactly what `synth generate distribution` writes.
+/// `specs/` holds exactly what `synth-dev generate distribution` writes.
 #[test]
 fn shipped_distribution_files_match_the_generator() {
     let dir = tempfile::tempdir().unwrap();
@@ -58,7 +58,7 @@ fn shipped_distribution_files_match_the_generator() {
         let shipped = std::fs::read(specs.join(name)).unwrap();
         assert!(
             shipped == std::fs::read(&f).unwrap(),
-            "specs/{} differs from the generator: run synth generate distribution",
+            "specs/{} differs from the generator: run synth-dev generate distribution",
             name.to_string_lossy()
         );
         assert!(shipped.len() < 200_000);

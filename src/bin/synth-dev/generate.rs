@@ -1,8 +1,8 @@
-//! `synth generate`: re-record a shipped case's files from its reference controller and
+//! `synth-dev generate`: re-record a shipped case's files from its reference controller and
 //! plant simulation.
 
-use super::Failure;
-use crate::cases::{distribution, pnp, tank};
+use crate::cli::Failure;
+use fbsynth::cases::{distribution, pnp, tank};
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
@@ -16,7 +16,7 @@ pub struct GenerateArgs {
     pub out: PathBuf,
 }
 
-/// `synth generate CASE`.
+/// `synth-dev generate CASE`.
 pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     let files = match args.case.as_str() {
         "tank" => {

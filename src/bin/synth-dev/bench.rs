@@ -1,21 +1,19 @@
-//! The benchmark commands: figures for the README, each reproducible with one command.
+//! The benchmarks of synthesis on the shipped scenarios: a Markdown table each.
 //!
-//! - `synth bench`: exact synthesis on the project's Pick-and-Place scenarios and, when the
-//!   fbSAT data folder is present (it is not part of the repository), on fbSAT's published
-//!   scenario sets; then the main job (exact synthesis verified by NuSMV);
-//! - `synth bench-noisy`: noisy synthesis on generated distribution-station logs;
-//! - `synth bench-modular`: modular synthesis for M = 1..4;
-//! - `synth bench-search`: the search's scenario-fitness evaluations per second;
-//! - `synth bench-long`: exact synthesis on one long generated run (lazy synthesis).
+//! - `bench`: exact synthesis on the project's Pick-and-Place scenarios and, when the fbSAT
+//!   data folder is present (it is not part of the repository), on fbSAT's published scenario
+//!   sets; then the main job (exact synthesis verified by NuSMV);
+//! - `bench-modular`: modular synthesis for M = 1..4;
+//! - `bench-search`: the search's scenario-fitness evaluations per second;
+//! - `bench-ambiguity`: the ambiguity check after `synth infer`'s machine.
 
-use super::args::{problem, TraceArgs};
-use super::progress::Progress;
-use super::show::describe_modules;
-use super::{exit, Failure};
-use crate::cases::distribution;
+use crate::cli::args::{problem, TraceArgs};
+use crate::cli::show::describe_modules;
+use crate::cli::{exit, Failure};
+use crate::stats::Stats;
 use clap::Args;
 use fbsynth::ecc::AlgorithmKind;
-use fbsynth::pipeline::{self, exact, modular, noisy, Check, Recordings};
+use fbsynth::pipeline::{self, exact, modular, Check, Recordings};
 use fbsynth::search::{self, Evaluator, Machine, ScenarioData};
 use rand::SeedableRng;
 use std::path::{Path, PathBuf};
@@ -90,11 +88,6 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
     out
 }
 
-fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
-    xs.sort_by(|a, b| a.total_cmp(b));
-    (xs[0], xs[xs.len() / 2], xs[xs.len() - 1])
-}
-
 /// The main job, `runs` times: iterations, time, SAT share, NuSMV time per check.
 fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     let (ltl, plant_file) = (
@@ -122,10 +115,7 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
             .filter(|i| i.checked_by == "NuSMV")
             .map(|i| i.nusmv_seconds)
             .collect();
-        let med = match nus.is_empty() {
-            true => 0.0,
-            false => stats(nus.clone()).1,
-        };
+        let med = Stats::of(&nus).map_or(0.0, |s| s.median);
         let s = v.synthesis.size;
         out!(
             "| {run} | {} | {} | {} | {} | {total:.2} | {sat:.2} ({:.0}%) | {:.2} | {:.0} |",
@@ -141,6 +131,8 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `synth-dev bench`: exact synthesis `--runs` times per case, as a Markdown table; then the
+/// main job `--cegis-runs` times.
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     let runs = args.runs.max(1);
     let all = cases(args);
@@ -177,7 +169,12 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         let guards = r.ecc.states.iter().flat_map(|q| &q.transitions);
         let nodes: usize = guards.clone().map(|t| t.guard.tree_size()).sum();
         let largest = guards.map(|t| t.guard.tree_size()).max().unwrap_or(0);
-        let (lo, med, hi) = stats(times);
+        let Stats {
+            min: lo,
+            median: med,
+            max: hi,
+            ..
+        } = Stats::of(&times).expect("runs >= 1");
         out!(
             "| {} | {} | {} | {} | {} | {} | {lo:.3} | {med:.3} | {hi:.3} | {nodes} | {largest} |",
             case.name,
@@ -191,173 +188,6 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     if args.cegis_runs > 0 {
         bench_cegis(args)?;
     }
-    Ok(())
-}
-
-#[derive(Debug, Args)]
-pub struct BenchNoisyArgs {
-    /// Log lengths in samples, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000")]
-    pub samples: Vec<usize>,
-    /// Probability that an output change is recorded one sample early.
-    #[arg(long, default_value_t = 0.02)]
-    pub rate: f64,
-    /// Seed of the use cases and of the injected errors.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Candidates to enumerate after minimization.
-    #[arg(long, default_value_t = 1)]
-    pub enumerate: usize,
-    /// Bound on corrected errors, as a multiple of the number injected (0: no bound).
-    #[arg(long, default_value_t = 1.0)]
-    pub error_bound: f64,
-    /// Also write each size's logs as `DIR/noisy-<samples>.csv` and `DIR/clean-<samples>.csv`
-    /// (the format of `specs/distribution_noisy.csv`), to time `synth infer --noisy` on them.
-    #[arg(long, value_name = "DIR")]
-    pub save: Option<PathBuf>,
-}
-
-/// `synth bench-noisy`: times noisy synthesis on generated distribution-station logs
-/// ([`distribution::random_logs`], skew injected per log).
-pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
-    out!(
-        "samples  steps    nodes   traces  injected  C  K  T   ε      rounds  encoded  vars      clauses    sizes_s  epsilon_s  total_s  clean  peak_rss"
-    );
-    for &len in &args.samples {
-        let mut injected = 0;
-        let clean = distribution::random_logs(len, args.seed);
-        let noisy: Vec<_> = clean
-            .iter()
-            .enumerate()
-            .map(|(k, log)| {
-                let (n, i) = distribution::inject_skew(log, args.rate, args.seed + k as u64);
-                injected += i;
-                n
-            })
-            .collect();
-        if let Some(dir) = &args.save {
-            save_logs(dir, &format!("noisy-{len}.csv"), &noisy)?;
-            save_logs(dir, &format!("clean-{len}.csv"), &clean)?;
-        }
-        let set = distribution::to_scenarios(&noisy, "<generated>");
-        let opts = noisy::Options {
-            enumerate: args.enumerate.max(1),
-            max_errors: (args.error_bound > 0.0)
-                .then(|| (injected as f64 * args.error_bound).ceil() as usize),
-            ..noisy::Options::default()
-        };
-        let t = Instant::now();
-        let progress = Progress::new(!super::verbose());
-        let r = noisy::run(&set, None, &opts, &mut |e| progress.event(e))
-            .map_err(|e| Failure::with_code(exit::BUG, e))?
-            .synthesis;
-        let total = t.elapsed().as_secs_f64();
-        let first = r.candidates.first();
-        // The candidate has been replayed on its corrected traces; the logs before the
-        // injected errors are the ground truth it should reproduce as well.
-        let replays_clean = first.is_some_and(|c| {
-            distribution::to_scenarios(&clean, "<clean>")
-                .check(&c.ecc)
-                .is_ok()
-        });
-        out!(
-            "{:<8} {:<8} {:<7} {:<7} {:<9} {:<2} {:<2} {:<3} {:<6} {:<7} {:<8} {:<9} {:<10} {:<8.2} {:<10.2} {:<8.2} {:<6} {}",
-            len,
-            set.step_count(),
-            r.stats.graph_nodes,
-            r.stats.distinct_traces,
-            injected,
-            r.n,
-            r.k,
-            r.r,
-            first.map_or(0, |c| c.errors),
-            r.stats.rounds,
-            if r.stats.rounds == 0 { r.stats.graph_nodes } else { r.stats.encoded_nodes },
-            r.stats.variables,
-            r.stats.clauses,
-            r.stats.minimize_seconds,
-            r.stats.enumerate_seconds,
-            total,
-            if replays_clean { "yes" } else { "no" },
-            super::ingest::peak_rss()
-        );
-    }
-    Ok(())
-}
-
-fn save_logs(
-    dir: &Path,
-    name: &str,
-    logs: &[Vec<fbsynth::scenario::csvlog::Sample>],
-) -> Result<(), Failure> {
-    std::fs::create_dir_all(dir).map_err(Failure::input)?;
-    let mut text = Vec::new();
-    distribution::write_csv(logs, &mut text).map_err(Failure::input)?;
-    fbsynth::files::write_atomic(&dir.join(name), &text).map_err(Failure::input)
-}
-
-#[derive(Debug, Args)]
-pub struct BenchLongArgs {
-    /// Lengths of the run in steps, comma-separated; one row each, in this order.
-    #[arg(long, value_delimiter = ',', default_value = "10000,100000,1000000")]
-    pub steps: Vec<usize>,
-    /// Seed of the operator's rounds.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Also write each run as a scenario file `DIR/long-<steps>.traces` (names in
-    /// `DIR/long.inputs`, `DIR/long.outputs`), to time `synth infer` on it on its own.
-    #[arg(long, value_name = "DIR")]
-    pub save: Option<PathBuf>,
-}
-
-/// `synth bench-long`: exact synthesis (no properties) on one long run of the distribution
-/// station ([`distribution::long_run`]); every machine is replayed on the whole run.
-pub fn bench_long(args: &BenchLongArgs) -> Result<(), Failure> {
-    out!("steps     C  K  T   N   rounds  encoded  generate_s  synth_s  peak_rss");
-    for &steps in &args.steps {
-        let t = Instant::now();
-        let set = distribution::long_run(steps, args.seed);
-        let generate = t.elapsed().as_secs_f64();
-        if let Some(dir) = &args.save {
-            save_run(&set, dir, steps)?;
-        }
-        let t = Instant::now();
-        let progress = Progress::new(!super::verbose());
-        let r = exact::run(&set, None, &exact::Options::default(), &mut |e| {
-            progress.event(e)
-        })
-        .map_err(|e| Failure::with_code(exit::BUG, e))?
-        .synthesis;
-        // The pipeline has replayed the machine on every step of the run.
-        let seconds = t.elapsed().as_secs_f64();
-        out!(
-            "{:<9} {:<2} {:<2} {:<3} {:<3} {:<7} {:<8} {:<11.2} {:<8.2} {}",
-            steps,
-            r.size.c,
-            r.size.k,
-            r.size.t,
-            r.size.n,
-            r.stats.rounds,
-            r.stats.steps_encoded,
-            generate,
-            seconds,
-            super::ingest::peak_rss()
-        );
-    }
-    Ok(())
-}
-
-fn save_run(set: &fbsynth::scenario::ScenarioSet, dir: &Path, steps: usize) -> Result<(), Failure> {
-    use fbsynth::files::write_atomic;
-    std::fs::create_dir_all(dir).map_err(Failure::input)?;
-    let mut text = Vec::new();
-    fbsynth::scenario::fbsat::write(set, &mut text).map_err(Failure::input)?;
-    write_atomic(&dir.join(format!("long-{steps}.traces")), &text).map_err(Failure::input)?;
-    let names = |n: &[String]| format!("{}\n", n.join("\n"));
-    write_atomic(&dir.join("long.inputs"), names(&set.inputs).as_bytes())
-        .map_err(Failure::input)?;
-    write_atomic(&dir.join("long.outputs"), names(&set.outputs).as_bytes())
-        .map_err(Failure::input)?;
     Ok(())
 }
 
@@ -377,7 +207,7 @@ pub struct BenchModularArgs {
     pub runs: usize,
 }
 
-/// `synth bench-modular`: modular synthesis for M = 1..=max, as a Markdown table.
+/// `synth-dev bench-modular`: modular synthesis for M = 1..=max, as a Markdown table.
 pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
     let recordings = args.traces.recordings();
     let set = recordings.load()?;
@@ -409,7 +239,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
             times.push(t0.elapsed().as_secs_f64());
             last = Some(r);
         }
-        times.sort_by(f64::total_cmp);
+        let time = Stats::of(&times).expect("at least one run");
         let r = last.expect("at least one run");
         let t: usize = r.size.modules.iter().map(|s| s.t).sum();
         out!(
@@ -421,9 +251,9 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
             r.stats.variables,
             r.stats.clauses,
             r.stats.solver_calls,
-            times[0],
-            times[times.len() / 2],
-            times[times.len() - 1]
+            time.min,
+            time.median,
+            time.max
         );
         for line in describe_modules(&r.modular) {
             eprintln!("    M={modules} {line}");
@@ -464,7 +294,7 @@ fn evaluations_per_second(data: &ScenarioData, pool: &[Machine], seconds: f64) -
     n as f64 / start.elapsed().as_secs_f64()
 }
 
-/// `synth bench-search`.
+/// `synth-dev bench-search`.
 pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Failure> {
     let set = Recordings::files(vec![args.traces.clone()]).load()?;
     let data = ScenarioData::new(&set).map_err(Failure::input)?;
@@ -522,7 +352,7 @@ const AMBIGUITY_CASES: [&str; 4] = [
     "specs/tank2.traces",
 ];
 
-/// `synth bench-ambiguity`: the time of the ambiguity check (one rival, default depth) after
+/// `synth-dev bench-ambiguity`: the time of the ambiguity check (one rival, default depth) after
 /// `synth infer`'s machine, on each shipped case.
 pub fn bench_ambiguity(args: &BenchAmbiguityArgs) -> Result<(), Failure> {
     use fbsynth::pipeline::ambiguity;
@@ -543,11 +373,14 @@ pub fn bench_ambiguity(args: &BenchAmbiguityArgs) -> Result<(), Failure> {
             times.push(t.elapsed().as_secs_f64());
             verdict = Some(a.verdict);
         }
-        let (lo, med, hi) = stats(times);
+        let t = Stats::of(&times).expect("runs >= 1");
         out!(
-            "| {file} | {} | {:?} | {lo:.3} | {med:.3} | {hi:.3} |",
+            "| {file} | {} | {:?} | {:.3} | {:.3} | {:.3} |",
             machine.states.len(),
-            verdict.expect("runs >= 1")
+            verdict.expect("runs >= 1"),
+            t.min,
+            t.median,
+            t.max
         );
     }
     Ok(())
