@@ -241,7 +241,7 @@ impl Checker for InProcess {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nusmv::test_support::nusmv_or_skip;
+    use crate::nusmv::nusmv_for_tests;
     use crate::scenario::tree::ScenarioTree;
     use crate::search::{run, Config, Machine, ScenarioData};
     use crate::verify::Problem;
@@ -280,7 +280,7 @@ mod tests {
     /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
     #[test]
     fn search_finds_a_verified_controller_for_seed_001s_case() {
-        let Some(nusmv) = nusmv_or_skip() else {
+        let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
         let (set, problem, start) = seed_001s_case();
@@ -316,7 +316,7 @@ mod tests {
     #[test]
     fn in_process_verdicts_agree_with_nusmv_s() {
         use rand::SeedableRng;
-        let Some(nusmv) = nusmv_or_skip() else {
+        let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
         let (set, problem, start) = seed_001s_case();

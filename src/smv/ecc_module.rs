@@ -354,7 +354,7 @@ mod tests {
     /// Runs wherever NuSMV is installed, and always under CI (where a missing NuSMV fails).
     #[test]
     fn module_agrees_with_simulator_in_nusmv() {
-        let Some(nusmv) = crate::nusmv::test_support::nusmv_or_skip() else {
+        let Some(nusmv) = crate::nusmv::nusmv_for_tests() else {
             return;
         };
         let nusmv = nusmv.path;
