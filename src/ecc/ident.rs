@@ -164,10 +164,13 @@ pub fn check_smv(name: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The module name of the controller in the closed loop synth composes.
+pub const CONTROLLER_MODULE: &str = "ECC";
+
 /// The modules of the closed loop synth composes: `main` (NuSMV's top module, which takes no
-/// parameters) over the controller `ECC` and the plant file's `plant`. A block by one of these
-/// names could not stand beside them.
-pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", "ECC", "plant"];
+/// parameters) over the controller [`CONTROLLER_MODULE`] and the plant file's `plant`. A block
+/// by one of these names could not stand beside them.
+pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", CONTROLLER_MODULE, "plant"];
 
 /// Names the exported function block declares itself: its events, and the state variable of
 /// the Structured Text block (compared ignoring case, as ST does).

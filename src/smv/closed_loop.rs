@@ -31,14 +31,15 @@ use crate::quote::{cut, quote};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Module name of the controller in the closed loop.
-pub const CONTROLLER_MODULE: &str = "ECC";
+pub use crate::ecc::ident::CONTROLLER_MODULE;
+
 /// Instance names in `main`.
 pub const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
 pub const PLANT_INSTANCE: &str = "plant";
 
-const RESERVED: &[&str] = &["ctrl", "plant", "main", "ECC"];
+/// The names the closed loop gives its own modules and instances.
+const RESERVED: &[&str] = &[CONTROLLER_INSTANCE, PLANT_INSTANCE, "main", CONTROLLER_MODULE];
 
 /// A coupling mistake, found before NuSMV runs.
 #[derive(Debug, thiserror::Error)]
