@@ -673,7 +673,7 @@ fn value(state: &BTreeMap<String, String>, name: &str, instance: &str) -> Option
     let v = state
         .get(name)
         .or_else(|| state.get(&format!("{instance}.{name}")))?;
-    crate::smv::parse_bool(v)
+    crate::smv::parse_bool_literal(v)
 }
 
 impl Counterexample {

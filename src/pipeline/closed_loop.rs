@@ -7,6 +7,7 @@
 //! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
 //! counterexamples still come back as negative scenarios.
 
+use crate::ecc::ident::{parse_smv_value, SmvValue};
 use crate::ltl::{property_name, Ltl};
 use crate::plant::{Model, Name, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
@@ -208,14 +209,11 @@ fn plant_state(model: &Model, s: &BTreeMap<String, String>) -> Option<Vec<Value>
         .collect()
 }
 
+/// A value of a NuSMV trace as a value of `model` (a symbol must be one of its constants).
 fn parse_value(model: &Model, text: &str) -> Option<Value> {
-    match text {
-        "TRUE" => Some(Value::Bool(true)),
-        "FALSE" => Some(Value::Bool(false)),
-        _ => text
-            .parse::<i64>()
-            .ok()
-            .map(Value::Int)
-            .or_else(|| model.symbol(text)),
+    match parse_smv_value(text) {
+        SmvValue::Bool(b) => Some(Value::Bool(b)),
+        SmvValue::Int(i) => Some(Value::Int(i)),
+        SmvValue::Symbol(s) => model.symbol(s),
     }
 }

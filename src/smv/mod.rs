@@ -12,7 +12,7 @@ pub mod plant;
 pub use ecc_module::{state_value, write_ecc_module, SmvError};
 
 pub use crate::ecc::ident::check_smv as check_identifier;
-pub use crate::ecc::ident::{bool_literal, parse_bool};
+pub use crate::ecc::ident::{bool_literal, parse_bool_literal};
 
 use crate::ecc::Algorithm;
 
@@ -59,10 +59,10 @@ mod tests {
     #[test]
     fn booleans_read_back_as_written() {
         for v in [false, true] {
-            assert_eq!(parse_bool(bool_literal(v)), Some(v));
+            assert_eq!(parse_bool_literal(bool_literal(v)), Some(v));
         }
         for other in ["true", "1", "idle", ""] {
-            assert_eq!(parse_bool(other), None, "{other}");
+            assert_eq!(parse_bool_literal(other), None, "{other}");
         }
     }
 
