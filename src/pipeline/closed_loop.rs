@@ -9,7 +9,7 @@
 
 use crate::ecc::ident::{parse_smv_value, SmvValue};
 use crate::ltl::{property_name, Ltl};
-use crate::plant::{Model, Name, Value};
+use crate::plant::{Model, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::ScenarioSet;
@@ -42,28 +42,12 @@ impl ClosedLoop {
         let model = problem.model.clone()?;
         closed_loop::plant::encodable(&model)
             .map_err(|c| format!("the plant uses {c}, which the encoding does not cover"))?;
-        let inputs = set
-            .inputs
-            .iter()
-            .map(|i| match model.lookup(i) {
-                Some(n @ (Name::Var(_) | Name::Define(_))) => Ok(n),
-                _ => Err(format!("the plant declares no '{i}'")),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let params = model
-            .params
-            .iter()
-            .map(|p| {
-                set.outputs
-                    .iter()
-                    .position(|o| o == p)
-                    .ok_or_else(|| format!("plant parameter '{p}' is not a controller output"))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let coupling =
+            crate::check::Coupling::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
         let mut spec = Spec {
             plant: model,
-            inputs,
-            params,
+            inputs: coupling.inputs.clone(),
+            params: coupling.params.clone(),
             outputs: set.outputs.clone(),
             properties: Vec::new(),
             response_bound,
@@ -97,8 +81,6 @@ impl ClosedLoop {
                 Ok(())
             })
             .collect();
-        let coupling = crate::check::Coupling::new(&spec.plant, &set.inputs, &set.outputs)
-            .map_err(|e| e.to_string())?;
         spec.properties = problem
             .props
             .iter()

@@ -147,12 +147,12 @@ pub struct Closed {
 }
 
 impl Closed {
-    /// The in-process view of `problem` for a controller with `inputs` and `outputs`; `None`
-    /// when the plant is outside what [`crate::check`] reads or the names do not wire up
-    /// (NuSMV then gives every verdict).
-    pub fn new(problem: &Problem, inputs: &[String], outputs: &[String]) -> Option<Closed> {
+    /// The in-process view of `problem` for a controller over the interface it was loaded
+    /// with; `None` when the plant is outside what [`crate::check`] reads or the names do not
+    /// wire up (NuSMV then gives every verdict).
+    pub fn new(problem: &Problem) -> Option<Closed> {
         let model = problem.model.clone().ok()?;
-        let coupling = Coupling::new(&model, inputs, outputs).ok()?;
+        let coupling = Coupling::new(&model, &problem.coupling).ok()?;
         Some(Closed {
             model,
             coupling,
@@ -320,7 +320,7 @@ mod tests {
             return;
         };
         let (set, problem, start) = seed_001s_case();
-        let closed = Arc::new(Closed::new(&problem, &set.inputs, &set.outputs).unwrap());
+        let closed = Arc::new(Closed::new(&problem).unwrap());
         let data = ScenarioData::new(&set).unwrap();
         let mut eval = crate::search::Evaluator::new(&data);
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
