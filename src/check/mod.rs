@@ -114,7 +114,8 @@ impl Coupling {
         outputs: &[String],
     ) -> Result<Coupling, String> {
         let text = crate::plant::print::to_smv(model);
-        let plant = crate::smv::plant::parse_plant(&model.file, &text).map_err(|e| e.to_string())?;
+        let plant =
+            crate::smv::plant::parse_plant(&model.file, &text).map_err(|e| e.to_string())?;
         let spec = std::path::Path::new("t.ltl");
         let coupling = closed_loop::check_coupling(inputs, outputs, &plant, spec, &[])
             .map_err(|e| e.to_string())?;

@@ -283,7 +283,8 @@ impl Rows {
             outputs: vec![false; self.mapping.outputs().len()],
         };
         for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
-            let value = parse_bool_cell(cell).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
+            let value =
+                parse_bool_cell(cell).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
             match slot {
                 Slot::Input(x) => sample.inputs[x.0] = value,
                 Slot::Output(z) => sample.outputs[z.0] = value,

@@ -39,7 +39,12 @@ pub const CONTROLLER_INSTANCE: &str = "ctrl";
 pub const PLANT_INSTANCE: &str = "plant";
 
 /// The names the closed loop gives its own modules and instances.
-const RESERVED: &[&str] = &[CONTROLLER_INSTANCE, PLANT_INSTANCE, "main", CONTROLLER_MODULE];
+const RESERVED: &[&str] = &[
+    CONTROLLER_INSTANCE,
+    PLANT_INSTANCE,
+    "main",
+    CONTROLLER_MODULE,
+];
 
 /// A coupling mistake, found before NuSMV runs.
 #[derive(Debug, thiserror::Error)]
