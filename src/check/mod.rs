@@ -542,7 +542,7 @@ struct OutputEffect {
 
 impl OutputEffect {
     fn of(a: &crate::ecc::Algorithm) -> OutputEffect {
-        use crate::smv::Effect;
+        use crate::ecc::Effect;
         let mut e = OutputEffect {
             keep: 0,
             set: 0,

@@ -15,7 +15,7 @@
 //!   assignment can certainly produce it (see [`reach`](super::reach)).
 
 use super::reach;
-use super::{
+use super::syntax::{
     Assign, DefineDecl, EnumLit, Ident, Node, NodeKind, Plant, Section, Source, Target, TypeDecl,
 };
 use crate::plant::{

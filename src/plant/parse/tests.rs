@@ -1,6 +1,7 @@
 //! Tests of the plant parser: the shipped plants and fixtures, the resolved model of a small
 //! plant, the precedence and the desugaring NuSMV would apply, and every refusal with its place.
 
+use super::syntax::MAX_DEPTH;
 use super::*;
 use crate::plant::{Constraint, DefineId, Expr, Name, ParamId, Type, Value, VarId};
 use std::path::PathBuf;
