@@ -299,10 +299,11 @@ impl Problem {
         outputs: &[String],
     ) -> Result<Problem, ProblemError> {
         let props = crate::ltl::parse_spec_file(spec_file)?;
+        // The file is read once: the scan for the coupling and the full parse share its text.
         let plant = crate::smv::plant::read_plant(plant_file)?;
         let coupling =
             crate::smv::closed_loop::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
-        let model = crate::plant::parse::parse_file(plant_file)
+        let model = crate::plant::parse::parse_str(&plant.text, plant_file)
             .map(std::sync::Arc::new)
             .map_err(|e| e.to_string());
         Ok(Problem {
@@ -673,7 +674,7 @@ fn value(state: &BTreeMap<String, String>, name: &str, instance: &str) -> Option
     let v = state
         .get(name)
         .or_else(|| state.get(&format!("{instance}.{name}")))?;
-    crate::smv::parse_bool(v)
+    crate::smv::parse_bool_literal(v)
 }
 
 impl Counterexample {

@@ -36,6 +36,7 @@ use crate::ltl::{CmpOp, Ltl, Property};
 use crate::plant::explicit::{self, EvalError, Semantics};
 use crate::plant::{Model, Name, Type, Value};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
+use crate::smv::closed_loop;
 use emptiness::{find_lasso, Graph};
 use gba::Gba;
 use std::collections::{BTreeMap, HashMap};
@@ -53,21 +54,19 @@ pub struct Coupling {
 }
 
 impl Coupling {
-    /// Wires a controller with `inputs` and `outputs` to `model`: every input must be a
-    /// Boolean variable or a define of the plant, every plant parameter an output, and no
-    /// output may share its name with a plant variable or define (the names of the closed
-    /// loop are global).
-    pub fn new(
-        model: &Model,
-        inputs: &[String],
-        outputs: &[String],
-    ) -> Result<Coupling, CheckError> {
+    /// Wires a controller to `model` along `coupling`, checked by
+    /// [`check_coupling`](closed_loop::check_coupling) on the plant file `model` was read from
+    /// (as [`crate::verify::Problem::load`] does): the plant variable or define each input
+    /// reads, the output each plant parameter is. The coupling convention is not checked again;
+    /// refused here is what this checker cannot run (an input on a variable that is not
+    /// Boolean, more than 64 outputs) and a `model` of another plant.
+    pub fn new(model: &Model, coupling: &closed_loop::Coupling) -> Result<Coupling, CheckError> {
         let bad = |message: String| CheckError::Coupling {
             file: model.file.display().to_string(),
             message,
         };
-        let mut wired = Vec::with_capacity(inputs.len());
-        for i in inputs {
+        let mut wired = Vec::with_capacity(coupling.inputs.len());
+        for i in &coupling.inputs {
             match model.lookup(i) {
                 Some(Name::Var(v)) if model.var(v).ty != Type::Bool => {
                     return Err(bad(format!(
@@ -85,36 +84,42 @@ impl Coupling {
                 }
             }
         }
-        let mut params = Vec::with_capacity(model.params.len());
-        for p in &model.params {
-            match outputs.iter().position(|o| o == p) {
-                Some(z) => params.push(z),
-                None => {
-                    return Err(bad(format!(
-                        "plant parameter '{p}' is not a controller output (outputs: {})",
-                        outputs.join(" ")
-                    )))
-                }
-            }
+        let same_params = model.params.len() == coupling.params.len()
+            && (model.params.iter().zip(&coupling.params)).all(|(p, &z)| coupling.outputs[z] == *p);
+        if !same_params {
+            return Err(bad(format!(
+                "the plant's parameters ({}) are not those the coupling was checked with",
+                model.params.join(", ")
+            )));
         }
-        for o in outputs {
-            if matches!(model.lookup(o), Some(Name::Var(_) | Name::Define(_))) {
-                return Err(bad(format!(
-                    "controller output '{o}' has the name of a plant variable or define"
-                )));
-            }
-        }
-        if outputs.len() > 64 {
+        if coupling.outputs.len() > 64 {
             return Err(bad(format!(
                 "{} controller outputs (the in-process checker takes at most 64)",
-                outputs.len()
+                coupling.outputs.len()
             )));
         }
         Ok(Coupling {
             inputs: wired,
-            params,
-            outputs: outputs.to_vec(),
+            params: coupling.params.clone(),
+            outputs: coupling.outputs.clone(),
         })
+    }
+
+    /// The coupling of `model`, a plant built in a test, with a controller over `inputs` and
+    /// `outputs`, made as for a plant file: `model` printed, scanned and checked, then wired.
+    #[cfg(test)]
+    pub(crate) fn of_model(
+        model: &Model,
+        inputs: &[String],
+        outputs: &[String],
+    ) -> Result<Coupling, String> {
+        let text = crate::plant::print::to_smv(model);
+        let plant =
+            crate::smv::plant::parse_plant(&model.file, &text).map_err(|e| e.to_string())?;
+        let spec = std::path::Path::new("t.ltl");
+        let coupling = closed_loop::check_coupling(inputs, outputs, &plant, spec, &[])
+            .map_err(|e| e.to_string())?;
+        Coupling::new(model, &coupling).map_err(|e| e.to_string())
     }
 
     /// The plant parameters for the output bits `o` (bit `z`: output `z`).
@@ -537,7 +542,7 @@ struct OutputEffect {
 
 impl OutputEffect {
     fn of(a: &crate::ecc::Algorithm) -> OutputEffect {
-        use crate::smv::Effect;
+        use crate::ecc::Effect;
         let mut e = OutputEffect {
             keep: 0,
             set: 0,

@@ -47,7 +47,7 @@ fn toggle() -> Ecc {
 }
 
 fn verdicts(model: &Model, ecc: &Ecc, texts: &[&str]) -> Vec<Verdict> {
-    let coupling = Coupling::new(model, &ecc.inputs, &ecc.outputs).unwrap();
+    let coupling = Coupling::of_model(model, &ecc.inputs, &ecc.outputs).unwrap();
     let props: Vec<Property> = texts.iter().map(|t| prop(t)).collect();
     check(model, &coupling, ecc, &props, &Limits::default()).unwrap()
 }
@@ -118,7 +118,7 @@ fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
     for (what, m) in dead {
         let e = behaviour(&m, &Limits::default()).unwrap_err();
         assert!(matches!(e, CheckError::NoBehaviour { .. }), "{what}: {e}");
-        let coupling = Coupling::new(&m, &["button".into()], &["on".into()]).unwrap();
+        let coupling = Coupling::of_model(&m, &["button".into()], &["on".into()]).unwrap();
         let e = check(
             &m,
             &coupling,
@@ -141,7 +141,7 @@ fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
 #[test]
 fn the_state_limit_is_an_error() {
     let (m, e) = (lamp(), toggle());
-    let coupling = Coupling::new(&m, &e.inputs, &e.outputs).unwrap();
+    let coupling = Coupling::of_model(&m, &e.inputs, &e.outputs).unwrap();
     let err = check(
         &m,
         &coupling,
@@ -167,24 +167,24 @@ fn the_state_limit_is_an_error() {
 #[test]
 fn coupling_mistakes_are_reported() {
     let m = lamp();
-    let e = Coupling::new(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
+    let e = Coupling::of_model(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
     assert!(
         e.to_string().contains("no variable or define 'lamp_off'"),
         "{e}"
     );
-    let e = Coupling::new(&m, &["button".into()], &["off".into()]).unwrap_err();
+    let e = Coupling::of_model(&m, &["button".into()], &["off".into()]).unwrap_err();
     assert!(
         e.to_string()
             .contains("plant parameter 'on' is not a controller output"),
         "{e}"
     );
-    let e = Coupling::new(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
+    let e = Coupling::of_model(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
     assert!(
         e.to_string()
             .contains("'lamp' has the name of a plant variable"),
         "{e}"
     );
-    let c = Coupling::new(&m, &["button".into()], &["on".into()]).unwrap();
+    let c = Coupling::of_model(&m, &["button".into()], &["on".into()]).unwrap();
     let e = check(&m, &c, &toggle(), &[prop("G nothing")], &Limits::default()).unwrap_err();
     assert!(e.to_string().contains("unknown name 'nothing'"), "{e}");
 }
@@ -196,7 +196,7 @@ fn evaluation_errors_name_the_construct_and_line() {
     b.init(&n, int(0));
     b.next(&n, bin(BinOp::Add, n.clone(), int(1)));
     let m = b.m;
-    let coupling = Coupling::new(&m, &[], &[]).unwrap();
+    let coupling = Coupling::of_model(&m, &[], &[]).unwrap();
     let ecc = Ecc {
         inputs: vec![],
         outputs: vec![],
@@ -417,7 +417,7 @@ fn pnp_props() -> Vec<Property> {
 fn pnp_reference_controller_satisfies_its_specification() {
     let model = pnp_plant();
     let ecc = crate::cases::pnp::reference();
-    let coupling = Coupling::new(&model, &ecc.inputs, &ecc.outputs).unwrap();
+    let coupling = Coupling::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
     let props = pnp_props();
     behaviour(&model, &Limits::default()).unwrap();
     let start = std::time::Instant::now();
@@ -446,7 +446,7 @@ fn pnp_random_machines_check_fast() {
     let props = pnp_props();
     let inputs = crate::cases::pnp::input_names();
     let outputs = crate::cases::pnp::output_names();
-    let coupling = Coupling::new(&model, &inputs, &outputs).unwrap();
+    let coupling = Coupling::of_model(&model, &inputs, &outputs).unwrap();
     let mut worst = std::time::Duration::ZERO;
     for seed in 0..5 {
         let mut ecc = crate::ecc::random::random_ecc(seed, 8, inputs.len(), outputs.len());
@@ -488,7 +488,7 @@ fn pnp_verdicts_agree_with_nusmv_on_the_shipped_plant() {
         machines.push(e);
     }
     for (k, ecc) in machines.iter().enumerate() {
-        let coupling = Coupling::new(&model, &ecc.inputs, &ecc.outputs).unwrap();
+        let coupling = Coupling::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
         let ours = check(&model, &coupling, ecc, &props, &Limits::default()).unwrap();
         if k == 0 {
             assert!(matches!(ours.last(), Some(Verdict::Violated(_))));

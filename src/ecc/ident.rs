@@ -164,10 +164,13 @@ pub fn check_smv(name: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The module name of the controller in the closed loop synth composes.
+pub const CONTROLLER_MODULE: &str = "ECC";
+
 /// The modules of the closed loop synth composes: `main` (NuSMV's top module, which takes no
-/// parameters) over the controller `ECC` and the plant file's `plant`. A block by one of these
-/// names could not stand beside them.
-pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", "ECC", "plant"];
+/// parameters) over the controller [`CONTROLLER_MODULE`] and the plant file's `plant`. A block
+/// by one of these names could not stand beside them.
+pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", CONTROLLER_MODULE, "plant"];
 
 /// Names the exported function block declares itself: its events, and the state variable of
 /// the Structured Text block (compared ignoring case, as ST does).
@@ -353,12 +356,32 @@ pub fn bool_literal(v: bool) -> &'static str {
     }
 }
 
-/// Reads a value as NuSMV prints it in a trace: `TRUE` or `FALSE`; anything else (a number, a
-/// state name) is not a Boolean.
-pub fn parse_bool(value: &str) -> Option<bool> {
-    match value {
-        "TRUE" => Some(true),
-        "FALSE" => Some(false),
+/// A value as NuSMV prints it in a trace (and as SMV writes a constant).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SmvValue<'a> {
+    /// `TRUE` or `FALSE`.
+    Bool(bool),
+    /// An integer, e.g. `-3`.
+    Int(i64),
+    /// Anything else: a symbolic constant or a controller state name, as printed.
+    Symbol(&'a str),
+}
+
+/// Reads a value as NuSMV prints it in a trace: `TRUE`/`FALSE`, an integer, or a symbol.
+pub fn parse_smv_value(text: &str) -> SmvValue<'_> {
+    match text {
+        "TRUE" => SmvValue::Bool(true),
+        "FALSE" => SmvValue::Bool(false),
+        _ => text.parse().map_or(SmvValue::Symbol(text), SmvValue::Int),
+    }
+}
+
+/// Reads a Boolean as NuSMV prints it in a trace ([`bool_literal`] read back): `TRUE` or
+/// `FALSE` only. Unlike a log's cells ([`crate::files::csv::parse_bool_cell`]), `1` and
+/// `true` are not Booleans here: in a trace `1` is an integer and `true` a symbol.
+pub fn parse_bool_literal(value: &str) -> Option<bool> {
+    match parse_smv_value(value) {
+        SmvValue::Bool(b) => Some(b),
         _ => None,
     }
 }

@@ -181,6 +181,41 @@ impl fmt::Display for Algorithm {
     }
 }
 
+/// What a state's algorithm does to one output when the state is entered.
+///
+/// Both algorithm forms reduce to this: an output's new value is a function of its old value
+/// alone, and there are exactly four such functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Effect {
+    /// Set to the given value.
+    Set(bool),
+    /// Leave unchanged.
+    Keep,
+    /// Negate.
+    Flip,
+}
+
+impl Effect {
+    /// The effect of `algorithm` on output `z`. Derived from [`Algorithm::apply_one`] so that
+    /// every emitter agrees with the simulator by construction: `(new if old=0, new if old=1)`
+    /// is `(0,0)` set FALSE, `(1,1)` set TRUE, `(0,1)` keep, `(1,0)` flip.
+    pub fn of(algorithm: &Algorithm, z: usize) -> Effect {
+        match (algorithm.apply_one(z, false), algorithm.apply_one(z, true)) {
+            (false, false) => Effect::Set(false),
+            (true, true) => Effect::Set(true),
+            (false, true) => Effect::Keep,
+            (true, false) => Effect::Flip,
+        }
+    }
+
+    /// The effects of `algorithm` on every output, in interface order.
+    pub fn all(algorithm: &Algorithm) -> Vec<Effect> {
+        (0..algorithm.len())
+            .map(|z| Effect::of(algorithm, z))
+            .collect()
+    }
+}
+
 /// `[true, false]` -> `"10"`.
 pub fn bits_to_string(bits: &[bool]) -> String {
     bits.iter().map(|&b| if b { '1' } else { '0' }).collect()
@@ -332,5 +367,32 @@ impl Ecc {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn effects_of_both_algorithm_forms() {
+        let tri = Algorithm::Tri(vec![Tri::Zero, Tri::One, Tri::Keep]);
+        assert_eq!(
+            Effect::all(&tri),
+            vec![Effect::Set(false), Effect::Set(true), Effect::Keep]
+        );
+        let bin = Algorithm::Binary {
+            a0: vec![false, true, false, true],
+            a1: vec![false, true, true, false],
+        };
+        assert_eq!(
+            Effect::all(&bin),
+            vec![
+                Effect::Set(false),
+                Effect::Set(true),
+                Effect::Keep,
+                Effect::Flip
+            ]
+        );
     }
 }

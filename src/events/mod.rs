@@ -224,7 +224,7 @@ impl ResetActivity {
                     crate::quote::quote(key)
                 ))
             })?;
-            let Some(value) = crate::files::csv::parse_bool(value.as_bytes()) else {
+            let Some(value) = crate::files::csv::parse_bool_cell(value.as_bytes()) else {
                 return Err(err(format!(
                     "{} is not true, false, 1 or 0",
                     crate::quote::quote(value)

@@ -19,10 +19,10 @@
 //! `REQ[FALSE]`, with a comment saying so): the DTD needs at least one (`ECTransition+`).
 
 use super::{check_iec_names, NameError};
+use crate::ecc::Effect;
 use crate::ecc::{Ecc, Guard};
 use crate::files::xml::XmlWriter;
 use crate::smv::bool_literal;
-use crate::smv::Effect;
 use std::io::{self, Write};
 
 /// The condition of the transition an ECC without transitions gets, which never fires.

@@ -15,8 +15,8 @@
 use super::{check_iec_names, NameError};
 use crate::ecc::ident::BLOCK_MEMBERS;
 use crate::ecc::Ecc;
+use crate::ecc::Effect;
 use crate::smv::bool_literal;
-use crate::smv::Effect;
 use std::io::{self, Write};
 
 /// Checks the block name and the interface names (IEC identifiers, distinct ignoring case,

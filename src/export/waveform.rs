@@ -9,6 +9,7 @@
 //! loop returns to, and the VCD and SVG draw the loop once more after the last step, so the
 //! repetition is visible.
 
+use crate::ecc::ident::{parse_smv_value, SmvValue};
 use crate::files::xml::escape_attr;
 use std::fmt::Write;
 
@@ -50,14 +51,13 @@ pub enum Value {
 }
 
 impl Value {
-    /// A value as NuSMV prints it: `TRUE`/`FALSE`, an integer, or a symbol.
+    /// A value as NuSMV prints it: `TRUE`/`FALSE`, an integer, or a symbol
+    /// ([`parse_smv_value`]).
     pub fn parse(text: &str) -> Value {
-        match text {
-            "TRUE" => Value::Bool(true),
-            "FALSE" => Value::Bool(false),
-            _ => text
-                .parse()
-                .map_or_else(|_| Value::Text(text.to_string()), Value::Int),
+        match parse_smv_value(text) {
+            SmvValue::Bool(b) => Value::Bool(b),
+            SmvValue::Int(i) => Value::Int(i),
+            SmvValue::Symbol(s) => Value::Text(s.to_string()),
         }
     }
 

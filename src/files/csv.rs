@@ -2,7 +2,7 @@
 //!
 //! In: a byte stream (a file, possibly gunzipped by [`super::open_input`], or text in memory)
 //! and its delimiter. Out: records of trimmed cells, each with the line it starts on, and the
-//! Boolean values the cells hold ([`parse_bool`]). Quoting follows RFC 4180 (the `csv` crate);
+//! Boolean values the cells hold ([`parse_bool_cell`]). Quoting follows RFC 4180 (the `csv` crate);
 //! a UTF-8 byte order mark at the start of a record is dropped (by `csv_core`; a file has lost
 //! the one at its start already in [`super::open_input`]); blank lines, even ones holding only
 //! spaces or a byte order mark, are skipped. A record longer than [`MAX_LINE_BYTES`] is an
@@ -189,8 +189,10 @@ pub fn quote_cell(text: &str) -> String {
 }
 
 /// Reads a Boolean cell: `0`, `1`, `true` or `false` in any case (surrounding blanks are the
-/// caller's to trim).
-pub fn parse_bool(cell: &[u8]) -> Option<bool> {
+/// caller's to trim). Looser than NuSMV's `TRUE`/`FALSE`
+/// ([`crate::ecc::ident::parse_bool_literal`]) on purpose: historians and PLC exports write
+/// Booleans all these ways.
+pub fn parse_bool_cell(cell: &[u8]) -> Option<bool> {
     match cell {
         b"0" => Some(false),
         b"1" => Some(true),
@@ -307,10 +309,10 @@ mod tests {
     #[test]
     fn booleans_in_any_case_and_digits() {
         for (cell, v) in [("0", false), ("1", true), ("TRUE", true), ("False", false)] {
-            assert_eq!(parse_bool(cell.as_bytes()), Some(v), "{cell}");
+            assert_eq!(parse_bool_cell(cell.as_bytes()), Some(v), "{cell}");
         }
         for cell in ["", "2", "yes", "01", " 1"] {
-            assert_eq!(parse_bool(cell.as_bytes()), None, "{cell:?}");
+            assert_eq!(parse_bool_cell(cell.as_bytes()), None, "{cell:?}");
         }
     }
 }

@@ -7,7 +7,7 @@
 //! other log.
 
 use super::{BadRow, IngestError, Mapping, RowKind, Sample, Slot, MAX_TIMESTAMP};
-use crate::files::csv::{parse_bool, Record, Records};
+use crate::files::csv::{parse_bool_cell, Record, Records};
 use crate::files::ReadError;
 use crate::quote::quote;
 use std::io::BufRead;
@@ -248,7 +248,7 @@ impl Rows {
             .mapping
             .slot(address)
             .ok_or_else(|| BadRow::UnknownAddress(String::from_utf8_lossy(address).into_owned()))?;
-        let value = parse_bool(v).ok_or_else(|| bad_value(&self.headers[2], v))?;
+        let value = parse_bool_cell(v).ok_or_else(|| bad_value(&self.headers[2], v))?;
         self.check_time(time)?;
         let finished = match self.group_time {
             Some(g) if g != time => {
@@ -283,7 +283,8 @@ impl Rows {
             outputs: vec![false; self.mapping.outputs().len()],
         };
         for (k, (cell, slot)) in cells.zip(&self.columns).enumerate() {
-            let value = parse_bool(cell).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
+            let value =
+                parse_bool_cell(cell).ok_or_else(|| bad_value(&self.headers[k + 1], cell))?;
             match slot {
                 Slot::Input(x) => sample.inputs[x.0] = value,
                 Slot::Output(z) => sample.outputs[z.0] = value,

@@ -124,10 +124,12 @@ impl Ltl {
                 .map(|i| {
                     let state = lasso.original(i);
                     let value = lookup(states, state, name)?;
-                    crate::ecc::ident::parse_bool(value).ok_or_else(|| EvalError::NotBoolean {
-                        name: name.clone(),
-                        value: value.to_string(),
-                        state,
+                    crate::ecc::ident::parse_bool_literal(value).ok_or_else(|| {
+                        EvalError::NotBoolean {
+                            name: name.clone(),
+                            value: value.to_string(),
+                            state,
+                        }
                     })
                 })
                 .collect::<Result<_, _>>()?,

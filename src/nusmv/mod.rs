@@ -90,30 +90,21 @@ fn describe_model_errors(errors: &[ModelError]) -> String {
     }
 }
 
-/// Finding NuSMV for tests, the same way in unit and integration tests.
-pub mod test_support {
-    use super::{locate, Nusmv};
-
-    /// The located NuSMV, or `None` after printing a skip note. Under `CI=true` a missing
-    /// NuSMV panics instead: CI installs it, so a skip there would hide a broken install.
-    pub fn nusmv_or_skip() -> Option<Nusmv> {
-        match locate(None) {
-            Ok(path) => Some(Nusmv::new(path)),
-            Err(e) if std::env::var("CI").as_deref() == Ok("true") => {
-                panic!("NuSMV is required when CI=true, but: {e}")
-            }
-            Err(e) => {
-                eprintln!("skipping NuSMV test: {e}");
-                None
-            }
-        }
-    }
-}
-
-/// See [`test_support::nusmv_or_skip`].
+/// The located NuSMV for the library's tests, or `None` after printing a skip note. Under
+/// `CI=true` a missing NuSMV panics instead: CI installs it, so a skip there would hide a
+/// broken install. (The integration tests have their own, in `tests/integration/common.rs`.)
 #[cfg(test)]
 pub(crate) fn nusmv_for_tests() -> Option<Nusmv> {
-    test_support::nusmv_or_skip()
+    match locate(None) {
+        Ok(path) => Some(Nusmv::new(path)),
+        Err(e) if std::env::var("CI").as_deref() == Ok("true") => {
+            panic!("NuSMV is required when CI=true, but: {e}")
+        }
+        Err(e) => {
+            eprintln!("skipping NuSMV test: {e}");
+            None
+        }
+    }
 }
 
 /// What to do when NuSMV said it ran out of memory: it runs under a cap

@@ -7,8 +7,9 @@
 //! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
 //! counterexamples still come back as negative scenarios.
 
+use crate::ecc::ident::{parse_smv_value, SmvValue};
 use crate::ltl::{property_name, Ltl};
-use crate::plant::{Model, Name, Value};
+use crate::plant::{Model, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
 use crate::scenario::negative::NegativeScenario;
 use crate::scenario::ScenarioSet;
@@ -41,28 +42,12 @@ impl ClosedLoop {
         let model = problem.model.clone()?;
         closed_loop::plant::encodable(&model)
             .map_err(|c| format!("the plant uses {c}, which the encoding does not cover"))?;
-        let inputs = set
-            .inputs
-            .iter()
-            .map(|i| match model.lookup(i) {
-                Some(n @ (Name::Var(_) | Name::Define(_))) => Ok(n),
-                _ => Err(format!("the plant declares no '{i}'")),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let params = model
-            .params
-            .iter()
-            .map(|p| {
-                set.outputs
-                    .iter()
-                    .position(|o| o == p)
-                    .ok_or_else(|| format!("plant parameter '{p}' is not a controller output"))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let coupling =
+            crate::check::Coupling::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
         let mut spec = Spec {
             plant: model,
-            inputs,
-            params,
+            inputs: coupling.inputs.clone(),
+            params: coupling.params.clone(),
             outputs: set.outputs.clone(),
             properties: Vec::new(),
             response_bound,
@@ -96,8 +81,6 @@ impl ClosedLoop {
                 Ok(())
             })
             .collect();
-        let coupling = crate::check::Coupling::new(&spec.plant, &set.inputs, &set.outputs)
-            .map_err(|e| e.to_string())?;
         spec.properties = problem
             .props
             .iter()
@@ -208,14 +191,11 @@ fn plant_state(model: &Model, s: &BTreeMap<String, String>) -> Option<Vec<Value>
         .collect()
 }
 
+/// A value of a NuSMV trace as a value of `model` (a symbol must be one of its constants).
 fn parse_value(model: &Model, text: &str) -> Option<Value> {
-    match text {
-        "TRUE" => Some(Value::Bool(true)),
-        "FALSE" => Some(Value::Bool(false)),
-        _ => text
-            .parse::<i64>()
-            .ok()
-            .map(Value::Int)
-            .or_else(|| model.symbol(text)),
+    match parse_smv_value(text) {
+        SmvValue::Bool(b) => Some(Value::Bool(b)),
+        SmvValue::Int(i) => Some(Value::Int(i)),
+        SmvValue::Symbol(s) => model.symbol(s),
     }
 }

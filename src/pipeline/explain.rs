@@ -416,7 +416,7 @@ pub const GAME_POSITIONS: usize = 1_000_000;
 /// tool's own semantics of the plant go; a lost one says none does.
 pub fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Option<String> {
     let model = problem.model.as_ref().ok()?;
-    let coupling = crate::check::Coupling::new(model, &set.inputs, &set.outputs).ok()?;
+    let coupling = crate::check::Coupling::new(model, &problem.coupling).ok()?;
     let tree = crate::scenario::tree::ScenarioTree::build(set).ok()?;
     let started = std::time::Instant::now();
     let outcome = crate::game::solve(

@@ -167,7 +167,7 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
     let Ok(model) = problem.model.as_ref() else {
         return not_here("the game does not read this plant".into());
     };
-    let coupling = match crate::check::Coupling::new(model, &set.inputs, &set.outputs) {
+    let coupling = match crate::check::Coupling::new(model, &problem.coupling) {
         Ok(c) => c,
         Err(e) => return not_here(format!("the game does not apply: {e}")),
     };

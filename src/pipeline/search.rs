@@ -303,7 +303,7 @@ pub fn run(
     });
     let searches_properties = opts.weights.sat > 0.0 || opts.weights.ce > 0.0;
     let closed = match opts.judge {
-        Judge::InProcess => Closed::new(&check.problem, &set.inputs, &set.outputs).map(Arc::new),
+        Judge::InProcess => Closed::new(&check.problem).map(Arc::new),
         Judge::Nusmv => None,
     };
     let checkers: Vec<Box<dyn Checker>> = if searches_properties {

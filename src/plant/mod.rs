@@ -193,6 +193,27 @@ pub enum Expr {
     Set(Vec<Expr>),
 }
 
+impl Expr {
+    /// Calls `f` on this node and every node below it, parents first (not into the defines
+    /// it refers to).
+    pub(crate) fn walk(&self, f: &mut impl FnMut(&Expr)) {
+        f(self);
+        match self {
+            Expr::Const(_) | Expr::Var(_) | Expr::Next(_) | Expr::Define(_) | Expr::Param(_) => {}
+            Expr::Not(x) | Expr::Neg(x) => x.walk(f),
+            Expr::Bin(_, a, b) => {
+                a.walk(f);
+                b.walk(f);
+            }
+            Expr::Case(branches) => branches.iter().for_each(|(c, v)| {
+                c.walk(f);
+                v.walk(f);
+            }),
+            Expr::Set(items) => items.iter().for_each(|x| x.walk(f)),
+        }
+    }
+}
+
 /// The plant, resolved.
 #[derive(Debug, Clone)]
 pub struct Model {

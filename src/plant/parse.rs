@@ -12,6 +12,7 @@
 
 mod reach;
 mod resolve;
+mod syntax;
 #[cfg(test)]
 mod tests;
 
@@ -28,6 +29,10 @@ mod parser {
     pub(super) struct SmvParser;
 }
 use parser::{Rule, SmvParser};
+use syntax::{
+    Assign, ConstraintDecl, DefineDecl, EnumItem, EnumLit, Ident, Node, NodeKind, Plant, Section,
+    Source, Target, TypeDecl, VarDecl,
+};
 
 /// Reads and parses a plant file.
 pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
@@ -53,235 +58,6 @@ pub fn parse_str(text: &str, file: &Path) -> Result<Model, ModelError> {
 /// inside each other. Each level costs the parser a dozen stack frames; far beyond any real
 /// plant, this keeps the parse well inside the stack of a test thread.
 const MAX_NESTING: usize = 100;
-
-/// The most operators on one path from the root of an expression to a leaf (a chain `a | b |
-/// ...` counts one per operator). Every walk over an expression recurses once per level.
-const MAX_DEPTH: usize = 1000;
-
-/// The text of the plant file, with what turns a byte offset into a place.
-struct Source<'a> {
-    text: &'a str,
-    file: &'a Path,
-    /// Byte offset of the start of every line.
-    line_starts: Vec<usize>,
-}
-
-impl<'a> Source<'a> {
-    fn new(text: &'a str, file: &'a Path) -> Self {
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        Source {
-            text,
-            file,
-            line_starts,
-        }
-    }
-
-    /// 1-based line of a byte offset.
-    fn line(&self, pos: usize) -> usize {
-        self.line_starts.partition_point(|&start| start <= pos)
-    }
-
-    /// An error at a byte offset; the column counts characters, not bytes.
-    fn error(&self, pos: usize, message: impl Into<String>) -> ModelError {
-        let line = self.line(pos);
-        let start = self.line_starts[line - 1];
-        let column = self.text[start..pos].chars().count() + 1;
-        ModelError::At {
-            file: self.file.to_path_buf(),
-            line,
-            column,
-            message: message.into(),
-        }
-    }
-
-    /// The code between two offsets for a message: comments dropped, blanks collapsed, long
-    /// code cut ([`cut`]).
-    fn snippet(&self, start: usize, end: usize) -> String {
-        let code: Vec<&str> = self.text[start..end]
-            .lines()
-            .map(|l| l.split("--").next().unwrap_or(""))
-            .flat_map(str::split_whitespace)
-            .collect();
-        cut(&code.join(" ")).to_string()
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// The syntax tree: the file as written, names unresolved, every node with its byte offset.
-
-/// A plant file as written.
-struct Plant {
-    params: Vec<Ident>,
-    vars: Vec<VarDecl>,
-    defines: Vec<DefineDecl>,
-    assigns: Vec<Assign>,
-    constraints: Vec<ConstraintDecl>,
-}
-
-/// A name and the byte offset where it is written.
-struct Ident {
-    name: String,
-    pos: usize,
-}
-
-struct VarDecl {
-    name: Ident,
-    kind: VarKind,
-    ty: TypeDecl,
-}
-
-enum TypeDecl {
-    Bool,
-    Range { lo: i64, hi: i64, pos: usize },
-    Enum(Vec<EnumItem>),
-}
-
-struct EnumItem {
-    pos: usize,
-    value: EnumLit,
-}
-
-enum EnumLit {
-    Int(i64),
-    Bool(bool),
-    Sym(String),
-}
-
-struct DefineDecl {
-    name: Ident,
-    expr: Node,
-}
-
-/// Which assignment of `ASSIGN`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-enum Target {
-    Init,
-    Next,
-}
-
-impl Target {
-    fn keyword(self) -> &'static str {
-        match self {
-            Target::Init => "init",
-            Target::Next => "next",
-        }
-    }
-}
-
-struct Assign {
-    target: Target,
-    /// Offset of the `init` / `next` keyword.
-    pos: usize,
-    var: Ident,
-    value: Node,
-}
-
-/// A constraint section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Section {
-    Init,
-    Invar,
-    Trans,
-    Fairness,
-    Justice,
-}
-
-impl Section {
-    fn keyword(self) -> &'static str {
-        match self {
-            Section::Init => "INIT",
-            Section::Invar => "INVAR",
-            Section::Trans => "TRANS",
-            Section::Fairness => "FAIRNESS",
-            Section::Justice => "JUSTICE",
-        }
-    }
-}
-
-struct ConstraintDecl {
-    section: Section,
-    /// Offset of the section keyword.
-    pos: usize,
-    expr: Node,
-}
-
-/// An expression as written, spanning `pos..end` of the text.
-struct Node {
-    pos: usize,
-    end: usize,
-    /// Operators on the longest path to a leaf (0 for a leaf).
-    depth: usize,
-    kind: NodeKind,
-}
-
-enum NodeKind {
-    Bool(bool),
-    Int(i64),
-    Name(String),
-    /// `next(e)` (the resolver accepts only a variable inside).
-    Next(Box<Node>),
-    Not(Box<Node>),
-    Neg(Box<Node>),
-    Bin {
-        op: BinOp,
-        /// Offset of the operator.
-        op_pos: usize,
-        left: Box<Node>,
-        right: Box<Node>,
-    },
-    Case(Vec<(Node, Node)>),
-    /// `c ? a : b`.
-    Ite(Box<Node>, Box<Node>, Box<Node>),
-    Set(Vec<Node>),
-}
-
-impl Node {
-    /// The operator nodes, where a chain that exceeds [`MAX_DEPTH`] is refused.
-    fn new(
-        src: &Source,
-        pos: usize,
-        end: usize,
-        op_pos: usize,
-        kind: NodeKind,
-    ) -> Result<Node, ModelError> {
-        let depth = 1 + match &kind {
-            NodeKind::Bool(_) | NodeKind::Int(_) | NodeKind::Name(_) => 0,
-            NodeKind::Next(x) | NodeKind::Not(x) | NodeKind::Neg(x) => x.depth,
-            NodeKind::Bin { left, right, .. } => left.depth.max(right.depth),
-            NodeKind::Case(branches) => branches
-                .iter()
-                .map(|(c, v)| c.depth.max(v.depth))
-                .max()
-                .unwrap_or(0),
-            NodeKind::Ite(c, a, b) => c.depth.max(a.depth).max(b.depth),
-            NodeKind::Set(items) => items.iter().map(|x| x.depth).max().unwrap_or(0),
-        };
-        if depth > MAX_DEPTH {
-            return Err(src.error(
-                op_pos,
-                format!(
-                    "the expression is more than {MAX_DEPTH} operators deep; split it with DEFINEs"
-                ),
-            ));
-        }
-        Ok(Node {
-            pos,
-            end,
-            depth,
-            kind,
-        })
-    }
-
-    fn leaf(pos: usize, end: usize, kind: NodeKind) -> Node {
-        Node {
-            pos,
-            end,
-            depth: 0,
-            kind,
-        }
-    }
-}
 
 // ---------------------------------------------------------------------------------------------
 // From pest's tree to the syntax tree.

@@ -33,7 +33,7 @@
 pub use super::steps::{samples_to_steps, Sample};
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::ident::is_identifier;
-use crate::files::csv::{parse_bool, Records};
+use crate::files::csv::{parse_bool_cell, Records};
 use crate::quote::quote;
 use std::io::Write;
 use std::path::Path;
@@ -96,7 +96,7 @@ pub fn parse(
         let mut id = String::new();
         for (k, (cell, col)) in cells.iter().zip(&columns).enumerate() {
             let value = || {
-                parse_bool(cell).ok_or_else(|| {
+                parse_bool_cell(cell).ok_or_else(|| {
                     err(
                         line_no,
                         format!(

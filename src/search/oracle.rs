@@ -147,12 +147,12 @@ pub struct Closed {
 }
 
 impl Closed {
-    /// The in-process view of `problem` for a controller with `inputs` and `outputs`; `None`
-    /// when the plant is outside what [`crate::check`] reads or the names do not wire up
-    /// (NuSMV then gives every verdict).
-    pub fn new(problem: &Problem, inputs: &[String], outputs: &[String]) -> Option<Closed> {
+    /// The in-process view of `problem` for a controller over the interface it was loaded
+    /// with; `None` when the plant is outside what [`crate::check`] reads or the names do not
+    /// wire up (NuSMV then gives every verdict).
+    pub fn new(problem: &Problem) -> Option<Closed> {
         let model = problem.model.clone().ok()?;
-        let coupling = Coupling::new(&model, inputs, outputs).ok()?;
+        let coupling = Coupling::new(&model, &problem.coupling).ok()?;
         Some(Closed {
             model,
             coupling,
@@ -241,7 +241,7 @@ impl Checker for InProcess {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nusmv::test_support::nusmv_or_skip;
+    use crate::nusmv::nusmv_for_tests;
     use crate::scenario::tree::ScenarioTree;
     use crate::search::{run, Config, Machine, ScenarioData};
     use crate::verify::Problem;
@@ -280,7 +280,7 @@ mod tests {
     /// `G (pp1 -> F vp1)` hold, and NuSMV confirms the result.
     #[test]
     fn search_finds_a_verified_controller_for_seed_001s_case() {
-        let Some(nusmv) = nusmv_or_skip() else {
+        let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
         let (set, problem, start) = seed_001s_case();
@@ -316,11 +316,11 @@ mod tests {
     #[test]
     fn in_process_verdicts_agree_with_nusmv_s() {
         use rand::SeedableRng;
-        let Some(nusmv) = nusmv_or_skip() else {
+        let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
         let (set, problem, start) = seed_001s_case();
-        let closed = Arc::new(Closed::new(&problem, &set.inputs, &set.outputs).unwrap());
+        let closed = Arc::new(Closed::new(&problem).unwrap());
         let data = ScenarioData::new(&set).unwrap();
         let mut eval = crate::search::Evaluator::new(&data);
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);

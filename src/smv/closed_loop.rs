@@ -31,14 +31,20 @@ use crate::quote::{cut, quote};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Module name of the controller in the closed loop.
-pub const CONTROLLER_MODULE: &str = "ECC";
+pub use crate::ecc::ident::CONTROLLER_MODULE;
+
 /// Instance names in `main`.
 pub const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
 pub const PLANT_INSTANCE: &str = "plant";
 
-const RESERVED: &[&str] = &["ctrl", "plant", "main", "ECC"];
+/// The names the closed loop gives its own modules and instances.
+const RESERVED: &[&str] = &[
+    CONTROLLER_INSTANCE,
+    PLANT_INSTANCE,
+    "main",
+    CONTROLLER_MODULE,
+];
 
 /// A coupling mistake, found before NuSMV runs.
 #[derive(Debug, thiserror::Error)]
@@ -73,15 +79,26 @@ pub enum Binding {
     Plant,
 }
 
-/// The checked coupling: every bare name and what it resolves to.
+/// The checked coupling: every bare name and what it resolves to, and which controller output
+/// drives each plant parameter. Checked once ([`check_coupling`]); the NuSMV model
+/// ([`compose`]) and the in-process checker ([`crate::check::Coupling::new`]) are both built
+/// from it.
 #[derive(Debug, Clone)]
 pub struct Coupling {
     /// Bare name -> what it is, sorted by name.
     pub names: BTreeMap<String, Binding>,
+    /// The controller's inputs in interface order: each is a name the plant declares.
+    pub inputs: Vec<String>,
+    /// The controller's outputs in interface order.
+    pub outputs: Vec<String>,
+    /// Per parameter of `MODULE plant`, in order: the index in [`Coupling::outputs`] of the
+    /// controller output it is.
+    pub params: Vec<usize>,
 }
 
 /// Checks the coupling convention between a controller interface, a plant and properties.
-/// Runs before synthesis, so mistakes surface in seconds, with file and line.
+/// Runs before synthesis, so mistakes surface in seconds, with file and line. The one check of
+/// the convention: whatever is built on the result needs none of its own.
 pub fn check_coupling(
     inputs: &[String],
     outputs: &[String],
@@ -109,17 +126,21 @@ pub fn check_coupling(
             )));
         }
     }
+    let mut params = Vec::with_capacity(plant.params.len());
     for p in &plant.params {
-        if !outputs.contains(&p.name) {
-            return Err(at(
-                pf,
-                p.line,
-                format!(
-                    "plant parameter {} is not a controller output (outputs: {})",
-                    quote(&p.name),
-                    cut(&outputs.join(" "))
-                ),
-            ));
+        match outputs.iter().position(|o| *o == p.name) {
+            Some(z) => params.push(z),
+            None => {
+                return Err(at(
+                    pf,
+                    p.line,
+                    format!(
+                        "plant parameter {} is not a controller output (outputs: {})",
+                        quote(&p.name),
+                        cut(&outputs.join(" "))
+                    ),
+                ))
+            }
         }
     }
     let mut names: BTreeMap<String, Binding> = BTreeMap::new();
@@ -139,7 +160,7 @@ pub fn check_coupling(
                 pf,
                 d.line,
                 format!(
-                    "the plant declares {}, which is a controller output: in the closed loop a name belongs to one side",
+                    "controller output {} has the name of a plant variable or define: in the closed loop a name belongs to one side",
                     quote(&d.name)
                 ),
             ));
@@ -182,7 +203,12 @@ pub fn check_coupling(
             }
         }
     }
-    Ok(Coupling { names })
+    Ok(Coupling {
+        names,
+        inputs: inputs.to_vec(),
+        outputs: outputs.to_vec(),
+        params,
+    })
 }
 
 /// Where a line of the composed model came from.

@@ -22,8 +22,8 @@
 //! enumeration into a constant, so a one-state ECC gets a second, unreachable value
 //! `s0_unused`.
 
-use super::{bool_literal, check_identifier, Effect};
-use crate::ecc::{Ecc, Guard, StateId};
+use crate::ecc::ident::{bool_literal, check_smv};
+use crate::ecc::{Ecc, Effect, Guard, StateId};
 use std::collections::HashMap;
 use std::io::{self, Write};
 
@@ -66,7 +66,7 @@ fn state_values(ecc: &Ecc) -> Vec<String> {
 }
 
 /// Checks every name the module would contain: module name, inputs and outputs must pass
-/// [`check_identifier`], be distinct, and differ from `REQ`, `CNF` and the state values
+/// [`check_smv`], be distinct, and differ from `REQ`, `CNF` and the state values
 /// (NuSMV resolves a variable and an enumeration constant of the same name ambiguously); the
 /// module is not `main`, NuSMV's top module.
 pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
@@ -75,7 +75,7 @@ pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
         name: name.to_string(),
         reason,
     };
-    check_identifier(module_name).map_err(|r| bad("module name".into(), module_name, r))?;
+    check_smv(module_name).map_err(|r| bad("module name".into(), module_name, r))?;
     if module_name == "main" {
         let why = "it is NuSMV's top module, which takes no parameters";
         return Err(bad("module name".into(), module_name, why.into()));
@@ -94,7 +94,7 @@ pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
                 .map(|(i, n)| (format!("output {}", i + 1), n)),
         );
     for (role, name) in named {
-        check_identifier(name).map_err(|r| bad(role.clone(), name, r))?;
+        check_smv(name).map_err(|r| bad(role.clone(), name, r))?;
         if name == "REQ" || name == "CNF" {
             return Err(bad(role, name, "it is the name of an event".into()));
         }
@@ -354,7 +354,7 @@ mod tests {
     /// Runs wherever NuSMV is installed, and always under CI (where a missing NuSMV fails).
     #[test]
     fn module_agrees_with_simulator_in_nusmv() {
-        let Some(nusmv) = crate::nusmv::test_support::nusmv_or_skip() else {
+        let Some(nusmv) = crate::nusmv::nusmv_for_tests() else {
             return;
         };
         let nusmv = nusmv.path;

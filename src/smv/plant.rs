@@ -5,6 +5,7 @@
 //! (`VAR`, `IVAR`, `FROZENVAR`, `DEFINE`), each with its line. This is a scanner, not a full SMV
 //! parser: NuSMV itself checks the rest, and its errors are mapped back to this file's lines.
 
+use crate::ecc::ident::CONTROLLER_MODULE;
 use std::path::{Path, PathBuf};
 
 /// A name in the plant file and the line it is declared on (1-based).
@@ -152,7 +153,7 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
                 let Some((Tok::Ident(name), _)) = toks.get(k + 1) else {
                     return Err(at(line, "MODULE without a name".into()));
                 };
-                if name == "main" || name == super::closed_loop::CONTROLLER_MODULE {
+                if name == "main" || name == CONTROLLER_MODULE {
                     return Err(at(
                         line,
                         format!("the plant file must not define MODULE {name}: synth generates it to connect the plant to the controller"),

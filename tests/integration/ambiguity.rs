@@ -2,19 +2,11 @@
 //! cases: every rival replays the recordings, and the plan's sequence tells it apart from the
 //! machine.
 
+use crate::common::{synth, Dir};
 use fbsynth::ecc::{Ecc, Run};
 use fbsynth::export::json::read_json;
 use fbsynth::pipeline::Recordings;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
 
 fn machine(path: &Path) -> Ecc {
     read_json(&std::fs::read_to_string(path).unwrap(), path).unwrap()
@@ -30,7 +22,7 @@ fn recordings(traces: &str) -> fbsynth::scenario::ScenarioSet {
 /// recordings and that each planned sequence makes them answer as the plan expects, differently
 /// at its last step. Returns stdout.
 fn plan_tells_rivals_apart(traces: &str, more: &[&str]) -> String {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("next");
     let mut args = vec![
         "next-recording",
@@ -122,7 +114,7 @@ fn tank_logs_are_ambiguous_and_the_plan_tells_the_rival_apart() {
 
 #[test]
 fn infer_says_unique_when_no_rival_fits() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("r");
     let o = synth(&[
         "infer",
@@ -144,7 +136,7 @@ fn infer_says_unique_when_no_rival_fits() {
 
 #[test]
 fn infer_reports_rivals_with_their_sequences() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("r");
     let o = synth(&[
         "infer",
@@ -175,7 +167,7 @@ fn infer_reports_rivals_with_their_sequences() {
 
 #[test]
 fn the_active_loop_ends_with_a_machine_equivalent_to_the_reference() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let learned = dir.path().join("learned.json");
     let reference = dir.path().join("reference.json");
     let ecc = crate::cases::tank::Program::Cycles.reference();

@@ -1,25 +1,14 @@
 //! The `synth` binary as a user runs it: outputs, exit codes, messages with places, and no
 //! partial files on failure.
 
+use crate::common::{synth, text, Dir, TestCommand};
 use fbsynth::export::json::read_json;
 use fbsynth::scenario::fbsat;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
+use std::process::Output;
 
 fn data(name: &str) -> String {
     format!("tests/data/scenarios/{name}")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 fn files_in(dir: &Path) -> Vec<PathBuf> {
@@ -32,7 +21,7 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn infer_writes_every_format_and_the_json_replays_the_scenarios() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = synth(&[
         "infer",
         "--traces",
@@ -82,7 +71,7 @@ fn infer_door(dir: &Path) -> PathBuf {
 
 #[test]
 fn replay_reports_the_first_step_a_machine_gets_wrong() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let json = infer_door(out.path());
     let o = synth(&[
         "replay",
@@ -115,7 +104,7 @@ fn replay_reports_the_first_step_a_machine_gets_wrong() {
 
 #[test]
 fn malformed_traces_fail_with_file_line_and_step_and_write_nothing() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("res");
     let o = synth(&[
         "infer",
@@ -174,7 +163,7 @@ fn missing_file_and_bad_format_are_reported() {
 
 #[test]
 fn convert_round_trips_through_csv() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let csv = dir.path().join("door.csv");
     let back = dir.path().join("door.traces");
     let o = synth(&[
@@ -217,7 +206,7 @@ fn help_documents_exit_codes() {
 
 #[test]
 fn conform_finds_an_injected_divergence_and_refine_removes_it() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let json = infer_door(&out.path().join("first"));
     // door_new.traces: after stop, a second stop switches the lamp off (step 4), which the
     // machine learned from door.traces does not do.
@@ -339,7 +328,7 @@ fn assert_same_bytes(a: impl AsRef<Path>, b: impl AsRef<Path>) {
 
 #[test]
 fn outputs_never_replace_inputs() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let traces = dir.path().join("door.traces");
     std::fs::copy(data("door.traces"), &traces).unwrap();
     std::fs::copy(data("door.inputs"), dir.path().join("door.inputs")).unwrap();
@@ -403,7 +392,7 @@ fn outputs_never_replace_inputs() {
 #[test]
 fn special_outputs_stay_what_they_are() {
     use std::os::unix::fs::FileTypeExt;
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let door = data("door.traces");
     // A symlink: the file it names gets the result, the link stays a link.
     let real = dir.path().join("real.csv");
@@ -542,7 +531,7 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
         text(&o.stderr)
     );
 
-    let tmp = tempfile::tempdir().unwrap();
+    let tmp = Dir::new();
     let gz = tmp.path().join("diagonal.gz");
     let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
     std::io::Write::write_all(&mut enc, &std::fs::read(&plain).unwrap()).unwrap();
@@ -562,7 +551,7 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
 /// left in the folder but its results (no staging folder).
 #[test]
 fn a_result_folder_holds_one_result() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("out");
     let run = |formats: &str| {
         synth(&[
@@ -597,7 +586,7 @@ fn a_result_folder_holds_one_result() {
 /// (exit 1) instead of mixing the files of two machines.
 #[test]
 fn a_second_run_into_a_busy_folder_stops() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
     let lock = std::fs::OpenOptions::new()
@@ -659,7 +648,7 @@ fn converted(traces: &Path, names: Option<(&Path, &Path)>, to: &str, dir: &Path)
 
 #[test]
 fn a_byte_order_mark_is_ignored_in_scenario_files() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let traces = with_bom(data("door.traces"), dir.path(), "door.traces");
     for ext in ["inputs", "outputs"] {
         std::fs::copy(
@@ -677,7 +666,7 @@ fn a_byte_order_mark_is_ignored_in_scenario_files() {
 
 #[test]
 fn a_byte_order_mark_is_ignored_in_names_files() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let inputs = with_bom(data("door.inputs"), dir.path(), "in.names");
     let outputs = with_bom(data("door.outputs"), dir.path(), "out.names");
     let door = Path::new(env!("CARGO_MANIFEST_DIR")).join(data("door.traces"));
@@ -689,7 +678,7 @@ fn a_byte_order_mark_is_ignored_in_names_files() {
 
 #[test]
 fn a_byte_order_mark_is_ignored_in_json_machines() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let json = infer_door(dir.path());
     let marked = with_bom(&json, dir.path(), "marked.json");
     for ecc in [&json, &marked] {
@@ -707,7 +696,7 @@ fn a_byte_order_mark_is_ignored_in_json_machines() {
 
 #[test]
 fn a_byte_order_mark_is_ignored_in_mapping_files() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let map = with_bom("specs/tank/tank.map", dir.path(), "tank.map");
     let log = with_bom("specs/tank/scenario1.csv", dir.path(), "tank.csv");
     let ingest = |map: &str, log: &str, out: &str| {
@@ -738,7 +727,7 @@ fn a_byte_order_mark_is_ignored_in_mapping_files() {
 /// property are refused in the same words, the property's line counted the same.
 #[test]
 fn a_byte_order_mark_is_ignored_in_ltl_files() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let ltl = with_bom("specs/pnp.ltl", dir.path(), "pnp.ltl");
     let main = |ltl: &str| {
         let o = synth(&[
@@ -778,10 +767,10 @@ fn a_byte_order_mark_is_ignored_in_ltl_files() {
 /// verdicts with a marked plant.
 #[test]
 fn a_byte_order_mark_is_ignored_in_plants() {
-    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+    let Some(nusmv) = crate::common::nusmv_or_skip() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let lamp = "tests/data/closed_loop/lamp";
     let o = synth(&[
         "infer",
@@ -845,7 +834,7 @@ fn assert_short_error(o: &Output, place: &str) {
 
 /// `synth infer` of a trace file `name` holding `content` fails at `place` (after the path).
 fn assert_infer_is_short(name: &str, content: &str, place: &str) {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let traces = dir.path().join(name);
     std::fs::write(&traces, content).unwrap();
     let t = traces.to_str().unwrap();
@@ -873,7 +862,7 @@ fn giant_tokens_in_csv_logs_are_not_echoed() {
 
 #[test]
 fn giant_tokens_in_names_files_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let inputs = dir.path().join("in.names");
     std::fs::write(&inputs, format!("start\nstop 1{}\n", giant())).unwrap();
     let i = inputs.to_str().unwrap();
@@ -893,7 +882,7 @@ fn giant_tokens_in_names_files_are_not_echoed() {
 
 #[test]
 fn giant_tokens_in_ltl_files_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let ltl = dir.path().join("lamp.ltl");
     let l = ltl.to_str().unwrap();
     let main = || {
@@ -921,7 +910,7 @@ fn giant_tokens_in_ltl_files_are_not_echoed() {
 
 #[test]
 fn giant_tokens_in_mappings_and_logs_for_ingest_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let map = dir.path().join("tank.map");
     let m = map.to_str().unwrap();
     let out = dir.path().join("out.traces");
@@ -948,7 +937,7 @@ fn giant_tokens_in_mappings_and_logs_for_ingest_are_not_echoed() {
 
 #[test]
 fn giant_tokens_in_json_machines_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let json = infer_door(dir.path());
     let mut doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
@@ -968,7 +957,7 @@ fn giant_tokens_in_json_machines_are_not_echoed() {
 
 #[test]
 fn giant_tokens_in_plants_are_not_echoed() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let lamp = std::fs::read_to_string("tests/data/closed_loop/lamp_plant.smv").unwrap();
     let plant = dir.path().join("plant.smv");
     let p = plant.to_str().unwrap();
@@ -997,7 +986,7 @@ fn giant_tokens_in_plants_are_not_echoed() {
         &format!("{p}:2: plant parameter"),
     );
     // NuSMV quotes the token it cannot parse.
-    let Some(nusmv) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+    let Some(nusmv) = crate::common::nusmv_or_skip() else {
         return;
     };
     let token = lamp.replace("TRUE       : 2;", &format!("TRUE       : 2 {};", giant()));
@@ -1009,7 +998,7 @@ fn giant_tokens_in_plants_are_not_echoed() {
 /// before anything is read or written, naming the option and why.
 #[test]
 fn block_names_an_export_would_refuse_are_usage_errors() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     for (name, why) in [
         ("main", "NuSMV's top module"),
         ("ECC", "closed-loop model"),
@@ -1055,7 +1044,7 @@ fn block_names_an_export_would_refuse_are_usage_errors() {
 /// scenario file that `synth infer` would refuse.
 #[test]
 fn ingest_refuses_a_log_without_data_rows() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     for (file, log) in [
         ("long.csv", "timestamp,address,value\n"),
         (
@@ -1086,10 +1075,10 @@ fn ingest_refuses_a_log_without_data_rows() {
 }
 
 /// An interface name that an export cannot use is reported in the names file, at its line,
-/// before any search: that is where the user renames it (issue item 18).
+/// before any search: that is where the user renames it.
 #[test]
 fn export_name_errors_name_the_names_file_and_line() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let inputs = dir.path().join("in.names");
     std::fs::write(&inputs, "start\nEND_VAR\n").unwrap();
     let i = inputs.to_str().unwrap();
@@ -1116,11 +1105,11 @@ fn export_name_errors_name_the_names_file_and_line() {
     assert!(!out.exists());
 }
 
-/// Recordings that contradict each other, read as exact, point at `--noisy` (issue 12,
-/// guidance): a logger's scan-cycle glitch is the usual cause.
+/// Recordings that contradict each other, read as exact, point at `--noisy`: a logger's
+/// scan-cycle glitch is the usual cause.
 #[test]
 fn a_contradiction_suggests_noisy_synthesis() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let (log, o) = infer_glitchy_log(dir.path(), &[]);
     let stderr = text(&o.stderr);
     assert_eq!(o.status.code(), Some(4), "{stderr}");
@@ -1165,11 +1154,10 @@ fn infer_glitchy_log(dir: &Path, args: &[&str]) -> (PathBuf, Output) {
 }
 
 /// Noisy synthesis that finds no machine within an error bound says to raise the bound, not
-/// only --max-states, which cannot help when uncorrected glitches contradict every machine
-/// (issue 12, guidance).
+/// only --max-states, which cannot help when uncorrected glitches contradict every machine.
 #[test]
 fn too_few_errors_allowed_says_raise_max_errors() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let noisy = ["--noisy", "--max-errors", "0", "--max-states", "3"];
     let (_, o) = infer_glitchy_log(dir.path(), &noisy);
     let stderr = text(&o.stderr);
@@ -1181,10 +1169,10 @@ fn too_few_errors_allowed_says_raise_max_errors() {
 }
 
 /// A glitchy log read as exact makes the number of states climb; from 10 states on, exact
-/// synthesis says that `--noisy` may be what the log needs (issue 12, guidance).
+/// synthesis says that `--noisy` may be what the log needs.
 #[test]
 fn a_climbing_number_of_states_suggests_noisy_synthesis() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let o = synth(&[
         "infer",
         "--max-states",
@@ -1211,10 +1199,10 @@ fn a_climbing_number_of_states_suggests_noisy_synthesis() {
 }
 
 /// `synth diff`: a machine and a renumbered copy are equivalent; a copy with one transition
-/// led elsewhere differs on a sequence the command prints (issue 15).
+/// led elsewhere differs on a sequence the command prints.
 #[test]
 fn diff_tells_a_renumbered_copy_from_a_changed_machine() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let reference = "specs/distribution_reference.json";
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(reference).unwrap()).unwrap();
@@ -1298,7 +1286,7 @@ fn completions_and_manual_pages_cover_every_command() {
     let page = text(&o.stdout);
     assert!(page.contains(".TH synth 1"), "{page}");
     assert!(page.contains("\\-\\-ltl"), "{page}");
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let o = synth(&["man", "--out", dir.path().to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let infer = std::fs::read_to_string(dir.path().join("synth-infer.1")).unwrap();
@@ -1311,7 +1299,7 @@ fn completions_and_manual_pages_cover_every_command() {
 /// recordings as the original does (infer's machines and the hand-written reference).
 #[test]
 fn export_round_trips_json_machines_of_the_shipped_cases() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let d = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
     let mut cases: Vec<(String, &str)> = Vec::new();
     for (k, traces) in ["specs/pnp.traces", "specs/tank2.traces"]
@@ -1391,14 +1379,12 @@ fn dash_means_stdin_and_stdout_in_pipes() {
     use std::io::Write as _;
     use std::process::Stdio;
     let pipe = |args: &[&str], input: &[u8]| {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+        let mut child = TestCommand::new()
             .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+            .spawn();
         child.stdin.take().unwrap().write_all(input).unwrap();
         child.wait_with_output().unwrap()
     };
@@ -1484,7 +1470,7 @@ fn dash_means_stdin_and_stdout_in_pipes() {
 /// between cells with decimal commas.
 #[test]
 fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let plain = std::fs::read_to_string("specs/tank/scenario1.csv").unwrap();
     let iso = |seconds: f64, style: usize| {
         // 2024-05-01T10:00:00Z is 1714557600 s after the Unix epoch.
@@ -1543,7 +1529,7 @@ fn ingest_reads_iso_timestamps_and_quoted_addresses_as_the_plain_log() {
 /// `--json` puts one machine-readable summary on stdout, and nothing else there.
 #[test]
 fn json_summaries_are_the_only_stdout() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("r");
     let o = synth(&[
         "infer",
@@ -1595,7 +1581,7 @@ fn a_negative_scenario_excludes_the_behaviour_it_names() {
     // Pressing both buttons while the motor runs: the least machine stops it (the stop guard
     // needs no more), which the negative scenario forbids.
     let negs = door_negatives("door_negative.traces");
-    let plain = tempfile::tempdir().unwrap();
+    let plain = Dir::new();
     let ecc = read_json(
         &std::fs::read_to_string(infer_door(plain.path())).unwrap(),
         Path::new("plain.json"),
@@ -1606,7 +1592,7 @@ fn a_negative_scenario_excludes_the_behaviour_it_names() {
         "the fixture must name the least machine's behaviour"
     );
 
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = synth(&[
         "infer",
         "--traces",
@@ -1637,7 +1623,7 @@ fn a_negative_scenario_excludes_the_behaviour_it_names() {
 
 #[test]
 fn a_negative_scenario_the_recordings_force_is_refused_with_both_places() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("result");
     let o = synth(&[
         "infer",
@@ -1677,7 +1663,7 @@ fn the_least_guards_are_looked_for_over_every_machine_of_the_least_size() {
     let s = first.size();
     assert_eq!((s.c, s.t, s.n), (5, 10, 24));
 
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = synth(&[
         "infer",
         "--no-ambiguity",
@@ -1726,7 +1712,7 @@ fn fixed_bounds_ask_for_a_size_and_say_when_none_fits() {
         args.extend_from_slice(bounds);
         synth(&args)
     };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     // The least machine: C 4, K 3, T 11, N 17.
     let o = infer(&out.path().join("least"), &[]);
     assert!(
@@ -1770,15 +1756,12 @@ fn fixed_bounds_ask_for_a_size_and_say_when_none_fits() {
 #[test]
 fn every_command_takes_quiet_verbose_and_json() {
     // The user's commands, and the developer's in synth-dev.
-    let run = |binary: &str, args: &[&str]| {
-        Command::new(binary)
-            .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .output()
-            .expect("run the binary")
+    let run = |binary: &str, args: &[&str]| match binary {
+        "synth-dev" => TestCommand::developer().args(args).output(),
+        _ => TestCommand::new().args(args).output(),
     };
     let mut commands: Vec<(&str, String)> = Vec::new();
-    for binary in [env!("CARGO_BIN_EXE_synth"), env!("CARGO_BIN_EXE_synth-dev")] {
+    for binary in ["synth", "synth-dev"] {
         let help = text(&run(binary, &["--help"]).stdout);
         commands.extend(
             help.lines()
@@ -1816,7 +1799,7 @@ fn every_command_takes_quiet_verbose_and_json() {
         text(&o.stderr)
     );
     // A command without a summary of its own: the generic one, alone on stdout.
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let json = infer_door(dir.path());
     let o = synth(&[
         "replay",
@@ -1866,7 +1849,7 @@ fn every_command_takes_quiet_verbose_and_json() {
 
 #[test]
 fn the_plateau_search_trades_a_state_for_fewer_guard_literals() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let infer = |extra: &[&str], dir: &str| {
         let mut args = vec![
             "infer",
@@ -1925,7 +1908,7 @@ fn the_plateau_search_trades_a_state_for_fewer_guard_literals() {
 #[cfg(unix)]
 #[test]
 fn export_refuses_an_output_folder_that_holds_its_input_through_a_link() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let folder = dir.path().join("ow");
     std::fs::create_dir(&folder).unwrap();
     let input = folder.join("cyl.json");
@@ -1960,7 +1943,7 @@ fn export_refuses_an_output_folder_that_holds_its_input_through_a_link() {
 /// file, are refused with the places that say so (found by fuzzing the command line).
 #[test]
 fn names_clashing_empty_recordings_and_a_file_as_output_folder_are_refused() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let d = dir.path();
     std::fs::write(d.join("t.traces"), "1\nin=REQ[10]; out=CNF[1];\n").unwrap();
     std::fs::write(d.join("t.inputs"), "a\nb\n").unwrap();

@@ -2,22 +2,13 @@
 //! verify`, and every kind of bad input with its place. Needs NuSMV: skipped with a note where
 //! it is not installed, and failing under CI=true.
 
-use fbsynth::nusmv::test_support::nusmv_or_skip;
+use crate::common::{nusmv_or_skip, text, Dir, TestCommand};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Output, Stdio};
 
-fn synth(nusmv: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .arg("--nusmv")
-        .arg(nusmv)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+/// `synth` with `args`, checking with the NuSMV at `nusmv`.
+fn with_nusmv(nusmv: &Path, args: &[&str]) -> Output {
+    TestCommand::new().args(args).nusmv(nusmv).output()
 }
 
 const DIR: &str = "tests/data/closed_loop";
@@ -37,7 +28,7 @@ fn main_job(nusmv: &Path, ltl: &str, plant: &str, out: &Path, extra: &[&str]) ->
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    synth(nusmv, &args)
+    with_nusmv(nusmv, &args)
 }
 
 /// `synth verify` of a machine against the lamp's properties and plant.
@@ -48,7 +39,7 @@ fn verify_lamp(nusmv: &Path, json: &Path) -> Output {
 /// `synth verify` of a machine against the lamp's properties and the plant `plant`.
 fn verify_lamp_with(nusmv: &Path, json: &Path, plant: &str) -> Output {
     let plant = format!("{DIR}/{plant}");
-    synth(
+    with_nusmv(
         nusmv,
         &[
             "verify",
@@ -65,7 +56,7 @@ fn verify_lamp_with(nusmv: &Path, json: &Path, plant: &str) -> Output {
 #[test]
 fn main_job_verifies_and_verify_agrees() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", out.path(), &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
@@ -98,13 +89,13 @@ fn the_main_job_avoids_a_negative_scenario_and_nusmv_verifies_the_result() {
         let json = std::fs::read_to_string(&file).unwrap();
         fbsynth::export::json::read_json(&json, &file).unwrap()
     };
-    let plain = tempfile::tempdir().unwrap();
+    let plain = Dir::new();
     let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", plain.path(), &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     // Button and timer together from the start light the lamp in the least machine.
     assert!(negs[0].followed_by(&machine(plain.path())));
 
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let negative = format!("{DIR}/lamp_negative.traces");
     let o = main_job(
         &n.path,
@@ -123,8 +114,8 @@ fn the_main_job_avoids_a_negative_scenario_and_nusmv_verifies_the_result() {
 #[test]
 fn scenarios_alone_do_not_make_the_lamp_go_out() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+    let out = Dir::new();
+    let o = TestCommand::new()
         .args([
             "infer",
             "-q",
@@ -133,9 +124,7 @@ fn scenarios_alone_do_not_make_the_lamp_go_out() {
             "--out",
         ])
         .arg(out.path())
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+        .output();
     assert!(o.status.success(), "{}", text(&o.stderr));
     let json = out.path().join("SynthesizedFB.json");
     let v = verify_lamp(&n.path, &json);
@@ -148,7 +137,7 @@ fn scenarios_alone_do_not_make_the_lamp_go_out() {
     assert!(text(&v.stderr).contains("not verified: goes_out violated"));
     // Why it fails, shown: a table on stdout and, with --out, a waveform as VCD and SVG.
     let cx = out.path().join("cx");
-    let v = synth(
+    let v = with_nusmv(
         &n.path,
         &[
             "verify",
@@ -238,7 +227,7 @@ fn vcd_values(file: &Path, path: &[&str]) -> Vec<String> {
 /// (plant, spec, expected start of the error message)
 const BAD: &[(&str, &str, &str)] = &[
     // Refused before NuSMV runs: each would give a verdict or message about synth's own
-    // model rather than the user's file (issue item 16).
+    // model rather than the user's file.
     (
         "ecc_module_plant.smv",
         "lamp.ltl",
@@ -290,7 +279,7 @@ const BAD: &[(&str, &str, &str)] = &[
 fn bad_plants_and_specs_are_reported_with_file_and_line() {
     let Some(n) = nusmv_or_skip() else { return };
     for (plant, spec, want) in BAD {
-        let out = tempfile::tempdir().unwrap();
+        let out = Dir::new();
         let dir = out.path().join("res");
         let o = main_job(&n.path, spec, plant, &dir, &[]);
         assert_eq!(
@@ -311,7 +300,7 @@ fn bad_plants_and_specs_are_reported_with_file_and_line() {
 #[test]
 fn properties_no_machine_can_satisfy_are_named() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("res");
     let o = main_job(&n.path, "lamp.ltl", "slow_plant.smv", &dir, &[]);
     assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
@@ -325,11 +314,11 @@ fn properties_no_machine_can_satisfy_are_named() {
 }
 
 /// On a timeout NuSMV is killed with everything it started: a wrapper script's own child
-/// (here a `sleep` standing for the real NuSMV) does not outlive synth (issue item 7).
+/// (here a `sleep` standing for the real NuSMV) does not outlive synth.
 #[test]
 fn a_timeout_kills_what_nusmv_started_too() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let fake = dir.path().join("NuSMV");
     let pid_file = dir.path().join("child.pid");
     std::fs::write(
@@ -338,7 +327,7 @@ fn a_timeout_kills_what_nusmv_started_too() {
     )
     .unwrap();
     std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+    let o = TestCommand::new()
         .args([
             "-q",
             "--ltl",
@@ -355,9 +344,7 @@ fn a_timeout_kills_what_nusmv_started_too() {
             fake.to_str().unwrap(),
         ])
         .env("CHILD_PID_FILE", &pid_file)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+        .output();
     assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("within 1 s and was killed"),
@@ -383,13 +370,13 @@ fn a_timeout_kills_what_nusmv_started_too() {
 }
 
 /// A warning NuSMV prints while it checks a model is shown with the verdicts, on stdout and
-/// in verification.txt, not dropped (issue item 1): here a wrapper around the real NuSMV
+/// in verification.txt, not dropped: here a wrapper around the real NuSMV
 /// warns for every model it reads.
 #[test]
 fn nusmv_warnings_are_shown_with_the_verdicts() {
     use std::os::unix::fs::PermissionsExt;
     let Some(n) = nusmv_or_skip() else { return };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let wrapper = dir.path().join("NuSMV");
     std::fs::write(
         &wrapper,
@@ -412,7 +399,7 @@ fn nusmv_warnings_are_shown_with_the_verdicts() {
 #[test]
 fn nusmv_timeout_is_one_clear_error() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(
         &n.path,
         "lamp.ltl",
@@ -429,7 +416,7 @@ fn nusmv_timeout_is_one_clear_error() {
 
 #[test]
 fn missing_nusmv_says_how_to_install() {
-    let o = synth(
+    let o = with_nusmv(
         Path::new("/no/such/NuSMV"),
         &[
             "-q",
@@ -451,8 +438,8 @@ fn missing_nusmv_says_how_to_install() {
 #[test]
 fn pick_and_place_main_job_is_verified() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
-    let o = synth(
+    let out = Dir::new();
+    let o = with_nusmv(
         &n.path,
         &[
             "-q",
@@ -502,7 +489,7 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
         assert!(!text(&o.stdout).contains("verified"), "{plant}");
     };
     for plant in PLANTS {
-        let out = tempfile::tempdir().unwrap();
+        let out = Dir::new();
         for method in ["sat", "search"] {
             let o = main_job(
                 &n.path,
@@ -516,7 +503,7 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
         }
     }
     // `synth verify` of a machine that holds with the real plant.
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(&n.path, "lamp.ltl", "lamp_plant.smv", out.path(), &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let json = out.path().join("SynthesizedFB.json");
@@ -530,7 +517,7 @@ fn a_plant_without_runs_is_an_error_not_a_verification() {
 #[test]
 fn the_time_limit_ends_the_main_job_with_what_was_found() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(
         &n.path,
         "lamp.ltl",
@@ -560,7 +547,7 @@ fn pnp_first1(nusmv: &Path, out: &Path, extra: &[&str]) -> Output {
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    synth(nusmv, &args)
+    with_nusmv(nusmv, &args)
 }
 
 /// Recordings that never show an input value the properties read (Pick-and-Place's first
@@ -569,7 +556,7 @@ fn pnp_first1(nusmv: &Path, out: &Path, extra: &[&str]) -> Output {
 #[test]
 fn inputs_the_recordings_never_vary_are_named_when_the_time_runs_out() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("r");
     let o = pnp_first1(&n.path, &dir, &["--time-limit", "0.5"]);
     assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
@@ -589,7 +576,7 @@ fn inputs_the_recordings_never_vary_are_named_when_the_time_runs_out() {
 #[test]
 fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("r");
     let o = pnp_first1(&n.path, &dir, &["--json"]);
     let err = text(&o.stderr);
@@ -616,7 +603,7 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
     // The published machine, judged again by NuSMV on its own, and replayed on the recording.
     let ecc = dir.join("SynthesizedFB.json");
-    let o = synth(
+    let o = with_nusmv(
         &n.path,
         &[
             "verify",
@@ -644,7 +631,7 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
 #[test]
 fn the_exact_loop_below_the_guide_replaces_its_machine_when_it_finds_a_smaller_one() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(
         &n.path,
         "lamp_timeout.ltl",
@@ -675,7 +662,7 @@ fn the_exact_loop_below_the_guide_replaces_its_machine_when_it_finds_a_smaller_o
 #[test]
 fn the_guide_says_when_the_game_is_lost_and_the_loop_goes_on() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("r");
     let o = main_job(
         &n.path,
@@ -704,9 +691,9 @@ fn the_guide_says_when_the_game_is_lost_and_the_loop_goes_on() {
 fn termination_signals_leave_no_nusmv_behind() {
     let Some(n) = nusmv_or_skip() else { return };
     for signal in [libc::SIGTERM, libc::SIGHUP] {
-        let out = tempfile::tempdir().unwrap();
-        let tmp = tempfile::tempdir().unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+        let out = Dir::new();
+        let tmp = Dir::new();
+        let mut child = TestCommand::new()
             .args([
                 "-q",
                 "--ltl",
@@ -721,12 +708,10 @@ fn termination_signals_leave_no_nusmv_behind() {
                 "--nusmv",
                 n.path.to_str().unwrap(),
             ])
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
             .env("TMPDIR", tmp.path())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn();
         // Wait (at most 20 s) until synth has started NuSMV on the slow plant.
         let mut nusmv = Vec::new();
         for _ in 0..200 {
@@ -773,11 +758,11 @@ fn termination_signals_leave_no_nusmv_behind() {
 /// A NuSMV that dies at once (here: a script that exits before reading its input) is a located
 /// error, not a silent death of synth by SIGPIPE; and the run's temporary folder is gone.
 /// What a broken NuSMV prints is shown, not sent to the terminal: escape sequences in its
-/// output cannot recolour, retitle or clear the user's screen (issue item 18).
+/// output cannot recolour, retitle or clear the user's screen.
 #[test]
 fn garbage_from_nusmv_is_shown_escaped() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let fake = dir.path().join("NuSMV");
     std::fs::write(
         &fake,
@@ -804,14 +789,14 @@ fn garbage_from_nusmv_is_shown_escaped() {
 #[test]
 fn a_nusmv_that_dies_at_once_is_an_error_not_a_silent_death() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let fake = dir.path().join("NuSMV");
     std::fs::write(&fake, "#!/bin/sh\nexit 3\n").unwrap();
     std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
     let tmp = dir.path().join("tmp");
     std::fs::create_dir(&tmp).unwrap();
     let out = dir.path().join("out");
-    let run = Command::new(env!("CARGO_BIN_EXE_synth"))
+    let run = TestCommand::new()
         .args([
             "--ltl",
             &format!("{DIR}/lamp.ltl"),
@@ -825,9 +810,7 @@ fn a_nusmv_that_dies_at_once_is_an_error_not_a_silent_death() {
             fake.to_str().unwrap(),
         ])
         .env("TMPDIR", &tmp)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+        .output();
     let err = text(&run.stderr);
     assert!(
         run.status.code().is_some(),
@@ -852,7 +835,7 @@ fn a_nusmv_that_dies_at_once_is_an_error_not_a_silent_death() {
 fn controller_inputs_may_be_ivars() {
     let Some(n) = nusmv_or_skip() else { return };
     for plant in ["lamp_ivar_plant.smv", "lamp_ivar_frozen_plant.smv"] {
-        let out = tempfile::tempdir().unwrap();
+        let out = Dir::new();
         let o = main_job(&n.path, "lamp.ltl", plant, out.path(), &[]);
         assert!(o.status.success(), "{plant}: {}", text(&o.stderr));
         assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
@@ -867,7 +850,7 @@ fn controller_inputs_may_be_ivars() {
 #[test]
 fn the_main_job_checks_every_rival_with_nusmv() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let args = [
         "-q",
         "--ltl",
@@ -883,7 +866,7 @@ fn the_main_job_checks_every_rival_with_nusmv() {
         "--ambiguity-budget",
         "300",
     ];
-    let o = synth(&n.path, &args);
+    let o = with_nusmv(&n.path, &args);
     let stdout = text(&o.stdout);
     assert!(o.status.success(), "{stdout}{}", text(&o.stderr));
     assert!(stdout.contains("ambiguous"), "{stdout}");
@@ -893,7 +876,7 @@ fn the_main_job_checks_every_rival_with_nusmv() {
             .find(|l| l.starts_with(&format!("rival {k}: NuSMV: ")))
             .unwrap_or_else(|| panic!("no verdict for rival {k}: {stdout}"));
         let rival = out.path().join(format!("rival{k}.json"));
-        let v = synth(
+        let v = with_nusmv(
             &n.path,
             &[
                 "verify",
@@ -918,7 +901,7 @@ fn the_main_job_checks_every_rival_with_nusmv() {
 #[test]
 fn json_summaries_of_the_main_job_and_verify() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = main_job(
         &n.path,
         "lamp.ltl",
@@ -947,7 +930,7 @@ fn json_summaries_of_the_main_job_and_verify() {
         &plant,
         "--json",
     ];
-    let v = synth(&n.path, &args);
+    let v = with_nusmv(&n.path, &args);
     assert!(v.status.success(), "{}", text(&v.stderr));
     let r: serde_json::Value = serde_json::from_slice(&v.stdout).unwrap();
     assert_eq!(r["verified"], true);
@@ -960,7 +943,7 @@ fn json_summaries_of_the_main_job_and_verify() {
 #[test]
 fn infer_with_properties_gives_a_verified_machine() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("v");
     let args = |out: &str| -> Vec<String> {
         [
@@ -979,7 +962,7 @@ fn infer_with_properties_gives_a_verified_machine() {
         .map(|s| s.to_string())
         .collect()
     };
-    let o = synth(
+    let o = with_nusmv(
         &n.path,
         &args(dir.to_str().unwrap())
             .iter()
@@ -992,7 +975,7 @@ fn infer_with_properties_gives_a_verified_machine() {
     assert!(report.contains("HOLDS    goes_out"), "{report}");
     let v = verify_lamp(&n.path, &dir.join("SynthesizedFB.json"));
     assert!(v.status.success(), "{}", text(&v.stderr));
-    let o = synth(
+    let o = with_nusmv(
         &n.path,
         &args("-").iter().map(String::as_str).collect::<Vec<_>>(),
     );
@@ -1005,9 +988,9 @@ fn infer_with_properties_gives_a_verified_machine() {
 #[test]
 fn nusmv_out_of_memory_is_an_early_error_with_advice() {
     let Some(n) = nusmv_or_skip() else { return };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let res = out.path().join("res");
-    let o = Command::new(env!("CARGO_BIN_EXE_synth"))
+    let o = TestCommand::new()
         .args([
             "-q",
             "--ltl",
@@ -1022,9 +1005,7 @@ fn nusmv_out_of_memory_is_an_early_error_with_advice() {
             n.path.to_str().unwrap(),
         ])
         .env("FBSYNTH_NUSMV_MEMORY_MB", "300")
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+        .output();
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(4), "{e}");
     assert!(e.contains("Out of memory"), "{e}");

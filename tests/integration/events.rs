@@ -1,33 +1,22 @@
 //! `synth events` through the binary: outputs, default CSV path, errors with their place and
 //! exit code 1, and no output left behind by a failed run.
 
+use crate::common::{synth_in, text, Dir, TestCommand};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn synth(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use std::process::Stdio;
 
 const MAP: &str = "%IX0.1 in ll\n%QX0.0 out inlet\n";
 
 #[test]
 fn writes_xes_and_csv_beside_it_and_counts() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     std::fs::write(dir.path().join("t.map"), MAP).unwrap();
     std::fs::write(
         dir.path().join("t.csv"),
         "timestamp,address,value\n0,%QX0.0,1\n1,%IX0.1,1\n2,%IX0.1,0\n2,%QX0.0,0\n",
     )
     .unwrap();
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "events", "--log", "t.csv", "--map", "t.map", "--reset", "ll false", "--out", "o/t.xes",
@@ -47,7 +36,7 @@ fn writes_xes_and_csv_beside_it_and_counts() {
 
 #[test]
 fn errors_name_their_place_and_leave_no_output() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     std::fs::write(dir.path().join("t.map"), MAP).unwrap();
     std::fs::write(
         dir.path().join("bad.csv"),
@@ -55,7 +44,7 @@ fn errors_name_their_place_and_leave_no_output() {
     )
     .unwrap();
     let run = |log: &str, reset: &str| {
-        synth(
+        synth_in(
             dir.path(),
             &[
                 "events", "--log", log, "--map", "t.map", "--reset", reset, "--out", "t.xes",
@@ -76,7 +65,7 @@ fn errors_name_their_place_and_leave_no_output() {
     );
     assert!(!dir.path().join("t.xes").exists() && !dir.path().join("t.csv").exists());
     // The default CSV path beside `--out bad.xes` is the input log itself: refused.
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "events",
@@ -104,7 +93,7 @@ fn errors_name_their_place_and_leave_no_output() {
 /// found out before anything is written: no event log is left behind without its net.
 #[test]
 fn a_net_that_fails_leaves_no_event_logs() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     std::fs::write(dir.path().join("t.map"), MAP).unwrap();
     std::fs::write(
         dir.path().join("t.csv"),
@@ -114,7 +103,7 @@ fn a_net_that_fails_leaves_no_event_logs() {
     let ecc = r#"{"inputs":["ll","xx"],"outputs":["inlet"],"initial_outputs":"0",
         "states":[{"name":"s0","algorithm":"x"}],"transitions":[]}"#;
     std::fs::write(dir.path().join("m.json"), ecc).unwrap();
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "events", "--log", "t.csv", "--map", "t.map", "--reset", "ll false", "--out", "o.xes",
@@ -134,14 +123,14 @@ fn a_net_that_fails_leaves_no_event_logs() {
 
 #[test]
 fn a_timestamp_out_of_range_is_refused_not_clamped() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     std::fs::write(dir.path().join("t.map"), MAP).unwrap();
     std::fs::write(
         dir.path().join("far.csv"),
         "timestamp,address,value\n0,%QX0.0,1\n1e20,%IX0.1,1\n",
     )
     .unwrap();
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "events", "--log", "far.csv", "--map", "t.map", "--reset", "ll false", "--out", "t.xes",
@@ -157,12 +146,12 @@ fn a_timestamp_out_of_range_is_refused_not_clamped() {
 }
 
 /// A run stopped by a signal while it streams leaves no hidden temporary file beside its
-/// outputs (issue item 12). The log is a FIFO that this test keeps open, so the run is
+/// outputs. The log is a FIFO that this test keeps open, so the run is
 /// surely mid-stream when the signal comes.
 #[test]
 fn a_signal_mid_stream_leaves_no_temporary_file() {
     use std::io::Write;
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     std::fs::write(dir.path().join("t.map"), MAP).unwrap();
     let fifo = dir.path().join("log.csv");
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
@@ -170,16 +159,15 @@ fn a_signal_mid_stream_leaves_no_temporary_file() {
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
     let out = dir.path().join("o");
     std::fs::create_dir(&out).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_synth"))
+    let mut child = TestCommand::new()
         .args([
             "events", "--log", "log.csv", "--map", "t.map", "--reset", "ll false", "--out",
             "o/t.xes",
         ])
         .current_dir(dir.path())
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn();
     let mut log = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
     writeln!(log, "timestamp,address,value").unwrap();
     for t in 0..1000 {
@@ -208,7 +196,7 @@ fn a_signal_mid_stream_leaves_no_temporary_file() {
 
 /// The XES `synth events` writes validates against the IEEE 1849 serialization
 /// (tests/schemas/xes.xsd) with a real validator, and the schema refuses what strict tools
-/// refused in earlier versions: a version that is no decimal, a classifier name with a space.
+/// refuse: a version that is no decimal, a classifier name with a space.
 #[test]
 fn the_xes_validates_against_the_ieee_1849_schema() {
     let Some(xmllint_bin) =
@@ -216,9 +204,9 @@ fn the_xes_validates_against_the_ieee_1849_schema() {
     else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "events",

@@ -3,21 +3,10 @@
 //! than the limit, and leaves no output; a long log is ingested in memory that does not grow
 //! with it.
 
+use crate::common::{stderr, synth_in, Dir, TestCommand};
 use fbsynth::files::MAX_LINE_BYTES;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn synth(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run synth")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).trim().to_string()
-}
+use std::process::Output;
 
 const MAP: &str = "%IX0.1 in ll\n%QX0.0 out inlet\n";
 
@@ -30,14 +19,14 @@ fn log_with_a_long_line(dir: &Path) {
 }
 
 fn ingest(dir: &Path, log: &str, map: &str) -> Output {
-    synth(
+    synth_in(
         dir,
         &["ingest", "--log", log, "--map", map, "-o", "out.traces"],
     )
 }
 
 fn events(dir: &Path, log: &str, map: &str) -> Output {
-    synth(
+    synth_in(
         dir,
         &[
             "events", "--log", log, "--map", map, "--reset", "ll false", "--out", "out.xes",
@@ -59,7 +48,7 @@ fn assert_no_output(dir: &Path) {
 
 #[test]
 fn a_log_line_over_the_limit_stops_ingest_and_events_with_its_place() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     std::fs::write(dir.join("t.map"), MAP).unwrap();
     log_with_a_long_line(dir);
@@ -76,7 +65,7 @@ fn a_log_line_over_the_limit_stops_ingest_and_events_with_its_place() {
 
 #[test]
 fn an_endless_log_is_refused_at_line_1() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     std::fs::write(dir.join("t.map"), MAP).unwrap();
     let want = format!("error: /dev/zero:1: line 1 is longer than {MAX_LINE_BYTES} bytes");
@@ -92,7 +81,7 @@ fn an_endless_log_is_refused_at_line_1() {
 
 #[test]
 fn an_endless_mapping_is_refused_at_line_1() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     std::fs::write(dir.join("t.csv"), "timestamp,address,value\n").unwrap();
     let want = format!("error: /dev/zero:1: line 1 is longer than {MAX_LINE_BYTES} bytes");
@@ -126,13 +115,13 @@ fn inputs_and_endless_ones(dir: &Path) {
 
 #[test]
 fn endless_traces_names_ltl_and_plant_files_are_refused_at_line_1() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     inputs_and_endless_ones(dir);
     let infer = |extra: &[&str]| {
         let mut args = vec!["infer", "--out", "out"];
         args.extend(extra);
-        synth(dir, &args)
+        synth_in(dir, &args)
     };
     let names = [
         "--input-names",
@@ -143,7 +132,7 @@ fn endless_traces_names_ltl_and_plant_files_are_refused_at_line_1() {
     // The main job reads the specification and the plant.
     let main_job = |ltl: &str, plant: &str| {
         let args = ["--ltl", ltl, "--plant", plant, "--traces", "door.traces"];
-        synth(dir, &[&args[..], &["--out", "out"]].concat())
+        synth_in(dir, &[&args[..], &["--out", "out"]].concat())
     };
     let cases = [
         (
@@ -170,7 +159,7 @@ fn endless_traces_names_ltl_and_plant_files_are_refused_at_line_1() {
 
 #[test]
 fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     inputs_and_endless_ones(dir);
     // Sparse: nothing of it is on disk, and the size alone is refused.
@@ -182,7 +171,7 @@ fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
     big("big.json");
     let cases = [
         (
-            synth(
+            synth_in(
                 dir,
                 &[
                     "infer",
@@ -199,7 +188,7 @@ fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
             "big.traces",
         ),
         (
-            synth(
+            synth_in(
                 dir,
                 &["replay", "--ecc", "big.json", "--traces", "door.traces"],
             ),
@@ -219,7 +208,7 @@ fn files_read_whole_are_refused_beyond_1_gib_before_reading() {
 
 #[test]
 fn ingest_of_a_million_rows_fits_in_64_mb_of_address_space() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let dir = dir.path();
     let mut log = std::io::BufWriter::new(std::fs::File::create(dir.join("big.csv")).unwrap());
     let map = fbsynth::ingest::write_random_log(&mut log, 8, 8, 1_000_000, 1).unwrap();
@@ -227,9 +216,8 @@ fn ingest_of_a_million_rows_fits_in_64_mb_of_address_space() {
     std::fs::write(dir.join("big.map"), map).unwrap();
     // The ingested scenario alone would take about 40 MB if it were held in memory; streamed,
     // the run needs about 12 MB (debug build, most of it the mapped binary).
-    let o = Command::new("sh")
-        .args(["-c", "ulimit -v 65536 && exec \"$0\" \"$@\""])
-        .arg(env!("CARGO_BIN_EXE_synth"))
+    let o = TestCommand::new()
+        .address_space(65536 * 1024)
         .args([
             "ingest",
             "--log",
@@ -240,8 +228,7 @@ fn ingest_of_a_million_rows_fits_in_64_mb_of_address_space() {
             "big.traces",
         ])
         .current_dir(dir)
-        .output()
-        .unwrap();
+        .output();
     assert!(o.status.success(), "{:?}: {}", o.status, stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
     let steps: usize = stdout

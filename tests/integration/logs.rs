@@ -1,25 +1,13 @@
 //! Plant-scale logs: Parquet input (written here with the `parquet` crate) and `synth batch`.
 
+use crate::common::{nusmv_or_skip, synth, text, Dir};
 use parquet::basic::{Compression, LogicalType, Repetition, Type as Physical};
 use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::types::Type;
 use std::path::Path;
-use std::process::{Command, Output};
 use std::sync::Arc;
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
 
 /// A column of a Parquet file: its name, physical type, whether it may hold nulls, and
 /// whether its bytes are UTF-8 text.
@@ -135,7 +123,7 @@ fn csv_to_parquet(csv: &Path, out: &Path) {
 
 #[test]
 fn a_parquet_log_gives_the_machine_of_the_same_csv_log() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let parquet = dir.path().join("distribution.parquet");
     csv_to_parquet(&root.join("specs/distribution.csv"), &parquet);
@@ -187,7 +175,7 @@ fn a_parquet_log_gives_the_machine_of_the_same_csv_log() {
 
 #[test]
 fn batch_writes_a_folder_per_plc_and_a_summary_table() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let logs = dir.path().join("logs");
     std::fs::create_dir_all(logs.join("plc=dist")).unwrap();
     // The case simulations' recordings, one PLC each: CSV logs, and a Parquet partition.
@@ -299,7 +287,7 @@ fn batch_writes_a_folder_per_plc_and_a_summary_table() {
 
 #[test]
 fn ingest_reads_a_parquet_data_flow_log_as_its_csv() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let csv = std::fs::read_to_string(root.join("specs/tank/scenario1.csv")).unwrap();
     let rows: Vec<(f64, String, i64)> = csv
@@ -355,10 +343,10 @@ fn ingest_reads_a_parquet_data_flow_log_as_its_csv() {
 
 #[test]
 fn batch_with_properties_verifies_every_machine_with_nusmv() {
-    let Some(n) = fbsynth::nusmv::test_support::nusmv_or_skip() else {
+    let Some(n) = nusmv_or_skip() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let logs = dir.path().join("logs");
     std::fs::create_dir_all(&logs).unwrap();
     for plc in ["hall", "stairs"] {
@@ -416,7 +404,7 @@ fn batch_with_properties_verifies_every_machine_with_nusmv() {
 
 #[test]
 fn a_null_in_a_parquet_log_is_refused_at_its_row() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let file = dir.path().join("gap.parquet");
     // Rows 1 and 3 have a value of `out:z`, row 2 none (definition level 0).
     write_parquet(
@@ -453,7 +441,7 @@ fn a_null_in_a_parquet_log_is_refused_at_its_row() {
 /// replayed, and the machine written reproduces every recorded step (`synth replay`).
 #[test]
 fn a_long_run_is_synthesized_in_parts_and_the_machine_replays_all_of_it() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let set = crate::cases::distribution::long_run(12_000, 5);
     let traces = dir.path().join("long.traces");
     let mut bytes = Vec::new();

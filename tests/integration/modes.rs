@@ -1,37 +1,21 @@
 //! Every file a command writes can be read by others: mode 0644 under umask 022, like any
 //! file the user creates (a shared 4diac workspace, another engineer's account).
 
-use fbsynth::nusmv::test_support::nusmv_or_skip;
+use crate::common::{nusmv_or_skip, Dir, TestCommand};
 use std::os::unix::fs::PermissionsExt;
-use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Runs `synth` under umask 022; panics with its stderr when it fails.
-fn synth(args: &[&str]) {
-    run(env!("CARGO_BIN_EXE_synth"), args)
+fn run(args: &[&str]) {
+    run_022(TestCommand::new(), args)
 }
 
-/// Runs the developer binary `synth-dev` likewise.
-fn synth_dev(args: &[&str]) {
-    run(env!("CARGO_BIN_EXE_synth-dev"), args)
-}
-
-/// Runs `binary` under umask 022; panics with its stderr when it fails.
-fn run(binary: &str, args: &[&str]) {
-    let mut cmd = Command::new(binary);
-    cmd.args(args).current_dir(env!("CARGO_MANIFEST_DIR"));
-    // SAFETY: umask is async-signal-safe; nothing else runs between fork and exec.
-    unsafe {
-        cmd.pre_exec(|| {
-            libc::umask(0o022);
-            Ok(())
-        });
-    }
-    let o = cmd.output().expect("run the binary");
+/// Runs `cmd` with `args` under umask 022; panics with its stderr when it fails.
+fn run_022(mut cmd: TestCommand, args: &[&str]) {
+    let o = cmd.args(args).umask(0o022).output();
     assert!(
         o.status.success(),
-        "{binary} {}: {}",
+        "synth {}: {}",
         args.join(" "),
         String::from_utf8_lossy(&o.stderr)
     );
@@ -53,11 +37,11 @@ fn files_below(dir: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn every_file_a_command_writes_is_0644() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let at = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
     let door = "tests/data/scenarios/door.traces";
-    synth(&["infer", "--traces", door, "--out", &at("infer"), "-q"]);
-    synth(&[
+    run(&["infer", "--traces", door, "--out", &at("infer"), "-q"]);
+    run(&[
         "infer",
         "--modules",
         "2",
@@ -67,7 +51,7 @@ fn every_file_a_command_writes_is_0644() {
         &at("modular"),
         "-q",
     ]);
-    synth(&[
+    run(&[
         "infer",
         "--noisy",
         "--max-errors",
@@ -80,7 +64,7 @@ fn every_file_a_command_writes_is_0644() {
         &at("noisy"),
         "-q",
     ]);
-    synth(&[
+    run(&[
         "convert",
         "--traces",
         door,
@@ -89,7 +73,7 @@ fn every_file_a_command_writes_is_0644() {
         "-o",
         &at("convert/door.csv"),
     ]);
-    synth(&[
+    run(&[
         "ingest",
         "--log",
         "specs/tank/scenario1.csv",
@@ -98,7 +82,7 @@ fn every_file_a_command_writes_is_0644() {
         "-o",
         &at("ingest/tank.traces"),
     ]);
-    synth(&[
+    run(&[
         "events",
         "--log",
         "specs/tank/scenario1.csv",
@@ -109,7 +93,7 @@ fn every_file_a_command_writes_is_0644() {
         "--out",
         &at("events/tank.xes"),
     ]);
-    synth(&[
+    run(&[
         "conform",
         "--ecc",
         &at("infer/SynthesizedFB.json"),
@@ -121,9 +105,12 @@ fn every_file_a_command_writes_is_0644() {
         "--out",
         &at("refined"),
     ]);
-    synth_dev(&["generate", "pnp", "--out", &at("generate")]);
+    run_022(
+        TestCommand::developer(),
+        &["generate", "pnp", "--out", &at("generate")],
+    );
     if let Some(n) = nusmv_or_skip() {
-        synth(&[
+        run(&[
             "--ltl",
             "tests/data/closed_loop/lamp.ltl",
             "--plant",

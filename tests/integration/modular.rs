@@ -1,25 +1,17 @@
 //! Modular synthesis as a user runs it (`synth infer --modules`), its files read back and
 //! replayed, and the composite SMV checked against the simulator inside NuSMV.
 
+use crate::common::{nusmv_or_skip, synth, text, Dir};
 use fbsynth::ecc::modular::{Modular, Module, Topology};
 use fbsynth::ecc::{InputId, OutputId};
 use fbsynth::export::json::read_json;
 use fbsynth::export::modular::composite_smv_to_string;
-use fbsynth::nusmv::test_support::nusmv_or_skip;
 use fbsynth::nusmv::Verdict;
 use fbsynth::scenario::{fbsat, ScenarioSet};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 const LAMPS: &str = "tests/data/scenarios/lamps.traces";
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
 
 /// `synth infer -q --modules 2 --traces lamps.traces --out dir` and `extra`.
 fn infer_lamps(dir: &str, extra: &[&str]) -> Output {
@@ -35,10 +27,6 @@ fn infer_lamps(dir: &str, extra: &[&str]) -> Output {
     ];
     args.extend_from_slice(extra);
     synth(&args)
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 fn lamps() -> ScenarioSet {
@@ -92,7 +80,7 @@ fn read_back(dir: &Path, stem: &str, set: &ScenarioSet) -> Modular {
 
 #[test]
 fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = infer_lamps(dir, &["--name", "Line"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -132,7 +120,7 @@ fn two_modules_split_the_lamp_from_the_motor_and_the_files_replay() {
 
 #[test]
 fn pinned_outputs_go_where_they_are_pinned() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = infer_lamps(dir, &["--pin", "2=start_led"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -152,7 +140,7 @@ fn pinned_outputs_go_where_they_are_pinned() {
 
 #[test]
 fn bad_pins_are_usage_errors_naming_the_problem() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     for (pin, says) in [
         (
@@ -179,7 +167,7 @@ fn composite_smv_agrees_with_the_recordings_in_nusmv() {
     let Some(nusmv) = nusmv_or_skip() else {
         return;
     };
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = infer_lamps(dir, &[]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -263,7 +251,7 @@ fn a_network_of_controllers_is_rebuilt_and_its_smv_agrees_in_nusmv() {
         m.initial_outputs.clone(),
         &runs,
     );
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let traces = dir.path().join("net.traces");
     let mut text_of_set = Vec::new();
     fbsat::write(&set, &mut text_of_set).unwrap();
@@ -364,7 +352,7 @@ fn composite_closes_the_loop_with_the_pnp_plant() {
     let coupling = check_coupling(&set.inputs, &set.outputs, &plant, &spec, &props).unwrap();
     let controller = composite_smv_to_string(&r.modular, CONTROLLER_MODULE).unwrap();
     let model = compose_controller(controller, &set.inputs, &plant, &coupling, &props);
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let file = dir.path().join("closed_loop.smv");
     std::fs::write(&file, &model.text).unwrap();
     let results = nusmv.check_file(&file).unwrap();
@@ -390,7 +378,7 @@ fn distribution(file: &str) -> ScenarioSet {
 #[test]
 fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
     let clean = distribution("specs/distribution.csv");
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = synth(&[
         "infer",
@@ -406,7 +394,7 @@ fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
     let free = read_back(out.path(), "SynthesizedFB", &clean);
     assert_eq!(free.modules.len(), 2);
     assert_eq!(clean.check(&free), Ok(()));
-    let pinned = tempfile::tempdir().unwrap();
+    let pinned = Dir::new();
     let o = synth(&[
         "infer",
         "--modules",
@@ -431,7 +419,7 @@ fn distribution_station_splits_in_two_and_pins_give_the_hmi_module() {
 /// `--noisy --modules`: the traces are corrected first, then the logic is distributed.
 #[test]
 fn noisy_then_modular_distributes_the_corrected_traces() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = synth(&[
         "infer",
         "--noisy",
@@ -495,7 +483,7 @@ fn the_pnp_composite_is_verified_in_closed_loop() {
     if nusmv_or_skip().is_none() {
         return;
     }
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("m");
     let (ltl, plant) = ("specs/pnp.ltl", "smv/pnp_surrogate.smv");
     let o = synth(&[
@@ -543,7 +531,7 @@ fn a_noisy_log_gives_one_verified_machine_and_its_verified_composite() {
     if nusmv_or_skip().is_none() {
         return;
     }
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().join("n");
     let (ltl, plant) = ("specs/distribution.ltl", "smv/distribution_surrogate.smv");
     let o = synth(&[
@@ -603,7 +591,7 @@ const SLOTS: &str = "tests/data/modular/slots.traces";
 
 #[test]
 fn too_few_slots_are_widened_and_the_truth_is_rebuilt_no_larger() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = synth(&["infer", "--modules", "2", "--traces", SLOTS, "--out", dir]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -631,7 +619,7 @@ fn too_few_slots_are_widened_and_the_truth_is_rebuilt_no_larger() {
     assert!(composite.size().max_states <= truth.states.len());
 
     // Given, the slots stay: no composite of modules up to 6 states has 3 per state.
-    let fixed = tempfile::tempdir().unwrap();
+    let fixed = Dir::new();
     let o = synth(&[
         "infer",
         "-q",
@@ -652,7 +640,7 @@ fn too_few_slots_are_widened_and_the_truth_is_rebuilt_no_larger() {
 
 #[test]
 fn every_method_stops_at_the_time_limit_with_exit_3_and_no_files() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     for extra in [&[][..], &["--modules", "2"], &["--noisy"]] {
         let dir = out.path().join(format!("r{}", extra.len()));
         let mut args = vec![
@@ -682,7 +670,7 @@ fn every_method_stops_at_the_time_limit_with_exit_3_and_no_files() {
 /// "consecutive"; pins are refused for a chain (usage, exit 2).
 #[test]
 fn a_chain_of_two_blocks_is_written_as_one_block_that_replays_the_recordings() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = infer_lamps(dir, &["--topology", "consecutive"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -708,7 +696,7 @@ fn a_chain_of_two_blocks_is_written_as_one_block_that_replays_the_recordings() {
             "{ext}"
         );
     }
-    let pinned = tempfile::tempdir().unwrap();
+    let pinned = Dir::new();
     let o = infer_lamps(
         pinned.path().to_str().unwrap(),
         &["--topology", "consecutive", "--pin", "1=motor"],
@@ -726,7 +714,7 @@ fn a_chain_of_two_blocks_is_written_as_one_block_that_replays_the_recordings() {
 /// replay the recordings side by side. With `--ltl` it is a usage error, with no files.
 #[test]
 fn an_arbitrary_network_is_written_as_blocks_that_replay_the_recordings() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let dir = out.path().to_str().unwrap();
     let o = infer_lamps(dir, &["--topology", "arbitrary", "--name", "Line"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -759,7 +747,7 @@ fn an_arbitrary_network_is_written_as_blocks_that_replay_the_recordings() {
     }
     written.sort();
     assert_eq!(written, ["\"motor\"", "\"start_led\""]);
-    let refused = tempfile::tempdir().unwrap();
+    let refused = Dir::new();
     let o = infer_lamps(
         refused.path().to_str().unwrap(),
         &[

@@ -2,22 +2,10 @@
 //! shipped files, and `synth infer --noisy` as a user runs it.
 
 use crate::cases::distribution::{self, generate, to_scenarios, SHIPPED_RATE, SHIPPED_SEED};
+use crate::common::{nusmv_or_skip, synth, text, Dir};
 use fbsynth::export::json::read_json;
 use fbsynth::sat::noisy::{synthesize_noisy, Flow, NoisyOptions};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
 
 /// With the injected number of errors as the bound, the tool corrects no more than were
 /// injected, and among the first candidates one behaves like the reference on the clean
@@ -50,7 +38,7 @@ fn noisy_distribution_logs_give_the_reference_behaviour() {
 /// `specs/` holds exactly what `synth-dev generate distribution` writes.
 #[test]
 fn shipped_distribution_files_match_the_generator() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let (files, _) = distribution::write_files(dir.path()).unwrap();
     let specs = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs");
     for f in files {
@@ -67,7 +55,7 @@ fn shipped_distribution_files_match_the_generator() {
 
 #[test]
 fn infer_noisy_writes_a_folder_per_candidate_and_a_summary() {
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let o = synth(&[
         "infer",
         "--noisy",
@@ -133,7 +121,7 @@ fn infer_noisy_writes_a_folder_per_candidate_and_a_summary() {
 /// The shipped properties hold for the reference controller in closed loop (NuSMV).
 #[test]
 fn reference_satisfies_the_distribution_properties() {
-    if fbsynth::nusmv::test_support::nusmv_or_skip().is_none() {
+    if nusmv_or_skip().is_none() {
         return;
     }
     let o = synth(&[

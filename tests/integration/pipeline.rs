@@ -1,7 +1,7 @@
 //! Every pipeline called as a library user calls it: one function per method, one problem
 //! type ([`Check`]), no files read back.
 
-use fbsynth::nusmv::test_support::nusmv_or_skip;
+use crate::common::{nusmv_or_skip, Dir};
 use fbsynth::pipeline::{self, exact, modular, noisy, refine, search, Check, Problem, Recordings};
 use std::path::{Path, PathBuf};
 
@@ -134,7 +134,7 @@ fn refine_learns_divergent_traces_in_process() {
         .synthesis
         .ecc;
     assert!(!new.divergences(&first).is_empty());
-    let out = tempfile::tempdir().unwrap();
+    let out = Dir::new();
     let formats = [fbsynth::export::Format::Json];
     let opts = refine::Options {
         out: out.path(),

@@ -1,4 +1,4 @@
-//! Robustness under hostile input (issue 13): every parser of user input is driven by
+//! Robustness under hostile input: every parser of user input is driven by
 //! arbitrary bytes and by mutations of the repository's own valid files. Every call must
 //! return (a panic fails the case), and a refusal must be located: its message is not empty,
 //! stays short, names the file it was given and, where the error has a line, that line is a
@@ -9,6 +9,7 @@
 //! [`robustness_long_run`] loops over all parsers for `FBSYNTH_ROBUSTNESS_SECS` seconds
 //! (default 600) and prints the cases run per parser.
 
+use crate::common::Dir;
 use fbsynth::events::ResetActivity;
 use fbsynth::export::guard_text::parse_guard;
 use fbsynth::export::json::{read_json, JsonError};
@@ -199,7 +200,8 @@ fn names(list: &[&str]) -> Vec<String> {
 /// finds contradictions and names both places).
 fn check_fbsat(path: &Path, input: &[u8], flag: bool) -> Result<Parsed, TestCaseError> {
     write(path, input);
-    // The names of tests/data/scenarios/door.*: the widths the seeds have.
+    // The names of tests/data/scenarios/door.*: the widths of the files the mutations start
+    // from.
     let (i, o) = match flag {
         true => (
             Some(names(&["start", "stop"])),
@@ -785,7 +787,8 @@ const BRACKETS: &[(&str, &str)] = &[
 /// balanced nesting), which reach further into a parser than random bytes.
 fn mutation() -> impl Strategy<Value = Mutation> {
     let len = 1usize..64;
-    // Mostly one token; sometimes a run as deep as the issue's examples (5000 `(` or `!`).
+    // Mostly one token; sometimes a run thousands deep (5000 `(` or `!` would overflow the
+    // stack of a parser that recursed once per level).
     let times = prop_oneof![8 => Just(1usize), 2 => 2usize..50, 1 => 900usize..6000];
     prop_oneof![
         2 => (any::<Index>(), len.clone()).prop_map(|(at, n)| Mutation::Delete(at, n)),
@@ -1001,7 +1004,7 @@ impl Stats {
 /// Runs `cases` cases of one strategy on one parser. A failing case (a broken promise or a
 /// panic) fails the run with the shrunk input.
 fn run(target: &Target, source: Source, cases: u32) -> Result<Stats, String> {
-    let dir = tempfile::tempdir().expect("temporary folder");
+    let dir = Dir::new();
     let path: PathBuf = dir.path().join(target.file);
     let mut runner = TestRunner::new(config(cases));
     let slowest = Cell::new(Duration::ZERO);
@@ -1043,7 +1046,7 @@ fn run(target: &Target, source: Source, cases: u32) -> Result<Stats, String> {
 /// Every seed passes its parser: mutations start from valid input.
 #[test]
 fn robustness_seeds_are_valid() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     for target in targets() {
         let path = dir.path().join(target.file);
         let seeds = (target.seeds)();
@@ -1098,7 +1101,7 @@ robustness_tests! {
     robustness_reset_arbitrary, robustness_reset_mutated: "reset activities";
 }
 
-/// The long run of the issue: all parsers in turn, both strategies, in rounds of 100 cases
+/// The long run: all parsers in turn, both strategies, in rounds of 100 cases
 /// each, for `FBSYNTH_ROBUSTNESS_SECS` seconds (default 600). Prints the cases run and the
 /// slowest case per parser; fails on the first broken promise or panic.
 #[test]

@@ -7,25 +7,8 @@
 //! Without xmllint the tests are skipped with a note, except under `CI=true`, where
 //! `.ci/install-xmllint.sh` provides it and its absence fails them.
 
-use crate::common::{tool_or_skip, xmllint};
+use crate::common::{root, synth_in, text, tool_or_skip, xmllint, Dir};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn synth(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 const FBT: &str = "iec61499-library-element.dtd";
 const PNML: &str = "pnml-ptnet.rng";
@@ -115,11 +98,11 @@ fn every_exported_fbt_pnml_and_plcopen_file_validates() {
     let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let mut written = Vec::new();
     for (k, json) in machines(dir.path()).iter().enumerate() {
         let out = dir.path().join(format!("out{k}"));
-        let o = synth(
+        let o = synth_in(
             dir.path(),
             &[
                 "export",
@@ -142,7 +125,7 @@ fn every_exported_fbt_pnml_and_plcopen_file_validates() {
         written.extend(files_in(&out));
     }
     let modular = dir.path().join("modular");
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "infer",
@@ -176,13 +159,13 @@ fn event_log_nets_validate_in_both_dialects() {
     let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let json = dir.path().join("tank1.json");
     let tank = crate::cases::tank::Program::FillDrain.reference();
     std::fs::write(&json, fbsynth::export::json::to_string(&tank)).unwrap();
     let net = |dialect: &str| {
         let pnml = dir.path().join(format!("{dialect}.pnml"));
-        let o = synth(
+        let o = synth_in(
             root(),
             &[
                 "events",
@@ -221,9 +204,9 @@ fn the_schemas_refuse_what_the_standards_refuse() {
     let Some(xmllint_bin) = tool_or_skip("XMLLINT", "xmllint", ".ci/install-xmllint.sh") else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let out = dir.path().join("out");
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "export",
@@ -324,9 +307,9 @@ fn the_schemas_refuse_what_the_standards_refuse() {
 /// field, a symbol no algorithm has and a newer format, as `synth` itself does.
 #[test]
 fn machines_validate_against_the_json_schema_synth_prints() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let schema = dir.path().join("machine.schema.json");
-    let o = synth(dir.path(), &["schema", "-o", schema.to_str().unwrap()]);
+    let o = synth_in(dir.path(), &["schema", "-o", schema.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let mut schemas = boon::Schemas::new();
     let index = boon::Compiler::new()
@@ -340,7 +323,7 @@ fn machines_validate_against_the_json_schema_synth_prints() {
     let mut written = machines(dir.path());
     for (k, json) in machines(dir.path()).iter().enumerate() {
         let out = dir.path().join(format!("out{k}"));
-        let o = synth(
+        let o = synth_in(
             dir.path(),
             &[
                 "export",
@@ -356,7 +339,7 @@ fn machines_validate_against_the_json_schema_synth_prints() {
         written.push(out.join("SynthesizedFB.json"));
     }
     let modular = dir.path().join("modular");
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "infer",
@@ -397,7 +380,7 @@ fn machines_validate_against_the_json_schema_synth_prints() {
     )
     .unwrap();
     assert!(validate(&marked).is_ok());
-    let o = synth(
+    let o = synth_in(
         dir.path(),
         &[
             "export",
@@ -423,7 +406,7 @@ fn machines_validate_against_the_json_schema_synth_prints() {
         let bad = dir.path().join("bad.json");
         std::fs::write(&bad, text_of.replacen(from, to, 1)).unwrap();
         assert!(validate(&bad).is_err(), "the schema takes {what}");
-        let o = synth(
+        let o = synth_in(
             dir.path(),
             &[
                 "export", "--ecc", "bad.json", "--out", "b", "--format", "json",

@@ -1,7 +1,7 @@
 //! Synthesis from the runs of random machines: the result replays every run and is no larger
 //! than the machine that produced them.
 
-use crate::common::{random_ecc, record};
+use crate::common::{random_ecc, record, Dir, TestCommand};
 use fbsynth::sat::{synthesize, Options};
 use fbsynth::scenario::tree::ScenarioTree;
 use proptest::prelude::*;
@@ -39,9 +39,9 @@ fn dumped_cnf_files_solve_alike_with_cadical() {
     let Some(cadical) = cadical_or_skip() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let cnf = dir.path().join("cnf");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_synth"))
+    let o = TestCommand::new()
         .args([
             "infer",
             "-q",
@@ -53,9 +53,7 @@ fn dumped_cnf_files_solve_alike_with_cadical() {
         .arg(dir.path().join("out"))
         .arg("--dump-cnf")
         .arg(&cnf)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+        .output();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let verdicts = std::fs::read_to_string(cnf.join("verdicts.txt")).unwrap();
     assert_eq!(

@@ -5,23 +5,11 @@
 //! `$PM4PY_PYTHON` (from `.ci/install-pm4py.sh`) in the same way.
 
 use crate::cases::tank::{self, Plant, Program, RunSpec};
+use crate::common::{nusmv_or_skip, synth, text, Dir};
 use fbsynth::ecc::Ecc;
 use fbsynth::ingest::{read_scenarios, Mapping};
-use fbsynth::nusmv::test_support::nusmv_or_skip;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn synth(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synth"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run synth")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use std::process::Command;
 
 fn read_ecc(path: &Path) -> Ecc {
     fbsynth::export::json::read_json(&std::fs::read_to_string(path).unwrap(), path).unwrap()
@@ -63,7 +51,7 @@ fn tank_programs_are_rebuilt_exactly_and_verified() {
     let map_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs/tank/tank.map");
     let mapping = Mapping::read(&map_file).unwrap();
     for program in [Program::FillDrain, Program::Cycles] {
-        let out = tempfile::tempdir().unwrap();
+        let out = Dir::new();
         let ecc = rebuild(&n.path, program, out.path());
         let reference = program.reference();
         assert_eq!(ecc.states.len(), reference.states.len(), "{program:?}");
@@ -107,7 +95,7 @@ fn tank_programs_are_rebuilt_exactly_and_verified() {
 #[test]
 fn program_1_does_not_satisfy_the_cycle_count_of_program_2() {
     let Some(n) = nusmv_or_skip() else { return };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let json = dir.path().join("p1.json");
     std::fs::write(
         &json,
@@ -173,7 +161,7 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
     let Some(python) = pm4py_or_skip() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     for spec in tank::SCENARIOS.iter() {
         let json = dir.path().join(format!("{}.json", spec.name));
         std::fs::write(
@@ -286,7 +274,7 @@ fn pm4py_loads_the_tank_event_logs_and_replays_them_on_the_program_net() {
 #[test]
 fn program_2_from_the_raw_logs_alone() {
     let Some(n) = nusmv_or_skip() else { return };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let mut traces = Vec::new();
     for name in ["scenario2", "scenario3"] {
         let t = dir.path().join(format!("{name}.traces"));
@@ -347,7 +335,7 @@ fn only_the_machine_net_notices_a_wrong_cycle_count() {
     let Some(python) = pm4py_or_skip() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
+    let dir = Dir::new();
     let mut wrong = Program::Cycles.reference();
     // Raise1 -> Drain instead of Raise1 -> Lower2.
     assert_eq!(wrong.states[3].name, "Raise1");

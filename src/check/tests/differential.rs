@@ -451,7 +451,7 @@ pub(super) fn nusmv_verdicts(nusmv: &Path, model: &Path) -> BTreeMap<String, boo
 /// Replays a counterexample through the plant semantics and the ECC simulator.
 fn replay(c: &Case, lasso: &Lasso) -> Result<(), String> {
     let sem = Semantics::new(&c.model);
-    let coupling = Coupling::new(&c.model, &c.ecc.inputs, &c.ecc.outputs).expect("coupled");
+    let coupling = Coupling::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs).expect("coupled");
     let params =
         |s: &LoopState| -> Vec<bool> { coupling.params.iter().map(|&z| s.outputs[z]).collect() };
     let first = &lasso.states[0];
@@ -517,7 +517,7 @@ fn verdicts_agree_with_nusmv_on_random_triples() {
     for seed in 0..CASES {
         let c = random_case(seed);
         let start = std::time::Instant::now();
-        let coupling = Coupling::new(&c.model, &c.ecc.inputs, &c.ecc.outputs)
+        let coupling = Coupling::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs)
             .unwrap_or_else(|e| panic!("{e}\n{}", describe(&c, None)));
         let ours = check(&c.model, &coupling, &c.ecc, &c.props, &Limits::default());
         let free = behaviour(&c.model, &Limits::default());

@@ -10,7 +10,6 @@
 //! values, or a condition cannot be evaluated (division by zero, a case without a true
 //! branch), nothing is concluded and nothing is refused.
 
-use super::resolve::walk;
 use crate::plant::{BinOp, Define, Expr, Value, Var};
 use std::collections::BTreeSet;
 
@@ -47,7 +46,7 @@ pub(super) fn can_be_taken(
     let mut needed = BTreeSet::new();
     let mut todo: Vec<&Expr> = path.iter().map(|(c, _)| c).collect();
     while let Some(e) = todo.pop() {
-        walk(e, &mut |e| match *e {
+        e.walk(&mut |e| match *e {
             Expr::Var(v) => {
                 leaves.insert(Leaf::Var(v.0));
             }

@@ -15,7 +15,7 @@
 //!   assignment can certainly produce it (see [`reach`](super::reach)).
 
 use super::reach;
-use super::{
+use super::syntax::{
     Assign, DefineDecl, EnumLit, Ident, Node, NodeKind, Plant, Section, Source, Target, TypeDecl,
 };
 use crate::plant::{
@@ -448,7 +448,7 @@ impl Resolver<'_> {
             input: None,
             vars: BTreeSet::new(),
         };
-        walk(&expr, &mut |e| match *e {
+        expr.walk(&mut |e| match *e {
             Expr::Var(v) => {
                 info.vars.insert(v);
                 if self.vars[v.0].kind == VarKind::Input {
@@ -899,7 +899,7 @@ impl Resolver<'_> {
                     }
                 };
                 if let Some(e) = value(var) {
-                    walk(e, &mut |e| match (target, e) {
+                    e.walk(&mut |e| match (target, e) {
                         (Target::Init, Expr::Var(y)) => add(*y),
                         (Target::Init, Expr::Define(d)) => {
                             self.define_info[d.0].vars.iter().for_each(|&y| add(y))
@@ -965,24 +965,6 @@ fn names_in<'n>(node: &'n Node, f: &mut impl FnMut(&'n str)) {
         }),
         NodeKind::Ite(c, a, b) => [c, a, b].into_iter().for_each(|x| names_in(x, f)),
         NodeKind::Set(items) => items.iter().for_each(|x| names_in(x, f)),
-    }
-}
-
-/// Calls `f` on every node of an expression (not into the defines it refers to).
-pub(super) fn walk(e: &Expr, f: &mut impl FnMut(&Expr)) {
-    f(e);
-    match e {
-        Expr::Const(_) | Expr::Var(_) | Expr::Next(_) | Expr::Define(_) | Expr::Param(_) => {}
-        Expr::Not(x) | Expr::Neg(x) => walk(x, f),
-        Expr::Bin(_, a, b) => {
-            walk(a, f);
-            walk(b, f);
-        }
-        Expr::Case(branches) => branches.iter().for_each(|(c, v)| {
-            walk(c, f);
-            walk(v, f);
-        }),
-        Expr::Set(items) => items.iter().for_each(|x| walk(x, f)),
     }
 }
 

@@ -1,6 +1,7 @@
 //! Tests of the plant parser: the shipped plants and fixtures, the resolved model of a small
 //! plant, the precedence and the desugaring NuSMV would apply, and every refusal with its place.
 
+use super::syntax::MAX_DEPTH;
 use super::*;
 use crate::plant::{Constraint, DefineId, Expr, Name, ParamId, Type, Value, VarId};
 use std::path::PathBuf;
@@ -124,7 +125,7 @@ fn every_define_refers_only_to_earlier_ones() {
     for (path, _) in FILES {
         let m = file(path);
         for (i, d) in m.defines.iter().enumerate() {
-            resolve::walk(&d.expr, &mut |e| {
+            d.expr.walk(&mut |e| {
                 if let Expr::Define(other) = e {
                     assert!(other.0 < i, "{path}: {} refers to a later define", d.name);
                 }
@@ -173,7 +174,7 @@ fn a_next_assignment_may_read_the_next_value_of_another_variable() {
         panic!()
     };
     let mut reads_next_level = false;
-    resolve::walk(m.var(fills).next.as_ref().unwrap(), &mut |e| {
+    m.var(fills).next.as_ref().unwrap().walk(&mut |e| {
         reads_next_level |= *e == Expr::Next(level);
     });
     assert!(reads_next_level);
