@@ -40,6 +40,7 @@ extern crate self as fbsynth;
 mod cases;
 
 pub mod check;
+pub mod deadline;
 pub mod ecc;
 pub mod events;
 pub mod export;

@@ -146,16 +146,6 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
         },
     )?;
 
-    if outcomes.iter().any(|o| {
-        matches!(
-            o.result,
-            Err(pipeline::Error::TimeLimit { .. } | pipeline::Error::Interrupted { .. })
-        )
-    }) {
-        // A PLC given up on at its time limit left its loop running: its NuSMV must not
-        // outlive us. Every other PLC is done by now.
-        fbsynth::nusmv::kill_all_children();
-    }
     let staging = results.staging().to_path_buf();
     let mut staged = Vec::new();
     let mut rows = Vec::new();

@@ -163,6 +163,7 @@ mod args;
 mod batch;
 mod bench;
 mod conform;
+mod convert;
 mod diff;
 mod docs;
 mod events;
@@ -257,7 +258,7 @@ pub enum Command {
     /// divergence; with --refine, learn the divergent traces and synthesize again.
     Conform(conform::ConformArgs),
     /// Replay scenarios on a machine (JSON) and report the first step it does not reproduce.
-    Replay(infer::ReplayArgs),
+    Replay(convert::ReplayArgs),
     /// Compare two machines (JSON): "equivalent", or the shortest input sequence on which
     /// they answer differently (exit 1).
     Diff(diff::DiffArgs),
@@ -278,7 +279,7 @@ pub enum Command {
     /// PLCopen XML.
     Export(export::ExportArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
-    Convert(infer::ConvertArgs),
+    Convert(convert::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
     Verify(main_job::VerifyArgs),
     /// Regenerate a shipped case's scenario files from its reference controller and plant
@@ -347,6 +348,14 @@ impl Failure {
 /// The one place where a library failure becomes an exit code.
 impl From<pipeline::Error> for Failure {
     fn from(e: pipeline::Error) -> Failure {
+        // The notes come after the error and its causes, one a line.
+        if let pipeline::Error::Noted { error, notes } = e {
+            let mut f = Failure::from(*error);
+            for note in notes {
+                f.message.push_str(&format!("\n({note})"));
+            }
+            return f;
+        }
         let code = match e.class() {
             Class::Input => exit::INPUT,
             Class::Vacuous => exit::FAILED,
@@ -418,8 +427,8 @@ pub fn run() -> i32 {
         Some(Command::Man(a)) => docs::man(&a),
         Some(Command::Schema(a)) => docs::schema(&a),
         Some(Command::BenchAmbiguity(a)) => bench::bench_ambiguity(&a),
-        Some(Command::Convert(a)) => infer::convert(&a),
-        Some(Command::Replay(a)) => infer::replay(&a),
+        Some(Command::Convert(a)) => convert::convert(&a),
+        Some(Command::Replay(a)) => convert::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
