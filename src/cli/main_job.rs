@@ -11,10 +11,11 @@ use super::show::{closing, explained, print_files, size_line, verified_line};
 use super::{exit, Failure};
 use clap::{Args, ValueEnum};
 use fbsynth::files::ResultSet;
+use fbsynth::pipeline::explain::{self, Explanation};
 use fbsynth::pipeline::main_job::{self, VerifiedMachine};
 use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
 use fbsynth::pipeline::recordings::{read_ecc, stem};
-use fbsynth::pipeline::{self, exact, explain, search};
+use fbsynth::pipeline::{self, exact, search, Problem};
 use fbsynth::scenario::negative::NegativeScenario;
 use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
@@ -165,6 +166,53 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     };
     let limit = time_limit(args.time_limit, &progress)?;
     let proof_budget = pipeline::seconds("--proof-budget", args.proof_budget, false)?;
+    let (recordings, set, problem, found) = read(args, ltl, plant_file, &progress)?;
+    let negatives = read_negatives(&args.negative, &set, &progress)?;
+    if !negatives.is_empty() && args.method != Method::Sat {
+        return Err(Failure::msg(
+            exit::USAGE,
+            "--negative takes --method sat (the search does not read negative scenarios)",
+        ));
+    }
+    let formats = parse_formats(&args.format)?;
+    check_exportable(&set, &args.name, &formats, &recordings)?;
+    let out = out_dir(&args.out, &stem(ltl));
+    // Taken before the search: a second run into the same folder stops now, not at the end.
+    let results = ResultSet::open(&out).map_err(Failure::input)?;
+    let check = check(problem, &args.nusmv)?;
+    let keep = out.join("closed_loop.last.smv");
+    let opts = main_job::Options {
+        method: method(args),
+        exact: exact_options(args, negatives, proof_budget, keep),
+        limit,
+    };
+    let v = main_job::run(&set, &check, &found, &opts, &mut |e| progress.event(e))?;
+    let provenance = Provenance {
+        name: &args.name,
+        plant_file,
+        spec_file: ltl,
+    };
+    let staged = write_verified(
+        results.staging(),
+        &formats,
+        &v.ecc,
+        &v.certificate,
+        &provenance,
+        &v.summary,
+    )?;
+    let files = publish(args, &v, &set, &check, staged, results, &progress)?;
+    report(&v, &set, &out, &files)
+}
+
+/// The recordings, the problem and what the recordings say about its properties, each with
+/// its progress line. Recordings that violate a property leave no machine to find: refused
+/// before any synthesis.
+fn read(
+    args: &MainArgs,
+    ltl: &Path,
+    plant_file: &Path,
+    progress: &Progress,
+) -> Result<(pipeline::Recordings, ScenarioSet, Problem, Explanation), Failure> {
     let recordings = recordings(args, ltl)?;
     let set = recordings.load()?;
     progress.line(&format!(
@@ -180,55 +228,31 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
         ltl.display(),
         plant_file.display()
     ));
-    // Before any synthesis: recordings that violate a property leave no machine to find.
     let found =
         explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
-    explained(&progress, &found, problem.props.len());
-    let negatives = read_negatives(&args.negative, &set, &progress)?;
-    if !negatives.is_empty() && args.method != Method::Sat {
-        return Err(Failure::msg(
-            exit::USAGE,
-            "--negative takes --method sat (the search does not read negative scenarios)",
-        ));
-    }
-    let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats, &recordings)?;
-    let out = out_dir(&args.out, &stem(ltl));
-    // Taken before the search: a second run into the same folder stops now, not at the end.
-    let results = ResultSet::open(&out).map_err(Failure::input)?;
-    let check = check(problem, &args.nusmv)?;
-    let opts = main_job::Options {
-        method: method(args),
-        exact: exact_options(
-            args,
-            negatives,
-            proof_budget,
-            out.join("closed_loop.last.smv"),
-        ),
-        limit,
-    };
-    let v = main_job::run(&set, &check, &found, &opts, &mut |e| progress.event(e))?;
-    let provenance = Provenance {
-        name: &args.name,
-        plant_file,
-        spec_file: ltl,
-    };
-    let mut staged = write_verified(
-        results.staging(),
-        &formats,
-        &v.ecc,
-        &v.certificate,
-        &provenance,
-        &v.summary,
-    )?;
+    explained(progress, &found, problem.props.len());
+    Ok((recordings, set, problem, found))
+}
+
+/// Adds the ambiguity report to the `staged` files when asked, publishes them all; the
+/// published paths.
+fn publish(
+    args: &MainArgs,
+    v: &VerifiedMachine,
+    set: &ScenarioSet,
+    check: &pipeline::Check,
+    mut staged: Vec<PathBuf>,
+    results: ResultSet,
+    progress: &Progress,
+) -> Result<Vec<PathBuf>, Failure> {
     if args.ambiguity {
         staged.extend(super::ambiguity::report_verified(
-            &set,
+            set,
             &v.ecc,
             &args.ambiguity_args,
             args.algorithms,
-            &check,
-            &progress,
+            check,
+            progress,
             results.staging(),
         )?);
     }
@@ -236,7 +260,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
     results
         .publish()
         .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    report(&v, &set, &out, &files)
+    Ok(files)
 }
 
 /// The recordings of the main job: `--traces`, or `<stem>.traces` beside the `--ltl` file.

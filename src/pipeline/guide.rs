@@ -161,15 +161,20 @@ pub enum Outcome {
     NotHere(String),
 }
 
+/// The guide's exact synthesis: the default options, stopped at the check's deadline.
+fn sat_options(check: &Check) -> sat::Options {
+    sat::Options {
+        deadline: check.deadline(),
+        ..sat::Options::default()
+    }
+}
+
 /// The guide (module documentation) on `set` with `check`; its SAT calls and the game stop at
 /// the check's deadline ([`Check::deadline`]).
 pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
     let not_here = |why: String| Ok(Outcome::NotHere(why));
     let problem = &check.problem;
-    let sat_options = sat::Options {
-        deadline: check.deadline(),
-        ..sat::Options::default()
-    };
+    let sat_options = sat_options(check);
     let Ok(model) = problem.model.as_ref() else {
         return not_here("the game does not read this plant".into());
     };

@@ -412,6 +412,23 @@ mod tests {
         }])
     }
 
+    /// A noted error reads as the error with one note a line, and is of the error's class.
+    #[test]
+    fn notes_follow_the_error_and_keep_its_class() {
+        let noted = Error::Noted {
+            error: Box::new(Error::NoMachine("no machine".into())),
+            notes: vec!["first".into(), "second".into()],
+        };
+        assert_eq!(noted.to_string(), "no machine\n(first)\n(second)");
+        assert_eq!(noted.class(), Class::NoMachine);
+        let generated = Error::Noted {
+            error: Box::new(Error::Verify(rejected(true))),
+            notes: Vec::new(),
+        };
+        assert!(generated.in_generated_code());
+        assert_eq!(generated.class(), Error::Verify(rejected(true)).class());
+    }
+
     /// The main job keeps the model NuSMV rejected only when the fault is in synth's code.
     #[test]
     fn only_errors_in_generated_code_count_as_such() {

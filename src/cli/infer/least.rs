@@ -44,44 +44,15 @@ pub(super) fn least(
     negatives: Vec<NegativeScenario>,
     progress: &Progress,
 ) -> Result<(exact::Options, Synthesis), Failure> {
-    let opts = exact::Options {
-        sat: exact::SatOptions {
-            algorithms: args.algorithms.into(),
-            minimize_k: args.minimize_k,
-            max_states: args.max_states,
-            start_state: args.start_state,
-            guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
-            fixed: args.fixed.bounds(),
-            ..exact::SatOptions::default()
-        },
-        negatives,
-        ..exact::Options::default()
-    };
+    let opts = options(args, negatives)?;
     let limit = time_limit(args.time_limit, progress)?;
     let until = |deadline| {
         let mut o = opts.clone();
         o.sat.deadline = deadline;
         o
     };
-    let mut hinted = false;
-    let mut hint = |e: pipeline::Event<'_>| {
-        let c = match &e {
-            pipeline::Event::Solver(fbsynth::sat::Step::TryingStates { c, .. }) => Some(*c),
-            pipeline::Event::Solver(fbsynth::sat::Step::Trying {
-                bound: fbsynth::sat::Bound::C,
-                value,
-            }) => Some(*value),
-            _ => None,
-        };
-        progress.event(e);
-        // Glitches in a log read as exact each cost states: a climb this high is the sign.
-        if c.is_some_and(|c| c >= GLITCH_HINT_STATES) && !hinted {
-            hinted = true;
-            progress.line(NOISY_HINT);
-        }
-    };
     let first = limit
-        .run(&mut hint, |d, events| {
+        .run(&mut glitch_hint(progress), |d, events| {
             exact::run(set, None, &until(d), events)
         })
         .map_err(suggest_noisy)?
@@ -109,6 +80,46 @@ pub(super) fn least(
         set.scenarios.len()
     );
     Ok((opts, result))
+}
+
+/// The exact synthesis the arguments ask for.
+fn options(args: &InferArgs, negatives: Vec<NegativeScenario>) -> Result<exact::Options, Failure> {
+    Ok(exact::Options {
+        sat: exact::SatOptions {
+            algorithms: args.algorithms.into(),
+            minimize_k: args.minimize_k,
+            max_states: args.max_states,
+            start_state: args.start_state,
+            guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
+            fixed: args.fixed.bounds(),
+            ..exact::SatOptions::default()
+        },
+        negatives,
+        ..exact::Options::default()
+    })
+}
+
+/// Shows every event, and once the search climbs to [`GLITCH_HINT_STATES`] states the hint at
+/// `--noisy`: glitches in a log read as exact each cost states, so a climb this high is the
+/// sign.
+fn glitch_hint(progress: &Progress) -> impl FnMut(pipeline::Event<'_>) + '_ {
+    use fbsynth::sat::{Bound, Step};
+    let mut hinted = false;
+    move |e| {
+        let c = match &e {
+            pipeline::Event::Solver(Step::TryingStates { c, .. }) => Some(*c),
+            pipeline::Event::Solver(Step::Trying {
+                bound: Bound::C,
+                value,
+            }) => Some(*value),
+            _ => None,
+        };
+        progress.event(e);
+        if c.is_some_and(|c| c >= GLITCH_HINT_STATES) && !hinted {
+            hinted = true;
+            progress.line(NOISY_HINT);
+        }
+    }
 }
 
 /// Writes the least machine into `results` (its exports, and the ambiguity report), prints

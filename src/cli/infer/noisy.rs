@@ -23,15 +23,7 @@ pub(super) fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
     let check = optional_check(&args.ltl, &args.plant, &set, &args.nusmv)?;
     let out = out_dir(&args.out, &args.traces.recordings().stem());
     let results = infer_out(args)?;
-    let n = &args.noisy;
-    let opts = noisy::Options {
-        algorithms: args.algorithms.into(),
-        max_states: args.max_states,
-        max_errors: n.max_errors,
-        enumerate: n.enumerate.max(1),
-        guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
-        ..noisy::Options::default()
-    };
+    let opts = options(args)?;
     // --negative conflicts with --noisy.
     let loop_opts = loop_options(args, Vec::new());
     let result = time_limit(args.time_limit, &progress)?.run(
@@ -41,8 +33,47 @@ pub(super) fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
             noisy::run(&set, check.as_ref().map(|c| (c, &loop_opts)), &opts, events)
         },
     )?;
-    let staging = results.staging();
-    let table = output::write_noisy(staging, &args.name, &formats, &result, progress.elapsed())?;
+    let check = check.as_ref();
+    let staged = files(args, &result, check, &formats, results.staging(), &progress)?;
+    let written = publish(results, &staged)?;
+    if !written.is_empty() {
+        print_written(&written);
+    }
+    out!("results in {}", out.display());
+    match (check.is_some(), result.chosen()) {
+        (true, None) => Err(Failure::msg(
+            exit::NO_MACHINE,
+            "no candidate's corrected traces have a verified machine (see summary.txt; raise --enumerate or --max-errors)",
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The noisy synthesis the arguments ask for.
+fn options(args: &InferArgs) -> Result<noisy::Options, Failure> {
+    let n = &args.noisy;
+    Ok(noisy::Options {
+        algorithms: args.algorithms.into(),
+        max_states: args.max_states,
+        max_errors: n.max_errors,
+        enumerate: n.enumerate.max(1),
+        guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
+        ..noisy::Options::default()
+    })
+}
+
+/// Writes the candidates and the summary table (printed) into `staging`; with a check the
+/// chosen candidate's verified machine in `verified/`; with `--modules` the composite in
+/// `modular/`. The files written besides the candidates'.
+fn files(
+    args: &InferArgs,
+    result: &noisy::Noisy,
+    check: Option<&Check>,
+    formats: &[fbsynth::export::Format],
+    staging: &Path,
+    progress: &Progress,
+) -> Result<Vec<PathBuf>, Failure> {
+    let table = output::write_noisy(staging, &args.name, formats, result, progress.elapsed())?;
     out_raw!("{table}");
     let chosen = result.chosen();
     let mut staged = Vec::new();
@@ -50,34 +81,15 @@ pub(super) fn infer_noisy(args: &InferArgs) -> Result<(), Failure> {
         let dir = staging.join("verified");
         let provenance = provenance(args);
         let total = progress.elapsed();
-        staged = output::write_noisy_verified(&dir, &formats, &result, k, &provenance, total)?;
-        print_noisy_verified(&result, k);
+        staged = output::write_noisy_verified(&dir, formats, result, k, &provenance, total)?;
+        print_noisy_verified(result, k);
     }
     // Correct the traces first, then distribute the logic (with --ltl: the verified machine).
     if let Some(m) = args.modules {
         let k = chosen.unwrap_or(1);
-        staged.extend(noisy_modules(
-            args,
-            m,
-            &result,
-            k,
-            check.as_ref(),
-            staging,
-            &progress,
-        )?);
+        staged.extend(noisy_modules(args, m, result, k, check, staging, progress)?);
     }
-    let written = publish(results, &staged)?;
-    if !written.is_empty() {
-        print_written(&written);
-    }
-    out!("results in {}", out.display());
-    match (check.is_some(), chosen) {
-        (true, None) => Err(Failure::msg(
-            exit::NO_MACHINE,
-            "no candidate's corrected traces have a verified machine (see summary.txt; raise --enumerate or --max-errors)",
-        )),
-        _ => Ok(()),
-    }
+    Ok(staged)
 }
 
 /// The line that says which noisy candidate gave the verified machine.
