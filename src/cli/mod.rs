@@ -176,6 +176,7 @@ mod learn;
 mod main_job;
 mod progress;
 mod show;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use fbsynth::pipeline::{self, Class};
@@ -281,7 +282,7 @@ pub enum Command {
     /// Convert scenarios between the fbSAT text format and CSV logs.
     Convert(convert::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
-    Verify(main_job::VerifyArgs),
+    Verify(verify::VerifyArgs),
     /// Regenerate a shipped case's scenario files from its reference controller and plant
     /// simulation (`pnp`: the Pick-and-Place manipulator).
     Generate(generate::GenerateArgs),
@@ -441,7 +442,7 @@ pub fn run() -> i32 {
         Some(Command::BenchSearch(a)) => bench::bench_search(&a),
         Some(Command::BenchNoisy(a)) => bench::bench_noisy(&a),
         Some(Command::BenchLong(a)) => bench::bench_long(&a),
-        Some(Command::Verify(a)) => main_job::verify(&a),
+        Some(Command::Verify(a)) => verify::verify(&a),
         Some(Command::Generate(a)) => generate::generate(&a),
         None => main_job::main_job(&cli.main),
     };
