@@ -196,26 +196,12 @@ pub fn exact_within(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sat::solver::Solver;
-    use varisat::ExtendFormula;
+    use crate::sat::solver::{pigeons, Solver};
 
     /// A job that would run for minutes: a SAT call on the pigeonhole formula.
     fn hard_sat(deadline: Deadline) -> Result<bool, Error> {
         let mut s = Solver::until(deadline);
-        let holes = 11;
-        let p: Vec<Vec<varisat::Lit>> = (0..=holes)
-            .map(|_| (0..holes).map(|_| s.new_lit()).collect())
-            .collect();
-        for row in &p {
-            s.add_clause(row);
-        }
-        for h in 0..holes {
-            for a in 0..p.len() {
-                for b in a + 1..p.len() {
-                    s.add_clause(&[!p[a][h], !p[b][h]]);
-                }
-            }
-        }
+        pigeons(&mut s, 11);
         Ok(s.solve(&[]).is_some())
     }
 

@@ -291,28 +291,30 @@ impl Model {
     }
 }
 
+/// The pigeonhole formula: `holes + 1` pigeons in `holes` holes, unsatisfiable and hard for
+/// resolution, so a CDCL solver works on it for long (minutes from 11 holes on): a job that
+/// only a deadline ends, for tests.
+#[cfg(test)]
+pub(crate) fn pigeons(s: &mut Solver, holes: usize) {
+    let p: Vec<Vec<Lit>> = (0..=holes)
+        .map(|_| (0..holes).map(|_| s.new_lit()).collect())
+        .collect();
+    for row in &p {
+        s.add_clause(row);
+    }
+    for h in 0..holes {
+        for a in 0..p.len() {
+            for b in a + 1..p.len() {
+                s.add_clause(&[!p[a][h], !p[b][h]]);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::time::{Duration, Instant};
-
-    /// The pigeonhole formula: `holes + 1` pigeons in `holes` holes, unsatisfiable and hard
-    /// for resolution, so a CDCL solver works on it for a long time.
-    fn pigeons(s: &mut Solver, holes: usize) {
-        let p: Vec<Vec<Lit>> = (0..=holes)
-            .map(|_| (0..holes).map(|_| s.new_lit()).collect())
-            .collect();
-        for row in &p {
-            s.add_clause(row);
-        }
-        for h in 0..holes {
-            for a in 0..p.len() {
-                for b in a + 1..p.len() {
-                    s.add_clause(&[!p[a][h], !p[b][h]]);
-                }
-            }
-        }
-    }
 
     #[test]
     fn a_call_stops_at_the_deadline_and_every_later_one_too() {
