@@ -33,6 +33,7 @@
 
 pub mod cases;
 pub mod check;
+pub mod deadline;
 pub mod ecc;
 pub mod events;
 pub mod export;

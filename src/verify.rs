@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The verdict on one property.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct PropertyReport {
     /// The property's name: its label, or `p<k>` for the unlabelled `k`-th one.
     pub name: String,
@@ -43,7 +43,7 @@ pub struct PropertyReport {
 }
 
 /// The verdicts on every property, in spec order.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Report {
     /// One report per property, in spec order.
     pub properties: Vec<PropertyReport>,

@@ -294,3 +294,34 @@ impl From<Start> for search::Start {
         }
     }
 }
+
+/// The `--negative` files, read over the recordings' interface (a progress line each).
+pub fn read_negatives(
+    files: &[PathBuf],
+    set: &ScenarioSet,
+    progress: &super::progress::Progress,
+) -> Result<Vec<fbsynth::scenario::negative::NegativeScenario>, Failure> {
+    use fbsynth::scenario::negative;
+    let mut all = Vec::new();
+    for file in files {
+        let negs = negative::read(file, &set.inputs, &set.outputs, &set.initial_outputs)
+            .map_err(pipeline::Error::from)?;
+        progress.line(&format!(
+            "read {} negative scenario{} from {}",
+            negs.len(),
+            if negs.len() == 1 { "" } else { "s" },
+            file.display()
+        ));
+        all.extend(negs);
+    }
+    Ok(all)
+}
+
+/// The time limit `--time-limit` names, counted from the start of the run.
+pub fn time_limit(
+    seconds: f64,
+    progress: &super::progress::Progress,
+) -> Result<pipeline::limit::Limit, Failure> {
+    pipeline::seconds("--time-limit", seconds, true)?;
+    Ok(pipeline::limit::Limit::new(progress.started(), seconds))
+}

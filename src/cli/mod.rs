@@ -164,6 +164,7 @@ mod ambiguity;
 pub(crate) mod args;
 mod batch;
 mod conform;
+mod convert;
 mod diff;
 mod docs;
 mod events;
@@ -174,6 +175,7 @@ mod learn;
 mod main_job;
 pub(crate) mod progress;
 pub(crate) mod show;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use fbsynth::pipeline::{self, Class};
@@ -256,7 +258,7 @@ pub enum Command {
     /// divergence; with --refine, learn the divergent traces and synthesize again.
     Conform(conform::ConformArgs),
     /// Replay scenarios on a machine (JSON) and report the first step it does not reproduce.
-    Replay(infer::ReplayArgs),
+    Replay(convert::ReplayArgs),
     /// Compare two machines (JSON): "equivalent", or the shortest input sequence on which
     /// they answer differently (exit 1).
     Diff(diff::DiffArgs),
@@ -277,9 +279,9 @@ pub enum Command {
     /// PLCopen XML.
     Export(export::ExportArgs),
     /// Convert scenarios between the fbSAT text format and CSV logs.
-    Convert(infer::ConvertArgs),
+    Convert(convert::ConvertArgs),
     /// Check an existing machine (JSON) against LTL properties in closed loop with a plant.
-    Verify(main_job::VerifyArgs),
+    Verify(verify::VerifyArgs),
     /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
     /// mapping into one fbSAT scenario, streaming.
     Ingest(ingest::IngestArgs),
@@ -327,6 +329,14 @@ impl Failure {
 /// The one place where a library failure becomes an exit code.
 impl From<pipeline::Error> for Failure {
     fn from(e: pipeline::Error) -> Failure {
+        // The notes come after the error and its causes, one a line.
+        if let pipeline::Error::Noted { error, notes } = e {
+            let mut f = Failure::from(*error);
+            for note in notes {
+                f.message.push_str(&format!("\n({note})"));
+            }
+            return f;
+        }
         let code = match e.class() {
             Class::Input => exit::INPUT,
             Class::Vacuous => exit::FAILED,
@@ -391,14 +401,14 @@ pub fn run() -> i32 {
         Some(Command::Completions(a)) => docs::completions(&a),
         Some(Command::Man(a)) => docs::man(&a),
         Some(Command::Schema(a)) => docs::schema(&a),
-        Some(Command::Convert(a)) => infer::convert(&a),
-        Some(Command::Replay(a)) => infer::replay(&a),
+        Some(Command::Convert(a)) => convert::convert(&a),
+        Some(Command::Replay(a)) => convert::replay(&a),
         Some(Command::Diff(a)) => diff::diff(&a),
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::Batch(a)) => batch::batch(&a),
         Some(Command::Events(a)) => events::events(&a),
-        Some(Command::Verify(a)) => main_job::verify(&a),
+        Some(Command::Verify(a)) => verify::verify(&a),
         None => main_job::main_job(&cli.main),
     };
     finish(&command, result)

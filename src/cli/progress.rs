@@ -1,6 +1,7 @@
 //! Progress on stderr: the library's [`Event`]s as lines prefixed with the elapsed time.
 
 use fbsynth::pipeline::lazy_noisy::{Bounds, PartRound};
+use fbsynth::pipeline::main_job::Step;
 use fbsynth::pipeline::Event;
 use std::time::Instant;
 
@@ -27,6 +28,11 @@ impl Progress {
 
     pub fn elapsed(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
+    }
+
+    /// When the run started (the clock of every line, and of `--time-limit`).
+    pub fn started(&self) -> Instant {
+        self.start
     }
 
     /// Shows one event of a pipeline.
@@ -133,6 +139,7 @@ pub fn describe(e: &Event<'_>) -> String {
             if lower == upper { ": proven" } else { "" }
         ),
         Event::Guide(stage) => stage.to_string(),
+        Event::MainJob(step) => main_job_step(step),
         Event::Lazy {
             round,
             encoded,
@@ -163,5 +170,32 @@ pub fn describe(e: &Event<'_>) -> String {
             r.sat_seconds,
             r.nusmv_seconds
         ),
+    }
+}
+
+/// One line for a turn of the main job's strategy.
+fn main_job_step(step: &Step) -> String {
+    match step {
+        Step::GuideStarted => {
+            "solving the closed-loop game to guide the synthesis where nothing was recorded".into()
+        }
+        Step::GuideDeclined { why } => format!("guide: no machine ({why}); the exact loop goes on"),
+        Step::BelowGuide { states, seconds } => format!(
+            "the exact loop looks for a smaller verified machine with at most {states} states, for up to {seconds:.1} s:"
+        ),
+        Step::GuideStands { after } => {
+            format!("the exact loop: {after}; the guide's machine stands")
+        }
+        Step::Realizability => "no verified machine within the limits; solving the closed-loop game to tell whether any controller exists".into(),
+        Step::Searched { size } => {
+            format!("the search's machine: {size}; made small along the closed loop:")
+        }
+        Step::Shrunk { size } => format!(
+            "shrunk to {size}; the exact loop looks for a smaller verified machine with at most {} states:",
+            size.c
+        ),
+        Step::ShrunkStands => {
+            "the exact loop ran out of --time-limit; the shrunk machine stands".into()
+        }
     }
 }

@@ -1,7 +1,11 @@
 //! What several commands print the same way.
 
+use super::progress::Progress;
 use fbsynth::ecc::modular::Modular;
+use fbsynth::ecc::Size;
 use fbsynth::ingest::{ReadStats, RowKind};
+use fbsynth::pipeline::explain::Explanation;
+use fbsynth::pipeline::main_job::{Summary, Turn};
 use std::path::{Path, PathBuf};
 
 /// The list of files written, on stdout.
@@ -75,4 +79,83 @@ pub fn print_read_stats(stats: &ReadStats, secs: f64) {
         "time:    {secs:.2} s ({:.2} M rows/s)",
         stats.rows as f64 / secs.max(1e-9) / 1e6
     );
+}
+
+/// `C = …  K = …  T = …  N = …`.
+pub fn size_line(s: &Size) -> String {
+    format!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n)
+}
+
+/// The progress lines after the recordings were checked against `properties` properties.
+pub fn explained(progress: &Progress, e: &Explanation, properties: usize) {
+    progress.line(&e.checked_line(properties));
+    if let Some(line) = e.unrecorded_line() {
+        progress.line(&line);
+    }
+}
+
+/// `1 candidate` or `n candidates` (of anything).
+fn plural(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The closing lines of the main job: how the machine was found and what is proven.
+pub fn closing(summary: &Summary) -> String {
+    match summary {
+        Summary::Exact(e) => {
+            // C is always proven least; T and N only when the proof fit in the budget.
+            let unproven: Vec<&str> = [
+                (!e.transitions_proven_minimal).then_some("T"),
+                (!e.guards_proven_minimal).then_some("N"),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            format!(
+                "{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s){}",
+                plural(e.iterations.len(), "candidate"),
+                e.total_seconds,
+                e.sat_seconds,
+                e.nusmv_seconds,
+                match unproven.is_empty() {
+                    true => String::new(),
+                    false => format!(
+                        "\n{} not proven minimal within the proof budget (--proof-budget SECONDS to try longer)",
+                        unproven.join(" and ")
+                    ),
+                }
+            )
+        }
+        Summary::Turn(Turn::BelowGuide(b)) => format!(
+            "{}\n(the exact loop found it below the game's guide's {})",
+            closing(&Summary::Exact(b.exact.clone())),
+            b.guide_size
+        ),
+        Summary::Turn(Turn::Guide(g)) => format!(
+            "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
+            g.total_seconds,
+            g.sat_seconds,
+            g.nusmv_seconds,
+            plural(g.nusmv_calls, "check"),
+            match g.least_for_recordings_and_runs {
+                true => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                false => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+            }
+        ),
+        Summary::Turn(Turn::Search(s)) => format!(
+            "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) made small in {} ({}){}",
+            s.seed,
+            s.total_seconds,
+            s.search.evaluations,
+            s.in_process_checks,
+            s.nusmv_runs,
+            s.searched_size,
+            plural(s.shrink_rounds.len(), "round"),
+            s.shrunk_size,
+            match s.replaced_by_exact_loop {
+                true => "; the exact loop below it found this smaller one",
+                false => "",
+            }
+        ),
+    }
 }

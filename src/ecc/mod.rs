@@ -266,7 +266,7 @@ pub struct Ecc {
 }
 
 /// Size figures of an ECC, as the papers report them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, schemars::JsonSchema)]
 pub struct Size {
     /// Number of states.
     pub c: usize,
@@ -276,6 +276,14 @@ pub struct Size {
     pub t: usize,
     /// Total number of literals in all guards.
     pub n: usize,
+}
+
+impl Size {
+    /// Whether this is a smaller machine than `other` in the order of the minimization:
+    /// fewer states, then fewer transitions, then fewer guard literals (K is not compared).
+    pub fn smaller_than(&self, other: &Size) -> bool {
+        (self.c, self.t, self.n) < (other.c, other.t, other.n)
+    }
 }
 
 impl fmt::Display for Size {

@@ -33,6 +33,7 @@ mod tests;
 pub use monitor::{Monitors, Outside};
 
 use crate::check::{CheckError, Coupling};
+use crate::deadline::Deadline;
 use crate::ecc::sim::{Controller, Reactive};
 use crate::ltl::Property;
 use crate::plant::explicit::Semantics;
@@ -52,6 +53,9 @@ pub enum GameError {
     /// Evaluating the plant failed.
     #[error(transparent)]
     Check(#[from] CheckError),
+    /// The deadline passed before the game was solved.
+    #[error("stopped at the time limit")]
+    Stopped,
 }
 
 /// What the game says.
@@ -109,6 +113,8 @@ struct Arena<'a> {
     /// Successor entries (moves × outcomes) stored so far: with many outputs each position
     /// holds thousands, and memory, not positions, is the limit.
     entries: usize,
+    /// Where the exploration and the fixed point stop.
+    deadline: Deadline,
 }
 
 /// Successor entries allowed per position of the limit (1 GB of them at a million positions).
@@ -184,6 +190,7 @@ impl<'a> Arena<'a> {
             n_outputs: coupling.outputs.len(),
             max_positions,
             entries: 0,
+            deadline: Deadline::NONE,
         })
     }
 
@@ -256,7 +263,13 @@ impl<'a> Arena<'a> {
                 initial.push(n);
             }
         }
+        let mut expanded = 0usize;
         while let Some(n) = queue.pop_front() {
+            // The clock is read once per thousand positions: each takes microseconds.
+            expanded += 1;
+            if expanded.is_multiple_of(1024) && self.deadline.passed() {
+                return Err(GameError::Stopped);
+            }
             self.expand(n, &mut queue)?;
         }
         Ok(initial)
@@ -397,7 +410,7 @@ impl Arena<'_> {
         self.monitors.goal_count() == 0 || goals >> j & 1 == 1
     }
 
-    fn solve(&self) -> Solution {
+    fn solve(&self) -> Result<Solution, GameError> {
         let n = self.nodes.len();
         // Who moves into whom: (position, move × outcome) per successor position.
         let mut starts = vec![0u32; n + 1];
@@ -426,6 +439,9 @@ impl Arena<'_> {
         let goals = self.monitors.goal_count().max(1);
         let mut winning: Vec<bool> = self.expanded.iter().map(Option::is_some).collect();
         loop {
+            if self.deadline.passed() {
+                return Err(GameError::Stopped);
+            }
             let layers: Vec<Vec<u32>> = (0..goals)
                 .map(|j| self.attractor(j, &winning, &starts, &rev, &offsets))
                 .collect();
@@ -433,7 +449,7 @@ impl Arena<'_> {
                 .map(|c| winning[c] && layers.iter().all(|l| l[c] != NONE))
                 .collect();
             if next == winning {
-                return Solution { winning, layers };
+                return Ok(Solution { winning, layers });
             }
             winning = next;
         }
@@ -529,7 +545,8 @@ struct ArenaData {
 }
 
 /// Solves the game of `props` in closed loop with `model`, for controllers answering the
-/// recordings of `tree` as recorded, from `initial_outputs`.
+/// recordings of `tree` as recorded, from `initial_outputs`; [`GameError::Stopped`] once
+/// `deadline` passes.
 pub fn solve(
     model: &Model,
     coupling: &Coupling,
@@ -537,11 +554,13 @@ pub fn solve(
     tree: &ScenarioTree,
     initial_outputs: &[bool],
     max_positions: usize,
+    deadline: Deadline,
 ) -> Result<Outcome, GameError> {
     let mut arena = Arena::new(model, coupling, props, tree, max_positions)?;
+    arena.deadline = deadline;
     let o0 = bits(initial_outputs);
     let initial = arena.build(o0)?;
-    let solution = arena.solve();
+    let solution = arena.solve()?;
     if initial.is_empty() {
         return Err(GameError::Check(CheckError::NoBehaviour {
             scope: "plant",

@@ -63,6 +63,7 @@ fn solve_queue(spec: &str, set: &ScenarioSet) -> Result<Outcome, GameError> {
         &tree,
         &set.initial_outputs,
         100_000,
+        Deadline::NONE,
     )
 }
 
@@ -281,7 +282,16 @@ fn many_outputs_stop_at_the_move_cap_before_memory_runs_out() {
     let tree = ScenarioTree::build(&set).unwrap();
     let props = crate::ltl::parse_spec(Path::new("wide.ltl"), "never: G !(busy & o2)\n").unwrap();
     // A limit of one position allows 256 moves: the first position has 512.
-    match solve(&model, &coupling, &props, &tree, &set.initial_outputs, 1) {
+    let deadline = Deadline::NONE;
+    match solve(
+        &model,
+        &coupling,
+        &props,
+        &tree,
+        &set.initial_outputs,
+        1,
+        deadline,
+    ) {
         Err(GameError::Outside(why)) => assert!(why.contains("more than 256 moves"), "{why}"),
         other => panic!("expected the move cap, got {:?}", other.map(|_| ())),
     }
@@ -293,8 +303,22 @@ fn many_outputs_stop_at_the_move_cap_before_memory_runs_out() {
             &props,
             &tree,
             &set.initial_outputs,
-            100_000
+            100_000,
+            deadline
         ),
         Ok(Outcome::Won(_))
+    ));
+    // A deadline already passed stops the exploration.
+    assert!(matches!(
+        solve(
+            &model,
+            &coupling,
+            &props,
+            &tree,
+            &set.initial_outputs,
+            100_000,
+            Deadline::after(std::time::Duration::ZERO)
+        ),
+        Err(GameError::Stopped)
     ));
 }

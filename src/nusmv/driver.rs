@@ -15,6 +15,7 @@
 
 use super::output::{parse_errors, parse_output, PropertyResult, Verdict};
 use super::NusmvError;
+use crate::deadline::Deadline;
 use std::collections::BTreeMap;
 use std::io::{self, BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
@@ -32,6 +33,9 @@ pub struct Nusmv {
     pub path: PathBuf,
     /// Wall-clock limit per model; the process is killed when it is exceeded.
     pub timeout: Duration,
+    /// The run's deadline: a check still running then is killed ([`NusmvError::Stopped`]),
+    /// and none starts after it.
+    pub deadline: Deadline,
 }
 
 impl Nusmv {
@@ -43,6 +47,7 @@ impl Nusmv {
         Nusmv {
             path,
             timeout: Self::DEFAULT_TIMEOUT,
+            deadline: Deadline::NONE,
         }
     }
 
@@ -50,7 +55,10 @@ impl Nusmv {
     /// violated one.
     pub fn check_file(&self, model: &Path) -> Result<Vec<PropertyResult>, NusmvError> {
         model_exists(model)?;
-        let deadline = Instant::now() + self.timeout;
+        if self.deadline.passed() {
+            return Err(NusmvError::Stopped);
+        }
+        let deadline = self.deadline.cap(Instant::now() + self.timeout);
         let mut command = Command::new(&self.path);
         // -dynamic (dynamic BDD variable reordering) took ~40% off a plant + controller check.
         command.arg("-dynamic").arg(model);
@@ -70,7 +78,7 @@ impl Nusmv {
                 Ok((Stream::Err, text)) => err = Some(text),
                 Err(RecvTimeoutError::Timeout) => {
                     let _ = child.kill_and_reap();
-                    return Err(timeout(self.timeout, model));
+                    return Err(self.timed_out(model));
                 }
                 Err(RecvTimeoutError::Disconnected) => {
                     unreachable!("both reader threads send before they end")
@@ -95,6 +103,14 @@ impl Nusmv {
     /// A [`Session`] running this binary with this timeout.
     pub fn session(&self) -> Session {
         Session::new(self.clone())
+    }
+
+    /// Why a check that ran out of time ended: the run's deadline or the model's timeout.
+    fn timed_out(&self, model: &Path) -> NusmvError {
+        match self.deadline.passed() {
+            true => NusmvError::Stopped,
+            false => timeout(self.timeout, model),
+        }
     }
 }
 
@@ -172,6 +188,9 @@ impl Session {
     ) -> Result<Vec<PropertyResult>, NusmvError> {
         model_exists(model)?;
         let quoted = shell_quoted(model)?;
+        if self.nusmv.deadline.passed() {
+            return Err(NusmvError::Stopped);
+        }
         // Restart between models only: the trace pass needs the model the verdict pass read.
         if self.models_in_process >= self.restart_every {
             self.process = None;
@@ -179,7 +198,7 @@ impl Session {
         self.ensure_process()?;
         self.models_in_process += 1;
         self.warnings.clear();
-        let deadline = Instant::now() + self.nusmv.timeout;
+        let deadline = self.nusmv.deadline.cap(Instant::now() + self.nusmv.timeout);
         let (out, err) = self.run(
             &format!(
                 "reset\nread_model -i {quoted}\ngo\n\
@@ -349,7 +368,7 @@ impl Session {
                 Err(RecvTimeoutError::Timeout) => {
                     // Dropping the process kills and reaps it.
                     self.process = None;
-                    return Err(timeout(self.nusmv.timeout, model));
+                    return Err(self.nusmv.timed_out(model));
                 }
                 Err(RecvTimeoutError::Disconnected) => return Err(self.crashed()),
             }
@@ -1027,6 +1046,33 @@ mod tests {
             .check(&data("light.smv"), CheckMode::VerdictsOnly)
             .unwrap();
         assert_eq!(after.len(), 4);
+    }
+
+    /// The run's deadline kills a check under way and refuses the next: no NuSMV outlives it.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_deadline_kills_a_session_and_starts_no_other() {
+        let Some(mut nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        nusmv.deadline = Deadline::after(Duration::from_secs(2));
+        let mut session = nusmv.session();
+        session
+            .check(&data("light.smv"), CheckMode::VerdictsOnly)
+            .unwrap();
+        let pid = session.pid().unwrap();
+        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        assert!(matches!(result, Err(NusmvError::Stopped)), "{result:?}");
+        assert_eq!(session.pid(), None);
+        assert!(
+            !process_exists(pid),
+            "NuSMV {pid} is still in the process table"
+        );
+        let after = session.check(&data("light.smv"), CheckMode::VerdictsOnly);
+        assert!(matches!(after, Err(NusmvError::Stopped)), "{after:?}");
+        assert_eq!(session.pid(), None);
+        let batch = nusmv.check_file(&data("light.smv"));
+        assert!(matches!(batch, Err(NusmvError::Stopped)), "{batch:?}");
     }
 
     #[cfg(target_os = "linux")]

@@ -46,6 +46,9 @@ pub enum NusmvError {
         /// The SMV file being checked.
         model: PathBuf,
     },
+    /// The run's deadline passed ([`crate::deadline`]): the check was killed, or not started.
+    #[error("NuSMV stopped at the time limit")]
+    Stopped,
     /// NuSMV rejected the model; each error carries the file and line NuSMV reported.
     #[error("NuSMV rejected the model: {}", describe_model_errors(.0))]
     Model(Vec<ModelError>),

@@ -204,9 +204,10 @@ fn reconstruct(
     limit: Duration,
 ) -> Result<Reconstruction, Error> {
     let Some(v) = verification else {
-        let (set, opts) = (set.clone(), opts.clone());
-        let exact = limit::within(limit, &mut |_| {}, move |events| {
-            exact::run(&set, None, &opts, events)
+        let exact = limit::within(limit, &mut |_| {}, |deadline, events| {
+            let mut opts = opts.clone();
+            opts.sat.deadline = deadline;
+            exact::run(set, None, &opts, events)
         })?;
         return Ok(Reconstruction {
             synthesis: exact.synthesis,

@@ -42,7 +42,7 @@ pub struct Config {
 pub const UNCHANGED: &str = "unchanged";
 
 /// One iteration, for progress and for the benchmark figures.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Iteration {
     /// 1-based number of the candidate.
     pub number: usize,
@@ -328,7 +328,7 @@ fn iterate(
             // A machine no smaller than the one NuSMV passed is not worth another check: the
             // verified one stands, with what the final pass proved about its size (same C, T
             // and N, so the same bounds).
-            if final_pass && !smaller(&synthesis.size, &before.size) {
+            if final_pass && !synthesis.size.smaller_than(&before.size) {
                 let synthesis = Synthesis {
                     transitions_exact: synthesis.transitions_exact
                         && synthesis.size.t == before.size.t,
@@ -568,11 +568,6 @@ fn unchanged(number: usize, synthesis: &Synthesis, sat_seconds: f64) -> Iteratio
         nusmv_seconds: 0.0,
         check_seconds: 0.0,
     }
-}
-
-/// Whether `a` is a smaller machine than `b`: fewer states, then transitions, then literals.
-fn smaller(a: &crate::ecc::Size, b: &crate::ecc::Size) -> bool {
-    (a.c, a.t, a.n) < (b.c, b.t, b.n)
 }
 
 /// A candidate must follow its own counterexample; if it does not, the checker that found it

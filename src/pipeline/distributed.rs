@@ -258,6 +258,8 @@ pub struct Options {
     pub max_states: usize,
     /// The algorithm form of every controller.
     pub algorithms: AlgorithmKind,
+    /// Where every solver call stops.
+    pub deadline: crate::deadline::Deadline,
 }
 
 /// The result of [`run`].
@@ -287,6 +289,7 @@ pub fn run(
         topology: Topology::Parallel,
         reads: Some(interfaces.reads.clone()),
         feedback: Some(set.inputs.len()),
+        deadline: opts.deadline,
     };
     synthesize(set, &extended, interfaces.names.clone(), &modular, events)
 }
@@ -391,6 +394,7 @@ mod tests {
                 slots: 3,
                 max_states: 8,
                 algorithms: AlgorithmKind::Tri,
+                deadline: crate::deadline::Deadline::NONE,
             };
             let r = run(&set, &interfaces, &opts, &mut |_| {}).unwrap();
             assert!(r.synthesis.size.max_states <= c1.max(c2), "seed {seed}");

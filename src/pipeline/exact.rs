@@ -193,6 +193,8 @@ pub fn run(
             }),
             iterations: v.iterations,
         }),
+        // Past the deadline the loop was cut short: nothing it failed on is worth keeping.
+        Err(e) if opts.sat.deadline.passed() => Err(e.into()),
         Err(e) => {
             if let (Some(keep), Some(model)) = (&opts.keep_failed_model, verifier.last_model()) {
                 // Best effort: the error below is what the user needs first.

@@ -166,6 +166,40 @@ pub struct Explanation {
     pub unrecorded: Vec<Unrecorded>,
 }
 
+impl Explanation {
+    /// The line after the recordings were checked against `properties` properties (none
+    /// violated), naming the ones that read names not recorded.
+    pub fn checked_line(&self, properties: usize) -> String {
+        let mut line = format!(
+            "checked {} of {properties} properties on the recordings, none violated",
+            self.checked
+        );
+        if !self.undecidable.is_empty() {
+            let names: Vec<&str> = self
+                .undecidable
+                .iter()
+                .map(|u| u.property.as_str())
+                .collect();
+            line.push_str(&format!(" ({} read names not recorded)", names.join(", ")));
+        }
+        line
+    }
+
+    /// What the recordings never show of the inputs the properties read, and why it matters;
+    /// `None` when they show every value.
+    pub fn unrecorded_line(&self) -> Option<String> {
+        if self.unrecorded.is_empty() {
+            return None;
+        }
+        let all: Vec<String> = self.unrecorded.iter().map(|u| u.to_string()).collect();
+        Some(format!(
+            "the recordings never show {}: the machine's answer there comes from the properties \
+             alone, and the loop can take long to find it; record runs that show it",
+            all.join(", ")
+        ))
+    }
+}
+
 /// The recordings violate properties: no machine that reproduces them satisfies those.
 #[derive(Debug, Clone, thiserror::Error)]
 pub struct RecordingsViolate {
@@ -426,6 +460,7 @@ pub fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Opt
         &tree,
         &set.initial_outputs,
         GAME_POSITIONS,
+        crate::deadline::Deadline::NONE,
     )
     .ok()?;
     let seconds = started.elapsed().as_secs_f64();

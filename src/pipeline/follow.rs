@@ -36,7 +36,7 @@ pub struct Made {
 }
 
 /// One controller checked by NuSMV.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Round {
     /// 1-based number of the round.
     pub number: usize,

@@ -160,10 +160,20 @@ pub enum Outcome {
     NotHere(String),
 }
 
-/// The guide (module documentation) on `set` with `check`.
+/// The guide's exact synthesis: the default options, stopped at the check's deadline.
+fn sat_options(check: &Check) -> sat::Options {
+    sat::Options {
+        deadline: check.deadline(),
+        ..sat::Options::default()
+    }
+}
+
+/// The guide (module documentation) on `set` with `check`; its SAT calls and the game stop at
+/// the check's deadline ([`Check::deadline`]).
 pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
     let not_here = |why: String| Ok(Outcome::NotHere(why));
     let problem = &check.problem;
+    let sat_options = sat_options(check);
     let Ok(model) = problem.model.as_ref() else {
         return not_here("the game does not read this plant".into());
     };
@@ -180,6 +190,7 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
         &tree,
         &set.initial_outputs,
         super::explain::GAME_POSITIONS,
+        check.deadline(),
     );
     let strategy = match outcome {
         Ok(game::Outcome::Won(s)) => s,
@@ -203,7 +214,7 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
     );
 
     let started = Instant::now();
-    let base = match sat::synthesize(set, &tree, &sat::Options::default(), &mut |_| {}) {
+    let base = match sat::synthesize(set, &tree, &sat_options, &mut |_| {}) {
         Ok(b) => b,
         Err(e @ (sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. })) => {
             return not_here(format!("for the recordings alone: {e}"))
@@ -249,7 +260,7 @@ pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outco
     guided.scenarios.extend(runs);
     let tree = ScenarioTree::build(&guided)?;
     // Too many states for the runs: the repaired machine is judged alone.
-    let small = match sat::synthesize(&guided, &tree, &sat::Options::default(), &mut |_| {}) {
+    let small = match sat::synthesize(&guided, &tree, &sat_options, &mut |_| {}) {
         Ok(small) => {
             guided.check(&small.ecc).map_err(|d| {
                 Error::Bug(format!(

@@ -824,7 +824,8 @@ fn least_proven(
             if let Some(&n) = lock(&proven).get(&key) {
                 return Ok(n);
             }
-            let n = least_errors_knowing(&gs, opts.algorithms, sizes, g.upper, &known)?;
+            let n =
+                least_errors_knowing(&gs, opts.algorithms, sizes, g.upper, &known, opts.deadline)?;
             lock(&proven).insert(key, n);
             Ok(n)
         };
@@ -1103,7 +1104,14 @@ mod tests {
             // With a loose upper bound too: the known bounds must not cut off the least.
             for upper in [trace.upper, trace.upper + 1] {
                 let known = stretches(&trace);
-                let with = least_errors_knowing(&traced, opts.algorithms, sizes, upper, &known);
+                let with = least_errors_knowing(
+                    &traced,
+                    opts.algorithms,
+                    sizes,
+                    upper,
+                    &known,
+                    crate::deadline::Deadline::NONE,
+                );
                 assert_eq!(with.unwrap(), least, "trace {d}: {:?}", trace.known);
             }
         }

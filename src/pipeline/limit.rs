@@ -1,22 +1,22 @@
-//! A time limit on exact synthesis with NuSMV in the loop ([`exact::run`]), and on any other
-//! pipeline ([`within`]).
+//! A time limit on any pipeline, kept as a deadline inside it.
 //!
-//! In: what [`exact::run`] takes, and a limit. Out: its result, or, when the limit passes
-//! first, [`Error::TimeLimit`] saying what had been found by then (the lower bounds, the
-//! candidates and what the last one failed).
+//! In: the limit the user gave, counted from when the run started ([`Limit`]), and a job that
+//! takes the limit's [`Deadline`]. Out: the job's result, or, when the deadline passed first,
+//! [`Error::Interrupted`] naming the last step the job reported ([`Limit::run`]) or, for the
+//! exact loop, [`Error::TimeLimit`] saying what had been found by then ([`Limit::exact`]).
 //!
-//! The loop runs on a thread of its own and sends its events here; this thread forwards them
-//! to the caller and waits for the result until the deadline. So the limit holds whatever the
-//! loop is doing, a SAT call or a NuSMV check, without a check inside either. When the limit
-//! passes the loop's thread is left to end with the process: a command line that gives up
-//! exits (after killing NuSMV, [`crate::nusmv::kill_all_children`]); a long-lived caller
-//! should know that the thread still computes until its current SAT call returns.
+//! The job runs on the caller's thread. The deadline travels with it: its SAT solvers stop
+//! there ([`crate::sat::solver::Solver::until`]), its NuSMV checks are killed there
+//! ([`crate::nusmv::Nusmv::deadline`]), the closed-loop game stops exploring there. So the
+//! job returns soon after the deadline and leaves no thread or process behind. Whatever it
+//! returns then, a machine or an error, was computed on answers cut short: it is discarded,
+//! and so are the events it sends after the deadline.
 
 use super::cegis::Iteration;
 use super::exact::{self, Exact};
 use super::{Check, Error, Event, Events};
+use crate::deadline::Deadline;
 use crate::scenario::ScenarioSet;
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 /// What the loop had found when the limit passed.
@@ -49,8 +49,140 @@ impl std::fmt::Display for SoFar {
     }
 }
 
-/// [`exact::run`] with `check`, given up after `limit` ([`within`]) with
-/// [`Error::TimeLimit`] saying what had been found by then.
+/// A time limit: `seconds` as the user gave them, counted from `started`.
+#[derive(Debug, Clone, Copy)]
+pub struct Limit {
+    started: Instant,
+    seconds: f64,
+    deadline: Deadline,
+}
+
+impl Limit {
+    /// The limit `seconds` counted from `started` (no deadline when the number is not a time:
+    /// [`super::seconds`] checks the user's).
+    pub fn new(started: Instant, seconds: f64) -> Limit {
+        let at = Duration::try_from_secs_f64(seconds)
+            .ok()
+            .and_then(|d| started.checked_add(d));
+        let deadline = at.map_or(Deadline::NONE, Deadline::at);
+        Limit {
+            started,
+            seconds,
+            deadline,
+        }
+    }
+
+    /// The limit `budget` from now.
+    pub fn from_now(budget: Duration) -> Limit {
+        Limit::new(Instant::now(), budget.as_secs_f64())
+    }
+
+    /// The limit as given, in seconds (what the messages name).
+    pub fn seconds(&self) -> f64 {
+        self.seconds
+    }
+
+    /// When the run started.
+    pub fn started(&self) -> Instant {
+        self.started
+    }
+
+    /// Seconds since the run started.
+    pub fn elapsed(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// The time left.
+    pub fn left(&self) -> Duration {
+        self.deadline.left().unwrap_or(Duration::MAX)
+    }
+
+    /// The deadline.
+    pub fn deadline(&self) -> Deadline {
+        self.deadline
+    }
+
+    /// `job` given the deadline, its events to `events` until the deadline passes; after it,
+    /// [`Error::Interrupted`] naming the last solver step it reported (module documentation).
+    pub fn run<T>(
+        &self,
+        events: Events<'_>,
+        job: impl FnOnce(Deadline, Events<'_>) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let mut last: Option<String> = None;
+        let result = job(self.deadline, &mut |e| {
+            if self.deadline.passed() {
+                return;
+            }
+            if let Event::Solver(s) = &e {
+                last = Some(s.to_string());
+            }
+            events(e)
+        });
+        if self.deadline.passed() {
+            return Err(Error::Interrupted {
+                seconds: self.seconds,
+                last: last.unwrap_or_else(|| "none yet".into()),
+            });
+        }
+        result
+    }
+
+    /// [`exact::run`] with `check`, stopped at the deadline with [`Error::TimeLimit`] saying
+    /// what had been found by then.
+    pub fn exact(
+        &self,
+        set: &ScenarioSet,
+        check: &Check,
+        opts: &exact::Options,
+        events: Events<'_>,
+    ) -> Result<Exact, Error> {
+        let mut so_far = SoFar::default();
+        let result = self.run(
+            &mut |e| {
+                match &e {
+                    Event::LowerBounds { c, t, .. } => so_far.lower_bounds = Some((*c, *t)),
+                    Event::Candidate(it) => so_far.candidates.push((*it).clone()),
+                    _ => {}
+                }
+                events(e)
+            },
+            |deadline, events| {
+                let mut opts = opts.clone();
+                opts.sat.deadline = deadline;
+                exact::run(set, Some(&check.until(deadline)), &opts, events)
+            },
+        );
+        match result {
+            Err(Error::Interrupted { seconds, .. }) => Err(Error::TimeLimit { seconds, so_far }),
+            r => r,
+        }
+    }
+
+    /// The closed-loop game's guide ([`super::guide::run`]) with `check`, stopped at the
+    /// deadline with [`Error::Interrupted`].
+    pub fn guide(
+        &self,
+        set: &ScenarioSet,
+        check: &Check,
+        events: Events<'_>,
+    ) -> Result<super::guide::Outcome, Error> {
+        self.run(events, |deadline, events| {
+            super::guide::run(set, &check.until(deadline), events)
+        })
+    }
+}
+
+/// `job` within `limit` from now ([`Limit::run`]).
+pub fn within<T>(
+    limit: Duration,
+    events: Events<'_>,
+    job: impl FnOnce(Deadline, Events<'_>) -> Result<T, Error>,
+) -> Result<T, Error> {
+    Limit::from_now(limit).run(events, job)
+}
+
+/// [`exact::run`] with `check` within `limit` from now ([`Limit::exact`]).
 pub fn exact_within(
     set: &ScenarioSet,
     check: &Check,
@@ -58,167 +190,71 @@ pub fn exact_within(
     limit: Duration,
     events: Events<'_>,
 ) -> Result<Exact, Error> {
-    let mut so_far = SoFar::default();
-    let (set, check, opts) = (set.clone(), check.clone(), opts.clone());
-    let result = within(
-        limit,
-        &mut |e| {
-            match &e {
-                Event::LowerBounds { c, t, .. } => so_far.lower_bounds = Some((*c, *t)),
-                Event::Candidate(it) => so_far.candidates.push((*it).clone()),
-                _ => {}
-            }
-            events(e)
-        },
-        move |events| exact::run(&set, Some(&check), &opts, events),
-    );
-    match result {
-        Err(Error::Interrupted { seconds, .. }) => Err(Error::TimeLimit { seconds, so_far }),
-        r => r,
-    }
+    Limit::from_now(limit).exact(set, check, opts, events)
 }
 
-/// The closed-loop game's guide ([`super::guide::run`]) with `check`, given up after `limit`
-/// ([`within`]) with [`Error::Interrupted`].
-pub fn guide_within(
-    set: &ScenarioSet,
-    check: &Check,
-    limit: Duration,
-    events: Events<'_>,
-) -> Result<super::guide::Outcome, Error> {
-    let (set, check) = (set.clone(), check.clone());
-    within(limit, events, move |events| {
-        super::guide::run(&set, &check, events)
-    })
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sat::solver::{pigeons, Solver};
 
-/// An event of any pipeline, owned so that it can cross threads ([`within`]).
-enum Owned {
-    Solver(crate::sat::Step),
-    LowerBounds {
-        c: usize,
-        t: usize,
-        seconds: f64,
-    },
-    Candidate(Iteration),
-    CandidateVerdict(Vec<String>),
-    ClosedLoopOf {
-        candidate: usize,
-        errors: usize,
-    },
-    Followed(super::follow::Round),
-    NoisyPart(super::lazy_noisy::PartRound),
-    NoisyBound(super::lazy_noisy::Bounds),
-    Guide(super::guide::Stage),
-    Lazy {
-        round: usize,
-        encoded: usize,
-        total: usize,
-        diverging: usize,
-    },
-}
-
-impl Owned {
-    fn of(e: Event<'_>) -> Option<Owned> {
-        Some(match e {
-            Event::Solver(s) => Owned::Solver(s),
-            Event::LowerBounds { c, t, seconds } => Owned::LowerBounds { c, t, seconds },
-            Event::Candidate(it) => Owned::Candidate(it.clone()),
-            Event::CandidateVerdict { failing } => Owned::CandidateVerdict(failing.to_vec()),
-            Event::ClosedLoopOf { candidate, errors } => Owned::ClosedLoopOf { candidate, errors },
-            Event::Followed(r) => Owned::Followed(r.clone()),
-            Event::NoisyPart(r) => Owned::NoisyPart(r),
-            Event::NoisyBound(b) => Owned::NoisyBound(b),
-            Event::Guide(s) => Owned::Guide(s),
-            Event::Lazy {
-                round,
-                encoded,
-                total,
-                diverging,
-            } => Owned::Lazy {
-                round,
-                encoded,
-                total,
-                diverging,
-            },
-            // The search has its own clock.
-            _ => return None,
-        })
+    /// A job that would run for minutes: a SAT call on the pigeonhole formula.
+    fn hard_sat(deadline: Deadline) -> Result<bool, Error> {
+        let mut s = Solver::until(deadline);
+        pigeons(&mut s, 11);
+        Ok(s.solve(&[]).is_some())
     }
 
-    fn emit(&self, events: Events<'_>) {
-        match self {
-            Owned::Solver(s) => events(Event::Solver(s.clone())),
-            &Owned::LowerBounds { c, t, seconds } => events(Event::LowerBounds { c, t, seconds }),
-            Owned::Candidate(it) => events(Event::Candidate(it)),
-            Owned::CandidateVerdict(f) => events(Event::CandidateVerdict { failing: f }),
-            &Owned::ClosedLoopOf { candidate, errors } => {
-                events(Event::ClosedLoopOf { candidate, errors })
-            }
-            Owned::Followed(r) => events(Event::Followed(r)),
-            &Owned::NoisyPart(r) => events(Event::NoisyPart(r)),
-            &Owned::NoisyBound(b) => events(Event::NoisyBound(b)),
-            Owned::Guide(s) => events(Event::Guide(s.clone())),
-            &Owned::Lazy {
-                round,
-                encoded,
-                total,
-                diverging,
-            } => events(Event::Lazy {
-                round,
-                encoded,
-                total,
-                diverging,
-            }),
-        }
-    }
-}
-
-/// `job` (any pipeline: plain, noisy or modular synthesis, with or without NuSMV), given up
-/// after `limit` with [`Error::Interrupted`] naming the last step it reported. The job runs on
-/// a thread of its own and its events reach `events` from here ([`exact_within`] is this with
-/// what the exact loop had found when the limit passed).
-pub fn within<T: Send + 'static>(
-    limit: Duration,
-    events: Events<'_>,
-    job: impl FnOnce(Events<'_>) -> Result<T, Error> + Send + 'static,
-) -> Result<T, Error> {
-    let deadline = Instant::now() + limit;
-    let (tx, rx) = mpsc::channel::<Result<Owned, Box<Result<T, Error>>>>();
-    {
-        let forward = tx.clone();
-        std::thread::spawn(move || {
-            let result = job(&mut |e| {
-                if let Some(m) = Owned::of(e) {
-                    // The receiver is gone once the limit passed: nobody listens any more.
-                    let _ = forward.send(Ok(m));
-                }
-            });
-            let _ = tx.send(Err(Box::new(result)));
+    #[test]
+    fn the_job_stops_at_the_deadline_on_this_thread() {
+        let limit = Limit::from_now(Duration::from_millis(200));
+        let mut ran_on = None;
+        let r = limit.run(&mut |_| {}, |deadline, _| {
+            ran_on = Some(std::thread::current().id());
+            hard_sat(deadline)
         });
-    }
-    let mut last: Option<String> = None;
-    loop {
-        let wait = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(wait) {
-            Ok(Ok(m)) => {
-                if let Owned::Solver(s) = &m {
-                    last = Some(s.to_string());
-                }
-                m.emit(events);
+        // The job ran here and returned: nothing of it is left running.
+        assert_eq!(ran_on, Some(std::thread::current().id()));
+        match r {
+            Err(Error::Interrupted { seconds, last }) => {
+                assert_eq!(seconds, 0.2);
+                assert_eq!(last, "none yet");
             }
-            Ok(Err(result)) => return *result,
-            Err(mpsc::RecvTimeoutError::Timeout) => {
-                return Err(Error::Interrupted {
-                    seconds: limit.as_secs_f64(),
-                    last: last.unwrap_or_else(|| "none yet".into()),
-                })
-            }
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                return Err(Error::Bug(
-                    "the synthesis thread ended without a result".into(),
-                ))
-            }
+            other => panic!("expected the limit, got {:?}", other.map(|_| ())),
         }
+    }
+
+    #[test]
+    fn a_job_within_the_limit_keeps_its_result_and_events() {
+        let mut seen = 0;
+        let r = within(
+            Duration::from_secs(3600),
+            &mut |_| seen += 1,
+            |_, events| {
+                events(Event::LowerBounds {
+                    c: 1,
+                    t: 0,
+                    seconds: 0.0,
+                });
+                Ok(7)
+            },
+        );
+        assert_eq!(r.unwrap(), 7);
+        assert_eq!(seen, 1);
+    }
+
+    #[test]
+    fn events_after_the_deadline_are_dropped() {
+        let mut seen = 0;
+        let r = within(Duration::ZERO, &mut |_| seen += 1, |_, events| {
+            events(Event::LowerBounds {
+                c: 1,
+                t: 0,
+                seconds: 0.0,
+            });
+            Ok(())
+        });
+        assert!(matches!(r, Err(Error::Interrupted { .. })));
+        assert_eq!(seen, 0);
     }
 }

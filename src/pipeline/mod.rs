@@ -10,7 +10,8 @@
 //!
 //! | method | function | result |
 //! |---|---|---|
-//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] (with a time limit: [`limit::exact_within`]) | [`exact::Exact`] |
+//! | the main job: the game's guide, the exact loop, the search, whichever the problem needs, under one time limit | [`main_job::run`] | [`main_job::VerifiedMachine`] |
+//! | exact SAT, optionally with counterexample-guided refinement against NuSMV | [`exact::run`] (with a time limit: [`limit::Limit::exact`]) | [`exact::Exact`] |
 //! | metaheuristic search with verification-aware fitness | [`search::run`] | [`search::Searched`] |
 //! | noisy logs (scan-cycle error model), candidates by number of errors | [`noisy::run`] | [`noisy::Noisy`] |
 //! | modular: M function blocks and their composite | [`modular::run`] | [`crate::sat::modular::ModularSynthesis`] |
@@ -18,6 +19,9 @@
 //! | monitoring and refinement of a machine in service | [`refine::run`] | [`refine::Refined`] |
 //! | how far the recordings determine the machine: rivals and distinguishing sequences | [`ambiguity::check`] | [`ambiguity::Ambiguity`] |
 //! | recordings that already violate a property, before any synthesis | [`explain::explain`] | [`explain::Explanation`] |
+//!
+//! A time limit is a deadline inside the pipeline ([`limit`], [`crate::deadline`]): SAT calls,
+//! NuSMV checks and the game stop there, and no thread is left running.
 //!
 //! Long recordings (days of one run) are taken a part at a time by [`lazy`], for exact
 //! synthesis without NuSMV and for the ambiguity check, with the answer of the whole.
@@ -44,6 +48,7 @@ pub mod guide;
 pub mod lazy;
 pub mod lazy_noisy;
 pub mod limit;
+pub mod main_job;
 pub mod modular;
 pub mod noisy;
 pub mod output;
@@ -81,6 +86,19 @@ impl Check {
             self.problem.clone(),
             &self.nusmv,
         )?)
+    }
+
+    /// The same check with NuSMV stopped at `deadline`; the pipelines that take a check stop
+    /// their other work there too ([`Check::deadline`]).
+    pub fn until(&self, deadline: crate::deadline::Deadline) -> Check {
+        let mut check = self.clone();
+        check.nusmv.deadline = deadline;
+        check
+    }
+
+    /// The deadline of the run this check belongs to ([`Check::until`]).
+    pub fn deadline(&self) -> crate::deadline::Deadline {
+        self.nusmv.deadline
     }
 }
 
@@ -155,6 +173,8 @@ pub enum Event<'a> {
     NoisyBound(lazy_noisy::Bounds),
     /// A stage of the closed-loop game's guide ([`guide`]).
     Guide(guide::Stage),
+    /// A turn of the main job's strategy ([`main_job`]).
+    MainJob(main_job::Step),
     /// A round of [`lazy`] synthesis over long recordings ended.
     Lazy {
         /// The round, 1-based.
@@ -267,7 +287,7 @@ pub enum Error {
         /// Lower bounds and candidates found before the limit passed.
         so_far: limit::SoFar,
     },
-    /// The time limit passed before synthesis without NuSMV ended ([`limit::within`]).
+    /// The time limit passed before a job ended ([`limit::Limit::run`]).
     #[error("time limit of {seconds} s reached before a result (raise --time-limit SECONDS); the last step was: {last}")]
     Interrupted {
         /// The limit that passed, in seconds.
@@ -278,6 +298,15 @@ pub enum Error {
     /// A broken invariant.
     #[error("{0}")]
     Bug(String),
+    /// An error with what the pipeline knows about it, one note a line after it (what the
+    /// recordings never show, what the closed-loop game says, where a model was kept).
+    #[error("{error}{}", notes.iter().map(|n| format!("\n({n})")).collect::<String>())]
+    Noted {
+        /// The error.
+        error: Box<Error>,
+        /// The notes, in order.
+        notes: Vec<String>,
+    },
 }
 
 impl Error {
@@ -286,6 +315,7 @@ impl Error {
     pub fn in_generated_code(&self) -> bool {
         use crate::verify::VerifyError::Model;
         match self {
+            Error::Noted { error, .. } => error.in_generated_code(),
             Error::Verify(Model(errors))
             | Error::Cegis(cegis::CegisError::Verify(Model(errors))) => {
                 errors.iter().any(|e| e.generated)
@@ -302,6 +332,7 @@ impl Error {
         use crate::search::oracle::OracleError;
         use crate::verify::VerifyError::Vacuous;
         match self {
+            Error::Noted { error, .. } => error.class(),
             Error::Verify(Vacuous { .. })
             | Error::Cegis(cegis::CegisError::Verify(Vacuous { .. }))
             | Error::Search(SearchError::Verify(OracleError::Nusmv(Vacuous { .. })))
@@ -311,9 +342,13 @@ impl Error {
             Error::Sat(
                 SatError::TooManyStates { .. }
                 | SatError::TooFewErrors { .. }
-                | SatError::OutOfBounds { .. },
+                | SatError::OutOfBounds { .. }
+                | SatError::Stopped,
             )
-            | Error::Cegis(cegis::CegisError::Sat(SatError::TooManyStates { .. }))
+            | Error::Modular(ModularError::Stopped)
+            | Error::Cegis(cegis::CegisError::Sat(
+                SatError::TooManyStates { .. } | SatError::Stopped,
+            ))
             | Error::Cegis(cegis::CegisError::Iterations { .. })
             | Error::Cegis(cegis::CegisError::Exhausted { .. })
             | Error::Modular(ModularError::NoController { .. })
@@ -376,6 +411,23 @@ mod tests {
             message: "syntax error".into(),
             generated,
         }])
+    }
+
+    /// A noted error reads as the error with one note a line, and is of the error's class.
+    #[test]
+    fn notes_follow_the_error_and_keep_its_class() {
+        let noted = Error::Noted {
+            error: Box::new(Error::NoMachine("no machine".into())),
+            notes: vec!["first".into(), "second".into()],
+        };
+        assert_eq!(noted.to_string(), "no machine\n(first)\n(second)");
+        assert_eq!(noted.class(), Class::NoMachine);
+        let generated = Error::Noted {
+            error: Box::new(Error::Verify(rejected(true))),
+            notes: Vec::new(),
+        };
+        assert!(generated.in_generated_code());
+        assert_eq!(generated.class(), Error::Verify(rejected(true)).class());
     }
 
     /// The main job keeps the model NuSMV rejected only when the fault is in synth's code.

@@ -125,7 +125,8 @@ pub struct VerifiedModular {
 
 /// The modular controller for `set` that NuSMV verifies, given `oracle`, a single machine that
 /// reproduces `set` and that NuSMV verified against the same `check`: modular synthesis
-/// refined along counterexamples with the oracle's answers ([`super::follow`]).
+/// refined along counterexamples with the oracle's answers ([`super::follow`]). NuSMV stops
+/// at `opts.deadline` too.
 pub fn run_verified(
     set: &ScenarioSet,
     oracle: &crate::ecc::Ecc,
@@ -136,6 +137,7 @@ pub fn run_verified(
 ) -> Result<VerifiedModular, Error> {
     use crate::smv::closed_loop::CONTROLLER_MODULE;
     let mut last = None;
+    let check = &check.until(opts.deadline);
     let followed = super::follow::run(set, oracle, check, max_rounds, events, &mut |s, events| {
         let synthesis = run(s, opts, events)?;
         let text =

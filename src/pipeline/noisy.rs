@@ -117,12 +117,20 @@ impl Noisy {
 /// On that log it is the ε = 2 correction whose machine needs 13 literals where the others
 /// need 14 and 15, the right one. The order depends on the recordings only (every size is
 /// proven), not on the closed loop's timing.
+///
+/// Everything stops at `opts.deadline`: the SAT calls, NuSMV and the closed loop's.
 pub fn run(
     set: &ScenarioSet,
     check: Option<(&Check, &exact::Options)>,
     opts: &Options,
     events: Events<'_>,
 ) -> Result<Noisy, Error> {
+    let check = check.map(|(check, exact_opts)| {
+        let mut exact_opts = exact_opts.clone();
+        exact_opts.sat.deadline = opts.deadline;
+        (check.until(opts.deadline), exact_opts)
+    });
+    let check = check.as_ref().map(|(c, o)| (c, o));
     let synthesis = lazy_noisy::synthesize(set, opts, lazy_noisy::Parts::default(), events)?;
     let mut closed: Vec<Option<InLoop>> = Vec::new();
     let mut as_found = Vec::new();

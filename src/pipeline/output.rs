@@ -125,15 +125,17 @@ pub struct Provenance<'a> {
 }
 
 /// Writes a verified machine into `out`: every export format, NuSMV's report, the
-/// closed-loop model it checked and `summary.json`. Returns the files written.
+/// closed-loop model it checked and `summary.json` (its keys sorted). Returns the files
+/// written.
 pub fn write_verified(
     out: &Path,
     formats: &[Format],
     ecc: &Ecc,
     certificate: &Certificate,
     provenance: &Provenance<'_>,
-    summary: &serde_json::Value,
+    summary: &impl serde::Serialize,
 ) -> Result<Vec<PathBuf>, Error> {
+    let summary = serde_json::to_value(summary).expect("a summary is JSON");
     create_dir(out)?;
     let mut files = export::write_all(ecc, out, provenance.name, formats)?;
     files.extend(write_certificate(
@@ -145,11 +147,125 @@ pub fn write_verified(
     let summary_file = out.join("summary.json");
     write(
         &summary_file,
-        serde_json::to_string_pretty(summary)
+        serde_json::to_string_pretty(&summary)
             .expect("serializable")
             .as_bytes(),
     )?;
     files.push(summary_file);
+    Ok(files)
+}
+
+/// Writes the size questions around `size`, the least machine's for `set`, into `dir` as
+/// DIMACS files with `verdicts.txt`, a fresh solver's answer to each
+/// ([`crate::sat::dimacs`]). Returns the files written.
+pub fn write_size_questions(
+    dir: &Path,
+    set: &ScenarioSet,
+    sat: &crate::sat::Options,
+    size: &crate::ecc::Size,
+) -> Result<Vec<PathBuf>, Error> {
+    let tree = crate::scenario::tree::ScenarioTree::build(set)?;
+    let mut verdicts = String::new();
+    let mut files = Vec::new();
+    for q in crate::sat::dimacs::size_questions(&tree, sat, size) {
+        let path = dir.join(&q.name);
+        write(&path, &q.dimacs())?;
+        files.push(path);
+        verdicts.push_str(&q.verdict_line());
+    }
+    let path = dir.join("verdicts.txt");
+    write(&path, verdicts.as_bytes())?;
+    files.push(path);
+    Ok(files)
+}
+
+/// Writes a composite NuSMV verified into `out`: its files
+/// ([`export::modular::write_modular`]), its `verification.txt` and `closed_loop.smv`, and
+/// `rounds.json` (one entry per composite checked). Returns the files written.
+pub fn write_verified_modular(
+    out: &Path,
+    r: &super::modular::VerifiedModular,
+    provenance: &Provenance<'_>,
+) -> Result<Vec<PathBuf>, Error> {
+    let name = provenance.name;
+    let mut files = export::modular::write_modular(&r.synthesis.modular, out, name)?;
+    let what = format!("the composite {name}");
+    files.extend(write_certificate(out, &what, &r.certificate, provenance)?);
+    let rounds = out.join("rounds.json");
+    let json = serde_json::to_string_pretty(&r.rounds).expect("serializable");
+    write(&rounds, json.as_bytes())?;
+    files.push(rounds);
+    Ok(files)
+}
+
+/// The exact loop's figures on a noisy candidate's corrected traces (`closed_loop` in
+/// `verified/summary.json`).
+#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
+pub struct LoopSummary {
+    /// The machine's C, K, T and N.
+    pub size: crate::ecc::Size,
+    /// Whether no machine with C states has fewer transitions.
+    pub transitions_proven_minimal: bool,
+    /// Whether no machine with C states and T transitions has fewer guard literals.
+    pub guards_proven_minimal: bool,
+    /// Every candidate of the loop.
+    pub iterations: Vec<super::cegis::Iteration>,
+    /// NuSMV's verdicts on the machine.
+    pub report: Option<crate::verify::Report>,
+    /// Seconds since the run started.
+    pub total_seconds: f64,
+}
+
+/// `verified/summary.json` of `synth infer --noisy --ltl`.
+#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
+pub struct NoisyVerifiedSummary {
+    /// The candidate whose corrected traces gave the machine (1-based).
+    pub candidate: usize,
+    /// The errors ε it corrects.
+    pub errors: usize,
+    /// The exact loop's figures.
+    pub closed_loop: LoopSummary,
+}
+
+/// Writes the verified machine of noisy candidate `k` (1-based, [`Noisy::chosen`]) into
+/// `dir`: as [`write_verified`], with [`NoisyVerifiedSummary`] and the corrected traces as
+/// `corrected.csv`. Returns the files written.
+pub fn write_noisy_verified(
+    dir: &Path,
+    formats: &[Format],
+    noisy: &Noisy,
+    k: usize,
+    provenance: &Provenance<'_>,
+    total_seconds: f64,
+) -> Result<Vec<PathBuf>, Error> {
+    let c = &noisy.synthesis.candidates[k - 1];
+    let Some((single, certificate)) = noisy
+        .verified(k)
+        .and_then(|v| Some((v, v.certificate.as_ref()?)))
+    else {
+        return Err(Error::Bug(format!(
+            "noisy candidate {k} has no verified machine"
+        )));
+    };
+    let summary = NoisyVerifiedSummary {
+        candidate: k,
+        errors: c.errors,
+        closed_loop: LoopSummary {
+            size: single.synthesis.size,
+            transitions_proven_minimal: single.synthesis.transitions_exact,
+            guards_proven_minimal: single.synthesis.guards_exact,
+            iterations: single.iterations.clone(),
+            report: Some(certificate.report.clone()),
+            total_seconds,
+        },
+    };
+    let ecc = &single.synthesis.ecc;
+    let mut files = write_verified(dir, formats, ecc, certificate, provenance, &summary)?;
+    let mut csv = Vec::new();
+    csvlog::write(&c.corrected, &mut csv)?;
+    let corrected = dir.join("corrected.csv");
+    write(&corrected, &csv)?;
+    files.push(corrected);
     Ok(files)
 }
 

@@ -68,6 +68,8 @@ pub struct Options {
     pub cube_slots: Option<usize>,
     /// Sizes asked for rather than minimized ([`Fixed`]).
     pub fixed: Fixed,
+    /// Where every solver call stops ([`Solver::until`]); the guard budget ends there too.
+    pub deadline: crate::deadline::Deadline,
 }
 
 /// Fixed bounds (fbSAT's `-C`, `-K`, `-T`): a machine within them, the rest still minimized.
@@ -115,6 +117,7 @@ impl Default for Options {
             guard_budget: Duration::from_secs(10),
             cube_slots: None,
             fixed: Fixed::default(),
+            deadline: crate::deadline::Deadline::NONE,
         }
     }
 }
@@ -202,7 +205,7 @@ impl Encoding {
 
     /// The encoding; with `keep`, the solver keeps a copy of the clauses for budgeted proofs.
     fn build(tree: &ScenarioTree, c_max: usize, opts: &Options, keep: bool) -> Encoding {
-        let mut solver = Solver::new();
+        let mut solver = Solver::until(opts.deadline);
         if keep {
             solver.keep_clauses();
         }
@@ -693,6 +696,10 @@ impl<'a> Synthesizer<'a> {
                     })
                 },
             );
+            // Stopped at the deadline: "no model" proved nothing, and a wider window costs.
+            if self.enc.solver.stopped() {
+                return Err(SatError::Stopped);
+            }
             // No machine with fewer states than the least satisfiable bound (or than the window).
             self.c_lo = found.as_ref().map_or(self.c_lo.max(c_max + 1), |(c, _)| *c);
             match found {
@@ -1055,7 +1062,7 @@ impl<'a> Synthesizer<'a> {
                     .collect()
             }
             None => {
-                let deadline = tg + opts.guard_budget;
+                let deadline = opts.deadline.cap(tg + opts.guard_budget);
                 let (states, all_exact) = guards::all_states(&structure, tree, deadline);
                 // The least N of this structure; other machines with C states and T
                 // transitions may need fewer literals.

@@ -22,6 +22,7 @@
 //! - [`constraints`]: the shared families and those of the basic encoding;
 //! - [`negative`]: negative scenarios (counterexample lassos) as constraints;
 //! - [`decode`]: models back to machine structures;
+//! - [`dimacs`]: the size questions around a minimum as DIMACS CNF;
 //! - [`guards`]: guard minimization on a fixed structure (tree-exact model);
 //! - [`basic`], [`noisy`], [`modular`]: the three encodings' minimization loops.
 //!
@@ -42,6 +43,7 @@ pub mod closed_loop;
 pub mod constraints;
 pub mod cubes;
 pub mod decode;
+pub mod dimacs;
 pub mod guards;
 pub mod modular;
 pub mod negative;
@@ -82,6 +84,9 @@ pub enum SatError {
         /// The `--max-states` limit that was exhausted.
         max_states: usize,
     },
+    /// The deadline of the run passed ([`crate::deadline`]): the search stopped unfinished.
+    #[error("stopped at the time limit")]
+    Stopped,
     /// A broken internal invariant: a decoded machine that does not replay its scenarios, a
     /// model lost between two solver calls, an encoding misused by its caller. The message says
     /// which.

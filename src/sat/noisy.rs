@@ -45,6 +45,7 @@ use super::guards;
 use super::solver::{Model, Solver};
 use super::vars::Vars;
 use super::SatError;
+use crate::deadline::Deadline;
 use crate::ecc::{AlgorithmKind, Ecc, Size};
 use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::trace_graph::TraceGraph;
@@ -73,6 +74,8 @@ pub struct NoisyOptions {
     /// there instead of proving every smaller size again. Sound only for a part of these
     /// recordings, as [`crate::pipeline::lazy_noisy`] uses it.
     pub at_least: Option<(usize, usize, usize)>,
+    /// Where every solver call stops ([`Solver::until`]); the guard budget ends there too.
+    pub deadline: Deadline,
 }
 
 impl Default for NoisyOptions {
@@ -85,6 +88,7 @@ impl Default for NoisyOptions {
             max_calls: 200,
             guard_budget: Duration::from_secs(10),
             at_least: None,
+            deadline: Deadline::NONE,
         }
     }
 }
@@ -288,8 +292,9 @@ impl NoisyEncoding {
         kind: AlgorithmKind,
         max_errors: Option<usize>,
         stats: &mut NoisyStats,
+        deadline: Deadline,
     ) -> Self {
-        let mut solver = Solver::new();
+        let mut solver = Solver::until(deadline);
         let sink = &mut solver;
         let vars = Vars::new(sink, &graph.tree, c_max, None);
         let e = encode(sink, &vars, graph, kind);
@@ -375,6 +380,9 @@ pub fn synthesize_noisy(
     let (c0, k0, t0_) = opts.at_least.unwrap_or((1, 1, 0));
     let mut n = c0.max(1);
     let mut enc = loop {
+        if opts.deadline.passed() {
+            return Err(SatError::Stopped);
+        }
         if n > opts.max_states {
             return Err(match opts.max_errors {
                 Some(max_errors) => SatError::TooFewErrors {
@@ -390,7 +398,8 @@ pub fn synthesize_noisy(
             bound: Bound::C,
             value: n,
         });
-        let mut enc = NoisyEncoding::new(&graph, n, kind, opts.max_errors, &mut stats);
+        let mut enc =
+            NoisyEncoding::new(&graph, n, kind, opts.max_errors, &mut stats, opts.deadline);
         let assume: Vec<Lit> = err_bound(&enc).into_iter().collect();
         if enc.solve(&assume).is_some() {
             break enc;
@@ -511,8 +520,11 @@ pub fn synthesize_noisy(
         let used: Vec<bool> = enc.e.iter().map(|&l| model.value(l)).collect();
         enc.block(&used);
         let structure = enc.decode(&model, &graph, kind);
-        let (states, guards_exact) =
-            guards::all_states(&structure, &graph.tree, Instant::now() + opts.guard_budget);
+        let (states, guards_exact) = guards::all_states(
+            &structure,
+            &graph.tree,
+            opts.deadline.cap(Instant::now() + opts.guard_budget),
+        );
         let ecc = Ecc {
             inputs: set.inputs.clone(),
             outputs: set.outputs.clone(),
@@ -578,7 +590,7 @@ pub fn least_errors_within(
     sizes: (usize, usize, usize),
     upper: usize,
 ) -> Result<usize, SatError> {
-    least_errors_knowing(set, kind, sizes, upper, &[])
+    least_errors_knowing(set, kind, sizes, upper, &[], Deadline::NONE)
 }
 
 /// Steps of a scenario set: `(scenario, steps)`.
@@ -589,19 +601,22 @@ pub type Stretch = (usize, std::ops::Range<usize>);
 /// `(stretches, n)` of `known`. Implied constraints, so the answer is the same; they make the
 /// proof short when the stretches' bounds add up to one less than `upper`: then every step
 /// outside them is taken as recorded, and the proof is about which of a few corrections to
-/// make, not about every step of the set.
+/// make, not about every step of the set. The solver stops at `deadline` (the answer then
+/// means nothing).
 pub fn least_errors_knowing(
     set: &ScenarioSet,
     kind: AlgorithmKind,
     (c, k, t): (usize, usize, usize),
     upper: usize,
     known: &[(Vec<Stretch>, usize)],
+    deadline: Deadline,
 ) -> Result<usize, SatError> {
     if upper == 0 {
         return Ok(0);
     }
     let graph = TraceGraph::build(set);
-    let mut enc = NoisyEncoding::new(&graph, c, kind, Some(upper), &mut NoisyStats::default());
+    let stats = &mut NoisyStats::default();
+    let mut enc = NoisyEncoding::new(&graph, c, kind, Some(upper), stats, deadline);
     let chain_of = |s: usize| graph.chains.iter().find(|ch| ch.scenarios.contains(&s));
     let mut inside = vec![false; enc.e.len()];
     for (stretches, n) in known {
@@ -668,7 +683,8 @@ pub fn satisfiable(
         return false;
     }
     let graph = TraceGraph::build(set);
-    let mut enc = NoisyEncoding::new(&graph, n, kind, Some(eps), &mut NoisyStats::default());
+    let stats = &mut NoisyStats::default();
+    let mut enc = NoisyEncoding::new(&graph, n, kind, Some(eps), stats, Deadline::NONE);
     let assume: Vec<Lit> = r
         .and_then(|r| enc.total_t.at_most(r))
         .into_iter()

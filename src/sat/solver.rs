@@ -10,8 +10,15 @@
 //! learnt; [`Solver::ascend`] (the least size that admits a machine) and [`Solver::descend`]
 //! (tightening a counter from a model's value) are the loops all encodings share.
 //!
+//! A solver made [`Solver::until`] a [`Deadline`] stops its calls there: varisat's search loop
+//! has no interrupt, but it stops when writing its proof fails, so such a solver writes its
+//! proof (varisat's own format, the one that takes assumptions) into a sink that fails once the
+//! deadline has passed. A call stopped so, and every call after it, answers "no model"; the
+//! caller that set the deadline discards the result ([`crate::deadline`]).
+//!
 //! [`Totalizer`]: super::card::Totalizer
 
+use crate::deadline::Deadline;
 use std::ops::RangeInclusive;
 use varisat::{ExtendFormula, Lit, Var};
 
@@ -32,6 +39,10 @@ pub struct Solver {
     stats: SolverStats,
     /// Every clause given, when kept (see [`Solver::keep_clauses`]).
     log: Option<varisat::CnfFormula>,
+    /// Where every call stops.
+    deadline: Deadline,
+    /// A call was stopped at the deadline: varisat cannot be asked again.
+    stopped: bool,
 }
 
 /// The outcome of a solve with a time budget.
@@ -47,9 +58,9 @@ pub enum Bounded {
 
 /// Stops a solver at a deadline: varisat's solve loop has no interrupt, but it stops when a
 /// proof processor fails.
-struct Deadline(std::time::Instant);
+struct Budget(std::time::Instant);
 
-impl varisat::checker::ProofProcessor for Deadline {
+impl varisat::checker::ProofProcessor for Budget {
     fn process_step(
         &mut self,
         _step: &varisat::checker::CheckedProofStep,
@@ -63,6 +74,26 @@ impl varisat::checker::ProofProcessor for Deadline {
     }
 }
 
+/// The proof sink of a solver with a deadline: it takes every byte until the deadline, then
+/// fails, which stops the solver's search.
+struct StopAt(std::time::Instant);
+
+impl std::io::Write for StopAt {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if std::time::Instant::now() >= self.0 {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::TimedOut,
+                "deadline passed",
+            ));
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.write(&[]).map(|_| ())
+    }
+}
+
 impl Default for Solver {
     fn default() -> Self {
         Solver::new()
@@ -72,11 +103,28 @@ impl Default for Solver {
 impl Solver {
     /// An empty solver that keeps no copy of its clauses.
     pub fn new() -> Solver {
+        Solver::until(Deadline::NONE)
+    }
+
+    /// An empty solver whose calls stop at `deadline` (module documentation).
+    pub fn until(deadline: Deadline) -> Solver {
+        let mut inner = varisat::Solver::new();
+        if let Some(at) = deadline.instant() {
+            inner.write_proof(StopAt(at), varisat::ProofFormat::Varisat);
+        }
         Solver {
-            inner: varisat::Solver::new(),
+            inner,
             stats: SolverStats::default(),
             log: None,
+            deadline,
+            stopped: false,
         }
+    }
+
+    /// Whether a call was stopped at the deadline (its answer, and every later one, means
+    /// nothing).
+    pub fn stopped(&self) -> bool {
+        self.stopped
     }
 
     /// Keeps a copy of every clause from now on, for [`Self::solve_within`]. Call before any
@@ -97,8 +145,11 @@ impl Solver {
         let Some(log) = &self.log else {
             return Bounded::Unknown;
         };
+        if self.stopped || self.deadline.passed() {
+            return Bounded::Unknown;
+        }
         self.stats.calls += 1;
-        let mut stop = Deadline(deadline);
+        let mut stop = Budget(self.deadline.cap(deadline));
         let mut fresh = varisat::Solver::new();
         fresh.add_proof_processor(&mut stop);
         fresh.add_formula(log);
@@ -124,17 +175,26 @@ impl Solver {
     }
 
     /// Solves under `assumptions` (they hold for this call only); the model when satisfiable.
+    /// With a deadline ([`Solver::until`]): `None` once it has passed.
     pub fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         self.stats.calls += 1;
+        if self.stopped || self.deadline.passed() {
+            self.stopped = true;
+            return None;
+        }
         self.inner.assume(assumptions);
-        if self
-            .inner
-            .solve()
-            .expect("varisat does not fail without proof output")
-        {
-            Some(Model::new(&self.inner.model().expect("model after SAT")))
-        } else {
-            None
+        match self.inner.solve() {
+            Ok(true) => Some(Model::new(&self.inner.model().expect("model after SAT"))),
+            Ok(false) => None,
+            // Only the deadline's proof sink fails.
+            Err(e) => {
+                assert!(
+                    self.deadline.instant().is_some(),
+                    "varisat does not fail without proof output: {e}"
+                );
+                self.stopped = true;
+                None
+            }
         }
     }
 
@@ -228,5 +288,66 @@ impl Model {
     /// How many of `lits` are true.
     pub fn count(&self, lits: &[Lit]) -> usize {
         lits.iter().filter(|&&l| self.value(l)).count()
+    }
+}
+
+/// The pigeonhole formula: `holes + 1` pigeons in `holes` holes, unsatisfiable and hard for
+/// resolution, so a CDCL solver works on it for long (minutes from 11 holes on): a job that
+/// only a deadline ends, for tests.
+#[cfg(test)]
+pub(crate) fn pigeons(s: &mut Solver, holes: usize) {
+    let p: Vec<Vec<Lit>> = (0..=holes)
+        .map(|_| (0..holes).map(|_| s.new_lit()).collect())
+        .collect();
+    for row in &p {
+        s.add_clause(row);
+    }
+    for h in 0..holes {
+        for a in 0..p.len() {
+            for b in a + 1..p.len() {
+                s.add_clause(&[!p[a][h], !p[b][h]]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, Instant};
+
+    #[test]
+    fn a_call_stops_at_the_deadline_and_every_later_one_too() {
+        let mut s = Solver::until(Deadline::after(Duration::from_millis(200)));
+        pigeons(&mut s, 11);
+        let t = Instant::now();
+        assert!(s.solve(&[]).is_none());
+        assert!(s.stopped());
+        // Generous: the point is that it returns at all (the proof alone takes minutes).
+        assert!(t.elapsed() < Duration::from_secs(30), "{:?}", t.elapsed());
+        assert!(s.solve(&[]).is_none());
+        assert!(matches!(
+            s.solve_within(&[], Instant::now() + Duration::from_secs(60)),
+            Bounded::Unknown
+        ));
+    }
+
+    #[test]
+    fn a_deadline_far_away_changes_no_answer() {
+        let far = Deadline::after(Duration::from_secs(3600));
+        for holes in 1..5 {
+            let (mut a, mut b) = (Solver::new(), Solver::until(far));
+            pigeons(&mut a, holes);
+            pigeons(&mut b, holes);
+            assert!(a.solve(&[]).is_none());
+            assert!(b.solve(&[]).is_none());
+            assert!(!b.stopped());
+        }
+        let mut s = Solver::until(far);
+        let x = s.new_lit();
+        s.add_clause(&[x]);
+        assert!(s.solve(&[]).is_some_and(|m| m.value(x)));
+        assert!(s.solve(&[!x]).is_none());
+        assert!(!s.stopped());
     }
 }

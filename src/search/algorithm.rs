@@ -140,7 +140,7 @@ pub enum SearchError {
 }
 
 /// Figures of a run.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct Stats {
     /// Scenario fitness evaluations.
     pub evaluations: u64,

@@ -626,6 +626,44 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     set.check(&machine).unwrap();
 }
 
+/// `synth infer --ltl` runs the main job's method: on Pick-and-Place's first scenario, where
+/// the closed-loop game guides the synthesis, both give the same machine.
+#[test]
+fn infer_with_properties_gives_the_main_jobs_machine() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = Dir::new();
+    let main = out.path().join("main");
+    let o = pnp_first1(&n.path, &main, &["-q"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let inferred = out.path().join("infer");
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "infer",
+            "-q",
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+            "--traces",
+            "specs/pnp_first/first1.traces",
+            "--out",
+            inferred.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let json = |dir: &Path, file: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(file)).unwrap()).unwrap()
+    };
+    assert_eq!(
+        json(&inferred, "SynthesizedFB.json"),
+        json(&main, "SynthesizedFB.json")
+    );
+    for dir in [&main, &inferred] {
+        assert_eq!(json(dir, "summary.json")["method"], "game guide");
+    }
+}
+
 /// The guide's machine is least only for its own runs; where the exact loop finds a smaller
 /// verified one in its short turn after the guide, that one is the result.
 #[test]

@@ -66,6 +66,8 @@ pub struct ModularOptions {
     /// `Some(X)`: the inputs from `X` on are the outputs before the step (a network's extended
     /// inputs, [`crate::ecc::network`]), and no module reads its own.
     pub feedback: Option<usize>,
+    /// Where every solver call stops ([`Solver::until`]).
+    pub deadline: crate::deadline::Deadline,
 }
 
 /// The transition slots per state a run starts with when none are given.
@@ -83,6 +85,7 @@ impl Default for ModularOptions {
             topology: Topology::Parallel,
             reads: None,
             feedback: None,
+            deadline: crate::deadline::Deadline::NONE,
         }
     }
 }
@@ -129,6 +132,9 @@ pub enum ModularError {
         /// Transition slots per state `K` at the end (after any widening).
         slots: usize,
     },
+    /// The deadline of the run passed ([`crate::deadline`]): the search stopped unfinished.
+    #[error("stopped at the time limit")]
+    Stopped,
     /// `--pin` with a consecutive composite, whose modules all write every output.
     #[error("--pin applies to parallel composites only: in a consecutive one every module writes every output")]
     PinsInChain,
@@ -251,7 +257,7 @@ struct Encoding {
 
 impl Encoding {
     fn new(tree: &ScenarioTree, c_max: usize, opts: &ModularOptions) -> Encoding {
-        let mut solver = Solver::new();
+        let mut solver = Solver::until(opts.deadline);
         let sink = &mut solver;
         let chain = opts.topology == Topology::Consecutive;
         let vars = ModVars::new(sink, tree, opts.modules, c_max, opts.slots.max(1), chain);
@@ -332,6 +338,9 @@ pub fn synthesize_modular(
     let mut c_max = opts.max_states.clamp(1, 4).min(limit(opts.slots));
     // 1. least largest module, growing the window when exhausted.
     let (mut enc, n, mut model) = loop {
+        if opts.deadline.passed() {
+            return Err(ModularError::Stopped);
+        }
         let mut enc = Encoding::new(tree, c_max, opts);
         stats.variables += enc.solver.stats().variables;
         stats.clauses += enc.solver.stats().clauses;
@@ -462,6 +471,7 @@ fn single_machine_ceiling(
         max_states: opts.max_states,
         // Any guards that replay the scenarios will do; fewer cubes only widen less often.
         guard_budget: std::time::Duration::from_secs(1),
+        deadline: opts.deadline,
         ..crate::sat::Options::default()
     };
     let s = crate::sat::synthesize(set, tree, &single, &mut |_| {}).ok()?;

@@ -1,0 +1,428 @@
+//! The main job: the least machine that reproduces the recordings and that NuSMV verifies in
+//! closed loop with the plant, the same for every front end (`synth --ltl`, `synth infer
+//! --ltl`).
+//!
+//! In: the recordings, a [`Check`], what the recordings say about the properties (an
+//! [`Explanation`] from [`explain::refuse_violations`]) and [`Options`]. Out: a
+//! [`VerifiedMachine`]: the machine, NuSMV's certificate and the [`Summary`] that says how it
+//! was found and what is proven; or an [`Error`] whose notes say what is known about why there
+//! is none. Progress comes as [`Event`]s, the strategy's own turns as [`Step`]s.
+//!
+//! # The strategy
+//! Several engines, tried in an order that depends on the problem:
+//! 1. Where the properties read inputs the recordings never vary, the closed-loop game's guide
+//!    ([`guide`]) runs first: the exact loop learns such behaviour one counterexample at a
+//!    time, the game answers for every behaviour of the plant at once. Its machine is least
+//!    only for the recordings and the guide's own runs, so the exact loop gets a turn below it
+//!    (at most its states; half the time the guide took, at least 2 s): a smaller verified
+//!    machine replaces it. Where the loop converges fast it wins; where it does not (the reason
+//!    the guide ran) the turn costs a fraction of the run.
+//! 2. Otherwise, or when the guide has no machine, the exact loop ([`exact`]); when it gives up
+//!    the error says what the recordings never show and what the game says of the problem.
+//! 3. With the search ([`Method::Search`]): its machine, made small along the closed loop
+//!    ([`search::shrink`]), bounds the exact loop (at most its states) for the time left, so the
+//!    answer is never larger than what SAT finds below it.
+//!
+//! "Smaller" is one order everywhere: [`Size::smaller_than`] (C, then T, then N).
+//!
+//! # The time limit
+//! One deadline, counted from the start of the run ([`Limit`]), holds for the guide and every
+//! exact loop: their SAT calls, NuSMV checks and the game stop there, on this thread
+//! ([`super::limit`]). The search keeps its own clock ([`search::Options::time_limit`]) and the
+//! shrinking runs to its end, as the exact loop below it then has only what is left.
+
+pub mod summary;
+
+pub use summary::{BelowGuideSummary, ExactSummary, GuideSummary, SearchSummary, Summary, Turn};
+
+use super::exact::{self, Certificate, Exact};
+use super::explain::{self, Explanation};
+use super::limit::Limit;
+use super::{guide, search, Check, Class, Error, Event, Events};
+use crate::ecc::{AlgorithmKind, Ecc, Size};
+use crate::scenario::ScenarioSet;
+use std::time::Duration;
+
+/// How the main job synthesizes.
+#[derive(Debug, Clone)]
+pub enum Method {
+    /// Exact SAT with counterexample-guided refinement, guided by the closed-loop game where
+    /// the recordings never vary what the properties read.
+    Sat,
+    /// Metaheuristic search with these options; its machine shrunk, and the exact loop below it.
+    Search(search::Options),
+}
+
+/// Settings of the main job.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// How it synthesizes.
+    pub method: Method,
+    /// The exact loop. Its turns below the guide's and the shrunk machine keep no failed
+    /// model and have at most that machine's states.
+    pub exact: exact::Options,
+    /// The time limit, counted from the start of the run.
+    pub limit: Limit,
+}
+
+/// A turn of the strategy, for progress.
+#[derive(Debug, Clone)]
+pub enum Step {
+    /// The guide starts: the recordings never show what some property reads.
+    GuideStarted,
+    /// The guide gave no machine (why); the exact loop goes on.
+    GuideDeclined {
+        /// Why.
+        why: String,
+    },
+    /// The exact loop looks below the guide's machine.
+    BelowGuide {
+        /// At most this many states (the guide's machine's).
+        states: usize,
+        /// For at most this many seconds.
+        seconds: f64,
+    },
+    /// The exact loop's turn below the guide ended without a smaller machine.
+    GuideStands {
+        /// What the turn found (as in [`GuideSummary::exact_loop_below_it`]).
+        after: String,
+    },
+    /// The exact loop gave up: the closed-loop game tells whether any controller exists.
+    Realizability,
+    /// The search's machine, before it is made small along the closed loop.
+    Searched {
+        /// Its size.
+        size: Size,
+    },
+    /// The shrunk machine: the exact loop looks below it.
+    Shrunk {
+        /// Its size.
+        size: Size,
+    },
+    /// The exact loop below the shrunk machine ran out of time: the shrunk machine stands.
+    ShrunkStands,
+}
+
+/// The main job's machine, verified by NuSMV.
+#[derive(Debug, Clone)]
+pub struct VerifiedMachine {
+    /// The machine; it reproduces the recordings.
+    pub ecc: Ecc,
+    /// NuSMV's verdicts (all hold) and the closed-loop model it checked.
+    pub certificate: Certificate,
+    /// How it was found and what is proven (`summary.json`).
+    pub summary: Summary,
+}
+
+/// The main job (module documentation) on `set` with `check`; `explained` is what the
+/// recordings say about the properties.
+pub fn run(
+    set: &ScenarioSet,
+    check: &Check,
+    explained: &Explanation,
+    opts: &Options,
+    events: Events<'_>,
+) -> Result<VerifiedMachine, Error> {
+    let mut guide_said = None;
+    if guides(opts, explained) {
+        match guided(set, check, explained, opts, events)? {
+            Guided::Machine(m) => return Ok(*m),
+            Guided::Declined(why) => guide_said = Some(why),
+        }
+    }
+    match &opts.method {
+        Method::Sat => exact_loop(set, check, explained, opts, guide_said, events),
+        Method::Search(s) => searched(set, check, opts, s, events),
+    }
+}
+
+/// Whether the guide runs: the exact method, properties that read what the recordings never
+/// vary, and a problem the guide's own synthesis states (the default algorithms, no start
+/// state, no negative scenarios).
+fn guides(opts: &Options, explained: &Explanation) -> bool {
+    let sat = &opts.exact.sat;
+    matches!(opts.method, Method::Sat)
+        && !explained.unrecorded.is_empty()
+        && sat.algorithms == AlgorithmKind::Tri
+        && !sat.start_state
+        && opts.exact.negatives.is_empty()
+}
+
+/// What the guide's turn gives.
+enum Guided {
+    /// A verified machine (the guide's, or the exact loop's below it).
+    Machine(Box<VerifiedMachine>),
+    /// No machine, and why.
+    Declined(String),
+}
+
+/// The guide within the limit, and the exact loop's turn below its machine.
+fn guided(
+    set: &ScenarioSet,
+    check: &Check,
+    explained: &Explanation,
+    opts: &Options,
+    events: Events<'_>,
+) -> Result<Guided, Error> {
+    events(Event::MainJob(Step::GuideStarted));
+    let max_states = opts.exact.sat.max_states;
+    let why = match opts.limit.guide(set, check, events) {
+        Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
+            let m = below_guide(set, check, *g, opts, events)?;
+            return Ok(Guided::Machine(Box::new(m)));
+        }
+        Ok(guide::Outcome::Verified(g)) => format!(
+            "its machine has {} states, more than --max-states {max_states}",
+            g.size.c
+        ),
+        Ok(guide::Outcome::NotHere(why)) => why,
+        Err(Error::Interrupted { seconds, .. }) => {
+            let limit = Error::NoMachine(format!(
+                "time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): the closed-loop game's guide had not ended"
+            ));
+            return Err(noted(
+                limit,
+                explained.unrecorded_line().into_iter().collect(),
+            ));
+        }
+        Err(e) => return Err(e),
+    };
+    events(Event::MainJob(Step::GuideDeclined { why: why.clone() }));
+    Ok(Guided::Declined(why))
+}
+
+/// The exact loop's turn below the guide's machine `g`: its machine if smaller, else `g`.
+fn below_guide(
+    set: &ScenarioSet,
+    check: &Check,
+    g: guide::Guided,
+    opts: &Options,
+    events: Events<'_>,
+) -> Result<VerifiedMachine, Error> {
+    let spent = opts.limit.elapsed();
+    let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
+    let stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
+    let mut after = "not run: no time left".to_string();
+    if !budget.is_zero() {
+        events(Event::MainJob(Step::BelowGuide {
+            states: g.size.c,
+            seconds: budget.as_secs_f64(),
+        }));
+        let exact = bounded(opts, g.size.c);
+        match Limit::from_now(budget).exact(set, check, &exact, events) {
+            Ok(r) if r.synthesis.size.smaller_than(&g.size) => {
+                let (ecc, certificate, exact) = exact_parts(r, opts)?;
+                let summary = Summary::Turn(Turn::BelowGuide(BelowGuideSummary {
+                    exact,
+                    guide_size: g.size,
+                    guide: stages,
+                }));
+                return Ok(VerifiedMachine {
+                    ecc,
+                    certificate,
+                    summary,
+                });
+            }
+            Ok(_) => after = "no smaller machine".into(),
+            Err(Error::TimeLimit { so_far, .. }) => {
+                let by_nusmv = (so_far.candidates.iter())
+                    .filter(|c| c.checked_by == "NuSMV")
+                    .count();
+                after = format!(
+                    "no smaller verified machine within {:.1} s ({} candidates, {by_nusmv} checked by NuSMV)",
+                    budget.as_secs_f64(),
+                    so_far.candidates.len()
+                );
+            }
+            // A bug stays one; anything else ends the turn, not the verified result.
+            Err(e) if e.class() == Class::Bug => return Err(e),
+            Err(e) => after = format!("stopped: {e}"),
+        }
+        events(Event::MainJob(Step::GuideStands {
+            after: after.clone(),
+        }));
+    }
+    Ok(guide_machine(g, stages, after, opts))
+}
+
+/// The guide's machine `g` as the result.
+fn guide_machine(
+    g: guide::Guided,
+    stages: Vec<String>,
+    after: String,
+    opts: &Options,
+) -> VerifiedMachine {
+    let summary = Summary::Turn(Turn::Guide(GuideSummary {
+        exact_loop_below_it: after,
+        size: g.size,
+        least_for_recordings_and_runs: g.least_for_runs,
+        guide: stages,
+        report: g.certificate.report.clone(),
+        sat_seconds: g.sat_seconds,
+        nusmv_calls: g.nusmv_calls,
+        nusmv_seconds: g.nusmv_seconds,
+        total_seconds: opts.limit.elapsed(),
+    }));
+    VerifiedMachine {
+        ecc: g.ecc,
+        certificate: g.certificate,
+        summary,
+    }
+}
+
+/// The exact loop's options for a turn below a machine of `states` states.
+fn bounded(opts: &Options, states: usize) -> exact::Options {
+    let mut exact = opts.exact.clone();
+    exact.sat.max_states = states;
+    exact.keep_failed_model = None;
+    exact
+}
+
+/// The machine, certificate and summary of the exact loop's result `r`.
+fn exact_parts(r: Exact, opts: &Options) -> Result<(Ecc, Certificate, ExactSummary), Error> {
+    let Some(certificate) = r.certificate.clone() else {
+        return Err(Error::Bug(
+            "the exact loop with a check gave no certificate".into(),
+        ));
+    };
+    let summary = ExactSummary::of(&r, &certificate.report, opts.limit.elapsed());
+    Ok((r.synthesis.ecc, certificate, summary))
+}
+
+/// The exact loop within the limit; when it gives up, the error with what is known.
+fn exact_loop(
+    set: &ScenarioSet,
+    check: &Check,
+    explained: &Explanation,
+    opts: &Options,
+    guide_said: Option<String>,
+    events: Events<'_>,
+) -> Result<VerifiedMachine, Error> {
+    match opts.limit.exact(set, check, &opts.exact, events) {
+        Ok(r) => {
+            let (ecc, certificate, exact) = exact_parts(r, opts)?;
+            Ok(VerifiedMachine {
+                ecc,
+                certificate,
+                summary: Summary::Exact(exact),
+            })
+        }
+        Err(e) => Err(why_none(set, check, explained, opts, guide_said, e, events)),
+    }
+}
+
+/// The exact loop's error `e` with notes: when it found no machine within the limits, what
+/// the recordings never show and what the closed-loop game says (the guide's word if it
+/// spoke, else the game solved now); when NuSMV rejected generated code, where the model is.
+fn why_none(
+    set: &ScenarioSet,
+    check: &Check,
+    explained: &Explanation,
+    opts: &Options,
+    guide_said: Option<String>,
+    e: Error,
+    events: Events<'_>,
+) -> Error {
+    let mut notes = Vec::new();
+    if e.class() == Class::NoMachine {
+        notes.extend(explained.unrecorded_line());
+        match guide_said {
+            Some(said) => notes.push(format!("guide: {said}")),
+            None => {
+                events(Event::MainJob(Step::Realizability));
+                notes.extend(explain::realizability(set, &check.problem));
+            }
+        }
+    }
+    let kept =
+        (opts.exact.keep_failed_model.as_ref()).filter(|k| e.in_generated_code() && k.is_file());
+    if let Some(kept) = kept {
+        notes.push(format!(
+            "the model NuSMV was given is kept as {}",
+            kept.display()
+        ));
+    }
+    noted(e, notes)
+}
+
+/// `error` with `notes`, if any.
+fn noted(error: Error, notes: Vec<String>) -> Error {
+    match notes.is_empty() {
+        true => error,
+        false => Error::Noted {
+            error: Box::new(error),
+            notes,
+        },
+    }
+}
+
+/// The search, its machine shrunk along the closed loop, and the exact loop below it.
+fn searched(
+    set: &ScenarioSet,
+    check: &Check,
+    opts: &Options,
+    s: &search::Options,
+    events: Events<'_>,
+) -> Result<VerifiedMachine, Error> {
+    let r = search::run(set, check, s, None, events)?;
+    let found = r.certified(set, s)?.clone();
+    events(Event::MainJob(Step::Searched { size: found.size() }));
+    let (small, followed) = search::shrink(set, &found, check, s.max_out_degree, events)?;
+    events(Event::MainJob(Step::Shrunk { size: small.size }));
+    let below = below_shrunk(set, check, opts, small.size.c, events)?;
+    let below = below.filter(|b| b.synthesis.size.smaller_than(&small.size));
+    let polished = below.is_some();
+    let (ecc, certificate) = match below {
+        Some(b) => {
+            let (ecc, certificate, _) = exact_parts(b, opts)?;
+            (ecc, certificate)
+        }
+        None => (small.ecc, followed.certificate),
+    };
+    let summary = SearchSummary {
+        seed: s.seed,
+        start: format!("{:?}", s.start).to_lowercase(),
+        size: ecc.size(),
+        searched_size: found.size(),
+        shrunk_size: small.size,
+        replaced_by_exact_loop: polished,
+        shrink_rounds: followed.rounds,
+        fitness: r.outcome.fitness,
+        search: r.outcome.stats.clone(),
+        nusmv_runs: r.nusmv_runs,
+        in_process_checks: r.in_process_checks,
+        cache_hits: r.cache_hits,
+        report: r.verification.report.clone(),
+        total_seconds: opts.limit.elapsed(),
+    };
+    Ok(VerifiedMachine {
+        ecc,
+        certificate,
+        summary: Summary::Turn(Turn::Search(Box::new(summary))),
+    })
+}
+
+/// The exact loop with at most `states` states for the time left (`None`: no time, or it ran
+/// out).
+fn below_shrunk(
+    set: &ScenarioSet,
+    check: &Check,
+    opts: &Options,
+    states: usize,
+    events: Events<'_>,
+) -> Result<Option<Exact>, Error> {
+    if opts.limit.left().is_zero() {
+        return Ok(None);
+    }
+    match opts.limit.exact(set, check, &bounded(opts, states), events) {
+        Ok(r) => Ok(Some(r)),
+        Err(Error::TimeLimit { .. }) => {
+            events(Event::MainJob(Step::ShrunkStands));
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,168 @@
+//! The main job's `summary.json`: what the machine is, how it was found and what is proven.
+//!
+//! In: the result of the turn of the strategy that gave the machine. Out: a [`Summary`], one
+//! shape per turn, serialized with serde (the keys in the file are sorted, as `serde_json`
+//! writes a map) and described by a JSON Schema ([`schema`]). The exact loop's summary has no
+//! `method` key; the others name theirs.
+
+use super::super::cegis::Iteration;
+use super::super::exact::Exact;
+use super::super::follow;
+use crate::ecc::Size;
+use crate::verify::Report;
+use schemars::JsonSchema;
+use serde::Serialize;
+
+/// The main job's `summary.json`.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Summary {
+    /// The exact loop's machine.
+    Exact(ExactSummary),
+    /// A machine from another turn of the strategy, named in `method`.
+    Turn(Turn),
+}
+
+/// A machine from the exact loop: least C, then T and N where proven.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct ExactSummary {
+    /// The machine's C, K, T and N.
+    pub size: Size,
+    /// Whether no machine with C states has fewer transitions (proved within the budget).
+    pub transitions_proven_minimal: bool,
+    /// Whether no machine with C states and T transitions has fewer guard literals.
+    pub guards_proven_minimal: bool,
+    /// Every candidate of the loop, the result last.
+    pub iterations: Vec<Iteration>,
+    /// NuSMV's verdicts on the machine (all hold).
+    pub report: Report,
+    /// Seconds in SAT over all candidates.
+    pub sat_seconds: f64,
+    /// Seconds in NuSMV over all candidates.
+    pub nusmv_seconds: f64,
+    /// Seconds since the run started.
+    pub total_seconds: f64,
+}
+
+/// The turn of the strategy that gave a machine other than the exact loop's.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[serde(tag = "method")]
+pub enum Turn {
+    /// The exact loop found a machine smaller than the guide's.
+    #[serde(rename = "exact loop after the game's guide")]
+    BelowGuide(BelowGuideSummary),
+    /// The closed-loop game's guide gave the machine.
+    #[serde(rename = "game guide")]
+    Guide(GuideSummary),
+    /// The search gave the machine (shrunk, or replaced by the exact loop below it).
+    #[serde(rename = "search")]
+    Search(Box<SearchSummary>),
+}
+
+/// The exact loop's machine, smaller than the guide's.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct BelowGuideSummary {
+    /// The exact loop's figures.
+    #[serde(flatten)]
+    pub exact: ExactSummary,
+    /// The guide's machine's C, K, T and N.
+    pub guide_size: Size,
+    /// The guide's stages, one line each.
+    pub guide: Vec<String>,
+}
+
+/// The guide's machine.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct GuideSummary {
+    /// What the exact loop's turn below the guide's machine found.
+    pub exact_loop_below_it: String,
+    /// The machine's C, K, T and N.
+    pub size: Size,
+    /// Whether it is least for the recordings and the guide's closed-loop runs (else it is
+    /// the repaired machine, not minimal).
+    pub least_for_recordings_and_runs: bool,
+    /// The guide's stages, one line each.
+    pub guide: Vec<String>,
+    /// NuSMV's verdicts on the machine (all hold).
+    pub report: Report,
+    /// Seconds in SAT.
+    pub sat_seconds: f64,
+    /// NuSMV checks made.
+    pub nusmv_calls: usize,
+    /// Seconds in NuSMV.
+    pub nusmv_seconds: f64,
+    /// Seconds since the run started.
+    pub total_seconds: f64,
+}
+
+/// The search's machine, made small along the closed loop.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct SearchSummary {
+    /// The search's seed.
+    pub seed: u64,
+    /// Where the colonies started: `sat` or `random`.
+    pub start: String,
+    /// The result's C, K, T and N.
+    pub size: Size,
+    /// The search's machine's.
+    pub searched_size: Size,
+    /// The shrunk machine's.
+    pub shrunk_size: Size,
+    /// Whether the exact loop below the shrunk machine found the result.
+    pub replaced_by_exact_loop: bool,
+    /// The rounds that shrank the search's machine.
+    pub shrink_rounds: Vec<follow::Round>,
+    /// The search's best fitness.
+    pub fitness: f64,
+    /// The search's figures.
+    pub search: crate::search::algorithm::Stats,
+    /// Candidates NuSMV judged during the search.
+    pub nusmv_runs: u64,
+    /// Candidates the in-process checker judged.
+    pub in_process_checks: u64,
+    /// Verdicts taken from the cache.
+    pub cache_hits: u64,
+    /// NuSMV's final check of the search's machine.
+    pub report: Report,
+    /// Seconds since the run started.
+    pub total_seconds: f64,
+}
+
+impl ExactSummary {
+    /// The summary of the exact loop's result `r` (checked: it has a certificate), `total`
+    /// seconds into the run.
+    pub fn of(r: &Exact, report: &Report, total_seconds: f64) -> ExactSummary {
+        ExactSummary {
+            size: r.synthesis.size,
+            transitions_proven_minimal: r.synthesis.transitions_exact,
+            guards_proven_minimal: r.synthesis.guards_exact,
+            iterations: r.iterations.clone(),
+            report: report.clone(),
+            sat_seconds: r.iterations.iter().map(|i| i.sat_seconds).sum(),
+            nusmv_seconds: r.iterations.iter().map(|i| i.nusmv_seconds).sum(),
+            total_seconds,
+        }
+    }
+}
+
+impl Summary {
+    /// The machine's C, K, T and N.
+    pub fn size(&self) -> Size {
+        match self {
+            Summary::Exact(e)
+            | Summary::Turn(Turn::BelowGuide(BelowGuideSummary { exact: e, .. })) => e.size,
+            Summary::Turn(Turn::Guide(g)) => g.size,
+            Summary::Turn(Turn::Search(s)) => s.size,
+        }
+    }
+
+    /// The summary as JSON (the keys sorted).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("a summary is JSON")
+    }
+}
+
+/// The JSON Schema of [`Summary`].
+pub fn schema() -> schemars::Schema {
+    schemars::schema_for!(Summary)
+}
