@@ -243,6 +243,19 @@ pub struct Size {
     pub n: usize,
 }
 
+impl Size {
+    /// The order in which the minimization ranks machines: fewer states, then fewer
+    /// transitions, then fewer guard literals (`K` is not compared).
+    pub fn order_key(&self) -> (usize, usize, usize) {
+        (self.c, self.t, self.n)
+    }
+
+    /// Whether this machine is smaller than `other` in [`Self::order_key`]'s order.
+    pub fn is_smaller_than(&self, other: &Size) -> bool {
+        self.order_key() < other.order_key()
+    }
+}
+
 impl fmt::Display for Size {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n)
