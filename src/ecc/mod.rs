@@ -279,10 +279,15 @@ pub struct Size {
 }
 
 impl Size {
-    /// Whether this is a smaller machine than `other` in the order of the minimization:
-    /// fewer states, then fewer transitions, then fewer guard literals (K is not compared).
-    pub fn smaller_than(&self, other: &Size) -> bool {
-        (self.c, self.t, self.n) < (other.c, other.t, other.n)
+    /// The order in which the minimization ranks machines: fewer states, then fewer
+    /// transitions, then fewer guard literals (`K` is not compared).
+    pub fn order_key(&self) -> (usize, usize, usize) {
+        (self.c, self.t, self.n)
+    }
+
+    /// Whether this machine is smaller than `other` in [`Self::order_key`]'s order.
+    pub fn is_smaller_than(&self, other: &Size) -> bool {
+        self.order_key() < other.order_key()
     }
 }
 

@@ -122,8 +122,31 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
 
     x.open(1, "BasicFB", &[])?;
     x.open(2, "ECC", &[])?;
+    let algorithms: Vec<Option<String>> = (0..ecc.states.len())
+        .map(|i| algorithm_text(ecc, i))
+        .collect();
+    write_states(&mut x, ecc, &algorithms)?;
+    write_transitions(&mut x, ecc)?;
+    x.close(2, "ECC")?;
+    for (i, text) in algorithms.iter().enumerate() {
+        if let Some(text) = text {
+            x.open(2, "Algorithm", &[("Name", &algorithm_name(i))])?;
+            x.leaf(3, "ST", &[("Text", text)])?;
+            x.close(2, "Algorithm")?;
+        }
+    }
+    x.close(1, "BasicFB")?;
+    x.close(0, "FBType")
+}
+
+/// One `<ECState>` per state, on the layout's grid, with the action of its algorithm (if it
+/// has one, `algorithms[i]`) and `CNF`.
+fn write_states(
+    x: &mut XmlWriter<impl Write>,
+    ecc: &Ecc,
+    algorithms: &[Option<String>],
+) -> io::Result<()> {
     let count = ecc.states.len();
-    let algorithms: Vec<Option<String>> = (0..count).map(|i| algorithm_text(ecc, i)).collect();
     for (i, s) in ecc.states.iter().enumerate() {
         let name = state_name(i);
         // Keep a name the user gave a state as its comment; `s{i}` is no such name.
@@ -153,6 +176,13 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
         }
         x.close(3, "ECState")?;
     }
+    Ok(())
+}
+
+/// One `<ECTransition>` per transition with its guard as the `REQ[...]` condition; a machine
+/// without any gets one that never fires, since the DTD needs at least one (`ECTransition+`).
+fn write_transitions(x: &mut XmlWriter<impl Write>, ecc: &Ecc) -> io::Result<()> {
+    let count = ecc.states.len();
     // A label sits at the middle of its edge, or above the state for a self-loop. Labels that
     // would land on the same spot (both directions between two states, crossing diagonals) are
     // moved one step each: down, or up for self-loops, away from the state.
@@ -201,16 +231,7 @@ pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Res
             ],
         )?;
     }
-    x.close(2, "ECC")?;
-    for (i, text) in algorithms.iter().enumerate() {
-        if let Some(text) = text {
-            x.open(2, "Algorithm", &[("Name", &algorithm_name(i))])?;
-            x.leaf(3, "ST", &[("Text", text)])?;
-            x.close(2, "Algorithm")?;
-        }
-    }
-    x.close(1, "BasicFB")?;
-    x.close(0, "FBType")
+    Ok(())
 }
 
 /// The XML prolog, `<FBType>` start tag, identification and `<InterfaceList>` (REQ with every

@@ -129,8 +129,26 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
             "Confirmation: a module fired, its outputs updated (one CNF per firing module)",
         ],
     )?;
-    let count = modular.modules.len();
     x.open(1, "FBNetwork", &[])?;
+    write_blocks(&mut x, modular, stem)?;
+    write_event_connections(&mut x, modular.modules.len())?;
+    write_data_connections(&mut x, modular)?;
+    x.close(1, "FBNetwork")?;
+    x.close(0, "FBType")
+}
+
+/// One connection of the network, from `source` to `destination`.
+fn connection(x: &mut XmlWriter<impl Write>, source: &str, destination: &str) -> io::Result<()> {
+    x.leaf(
+        3,
+        "Connection",
+        &[("Source", source), ("Destination", destination)],
+    )
+}
+
+/// The blocks of the network: one instance per module (its outputs in the comment), and
+/// between consecutive modules an `E_SPLIT` and an `E_MERGE`.
+fn write_blocks(x: &mut XmlWriter<impl Write>, modular: &Modular, stem: &str) -> io::Result<()> {
     for (m, module) in modular.modules.iter().enumerate() {
         let names: Vec<&str> = module.ecc.outputs.iter().map(String::as_str).collect();
         x.leaf(
@@ -145,8 +163,7 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
             ],
         )?;
     }
-    let splits = count.saturating_sub(1);
-    for i in 0..splits {
+    for i in 0..modular.modules.len().saturating_sub(1) {
         let y = (300 + 800 * i).to_string();
         for (name, ty, x_pos) in [("SPLIT", "E_SPLIT", "700"), ("MERGE", "E_MERGE", "2600")] {
             x.leaf(
@@ -161,59 +178,67 @@ pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) ->
             )?;
         }
     }
+    Ok(())
+}
+
+/// The event connections of `count` modules: `REQ` reaches every module through the chain
+/// of splits, every module's `CNF` reaches `CNF` through the chain of merges.
+fn write_event_connections(x: &mut XmlWriter<impl Write>, count: usize) -> io::Result<()> {
     x.open(2, "EventConnections", &[])?;
-    let conn = |x: &mut XmlWriter<_>, s: &str, d: &str| {
-        x.leaf(3, "Connection", &[("Source", s), ("Destination", d)])
-    };
     let m_ev = |m: usize, e: &str| format!("{}.{e}", instance_name(m));
+    let splits = count.saturating_sub(1);
     if count == 1 {
-        conn(&mut x, "REQ", &m_ev(0, "REQ"))?;
-        conn(&mut x, &m_ev(0, "CNF"), "CNF")?;
+        connection(x, "REQ", &m_ev(0, "REQ"))?;
+        connection(x, &m_ev(0, "CNF"), "CNF")?;
     } else {
         // REQ -> SPLIT1; SPLITi.EO1 -> Mi.REQ; SPLITi.EO2 -> SPLIT(i+1) or, last, M(count).
-        conn(&mut x, "REQ", "SPLIT1.EI")?;
+        connection(x, "REQ", "SPLIT1.EI")?;
         for i in 0..splits {
-            conn(&mut x, &format!("SPLIT{}.EO1", i + 1), &m_ev(i, "REQ"))?;
+            connection(x, &format!("SPLIT{}.EO1", i + 1), &m_ev(i, "REQ"))?;
             let next = if i + 1 < splits {
                 format!("SPLIT{}.EI", i + 2)
             } else {
                 m_ev(count - 1, "REQ")
             };
-            conn(&mut x, &format!("SPLIT{}.EO2", i + 1), &next)?;
+            connection(x, &format!("SPLIT{}.EO2", i + 1), &next)?;
         }
         // M1.CNF -> MERGE1.EI1; M(i+1).CNF -> MERGEi.EI2; MERGEi.EO -> MERGE(i+1).EI1 or CNF.
-        conn(&mut x, &m_ev(0, "CNF"), "MERGE1.EI1")?;
+        connection(x, &m_ev(0, "CNF"), "MERGE1.EI1")?;
         for i in 0..splits {
-            conn(&mut x, &m_ev(i + 1, "CNF"), &format!("MERGE{}.EI2", i + 1))?;
+            connection(x, &m_ev(i + 1, "CNF"), &format!("MERGE{}.EI2", i + 1))?;
             let next = if i + 1 < splits {
                 format!("MERGE{}.EI1", i + 2)
             } else {
                 "CNF".to_string()
             };
-            conn(&mut x, &format!("MERGE{}.EO", i + 1), &next)?;
+            connection(x, &format!("MERGE{}.EO", i + 1), &next)?;
         }
     }
-    x.close(2, "EventConnections")?;
+    x.close(2, "EventConnections")
+}
+
+/// The data connections: every input a module reads from the composite's input of that
+/// name, every output a module owns to the composite's output; none when no module is wired.
+fn write_data_connections(x: &mut XmlWriter<impl Write>, modular: &Modular) -> io::Result<()> {
     let wired = modular
         .modules
         .iter()
         .any(|m| !m.inputs.is_empty() || !m.outputs.is_empty());
-    if wired {
-        x.open(2, "DataConnections", &[])?;
-        for (m, module) in modular.modules.iter().enumerate() {
-            for i in &module.inputs {
-                let name = &modular.inputs[i.0];
-                conn(&mut x, name, &format!("{}.{name}", instance_name(m)))?;
-            }
-            for z in &module.outputs {
-                let name = &modular.outputs[z.0];
-                conn(&mut x, &format!("{}.{name}", instance_name(m)), name)?;
-            }
-        }
-        x.close(2, "DataConnections")?;
+    if !wired {
+        return Ok(());
     }
-    x.close(1, "FBNetwork")?;
-    x.close(0, "FBType")
+    x.open(2, "DataConnections", &[])?;
+    for (m, module) in modular.modules.iter().enumerate() {
+        for i in &module.inputs {
+            let name = &modular.inputs[i.0];
+            connection(x, name, &format!("{}.{name}", instance_name(m)))?;
+        }
+        for z in &module.outputs {
+            let name = &modular.outputs[z.0];
+            connection(x, &format!("{}.{name}", instance_name(m)), name)?;
+        }
+    }
+    x.close(2, "DataConnections")
 }
 
 /// [`write_composite_fbt`] into a string.

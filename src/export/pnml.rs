@@ -182,16 +182,45 @@ pub fn write_pnml_labelled(
     w: &mut impl Write,
 ) -> io::Result<()> {
     let entry = entry_outputs(ecc);
-    let mut arcs: Vec<(String, String)> = Vec::new();
-    let mut x = XmlWriter::new(w);
-    // A transition, place, ... of the page: one line each, `<id><name><text>`, then `more`.
-    fn node<W: Write>(
-        x: &mut XmlWriter<W>,
+    let mut net = Net {
+        x: XmlWriter::new(w),
+        ecc,
+        labels,
+        dialect,
+        arcs: Vec::new(),
+    };
+    net.header(name)?;
+    net.places()?;
+    net.power_up()?;
+    net.input_events(0, "start")?;
+    for (i, entry) in entry.iter().enumerate() {
+        net.input_events(i, &format!("p{i}"))?;
+        net.output_events(i, entry)?;
+    }
+    net.arcs()?;
+    net.final_marking()
+}
+
+/// A net being written: the page's nodes as they come, its arcs (source, target) collected
+/// for the end of the page.
+struct Net<'a, W: Write> {
+    x: XmlWriter<W>,
+    ecc: &'a Ecc,
+    labels: &'a Labels,
+    dialect: Dialect,
+    arcs: Vec<(String, String)>,
+}
+
+impl<W: Write> Net<'_, W> {
+    /// A transition, place, ... of the page: one line each, `<id><name><text>`, then `more`.
+    fn node(
+        &mut self,
         kind: &str,
         id: &str,
         label: &str,
         more: impl FnOnce(&mut XmlWriter<W>) -> io::Result<()>,
     ) -> io::Result<()> {
+        let x = &mut self.x;
         x.indent(3)?;
         x.start(kind, &[("id", id)])?;
         x.start("name", &[])?;
@@ -201,8 +230,11 @@ pub fn write_pnml_labelled(
         x.end(kind)?;
         x.newline()
     }
-    let tau = |x: &mut XmlWriter<_>, id: &str| -> io::Result<()> {
-        node(x, "transition", id, "tau", |x| match dialect {
+
+    /// A silent transition, marked as the dialect says.
+    fn tau(&mut self, id: &str) -> io::Result<()> {
+        let dialect = self.dialect;
+        self.node("transition", id, "tau", |x| match dialect {
             Dialect::Iso => {
                 x.start("toolspecific", &FBSYNTH_TOOL)?;
                 x.empty("invisible", &[])?;
@@ -218,41 +250,91 @@ pub fn write_pnml_labelled(
                 ],
             ),
         })
-    };
-    fn labelled<W: Write>(x: &mut XmlWriter<W>, id: &str, label: &str) -> io::Result<()> {
-        node(x, "transition", id, label, |_| Ok(()))
     }
-    x.declaration()?;
-    let (root, net_type): (&[(&str, &str)], &str) = match dialect {
-        Dialect::Iso => (&[("xmlns", NAMESPACE)], PTNET),
-        Dialect::Prom => (&[], CORE_MODEL),
-    };
-    x.open(0, "pnml", root)?;
-    x.open(1, "net", &[("id", "net"), ("type", net_type)])?;
-    x.indent(2)?;
-    x.start("name", &[])?;
-    x.text_element("text", name)?;
-    x.end("name")?;
-    x.newline()?;
-    x.open(2, "page", &[("id", "page0")])?;
-    node(&mut x, "place", "start", "start", |x| {
-        x.start("initialMarking", &[])?;
-        x.text_element("text", "1")?;
-        x.end("initialMarking")
-    })?;
-    for (i, s) in ecc.states.iter().enumerate() {
-        node(&mut x, "place", &format!("p{i}"), &s.name, |_| Ok(()))?;
-        for k in 0..s.transitions.len() {
-            let label = format!("{} fired {k}", s.name);
-            node(&mut x, "place", &format!("q{i}_{k}"), &label, |_| Ok(()))?;
+
+    /// A transition labelled with an activity.
+    fn labelled(&mut self, id: &str, label: &str) -> io::Result<()> {
+        self.node("transition", id, label, |_| Ok(()))
+    }
+
+    /// A transition for the output `changes` (`(output, value)`): silent when there are none.
+    fn output_changes(&mut self, id: &str, changes: &[(usize, bool)]) -> io::Result<()> {
+        if changes.is_empty() {
+            return self.tau(id);
         }
+        let text: Vec<String> = (changes.iter())
+            .map(|&(z, v)| format!("{} {v}", self.labels.outputs[z]))
+            .collect();
+        self.labelled(id, &text.join(crate::events::JOIN))
     }
-    // Input events of state `i` read from place `from` (`p<i>`, or `start` for state 0).
-    let input_events = |w: &mut XmlWriter<_>,
-                        arcs: &mut Vec<(String, String)>,
-                        i: usize,
-                        from: &str|
-     -> io::Result<()> {
+
+    /// The declaration and everything up to the open page: the root in the dialect's
+    /// namespace, the net with its type and `name`.
+    fn header(&mut self, name: &str) -> io::Result<()> {
+        let x = &mut self.x;
+        x.declaration()?;
+        let (root, net_type): (&[(&str, &str)], &str) = match self.dialect {
+            Dialect::Iso => (&[("xmlns", NAMESPACE)], PTNET),
+            Dialect::Prom => (&[], CORE_MODEL),
+        };
+        x.open(0, "pnml", root)?;
+        x.open(1, "net", &[("id", "net"), ("type", net_type)])?;
+        x.indent(2)?;
+        x.start("name", &[])?;
+        x.text_element("text", name)?;
+        x.end("name")?;
+        x.newline()?;
+        x.open(2, "page", &[("id", "page0")])
+    }
+
+    /// The places: `start` with the initial token, `p<i>` per state, `q<i>_<k>` per ECC
+    /// transition.
+    fn places(&mut self) -> io::Result<()> {
+        self.node("place", "start", "start", |x| {
+            x.start("initialMarking", &[])?;
+            x.text_element("text", "1")?;
+            x.end("initialMarking")
+        })?;
+        let ecc = self.ecc;
+        for (i, s) in ecc.states.iter().enumerate() {
+            self.node("place", &format!("p{i}"), &s.name, |_| Ok(()))?;
+            for k in 0..s.transitions.len() {
+                let label = format!("{} fired {k}", s.name);
+                self.node("place", &format!("q{i}_{k}"), &label, |_| Ok(()))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// From `start`, the power-up scan, which fires without an input event when a guard of
+    /// state 0 holds on all-false inputs. Like the input events of state 0 from `start` (a
+    /// trace that starts at a reset), it is labelled, so replay never has to guess an
+    /// invisible move.
+    fn power_up(&mut self) -> io::Result<()> {
+        let ecc = self.ecc;
+        let zeros = vec![false; ecc.inputs.len()];
+        let Some(k) = (ecc.states[0].transitions.iter()).position(|t| t.guard.eval(&zeros)) else {
+            return Ok(());
+        };
+        let target = ecc.states[0].transitions[k].target;
+        let mut new = ecc.initial_outputs.clone();
+        ecc.states[target.0].algorithm.apply(&mut new);
+        let changes: Vec<(usize, bool)> = (0..new.len())
+            .filter(|&z| new[z] != ecc.initial_outputs[z])
+            .map(|z| (z, new[z]))
+            .collect();
+        let id = format!("power_up_{k}");
+        self.output_changes(&id, &changes)?;
+        self.arcs.push(("start".into(), id.clone()));
+        self.arcs.push((id, format!("p{}", target.0)));
+        Ok(())
+    }
+
+    /// Input events of state `i` read from place `from` (`p<i>`, or `start` for state 0):
+    /// per input and value, one transition per outcome ([`event_outcomes`]), to `q<i>_<k>`
+    /// when transition `k` fires, back to `p<i>` when nothing does.
+    fn input_events(&mut self, i: usize, from: &str) -> io::Result<()> {
+        let (ecc, labels) = (self.ecc, self.labels);
         for (x, label) in labels.inputs.iter().enumerate() {
             for v in [false, true] {
                 let text = format!("{label} {v}");
@@ -266,44 +348,22 @@ pub fn write_pnml_labelled(
                     } else {
                         id
                     };
-                    labelled(w, &id, &text)?;
-                    arcs.push((from.to_string(), id.clone()));
-                    arcs.push((id, to));
+                    self.labelled(&id, &text)?;
+                    self.arcs.push((from.to_string(), id.clone()));
+                    self.arcs.push((id, to));
                 }
             }
         }
         Ok(())
-    };
-    // From `start`: the power-up scan, which fires without an input event when a guard of
-    // state 0 holds on all-false inputs, or the input events of state 0 (a trace that starts
-    // at a reset). All labelled, so replay never has to guess an invisible move.
-    let zeros = vec![false; ecc.inputs.len()];
-    if let Some(k) = ecc.states[0]
-        .transitions
-        .iter()
-        .position(|t| t.guard.eval(&zeros))
-    {
-        let target = ecc.states[0].transitions[k].target;
-        let mut new = ecc.initial_outputs.clone();
-        ecc.states[target.0].algorithm.apply(&mut new);
-        let changes: Vec<String> = (0..new.len())
-            .filter(|&z| new[z] != ecc.initial_outputs[z])
-            .map(|z| format!("{} {}", labels.outputs[z], new[z]))
-            .collect();
-        let id = format!("power_up_{k}");
-        if changes.is_empty() {
-            tau(&mut x, &id)?;
-        } else {
-            labelled(&mut x, &id, &changes.join(crate::events::JOIN))?;
-        }
-        arcs.push(("start".into(), id.clone()));
-        arcs.push((id, format!("p{}", target.0)));
     }
-    input_events(&mut x, &mut arcs, 0, "start")?;
-    for (i, s) in ecc.states.iter().enumerate() {
-        input_events(&mut x, &mut arcs, i, &format!("p{i}"))?;
-        for (k, t) in s.transitions.iter().enumerate() {
-            let outcomes: BTreeSet<Vec<(usize, bool)>> = entry[i]
+
+    /// Output events of the transitions of state `i`: from `q<i>_<k>` to the target's place,
+    /// one per distinct set of output changes the transition causes on the output vectors
+    /// `entry` the state can be entered with.
+    fn output_events(&mut self, i: usize, entry: &BTreeSet<Vec<bool>>) -> io::Result<()> {
+        let ecc = self.ecc;
+        for (k, t) in ecc.states[i].transitions.iter().enumerate() {
+            let outcomes: BTreeSet<Vec<(usize, bool)>> = entry
                 .iter()
                 .map(|old| {
                     let mut new = old.clone();
@@ -316,52 +376,54 @@ pub fn write_pnml_labelled(
                 .collect();
             for (j, changes) in outcomes.iter().enumerate() {
                 let id = format!("t{i}_{k}_{j}");
-                if changes.is_empty() {
-                    tau(&mut x, &id)?;
-                } else {
-                    let text: Vec<String> = changes
-                        .iter()
-                        .map(|&(z, v)| format!("{} {v}", labels.outputs[z]))
-                        .collect();
-                    labelled(&mut x, &id, &text.join(crate::events::JOIN))?;
-                }
-                arcs.push((format!("q{i}_{k}"), id.clone()));
-                arcs.push((id, format!("p{}", t.target.0)));
+                self.output_changes(&id, changes)?;
+                self.arcs.push((format!("q{i}_{k}"), id.clone()));
+                self.arcs.push((id, format!("p{}", t.target.0)));
             }
         }
+        Ok(())
     }
-    for (n, (source, target)) in arcs.iter().enumerate() {
-        let id = format!("a{n}");
-        x.leaf(
-            3,
-            "arc",
-            &[("id", &id), ("source", source), ("target", target)],
-        )?;
-    }
-    x.close(2, "page")?;
-    x.indent(2)?;
-    let final_marking: &[&str] = match dialect {
-        Dialect::Iso => {
-            x.start("toolspecific", &FBSYNTH_TOOL)?;
-            &["finalMarking"]
+
+    /// The arcs collected, `a<n>` in writing order; closes the page.
+    fn arcs(&mut self) -> io::Result<()> {
+        for (n, (source, target)) in self.arcs.iter().enumerate() {
+            let id = format!("a{n}");
+            self.x.leaf(
+                3,
+                "arc",
+                &[("id", &id), ("source", source), ("target", target)],
+            )?;
         }
-        Dialect::Prom => &["finalmarkings", "marking"],
-    };
-    for element in final_marking {
-        x.start(element, &[])?;
+        self.x.close(2, "page")
     }
-    x.start("place", &[("idref", "p0")])?;
-    x.text_element("text", "1")?;
-    x.end("place")?;
-    for element in final_marking.iter().rev() {
-        x.end(element)?;
+
+    /// The final marking `p0` in the dialect's element; closes the net and the document.
+    fn final_marking(&mut self) -> io::Result<()> {
+        let x = &mut self.x;
+        x.indent(2)?;
+        let final_marking: &[&str] = match self.dialect {
+            Dialect::Iso => {
+                x.start("toolspecific", &FBSYNTH_TOOL)?;
+                &["finalMarking"]
+            }
+            Dialect::Prom => &["finalmarkings", "marking"],
+        };
+        for element in final_marking {
+            x.start(element, &[])?;
+        }
+        x.start("place", &[("idref", "p0")])?;
+        x.text_element("text", "1")?;
+        x.end("place")?;
+        for element in final_marking.iter().rev() {
+            x.end(element)?;
+        }
+        if self.dialect == Dialect::Iso {
+            x.end("toolspecific")?;
+        }
+        x.newline()?;
+        x.close(1, "net")?;
+        x.close(0, "pnml")
     }
-    if dialect == Dialect::Iso {
-        x.end("toolspecific")?;
-    }
-    x.newline()?;
-    x.close(1, "net")?;
-    x.close(0, "pnml")
 }
 
 /// The `<toolspecific>` attributes of fbsynth's own data in an ISO net.

@@ -29,6 +29,51 @@ pub struct Mapping {
     lookup: HashMap<Box<[u8]>, Slot>,
 }
 
+/// The three words of a mapping line `ADDRESS in|out NAME` (the side not yet checked), or
+/// what is wrong with them.
+fn entry(content: &str) -> Result<[&str; 3], String> {
+    let words: Vec<&str> = content.split_whitespace().collect();
+    let [address, side, name] = words[..] else {
+        return Err(format!(
+            "expected 'ADDRESS in|out NAME', found {}",
+            quote(content)
+        ));
+    };
+    if address.contains(',') {
+        return Err(format!("address {} contains ','", quote(address)));
+    }
+    if !is_identifier(name) {
+        return Err(format!(
+            "{} is not a valid name (letters, digits and '_', starting with a letter)",
+            quote(name)
+        ));
+    }
+    Ok([address, side, name])
+}
+
+/// A name that is also another signal's address (`seen_*`: line of each), as the line to
+/// report and the message.
+fn name_as_address(
+    seen_name: &HashMap<String, usize>,
+    seen_addr: &HashMap<String, usize>,
+) -> Option<(usize, String)> {
+    for (name, name_line) in seen_name {
+        match seen_addr.get(name) {
+            Some(addr_line) if addr_line != name_line => {
+                return Some((
+                    *addr_line.max(name_line),
+                    format!(
+                        "{} is both an address (line {addr_line}) and the name of another signal (line {name_line})",
+                        quote(name)
+                    ),
+                ));
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 impl Mapping {
     /// Parses the text of a mapping file; `file` is only used in error messages.
     pub fn parse(file: &Path, text: &str) -> Result<Mapping, IngestError> {
@@ -56,28 +101,7 @@ impl Mapping {
             if content.is_empty() {
                 continue;
             }
-            let words: Vec<&str> = content.split_whitespace().collect();
-            let [address, side, name] = words[..] else {
-                return Err(err(
-                    line,
-                    format!("expected 'ADDRESS in|out NAME', found {}", quote(content)),
-                ));
-            };
-            if address.contains(',') {
-                return Err(err(
-                    line,
-                    format!("address {} contains ','", quote(address)),
-                ));
-            }
-            if !is_identifier(name) {
-                return Err(err(
-                    line,
-                    format!(
-                        "{} is not a valid name (letters, digits and '_', starting with a letter)",
-                        quote(name)
-                    ),
-                ));
-            }
+            let [address, side, name] = entry(content).map_err(|m| err(line, m))?;
             if let Some(first) = seen_addr.insert(address.to_string(), line) {
                 return Err(err(
                     line,
@@ -120,19 +144,8 @@ impl Mapping {
             m.add(address, name, Slot::Output(OutputId(m.outputs.len())));
         }
         // A name may not double as another signal's address: a column would be ambiguous.
-        for (name, name_line) in &seen_name {
-            match seen_addr.get(name) {
-                Some(addr_line) if addr_line != name_line => {
-                    return Err(err(
-                        *addr_line.max(name_line),
-                        format!(
-                            "{} is both an address (line {addr_line}) and the name of another signal (line {name_line})",
-                            quote(name)
-                        ),
-                    ));
-                }
-                _ => {}
-            }
+        if let Some((line, message)) = name_as_address(&seen_name, &seen_addr) {
+            return Err(err(line, message));
         }
         Ok(m)
     }

@@ -18,7 +18,7 @@ use crate::sat::solver::Bounded;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
-use crate::verify::{Report, Verifier, VerifyError};
+use crate::verify::{Report, Verification, Verifier, VerifyError};
 use std::time::Instant;
 
 /// Settings of the loop.
@@ -136,7 +136,7 @@ pub fn run(
         if config.sat.cube_slots.is_some() {
             lower = LowerBound::start(scope, set, tree, &config.sat, config.verbose, events)?;
         }
-        iterate(set, tree, verifier, closed, config, &mut lower, events)
+        Cegis::new(set, tree, verifier, closed, config, &mut lower, events).run()
     })
 }
 
@@ -249,194 +249,368 @@ impl<'scope> LowerBound<'scope> {
     }
 }
 
-fn iterate(
-    set: &ScenarioSet,
-    tree: &ScenarioTree,
-    verifier: &mut Verifier,
-    closed: Option<&ClosedLoop>,
-    config: &Config,
-    lower: &mut LowerBound<'_>,
-    events: Events<'_>,
-) -> Result<Verified, CegisError> {
-    // Candidates need no proof of minimality; the final machine gets a budget for it.
-    let (candidates, last) = if closed.is_some() {
-        (Proofs::Skip, Proofs::Budget(config.proof_budget))
-    } else {
-        (Proofs::Full, Proofs::Full)
-    };
-    let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidates);
-    lower.seed(&mut synth);
-    for neg in &config.negatives {
-        synth.add_negative(neg.clone());
-    }
-    let mut iterations = Vec::new();
-    let mut last_failing = String::new();
-    // Candidates are minimized for their own colouring only (cheap); once one passes, the
-    // final pass tries to prove it minimal within the budget, and is checked again if that
-    // changed it. Without the closed loop every candidate gets full proofs.
-    let mut final_pass = closed.is_none();
-    let mut in_process = closed.is_some();
-    synth.set_minimize_n(true);
+/// A candidate NuSMV verified, kept while the final pass looks for a smaller machine: if it
+/// finds none, this machine and its report stand.
+struct Passed {
+    synthesis: Synthesis,
+    report: Report,
+    model_text: String,
+}
 
-    // The last candidate NuSMV passed: if the final pass finds no smaller machine, its report
-    // stands.
-    let mut passed: Option<(Synthesis, Report, String)> = None;
-    for number in 1..=config.max_iterations {
-        lower.settle(&mut synth, final_pass, events)?;
-        let t = Instant::now();
-        if let (true, Some((p, _, _))) = (final_pass, &passed) {
-            // The final pass asks first whether anything smaller exists at all: two bounded
-            // refutations, where searching again costs seconds and usually ends at the same
-            // size with another machine that would need checking again.
-            let Proofs::Budget(budget) = last else {
-                unreachable!("the final pass of the closed loop has a budget")
-            };
-            let (fewer_t, fewer_n) = synth.smaller_exists(p.size, budget);
-            let sat = |b: &Bounded| matches!(b, Bounded::Sat(_));
-            if !sat(&fewer_t) && !sat(&fewer_n) {
-                let (before, report, model_text) = passed.take().expect("checked above");
-                let synthesis = Synthesis {
-                    transitions_exact: matches!(fewer_t, Bounded::Unsat),
-                    guards_exact: matches!(fewer_n, Bounded::Unsat),
-                    ..before
-                };
-                let it = unchanged(number, &synthesis, t.elapsed().as_secs_f64());
-                return Ok(kept(synthesis, report, model_text, iterations, it, events));
-            }
-            // Something smaller exists: search for it from the machine that passed, not from
-            // the lower bound's colouring the line above may have just handed over.
-            synth.hint(p.colors.clone());
+/// What the in-process checker made of a candidate.
+enum InProcess {
+    /// A counterexample went back into the synthesizer: the next candidate is due.
+    Refuted,
+    /// Nothing to feed back; per property whether the checker found it holding (empty when
+    /// it was not asked or gave up).
+    Unrefuted(Vec<bool>),
+}
+
+/// The loop: [`Self::propose`] a candidate on the incremental synthesizer, [`Self::verify`]
+/// it in closed loop (in process first, then NuSMV), [`Self::refine`] the synthesizer with
+/// what failed, and once a candidate passes, one [`Self::final_pass`] that proves it minimal
+/// within the budget or finds the smaller machine to check instead.
+///
+/// Candidates are minimized for their own colouring only (cheap); without the closed loop
+/// every candidate gets full proofs (and every candidate is final).
+struct Cegis<'a, 'l, 'e> {
+    set: &'a ScenarioSet,
+    verifier: &'a mut Verifier,
+    closed: Option<&'a ClosedLoop>,
+    config: &'a Config,
+    lower: &'a mut LowerBound<'l>,
+    events: Events<'e>,
+    synth: Synthesizer<'a>,
+    /// How hard candidates are proven minimal ([`Proofs::Skip`] with the closed loop).
+    candidate_proofs: Proofs,
+    /// How hard the final machine is proven minimal.
+    final_proofs: Proofs,
+    /// Every candidate so far, in order.
+    iterations: Vec<Iteration>,
+    /// The properties the latest refuted candidate failed, comma-separated.
+    last_failing: String,
+    /// Whether the next minimization is the final pass.
+    in_final_pass: bool,
+    /// Whether the in-process checker is asked (it gives up on a closed loop too large, and
+    /// is not asked again).
+    in_process: bool,
+    /// The latest candidate NuSMV passed, during the final pass.
+    passed: Option<Passed>,
+}
+
+impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
+    /// The loop on a synthesizer for `tree` with the user's negative scenarios, started from
+    /// what `lower` knows so far.
+    fn new(
+        set: &'a ScenarioSet,
+        tree: &'a ScenarioTree,
+        verifier: &'a mut Verifier,
+        closed: Option<&'a ClosedLoop>,
+        config: &'a Config,
+        lower: &'a mut LowerBound<'l>,
+        events: Events<'e>,
+    ) -> Self {
+        // Candidates need no proof of minimality; the final machine gets a budget for it.
+        let (candidate_proofs, final_proofs) = if closed.is_some() {
+            (Proofs::Skip, Proofs::Budget(config.proof_budget))
+        } else {
+            (Proofs::Full, Proofs::Full)
+        };
+        let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidate_proofs);
+        lower.seed(&mut synth);
+        for neg in &config.negatives {
+            synth.add_negative(neg.clone());
         }
-        let synthesis = match synth.minimize(&mut |m| {
-            if config.verbose {
+        synth.set_minimize_n(true);
+        Cegis {
+            set,
+            verifier,
+            closed,
+            config,
+            lower,
+            events,
+            synth,
+            candidate_proofs,
+            final_proofs,
+            iterations: Vec::new(),
+            last_failing: String::new(),
+            in_final_pass: closed.is_none(),
+            in_process: closed.is_some(),
+            passed: None,
+        }
+    }
+
+    /// Candidates until one is verified (and, with the closed loop, proven minimal or kept by
+    /// the final pass), or [`Config::max_iterations`] of them.
+    fn run(mut self) -> Result<Verified, CegisError> {
+        for number in 1..=self.config.max_iterations {
+            self.lower
+                .settle(&mut self.synth, self.in_final_pass, self.events)?;
+            let t = Instant::now();
+            if let Some(verified) = self.final_pass(number, t) {
+                return Ok(verified);
+            }
+            let synthesis = self.propose()?;
+            let sat_seconds = t.elapsed().as_secs_f64();
+            if let Some(verified) = self.keep_passed(number, &synthesis, sat_seconds) {
+                return Ok(verified);
+            }
+            let holds = match self.check_in_process(number, &synthesis, sat_seconds)? {
+                InProcess::Refuted => continue,
+                InProcess::Unrefuted(holds) => holds,
+            };
+            let (v, failing) = self.verify(number, &synthesis, sat_seconds, &holds)?;
+            if failing.is_empty() {
+                match self.passed(synthesis, v) {
+                    Some(verified) => return Ok(verified),
+                    None => continue,
+                }
+            }
+            self.last_failing = failing.join(", ");
+            self.refine(&v, &failing, &synthesis.ecc)?;
+        }
+        Err(CegisError::Iterations {
+            iterations: self.config.max_iterations,
+            failing: self.last_failing,
+        })
+    }
+
+    /// Counterexamples (negative scenarios and environments) added so far.
+    fn counterexamples(&self) -> usize {
+        self.synth.negatives().len() + self.synth.environments()
+    }
+
+    /// Back to candidates after a counterexample: no final pass, candidate proofs.
+    fn restart_candidates(&mut self) {
+        self.in_final_pass = false;
+        self.synth.set_proofs(self.candidate_proofs);
+    }
+
+    /// The final pass, in the closed loop, asks first whether anything smaller than the
+    /// machine NuSMV passed exists at all: two bounded refutations
+    /// ([`Synthesizer::smaller_exists`]), where searching again costs seconds and usually ends
+    /// at the same size with another machine that would need checking again. Returns the
+    /// passed machine, with what was proven about its size, when nothing smaller exists;
+    /// otherwise hints its colouring for the search that follows.
+    fn final_pass(&mut self, number: usize, started: Instant) -> Option<Verified> {
+        let p = match (self.in_final_pass, &self.passed) {
+            (true, Some(p)) => &p.synthesis,
+            _ => return None,
+        };
+        let Proofs::Budget(budget) = self.final_proofs else {
+            unreachable!("the final pass of the closed loop has a budget")
+        };
+        let (fewer_t, fewer_n) = self.synth.smaller_exists(p.size, budget);
+        let sat = |b: &Bounded| matches!(b, Bounded::Sat(_));
+        if sat(&fewer_t) || sat(&fewer_n) {
+            // Something smaller exists: search for it from the machine that passed, not from
+            // the lower bound's colouring the settling above may have just handed over.
+            let colors = p.colors.clone();
+            self.synth.hint(colors);
+            return None;
+        }
+        let passed = self.passed.take().expect("checked above");
+        let synthesis = Synthesis {
+            transitions_exact: matches!(fewer_t, Bounded::Unsat),
+            guards_exact: matches!(fewer_n, Bounded::Unsat),
+            ..passed.synthesis
+        };
+        let it = unchanged(number, &synthesis, started.elapsed().as_secs_f64());
+        Some(self.kept(synthesis, passed.report, passed.model_text, it))
+    }
+
+    /// Propose: the next candidate, the least machine on the synthesizer that reproduces
+    /// every scenario and leaves every counterexample so far. Running out of states once
+    /// counterexamples were added is [`CegisError::Exhausted`].
+    fn propose(&mut self) -> Result<Synthesis, CegisError> {
+        let (verbose, events) = (self.config.verbose, &mut self.events);
+        let minimized = self.synth.minimize(&mut |m| {
+            if verbose {
                 events(Event::Solver(m))
             }
-        }) {
-            Err(SatError::TooManyStates { max_states })
-                if synth.negatives().len() + synth.environments() > 0 =>
-            {
-                return Err(CegisError::Exhausted {
+        });
+        match minimized {
+            Err(SatError::TooManyStates { max_states }) if self.counterexamples() > 0 => {
+                Err(CegisError::Exhausted {
                     max_states,
-                    counterexamples: synth.negatives().len() + synth.environments(),
-                    failing: last_failing,
+                    counterexamples: self.counterexamples(),
+                    failing: self.last_failing.clone(),
                 })
             }
-            r => r?,
+            r => Ok(r?),
+        }
+    }
+
+    /// After the final pass's search: a machine no smaller than the one NuSMV passed is not
+    /// worth another check. The verified one stands, with what the final pass proved about
+    /// its size (same C, T and N, so the same bounds). Drops the passed machine either way.
+    fn keep_passed(
+        &mut self,
+        number: usize,
+        synthesis: &Synthesis,
+        sat_seconds: f64,
+    ) -> Option<Verified> {
+        let passed = self.passed.take()?;
+        if !self.in_final_pass || synthesis.size.is_smaller_than(&passed.synthesis.size) {
+            return None;
+        }
+        let before = passed.synthesis;
+        let synthesis = Synthesis {
+            transitions_exact: synthesis.transitions_exact && synthesis.size.t == before.size.t,
+            guards_exact: synthesis.guards_exact && synthesis.size.n == before.size.n,
+            stats: synthesis.stats.clone(),
+            ..before
         };
-        let sat_seconds = t.elapsed().as_secs_f64();
-        if let Some((before, report, model_text)) = passed.take() {
-            // A machine no smaller than the one NuSMV passed is not worth another check: the
-            // verified one stands, with what the final pass proved about its size (same C, T
-            // and N, so the same bounds).
-            if final_pass && !synthesis.size.smaller_than(&before.size) {
-                let synthesis = Synthesis {
-                    transitions_exact: synthesis.transitions_exact
-                        && synthesis.size.t == before.size.t,
-                    guards_exact: synthesis.guards_exact && synthesis.size.n == before.size.n,
-                    stats: synthesis.stats,
-                    ..before
-                };
-                let it = unchanged(number, &synthesis, sat_seconds);
-                return Ok(kept(synthesis, report, model_text, iterations, it, events));
+        let it = unchanged(number, &synthesis, sat_seconds);
+        Some(self.kept(synthesis, passed.report, passed.model_text, it))
+    }
+
+    /// The result when the final pass keeps the verified candidate: its iteration reported
+    /// and appended.
+    fn kept(
+        &mut self,
+        synthesis: Synthesis,
+        report: Report,
+        model_text: String,
+        it: Iteration,
+    ) -> Verified {
+        (self.events)(Event::Candidate(&it));
+        self.iterations.push(it);
+        Verified {
+            synthesis,
+            report,
+            iterations: std::mem::take(&mut self.iterations),
+            model_text,
+        }
+    }
+
+    /// Verify, first step: the in-process checker, whose counterexample costs milliseconds,
+    /// so that NuSMV is asked only about candidates it cannot fault. A counterexample goes
+    /// back into the synthesizer at once ([`Self::refine_in_process`]). Too large a closed
+    /// loop, or one with no behaviour at all: NuSMV decides (and reports a vacuous plant
+    /// itself), from now on alone.
+    fn check_in_process(
+        &mut self,
+        number: usize,
+        synthesis: &Synthesis,
+        sat_seconds: f64,
+    ) -> Result<InProcess, CegisError> {
+        let (Some(closed), true) = (self.closed, self.in_process) else {
+            return Ok(InProcess::Unrefuted(Vec::new()));
+        };
+        let started = Instant::now();
+        let problem = self.verifier.problem();
+        let verdicts = match check::check(
+            &closed.spec.plant,
+            &closed.coupling,
+            &synthesis.ecc,
+            &problem.props,
+            &check::Limits::default(),
+        ) {
+            Ok(verdicts) => verdicts,
+            Err(_) => {
+                self.in_process = false;
+                return Ok(InProcess::Unrefuted(Vec::new()));
+            }
+        };
+        let names = problem.property_names();
+        let holds = (verdicts.iter())
+            .map(|v| matches!(v, check::Verdict::Holds))
+            .collect();
+        let (added, length) = self.refine_in_process(closed, &verdicts, &names, &synthesis.ecc)?;
+        if added == 0 {
+            return Ok(InProcess::Unrefuted(holds));
+        }
+        let failing: Vec<String> = (verdicts.iter().zip(&names))
+            .filter(|(v, _)| matches!(v, check::Verdict::Violated(_)))
+            .map(|(_, name)| name.clone())
+            .collect();
+        let it = Iteration {
+            number,
+            checked_by: "in-process",
+            c: synthesis.size.c,
+            t: synthesis.size.t,
+            failing: failing.clone(),
+            counterexample_length: length,
+            sat_seconds,
+            nusmv_seconds: 0.0,
+            check_seconds: started.elapsed().as_secs_f64(),
+        };
+        (self.events)(Event::Candidate(&it));
+        self.iterations.push(it);
+        self.last_failing = failing.join(", ");
+        self.restart_candidates();
+        Ok(InProcess::Refuted)
+    }
+
+    /// Refine with the in-process checker's lassos: those of encoded properties become
+    /// environments; without a new environment, those of the properties the encoding does
+    /// not carry come back as negative scenarios, as NuSMV's would. Returns how many were
+    /// added and the length of the first.
+    fn refine_in_process(
+        &mut self,
+        closed: &ClosedLoop,
+        verdicts: &[check::Verdict],
+        names: &[String],
+        ecc: &crate::ecc::Ecc,
+    ) -> Result<(usize, Option<usize>), CegisError> {
+        let violated = || {
+            (verdicts.iter().enumerate()).filter_map(|(k, v)| match v {
+                check::Verdict::Violated(lasso) => Some((k, lasso)),
+                _ => None,
+            })
+        };
+        let mut added = 0;
+        let mut length = None;
+        for (_, lasso) in violated().filter(|&(k, _)| closed.encodes(k)) {
+            if self
+                .synth
+                .add_environment(&closed.spec, environment_of(lasso))
+                .is_ok()
+            {
+                added += 1;
+                length.get_or_insert(lasso.states.len());
             }
         }
-        // The in-process checker first: a counterexample from it costs milliseconds, and
-        // NuSMV is asked only about candidates it cannot fault.
-        let mut in_process_holds: Vec<bool> = Vec::new();
-        if let (Some(closed), true) = (closed, in_process) {
-            let tc = Instant::now();
-            let problem = verifier.problem();
-            match check::check(
-                &closed.spec.plant,
-                &closed.coupling,
-                &synthesis.ecc,
-                &problem.props,
-                &check::Limits::default(),
-            ) {
-                Ok(verdicts) => {
-                    let names = problem.property_names();
-                    let mut failing = Vec::new();
-                    let mut envs = Vec::new();
-                    for (k, v) in verdicts.iter().enumerate() {
-                        in_process_holds.push(matches!(v, check::Verdict::Holds));
-                        if let check::Verdict::Violated(lasso) = v {
-                            failing.push(names[k].clone());
-                            if closed.encodes(k) {
-                                envs.push((lasso.states.len(), environment_of(lasso)));
-                            }
-                        }
-                    }
-                    let mut added = 0;
-                    let mut length = None;
-                    for (len, env) in envs {
-                        if synth.add_environment(&closed.spec, env).is_ok() {
-                            added += 1;
-                            length.get_or_insert(len);
-                        }
-                    }
-                    // Without a new environment, the lassos of the properties the encoding
-                    // does not carry come back as negative scenarios, as NuSMV's would.
-                    if added == 0 {
-                        for (k, v) in verdicts.iter().enumerate() {
-                            let check::Verdict::Violated(lasso) = v else {
-                                continue;
-                            };
-                            if closed.encodes(k) {
-                                continue;
-                            }
-                            let neg = negative_of(closed, lasso, &names[k]).map_err(|e| {
-                                SatError::Bug(format!("in-process counterexample: {e}"))
-                            })?;
-                            follows_own(&neg, &synthesis.ecc, || {
-                                format!("in-process {}", neg.label)
-                            })?;
-                            if synth.negatives().contains(&neg) {
-                                continue;
-                            }
-                            length.get_or_insert(lasso.states.len());
-                            synth.add_negative(neg);
-                            added += 1;
-                        }
-                    }
-                    if added > 0 {
-                        let it = Iteration {
-                            number,
-                            checked_by: "in-process",
-                            c: synthesis.size.c,
-                            t: synthesis.size.t,
-                            failing: failing.clone(),
-                            counterexample_length: length,
-                            sat_seconds,
-                            nusmv_seconds: 0.0,
-                            check_seconds: tc.elapsed().as_secs_f64(),
-                        };
-                        events(Event::Candidate(&it));
-                        iterations.push(it);
-                        last_failing = failing.join(", ");
-                        final_pass = false;
-                        synth.set_proofs(candidates);
-                        continue;
-                    }
-                }
-                // Too large, or no behaviour at all: NuSMV decides (and reports a vacuous
-                // plant itself).
-                Err(_) => in_process = false,
-            }
+        if added > 0 {
+            return Ok((added, length));
         }
+        for (k, lasso) in violated().filter(|&(k, _)| !closed.encodes(k)) {
+            let neg = negative_of(closed, lasso, &names[k])
+                .map_err(|e| SatError::Bug(format!("in-process counterexample: {e}")))?;
+            follows_own(&neg, ecc, || format!("in-process {}", neg.label))?;
+            if self.synth.negatives().contains(&neg) {
+                continue;
+            }
+            length.get_or_insert(lasso.states.len());
+            self.synth.add_negative(neg);
+            added += 1;
+        }
+        Ok((added, length))
+    }
+
+    /// Verify, second step: NuSMV's verdict on the candidate in closed loop, reported as an
+    /// iteration, with the names of the failing properties. A property NuSMV finds violated
+    /// where the in-process checker found it holding (`holds`) is a bug in one of them.
+    fn verify(
+        &mut self,
+        number: usize,
+        synthesis: &Synthesis,
+        sat_seconds: f64,
+        holds: &[bool],
+    ) -> Result<(Verification, Vec<String>), CegisError> {
         // With environments one counterexample per candidate is enough: each rules out every
         // machine that fails on its environment. NuSMV's backward re-check per trace is most of
         // its time.
-        let mode = if closed.is_some() {
+        let mode = if self.closed.is_some() {
             CheckMode::FirstCounterexample
         } else {
             CheckMode::AllCounterexamples
         };
-        let v = verifier.verify_with(&synthesis.ecc, mode)?;
+        let v = self.verifier.verify_with(&synthesis.ecc, mode)?;
         let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
-        // A property NuSMV finds violated where the in-process checker found it holding is a
-        // bug in one of them.
         for (k, p) in v.report.properties.iter().enumerate() {
-            if !p.holds && in_process_holds.get(k) == Some(&true) {
+            if !p.holds && holds.get(k) == Some(&true) {
                 return Err(CegisError::Disagreement {
                     property: p.name.clone(),
                     nusmv: p.verdict_line.clone(),
@@ -454,54 +628,50 @@ fn iterate(
             sat_seconds,
             nusmv_seconds: v.report.nusmv_seconds,
         };
-        events(Event::Candidate(&it));
-        iterations.push(it);
-        if failing.is_empty() && !final_pass {
-            passed = Some((synthesis.clone(), v.report, v.model.text));
-            final_pass = true;
-            synth.set_proofs(last);
-            continue;
-        }
-        if failing.is_empty() {
-            return Ok(Verified {
+        (self.events)(Event::Candidate(&it));
+        self.iterations.push(it);
+        Ok((v, failing))
+    }
+
+    /// A candidate NuSMV passed: the result if this was the final pass, else kept while the
+    /// final pass starts (`None`).
+    fn passed(&mut self, synthesis: Synthesis, v: Verification) -> Option<Verified> {
+        if !self.in_final_pass {
+            self.passed = Some(Passed {
                 synthesis,
                 report: v.report,
-                iterations,
                 model_text: v.model.text,
             });
+            self.in_final_pass = true;
+            self.synth.set_proofs(self.final_proofs);
+            return None;
         }
-        last_failing = failing.join(", ");
-        // Counterexamples of encoded properties become environments: the closed loop along
-        // each is required to satisfy every encoded property, whatever the machine does.
-        let mut added = 0;
-        if let Some(closed) = closed {
-            let names = verifier.problem().property_names();
-            for cx in &v.counterexamples {
-                let Some(k) = names.iter().position(|n| *n == cx.property) else {
-                    continue;
-                };
-                if !closed.encodes(k) {
-                    continue;
-                }
-                if let Some(env) = closed.environment(cx) {
-                    if synth.add_environment(&closed.spec, env).is_ok() {
-                        added += 1;
-                    }
-                }
-            }
+        Some(Verified {
+            synthesis,
+            report: v.report,
+            iterations: std::mem::take(&mut self.iterations),
+            model_text: v.model.text,
+        })
+    }
+
+    /// Refine with NuSMV's counterexamples: those of encoded properties become environments
+    /// (the closed loop along each is required to satisfy every encoded property, whatever
+    /// the machine does); without a new one, the counterexamples become negative scenarios,
+    /// safety violations first: their finite prefixes are cheap and strong constraints.
+    /// Lassos (liveness) only once no safety property fails, one at a time: each unrolls
+    /// `loop length x C` steps into the solver.
+    fn refine(
+        &mut self,
+        v: &Verification,
+        failing: &[String],
+        ecc: &crate::ecc::Ecc,
+    ) -> Result<(), CegisError> {
+        if self.add_environments(v) > 0 {
+            self.restart_candidates();
+            return Ok(());
         }
-        if added > 0 {
-            final_pass = false;
-            synth.set_proofs(candidates);
-            continue;
-        }
-        // Safety violations first: their finite prefixes are cheap and strong constraints.
-        // Lassos (liveness) only once no safety property fails, one at a time: each unrolls
-        // `loop length x C` steps into the solver.
-        let all: Vec<_> = v
-            .counterexamples
-            .iter()
-            .filter_map(|c| c.negative_scenario(&set.inputs, &set.outputs))
+        let all: Vec<_> = (v.counterexamples.iter())
+            .filter_map(|c| c.negative_scenario(&self.set.inputs, &self.set.outputs))
             .collect();
         let finite: Vec<_> = all
             .iter()
@@ -519,39 +689,37 @@ fn iterate(
             });
         }
         for neg in negs {
-            follows_own(&neg, &synthesis.ecc, || {
-                format!("{} in the simulator", neg.label)
-            })?;
-            synth.add_negative(neg);
+            follows_own(&neg, ecc, || format!("{} in the simulator", neg.label))?;
+            self.synth.add_negative(neg);
         }
-        if closed.is_some() {
-            final_pass = false;
-            synth.set_proofs(candidates);
+        if self.closed.is_some() {
+            self.restart_candidates();
         }
+        Ok(())
     }
-    Err(CegisError::Iterations {
-        iterations: config.max_iterations,
-        failing: last_failing,
-    })
-}
 
-/// The result when the final pass keeps the verified candidate: its iteration reported and
-/// appended.
-fn kept(
-    synthesis: Synthesis,
-    report: Report,
-    model_text: String,
-    mut iterations: Vec<Iteration>,
-    it: Iteration,
-    events: Events<'_>,
-) -> Verified {
-    events(Event::Candidate(&it));
-    iterations.push(it);
-    Verified {
-        synthesis,
-        report,
-        iterations,
-        model_text,
+    /// The environments of NuSMV's counterexamples of encoded properties, added to the
+    /// synthesizer; returns how many were new.
+    fn add_environments(&mut self, v: &Verification) -> usize {
+        let Some(closed) = self.closed else {
+            return 0;
+        };
+        let names = self.verifier.problem().property_names();
+        let mut added = 0;
+        for cx in &v.counterexamples {
+            let Some(k) = names.iter().position(|n| *n == cx.property) else {
+                continue;
+            };
+            if !closed.encodes(k) {
+                continue;
+            }
+            if let Some(env) = closed.environment(cx) {
+                if self.synth.add_environment(&closed.spec, env).is_ok() {
+                    added += 1;
+                }
+            }
+        }
+        added
     }
 }
 

@@ -171,166 +171,232 @@ fn sat_options(check: &Check) -> sat::Options {
 /// The guide (module documentation) on `set` with `check`; its SAT calls and the game stop at
 /// the check's deadline ([`Check::deadline`]).
 pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
-    let not_here = |why: String| Ok(Outcome::NotHere(why));
-    let problem = &check.problem;
-    let sat_options = sat_options(check);
-    let Ok(model) = problem.model.as_ref() else {
-        return not_here("the game does not read this plant".into());
+    let mut guide = Guide {
+        set,
+        events,
+        stages: Vec::new(),
+        sat_seconds: 0.0,
+        nusmv_calls: 0,
+        nusmv_seconds: 0.0,
+        sat: sat_options(check),
     };
-    let coupling = match crate::check::Coupling::new(model, &problem.coupling) {
-        Ok(c) => c,
-        Err(e) => return not_here(format!("the game does not apply: {e}")),
+    let (tree, strategy) = match guide.game(check)? {
+        Ok(won) => won,
+        Err(why) => return Ok(Outcome::NotHere(why)),
     };
-    let tree = ScenarioTree::build(set)?;
-    let started = Instant::now();
-    let outcome = game::solve(
-        model,
-        &coupling,
-        &problem.props,
-        &tree,
-        &set.initial_outputs,
-        super::explain::GAME_POSITIONS,
-        check.deadline(),
-    );
-    let strategy = match outcome {
-        Ok(game::Outcome::Won(s)) => s,
-        Ok(game::Outcome::Lost) => return not_here(format!(
-            "the closed-loop game is lost ({:.1} s): no controller of any size answers the recordings as recorded and keeps every property against every behaviour of the plant (in the tool's own model of it)",
-            started.elapsed().as_secs_f64()
-        )),
-        Err(e) => return not_here(format!("the game does not apply: {e}")),
+    let repaired = match guide.repaired(&tree, &strategy)? {
+        Ok(repaired) => repaired,
+        Err(why) => return Ok(Outcome::NotHere(why)),
     };
-    let mut stages = Vec::new();
-    let mut stage = |s: Stage, events: Events<'_>| {
-        events(Event::Guide(s.clone()));
-        stages.push(s);
-    };
-    stage(
-        Stage::Game {
+    let small = guide.least_for_runs(&strategy, &repaired)?;
+    guide.judged(check, small, repaired.ecc)
+}
+
+/// What a stage gives, or why the guide has no machine here ([`Outcome::NotHere`]).
+type OrWhy<T> = Result<T, String>;
+
+/// The guide's run: its stages so far and its figures.
+struct Guide<'a, 'e> {
+    set: &'a ScenarioSet,
+    events: Events<'e>,
+    stages: Vec<Stage>,
+    sat_seconds: f64,
+    nusmv_calls: usize,
+    nusmv_seconds: f64,
+    /// The options of every SAT synthesis: the defaults, stopped at the check's deadline.
+    sat: sat::Options,
+}
+
+impl Guide<'_, '_> {
+    /// Reports stage `s` and keeps it.
+    fn stage(&mut self, s: Stage) {
+        (self.events)(Event::Guide(s.clone()));
+        self.stages.push(s);
+    }
+
+    /// Step 1: the closed-loop game of the recordings' tree, solved and won; why not when
+    /// the game does not read the plant, does not apply, or is lost.
+    fn game(&mut self, check: &Check) -> Result<OrWhy<(ScenarioTree, Box<game::Strategy>)>, Error> {
+        let set = self.set;
+        let problem = &check.problem;
+        let Ok(model) = problem.model.as_ref() else {
+            return Ok(Err("the game does not read this plant".into()));
+        };
+        let coupling = match crate::check::Coupling::new(model, &problem.coupling) {
+            Ok(c) => c,
+            Err(e) => return Ok(Err(format!("the game does not apply: {e}"))),
+        };
+        let tree = ScenarioTree::build(set)?;
+        let started = Instant::now();
+        let outcome = game::solve(
+            model,
+            &coupling,
+            &problem.props,
+            &tree,
+            &set.initial_outputs,
+            super::explain::GAME_POSITIONS,
+            check.deadline(),
+        );
+        let strategy = match outcome {
+            Ok(game::Outcome::Won(s)) => s,
+            Ok(game::Outcome::Lost) => return Ok(Err(format!(
+                "the closed-loop game is lost ({:.1} s): no controller of any size answers the recordings as recorded and keeps every property against every behaviour of the plant (in the tool's own model of it)",
+                started.elapsed().as_secs_f64()
+            ))),
+            Err(e) => return Ok(Err(format!("the game does not apply: {e}"))),
+        };
+        self.stage(Stage::Game {
             positions: strategy.positions,
             seconds: started.elapsed().as_secs_f64(),
-        },
-        events,
-    );
+        });
+        Ok(Ok((tree, strategy)))
+    }
 
-    let started = Instant::now();
-    let base = match sat::synthesize(set, &tree, &sat_options, &mut |_| {}) {
-        Ok(b) => b,
-        Err(e @ (sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. })) => {
-            return not_here(format!("for the recordings alone: {e}"))
-        }
-        Err(e) => return Err(e.into()),
-    };
-    set.check(&base.ecc).map_err(|d| {
-        Error::Bug(format!(
-            "the machine for the recordings does not replay them: {d}"
-        ))
-    })?;
-    let repaired = match repair::repair(&strategy, &base.ecc, MAX_ROUNDS) {
-        Ok(r) => r,
-        Err(e) => {
-            return not_here(format!(
-                "the closed-loop game is won ({} positions): a controller that answers the recordings as recorded and keeps every property exists (in the tool's own model of the plant; NuSMV has not checked it), but the repair of the recordings' machine failed: {e}",
-                strategy.positions
+    /// Step 2: the least machine SAT finds for the recordings alone (`tree`), repaired until
+    /// it wins the game ([`repair::repair`]); both replay the recordings.
+    fn repaired(
+        &mut self,
+        tree: &ScenarioTree,
+        strategy: &game::Strategy,
+    ) -> Result<OrWhy<repair::Repaired>, Error> {
+        let set = self.set;
+        let started = Instant::now();
+        let base = match sat::synthesize(set, tree, &self.sat, &mut |_| {}) {
+            Ok(b) => b,
+            Err(e @ (sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. })) => {
+                return Ok(Err(format!("for the recordings alone: {e}")))
+            }
+            Err(e) => return Err(e.into()),
+        };
+        set.check(&base.ecc).map_err(|d| {
+            Error::Bug(format!(
+                "the machine for the recordings does not replay them: {d}"
             ))
-        }
-    };
-    let mut sat_seconds = started.elapsed().as_secs_f64();
-    stage(
-        Stage::Repaired {
+        })?;
+        let repaired = match repair::repair(strategy, &base.ecc, MAX_ROUNDS) {
+            Ok(r) => r,
+            Err(e) => {
+                return Ok(Err(format!(
+                    "the closed-loop game is won ({} positions): a controller that answers the recordings as recorded and keeps every property exists (in the tool's own model of the plant; NuSMV has not checked it), but the repair of the recordings' machine failed: {e}",
+                    strategy.positions
+                )))
+            }
+        };
+        self.sat_seconds = started.elapsed().as_secs_f64();
+        self.stage(Stage::Repaired {
             base: base.size,
             size: repaired.ecc.size(),
             rounds: repaired.rounds,
-            seconds: sat_seconds,
-        },
-        events,
-    );
-    set.check(&repaired.ecc).map_err(|d| {
-        Error::Bug(format!(
-            "the repaired machine does not replay the recordings: {d}"
-        ))
-    })?;
+            seconds: self.sat_seconds,
+        });
+        set.check(&repaired.ecc).map_err(|d| {
+            Error::Bug(format!(
+                "the repaired machine does not replay the recordings: {d}"
+            ))
+        })?;
+        Ok(Ok(repaired))
+    }
 
-    let started = Instant::now();
-    let runs = repair::covering_runs(&strategy, &repaired.ecc)
-        .map_err(|e| Error::Bug(format!("the repaired machine loses the game: {e}")))?;
-    let steps = runs.iter().map(|r| r.steps.len()).sum();
-    let n_runs = runs.len();
-    let mut guided = set.clone();
-    guided.scenarios.extend(runs);
-    let tree = ScenarioTree::build(&guided)?;
-    // Too many states for the runs: the repaired machine is judged alone.
-    let small = match sat::synthesize(&guided, &tree, &sat_options, &mut |_| {}) {
-        Ok(small) => {
-            guided.check(&small.ecc).map_err(|d| {
-                Error::Bug(format!(
-                    "the least machine does not replay its scenarios: {d}"
-                ))
-            })?;
-            Some(small)
-        }
-        Err(sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. }) => None,
-        Err(e) => return Err(e.into()),
-    };
-    let seconds = started.elapsed().as_secs_f64();
-    sat_seconds += seconds;
-    stage(
-        Stage::Small {
+    /// Step 3: the repaired machine recorded along every node of its closed loop with the
+    /// game ([`repair::covering_runs`]), and the least machine for the recordings and those
+    /// runs (`None`: too many states for the runs, the repaired machine is judged alone).
+    fn least_for_runs(
+        &mut self,
+        strategy: &game::Strategy,
+        repaired: &repair::Repaired,
+    ) -> Result<Option<sat::Synthesis>, Error> {
+        let started = Instant::now();
+        let runs = repair::covering_runs(strategy, &repaired.ecc)
+            .map_err(|e| Error::Bug(format!("the repaired machine loses the game: {e}")))?;
+        let steps = runs.iter().map(|r| r.steps.len()).sum();
+        let n_runs = runs.len();
+        let mut guided = self.set.clone();
+        guided.scenarios.extend(runs);
+        let tree = ScenarioTree::build(&guided)?;
+        let small = match sat::synthesize(&guided, &tree, &self.sat, &mut |_| {}) {
+            Ok(small) => {
+                guided.check(&small.ecc).map_err(|d| {
+                    Error::Bug(format!(
+                        "the least machine does not replay its scenarios: {d}"
+                    ))
+                })?;
+                Some(small)
+            }
+            Err(sat::SatError::TooManyStates { .. } | sat::SatError::OutOfBounds { .. }) => None,
+            Err(e) => return Err(e.into()),
+        };
+        let seconds = started.elapsed().as_secs_f64();
+        self.sat_seconds += seconds;
+        self.stage(Stage::Small {
             runs: n_runs,
             steps,
             size: small.as_ref().map(|s| s.size),
             seconds,
-        },
-        events,
-    );
+        });
+        Ok(small)
+    }
 
-    let mut verifier = check.verifier()?;
-    let (mut nusmv_calls, mut nusmv_seconds) = (0, 0.0);
-    let mut judge = |ecc: &Ecc, machine: &'static str, events: Events<'_>| {
-        let v = verifier.verify_with(ecc, CheckMode::VerdictsOnly)?;
-        nusmv_calls += 1;
-        nusmv_seconds += v.report.nusmv_seconds;
-        let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
-        stage(
-            Stage::Verdict {
-                machine,
-                failing: failing.clone(),
-                seconds: v.report.nusmv_seconds,
+    /// Step 4: NuSMV judges the least machine for the runs, then if it fails the repaired
+    /// machine, which the game says wins: if NuSMV refutes that one too, one of the two
+    /// checkers is wrong ([`Error::Bug`]).
+    fn judged(
+        mut self,
+        check: &Check,
+        small: Option<sat::Synthesis>,
+        repaired: Ecc,
+    ) -> Result<Outcome, Error> {
+        let mut verifier = check.verifier()?;
+        let verified_small = match small {
+            Some(small) => match self.judge(&mut verifier, &small.ecc, "least")? {
+                (v, true) => Some((v, small.ecc)),
+                (_, false) => None,
             },
-            events,
-        );
-        Ok::<_, Error>((v, failing.is_empty()))
-    };
-    let verified_small = match small {
-        Some(small) => match judge(&small.ecc, "least", events)? {
-            (v, true) => Some((v, small.ecc)),
-            (_, false) => None,
-        },
-        None => None,
-    };
-    let (certificate, least_for_runs, ecc) = match verified_small {
-        Some((v, ecc)) => (v, true, ecc),
-        None => match judge(&repaired.ecc, "repaired", events)? {
-            (v, true) => (v, false, repaired.ecc),
-            (v, false) => {
-                return Err(Error::Bug(format!(
-                    "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
-                    v.report.failing().join(", ")
-                )))
-            }
-        },
-    };
-    Ok(Outcome::Verified(Box::new(Guided {
-        size: ecc.size(),
-        ecc,
-        certificate: Certificate {
-            report: certificate.report,
-            model_text: certificate.model.text,
-        },
-        least_for_runs,
-        stages,
-        nusmv_calls,
-        nusmv_seconds,
-        sat_seconds,
-    })))
+            None => None,
+        };
+        let (certificate, least_for_runs, ecc) = match verified_small {
+            Some((v, ecc)) => (v, true, ecc),
+            None => match self.judge(&mut verifier, &repaired, "repaired")? {
+                (v, true) => (v, false, repaired),
+                (v, false) => {
+                    return Err(Error::Bug(format!(
+                        "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
+                        v.report.failing().join(", ")
+                    )))
+                }
+            },
+        };
+        Ok(Outcome::Verified(Box::new(Guided {
+            size: ecc.size(),
+            ecc,
+            certificate: Certificate {
+                report: certificate.report,
+                model_text: certificate.model.text,
+            },
+            least_for_runs,
+            stages: self.stages,
+            nusmv_calls: self.nusmv_calls,
+            nusmv_seconds: self.nusmv_seconds,
+            sat_seconds: self.sat_seconds,
+        })))
+    }
+
+    /// NuSMV's verdicts on `ecc` (the `machine` of [`Stage::Verdict`]), and whether every
+    /// property holds.
+    fn judge(
+        &mut self,
+        verifier: &mut crate::verify::Verifier,
+        ecc: &Ecc,
+        machine: &'static str,
+    ) -> Result<(crate::verify::Verification, bool), Error> {
+        let v = verifier.verify_with(ecc, CheckMode::VerdictsOnly)?;
+        self.nusmv_calls += 1;
+        self.nusmv_seconds += v.report.nusmv_seconds;
+        let failing: Vec<String> = v.report.failing().iter().map(|s| s.to_string()).collect();
+        self.stage(Stage::Verdict {
+            machine,
+            failing: failing.clone(),
+            seconds: v.report.nusmv_seconds,
+        });
+        Ok((v, failing.is_empty()))
+    }
 }

@@ -83,7 +83,7 @@ pub const LAZY_FROM_NODES: usize = 2_048;
 pub const FIRST_PART_NODES: usize = 512;
 
 /// Steps of recorded traces without correction that a short group takes as context in one
-/// round, at least (see [`least_proven`]).
+/// round, at least (see [`EpsilonProof`]).
 const CONTEXT_STEPS: usize = 100;
 
 /// Traces that join the part in one round.
@@ -243,6 +243,9 @@ fn replay(set: &ScenarioSet, distinct: &[usize], ecc: &Ecc) -> Vec<Option<Correc
         .collect()
 }
 
+/// Steps 1-5 of the module doc: the sizes on a growing part, the least ε proven over
+/// segments, and the machine's corrected log; the whole log's encoding when the proof falls
+/// short.
 fn in_parts(
     set: &ScenarioSet,
     distinct: &[usize],
@@ -252,8 +255,102 @@ fn in_parts(
     events: Events<'_>,
 ) -> Result<NoisySynthesis, Error> {
     let t0 = Instant::now();
-    let nodes_of = |d: usize| active(&set.scenarios[distinct[d]].steps);
-    // Positions in `distinct` of the part's traces.
+    let PartMachine {
+        part,
+        synthesis: s,
+        fixes,
+        rounds,
+        mut stats,
+    } = part_machine(set, distinct, opts, parts, events)?;
+    let candidate = s
+        .candidates
+        .into_iter()
+        .next()
+        .expect("checked in the loop");
+    stats.minimize_seconds = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let upper: usize = fixes.iter().map(|f| f.steps.len()).sum();
+    let sizes = (s.n, s.k, s.r);
+    let proof = EpsilonProof::new(set, distinct, &fixes, &part, candidate.errors, sizes, opts)?;
+    if !proof.run(events)? {
+        // Another machine of these sizes needs fewer corrections: only the whole log says which.
+        return whole(set, opts, events);
+    }
+    let corrected = corrected_log(set, distinct, &fixes);
+    let ecc = candidate.ecc;
+    corrected.check(&ecc).map_err(|m| {
+        SatError::Bug(format!(
+            "the machine found in parts does not replay its corrected traces: {m}"
+        ))
+    })?;
+    events(Event::Solver(Solver::Minimal {
+        bound: Bound::Errors,
+        value: upper,
+    }));
+    events(Event::Solver(Solver::Candidate {
+        number: 1,
+        errors: upper,
+        size: ecc.size(),
+    }));
+    let used: Vec<bool> = fixes.iter().flat_map(|f| f.used.iter().copied()).collect();
+    let inputs: HashSet<&[bool]> = distinct
+        .iter()
+        .flat_map(|&i| set.scenarios[i].steps.iter().map(|s| s.inputs.as_slice()))
+        .collect();
+    stats.graph_nodes = nodes;
+    stats.distinct_traces = distinct.len();
+    stats.alternatives = used.len();
+    stats.distinct_inputs = inputs.len();
+    stats.rounds = rounds;
+    stats.encoded_nodes = 1 + part
+        .iter()
+        .map(|&d| active(&set.scenarios[distinct[d]].steps))
+        .sum::<usize>();
+    stats.enumerate_seconds = t1.elapsed().as_secs_f64();
+    Ok(NoisySynthesis {
+        n: s.n,
+        k: s.k,
+        r: s.r,
+        candidates: vec![Candidate {
+            size: ecc.size(),
+            ecc,
+            errors: upper,
+            used,
+            corrected,
+            guards_exact: candidate.guards_exact,
+        }],
+        exhausted: false,
+        stats,
+    })
+}
+
+/// Steps 1-3 of the module doc: a part of the log whose machine explains every trace within
+/// the bound, so that the part's least sizes are the whole log's.
+struct PartMachine {
+    /// Positions in `distinct` of the part's traces.
+    part: Vec<usize>,
+    /// Algorithm 1 on the part, with one candidate.
+    synthesis: NoisySynthesis,
+    /// The candidate's corrections on every distinct trace.
+    fixes: Vec<Corrections>,
+    /// Part rounds made.
+    rounds: usize,
+    /// Encoding figures summed over the rounds.
+    stats: NoisyStats,
+}
+
+/// Algorithm 1 on a part of the log that starts as [`first_part`] and takes, each round, up
+/// to [`JOIN_PER_ROUND`] traces its machine cannot explain (or, when the corrections exceed
+/// `--max-errors`, traces with corrections), until the machine explains every trace within
+/// the bound (steps 1-3 of the module doc). Each part holds the one before, so its least
+/// sizes are proven for every later part too.
+fn part_machine(
+    set: &ScenarioSet,
+    distinct: &[usize],
+    opts: &Options,
+    parts: Parts,
+    events: Events<'_>,
+) -> Result<PartMachine, Error> {
     let mut part = first_part(set, distinct, parts.first_nodes);
     let mut in_part = vec![false; distinct.len()];
     for &d in &part {
@@ -265,33 +362,14 @@ fn in_parts(
     };
     let mut stats = NoisyStats::default();
     let mut round = 0;
-    let (s, fixes) = loop {
+    loop {
         round += 1;
-        let traces: Vec<usize> = part.iter().map(|&d| distinct[d]).collect();
-        // The part's own ε and candidate are not the log's: their lines are left out.
-        let s = synthesize_noisy(
-            &subset(set, &traces),
-            &one,
-            &mut |m| match m {
-                Solver::Candidate { .. }
-                | Solver::Minimal {
-                    bound: Bound::Errors,
-                    ..
-                } => {}
-                m => events(Event::Solver(m)),
-            },
-            &mut |_| Flow::Continue,
-        )?;
+        let (s, fixes) = part_round(set, distinct, &part, &one, events)?;
         stats.variables += s.stats.variables;
         stats.clauses += s.stats.clauses;
         stats.solver_calls += s.stats.solver_calls;
         // Every later part holds this one: its least sizes are proven for them too.
         one.at_least = Some((s.n, s.k, s.r));
-        let candidate = s
-            .candidates
-            .first()
-            .ok_or_else(|| SatError::Bug("Algorithm 1 ended without a candidate".into()))?;
-        let fixes = replay(set, distinct, &candidate.ecc);
         let unexplained: Vec<usize> = (0..distinct.len())
             .filter(|&d| fixes[d].is_none())
             .collect();
@@ -318,7 +396,15 @@ fn in_parts(
                 .filter(|&d| !in_part[d] && fixes[d].as_ref().is_some_and(|f| !f.steps.is_empty()))
                 .collect()
         } else {
-            break (s, fixes);
+            return Ok(PartMachine {
+                part,
+                synthesis: s,
+                fixes: (fixes.into_iter())
+                    .map(|f| f.expect("every trace explained"))
+                    .collect(),
+                rounds: round,
+                stats,
+            });
         };
         if join.is_empty() {
             return Err(SatError::Bug(
@@ -330,34 +416,45 @@ fn in_parts(
             part.push(d);
             in_part[d] = true;
         }
-    };
+    }
+}
+
+/// One part round: Algorithm 1 on the traces `part` (positions in `distinct`) with options
+/// `one`, and the corrections its candidate needs on every distinct trace (`None`: it cannot
+/// explain it).
+fn part_round(
+    set: &ScenarioSet,
+    distinct: &[usize],
+    part: &[usize],
+    one: &Options,
+    events: Events<'_>,
+) -> Result<(NoisySynthesis, Vec<Option<Corrections>>), Error> {
+    let traces: Vec<usize> = part.iter().map(|&d| distinct[d]).collect();
+    // The part's own ε and candidate are not the log's: their lines are left out.
+    let s = synthesize_noisy(
+        &subset(set, &traces),
+        one,
+        &mut |m| match m {
+            Solver::Candidate { .. }
+            | Solver::Minimal {
+                bound: Bound::Errors,
+                ..
+            } => {}
+            m => events(Event::Solver(m)),
+        },
+        &mut |_| Flow::Continue,
+    )?;
     let candidate = s
         .candidates
-        .into_iter()
-        .next()
-        .expect("checked in the loop");
-    let fixes: Vec<Corrections> = fixes
-        .into_iter()
-        .map(|f| f.expect("every trace explained"))
-        .collect();
-    stats.minimize_seconds = t0.elapsed().as_secs_f64();
-    let t1 = Instant::now();
-    let upper: usize = fixes.iter().map(|f| f.steps.len()).sum();
-    let sizes = (s.n, s.k, s.r);
-    if !least_proven(
-        set,
-        distinct,
-        &part,
-        &fixes,
-        candidate.errors,
-        sizes,
-        opts,
-        events,
-    )? {
-        // Another machine of these sizes needs fewer corrections: only the whole log says which.
-        return whole(set, opts, events);
-    }
+        .first()
+        .ok_or_else(|| SatError::Bug("Algorithm 1 ended without a candidate".into()))?;
+    let fixes = replay(set, distinct, &candidate.ecc);
+    Ok((s, fixes))
+}
 
+/// The log with every distinct trace's corrections `fixes` applied (each corrected step
+/// takes the inputs of the step after it), on every scenario that records it.
+fn corrected_log(set: &ScenarioSet, distinct: &[usize], fixes: &[Corrections]) -> ScenarioSet {
     let mut corrected = set.clone();
     let at: HashMap<&[Step], usize> = distinct
         .iter()
@@ -376,48 +473,7 @@ fn in_parts(
     for sc in &mut corrected.scenarios {
         sc.steps = fixed_steps[at[sc.steps.as_slice()]].clone();
     }
-    let ecc = candidate.ecc;
-    corrected.check(&ecc).map_err(|m| {
-        SatError::Bug(format!(
-            "the machine found in parts does not replay its corrected traces: {m}"
-        ))
-    })?;
-    events(Event::Solver(Solver::Minimal {
-        bound: Bound::Errors,
-        value: upper,
-    }));
-    events(Event::Solver(Solver::Candidate {
-        number: 1,
-        errors: upper,
-        size: ecc.size(),
-    }));
-    let used: Vec<bool> = fixes.iter().flat_map(|f| f.used.iter().copied()).collect();
-    let inputs: HashSet<&[bool]> = distinct
-        .iter()
-        .flat_map(|&i| set.scenarios[i].steps.iter().map(|s| s.inputs.as_slice()))
-        .collect();
-    stats.graph_nodes = nodes;
-    stats.distinct_traces = distinct.len();
-    stats.alternatives = used.len();
-    stats.distinct_inputs = inputs.len();
-    stats.rounds = round;
-    stats.encoded_nodes = 1 + part.iter().map(|&d| nodes_of(d)).sum::<usize>();
-    stats.enumerate_seconds = t1.elapsed().as_secs_f64();
-    Ok(NoisySynthesis {
-        n: s.n,
-        k: s.k,
-        r: s.r,
-        candidates: vec![Candidate {
-            size: ecc.size(),
-            ecc,
-            errors: upper,
-            used,
-            corrected,
-            guards_exact: candidate.guards_exact,
-        }],
-        exhausted: false,
-        stats,
-    })
+    corrected
 }
 
 /// Steps `from..to` of distinct trace `d`.
@@ -748,115 +804,147 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// Whether the least ε of the whole log is the machine's `fixes` (step 4 of the module doc):
-/// `part_errors` is the part's Algorithm 1 ε.
-#[allow(clippy::too_many_arguments)]
-fn least_proven(
-    set: &ScenarioSet,
-    distinct: &[usize],
-    part: &[usize],
-    fixes: &[Corrections],
-    part_errors: usize,
+/// The proof that the machine's corrections are the least ε of the whole log (steps 4-5 of
+/// the module doc): lower bounds on disjoint groups of the log, summed, with the short groups
+/// given context, widened or joined round after round.
+struct EpsilonProof<'a> {
+    set: &'a ScenarioSet,
+    distinct: &'a [usize],
+    /// The machine's corrections on every distinct trace.
+    fixes: &'a [Corrections],
+    /// The part's least sizes `(C, K, T)`, which every bound is computed within.
     sizes: (usize, usize, usize),
-    opts: &Options,
-    events: Events<'_>,
-) -> Result<bool, Error> {
-    let errs = |d: usize| fixes[d].steps.len();
-    let len = |d: usize| set.scenarios[distinct[d]].steps.len();
-    let whole = |d: usize| Piece {
-        d,
-        from: 0,
-        to: len(d),
-    };
-    let upper: usize = (0..distinct.len()).map(errs).sum();
-    let part_upper: usize = part.iter().map(|&d| errs(d)).sum();
-    if part_upper != part_errors {
-        return Err(SatError::Bug(format!(
-            "the part's least ε is {part_errors}, its machine replays the part with {part_upper}"
-        ))
-        .into());
+    opts: &'a Options,
+    /// The corrections the machine needs in all.
+    upper: usize,
+    /// Segments and groups of traces outside the part.
+    groups: Vec<Group>,
+    /// The part, a group whose bound is known: its own least ε.
+    part: Group,
+    /// Context: traces outside the part the machine explains without a correction, longest
+    /// last, then free prefixes.
+    pool: Vec<Piece>,
+    /// Free prefixes waiting for the pool to run out ([`free_prefixes`]).
+    reserve: Vec<Piece>,
+    /// Traces whose free prefix went to the reserve.
+    lent: HashSet<usize>,
+    /// Bounds already computed, by what they were computed on: on 10^5 samples of the
+    /// distribution station 256 of the 339 first windows and 176 of the 325 second ones
+    /// repeat another segment's (the same skew at the same point of the same cycle).
+    proven: Mutex<HashMap<Recorded, usize>>,
+    /// Whether short segments were widened once ([`widen_short_segments`]).
+    widened: bool,
+}
+
+impl<'a> EpsilonProof<'a> {
+    /// The first groups: the part (`part`, positions in `distinct`, bound `part_errors`, its
+    /// Algorithm 1 ε) and one segment per correction the machine makes outside it
+    /// ([`segments`]).
+    fn new(
+        set: &'a ScenarioSet,
+        distinct: &'a [usize],
+        fixes: &'a [Corrections],
+        part: &[usize],
+        part_errors: usize,
+        sizes: (usize, usize, usize),
+        opts: &'a Options,
+    ) -> Result<Self, Error> {
+        let errs = |d: usize| fixes[d].steps.len();
+        let part_upper: usize = part.iter().map(|&d| errs(d)).sum();
+        if part_upper != part_errors {
+            return Err(SatError::Bug(format!(
+                "the part's least ε is {part_errors}, its machine replays the part with {part_upper}"
+            ))
+            .into());
+        }
+        let mut proof = EpsilonProof {
+            set,
+            distinct,
+            fixes,
+            sizes,
+            opts,
+            upper: (0..distinct.len()).map(errs).sum(),
+            groups: Vec::new(),
+            part: Group::new(Vec::new(), part_errors),
+            pool: Vec::new(),
+            reserve: Vec::new(),
+            lent: HashSet::new(),
+            proven: Mutex::new(HashMap::new()),
+            widened: false,
+        };
+        let in_part: HashSet<usize> = part.iter().copied().collect();
+        let outside = || (0..distinct.len()).filter(|d| !in_part.contains(d));
+        proof.pool = outside()
+            .filter(|&d| errs(d) == 0)
+            .map(|d| whole_trace(set, distinct, d))
+            .collect();
+        proof.pool.sort_by_key(|p| p.to);
+        for d in outside().filter(|&d| errs(d) > 0) {
+            let steps = &set.scenarios[distinct[d]].steps;
+            let cut = cuts(steps, &set.initial_outputs);
+            for (from, to, n) in segments(&cut, &fixes[d].steps) {
+                proof
+                    .groups
+                    .push(Group::new(vec![Piece { d, from, to }], n));
+            }
+        }
+        let pieces: Vec<Piece> = part.iter().map(|&d| proof.whole(d)).collect();
+        proof.part = Group {
+            pieces: pieces.clone(),
+            upper: part_errors,
+            lower: Some(part_errors),
+            known: vec![(pieces, part_errors)],
+        };
+        Ok(proof)
     }
-    let in_part: HashSet<usize> = part.iter().copied().collect();
-    // Traces outside the part that the machine explains without a correction, longest last.
-    let mut pool: Vec<Piece> = (0..distinct.len())
-        .filter(|d| !in_part.contains(d) && errs(*d) == 0)
-        .map(whole)
-        .collect();
-    pool.sort_by_key(|p| p.to);
-    // Traces whose free prefix went to the pool.
-    let mut lent: HashSet<usize> = HashSet::new();
-    let mut reserve: Vec<Piece> = Vec::new();
-    let mut groups: Vec<Group> = Vec::new();
-    for d in (0..distinct.len()).filter(|d| !in_part.contains(d) && errs(*d) > 0) {
-        let steps = &set.scenarios[distinct[d]].steps;
-        let cut = cuts(steps, &set.initial_outputs);
-        for (from, to, n) in segments(&cut, &fixes[d].steps) {
-            groups.push(Group::new(vec![Piece { d, from, to }], n));
+
+    /// Distinct trace `d` as a piece.
+    fn whole(&self, d: usize) -> Piece {
+        whole_trace(self.set, self.distinct, d)
+    }
+
+    /// Whether the bounds add up to the machine's corrections, round after round: `false`
+    /// when every group is tight and the sum still falls short (another machine of these
+    /// sizes needs fewer corrections).
+    fn run(mut self, events: Events<'_>) -> Result<bool, Error> {
+        loop {
+            let lower = self.bound_groups()?;
+            events(Event::NoisyBound(Bounds {
+                parts: self.groups.len() + 1,
+                lower,
+                upper: self.upper,
+            }));
+            if lower == self.upper {
+                return Ok(true);
+            }
+            if !std::mem::replace(&mut self.widened, true) && widen_short_segments(&mut self.groups)
+            {
+                continue;
+            }
+            if !self.regroup() {
+                return Ok(false);
+            }
         }
     }
-    // The part is a group whose bound is known: its own least ε.
-    let mut part_group = Group {
-        pieces: part.iter().map(|&d| whole(d)).collect(),
-        upper: part_errors,
-        lower: Some(part_errors),
-        known: vec![(part.iter().map(|&d| whole(d)).collect(), part_errors)],
-    };
-    // Bounds already computed, by what they were computed on: on 10^5 samples of the
-    // distribution station 256 of the 339 first windows and 176 of the 325 second ones repeat
-    // another segment's (the same skew at the same point of the same cycle).
-    let proven: Mutex<HashMap<Recorded, usize>> = Mutex::new(HashMap::new());
-    let mut widened = false;
-    loop {
-        // A window that needs as many corrections as its group proves the group's bound. The
-        // group keeps its whole piece all the same: shrunk to the window, it would leave its
-        // neighbours less to be joined with, and on 10^5 samples the joins then took longer
-        // than the windows saved. Only a trace with nothing left to join gives up the steps
-        // before its first window (`free_prefixes`).
-        let within = |g: &Group| {
-            let gs = group_set(set, distinct, g);
-            let known = stretches(g);
-            let key = Recorded {
-                initial_outputs: gs.initial_outputs.clone(),
-                steps: gs.scenarios.iter().map(|sc| sc.steps.clone()).collect(),
-                upper: g.upper,
-                known: known.clone(),
-            };
-            if let Some(&n) = lock(&proven).get(&key) {
-                return Ok(n);
-            }
-            let n =
-                least_errors_knowing(&gs, opts.algorithms, sizes, g.upper, &known, opts.deadline)?;
-            lock(&proven).insert(key, n);
-            Ok(n)
-        };
-        // The bound, and the window that proved it if one did.
-        let bound = |g: &Group| -> Result<(usize, Option<Piece>), SatError> {
-            for w in windows(set, distinct, fixes, g) {
-                if within(&w)? == g.upper {
-                    return Ok((g.upper, Some(w.pieces[0])));
-                }
-            }
-            Ok((within(g)?, None))
-        };
-        let lowers: Vec<_> = groups
-            .par_iter()
-            .map(|g| g.lower.is_none().then(|| bound(g)))
+
+    /// Bounds every group not yet bounded (in parallel) and returns the sum of all bounds, the
+    /// part's included. A bound above a group's corrections is a bug.
+    fn bound_groups(&mut self) -> Result<usize, Error> {
+        let lowers: Vec<_> = (self.groups.par_iter())
+            .map(|g| g.lower.is_none().then(|| self.bound(g)))
             .collect();
-        for (g, l) in groups.iter_mut().zip(lowers) {
+        for (g, l) in self.groups.iter_mut().zip(lowers) {
             if let Some(l) = l {
                 let (lower, window) = l?;
                 g.lower = Some(lower);
                 g.remember(window);
             }
         }
-        if part_group.lower.is_none() {
-            part_group.lower = Some(bound(&part_group)?.0);
+        if self.part.lower.is_none() {
+            self.part.lower = Some(self.bound(&self.part)?.0);
         }
-        if let Some(g) = groups
-            .iter()
-            .chain([&part_group])
-            .find(|g| g.lower > Some(g.upper))
-        {
+        let all = || self.groups.iter().chain([&self.part]);
+        if let Some(g) = all().find(|g| g.lower > Some(g.upper)) {
             return Err(SatError::Bug(format!(
                 "a part of the log needs at least {} corrections, its machine replays it with {}",
                 g.lower.unwrap_or(0),
@@ -864,41 +952,85 @@ fn least_proven(
             ))
             .into());
         }
-        let lower: usize = groups
-            .iter()
-            .chain([&part_group])
-            .map(|g| g.lower.expect("every group bounded"))
-            .sum();
-        events(Event::NoisyBound(Bounds {
-            parts: groups.len() + 1,
-            lower,
-            upper,
-        }));
-        if lower == upper {
-            return Ok(true);
+        Ok(all().map(|g| g.lower.expect("every group bounded")).sum())
+    }
+
+    /// The bound of `g`, and the window that proved it if one did. A window that needs as
+    /// many corrections as its group proves the group's bound. The group keeps its whole
+    /// piece all the same: shrunk to the window, it would leave its neighbours less to be
+    /// joined with, and on 10^5 samples the joins then took longer than the windows saved.
+    /// Only a trace with nothing left to join gives up the steps before its first window
+    /// ([`free_prefixes`]).
+    fn bound(&self, g: &Group) -> Result<(usize, Option<Piece>), SatError> {
+        for w in windows(self.set, self.distinct, self.fixes, g) {
+            if self.within(&w)? == g.upper {
+                return Ok((g.upper, Some(w.pieces[0])));
+            }
         }
-        if !std::mem::replace(&mut widened, true) && widen_short_segments(&mut groups) {
-            continue;
+        Ok((self.within(g)?, None))
+    }
+
+    /// The least corrections of any machine within the sizes on `g`, with what is known on
+    /// its stretches ([`least_errors_knowing`]); remembered by what it was computed on.
+    fn within(&self, g: &Group) -> Result<usize, SatError> {
+        let gs = group_set(self.set, self.distinct, g);
+        let known = stretches(g);
+        let key = Recorded {
+            initial_outputs: gs.initial_outputs.clone(),
+            steps: gs.scenarios.iter().map(|sc| sc.steps.clone()).collect(),
+            upper: g.upper,
+            known: known.clone(),
+        };
+        if let Some(&n) = lock(&self.proven).get(&key) {
+            return Ok(n);
         }
+        let (algorithms, deadline) = (self.opts.algorithms, self.opts.deadline);
+        let n = least_errors_knowing(&gs, algorithms, self.sizes, g.upper, &known, deadline)?;
+        lock(&self.proven).insert(key, n);
+        Ok(n)
+    }
+
+    /// The groups of the next round: short segments given context or joined with their
+    /// neighbours, short groups of whole traces given context or merged. `false` when
+    /// nothing is left to try: every group is tight and the shortfall is the part's.
+    fn regroup(&mut self) -> bool {
         // Free prefixes are context of a second kind: lent only once the traces without
         // corrections are used up (more context than needed makes every proof longer).
-        reserve.extend(free_prefixes(&mut groups, &mut lent));
-        if pool.is_empty() {
-            pool = std::mem::take(&mut reserve);
-            pool.sort_by_key(|p| p.to);
+        self.reserve
+            .extend(free_prefixes(&mut self.groups, &mut self.lent));
+        if self.pool.is_empty() {
+            self.pool = std::mem::take(&mut self.reserve);
+            self.pool.sort_by_key(|p| p.to);
         }
-        let is_segment = |g: &Group| matches!(g.pieces.as_slice(), [p] if *p != whole(p.d));
-        // A segment that falls short is joined with its neighbour in the trace (the one after
-        // it, or before it when it is the last) and the two are bounded again as one.
-        let resegment: HashSet<usize> = groups
-            .iter()
+        let (mut next, short) = self.resegment();
+        let pending = next.iter().any(|g| g.lower.is_none());
+        if short.is_empty() && !pending {
+            // Every group is tight: the shortfall is the part's, merged with the last short
+            // group. Another machine of these sizes needs fewer corrections.
+            return false;
+        }
+        next.extend(self.merge_short(short, pending));
+        self.groups = next;
+        true
+    }
+
+    /// Splits the groups into those kept and the short ones to be given context or merged.
+    /// A trace with a short segment is bounded anew: with context to give, from its start
+    /// up to its last short segment, with what its segments proved (the steps before a
+    /// short segment pin the state it starts in, and the context the machine); without,
+    /// each short segment joined with its neighbour ([`join_short_segments`]).
+    fn resegment(&mut self) -> (Vec<Group>, Vec<Group>) {
+        let (set, distinct) = (self.set, self.distinct);
+        let is_segment =
+            |g: &Group| matches!(g.pieces.as_slice(), [p] if *p != whole_trace(set, distinct, p.d));
+        let resegment: HashSet<usize> = (self.groups.iter())
             .filter(|g| g.short() && is_segment(g))
             .map(|g| g.pieces[0].d)
             .collect();
         let mut next: Vec<Group> = Vec::new();
         let mut short: Vec<Group> = Vec::new();
         let mut by_trace: HashMap<usize, Vec<Group>> = HashMap::new();
-        for g in groups {
+        for g in std::mem::take(&mut self.groups) {
             if is_segment(&g) && resegment.contains(&g.pieces[0].d) {
                 by_trace.entry(g.pieces[0].d).or_default().push(g);
             } else if g.short() {
@@ -910,15 +1042,11 @@ fn least_proven(
         let mut traces: Vec<(usize, Vec<Group>)> = by_trace.into_iter().collect();
         traces.sort_unstable_by_key(|(d, _)| *d);
         for (d, mut segs) in traces {
-            if pool.is_empty() {
-                segs.sort_unstable_by_key(|g| g.pieces[0].from);
+            segs.sort_unstable_by_key(|g| g.pieces[0].from);
+            if self.pool.is_empty() {
                 next.extend(join_short_segments(segs));
                 continue;
             }
-            // With context to give, the trace is bounded from its start up to its last short
-            // segment, with what its segments proved: the steps before a short segment pin
-            // the state it starts in, and the context the machine.
-            segs.sort_unstable_by_key(|g| g.pieces[0].from);
             let j = segs
                 .iter()
                 .rposition(Group::short)
@@ -933,14 +1061,15 @@ fn least_proven(
             });
             next.extend(rest);
         }
-        let pending = next.iter().any(|g| g.lower.is_none());
-        if short.is_empty() && !pending {
-            // Every group is tight: the shortfall is the part's, merged with the last short
-            // group. Another machine of these sizes needs fewer corrections.
-            return Ok(false);
-        }
+        (next, short)
+    }
+
+    /// The short groups for the next round. With context in the pool, each takes some;
+    /// without, the last one joins the part when nothing else is pending, or they are merged
+    /// pairwise (an odd one left over keeps its bound and is merged in the next round).
+    fn merge_short(&mut self, short: Vec<Group>, pending: bool) -> Vec<Group> {
         let mut merged = Vec::new();
-        if !pool.is_empty() {
+        if !self.pool.is_empty() {
             // Traces the machine explains as recorded count for nothing in the sum, yet they
             // pin down the machine: a short group of whole traces takes some of them and is
             // bounded again with the corrections it has, an exact-consistency proof where
@@ -953,7 +1082,7 @@ fn least_proven(
                 let mut pieces = a.pieces.clone();
                 let mut steps = 0;
                 while steps < CONTEXT_STEPS {
-                    let Some(p) = pool.pop() else { break };
+                    let Some(p) = self.pool.pop() else { break };
                     pieces.push(p);
                     steps += p.to;
                 }
@@ -963,12 +1092,10 @@ fn least_proven(
                 });
             }
         } else if short.len() == 1 && !pending {
-            // The last short group joins the part.
-            let a = short.pop().expect("one short group");
-            part_group = Group::merge(part_group, a);
+            let a = short.into_iter().next().expect("one short group");
+            let part = std::mem::replace(&mut self.part, Group::new(Vec::new(), 0));
+            self.part = Group::merge(part, a);
         } else {
-            // Short groups of whole traces are merged pairwise; an odd one left over keeps its
-            // bound and is merged in the next round.
             let mut short = short.into_iter();
             while let Some(a) = short.next() {
                 merged.push(match short.next() {
@@ -977,8 +1104,16 @@ fn least_proven(
                 });
             }
         }
-        next.extend(merged);
-        groups = next;
+        merged
+    }
+}
+
+/// Distinct trace `d` (a position in `distinct`) as a piece.
+fn whole_trace(set: &ScenarioSet, distinct: &[usize], d: usize) -> Piece {
+    Piece {
+        d,
+        from: 0,
+        to: set.scenarios[distinct[d]].steps.len(),
     }
 }
 

@@ -43,7 +43,7 @@ use super::{constraints, guards, negative, SatError};
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
 use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::negative::NegativeScenario;
-use crate::scenario::tree::{InputVec, ScenarioTree};
+use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 use crate::scenario::ScenarioSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -351,6 +351,13 @@ impl Encoding {
         l
     }
 
+    /// The literals "tree node `v` has state `colors[v]`" of a colouring of the tree.
+    fn colouring(&self, colors: &[usize]) -> Vec<Lit> {
+        (colors.iter().enumerate())
+            .map(|(v, &q)| self.vars.color(NodeId(v), q))
+            .collect()
+    }
+
     fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         let mut all = self.base_assumptions();
         all.extend_from_slice(assumptions);
@@ -387,14 +394,8 @@ pub struct Synthesizer<'a> {
     tree: &'a ScenarioTree,
     opts: Options,
     enc: Encoding,
-    /// No machine with fewer states exists (adding constraints never lowers the minimum).
-    c_lo: usize,
-    /// `(c, t)`: with `c` states no machine has fewer than `t` transitions (likewise kept
-    /// across calls, since negative scenarios only remove machines).
-    t_lo: Option<(usize, usize)>,
-    /// `(c, t, n)`: with `c` states and `t` transitions no cube guards have fewer than `n`
-    /// literals (cube model).
-    n_lo: Option<(usize, usize, usize)>,
+    /// The bounds proven so far and the latest machine's size.
+    known: Known,
     negatives: Vec<NegativeScenario>,
     /// Alphabet indices of the steps of each negative scenario in the current encoding
     /// (`None`: it cannot be followed at all, its first outputs are not the initial ones).
@@ -406,11 +407,6 @@ pub struct Synthesizer<'a> {
     minimize_n: bool,
     /// Colourings of the tree nodes to try first, newest last (see [`Self::hint`]).
     hints: Vec<Vec<usize>>,
-    /// The size of the latest machine (where the next candidate's search starts).
-    last: Option<Size>,
-    /// `(c, b)`: a free search for at most `b` transitions with `c` states gave up at its
-    /// deadline.
-    t_timed_out: Option<(usize, usize)>,
     proofs: Proofs,
     stats: Stats,
 }
@@ -450,17 +446,19 @@ impl<'a> Synthesizer<'a> {
             tree,
             opts: opts.clone(),
             enc,
-            c_lo: 1,
-            t_lo: None,
-            n_lo: None,
+            known: Known {
+                c_lo: 1,
+                t_lo: None,
+                n_lo: None,
+                t_timed_out: None,
+                last: None,
+            },
             negatives: Vec::new(),
             negative_ids: Vec::new(),
             closed_loop: None,
             environments: Vec::new(),
             minimize_n: true,
             hints: Vec::new(),
-            last: None,
-            t_timed_out: None,
             proofs,
             stats,
         };
@@ -476,16 +474,16 @@ impl<'a> Synthesizer<'a> {
     /// a cube machine to the recorded inputs gives a tree-exact machine with the same states and
     /// no more edges.
     pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
-        self.c_lo = self.c_lo.max(c);
+        self.known.c_lo = self.known.c_lo.max(c);
         // A bound proven on the loop's constraints may already be higher.
-        self.t_lo = match self.t_lo {
+        self.known.t_lo = match self.known.t_lo {
             Some((c0, t0)) if c0 == c && t0 > t => Some((c0, t0)),
             _ => Some((c, t)),
         };
-        if self.c_lo > self.enc.vars.c_max && self.c_lo <= self.opts.max_states {
+        if self.known.c_lo > self.enc.vars.c_max && self.known.c_lo <= self.opts.max_states {
             // Straight to a window that holds the bound (one spare state), rather than
             // refuting the smaller window first.
-            self.grow((self.c_lo + 1).min(self.opts.max_states));
+            self.grow((self.known.c_lo + 1).min(self.opts.max_states));
         }
     }
 
@@ -597,8 +595,8 @@ impl<'a> Synthesizer<'a> {
     /// machine the caller can use directly (run [`Self::minimize`] for it); `Unknown` when the
     /// budget ran out or the encoding keeps no clauses for such proofs.
     pub fn smaller_exists(&mut self, size: Size, budget: Duration) -> (Bounded, Bounded) {
-        let t_known = self.t_lo == Some((size.c, size.t));
-        let n_known = self.n_lo == Some((size.c, size.t, size.n));
+        let t_known = self.known.t_lo == Some((size.c, size.t));
+        let n_known = self.known.n_lo == Some((size.c, size.t, size.n));
         let enc = &mut self.enc;
         let mut base = enc.base_assumptions();
         base.extend(enc.vars.states_at_most(size.c));
@@ -632,60 +630,79 @@ impl<'a> Synthesizer<'a> {
         (fewer_t, fewer_n)
     }
 
-    /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards.
+    /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards (Algorithm 1
+    /// of Chivilikhin et al., "Automatic state machine reconstruction from legacy PLC using
+    /// data collection and SAT solver"), and replays the machine on every scenario.
     pub fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
         let t0 = Instant::now();
-        let opts = self.opts.clone();
-        // 0. the hints, newest first: a machine at the least C with a hinted colouring.
+        let (c, model, hint) = match self.hinted_machine(progress) {
+            Some((model, hint)) => (self.known.c_lo, model, Some(hint)),
+            None => {
+                let (c, model) = self.least_states(progress)?;
+                (c, model, None)
+            }
+        };
+        let mut descent = self.descent(c, &model, hint, progress);
+        if descent.opts.minimize_k {
+            descent.least_k();
+        }
+        let transitions_exact = descent.least_t();
+        descent.stats.sat_seconds = t0.elapsed().as_secs_f64();
+        let tg = Instant::now();
+        let (states, exact) = if descent.enc.total_n.is_some() {
+            descent.least_n()
+        } else {
+            descent.least_guards(descent.opts.deadline.cap(tg + descent.opts.guard_budget))
+        };
+        let structure = descent.structure;
+        self.stats.guard_seconds = tg.elapsed().as_secs_f64();
+        self.replayed(states, structure.colors, exact, transitions_exact, progress)
+    }
+
+    /// Phase 0: a machine at the least possible `C` with one of the hinted colourings, newest
+    /// first ([`Self::hint`]), with that colouring. `None` when none fits (or the encoding's
+    /// window has fewer states than the least possible).
+    fn hinted_machine(&mut self, progress: Progress<'_>) -> Option<(Model, Vec<usize>)> {
+        let c = self.known.c_lo;
         let usable: Vec<Vec<usize>> = self
             .hints
             .iter()
             .rev()
-            .filter(|h| h.len() == self.tree.nodes.len() && h.iter().all(|&q| q < self.c_lo))
+            .filter(|h| h.len() == self.tree.nodes.len() && h.iter().all(|&q| q < c))
             .cloned()
             .collect();
-        let colouring = |enc: &Encoding, h: &[usize]| -> Vec<Lit> {
-            h.iter()
-                .enumerate()
-                .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
-                .collect()
-        };
-        let mut hinted = None;
-        let mut hint: Option<Vec<usize>> = None;
-        if self.c_lo <= self.enc.vars.c_max {
-            for h in usable {
-                let mut assume: Vec<Lit> = self
-                    .enc
-                    .vars
-                    .states_at_most(self.c_lo)
-                    .into_iter()
-                    .collect();
-                assume.extend(colouring(&self.enc, &h));
-                progress(Step::TryingStates {
-                    c: self.c_lo,
-                    tree_nodes: self.tree.nodes.len(),
-                    inputs: self.enc.alphabet.len(),
-                    negatives: self.negatives.len(),
-                });
-                if let Some(m) = self.enc.solve(&assume) {
-                    hinted = Some((self.c_lo, m));
-                    hint = Some(h);
-                    break;
-                }
+        if c > self.enc.vars.c_max {
+            return None;
+        }
+        for h in usable {
+            let mut assume: Vec<Lit> = self.enc.vars.states_at_most(c).into_iter().collect();
+            assume.extend(self.enc.colouring(&h));
+            progress(Step::TryingStates {
+                c,
+                tree_nodes: self.tree.nodes.len(),
+                inputs: self.enc.alphabet.len(),
+                negatives: self.negatives.len(),
+            });
+            if let Some(m) = self.enc.solve(&assume) {
+                return Some((m, h));
             }
         }
-        // 1. least C, growing the encoding window when exhausted.
-        let (c, mut model) = loop {
-            if let Some(found) = hinted.take() {
-                break found;
-            }
+        None
+    }
+
+    /// Phase 1: the least `C` and a machine with that many states, by ascent from the proven
+    /// lower bound; an exhausted window is rebuilt doubled ([`Self::grow`]) up to
+    /// [`Options::max_states`]. Every refuted bound raises the proven lower bound.
+    fn least_states(&mut self, progress: Progress<'_>) -> Result<(usize, Model), SatError> {
+        let (max_states, fixed) = (self.opts.max_states, self.opts.fixed);
+        loop {
             let c_max = self.enc.vars.c_max;
             let (nodes, inputs) = (self.tree.nodes.len(), self.enc.alphabet.len());
             let negatives = self.negatives.len();
             let base = self.enc.base_assumptions();
             let vars = &self.enc.vars;
             let found = self.enc.solver.ascend(
-                self.c_lo..=c_max,
+                self.known.c_lo..=c_max,
                 |c| base.iter().copied().chain(vars.states_at_most(c)).collect(),
                 |c| {
                     progress(Step::TryingStates {
@@ -701,22 +718,20 @@ impl<'a> Synthesizer<'a> {
                 return Err(SatError::Stopped);
             }
             // No machine with fewer states than the least satisfiable bound (or than the window).
-            self.c_lo = found.as_ref().map_or(self.c_lo.max(c_max + 1), |(c, _)| *c);
+            self.known.c_lo = found
+                .as_ref()
+                .map_or(self.known.c_lo.max(c_max + 1), |(c, _)| *c);
             match found {
-                Some(f) => break f,
-                None if c_max >= opts.max_states && opts.fixed.any() => {
+                Some(f) => return Ok(f),
+                None if c_max >= max_states && fixed.any() => {
                     return Err(SatError::OutOfBounds {
-                        bounds: opts.fixed.to_string(),
-                        max_states: opts.max_states,
+                        bounds: fixed.to_string(),
+                        max_states,
                     })
                 }
-                None if c_max >= opts.max_states => {
-                    return Err(SatError::TooManyStates {
-                        max_states: opts.max_states,
-                    })
-                }
+                None if c_max >= max_states => return Err(SatError::TooManyStates { max_states }),
                 None => {
-                    let next = (c_max * 2).min(opts.max_states);
+                    let next = (c_max * 2).min(max_states);
                     progress(Step::Reencoding {
                         states: next,
                         per_module: false,
@@ -724,365 +739,62 @@ impl<'a> Synthesizer<'a> {
                     self.grow(next);
                 }
             }
+        }
+    }
+
+    /// The phases after the least `C` ([`Descent`]), starting from `model`, a machine with `c`
+    /// states.
+    fn descent<'s>(
+        &'s mut self,
+        c: usize,
+        model: &Model,
+        hint: Option<Vec<usize>>,
+        progress: Progress<'s>,
+    ) -> Descent<'s> {
+        let read = Reader {
+            tree: self.tree,
+            algorithms: self.opts.algorithms,
+            negatives: (self.negatives.iter())
+                .zip(&self.negative_ids)
+                .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
+                .collect(),
+            closed_loop: !self.environments.is_empty(),
         };
-        let enc = &mut self.enc;
-        let tree = self.tree;
-        let indexed: Vec<decode::IndexedNegative> = self
-            .negatives
-            .iter()
-            .zip(&self.negative_ids)
-            .filter_map(|(n, ids)| ids.as_deref().map(|ids| (n, ids)))
-            .collect();
-        let closed = !self.environments.is_empty();
-        let decode_with = |m: &Model, vars: &Vars, alphabet: &[Vec<bool>]| {
-            Structure::decode(m, vars, tree, opts.algorithms, alphabet, &indexed, closed)
-        };
-        let decode = |m: &Model, enc: &Encoding| decode_with(m, &enc.vars, &enc.alphabet);
-        let mut base: Vec<Lit> = enc.vars.states_at_most(c).into_iter().collect();
-        let mut structure = decode(&model, enc);
+        let base: Vec<Lit> = self.enc.vars.states_at_most(c).into_iter().collect();
+        let structure = read.structure(model, &self.enc.vars, &self.enc.alphabet);
         progress(Step::StatesMinimal {
             c,
             k: structure.max_out_degree(),
             t: structure.transition_count(),
         });
+        Descent {
+            enc: &mut self.enc,
+            reader: read,
+            known: &mut self.known,
+            stats: &mut self.stats,
+            opts: &self.opts,
+            proofs: self.proofs,
+            minimize_n: self.minimize_n,
+            progress,
+            c,
+            base,
+            t: structure.transition_count(),
+            structure,
+            hint,
+        }
+    }
 
-        // 2. least K (optional).
-        if opts.minimize_k {
-            let mut k = structure.max_out_degree();
-            while k > 0 {
-                let l = enc.k_at_most(k - 1);
-                let assume: Vec<Lit> = base.iter().copied().chain([l]).collect();
-                progress(Step::Trying {
-                    bound: Bound::K,
-                    value: k - 1,
-                });
-                match enc.solve(&assume) {
-                    Some(m) => {
-                        model = m;
-                        structure = decode(&model, enc);
-                        k = structure.max_out_degree();
-                    }
-                    None => break,
-                }
-            }
-            let l = enc.k_at_most(k);
-            base.push(l);
-            progress(Step::Minimal {
-                bound: Bound::K,
-                value: k,
-            });
-        }
-
-        // 3. least T. With a lower bound from an earlier call (same C, no K bound), search
-        // upwards from it: every bound below it is already known to be unsatisfiable.
-        let mut t = structure.transition_count();
-        let mut base_t = enc.base_assumptions();
-        base_t.extend_from_slice(&base);
-        let t_floor = match self.t_lo {
-            Some((c0, lo)) if c0 == c && !opts.minimize_k => lo,
-            _ => 0,
-        };
-        // Without proofs the first machine found has many more transitions than needed (the
-        // transitions are free even with a hinted colouring); one bounded call just above the
-        // latest machine's count usually lands near the least, where descending one transition
-        // at a time takes dozens of calls. With the hint the call is cheap; without, it is a
-        // free search and gets a deadline.
-        // With a budget (the final pass) the hint is the colouring of the latest machine, which
-        // nothing added since has ruled out: straight to its T.
-        let mut hinted_floor = t_floor;
-        let jump = match self.proofs {
-            Proofs::Skip => Some(1),
-            Proofs::Budget(_) if hint.is_some() => Some(0),
-            _ => None,
-        };
-        if let (Some(jump), false) = (jump, opts.minimize_k) {
-            let target = match (self.t_lo, self.last) {
-                (Some((c0, lo)), Some(last)) if c0 == c && last.c == c => {
-                    Some(lo.max(last.t) + jump)
-                }
-                (_, Some(last)) if last.c == c => Some(last.t + jump),
-                _ => None,
-            };
-            if let Some((target, b)) = target
-                .filter(|&b| b < t)
-                .and_then(|b| Some((b, enc.total_t.at_most(b)?)))
-            {
-                progress(Step::Trying {
-                    bound: Bound::T,
-                    value: target,
-                });
-                let mut assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
-                let found = match &hint {
-                    Some(h) => {
-                        assume.extend(colouring(enc, h));
-                        enc.solver.solve(&assume)
-                    }
-                    None => match enc
-                        .solver
-                        .solve_within(&assume, Instant::now() + CANDIDATE_T_BUDGET)
-                    {
-                        Bounded::Sat(m) => Some(m),
-                        _ => None,
-                    },
-                };
-                match found {
-                    Some(m) => {
-                        structure = decode(&m, enc);
-                        t = structure.transition_count();
-                    }
-                    // Proven for the hinted colouring only: its descent below stops above.
-                    None if hint.is_some() => hinted_floor = target + 1,
-                    None => {}
-                }
-            }
-        }
-        // Without proofs, the colouring just found serves as the hint when none was given.
-        let hint = match (&hint, self.proofs) {
-            (None, Proofs::Skip) => Some(structure.colors.clone()),
-            _ => hint,
-        };
-        let hint_lits = |enc: &Encoding| -> Vec<Lit> {
-            hint.iter()
-                .flat_map(|h| {
-                    h.iter()
-                        .enumerate()
-                        .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q))
-                })
-                .collect()
-        };
-        let mut transitions_exact = true;
-        if hint.is_some() && !opts.minimize_k {
-            // Fewer transitions with the hinted colouring first: easy calls that usually
-            // end at the minimum, so that the free search below has one bound to refute.
-            let mut hinted_base = base_t.clone();
-            hinted_base.extend(hint_lits(enc));
-            t = descend_t(
-                enc,
-                &hinted_base,
-                (t, hinted_floor.max(t_floor)),
-                &mut structure,
-                &decode_with,
-                progress,
-            );
-        }
-        match self.t_lo {
-            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo == t => {}
-            // Without proofs, fewer transitions with any colouring only down to a proven
-            // bound: every step there finds a machine, and the step that fails (if the loop's
-            // constraints need more) proves a bound that later calls keep.
-            // A bound that timed out once is not tried again: the loop only adds constraints.
-            _ if self.proofs == Proofs::Skip => match self.t_lo {
-                Some((c0, lo)) if c0 == c && !opts.minimize_k && lo > 0 && lo < t => {
-                    let floor = match self.t_timed_out {
-                        Some((c1, b)) if c1 == c => lo.max(b + 1),
-                        _ => lo,
-                    };
-                    (t, transitions_exact) = descend_t_within(
-                        enc,
-                        &base_t,
-                        (t, floor),
-                        Instant::now() + CANDIDATE_T_BUDGET,
-                        &mut structure,
-                        &decode_with,
-                        progress,
-                    );
-                    if !transitions_exact {
-                        self.t_timed_out = Some((c, t - 1));
-                    }
-                    transitions_exact &= floor == lo;
-                }
-                _ => transitions_exact = false,
-            },
-            _ if matches!(self.proofs, Proofs::Budget(_)) => {
-                let Proofs::Budget(budget) = self.proofs else {
-                    unreachable!()
-                };
-                (t, transitions_exact) = descend_t_within(
-                    enc,
-                    &base_t,
-                    (t, t_floor),
-                    Instant::now() + budget,
-                    &mut structure,
-                    &decode_with,
-                    progress,
-                );
-            }
-            Some((c0, lo)) if c0 == c && !opts.minimize_k && lo < t && hint.is_none() => {
-                let mut bound = lo;
-                while bound < t {
-                    let Some(b) = enc.total_t.at_most(bound) else {
-                        break;
-                    };
-                    progress(Step::Trying {
-                        bound: Bound::T,
-                        value: bound,
-                    });
-                    let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-                    if let Some(m) = enc.solve(&assume) {
-                        structure = decode(&m, enc);
-                        t = structure.transition_count();
-                        break;
-                    }
-                    bound += 1;
-                }
-            }
-            _ => {
-                t = descend_t(
-                    enc,
-                    &base_t,
-                    (t, t_floor),
-                    &mut structure,
-                    &decode_with,
-                    progress,
-                );
-            }
-        }
-        if !opts.minimize_k && transitions_exact {
-            self.t_lo = Some((c, t));
-        }
-
-        progress(Step::Minimal {
-            bound: Bound::T,
-            value: t,
-        });
-        self.stats.solver_calls += enc.new_calls();
-        self.stats.sat_seconds = t0.elapsed().as_secs_f64();
-
-        // 4. guards: in the cube model, least N on the same solver; otherwise minimized per
-        // state on each structure with the least C and T.
-        let tg = Instant::now();
-        let exact;
-        let states: Vec<State> = match &enc.total_n {
-            Some(total_n) => {
-                let n = structure.literal_count();
-                let start = match self.n_lo {
-                    Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
-                    _ if !self.minimize_n => n,
-                    _ => 0,
-                };
-                // Descend from the current N; stop at the known lower bound.
-                base_t.extend(enc.total_t.at_most(t));
-                if self.proofs != Proofs::Full {
-                    // The least N for this colouring: the free descent is the same kind of
-                    // proof the budget above gave up on.
-                    base_t.extend(
-                        structure
-                            .colors
-                            .iter()
-                            .enumerate()
-                            .map(|(v, &q)| enc.vars.color(crate::scenario::tree::NodeId(v), q)),
-                    );
-                }
-                // Straight to the latest machine's N: near it is where this one usually ends.
-                let mut n = n;
-                let mut start = start;
-                // (One literal more per extra transition.)
-                let target = self
-                    .last
-                    .filter(|l| l.c == c && l.t <= t)
-                    .map(|l| l.n + (t - l.t))
-                    .filter(|&b| b < n && b >= start);
-                if let Some(target) = target {
-                    if self.minimize_n {
-                        if let Some(b) = total_n.at_most(target) {
-                            progress(Step::Trying {
-                                bound: Bound::N,
-                                value: target,
-                            });
-                            let assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
-                            match enc.solver.solve(&assume) {
-                                Some(m) => {
-                                    structure = decode(&m, enc);
-                                    n = structure.literal_count();
-                                }
-                                None => start = target + 1,
-                            }
-                        }
-                    }
-                }
-                let (vars, alphabet) = (&enc.vars, &enc.alphabet);
-                let mut n = enc.solver.descend(
-                    &base_t,
-                    n,
-                    start,
-                    |b| total_n.at_most(b),
-                    |b| {
-                        progress(Step::Trying {
-                            bound: Bound::N,
-                            value: b,
-                        })
-                    },
-                    |m| {
-                        structure = decode_with(&m, vars, alphabet);
-                        structure.literal_count()
-                    },
-                );
-                let mut n_exact = self.minimize_n && self.proofs == Proofs::Full;
-                if let (true, Proofs::Budget(budget)) = (self.minimize_n, self.proofs) {
-                    // Fewer literals with any colouring, within the budget.
-                    let deadline = Instant::now() + budget;
-                    let mut free: Vec<Lit> = enc.base_assumptions();
-                    free.extend_from_slice(&base);
-                    free.extend(enc.total_t.at_most(t));
-                    n_exact = loop {
-                        if n <= start {
-                            break true;
-                        }
-                        let Some(b) = total_n.at_most(n - 1) else {
-                            break true;
-                        };
-                        progress(Step::Trying {
-                            bound: Bound::N,
-                            value: n - 1,
-                        });
-                        let assume: Vec<Lit> = free.iter().copied().chain([b]).collect();
-                        match enc.solver.solve_within(&assume, deadline) {
-                            Bounded::Sat(m) => {
-                                structure = decode(&m, enc);
-                                n = structure.literal_count();
-                            }
-                            Bounded::Unsat => break true,
-                            Bounded::Unknown => break false,
-                        }
-                    };
-                }
-                if n_exact {
-                    self.n_lo = Some((c, t, n));
-                }
-                exact = n_exact;
-                // Decoded with the cube model's slots: one list of transitions per state.
-                let transitions = structure.cube_transitions.clone().unwrap_or_default();
-                (0..structure.c)
-                    .zip(transitions)
-                    .map(|(q, transitions)| State {
-                        name: format!("s{q}"),
-                        algorithm: structure.algorithms[q].clone(),
-                        transitions,
-                    })
-                    .collect()
-            }
-            None => {
-                let deadline = opts.deadline.cap(tg + opts.guard_budget);
-                let (states, all_exact) = guards::all_states(&structure, tree, deadline);
-                // The least N of this structure; other machines with C states and T
-                // transitions may need fewer literals.
-                let mut base_n = base_t.clone();
-                base_n.extend(enc.total_t.at_most(t));
-                let (states, all_exact, colors) = least_guards_over_structures(
-                    enc,
-                    tree,
-                    &base_n,
-                    &structure,
-                    (states, all_exact),
-                    deadline,
-                    &decode,
-                );
-                structure.colors = colors;
-                exact = all_exact;
-                states
-            }
-        };
-        self.stats.guard_seconds = tg.elapsed().as_secs_f64();
+    /// The machine with guards `states`, checked: well formed, replaying every scenario,
+    /// following no negative scenario (a failure is a bug of the encoding, [`SatError::Bug`]).
+    /// Its size and colouring become the start of the next minimization.
+    fn replayed(
+        &mut self,
+        states: Vec<State>,
+        colors: Vec<usize>,
+        guards_exact: bool,
+        transitions_exact: bool,
+        progress: Progress<'_>,
+    ) -> Result<Synthesis, SatError> {
         let ecc = Ecc {
             inputs: self.set.inputs.clone(),
             outputs: self.set.outputs.clone(),
@@ -1100,86 +812,481 @@ impl<'a> Synthesizer<'a> {
             )));
         }
         let size = ecc.size();
-        self.last = Some(size);
-        progress(Step::Guards { n: size.n, exact });
-        self.hint(structure.colors.clone());
+        self.known.last = Some(size);
+        progress(Step::Guards {
+            n: size.n,
+            exact: guards_exact,
+        });
+        self.hint(colors.clone());
         Ok(Synthesis {
             ecc,
             size,
-            guards_exact: exact,
+            guards_exact,
             transitions_exact,
             stats: self.stats.clone(),
-            colors: structure.colors,
+            colors,
         })
     }
 }
 
-/// Decodes a model of an encoding with its alphabet.
-type Decoder<'a> = dyn Fn(&Model, &Vars, &[Vec<bool>]) -> Structure + 'a;
-
-/// The least `T` from `t` down to `floor` under `base` ([`Solver::descend`] on the transition
-/// counter); `structure` ends as the machine of the last model found.
-fn descend_t(
-    enc: &mut Encoding,
-    base: &[Lit],
-    (t, floor): (usize, usize),
-    structure: &mut Structure,
-    decode_with: &Decoder<'_>,
-    progress: Progress<'_>,
-) -> usize {
-    let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
-    enc.solver.descend(
-        base,
-        t,
-        floor,
-        |b| total_t.at_most(b),
-        |b| {
-            progress(Step::Trying {
-                bound: Bound::T,
-                value: b,
-            })
-        },
-        |m| {
-            *structure = decode_with(&m, vars, alphabet);
-            structure.transition_count()
-        },
-    )
+/// What earlier minimizations of a [`Synthesizer`] established, kept across calls: negative
+/// scenarios and environments only remove machines, so no minimum ever drops.
+#[derive(Debug, Clone, Copy)]
+struct Known {
+    /// No machine with fewer states exists.
+    c_lo: usize,
+    /// `(c, t)`: with `c` states no machine has fewer than `t` transitions.
+    t_lo: Option<(usize, usize)>,
+    /// `(c, t, n)`: with `c` states and `t` transitions no cube guards have fewer than `n`
+    /// literals (cube model).
+    n_lo: Option<(usize, usize, usize)>,
+    /// `(c, b)`: a free search for at most `b` transitions with `c` states gave up at its
+    /// deadline.
+    t_timed_out: Option<(usize, usize)>,
+    /// The size of the latest machine (where the next candidate's search starts).
+    last: Option<Size>,
 }
 
-/// As [`descend_t`], each call on a fresh solver that gives up at `deadline`; also says
-/// whether the result is proven least (`false`: the deadline came first).
-fn descend_t_within(
-    enc: &mut Encoding,
-    base: &[Lit],
-    (mut t, floor): (usize, usize),
-    deadline: Instant,
-    structure: &mut Structure,
-    decode_with: &Decoder<'_>,
-    progress: Progress<'_>,
-) -> (usize, bool) {
-    while t > floor {
-        let Some(b) = enc.total_t.at_most(t - 1) else {
-            break;
-        };
-        progress(Step::Trying {
-            bound: Bound::T,
-            value: t - 1,
-        });
-        let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-        match enc.solver.solve_within(&assume, deadline) {
-            Bounded::Sat(m) => {
-                *structure = decode_with(&m, &enc.vars, &enc.alphabet);
-                t = structure.transition_count();
+/// Reads machines out of models of the encoding ([`Structure::decode`]): what decoding needs
+/// besides the model and the alphabet.
+struct Reader<'s> {
+    tree: &'s ScenarioTree,
+    algorithms: AlgorithmKind,
+    /// The negative scenarios that can be followed, with their alphabet indices.
+    negatives: Vec<decode::IndexedNegative<'s>>,
+    /// Whether environments are encoded ([`closed_loop`]).
+    closed_loop: bool,
+}
+
+impl Reader<'_> {
+    /// The machine of `model`, an assignment of `vars` over `alphabet`.
+    fn structure(&self, model: &Model, vars: &Vars, alphabet: &[Vec<bool>]) -> Structure {
+        Structure::decode(
+            model,
+            vars,
+            self.tree,
+            self.algorithms,
+            alphabet,
+            &self.negatives,
+            self.closed_loop,
+        )
+    }
+}
+
+/// Phases 2-4 of [`Synthesizer::minimize`], at the least `C`: least `K` (optional), least `T`,
+/// then the guards. Each phase descends a bound on a counter ([`super::card`]) under
+/// assumptions and keeps the machine of the latest model; what it proves goes into
+/// [`Known`] for later calls.
+struct Descent<'s> {
+    enc: &'s mut Encoding,
+    reader: Reader<'s>,
+    known: &'s mut Known,
+    stats: &'s mut Stats,
+    opts: &'s Options,
+    proofs: Proofs,
+    minimize_n: bool,
+    progress: Progress<'s>,
+    /// The least number of states.
+    c: usize,
+    /// "At most `c` states", and "every out-degree at most `K`" once `K` is minimized.
+    base: Vec<Lit>,
+    /// The transition count of `structure` while `T` is minimized; the least `T` after.
+    t: usize,
+    /// The machine of the latest model.
+    structure: Structure,
+    /// The colouring the machine is looked for with first (phase 0's, or without proofs the
+    /// first machine's).
+    hint: Option<Vec<usize>>,
+}
+
+impl Descent<'_> {
+    /// `base` with every call's assumptions first ([`Encoding::base_assumptions`]).
+    fn base_t(&self) -> Vec<Lit> {
+        let mut base_t = self.enc.base_assumptions();
+        base_t.extend_from_slice(&self.base);
+        base_t
+    }
+
+    /// Reads the machine of `model` into `structure`.
+    fn read(&mut self, model: &Model) {
+        self.structure = self
+            .reader
+            .structure(model, &self.enc.vars, &self.enc.alphabet);
+    }
+
+    /// Tells the progress callback that `value` is tried for `bound`.
+    fn trying(&mut self, bound: Bound, value: usize) {
+        (self.progress)(Step::Trying { bound, value });
+    }
+
+    /// Phase 2: the least largest out-degree `K`, by descent (the last bound refuted); the bound
+    /// "every out-degree at most `K`" joins `base`.
+    fn least_k(&mut self) {
+        let mut k = self.structure.max_out_degree();
+        while k > 0 {
+            let l = self.enc.k_at_most(k - 1);
+            let assume: Vec<Lit> = self.base.iter().copied().chain([l]).collect();
+            self.trying(Bound::K, k - 1);
+            match self.enc.solve(&assume) {
+                Some(m) => {
+                    self.read(&m);
+                    k = self.structure.max_out_degree();
+                }
+                None => break,
             }
-            Bounded::Unsat => break,
-            Bounded::Unknown => return (t, false),
+        }
+        let l = self.enc.k_at_most(k);
+        self.base.push(l);
+        (self.progress)(Step::Minimal {
+            bound: Bound::K,
+            value: k,
+        });
+    }
+
+    /// Phase 3: the least `T` at `C` (and `K`), first with the hinted colouring, then with any
+    /// colouring as hard as [`Proofs`] asks. Returns whether `T` is proven least; a proven `T`
+    /// becomes [`Known::t_lo`].
+    fn least_t(&mut self) -> bool {
+        let minimize_k = self.opts.minimize_k;
+        self.t = self.structure.transition_count();
+        let base_t = self.base_t();
+        // A lower bound from an earlier call (same C, no K bound): every bound below it is
+        // already known to be unsatisfiable.
+        let t_lo = match self.known.t_lo {
+            Some((c0, lo)) if c0 == self.c && !minimize_k => Some(lo),
+            _ => None,
+        };
+        let t_floor = t_lo.unwrap_or(0);
+        let hinted_floor = match minimize_k {
+            false => self.jump_t(&base_t, t_floor),
+            true => t_floor,
+        };
+        // Without proofs, the colouring just found serves as the hint when none was given.
+        if let (None, Proofs::Skip) = (&self.hint, self.proofs) {
+            self.hint = Some(self.structure.colors.clone());
+        }
+        if let (Some(hint), false) = (&self.hint, minimize_k) {
+            // Fewer transitions with the hinted colouring first: easy calls that usually
+            // end at the minimum, so that the free search below has one bound to refute.
+            let mut hinted_base = base_t.clone();
+            hinted_base.extend(self.enc.colouring(hint));
+            self.t = self.descend_t(&hinted_base, hinted_floor.max(t_floor));
+        }
+        let transitions_exact = match (t_lo, self.proofs) {
+            (Some(lo), _) if lo == self.t => true,
+            (t_lo, Proofs::Skip) => self.candidate_t(&base_t, t_lo),
+            (_, Proofs::Budget(budget)) => {
+                self.descend_t_within(&base_t, t_floor, Instant::now() + budget)
+            }
+            (Some(lo), Proofs::Full) if lo < self.t && self.hint.is_none() => {
+                self.ascend_t(lo);
+                true
+            }
+            (_, Proofs::Full) => {
+                self.t = self.descend_t(&base_t, t_floor);
+                true
+            }
+        };
+        if !minimize_k && transitions_exact {
+            self.known.t_lo = Some((self.c, self.t));
+        }
+        (self.progress)(Step::Minimal {
+            bound: Bound::T,
+            value: self.t,
+        });
+        self.stats.solver_calls += self.enc.new_calls();
+        transitions_exact
+    }
+
+    /// One call straight to the latest machine's `T` (plus one without proofs), with the
+    /// hinted colouring if any. Without proofs the first machine found has many more
+    /// transitions than needed (the transitions are free even with a hinted colouring); one
+    /// bounded call just above the latest machine's count usually lands near the least, where
+    /// descending one transition at a time takes dozens of calls. With the hint the call is
+    /// cheap; without, it is a free search and gets a deadline. With a budget (the final
+    /// pass) the hint is the colouring of the latest machine, which nothing added since has
+    /// ruled out: straight to its `T`. Returns the floor of the hinted descent: above the
+    /// target when the call refuted it for the hinted colouring.
+    fn jump_t(&mut self, base_t: &[Lit], t_floor: usize) -> usize {
+        let jump = match self.proofs {
+            Proofs::Skip => 1,
+            Proofs::Budget(_) if self.hint.is_some() => 0,
+            _ => return t_floor,
+        };
+        let c = self.c;
+        let target = match (self.known.t_lo, self.known.last) {
+            (Some((c0, lo)), Some(last)) if c0 == c && last.c == c => Some(lo.max(last.t) + jump),
+            (_, Some(last)) if last.c == c => Some(last.t + jump),
+            _ => None,
+        };
+        let Some((target, b)) = target
+            .filter(|&b| b < self.t)
+            .and_then(|b| Some((b, self.enc.total_t.at_most(b)?)))
+        else {
+            return t_floor;
+        };
+        self.trying(Bound::T, target);
+        let mut assume: Vec<Lit> = base_t.iter().copied().chain([b]).collect();
+        let found = match &self.hint {
+            Some(h) => {
+                assume.extend(self.enc.colouring(h));
+                self.enc.solver.solve(&assume)
+            }
+            None => {
+                match (self.enc.solver).solve_within(&assume, Instant::now() + CANDIDATE_T_BUDGET) {
+                    Bounded::Sat(m) => Some(m),
+                    _ => None,
+                }
+            }
+        };
+        match found {
+            Some(m) => {
+                self.read(&m);
+                self.t = self.structure.transition_count();
+                t_floor
+            }
+            // Proven for the hinted colouring only: its descent below stops above.
+            None if self.hint.is_some() => target + 1,
+            None => t_floor,
         }
     }
-    (t, true)
+
+    /// Without proofs ([`Proofs::Skip`]), fewer transitions with any colouring only down to a
+    /// proven bound `t_lo`: every step there finds a machine, and the step that fails (if the
+    /// loop's constraints need more) proves a bound that later calls keep. A bound that timed
+    /// out once is not tried again: the loop only adds constraints. Returns whether `T` is
+    /// proven least.
+    fn candidate_t(&mut self, base_t: &[Lit], t_lo: Option<usize>) -> bool {
+        let Some(lo) = t_lo.filter(|&lo| lo > 0 && lo < self.t) else {
+            return false;
+        };
+        let floor = match self.known.t_timed_out {
+            Some((c1, b)) if c1 == self.c => lo.max(b + 1),
+            _ => lo,
+        };
+        let exact = self.descend_t_within(base_t, floor, Instant::now() + CANDIDATE_T_BUDGET);
+        if !exact {
+            self.known.t_timed_out = Some((self.c, self.t - 1));
+        }
+        exact && floor == lo
+    }
+
+    /// The least `T` by ascent from the proven bound `lo`: the first satisfiable bound is
+    /// the least (used when no hint made the descent cheap).
+    fn ascend_t(&mut self, lo: usize) {
+        let mut bound = lo;
+        while bound < self.t {
+            let Some(b) = self.enc.total_t.at_most(bound) else {
+                break;
+            };
+            self.trying(Bound::T, bound);
+            let assume: Vec<Lit> = self.base.iter().copied().chain([b]).collect();
+            if let Some(m) = self.enc.solve(&assume) {
+                self.read(&m);
+                self.t = self.structure.transition_count();
+                break;
+            }
+            bound += 1;
+        }
+    }
+
+    /// The least `T` from `self.t` down to `floor` under `base` ([`Solver::descend`] on the
+    /// transition counter); `structure` ends as the machine of the last model found.
+    fn descend_t(&mut self, base: &[Lit], floor: usize) -> usize {
+        let enc = &mut *self.enc;
+        let (vars, alphabet, total_t) = (&enc.vars, &enc.alphabet, &enc.total_t);
+        let (read, structure, progress) = (&self.reader, &mut self.structure, &mut self.progress);
+        enc.solver.descend(
+            base,
+            self.t,
+            floor,
+            |b| total_t.at_most(b),
+            |b| {
+                progress(Step::Trying {
+                    bound: Bound::T,
+                    value: b,
+                })
+            },
+            |m| {
+                *structure = read.structure(&m, vars, alphabet);
+                structure.transition_count()
+            },
+        )
+    }
+
+    /// As [`Self::descend_t`] into `self.t`, each call on a fresh solver that gives up at
+    /// `deadline`; says whether the result is proven least (`false`: the deadline came first).
+    fn descend_t_within(&mut self, base: &[Lit], floor: usize, deadline: Instant) -> bool {
+        while self.t > floor {
+            let Some(b) = self.enc.total_t.at_most(self.t - 1) else {
+                break;
+            };
+            self.trying(Bound::T, self.t - 1);
+            let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+            match self.enc.solver.solve_within(&assume, deadline) {
+                Bounded::Sat(m) => {
+                    self.read(&m);
+                    self.t = self.structure.transition_count();
+                }
+                Bounded::Unsat => break,
+                Bounded::Unknown => return false,
+            }
+        }
+        true
+    }
+
+    /// Phase 4 in the cube model: the least guard literal count `N` on the same solver, at the
+    /// least `C` and `T` (with the machine's colouring unless every bound is proven). Returns
+    /// the states and whether `N` is proven least; a proven `N` becomes [`Known::n_lo`].
+    fn least_n(&mut self) -> (Vec<State>, bool) {
+        let (c, t) = (self.c, self.t);
+        let n = self.structure.literal_count();
+        let start = match self.known.n_lo {
+            Some((c0, t0, lo)) if c0 == c && t0 == t => lo,
+            _ if !self.minimize_n => n,
+            _ => 0,
+        };
+        // Descend from the current N; stop at the known lower bound.
+        let mut base_n = self.base_t();
+        base_n.extend(self.enc.total_t.at_most(t));
+        if self.proofs != Proofs::Full {
+            // The least N for this colouring: the free descent is the same kind of
+            // proof the budget above gave up on.
+            base_n.extend(self.enc.colouring(&self.structure.colors));
+        }
+        let (n, start) = self.jump_n(&base_n, n, start);
+        let n = self.descend_n(&base_n, n, start);
+        let (n, exact) = match (self.minimize_n, self.proofs) {
+            (true, Proofs::Budget(budget)) => self.free_n_within(n, start, budget),
+            (minimize_n, proofs) => (n, minimize_n && proofs == Proofs::Full),
+        };
+        if exact {
+            self.known.n_lo = Some((c, t, n));
+        }
+        // Decoded with the cube model's slots: one list of transitions per state.
+        let transitions = self.structure.cube_transitions.clone().unwrap_or_default();
+        let states = (0..self.structure.c)
+            .zip(transitions)
+            .map(|(q, transitions)| State {
+                name: format!("s{q}"),
+                algorithm: self.structure.algorithms[q].clone(),
+                transitions,
+            })
+            .collect();
+        (states, exact)
+    }
+
+    /// One call straight to the latest machine's `N` (one literal more per extra transition):
+    /// near it is where this one usually ends. Returns `N` and the floor of the descent,
+    /// above the target when the call refuted it.
+    fn jump_n(&mut self, base_n: &[Lit], n: usize, start: usize) -> (usize, usize) {
+        let t = self.t;
+        let target = (self.known.last)
+            .filter(|l| l.c == self.c && l.t <= t)
+            .map(|l| l.n + (t - l.t))
+            .filter(|&b| b < n && b >= start);
+        let Some(target) = target.filter(|_| self.minimize_n) else {
+            return (n, start);
+        };
+        let Some(b) = self
+            .enc
+            .total_n
+            .as_ref()
+            .and_then(|tot| tot.at_most(target))
+        else {
+            return (n, start);
+        };
+        self.trying(Bound::N, target);
+        let assume: Vec<Lit> = base_n.iter().copied().chain([b]).collect();
+        match self.enc.solver.solve(&assume) {
+            Some(m) => {
+                self.read(&m);
+                (self.structure.literal_count(), start)
+            }
+            None => (n, target + 1),
+        }
+    }
+
+    /// The least `N` from `n` down to `start` under `base_n` ([`Solver::descend`] on the
+    /// literal counter); `structure` ends as the machine of the last model found.
+    fn descend_n(&mut self, base_n: &[Lit], n: usize, start: usize) -> usize {
+        let enc = &mut *self.enc;
+        let Some(total_n) = &enc.total_n else {
+            return n;
+        };
+        let (vars, alphabet) = (&enc.vars, &enc.alphabet);
+        let (read, structure, progress) = (&self.reader, &mut self.structure, &mut self.progress);
+        enc.solver.descend(
+            base_n,
+            n,
+            start,
+            |b| total_n.at_most(b),
+            |b| {
+                progress(Step::Trying {
+                    bound: Bound::N,
+                    value: b,
+                })
+            },
+            |m| {
+                *structure = read.structure(&m, vars, alphabet);
+                structure.literal_count()
+            },
+        )
+    }
+
+    /// Fewer literals than `n` with any colouring (at the least `C` and `T`), each call on a
+    /// fresh solver within `budget` in all. Returns `N` and whether it is proven least
+    /// (`false`: the budget ran out first).
+    fn free_n_within(&mut self, mut n: usize, start: usize, budget: Duration) -> (usize, bool) {
+        let deadline = Instant::now() + budget;
+        let mut free: Vec<Lit> = self.base_t();
+        free.extend(self.enc.total_t.at_most(self.t));
+        loop {
+            if n <= start {
+                return (n, true);
+            }
+            let Some(b) = self.enc.total_n.as_ref().and_then(|tot| tot.at_most(n - 1)) else {
+                return (n, true);
+            };
+            self.trying(Bound::N, n - 1);
+            let assume: Vec<Lit> = free.iter().copied().chain([b]).collect();
+            match self.enc.solver.solve_within(&assume, deadline) {
+                Bounded::Sat(m) => {
+                    self.read(&m);
+                    n = self.structure.literal_count();
+                }
+                Bounded::Unsat => return (n, true),
+                Bounded::Unknown => return (n, false),
+            }
+        }
+    }
+
+    /// Phase 4 in the tree-exact model: guards minimized per state on the structure
+    /// ([`guards::all_states`]), then on every other structure with the least `C` and `T`
+    /// ([`least_guards_over_structures`]), until `deadline`. Returns the states and whether
+    /// `N` is proven least; `structure` takes the colouring the guards belong to.
+    fn least_guards(&mut self, deadline: Instant) -> (Vec<State>, bool) {
+        let tree = self.reader.tree;
+        let first = guards::all_states(&self.structure, tree, deadline);
+        // The least N of this structure; other machines with C states and T
+        // transitions may need fewer literals.
+        let mut base_n = self.base_t();
+        base_n.extend(self.enc.total_t.at_most(self.t));
+        let read = &self.reader;
+        let (states, exact, colors) = least_guards_over_structures(
+            &mut *self.enc,
+            tree,
+            &base_n,
+            &self.structure,
+            first,
+            deadline,
+            &|m, enc| read.structure(m, &enc.vars, &enc.alphabet),
+        );
+        self.structure.colors = colors;
+        (states, exact)
+    }
 }
 
-/// Synthesizes a minimal ECC reproducing every scenario of `set`.
-/// `progress` receives one line per step of the search.
 /// How many structures [`least_guards_over_structures`] looks at, at most.
 const MAX_STRUCTURES: usize = 10_000;
 
@@ -1213,12 +1320,7 @@ fn least_guards_over_structures(
     let mut complete = false;
     for _ in 0..MAX_STRUCTURES {
         let block: Vec<Lit> = std::iter::once(!active)
-            .chain(
-                colors
-                    .iter()
-                    .enumerate()
-                    .map(|(v, &q)| !enc.vars.color(crate::scenario::tree::NodeId(v), q)),
-            )
+            .chain(enc.colouring(&colors).into_iter().map(|l| !l))
             .collect();
         enc.solver.add_clause(&block);
         if best

@@ -317,6 +317,60 @@ impl NoisyEncoding {
         }
     }
 
+    /// "At most `max_errors` alternatives" (`None`: no bound).
+    fn error_bound(&self, max_errors: Option<usize>) -> Option<Lit> {
+        max_errors.and_then(|m| self.errors.at_most(m))
+    }
+
+    /// Step 2 of Algorithm 1: the least `K` under `base` from `k` up to `n`, ascending as
+    /// Algorithm 1 does (`K = N` always holds).
+    fn least_k(&mut self, base: &[Lit], n: usize, mut k: usize) -> usize {
+        while k < n
+            && self
+                .solve(&[base.to_vec(), self.k_at_most(k)].concat())
+                .is_none()
+        {
+            k += 1;
+        }
+        k
+    }
+
+    /// Step 3 of Algorithm 1: the least `R` under `base`, descending from a model's count and
+    /// stopping at the proven `t_floor`, which is tried first.
+    fn least_r(
+        &mut self,
+        base: &[Lit],
+        t_floor: usize,
+        graph: &TraceGraph,
+        kind: AlgorithmKind,
+        progress: Progress<'_>,
+    ) -> Result<usize, SatError> {
+        let at_floor = (self.total_t.at_most(t_floor))
+            .filter(|_| t_floor > 0)
+            .and_then(|b| self.solve(&[base.to_vec(), vec![b]].concat()));
+        let first = match at_floor {
+            Some(m) => m,
+            None => self
+                .solve(base)
+                .ok_or_else(|| SatError::Bug("N, K satisfiable, then not".into()))?,
+        };
+        let r = self.decode(&first, graph, kind).transition_count();
+        let (vars, total_t) = (&self.vars, &self.total_t);
+        Ok(self.solver.descend(
+            base,
+            r,
+            t_floor,
+            |b| total_t.at_most(b),
+            |b| {
+                progress(Step::Trying {
+                    bound: Bound::T,
+                    value: b,
+                })
+            },
+            |m| decode(&m, vars, graph, kind).transition_count(),
+        ))
+    }
+
     fn k_at_most(&self, k: usize) -> Vec<Lit> {
         self.degree.iter().filter_map(|d| d.at_most(k)).collect()
     }
@@ -371,15 +425,65 @@ pub fn synthesize_noisy(
         alternatives: stats.alternatives,
         inputs: stats.distinct_inputs,
     });
-    let kind = opts.algorithms;
-    let err_bound = |enc: &NoisyEncoding| opts.max_errors.and_then(|m| enc.errors.at_most(m));
-
-    // 1. least N. One encoding per N, for exactly N states (the paper's findModel(T, N)):
-    // an encoding with spare states leaves the solver symmetric choices that slow down every
-    // later call far more than re-encoding costs.
     let (c0, k0, t0_) = opts.at_least.unwrap_or((1, 1, 0));
+    let (n, mut enc) = least_n(&graph, opts, c0, &mut stats, progress)?;
+    let mut base: Vec<Lit> = enc.error_bound(opts.max_errors).into_iter().collect();
+    progress(Step::Minimal {
+        bound: Bound::C,
+        value: n,
+    });
+    let k = enc.least_k(&base, n, if n == c0 { k0.max(1) } else { 1 });
+    base.extend(enc.k_at_most(k));
+    progress(Step::Minimal {
+        bound: Bound::K,
+        value: k,
+    });
+    // With a proven floor at these N and K, the floor is tried first: on a grown part it
+    // usually still holds.
+    let t_floor = if (n, k) == (c0, k0) { t0_ } else { 0 };
+    let r = enc.least_r(&base, t_floor, &graph, opts.algorithms, progress)?;
+    base.extend(enc.total_t.at_most(r));
+    progress(Step::Minimal {
+        bound: Bound::T,
+        value: r,
+    });
+    stats.minimize_seconds = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let mut found = Enumeration {
+        set,
+        graph: &graph,
+        opts,
+        enc: &mut enc,
+        base: &base,
+        candidates: Vec::new(),
+    };
+    let exhausted = found.run(progress, accept)?;
+    let candidates = found.candidates;
+    stats.solver_calls += enc.solver.stats().calls;
+    stats.enumerate_seconds = t1.elapsed().as_secs_f64();
+    Ok(NoisySynthesis {
+        n,
+        k,
+        r,
+        candidates,
+        exhausted,
+        stats,
+    })
+}
+
+/// Step 1 of Algorithm 1: the least `N` from `c0` up, and the encoding for exactly `N`
+/// states with a model there. One encoding per `N`, for exactly `N` states (the SAT
+/// reconstruction paper's `findModel(T, N)`): an encoding with spare states leaves the solver
+/// symmetric choices that slow down every later call far more than re-encoding costs.
+fn least_n(
+    graph: &TraceGraph,
+    opts: &NoisyOptions,
+    c0: usize,
+    stats: &mut NoisyStats,
+    progress: Progress<'_>,
+) -> Result<(usize, NoisyEncoding), SatError> {
     let mut n = c0.max(1);
-    let mut enc = loop {
+    loop {
         if opts.deadline.passed() {
             return Err(SatError::Stopped);
         }
@@ -398,141 +502,131 @@ pub fn synthesize_noisy(
             bound: Bound::C,
             value: n,
         });
-        let mut enc =
-            NoisyEncoding::new(&graph, n, kind, opts.max_errors, &mut stats, opts.deadline);
-        let assume: Vec<Lit> = err_bound(&enc).into_iter().collect();
+        let mut enc = NoisyEncoding::new(
+            graph,
+            n,
+            opts.algorithms,
+            opts.max_errors,
+            stats,
+            opts.deadline,
+        );
+        let assume: Vec<Lit> = enc.error_bound(opts.max_errors).into_iter().collect();
         if enc.solve(&assume).is_some() {
-            break enc;
+            return Ok((n, enc));
         }
         stats.solver_calls += enc.solver.stats().calls;
         n += 1;
-    };
-    let mut base: Vec<Lit> = err_bound(&enc).into_iter().collect();
-    progress(Step::Minimal {
-        bound: Bound::C,
-        value: n,
-    });
-
-    // 2. least K: ascending, as Algorithm 1 does (K = n always holds).
-    let mut k = if n == c0 { k0.max(1) } else { 1 };
-    while k < n
-        && enc
-            .solve(&[base.clone(), enc.k_at_most(k)].concat())
-            .is_none()
-    {
-        k += 1;
     }
-    base.extend(enc.k_at_most(k));
-    progress(Step::Minimal {
-        bound: Bound::K,
-        value: k,
-    });
+}
 
-    // 3. least R, descending from the current model's count. With a proven floor at these
-    // N and K, the floor is tried first: on a grown part it usually still holds.
-    let t_floor = if (n, k) == (c0, k0) { t0_ } else { 0 };
-    let at_floor = enc
-        .total_t
-        .at_most(t_floor)
-        .filter(|_| t_floor > 0)
-        .and_then(|b| enc.solve(&[base.clone(), vec![b]].concat()));
-    let first = match at_floor {
-        Some(m) => m,
-        None => enc
-            .solve(&base)
-            .ok_or_else(|| SatError::Bug("N, K satisfiable, then not".into()))?,
-    };
-    let r = enc.decode(&first, &graph, kind).transition_count();
-    let (vars, total_t) = (&enc.vars, &enc.total_t);
-    let r = enc.solver.descend(
-        &base,
-        r,
-        t_floor,
-        |b| total_t.at_most(b),
-        |b| {
-            progress(Step::Trying {
-                bound: Bound::T,
-                value: b,
-            })
-        },
-        |m| decode(&m, vars, &graph, kind).transition_count(),
-    );
-    base.extend(enc.total_t.at_most(r));
-    progress(Step::Minimal {
-        bound: Bound::T,
-        value: r,
-    });
-    stats.minimize_seconds = t0.elapsed().as_secs_f64();
+/// Step 4 of Algorithm 1: every distinct minimal machine within the sizes `base` fixes, by
+/// increasing ε, until `enumerate` candidates, `max_calls` solver calls, the error bound, or
+/// the caller says stop.
+struct Enumeration<'a> {
+    set: &'a ScenarioSet,
+    graph: &'a TraceGraph,
+    opts: &'a NoisyOptions,
+    enc: &'a mut NoisyEncoding,
+    /// The least `N`, `K` and `R` (and the error bound) as assumptions.
+    base: &'a [Lit],
+    /// The candidates found, in order.
+    candidates: Vec<Candidate>,
+}
 
-    // 4. every distinct minimal machine, by increasing ε.
-    let t1 = Instant::now();
-    let eps_max = opts
-        .max_errors
-        .unwrap_or(graph.alternatives.len())
-        .min(graph.alternatives.len());
-    let mut candidates: Vec<Candidate> = Vec::new();
-    // Start at the least ε: descend from a model's error count (SAT calls, one UNSAT at the
-    // end) instead of climbing from 0 through one UNSAT proof per value. Nothing is skipped:
-    // no choice with fewer errors exists.
-    let Some(mut last) = enc.solve(&base) else {
-        return Err(SatError::Bug("N, K, R satisfiable, then not".into()));
-    };
-    let (e, errors) = (&enc.e, &enc.errors);
-    let mut eps = enc.solver.descend(
-        &base,
-        last.count(e),
-        0,
-        |b| errors.at_most(b),
-        |_| {},
-        |m| {
-            let n = m.count(e);
-            last = m;
-            n
-        },
-    );
-    // The descent's last model is the first candidate: found again after the UNSAT proof
-    // below it, it would cost a call as long as the proof.
-    let mut first = Some(last);
-    progress(Step::Minimal {
-        bound: Bound::Errors,
-        value: eps,
-    });
-    let mut calls = 0;
-    let mut exhausted = false;
-    loop {
-        if candidates.len() >= opts.enumerate || calls >= opts.max_calls {
-            break;
+impl Enumeration<'_> {
+    /// Enumerates into `candidates`; returns whether every choice within the error bound was
+    /// seen (`exhausted`). Each model at bound `ε` uses exactly `ε` alternatives: every choice
+    /// with fewer is blocked before the bound rises.
+    fn run(
+        &mut self,
+        progress: Progress<'_>,
+        accept: &mut dyn FnMut(&Candidate) -> Flow,
+    ) -> Result<bool, SatError> {
+        let alternatives = self.graph.alternatives.len();
+        let eps_max = (self.opts.max_errors)
+            .unwrap_or(alternatives)
+            .min(alternatives);
+        let (mut eps, last) = self.least_errors()?;
+        // The descent's last model is the first candidate: found again after the UNSAT proof
+        // below it, it would cost a call as long as the proof.
+        let mut first = Some(last);
+        progress(Step::Minimal {
+            bound: Bound::Errors,
+            value: eps,
+        });
+        let mut calls = 0;
+        loop {
+            if self.candidates.len() >= self.opts.enumerate || calls >= self.opts.max_calls {
+                return Ok(false);
+            }
+            if eps > eps_max {
+                return Ok(true);
+            }
+            calls += 1;
+            let assume: Vec<Lit> = (self.base.iter().copied())
+                .chain(self.enc.errors.at_most(eps))
+                .collect();
+            let Some(model) = first.take().or_else(|| self.enc.solve(&assume)) else {
+                eps += 1;
+                continue;
+            };
+            let Some(candidate) = self.candidate(&model, eps)? else {
+                continue;
+            };
+            progress(Step::Candidate {
+                number: self.candidates.len() + 1,
+                errors: candidate.errors,
+                size: candidate.size,
+            });
+            let flow = accept(&candidate);
+            self.candidates.push(candidate);
+            if flow == Flow::Stop {
+                return Ok(false);
+            }
         }
-        if eps > eps_max {
-            exhausted = true;
-            break;
-        }
-        calls += 1;
-        let assume: Vec<Lit> = base
-            .iter()
-            .copied()
-            .chain(enc.errors.at_most(eps))
-            .collect();
-        let Some(model) = first.take().or_else(|| enc.solve(&assume)) else {
-            eps += 1;
-            continue;
+    }
+
+    /// The least ε and a model there. Found by descending from a model's error count (SAT
+    /// calls, one UNSAT at the end) instead of climbing from 0 through one UNSAT proof per
+    /// value: the same candidates, since no choice with fewer errors exists.
+    fn least_errors(&mut self) -> Result<(usize, Model), SatError> {
+        let Some(mut last) = self.enc.solve(self.base) else {
+            return Err(SatError::Bug("N, K, R satisfiable, then not".into()));
         };
-        let used: Vec<bool> = enc.e.iter().map(|&l| model.value(l)).collect();
-        enc.block(&used);
-        let structure = enc.decode(&model, &graph, kind);
-        let (states, guards_exact) = guards::all_states(
-            &structure,
-            &graph.tree,
-            opts.deadline.cap(Instant::now() + opts.guard_budget),
+        let (e, errors) = (&self.enc.e, &self.enc.errors);
+        let eps = self.enc.solver.descend(
+            self.base,
+            last.count(e),
+            0,
+            |b| errors.at_most(b),
+            |_| {},
+            |m| {
+                let n = m.count(e);
+                last = m;
+                n
+            },
         );
+        Ok((eps, last))
+    }
+
+    /// The machine of `model` (a model at bound `eps`), its edge choice blocked from now on:
+    /// `None` when it repeats a machine already found. Checked: well formed, replaying its
+    /// corrected traces, and using exactly `eps` alternatives.
+    fn candidate(&mut self, model: &Model, eps: usize) -> Result<Option<Candidate>, SatError> {
+        let (set, graph) = (self.set, self.graph);
+        let used: Vec<bool> = self.enc.e.iter().map(|&l| model.value(l)).collect();
+        self.enc.block(&used);
+        let structure = self.enc.decode(model, graph, self.opts.algorithms);
+        let deadline = (self.opts.deadline).cap(Instant::now() + self.opts.guard_budget);
+        let (states, guards_exact) = guards::all_states(&structure, &graph.tree, deadline);
         let ecc = Ecc {
             inputs: set.inputs.clone(),
             outputs: set.outputs.clone(),
             initial_outputs: set.initial_outputs.clone(),
             states,
         };
-        if candidates.iter().any(|c| c.ecc == ecc) {
-            continue;
+        if self.candidates.iter().any(|c| c.ecc == ecc) {
+            return Ok(None);
         }
         ecc.validate().map_err(SatError::Bug)?;
         let corrected = graph.corrected(set, &used);
@@ -547,35 +641,15 @@ pub fn synthesize_noisy(
                 "a model at bound ε = {eps} uses {errors} alternatives"
             )));
         }
-        let candidate = Candidate {
+        Ok(Some(Candidate {
             size: ecc.size(),
             ecc,
             errors,
             used,
             corrected,
             guards_exact,
-        };
-        progress(Step::Candidate {
-            number: candidates.len() + 1,
-            errors,
-            size: candidate.size,
-        });
-        let flow = accept(&candidate);
-        candidates.push(candidate);
-        if flow == Flow::Stop {
-            break;
-        }
+        }))
     }
-    stats.solver_calls += enc.solver.stats().calls;
-    stats.enumerate_seconds = t1.elapsed().as_secs_f64();
-    Ok(NoisySynthesis {
-        n,
-        k,
-        r,
-        candidates,
-        exhausted,
-        stats,
-    })
 }
 
 /// The least number of alternative edges with which some machine of at most `c` states, at

@@ -33,7 +33,7 @@
 pub use super::steps::{samples_to_steps, Sample};
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::ident::is_identifier;
-use crate::files::csv::{parse_bool_cell, Records};
+use crate::files::csv::{parse_bool_cell, Record, Records};
 use crate::quote::quote;
 use std::io::Write;
 use std::path::Path;
@@ -78,9 +78,6 @@ pub fn parse(
     let (columns, inputs, outputs) =
         classify(&header, input_names, output_names).map_err(|m| err(hline, m))?;
 
-    // Samples grouped by the scenario column.
-    // Per scenario: its first line, its id, and its samples with their lines.
-    type Group = (usize, String, Vec<(Sample, usize)>);
     let mut groups: Vec<Group> = Vec::new();
     while let Some((line_no, cells)) = records.next_record().map_err(read)? {
         if cells.len() != columns.len() {
@@ -89,32 +86,8 @@ pub fn parse(
                 format!("{} cells, the header has {}", cells.len(), columns.len()),
             ));
         }
-        let mut sample = Sample {
-            inputs: vec![false; inputs.len()],
-            outputs: vec![false; outputs.len()],
-        };
-        let mut id = String::new();
-        for (k, (cell, col)) in cells.iter().zip(&columns).enumerate() {
-            let value = || {
-                parse_bool_cell(cell).ok_or_else(|| {
-                    err(
-                        line_no,
-                        format!(
-                            "column {} ({}): {} is not 0/1/true/false",
-                            k + 1,
-                            quote(&header[k]),
-                            quote(&lossy(cell))
-                        ),
-                    )
-                })
-            };
-            match *col {
-                Column::Time => {}
-                Column::Scenario => id = lossy(cell),
-                Column::Input(i) => sample.inputs[i] = value()?,
-                Column::Output(o) => sample.outputs[o] = value()?,
-            }
-        }
+        let (sample, id) = row(&cells, &columns, &header, (inputs.len(), outputs.len()))
+            .map_err(|m| err(line_no, m))?;
         match groups.last_mut() {
             Some((_, last, samples)) if *last == id => samples.push((sample, line_no)),
             _ => groups.push((line_no, id, vec![(sample, line_no)])),
@@ -124,32 +97,8 @@ pub fn parse(
         return Err(err(hline, "no sample rows after the header".into()));
     }
     let initial = vec![false; outputs.len()];
-    let scenarios = groups
-        .into_iter()
-        .map(|(line, _, samples)| {
-            // The stream the other readers use, with each step's row kept for messages.
-            let mut stream = super::steps::StepStream::new(initial.clone());
-            let (mut steps, mut rows) = (Vec::new(), Vec::new());
-            let tagged = samples
-                .into_iter()
-                .filter_map(|(s, l)| stream.push_tagged(s, l));
-            for (step, row) in tagged
-                .collect::<Vec<_>>()
-                .into_iter()
-                .chain(stream.finish_tagged())
-            {
-                steps.push(step);
-                rows.push(row);
-            }
-            Scenario {
-                origin: Origin {
-                    file: file.to_path_buf(),
-                    line,
-                    rows: Some(rows.into()),
-                },
-                steps,
-            }
-        })
+    let scenarios = (groups.into_iter())
+        .map(|group| scenario(file, &initial, group))
         .collect();
     Ok(ScenarioSet {
         inputs,
@@ -157,6 +106,70 @@ pub fn parse(
         initial_outputs: initial,
         scenarios,
     })
+}
+
+/// Samples grouped by the scenario column: per scenario its first line, its id, and its
+/// samples with their lines.
+type Group = (usize, String, Vec<(Sample, usize)>);
+
+/// One sample row as `(sample, scenario id)`, with `(inputs, outputs)` signals; the
+/// message names the column of a cell that is not a Boolean.
+fn row(
+    cells: &Record<'_>,
+    columns: &[Column],
+    header: &[String],
+    (inputs, outputs): (usize, usize),
+) -> Result<(Sample, String), String> {
+    let mut sample = Sample {
+        inputs: vec![false; inputs],
+        outputs: vec![false; outputs],
+    };
+    let mut id = String::new();
+    for (k, (cell, col)) in cells.iter().zip(columns).enumerate() {
+        let value = || {
+            parse_bool_cell(cell).ok_or_else(|| {
+                format!(
+                    "column {} ({}): {} is not 0/1/true/false",
+                    k + 1,
+                    quote(&header[k]),
+                    quote(&lossy(cell))
+                )
+            })
+        };
+        match *col {
+            Column::Time => {}
+            Column::Scenario => id = lossy(cell),
+            Column::Input(i) => sample.inputs[i] = value()?,
+            Column::Output(o) => sample.outputs[o] = value()?,
+        }
+    }
+    Ok((sample, id))
+}
+
+/// The scenario of one group of samples, converted by the stream the other readers use
+/// ([`super::steps::StepStream`]), with each step's row kept for messages.
+fn scenario(file: &Path, initial: &[bool], (line, _, samples): Group) -> Scenario {
+    let mut stream = super::steps::StepStream::new(initial.to_vec());
+    let (mut steps, mut rows) = (Vec::new(), Vec::new());
+    let tagged = samples
+        .into_iter()
+        .filter_map(|(s, l)| stream.push_tagged(s, l));
+    for (step, row) in tagged
+        .collect::<Vec<_>>()
+        .into_iter()
+        .chain(stream.finish_tagged())
+    {
+        steps.push(step);
+        rows.push(row);
+    }
+    Scenario {
+        origin: Origin {
+            file: file.to_path_buf(),
+            line,
+            rows: Some(rows.into()),
+        },
+        steps,
+    }
 }
 
 /// A cell as text (the log is UTF-8 already; this only changes the type).
@@ -191,59 +204,12 @@ fn classify(
             columns.push(Column::Scenario);
             continue;
         }
-        let (side, name) = if let Some(n) = cell.strip_prefix("in:") {
-            (Some(true), n)
-        } else if let Some(n) = cell.strip_prefix("out:") {
-            (Some(false), n)
-        } else {
-            (None, cell)
-        };
-        if !is_identifier(name) {
-            return Err(format!(
-                "column {col_no}: {} is not a valid signal name",
-                quote(name)
-            ));
-        }
-        let in_pos = inputs.iter().position(|n| n == name);
-        let out_pos = outputs.iter().position(|n| n == name);
-        let col = match (side, in_pos, out_pos) {
-            (Some(true), Some(i), _) | (None, Some(i), None) => Column::Input(i),
-            (Some(false), _, Some(o)) | (None, None, Some(o)) => Column::Output(o),
-            (Some(true), None, _) if !fixed_in => {
-                inputs.push(name.to_string());
-                Column::Input(inputs.len() - 1)
-            }
-            (Some(false), _, None) if !fixed_out => {
-                outputs.push(name.to_string());
-                Column::Output(outputs.len() - 1)
-            }
-            (Some(true), None, _) => {
-                return Err(format!(
-                    "column {col_no}: input {} is not in the input names file",
-                    quote(name)
-                ))
-            }
-            (Some(false), _, None) => {
-                return Err(format!(
-                    "column {col_no}: output {} is not in the output names file",
-                    quote(name)
-                ))
-            }
-            (None, Some(_), Some(_)) => {
-                return Err(format!(
-                    "column {col_no}: {} is listed both as an input and as an output",
-                    quote(name)
-                ))
-            }
-            (None, None, None) => {
-                return Err(format!(
-                    "column {col_no}: unknown signal {}: write {} or {} in the header, or list it in a names file",
-                    quote(name),
-                    quote(&format!("in:{name}")),
-                    quote(&format!("out:{name}"))
-                ))
-            }
-        };
+        let col = signal_column(
+            cell,
+            col_no,
+            (&mut inputs, fixed_in),
+            (&mut outputs, fixed_out),
+        )?;
         columns.push(col);
     }
     for (names, is_input) in [(&inputs, true), (&outputs, false)] {
@@ -268,6 +234,70 @@ fn classify(
         return Err("no output columns (prefix them with 'out:')".into());
     }
     Ok((columns, inputs, outputs))
+}
+
+/// The column of signal header `cell` (column `col_no`, 1-based): by its `in:`/`out:` prefix
+/// or by the names files. A prefixed name not yet known is added to its side unless that
+/// side's names are `fixed` (given in a names file).
+fn signal_column(
+    cell: &str,
+    col_no: usize,
+    (inputs, fixed_in): (&mut Vec<String>, bool),
+    (outputs, fixed_out): (&mut Vec<String>, bool),
+) -> Result<Column, String> {
+    let (side, name) = if let Some(n) = cell.strip_prefix("in:") {
+        (Some(true), n)
+    } else if let Some(n) = cell.strip_prefix("out:") {
+        (Some(false), n)
+    } else {
+        (None, cell)
+    };
+    if !is_identifier(name) {
+        return Err(format!(
+            "column {col_no}: {} is not a valid signal name",
+            quote(name)
+        ));
+    }
+    let in_pos = inputs.iter().position(|n| n == name);
+    let out_pos = outputs.iter().position(|n| n == name);
+    Ok(match (side, in_pos, out_pos) {
+        (Some(true), Some(i), _) | (None, Some(i), None) => Column::Input(i),
+        (Some(false), _, Some(o)) | (None, None, Some(o)) => Column::Output(o),
+        (Some(true), None, _) if !fixed_in => {
+            inputs.push(name.to_string());
+            Column::Input(inputs.len() - 1)
+        }
+        (Some(false), _, None) if !fixed_out => {
+            outputs.push(name.to_string());
+            Column::Output(outputs.len() - 1)
+        }
+        (Some(true), None, _) => {
+            return Err(format!(
+                "column {col_no}: input {} is not in the input names file",
+                quote(name)
+            ))
+        }
+        (Some(false), _, None) => {
+            return Err(format!(
+                "column {col_no}: output {} is not in the output names file",
+                quote(name)
+            ))
+        }
+        (None, Some(_), Some(_)) => {
+            return Err(format!(
+                "column {col_no}: {} is listed both as an input and as an output",
+                quote(name)
+            ))
+        }
+        (None, None, None) => {
+            return Err(format!(
+                "column {col_no}: unknown signal {}: write {} or {} in the header, or list it in a names file",
+                quote(name),
+                quote(&format!("in:{name}")),
+                quote(&format!("out:{name}"))
+            ))
+        }
+    })
 }
 
 /// Reads a CSV log file (plain or gzip).

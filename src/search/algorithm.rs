@@ -418,45 +418,8 @@ pub fn run(
         .map_err(|e| SearchError::Threads(e.to_string()))?;
     let mut checkers: Vec<Option<Box<dyn Checker>>> = checkers.into_iter().map(Some).collect();
     checkers.resize_with(config.colonies, || None);
-    let inputs = data.inputs.len();
-    let mut colonies: Vec<Colony> = checkers
-        .into_iter()
-        .enumerate()
-        .map(|(k, checker)| {
-            let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
-            rng.set_stream(k as u64);
-            let machine = match config.initial.get(k % config.initial.len().max(1)) {
-                Some(m) => padded(m, config.states),
-                None => Machine::random(&mut rng, inputs, config.states, config.max_vars),
-            };
-            let mut c = Colony {
-                rng,
-                eval: Evaluator::new(data),
-                checker,
-                current: Individual {
-                    machine: machine.clone(),
-                    score: ScenarioScore {
-                        ed: 0.0,
-                        fe: 0.0,
-                        sc: 0.0,
-                        reproduced: 0,
-                        scenarios: 0,
-                    },
-                    verdicts: None,
-                    own: false,
-                    fitness: f64::NEG_INFINITY,
-                },
-                stagnant: 0,
-                checks_stagnant: 0,
-                evaluations: 0,
-                verifications: 0,
-                replayed: 0,
-                known: Vec::new(),
-                error: None,
-            };
-            c.current = c.assess(machine, None, config, true);
-            c
-        })
+    let mut colonies: Vec<Colony> = (checkers.into_iter().enumerate())
+        .map(|(k, checker)| Colony::new(data, config, k, checker))
         .collect();
     // The best machine so far: colonies restart, the elite stays.
     let mut elite: Option<(usize, Individual)> = None;
@@ -472,30 +435,12 @@ pub fn run(
             return Err(colonies[k].error.take().expect("found").into());
         }
         let evaluations: u64 = colonies.iter().map(|c| c.evaluations).sum();
-        // The first colony with the highest fitness (a perfect one first).
-        let best_k = (0..colonies.len())
-            .max_by(|&a, &b| {
-                let key = |k: usize| {
-                    let c = &colonies[k];
-                    (c.perfect(&c.current), c.current.fitness)
-                };
-                let (pa, fa) = key(a);
-                let (pb, fb) = key(b);
-                pa.cmp(&pb).then(fa.total_cmp(&fb)).then(b.cmp(&a))
-            })
-            .expect("colonies >= 1");
+        let best_k = best_colony(&colonies);
         let candidate = &colonies[best_k];
-        let better = match &elite {
-            None => true,
-            Some((k, e)) => {
-                let (pc, pe) = (
-                    candidate.perfect(&candidate.current),
-                    colonies[*k].perfect(e),
-                );
-                pc && !pe || (pc == pe && candidate.current.fitness > e.fitness)
-            }
-        };
-        if better {
+        if elite
+            .as_ref()
+            .is_none_or(|(k, e)| candidate.beats(&colonies[*k], e))
+        {
             elite = Some((best_k, candidate.current.clone()));
         }
         let (elite_k, best) = elite.clone().expect("set above");
@@ -511,50 +456,137 @@ pub fn run(
         let out_of_budget = config.time_limit.is_some_and(|t| start.elapsed() >= t)
             || config.max_evaluations.is_some_and(|m| evaluations >= m);
         if done || out_of_budget {
-            let c = &mut colonies[elite_k];
-            // Labeling again gives the best machine's algorithms.
-            c.eval.evaluate(&best.machine);
-            let ecc = best.machine.to_ecc(
-                &data.inputs,
-                &data.outputs,
-                &data.initial_outputs,
-                &c.eval.algorithms(),
-            );
-            return Ok(Outcome {
-                perfect: done,
-                verdicts: if best.own {
-                    best.verdicts.as_deref().cloned()
-                } else {
-                    None
-                },
-                machine: best.machine,
-                ecc,
-                score: best.score,
-                fitness: best.fitness,
-                stats: Stats {
-                    evaluations,
-                    verifications: colonies.iter().map(|c| c.verifications).sum(),
-                    replayed: colonies.iter().map(|c| c.replayed).sum(),
-                    rounds: round,
-                    seconds: start.elapsed().as_secs_f64(),
-                },
-            });
+            let stats = Stats {
+                evaluations,
+                verifications: colonies.iter().map(|c| c.verifications).sum(),
+                replayed: colonies.iter().map(|c| c.replayed).sum(),
+                rounds: round,
+                seconds: start.elapsed().as_secs_f64(),
+            };
+            return Ok(colonies[elite_k].outcome(data, best, done, stats));
         }
         // Sharing: a stagnating colony restarts from the elite when that is better than its
         // own (with [`Restart::Elite`]), else from a random machine.
         for c in colonies.iter_mut() {
-            if c.stagnant < config.stagnation_rounds && c.checks_stagnant < config.stagnation_checks
-            {
-                continue;
-            }
-            c.stagnant = 0;
-            c.checks_stagnant = 0;
-            if config.restart == Restart::Elite && best.fitness > c.current.fitness {
-                c.current = best.clone();
+            c.restart_if_stagnant(&best, config, data.inputs.len());
+        }
+    }
+}
+
+/// The first colony with the highest fitness (a perfect one first).
+fn best_colony(colonies: &[Colony]) -> usize {
+    (0..colonies.len())
+        .max_by(|&a, &b| {
+            let key = |k: usize| {
+                let c = &colonies[k];
+                (c.perfect(&c.current), c.current.fitness)
+            };
+            let (pa, fa) = key(a);
+            let (pb, fb) = key(b);
+            pa.cmp(&pb).then(fa.total_cmp(&fb)).then(b.cmp(&a))
+        })
+        .expect("colonies >= 1")
+}
+
+impl<'a> Colony<'a> {
+    /// Colony `k` of the run: its own random stream of the seed, and a first machine (the
+    /// configured initial one, padded, or a random one) assessed with a check.
+    fn new(
+        data: &'a ScenarioData,
+        config: &Config,
+        k: usize,
+        checker: Option<Box<dyn Checker>>,
+    ) -> Colony<'a> {
+        let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+        rng.set_stream(k as u64);
+        let machine = match config.initial.get(k % config.initial.len().max(1)) {
+            Some(m) => padded(m, config.states),
+            None => Machine::random(&mut rng, data.inputs.len(), config.states, config.max_vars),
+        };
+        let mut c = Colony {
+            rng,
+            eval: Evaluator::new(data),
+            checker,
+            current: Individual {
+                machine: machine.clone(),
+                score: ScenarioScore {
+                    ed: 0.0,
+                    fe: 0.0,
+                    sc: 0.0,
+                    reproduced: 0,
+                    scenarios: 0,
+                },
+                verdicts: None,
+                own: false,
+                fitness: f64::NEG_INFINITY,
+            },
+            stagnant: 0,
+            checks_stagnant: 0,
+            evaluations: 0,
+            verifications: 0,
+            replayed: 0,
+            known: Vec::new(),
+            error: None,
+        };
+        c.current = c.assess(machine, None, config, true);
+        c
+    }
+}
+
+impl Colony<'_> {
+    /// Whether this colony's machine should replace the elite `e` (kept by colony `holder`):
+    /// perfect where the elite is not, or as perfect and fitter.
+    fn beats(&self, holder: &Colony, e: &Individual) -> bool {
+        let (pc, pe) = (self.perfect(&self.current), holder.perfect(e));
+        pc && !pe || (pc == pe && self.current.fitness > e.fitness)
+    }
+
+    /// The result with `best`, the elite this colony holds, and the run's `stats`.
+    fn outcome(
+        &mut self,
+        data: &ScenarioData,
+        best: Individual,
+        perfect: bool,
+        stats: Stats,
+    ) -> Outcome {
+        // Labeling again gives the best machine's algorithms.
+        self.eval.evaluate(&best.machine);
+        let ecc = best.machine.to_ecc(
+            &data.inputs,
+            &data.outputs,
+            &data.initial_outputs,
+            &self.eval.algorithms(),
+        );
+        Outcome {
+            perfect,
+            verdicts: if best.own {
+                best.verdicts.as_deref().cloned()
             } else {
-                let m = Machine::random(&mut c.rng, inputs, config.states, config.max_vars);
-                c.current = c.assess(m, None, config, true);
-            }
+                None
+            },
+            machine: best.machine,
+            ecc,
+            score: best.score,
+            fitness: best.fitness,
+            stats,
+        }
+    }
+
+    /// After too many rounds (or checks) without improvement, starts again: from the elite
+    /// `best` when that is fitter and [`Restart::Elite`] is set, else from a random machine.
+    fn restart_if_stagnant(&mut self, best: &Individual, config: &Config, inputs: usize) {
+        if self.stagnant < config.stagnation_rounds
+            && self.checks_stagnant < config.stagnation_checks
+        {
+            return;
+        }
+        self.stagnant = 0;
+        self.checks_stagnant = 0;
+        if config.restart == Restart::Elite && best.fitness > self.current.fitness {
+            self.current = best.clone();
+        } else {
+            let m = Machine::random(&mut self.rng, inputs, config.states, config.max_vars);
+            self.current = self.assess(m, None, config, true);
         }
     }
 }

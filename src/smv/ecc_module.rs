@@ -126,7 +126,6 @@ fn conjunct(g: &Guard, names: &[String]) -> Option<String> {
 /// Writes the module; see the module header for its semantics.
 pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Result<(), SmvError> {
     check_names(ecc, module_name)?;
-    let names = &ecc.inputs;
     let mut params = vec!["REQ".to_string()];
     params.extend(ecc.inputs.iter().cloned());
 
@@ -145,12 +144,28 @@ pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Res
     }
 
     writeln!(w, "DEFINE")?;
+    write_target(ecc, w)?;
+    write_fired(ecc, w)?;
+    writeln!(w, "ASSIGN")?;
+    writeln!(w, "  init(_state) := {};", state_value(StateId(0)))?;
+    writeln!(w, "  next(_state) := _target;")?;
+    writeln!(w, "  init(CNF) := FALSE;")?;
+    writeln!(w, "  next(CNF) := _fired;")?;
+    for z in 0..ecc.outputs.len() {
+        write_output(ecc, z, w)?;
+    }
+    Ok(())
+}
+
+/// `_target`: the state after this step, the target of the first transition whose guard
+/// holds on `REQ`, else the current state (transitions in priority order).
+fn write_target(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     writeln!(w, "  _target :=")?;
     writeln!(w, "    case")?;
     for (i, s) in ecc.states.iter().enumerate() {
         for t in &s.transitions {
             let mut cond = format!("REQ & _state = {}", state_value(StateId(i)));
-            if let Some(g) = conjunct(&t.guard, names) {
+            if let Some(g) = conjunct(&t.guard, &ecc.inputs) {
                 cond.push_str(" & ");
                 cond.push_str(&g);
             }
@@ -158,77 +173,77 @@ pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Res
         }
     }
     writeln!(w, "      TRUE : _state;")?;
-    writeln!(w, "    esac;")?;
+    writeln!(w, "    esac;")
+}
 
+/// `_fired`: whether a transition fires in this step (`REQ` and some guard of the current
+/// state holds).
+fn write_fired(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
+    let names = &ecc.inputs;
     if ecc.states.iter().all(|s| s.transitions.is_empty()) {
-        writeln!(w, "  _fired := FALSE;")?;
-    } else {
-        writeln!(w, "  _fired := REQ &")?;
-        writeln!(w, "    case")?;
-        for (i, s) in ecc.states.iter().enumerate() {
-            if s.transitions.is_empty() {
-                continue;
-            }
-            let any = if s.transitions.iter().any(|t| t.guard == Guard::True) {
-                "TRUE".to_string()
-            } else {
-                let parts: Vec<String> = s
-                    .transitions
-                    .iter()
-                    .map(|t| match &t.guard {
-                        // Parentheses only for readability: `&` binds tighter than `|`.
-                        g @ (Guard::And(_) | Guard::Or(_)) if s.transitions.len() > 1 => {
-                            format!("({})", g.display(names))
-                        }
-                        g => g.display(names).to_string(),
-                    })
-                    .collect();
-                parts.join(" | ")
-            };
-            writeln!(w, "      _state = {} : {any};", state_value(StateId(i)))?;
-        }
-        writeln!(w, "      TRUE : FALSE;")?;
-        writeln!(w, "    esac;")?;
+        return writeln!(w, "  _fired := FALSE;");
     }
-
-    writeln!(w, "ASSIGN")?;
-    writeln!(w, "  init(_state) := {};", state_value(StateId(0)))?;
-    writeln!(w, "  next(_state) := _target;")?;
-    writeln!(w, "  init(CNF) := FALSE;")?;
-    writeln!(w, "  next(CNF) := _fired;")?;
-    for (z, name) in ecc.outputs.iter().enumerate() {
-        writeln!(
-            w,
-            "  init({name}) := {};",
-            bool_literal(ecc.initial_outputs[z])
-        )?;
-        let lines: Vec<(usize, String)> = ecc
-            .states
-            .iter()
-            .enumerate()
-            .filter_map(|(i, s)| match Effect::of(&s.algorithm, z) {
-                Effect::Keep => None,
-                Effect::Set(v) => Some((i, bool_literal(v).to_string())),
-                Effect::Flip => Some((i, format!("!{name}"))),
-            })
-            .collect();
-        if lines.is_empty() {
-            writeln!(w, "  next({name}) := {name};")?;
+    writeln!(w, "  _fired := REQ &")?;
+    writeln!(w, "    case")?;
+    for (i, s) in ecc.states.iter().enumerate() {
+        if s.transitions.is_empty() {
             continue;
         }
-        writeln!(w, "  next({name}) :=")?;
-        writeln!(w, "    case")?;
-        for (i, value) in lines {
-            writeln!(
-                w,
-                "      _fired & _target = {} : {value};",
-                state_value(StateId(i))
-            )?;
-        }
-        writeln!(w, "      TRUE : {name};")?;
-        writeln!(w, "    esac;")?;
+        let any = if s.transitions.iter().any(|t| t.guard == Guard::True) {
+            "TRUE".to_string()
+        } else {
+            let parts: Vec<String> = s
+                .transitions
+                .iter()
+                .map(|t| match &t.guard {
+                    // Parentheses only for readability: `&` binds tighter than `|`.
+                    g @ (Guard::And(_) | Guard::Or(_)) if s.transitions.len() > 1 => {
+                        format!("({})", g.display(names))
+                    }
+                    g => g.display(names).to_string(),
+                })
+                .collect();
+            parts.join(" | ")
+        };
+        writeln!(w, "      _state = {} : {any};", state_value(StateId(i)))?;
     }
-    Ok(())
+    writeln!(w, "      TRUE : FALSE;")?;
+    writeln!(w, "    esac;")
+}
+
+/// `init` and `next` of output `z`: its initial value, then what the algorithm of the state
+/// a transition enters does to it (kept when nothing fires).
+fn write_output(ecc: &Ecc, z: usize, w: &mut impl Write) -> io::Result<()> {
+    let name = &ecc.outputs[z];
+    writeln!(
+        w,
+        "  init({name}) := {};",
+        bool_literal(ecc.initial_outputs[z])
+    )?;
+    let lines: Vec<(usize, String)> = ecc
+        .states
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| match Effect::of(&s.algorithm, z) {
+            Effect::Keep => None,
+            Effect::Set(v) => Some((i, bool_literal(v).to_string())),
+            Effect::Flip => Some((i, format!("!{name}"))),
+        })
+        .collect();
+    if lines.is_empty() {
+        return writeln!(w, "  next({name}) := {name};");
+    }
+    writeln!(w, "  next({name}) :=")?;
+    writeln!(w, "    case")?;
+    for (i, value) in lines {
+        writeln!(
+            w,
+            "      _fired & _target = {} : {value};",
+            state_value(StateId(i))
+        )?;
+    }
+    writeln!(w, "      TRUE : {name};")?;
+    writeln!(w, "    esac;")
 }
 
 /// [`write_ecc_module`] into a string.

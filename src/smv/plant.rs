@@ -134,75 +134,66 @@ const SPECS: &[&str] = &[
 
 /// Scans a plant file.
 pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
-    let at = |line: usize, message: String| PlantError::At {
-        file: file.to_path_buf(),
-        line,
-        message,
+    let mut scan = Scanner {
+        file,
+        text,
+        toks: tokens(text),
+        k: 0,
+        plant: None,
+        in_plant: false,
+        section: "",
+        depth: 0,
+        stmt_start: false,
     };
-    let toks = tokens(text);
-    let mut plant: Option<Plant> = None;
-    let mut in_plant = false;
-    let mut section = "";
-    let mut depth = 0i32;
-    let mut stmt_start = false;
-    let mut k = 0;
-    while k < toks.len() {
-        let (tok, line) = (&toks[k].0, toks[k].1);
+    while scan.k < scan.toks.len() {
+        scan.token()?;
+    }
+    match scan.plant.take() {
+        Some(plant) => Ok(plant),
+        None => Err(scan.at(
+            1,
+            "no MODULE plant(...) in this file: the plant must be a module named plant whose parameters are controller outputs".into(),
+        )),
+    }
+}
+
+/// The scanner's place in the token list and what it has found.
+struct Scanner<'a> {
+    file: &'a Path,
+    text: &'a str,
+    toks: Vec<(Tok, usize)>,
+    /// The next token.
+    k: usize,
+    plant: Option<Plant>,
+    /// Inside `MODULE plant`.
+    in_plant: bool,
+    /// The section keyword in force (`VAR`, `DEFINE`, ...; empty after a `MODULE`).
+    section: &'static str,
+    /// Open brackets and `case`s.
+    depth: i32,
+    /// Whether the next token starts a statement (at depth 0, after a section keyword or `;`).
+    stmt_start: bool,
+}
+
+impl Scanner<'_> {
+    /// An error at `line` of the file.
+    fn at(&self, line: usize, message: String) -> PlantError {
+        PlantError::At {
+            file: self.file.to_path_buf(),
+            line,
+            message,
+        }
+    }
+
+    /// Reads the next token (a whole module header for `MODULE`).
+    fn token(&mut self) -> Result<(), PlantError> {
+        let (tok, line) = (&self.toks[self.k].0, self.toks[self.k].1);
         match tok {
-            Tok::Ident(w) if w == "MODULE" && depth == 0 => {
-                let Some((Tok::Ident(name), _)) = toks.get(k + 1) else {
-                    return Err(at(line, "MODULE without a name".into()));
-                };
-                if name == "main" || name == CONTROLLER_MODULE {
-                    return Err(at(
-                        line,
-                        format!("the plant file must not define MODULE {name}: synth generates it to connect the plant to the controller"),
-                    ));
-                }
-                in_plant = name == "plant";
-                section = "";
-                stmt_start = false;
-                k += 2;
-                if in_plant {
-                    if plant.is_some() {
-                        return Err(at(line, "MODULE plant is defined twice".into()));
-                    }
-                    let mut params = Vec::new();
-                    if toks.get(k).map(|t| &t.0) == Some(&Tok::Sym("(")) {
-                        k += 1;
-                        while let Some((t, l)) = toks.get(k) {
-                            k += 1;
-                            match t {
-                                Tok::Sym(")") => break,
-                                Tok::Sym(",") => {}
-                                Tok::Ident(p) => params.push(Declared {
-                                    name: p.clone(),
-                                    line: *l,
-                                }),
-                                _ => {
-                                    return Err(at(
-                                        *l,
-                                        "unexpected token in the parameter list of MODULE plant"
-                                            .into(),
-                                    ))
-                                }
-                            }
-                        }
-                    }
-                    plant = Some(Plant {
-                        file: file.to_path_buf(),
-                        text: text.to_string(),
-                        module_line: line,
-                        params,
-                        names: Vec::new(),
-                    });
-                }
-                continue;
-            }
+            Tok::Ident(w) if w == "MODULE" && self.depth == 0 => return self.module(line),
             // A specification in the plant would be checked with the user's properties, and
             // its verdicts would be taken for theirs.
-            Tok::Ident(w) if depth == 0 && SPECS.contains(&w.as_str()) => {
-                return Err(at(
+            Tok::Ident(w) if self.depth == 0 && SPECS.contains(&w.as_str()) => {
+                return Err(self.at(
                     line,
                     format!("the plant file must not hold a specification ({w}): properties go in the LTL file given with --ltl"),
                 ));
@@ -210,61 +201,126 @@ pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
             // NuSMV runs processes interleaved, so the closed loop would not be the
             // synchronous scan cycle the controller is synthesized for.
             Tok::Ident(w) if w == "process" => {
-                return Err(at(
+                return Err(self.at(
                     line,
                     "the plant must not instantiate a process: the closed loop is synchronous (one scan per step), NuSMV would interleave processes".into(),
                 ));
             }
-            Tok::Ident(w) if depth == 0 && SECTIONS.contains(&w.as_str()) => {
-                section = SECTIONS[SECTIONS.iter().position(|s| s == w).expect("member")];
-                stmt_start = true;
+            Tok::Ident(w) if self.depth == 0 && SECTIONS.contains(&w.as_str()) => {
+                self.section = SECTIONS[SECTIONS.iter().position(|s| s == w).expect("member")];
+                self.stmt_start = true;
             }
             Tok::Ident(w) if w == "case" => {
-                depth += 1;
-                stmt_start = false;
+                self.depth += 1;
+                self.stmt_start = false;
             }
             Tok::Ident(w) if w == "esac" => {
-                depth -= 1;
-                stmt_start = false;
+                self.depth -= 1;
+                self.stmt_start = false;
             }
-            Tok::Ident(w) => {
-                let declares = match section {
-                    "VAR" | "IVAR" | "FROZENVAR" => Some(":"),
-                    "DEFINE" => Some(":="),
-                    _ => None,
-                };
-                if in_plant && stmt_start && depth == 0 {
-                    if let (Some(want), Some((Tok::Sym(next), _))) = (declares, toks.get(k + 1)) {
-                        if *next == want {
-                            let p = plant.as_mut().expect("in_plant implies plant");
-                            p.names.push(Declared {
-                                name: w.clone(),
-                                line,
-                            });
-                        }
-                    }
-                }
-                stmt_start = false;
+            Tok::Ident(_) => {
+                self.name(line);
+                self.stmt_start = false;
             }
             Tok::Sym("(") | Tok::Sym("{") | Tok::Sym("[") => {
-                depth += 1;
-                stmt_start = false;
+                self.depth += 1;
+                self.stmt_start = false;
             }
             Tok::Sym(")") | Tok::Sym("}") | Tok::Sym("]") => {
-                depth -= 1;
-                stmt_start = false;
+                self.depth -= 1;
+                self.stmt_start = false;
             }
-            Tok::Sym(";") => stmt_start = depth == 0,
-            _ => stmt_start = false,
+            Tok::Sym(";") => self.stmt_start = self.depth == 0,
+            _ => self.stmt_start = false,
         }
-        k += 1;
+        self.k += 1;
+        Ok(())
     }
-    plant.ok_or_else(|| {
-        at(
-            1,
-            "no MODULE plant(...) in this file: the plant must be a module named plant whose parameters are controller outputs".into(),
-        )
-    })
+
+    /// The identifier at `k`, on `line`: a declaration of `MODULE plant` when it starts a
+    /// statement of a declaring section and the declaring symbol (`:` or `:=`) follows.
+    fn name(&mut self, line: usize) {
+        let declares = match self.section {
+            "VAR" | "IVAR" | "FROZENVAR" => Some(":"),
+            "DEFINE" => Some(":="),
+            _ => None,
+        };
+        if !(self.in_plant && self.stmt_start && self.depth == 0) {
+            return;
+        }
+        let (Tok::Ident(w), Some(want), Some((Tok::Sym(next), _))) =
+            (&self.toks[self.k].0, declares, self.toks.get(self.k + 1))
+        else {
+            return;
+        };
+        if *next == want {
+            let p = self.plant.as_mut().expect("in_plant implies plant");
+            p.names.push(Declared {
+                name: w.clone(),
+                line,
+            });
+        }
+    }
+
+    /// `MODULE name` on `line`, and for `MODULE plant` its parameter list; the module
+    /// `main` and the controller's are synth's to generate.
+    fn module(&mut self, line: usize) -> Result<(), PlantError> {
+        let Some((Tok::Ident(name), _)) = self.toks.get(self.k + 1) else {
+            return Err(self.at(line, "MODULE without a name".into()));
+        };
+        if name == "main" || name == CONTROLLER_MODULE {
+            return Err(self.at(
+                line,
+                format!("the plant file must not define MODULE {name}: synth generates it to connect the plant to the controller"),
+            ));
+        }
+        self.in_plant = name == "plant";
+        self.section = "";
+        self.stmt_start = false;
+        self.k += 2;
+        if !self.in_plant {
+            return Ok(());
+        }
+        if self.plant.is_some() {
+            return Err(self.at(line, "MODULE plant is defined twice".into()));
+        }
+        let params = self.params()?;
+        self.plant = Some(Plant {
+            file: self.file.to_path_buf(),
+            text: self.text.to_string(),
+            module_line: line,
+            params,
+            names: Vec::new(),
+        });
+        Ok(())
+    }
+
+    /// The parameter list of `MODULE plant`, if one follows.
+    fn params(&mut self) -> Result<Vec<Declared>, PlantError> {
+        let mut params = Vec::new();
+        if self.toks.get(self.k).map(|t| &t.0) != Some(&Tok::Sym("(")) {
+            return Ok(params);
+        }
+        self.k += 1;
+        while let Some((t, l)) = self.toks.get(self.k) {
+            self.k += 1;
+            match t {
+                Tok::Sym(")") => break,
+                Tok::Sym(",") => {}
+                Tok::Ident(p) => params.push(Declared {
+                    name: p.clone(),
+                    line: *l,
+                }),
+                _ => {
+                    return Err(self.at(
+                        *l,
+                        "unexpected token in the parameter list of MODULE plant".into(),
+                    ))
+                }
+            }
+        }
+        Ok(params)
+    }
 }
 
 /// Reads and scans a plant file.

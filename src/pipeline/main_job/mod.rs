@@ -210,7 +210,7 @@ fn below_guide(
         }));
         let exact = bounded(opts, g.size.c);
         match Limit::from_now(budget).exact(set, check, &exact, events) {
-            Ok(r) if r.synthesis.size.smaller_than(&g.size) => {
+            Ok(r) if r.synthesis.size.is_smaller_than(&g.size) => {
                 let (ecc, certificate, exact) = exact_parts(r, opts)?;
                 let summary = Summary::Turn(Turn::BelowGuide(BelowGuideSummary {
                     exact,
@@ -370,7 +370,7 @@ fn searched(
     let (small, followed) = search::shrink(set, &found, check, s.max_out_degree, events)?;
     events(Event::MainJob(Step::Shrunk { size: small.size }));
     let below = below_shrunk(set, check, opts, small.size.c, events)?;
-    let below = below.filter(|b| b.synthesis.size.smaller_than(&small.size));
+    let below = below.filter(|b| b.synthesis.size.is_smaller_than(&small.size));
     let polished = below.is_some();
     let (ecc, certificate) = match below {
         Some(b) => {

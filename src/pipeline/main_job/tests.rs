@@ -51,11 +51,11 @@ fn the_guide_runs_only_where_the_recordings_leave_an_input_open() {
 #[test]
 fn the_size_order_is_states_then_transitions_then_literals() {
     let size = |c, k, t, n| Size { c, k, t, n };
-    assert!(size(7, 9, 30, 90).smaller_than(&size(8, 1, 1, 1)));
-    assert!(size(8, 5, 12, 90).smaller_than(&size(8, 1, 13, 1)));
-    assert!(size(8, 5, 13, 17).smaller_than(&size(8, 1, 13, 18)));
-    assert!(!size(8, 1, 13, 18).smaller_than(&size(8, 5, 13, 18)));
-    assert!(!size(8, 5, 13, 18).smaller_than(&size(8, 5, 13, 18)));
+    assert!(size(7, 9, 30, 90).is_smaller_than(&size(8, 1, 1, 1)));
+    assert!(size(8, 5, 12, 90).is_smaller_than(&size(8, 1, 13, 1)));
+    assert!(size(8, 5, 13, 17).is_smaller_than(&size(8, 1, 13, 18)));
+    assert!(!size(8, 1, 13, 18).is_smaller_than(&size(8, 5, 13, 18)));
+    assert!(!size(8, 5, 13, 18).is_smaller_than(&size(8, 5, 13, 18)));
 }
 
 fn report() -> Report {

@@ -34,13 +34,14 @@ pub mod decode;
 pub mod vars;
 
 use super::card::Totalizer;
-use super::solver::Solver;
+use super::solver::{Model, Solver};
 use crate::ecc::modular::{Modular, ModularSize, Topology};
 use crate::ecc::{AlgorithmKind, InputId, OutputId};
 use crate::sat::step::{Bound, Progress, Step};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use std::time::Instant;
+use varisat::Lit;
 use vars::ModVars;
 
 /// Settings of a modular synthesis run.
@@ -328,16 +329,40 @@ pub fn synthesize_modular(
     };
     let mut opts = opts.clone();
     opts.slots = opts.slots.max(1);
-    let opts = &mut opts;
-    // While more slots could help, no module needs more states than the single machine.
+    let (mut enc, n, model) = largest_module(tree, &mut opts, ceiling, &mut stats, progress)?;
+    progress(Step::LargestModule { states: n });
+    let model = enc.least_sums(enc.vars.size_at_most(n), model, progress);
+    stats.solver_calls += enc.solver.stats().calls;
+    stats.sat_seconds = t0.elapsed().as_secs_f64();
+    stats.slots = opts.slots;
+    let modular = decoded(&model, &enc.vars, set, &opts)?;
+    Ok(ModularSynthesis {
+        size: modular.size(),
+        modular,
+        stats,
+    })
+}
+
+/// Step 1: the least largest module, with the encoding that found it and its model. The
+/// window of states per module grows (doubled) when every size in it is refuted; with a
+/// `ceiling` `(C, D)` ([`single_machine_ceiling`]) and fewer than `D` slots, no module needs
+/// more than `C` states, so refuting every size up to `C` widens the slots by one instead
+/// (and the ascent starts over, since more slots may allow fewer states).
+fn largest_module(
+    tree: &ScenarioTree,
+    opts: &mut ModularOptions,
+    ceiling: Option<(usize, usize)>,
+    stats: &mut ModularStats,
+    progress: Progress<'_>,
+) -> Result<(Encoding, usize, Model), ModularError> {
+    let max_states = opts.max_states;
     let limit = |slots: usize| match ceiling {
-        Some((c, cubes)) if slots < cubes => c.min(opts.max_states),
-        _ => opts.max_states,
+        Some((c, cubes)) if slots < cubes => c.min(max_states),
+        _ => max_states,
     };
     let mut lo = 1;
-    let mut c_max = opts.max_states.clamp(1, 4).min(limit(opts.slots));
-    // 1. least largest module, growing the window when exhausted.
-    let (mut enc, n, mut model) = loop {
+    let mut c_max = max_states.clamp(1, 4).min(limit(opts.slots));
+    loop {
         if opts.deadline.passed() {
             return Err(ModularError::Stopped);
         }
@@ -357,8 +382,8 @@ pub fn synthesize_modular(
             },
         );
         match found {
-            Some((n, m)) => break (enc, n, m),
-            None if c_max >= limit(opts.slots) && limit(opts.slots) < opts.max_states => {
+            Some((n, m)) => return Ok((enc, n, m)),
+            None if c_max >= limit(opts.slots) && limit(opts.slots) < max_states => {
                 stats.solver_calls += enc.solver.stats().calls;
                 progress(Step::WideningSlots {
                     slots: opts.slots + 1,
@@ -366,12 +391,12 @@ pub fn synthesize_modular(
                 });
                 opts.slots += 1;
                 lo = 1;
-                c_max = opts.max_states.clamp(1, 4).min(limit(opts.slots));
+                c_max = max_states.clamp(1, 4).min(limit(opts.slots));
             }
-            None if c_max >= opts.max_states => {
+            None if c_max >= max_states => {
                 return Err(ModularError::NoController {
                     modules: opts.modules,
-                    max_states: opts.max_states,
+                    max_states,
                     slots: opts.slots,
                 })
             }
@@ -386,53 +411,70 @@ pub fn synthesize_modular(
                 });
             }
         }
-    };
-    let mut base = enc.vars.size_at_most(n);
-    progress(Step::LargestModule { states: n });
-
-    // 2. least A, then 3. least N', each descending from the current model's value.
-    for (label, counter) in [
-        (Bound::InputsUsed, Counter::Inputs),
-        (Bound::TotalStates, Counter::States),
-    ] {
-        let Encoding {
-            solver,
-            vars,
-            total_alpha,
-            total_used,
-        } = &mut enc;
-        let (total, lits) = match counter {
-            Counter::Inputs => (&*total_alpha, vars.all_alpha()),
-            Counter::States => (&*total_used, vars.all_used()),
-        };
-        let value = solver.descend(
-            &base,
-            model.count(lits),
-            0,
-            |b| total.at_most(b),
-            |b| {
-                progress(Step::Trying {
-                    bound: label,
-                    value: b,
-                })
-            },
-            |m| {
-                let value = m.count(lits);
-                model = m;
-                value
-            },
-        );
-        base.extend(total.at_most(value));
-        progress(Step::Minimal {
-            bound: label,
-            value,
-        });
     }
-    stats.solver_calls += enc.solver.stats().calls;
-    stats.sat_seconds = t0.elapsed().as_secs_f64();
-    stats.slots = opts.slots;
+}
 
-    let mut modular = decode::decode(&model, &enc.vars, set, opts.algorithms, opts.topology);
+impl Encoding {
+    /// Steps 2 and 3: the least `A`, then the least `N'`, under `base` (the largest module's
+    /// bound), each descending from the current model's value and then kept as a bound.
+    /// Returns the last model.
+    fn least_sums(
+        &mut self,
+        mut base: Vec<Lit>,
+        mut model: Model,
+        progress: Progress<'_>,
+    ) -> Model {
+        for (label, counter) in [
+            (Bound::InputsUsed, Counter::Inputs),
+            (Bound::TotalStates, Counter::States),
+        ] {
+            let Encoding {
+                solver,
+                vars,
+                total_alpha,
+                total_used,
+            } = self;
+            let (total, lits) = match counter {
+                Counter::Inputs => (&*total_alpha, vars.all_alpha()),
+                Counter::States => (&*total_used, vars.all_used()),
+            };
+            let value = solver.descend(
+                &base,
+                model.count(lits),
+                0,
+                |b| total.at_most(b),
+                |b| {
+                    progress(Step::Trying {
+                        bound: label,
+                        value: b,
+                    })
+                },
+                |m| {
+                    let value = m.count(lits);
+                    model = m;
+                    value
+                },
+            );
+            base.extend(total.at_most(value));
+            progress(Step::Minimal {
+                bound: label,
+                value,
+            });
+        }
+        model
+    }
+}
+
+/// The controller of `model`, pruned of transitions the scenarios never fire and of guard
+/// literals they do not need (greedily), completed as a chain when consecutive, and checked:
+/// valid, replaying every scenario, every pinned output in its module.
+fn decoded(
+    model: &Model,
+    vars: &ModVars,
+    set: &ScenarioSet,
+    opts: &ModularOptions,
+) -> Result<Modular, ModularError> {
+    let mut modular = decode::decode(model, vars, set, opts.algorithms, opts.topology);
     decode::prune_unfired(&mut modular, set);
     if set.check(&modular).is_ok() {
         decode::prune_literals(&mut modular, set);
@@ -452,11 +494,7 @@ pub fn synthesize_modular(
             )));
         }
     }
-    Ok(ModularSynthesis {
-        size: modular.size(),
-        modular,
-        stats,
-    })
+    Ok(modular)
 }
 
 /// `(C, D)`: the least single machine's states, and the most guard cubes one of its states
