@@ -26,13 +26,15 @@
 //! - [`cases`]: the project's benchmark cases, reference controllers with (feature `cases`)
 //!   their plant simulations and the recorders of the shipped data.
 //!
-//! The `synth` command line is not part of the library: it lives beside the binary.
+//! - [`cli`]: the `synth` command line (argument parsing, progress, printing, exit codes) over
+//!   the pipelines; `synth`'s `main` calls [`cli::run`].
 
 // Every public item says what it means in the domain; clippy's -D warnings keeps it so.
 #![warn(missing_docs)]
 
 pub mod cases;
 pub mod check;
+pub mod cli;
 pub mod deadline;
 pub mod ecc;
 pub mod events;

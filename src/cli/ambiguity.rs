@@ -5,13 +5,13 @@ use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
 use super::progress::Progress;
 use super::show::print_written;
 use super::{exit, Failure};
+use crate::ecc::Ecc;
+use crate::export;
+use crate::files::ResultSet;
+use crate::pipeline::ambiguity::{self, Ambiguity, Verdict};
+use crate::pipeline::{self, exact};
+use crate::scenario::ScenarioSet;
 use clap::Args;
-use fbsynth::ecc::Ecc;
-use fbsynth::export;
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline::ambiguity::{self, Ambiguity, Verdict};
-use fbsynth::pipeline::{self, exact};
-use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
 /// Runs the check on `machine` (minimal for `set`), prints the verdict and every rival, and
@@ -38,12 +38,12 @@ pub fn report(
     };
     for (k, r) in found.rivals.iter().enumerate() {
         let path = dir.join(format!("rival{}.json", k + 1));
-        fbsynth::files::write_atomic(&path, export::json::to_string(&r.ecc).as_bytes())
+        crate::files::write_atomic(&path, export::json::to_string(&r.ecc).as_bytes())
             .map_err(Failure::input)?;
         files.push(path);
     }
     let path = dir.join("ambiguity.txt");
-    fbsynth::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
+    crate::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
     files.push(path);
     Ok((found, files))
 }
@@ -158,7 +158,7 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
     let json = export::json::to_string(&machine);
     for (name, text) in [("plan.csv", csv), ("plan.txt", txt), ("machine.json", json)] {
         let path = results.staging().join(name);
-        fbsynth::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
+        crate::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
         files.push(path);
     }
     let published: Vec<PathBuf> = files.iter().map(|f| results.published(f)).collect();

@@ -1,11 +1,11 @@
 //! Argument groups shared by several commands, and their conversion to library settings.
 
 use super::{exit, Failure};
+use crate::ecc::AlgorithmKind;
+use crate::export::Format;
+use crate::pipeline::{self, search, Check, Nusmv, Problem, Recordings};
+use crate::scenario::ScenarioSet;
 use clap::{Args, ValueEnum};
-use fbsynth::ecc::AlgorithmKind;
-use fbsynth::export::Format;
-use fbsynth::pipeline::{self, search, Check, Nusmv, Problem, Recordings};
-use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
 /// Where scenarios come from: shared by every command that reads them.
@@ -129,7 +129,7 @@ pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
             ));
         }
         for input in inputs {
-            if fbsynth::files::same_file(out.as_ref(), input.as_ref()) {
+            if crate::files::same_file(out.as_ref(), input.as_ref()) {
                 return Err(Failure::msg(
                     exit::INPUT,
                     format!(
@@ -206,16 +206,16 @@ impl AmbiguityArgs {
     /// The pipeline's options.
     pub fn options(
         &self,
-        algorithms: fbsynth::ecc::AlgorithmKind,
-    ) -> Result<fbsynth::pipeline::ambiguity::Options, super::Failure> {
-        Ok(fbsynth::pipeline::ambiguity::Options {
+        algorithms: crate::ecc::AlgorithmKind,
+    ) -> Result<crate::pipeline::ambiguity::Options, super::Failure> {
+        Ok(crate::pipeline::ambiguity::Options {
             algorithms,
             rivals: self.rivals,
             depth: self.ambiguity_depth,
             all_inputs: self.all_inputs,
             polish: std::time::Duration::from_secs(1),
             extra_states: self.extra_states,
-            budget: fbsynth::pipeline::seconds("--ambiguity-budget", self.ambiguity_budget, false)?,
+            budget: crate::pipeline::seconds("--ambiguity-budget", self.ambiguity_budget, false)?,
         })
     }
 }
@@ -230,10 +230,10 @@ pub fn workers() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=1024)
 }
 
-/// `--name`: a block name every export can use ([`fbsynth::ecc::ident::check_block_name`]),
+/// `--name`: a block name every export can use ([`crate::ecc::ident::check_block_name`]),
 /// refused before anything is read.
 pub fn block_name(name: &str) -> Result<String, String> {
-    fbsynth::ecc::ident::check_block_name(name).map(|()| name.to_string())
+    crate::ecc::ident::check_block_name(name).map(|()| name.to_string())
 }
 
 /// Parses `--format` values.
@@ -300,8 +300,8 @@ pub fn read_negatives(
     files: &[PathBuf],
     set: &ScenarioSet,
     progress: &super::progress::Progress,
-) -> Result<Vec<fbsynth::scenario::negative::NegativeScenario>, Failure> {
-    use fbsynth::scenario::negative;
+) -> Result<Vec<crate::scenario::negative::NegativeScenario>, Failure> {
+    use crate::scenario::negative;
     let mut all = Vec::new();
     for file in files {
         let negs = negative::read(file, &set.inputs, &set.outputs, &set.initial_outputs)

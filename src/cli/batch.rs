@@ -4,11 +4,11 @@ use super::args::{out_dir, parse_formats, AlgorithmsArg, NusmvArgs};
 use super::progress::Progress;
 use super::show::print_written;
 use super::Failure;
+use crate::files::ResultSet;
+use crate::ingest::Mapping;
+use crate::pipeline::batch::{self, Outcome, Row, Verification};
+use crate::pipeline::{self, exact};
 use clap::Args;
-use fbsynth::files::ResultSet;
-use fbsynth::ingest::Mapping;
-use fbsynth::pipeline::batch::{self, Outcome, Row, Verification};
-use fbsynth::pipeline::{self, exact};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -76,7 +76,7 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
         }),
         _ => None,
     };
-    let stem = fbsynth::pipeline::recordings::stem(&args.logs);
+    let stem = crate::pipeline::recordings::stem(&args.logs);
     let out = out_dir(&args.out, &stem);
     let results = ResultSet::open(&out).map_err(Failure::input)?;
     let threads = args.threads.unwrap_or_else(rayon::current_num_threads);

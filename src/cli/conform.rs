@@ -5,11 +5,11 @@
 use super::args::{optional_check, parse_formats, NusmvArgs, TraceArgs};
 use super::progress::Progress;
 use super::{exit, Failure};
+use crate::ecc::Ecc;
+use crate::pipeline::recordings::machine_and_scenarios;
+use crate::pipeline::{exact, refine, Recordings};
+use crate::scenario::ScenarioSet;
 use clap::Args;
-use fbsynth::ecc::Ecc;
-use fbsynth::pipeline::recordings::machine_and_scenarios;
-use fbsynth::pipeline::{exact, refine, Recordings};
-use fbsynth::scenario::ScenarioSet;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -98,7 +98,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
     let formats = parse_formats(&["json", "fbt", "smv", "dot", "st"].map(String::from))?;
     let progress = Progress::new(false);
     // One result in the folder, published whole at the end, as `infer` does.
-    let results = fbsynth::files::ResultSet::open(&out).map_err(Failure::input)?;
+    let results = crate::files::ResultSet::open(&out).map_err(Failure::input)?;
     let opts = refine::Options {
         out: results.staging(),
         formats: &formats,
@@ -133,7 +133,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
     let files: Vec<PathBuf> = refined.files.iter().map(|f| results.published(f)).collect();
     results
         .publish()
-        .map_err(|e| Failure::input(fbsynth::pipeline::Error::from(e)))?;
+        .map_err(|e| Failure::input(crate::pipeline::Error::from(e)))?;
     super::show::print_written(&files);
     out!("after refinement, on the new recordings:");
     report(refined.ecc(), &set);

@@ -3,9 +3,9 @@
 
 use super::args::TraceArgs;
 use super::{exit, Failure};
+use crate::pipeline::recordings::machine_and_scenarios;
+use crate::scenario::{csvlog, fbsat};
 use clap::{Args, ValueEnum};
-use fbsynth::pipeline::recordings::machine_and_scenarios;
-use fbsynth::scenario::{csvlog, fbsat};
 use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -46,11 +46,11 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
         .traces
         .traces
         .first()
-        .and_then(|t| fbsynth::scenario::names::default_names_files(t))
+        .and_then(|t| crate::scenario::names::default_names_files(t))
     {
         inputs.extend([i, o]);
     }
-    let to_stdout = fbsynth::files::is_stdin(&args.output);
+    let to_stdout = crate::files::is_stdin(&args.output);
     if to_stdout {
         super::data_on_stdout();
     } else {
@@ -66,7 +66,7 @@ pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
     if to_stdout {
         return super::write_data(&buf);
     }
-    fbsynth::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
+    crate::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
     out!(
         "wrote {} scenarios ({} steps) to {}",
         set.scenarios.len(),

@@ -1,9 +1,9 @@
 //! `synth diff`: do two machines behave alike, and if not, on which inputs do they differ.
 
 use super::{exit, Failure};
-use fbsynth::ecc::bits_to_string;
-use fbsynth::ecc::diff::{difference, structure, Structure};
-use fbsynth::pipeline::recordings::read_ecc;
+use crate::ecc::bits_to_string;
+use crate::ecc::diff::{difference, structure, Structure};
+use crate::pipeline::recordings::read_ecc;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
@@ -27,7 +27,7 @@ pub fn diff(args: &DiffArgs) -> Result<(), Failure> {
     let b = read_ecc(&args.second)?;
     let found = difference(&a, &b).map_err(|e| Failure::msg(exit::INPUT, e.to_string()))?;
     if super::json() {
-        let bits = fbsynth::ecc::bits_to_string;
+        let bits = crate::ecc::bits_to_string;
         let summary = serde_json::json!({
             "equivalent": found.is_none(),
             "difference": found.as_ref().map(|d| serde_json::json!({
@@ -98,7 +98,7 @@ fn print_structure(s: &Structure) {
             out!("  {}~{}: {c}", p.first, p.second);
         }
     }
-    let list = |v: &[fbsynth::ecc::StateId]| {
+    let list = |v: &[crate::ecc::StateId]| {
         v.iter()
             .map(|s| s.to_string())
             .collect::<Vec<_>>()

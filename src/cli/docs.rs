@@ -52,7 +52,7 @@ pub fn man(args: &ManArgs) -> Result<(), Failure> {
         written.push((dir.join(format!("{name}.1")), page(sub.clone(), &name)?));
     }
     for (path, bytes) in &written {
-        fbsynth::files::write_atomic(path, bytes).map_err(Failure::input)?;
+        crate::files::write_atomic(path, bytes).map_err(Failure::input)?;
         out!("wrote {}", path.display());
     }
     super::note_written(&written.into_iter().map(|(p, _)| p).collect::<Vec<_>>());
@@ -70,12 +70,12 @@ pub struct SchemaArgs {
 /// `synth schema`: the JSON Schema of the machine contract.
 pub fn schema(args: &SchemaArgs) -> Result<(), Failure> {
     let mut text =
-        serde_json::to_string_pretty(&fbsynth::export::json::schema()).expect("a schema is JSON");
+        serde_json::to_string_pretty(&crate::export::json::schema()).expect("a schema is JSON");
     text.push('\n');
-    let Some(path) = args.out.as_ref().filter(|p| !fbsynth::files::is_stdin(p)) else {
+    let Some(path) = args.out.as_ref().filter(|p| !crate::files::is_stdin(p)) else {
         return super::write_data(text.as_bytes());
     };
-    fbsynth::files::write_atomic(path, text.as_bytes()).map_err(Failure::input)?;
+    crate::files::write_atomic(path, text.as_bytes()).map_err(Failure::input)?;
     out!("wrote {}", path.display());
     super::note_written(std::slice::from_ref(path));
     Ok(())

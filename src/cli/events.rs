@@ -1,11 +1,11 @@
 //! `synth events`: a raw PLC I/O log into an event log (XES and CSV) for process-mining tools.
 
 use super::Failure;
+use crate::events::{self, ResetActivity};
+use crate::export::pnml::{write_pnml_labelled, Dialect, Labels};
+use crate::files::same_file;
+use crate::ingest::Mapping;
 use clap::Args;
-use fbsynth::events::{self, ResetActivity};
-use fbsynth::export::pnml::{write_pnml_labelled, Dialect, Labels};
-use fbsynth::files::same_file;
-use fbsynth::ingest::Mapping;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
@@ -87,7 +87,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
         .map_err(|e| {
             let row = matches!(
                 e,
-                events::EventsError::Log(fbsynth::ingest::IngestError::Row { .. })
+                events::EventsError::Log(crate::ingest::IngestError::Row { .. })
             );
             let mut f = Failure::input(e);
             if row {
@@ -112,7 +112,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Failure> {
     out!("wrote {}, {}", args.out.display(), csv.display());
     super::note_written(&[args.out.clone(), csv.clone()]);
     if let Some(((bytes, places), ecc_file, pnml)) = net {
-        fbsynth::files::write_atomic(pnml, &bytes).map_err(Failure::input)?;
+        crate::files::write_atomic(pnml, &bytes).map_err(Failure::input)?;
         out!(
             "wrote {} (Petri net of {}: {places} places)",
             pnml.display(),
@@ -131,8 +131,8 @@ fn net_of(
     dialect: Dialect,
 ) -> Result<(Vec<u8>, usize), Failure> {
     // Machines may be written as one line of JSON: only the file's size is limited.
-    let text = fbsynth::files::read_text(ecc_file, None).map_err(Failure::input)?;
-    let ecc = fbsynth::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
+    let text = crate::files::read_text(ecc_file, None).map_err(Failure::input)?;
+    let ecc = crate::export::json::read_json(&text, ecc_file).map_err(Failure::input)?;
     let address = |name: &String| -> Result<String, Failure> {
         mapping
             .slot(name.as_bytes())
@@ -149,7 +149,7 @@ fn net_of(
                     format!(
                         "{}: signal {} is not in the mapping",
                         ecc_file.display(),
-                        fbsynth::quote::quote(name)
+                        crate::quote::quote(name)
                     ),
                 )
             })

@@ -4,10 +4,10 @@
 use super::args::{out_dir, parse_formats};
 use super::show::print_written;
 use super::Failure;
+use crate::export;
+use crate::files::ResultSet;
+use crate::pipeline::{self, recordings::read_ecc};
 use clap::Args;
-use fbsynth::export;
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline::{self, recordings::read_ecc};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -36,7 +36,7 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
         .ecc
         .file_stem()
         .map_or("machine".into(), |s| s.to_string_lossy().into_owned());
-    if args.out.as_deref().is_some_and(fbsynth::files::is_stdin) {
+    if args.out.as_deref().is_some_and(crate::files::is_stdin) {
         super::data_on_stdout();
         let format = super::args::stdout_format(&formats);
         let text = export::text(&ecc, &args.name, format).map_err(Failure::input)?;
@@ -49,7 +49,7 @@ pub fn export(args: &ExportArgs) -> Result<(), Failure> {
     let holds_input = std::fs::read_dir(&out).is_ok_and(|entries| {
         entries
             .flatten()
-            .any(|e| fbsynth::files::same_file(&e.path(), &args.ecc))
+            .any(|e| crate::files::same_file(&e.path(), &args.ecc))
     });
     if holds_input {
         return Err(Failure::msg(

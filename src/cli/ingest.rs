@@ -2,8 +2,8 @@
 
 use super::show::print_read_stats;
 use super::Failure;
+use crate::ingest::{self, Mapping};
 use clap::Args;
-use fbsynth::ingest::{self, Mapping};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -50,7 +50,7 @@ pub fn ingest(args: &IngestArgs) -> Result<(), Failure> {
         (&outputs_file, mapping.outputs()),
     ] {
         let text: String = names.iter().map(|n| format!("{n}\n")).collect();
-        fbsynth::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
+        crate::files::write_atomic(file, text.as_bytes()).map_err(Failure::input)?;
     }
     print_read_stats(&written.stats, secs);
     out!("steps:   {} ({} with CNF)", written.steps, written.active);

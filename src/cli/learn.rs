@@ -4,12 +4,12 @@
 use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
 use super::progress::Progress;
 use super::{exit, Failure};
+use crate::cases::reference;
+use crate::ecc::Ecc;
+use crate::pipeline::active::{self, Comparison, Learned, Options, Round};
+use crate::pipeline::ambiguity::Verdict;
+use crate::scenario::ScenarioSet;
 use clap::Args;
-use fbsynth::cases::reference;
-use fbsynth::ecc::Ecc;
-use fbsynth::pipeline::active::{self, Comparison, Learned, Options, Round};
-use fbsynth::pipeline::ambiguity::Verdict;
-use fbsynth::scenario::ScenarioSet;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -55,8 +55,8 @@ fn oracle(name: &str) -> Result<Ecc, Failure> {
         });
     }
     let path = PathBuf::from(name);
-    let text = fbsynth::files::read_text(&path, None).map_err(Failure::input)?;
-    fbsynth::export::json::read_json(&text, &path).map_err(Failure::input)
+    let text = crate::files::read_text(&path, None).map_err(Failure::input)?;
+    crate::export::json::read_json(&text, &path).map_err(Failure::input)
 }
 
 /// `synth learn`.
@@ -121,9 +121,9 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
         );
     }
     if let Some(out) = &args.out {
-        fbsynth::files::write_atomic(
+        crate::files::write_atomic(
             out,
-            fbsynth::export::json::to_string(&learned.machine).as_bytes(),
+            crate::export::json::to_string(&learned.machine).as_bytes(),
         )
         .map_err(Failure::input)?;
         out!("wrote {}", out.display());

@@ -1,5 +1,5 @@
 //! The main job (`synth --ltl SPEC --plant PLANT`, by exact SAT or by search): its
-//! arguments, the call to the library ([`fbsynth::pipeline::main_job::run`]) and what it
+//! arguments, the call to the library ([`crate::pipeline::main_job::run`]) and what it
 //! prints.
 
 use super::args::{
@@ -9,15 +9,15 @@ use super::args::{
 use super::progress::Progress;
 use super::show::{closing, explained, print_files, size_line, verified_line};
 use super::{exit, Failure};
+use crate::files::ResultSet;
+use crate::pipeline::explain::{self, Explanation};
+use crate::pipeline::main_job::{self, VerifiedMachine};
+use crate::pipeline::output::{check_exportable, write_verified, Provenance};
+use crate::pipeline::recordings::stem;
+use crate::pipeline::{self, exact, search, Problem};
+use crate::scenario::negative::NegativeScenario;
+use crate::scenario::ScenarioSet;
 use clap::{Args, ValueEnum};
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline::explain::{self, Explanation};
-use fbsynth::pipeline::main_job::{self, VerifiedMachine};
-use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
-use fbsynth::pipeline::recordings::stem;
-use fbsynth::pipeline::{self, exact, search, Problem};
-use fbsynth::scenario::negative::NegativeScenario;
-use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
 /// Arguments of the main job (no subcommand).

@@ -1,7 +1,7 @@
 //! The `synth` command line: argument parsing, progress on stderr, exit codes.
 //!
 //! In: `std::env::args`. Out: files written by the library and a summary on stdout.
-//! Everything that computes lives in the library ([`fbsynth::pipeline`] above all); each
+//! Everything that computes lives in the library ([`crate::pipeline`] above all); each
 //! command file parses its arguments, calls the library and prints. Command files never
 //! import each other: what they share is here, in [`args`], [`progress`] and [`show`]. The
 //! developer binary `synth-dev` compiles this module too, for the same output flags, errors,
@@ -13,9 +13,11 @@
 ///
 /// When the result itself goes to stdout (`--out -`), these lines go to stderr instead
 /// ([`data_on_stdout`]).
+#[macro_export]
+#[doc(hidden)]
 macro_rules! out {
     () => {
-        out!("")
+        $crate::out!("")
     };
     ($($arg:tt)*) => {{
         use std::io::Write as _;
@@ -29,6 +31,8 @@ macro_rules! out {
 }
 
 /// `print!` likewise ([`out!`]).
+#[macro_export]
+#[doc(hidden)]
 macro_rules! out_raw {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
@@ -44,6 +48,7 @@ macro_rules! out_raw {
 /// Set when a command writes its result on stdout: every other line goes to stderr then.
 static STDOUT_IS_DATA: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// Whether stdout carries the result only ([`data_on_stdout`]).
 pub fn stdout_is_data() -> bool {
     STDOUT_IS_DATA.load(std::sync::atomic::Ordering::Relaxed)
 }
@@ -161,7 +166,7 @@ fn write_stdout(bytes: &[u8]) -> Result<(), Failure> {
 }
 
 mod ambiguity;
-pub(crate) mod args;
+pub mod args;
 mod batch;
 mod conform;
 mod convert;
@@ -173,12 +178,12 @@ mod infer;
 mod ingest;
 mod learn;
 mod main_job;
-pub(crate) mod progress;
-pub(crate) mod show;
+pub mod progress;
+pub mod show;
 mod verify;
 
+use crate::pipeline::{self, Class};
 use clap::{Parser, Subcommand};
-use fbsynth::pipeline::{self, Class};
 
 /// Exit codes, as documented in `--help`.
 pub mod exit {
@@ -239,7 +244,7 @@ result as IEC 61499 .fbt (4diac, NxtStudio), Structured Text, SMV, Graphviz and 
     // (`-q`, `-v`, `--json`) may stand before it too. [`parse`] checks the first.
     subcommand_negates_reqs = true
 )]
-pub struct Cli {
+pub(crate) struct Cli {
     #[command(flatten)]
     pub output: OutputArgs,
     #[command(subcommand)]
@@ -251,7 +256,7 @@ pub struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
-pub enum Command {
+pub(crate) enum Command {
     /// Synthesize a minimal ECC that reproduces recorded scenarios.
     Infer(Box<infer::InferArgs>),
     /// Monitor a machine in service: replay new recordings, report each trace's first
@@ -295,15 +300,19 @@ pub enum Command {
 
 /// A failure the CLI reports: message, causes, exit code.
 pub struct Failure {
+    /// The exit code ([`exit`]).
     pub code: i32,
+    /// The message, with a `caused by:` line per source.
     pub message: String,
 }
 
 impl Failure {
+    /// A failure of the user's input (exit 4), with every source of `e`.
     pub fn input(e: impl std::error::Error) -> Failure {
         Failure::with_code(exit::INPUT, e)
     }
 
+    /// A failure with exit `code`, with every source of `e`.
     pub fn with_code(code: i32, e: impl std::error::Error) -> Failure {
         let mut message = e.to_string();
         let mut source = e.source();
@@ -318,6 +327,7 @@ impl Failure {
         Failure { code, message }
     }
 
+    /// A failure with exit `code` and a message of the command's own.
     pub fn msg(code: i32, message: impl Into<String>) -> Failure {
         Failure {
             code,
@@ -415,7 +425,7 @@ pub fn run() -> i32 {
 }
 
 /// Sets the flags every command takes (`-q`, `-v`, `--json`).
-pub(crate) fn start(o: &OutputArgs) {
+pub fn start(o: &OutputArgs) {
     QUIET.store(o.quiet, std::sync::atomic::Ordering::Relaxed);
     VERBOSE.store(o.verbose, std::sync::atomic::Ordering::Relaxed);
     JSON.store(o.json, std::sync::atomic::Ordering::Relaxed);
@@ -426,7 +436,7 @@ pub(crate) fn start(o: &OutputArgs) {
 
 /// Reports the result of `command` (`error: ...`; with `--json` the generic summary when the
 /// command wrote none); returns the exit code.
-pub(crate) fn finish(command: &str, result: Result<(), Failure>) -> i32 {
+pub fn finish(command: &str, result: Result<(), Failure>) -> i32 {
     let (code, error) = match &result {
         Ok(()) => (exit::OK, None),
         Err(f) => {

@@ -1,8 +1,8 @@
 //! Progress on stderr: the library's [`Event`]s as lines prefixed with the elapsed time.
 
-use fbsynth::pipeline::lazy_noisy::{Bounds, PartRound};
-use fbsynth::pipeline::main_job::Step;
-use fbsynth::pipeline::Event;
+use crate::pipeline::lazy_noisy::{Bounds, PartRound};
+use crate::pipeline::main_job::Step;
+use crate::pipeline::Event;
 use std::time::Instant;
 
 /// Progress lines on stderr, prefixed with the elapsed time.
@@ -20,12 +20,14 @@ impl Progress {
         }
     }
 
+    /// One progress line on stderr, with the seconds since the start.
     pub fn line(&self, msg: &str) {
         if !self.quiet {
             eprintln!("[{:7.2}s] {msg}", self.start.elapsed().as_secs_f64());
         }
     }
 
+    /// Seconds since the start.
     pub fn elapsed(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
     }
@@ -48,7 +50,7 @@ pub fn describe(e: &Event<'_>) -> String {
         Event::LowerBounds { c, t, seconds } => format!(
             "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
         ),
-        Event::Candidate(it) if it.checked_by == fbsynth::pipeline::cegis::UNCHANGED => format!(
+        Event::Candidate(it) if it.checked_by == crate::pipeline::cegis::UNCHANGED => format!(
             "iteration {}: C = {} T = {}; no smaller machine, the verified candidate is the result; SAT {:.2} s",
             it.number, it.c, it.t, it.sat_seconds
         ),

@@ -1,11 +1,11 @@
 //! What several commands print the same way.
 
 use super::progress::Progress;
-use fbsynth::ecc::modular::Modular;
-use fbsynth::ecc::Size;
-use fbsynth::ingest::{ReadStats, RowKind};
-use fbsynth::pipeline::explain::Explanation;
-use fbsynth::pipeline::main_job::{Summary, Turn};
+use crate::ecc::modular::Modular;
+use crate::ecc::Size;
+use crate::ingest::{ReadStats, RowKind};
+use crate::pipeline::explain::Explanation;
+use crate::pipeline::main_job::{Summary, Turn};
 use std::path::{Path, PathBuf};
 
 /// The list of files written, on stdout.

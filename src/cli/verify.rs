@@ -3,10 +3,10 @@
 
 use super::args::{check, problem, NusmvArgs};
 use super::{exit, Failure};
+use crate::files::ResultSet;
+use crate::pipeline;
+use crate::pipeline::recordings::read_ecc;
 use clap::Args;
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline;
-use fbsynth::pipeline::recordings::read_ecc;
 use std::path::PathBuf;
 
 /// Arguments of `synth verify`.
@@ -34,12 +34,12 @@ pub struct VerifyArgs {
 fn write_counterexamples(
     results: &ResultSet,
     model: &str,
-    waveforms: &[fbsynth::export::waveform::Waveform],
+    waveforms: &[crate::export::waveform::Waveform],
 ) -> Result<Vec<PathBuf>, Failure> {
-    use fbsynth::export::waveform;
+    use crate::export::waveform;
     let dir = results.staging();
     let mut files = vec![dir.join("closed_loop.smv")];
-    fbsynth::files::write_atomic(&files[0], model.as_bytes()).map_err(Failure::input)?;
+    crate::files::write_atomic(&files[0], model.as_bytes()).map_err(Failure::input)?;
     for w in waveforms {
         let stem: String = (w.title.chars())
             .map(
@@ -51,7 +51,7 @@ fn write_counterexamples(
             .collect();
         for (ext, text) in [("vcd", waveform::vcd(w)), ("svg", waveform::svg(w))] {
             let path = dir.join(format!("{stem}.{ext}"));
-            fbsynth::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
+            crate::files::write_atomic(&path, text.as_bytes()).map_err(Failure::input)?;
             files.push(path);
         }
     }
@@ -83,7 +83,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
         .collect();
     for w in &waveforms {
         out!("");
-        out_raw!("{}", fbsynth::export::waveform::table(w));
+        out_raw!("{}", crate::export::waveform::table(w));
     }
     if let Some(results) = results {
         let files = write_counterexamples(&results, &verification.model.text, &waveforms)?;
@@ -105,7 +105,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Failure> {
                 report
                     .failing()
                     .iter()
-                    .map(|name| fbsynth::quote::cut(name).to_string())
+                    .map(|name| crate::quote::cut(name).to_string())
                     .collect::<Vec<_>>()
                     .join(", ")
             ),

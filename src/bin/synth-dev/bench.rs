@@ -13,6 +13,7 @@ use crate::cli::{exit, Failure};
 use crate::stats::Stats;
 use clap::Args;
 use fbsynth::ecc::AlgorithmKind;
+use fbsynth::out;
 use fbsynth::pipeline::{self, exact, modular, Check, Recordings};
 use fbsynth::search::{self, Evaluator, Machine, ScenarioData};
 use rand::SeedableRng;

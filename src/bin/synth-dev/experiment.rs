@@ -7,6 +7,7 @@ use crate::cli::progress::{describe, Progress};
 use crate::cli::Failure;
 use crate::stats::Stats;
 use clap::Args;
+use fbsynth::out;
 use fbsynth::pipeline::table1::{self, Configuration, Row, Run, Table1};
 use fbsynth::pipeline::{search, Event, Recordings};
 use std::path::PathBuf;

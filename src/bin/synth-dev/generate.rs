@@ -3,6 +3,7 @@
 
 use crate::cli::Failure;
 use fbsynth::cases::{distribution, pnp, tank};
+use fbsynth::out;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]

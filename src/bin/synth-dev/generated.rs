@@ -11,6 +11,7 @@ use crate::cli::{exit, Failure};
 use clap::Args;
 use fbsynth::cases::distribution;
 use fbsynth::ingest::{self, LogReader, Mapping};
+use fbsynth::out;
 use fbsynth::pipeline::{exact, noisy};
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -21,14 +21,9 @@
 //! | `generate pnp\|tank\|distribution` | the case's scenario files and logs in `specs/`, as the tests check them |
 //!
 //! Every command takes `-q`, `-v` and `--json` as `synth` does, and exits with `synth`'s codes:
-//! this binary compiles `synth`'s command-line module for them ([`cli`]).
+//! both binaries share the library's command-line module ([`fbsynth::cli`]).
 
-#[path = "../../cli/mod.rs"]
-#[macro_use]
-// The user's commands are compiled here only for what both binaries share (output flags,
-// errors and exit codes, argument groups, progress lines); this binary calls none of them.
-#[allow(dead_code)]
-mod cli;
+use fbsynth::cli;
 
 mod bench;
 mod experiment;

@@ -6,12 +6,12 @@ use crate::cli::args::time_limit;
 use crate::cli::progress::Progress;
 use crate::cli::show::{print_written, size_line};
 use crate::cli::{exit, Failure};
-use fbsynth::export;
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline::{self, exact, output};
-use fbsynth::sat::Synthesis;
-use fbsynth::scenario::negative::NegativeScenario;
-use fbsynth::scenario::ScenarioSet;
+use crate::export;
+use crate::files::ResultSet;
+use crate::pipeline::{self, exact, output};
+use crate::sat::Synthesis;
+use crate::scenario::negative::NegativeScenario;
+use crate::scenario::ScenarioSet;
 use std::path::Path;
 
 /// Said when exact synthesis fails on a contradiction, or climbs to
@@ -26,7 +26,7 @@ const GLITCH_HINT_STATES: usize = 10;
 /// A contradiction in recordings read as exact: most often a scan-cycle glitch of the logger,
 /// which `--noisy` corrects, so the message says so.
 fn suggest_noisy(e: pipeline::Error) -> Failure {
-    use fbsynth::scenario::ScenarioError;
+    use crate::scenario::ScenarioError;
     match e {
         pipeline::Error::Scenario(ScenarioError::Contradiction(_)) => {
             Failure::msg(exit::INPUT, format!("{e}\n{NOISY_HINT}"))
@@ -103,7 +103,7 @@ fn options(args: &InferArgs, negatives: Vec<NegativeScenario>) -> Result<exact::
 /// `--noisy`: glitches in a log read as exact each cost states, so a climb this high is the
 /// sign.
 fn glitch_hint(progress: &Progress) -> impl FnMut(pipeline::Event<'_>) + '_ {
-    use fbsynth::sat::{Bound, Step};
+    use crate::sat::{Bound, Step};
     let mut hinted = false;
     move |e| {
         let c = match &e {

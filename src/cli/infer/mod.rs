@@ -1,6 +1,6 @@
 //! `synth infer`: the least machine that reproduces the recordings, exact, noisy
 //! ([`noisy`]), modular or distributed ([`modular`]); with `--ltl` the main job's method
-//! ([`fbsynth::pipeline::main_job`]). Its arguments, the calls to the library and what it
+//! ([`crate::pipeline::main_job`]). Its arguments, the calls to the library and what it
 //! prints, one file per mode.
 
 // Jobs handed to `Limit::run` return `pipeline::Error` (128 bytes) by value; an error ends
@@ -18,15 +18,15 @@ use super::args::{
 use super::progress::Progress;
 use super::show::{closing, explained, print_written, size_line, verified_line};
 use super::{exit, Failure};
+use crate::export;
+use crate::files::ResultSet;
+use crate::pipeline::explain::{self, Explanation};
+use crate::pipeline::main_job::{self, Summary, VerifiedMachine};
+use crate::pipeline::output::{check_exportable, write_verified, Provenance};
+use crate::pipeline::{self, exact, Check};
+use crate::scenario::negative::NegativeScenario;
+use crate::scenario::ScenarioSet;
 use clap::{Args, ValueEnum};
-use fbsynth::export;
-use fbsynth::files::ResultSet;
-use fbsynth::pipeline::explain::{self, Explanation};
-use fbsynth::pipeline::main_job::{self, Summary, VerifiedMachine};
-use fbsynth::pipeline::output::{check_exportable, write_verified, Provenance};
-use fbsynth::pipeline::{self, exact, Check};
-use fbsynth::scenario::negative::NegativeScenario;
-use fbsynth::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
@@ -153,8 +153,8 @@ pub struct FixedArgs {
 }
 
 impl FixedArgs {
-    pub fn bounds(&self) -> fbsynth::sat::Fixed {
-        fbsynth::sat::Fixed {
+    pub fn bounds(&self) -> crate::sat::Fixed {
+        crate::sat::Fixed {
             states: self.states,
             out_degree: self.out_degree,
             transitions: self.transitions,
@@ -189,7 +189,7 @@ pub enum TopologyArg {
     Arbitrary,
 }
 
-impl From<TopologyArg> for fbsynth::pipeline::modular::Topology {
+impl From<TopologyArg> for crate::pipeline::modular::Topology {
     fn from(t: TopologyArg) -> Self {
         match t {
             // An arbitrary network is a parallel composite over the extended inputs.
@@ -201,7 +201,7 @@ impl From<TopologyArg> for fbsynth::pipeline::modular::Topology {
 
 /// `synth infer`.
 pub fn infer(args: &InferArgs) -> Result<(), Failure> {
-    let to_stdout = args.out.as_deref().is_some_and(fbsynth::files::is_stdin);
+    let to_stdout = args.out.as_deref().is_some_and(crate::files::is_stdin);
     // With --json, --out -, --noisy and --modules give the generic summary (their files and
     // lines; the machine of --out - in its `output`).
     if to_stdout {

@@ -6,11 +6,11 @@ use crate::cli::args::{parse_formats, time_limit};
 use crate::cli::progress::Progress;
 use crate::cli::show::{describe_modules, print_written};
 use crate::cli::{exit, Failure};
-use fbsynth::ecc::Ecc;
-use fbsynth::export;
-use fbsynth::pipeline::output::{self, check_exportable_modular, write_verified};
-use fbsynth::pipeline::{self, distributed, modular, Check};
-use fbsynth::scenario::ScenarioSet;
+use crate::ecc::Ecc;
+use crate::export;
+use crate::pipeline::output::{self, check_exportable_modular, write_verified};
+use crate::pipeline::{self, distributed, modular, Check};
+use crate::scenario::ScenarioSet;
 use std::path::{Path, PathBuf};
 
 /// `synth infer --modules M`: the composite for the recordings or, with `--ltl`, for the main
@@ -74,7 +74,7 @@ pub(super) fn infer_network(args: &InferArgs, file: Option<&PathBuf>) -> Result<
         slots: args.slots.unwrap_or(modular::DEFAULT_SLOTS),
         max_states: args.max_states,
         algorithms: args.algorithms.into(),
-        deadline: fbsynth::deadline::Deadline::NONE,
+        deadline: crate::deadline::Deadline::NONE,
     };
     let result = time_limit(args.time_limit, &progress)?.run(
         &mut |e| progress.event(e),
@@ -177,7 +177,7 @@ pub(super) fn modular_options(
         topology: args.topology.into(),
         reads: None,
         feedback: (args.topology == TopologyArg::Arbitrary).then_some(set.inputs.len()),
-        deadline: fbsynth::deadline::Deadline::NONE,
+        deadline: crate::deadline::Deadline::NONE,
     })
 }
 

@@ -7,8 +7,8 @@ use crate::cli::args::{optional_check, out_dir, parse_formats, time_limit};
 use crate::cli::progress::Progress;
 use crate::cli::show::{print_written, size_line};
 use crate::cli::{exit, Failure};
-use fbsynth::pipeline::output::{self, check_exportable};
-use fbsynth::pipeline::{self, noisy, Check};
+use crate::pipeline::output::{self, check_exportable};
+use crate::pipeline::{self, noisy, Check};
 use std::path::{Path, PathBuf};
 
 /// `synth infer --noisy`: candidates by ε, each in its folder, and the summary; with --ltl
@@ -69,7 +69,7 @@ fn files(
     args: &InferArgs,
     result: &noisy::Noisy,
     check: Option<&Check>,
-    formats: &[fbsynth::export::Format],
+    formats: &[crate::export::Format],
     staging: &Path,
     progress: &Progress,
 ) -> Result<Vec<PathBuf>, Failure> {

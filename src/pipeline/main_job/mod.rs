@@ -23,7 +23,7 @@
 //!    ([`search::shrink`]), bounds the exact loop (at most its states) for the time left, so the
 //!    answer is never larger than what SAT finds below it.
 //!
-//! "Smaller" is one order everywhere: [`Size::smaller_than`] (C, then T, then N).
+//! "Smaller" is one order everywhere: [`Size::is_smaller_than`] (C, then T, then N).
 //!
 //! # The time limit
 //! One deadline, counted from the start of the run ([`Limit`]), holds for the guide and every
