@@ -120,7 +120,7 @@ pub enum Flow {
 }
 
 /// Figures of a run.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct NoisyStats {
     /// Nodes of the trace graph.
     pub graph_nodes: usize,
