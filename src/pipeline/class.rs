@@ -304,3 +304,52 @@ impl Classed for crate::files::ResultSetError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    /// A failure keeps its class through every wrapper that forwards it: the exit code of a
+    /// plant without behaviour, of no machine within the limits and of a bug is the same
+    /// whichever pipeline met it.
+    #[test]
+    fn wrapped_failures_keep_their_class() {
+        let vacuous = || VerifyError::Vacuous {
+            plant: PathBuf::from("plant.smv"),
+            what: "initial state",
+            warning: None,
+        };
+        let too_many = || SatError::TooManyStates { max_states: 3 };
+        let cases = [
+            (Error::Verify(vacuous()), Class::Vacuous),
+            (Error::Cegis(CegisError::Verify(vacuous())), Class::Vacuous),
+            (
+                Error::Search(SearchError::Verify(OracleError::Nusmv(vacuous()))),
+                Class::Vacuous,
+            ),
+            (Error::Sat(too_many()), Class::NoMachine),
+            (Error::Cegis(CegisError::Sat(too_many())), Class::NoMachine),
+            (
+                Error::Cegis(CegisError::Sat(SatError::Bug("x".into()))),
+                Class::Bug,
+            ),
+            (Error::Modular(ModularError::NoModules), Class::Usage),
+            (
+                Error::Negative("the machines differ".into()),
+                Class::Negative,
+            ),
+            (Error::Input("bad".into()), Class::Input),
+            (
+                Error::Noted {
+                    error: Box::new(Error::Sat(too_many())),
+                    notes: vec!["a note".into()],
+                },
+                Class::NoMachine,
+            ),
+        ];
+        for (error, class) in cases {
+            assert_eq!(error.class(), class, "{error}");
+        }
+    }
+}

@@ -28,8 +28,11 @@
 //!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
 //! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
-//! [`crate::nusmv`] and [`crate::verify`]; the command line only parses, calls one function
-//! here and prints.
+//! [`crate::nusmv`] and [`crate::verify`]. Above it, one function per command of `synth` reads
+//! the command's files, calls a pipeline here and writes its result folder; the command line
+//! only parses, calls that function and prints. Every [`Error`] has a [`Class`], which the
+//! command line turns into the exit code. `summary` holds the typed `summary.json` and
+//! `--json` of every command, with their JSON Schema.
 //!
 //! Letters, the same in every method's output, the README and `summary.json`:
 //! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,

@@ -462,7 +462,10 @@ fn summaries(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
     assert!(failed["error"].as_str().unwrap().contains("missing.json"));
     all.push(("command", failed));
     let rival = d("least/rival1.json");
-    all.push(("diff", json_exiting(1, &["diff", &machine, &rival, "--json"])));
+    all.push((
+        "diff",
+        json_exiting(1, &["diff", &machine, &rival, "--json"]),
+    ));
     all.push(("diff", json_of(&["diff", &machine, &machine, "--json"])));
     let next = [
         "next-recording",
