@@ -291,10 +291,7 @@ fn least(
         _ => Ok(None),
     };
     let Some(results) = results else {
-        let format = match r.formats.as_slice() {
-            [one] => *one,
-            _ => Format::Json,
-        };
+        let format = super::export::stdout_format(&r.formats);
         let text = export::text(&result.ecc, &r.name, format)?;
         let ambiguity = ambiguity_check(None, events)?;
         return Ok(Least {

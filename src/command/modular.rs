@@ -166,24 +166,27 @@ pub(crate) fn distribute_verified(
     Ok((composite, files))
 }
 
-/// What `synth infer --modules M` made.
+/// What `synth infer --modules M` made, published.
 pub(crate) struct Split {
-    /// With `--ltl`: the verified machine (written in `single/`) and its composite.
-    pub verified: Option<(Verified, VerifiedComposite)>,
-    /// Without: the composite for the recordings.
-    pub composite: Option<Composite>,
+    /// The composite, and with `--ltl` the machine it follows.
+    pub made: Made,
     /// The files published.
     pub files: Vec<PathBuf>,
 }
 
+/// The composite of `synth infer --modules M`.
+pub(crate) enum Made {
+    /// For the recordings.
+    Composite(Composite),
+    /// With `--ltl`: the verified machine (written in `single/`) and its verified composite.
+    Verified(Box<Verified>, VerifiedComposite),
+}
+
 impl fmt::Display for Split {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some((single, composite)) = &self.verified {
-            write!(f, "{single}\n{composite}")?;
-        }
-        match &self.composite {
-            Some(c) => write!(f, "{c}"),
-            None => Ok(()),
+        match &self.made {
+            Made::Composite(c) => write!(f, "{c}"),
+            Made::Verified(single, composite) => write!(f, "{single}\n{composite}"),
         }
     }
 }
@@ -198,8 +201,7 @@ pub(crate) fn modules(r: &Request, modules: &Modules, events: Events<'_>) -> Res
     let Some((check, found)) = &check else {
         let (composite, staged) = distribute(r, modules, &set, staging, events)?;
         return Ok(Split {
-            verified: None,
-            composite: Some(composite),
+            made: Made::Composite(composite),
             files: publish(results, &staged)?,
         });
     };
@@ -222,8 +224,7 @@ pub(crate) fn modules(r: &Request, modules: &Modules, events: Events<'_>) -> Res
         files: Vec::new(),
     };
     Ok(Split {
-        verified: Some((single, composite)),
-        composite: None,
+        made: Made::Verified(Box::new(single), composite),
         files: publish(results, &staged)?,
     })
 }
