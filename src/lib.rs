@@ -26,8 +26,10 @@
 //! - [`cases`]: the project's benchmark cases, reference controllers with (feature `cases`)
 //!   their plant simulations and the recorders of the shipped data.
 //!
+//! - `command`: what each command of `synth` does between its arguments and what it prints
+//!   (the files it reads, the pipeline it calls, the result folder it writes);
 //! - [`cli`]: the `synth` command line (argument parsing, progress, printing, exit codes) over
-//!   the pipelines; `synth`'s `main` calls [`cli::run`].
+//!   the commands; `synth`'s `main` calls [`cli::run`].
 
 // Every public item says what it means in the domain; clippy's -D warnings keeps it so.
 #![warn(missing_docs)]
@@ -35,6 +37,7 @@
 pub mod cases;
 pub mod check;
 pub mod cli;
+pub(crate) mod command;
 pub mod deadline;
 pub mod ecc;
 pub mod events;

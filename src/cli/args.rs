@@ -1,12 +1,12 @@
 //! Argument groups shared by several commands, and their conversion to library settings.
 
-use super::{exit, Failure};
+use super::progress::Progress;
+use crate::command::{Spec, Tool};
 use crate::ecc::AlgorithmKind;
 use crate::export::Format;
-use crate::pipeline::{self, search, Check, Nusmv, Problem, Recordings};
-use crate::scenario::ScenarioSet;
+use crate::pipeline::{self, search, Error, Nusmv, Recordings};
 use clap::{Args, ValueEnum};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Where scenarios come from: shared by every command that reads them.
 #[derive(Debug, Args, Clone)]
@@ -35,11 +35,6 @@ impl TraceArgs {
             input_names: self.input_names.clone(),
             output_names: self.output_names.clone(),
         }
-    }
-
-    /// Reads every trace file into one scenario set.
-    pub fn load(&self) -> Result<ScenarioSet, Failure> {
-        Ok(self.recordings().load()?)
     }
 }
 
@@ -74,74 +69,26 @@ pub struct NusmvArgs {
 
 impl NusmvArgs {
     /// Locates NuSMV; fails early with the install hint.
-    pub fn nusmv(&self) -> Result<Nusmv, Failure> {
-        Ok(pipeline::nusmv(self.nusmv.as_deref(), self.timeout)?)
+    pub fn nusmv(&self) -> Result<Nusmv, Error> {
+        pipeline::nusmv(self.nusmv.as_deref(), self.timeout)
     }
-}
 
-/// Reads and checks the spec, the plant and the coupling with the controller interface.
-pub fn problem(
-    ltl: &Path,
-    plant: &Path,
-    inputs: &[String],
-    outputs: &[String],
-) -> Result<Problem, Failure> {
-    Problem::load(ltl, plant, inputs, outputs).map_err(|e| Failure::from(pipeline::Error::from(e)))
-}
-
-/// With both `--ltl` and `--plant`: the problem they state over the interface of `set`, and
-/// the NuSMV that checks it.
-pub fn optional_check(
-    ltl: &Option<PathBuf>,
-    plant: &Option<PathBuf>,
-    set: &ScenarioSet,
-    nusmv: &NusmvArgs,
-) -> Result<Option<Check>, Failure> {
-    match (ltl, plant) {
-        (Some(ltl), Some(plant)) => Ok(Some(check(
-            problem(ltl, plant, &set.inputs, &set.outputs)?,
-            nusmv,
-        )?)),
-        _ => Ok(None),
-    }
-}
-
-/// A problem and the NuSMV that checks it.
-pub fn check(problem: Problem, nusmv: &NusmvArgs) -> Result<Check, Failure> {
-    Ok(Check::new(problem, nusmv.nusmv()?))
-}
-
-/// Refuses to run when an output path names one of the input files (the atomic rename
-/// would replace the input with the result), or a folder (found only when the first files
-/// of the result were already written).
-pub fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
-    outputs: &[P],
-    inputs: &[Q],
-) -> Result<(), Failure> {
-    for out in outputs {
-        if out.as_ref().is_dir() {
-            return Err(Failure::msg(
-                exit::INPUT,
-                format!(
-                    "the output {} is a folder; give a file name (or move the folder away)",
-                    out.as_ref().display()
-                ),
-            ));
-        }
-        for input in inputs {
-            if crate::files::same_file(out.as_ref(), input.as_ref()) {
-                return Err(Failure::msg(
-                    exit::INPUT,
-                    format!(
-                        "the output {} would overwrite the input {}; choose another output path",
-                        out.as_ref().display(),
-                        input.as_ref().display()
-                    ),
-                ));
-            }
+    /// NuSMV, located when the command needs it.
+    pub(crate) fn tool(&self) -> Tool {
+        Tool {
+            path: self.nusmv.clone(),
+            timeout: self.timeout,
         }
     }
-    Ok(())
+
+    /// With both `--ltl` and `--plant`: the properties, the plant and this NuSMV.
+    pub(crate) fn spec(&self, ltl: &Option<PathBuf>, plant: &Option<PathBuf>) -> Option<Spec> {
+        Some(Spec {
+            ltl: ltl.clone()?,
+            plant: plant.clone()?,
+            nusmv: self.tool(),
+        })
+    }
 }
 
 // Bounds of the size options: far above any controller the tool is for, and below what makes
@@ -207,7 +154,7 @@ impl AmbiguityArgs {
     pub fn options(
         &self,
         algorithms: crate::ecc::AlgorithmKind,
-    ) -> Result<crate::pipeline::ambiguity::Options, super::Failure> {
+    ) -> Result<crate::pipeline::ambiguity::Options, Error> {
         Ok(crate::pipeline::ambiguity::Options {
             algorithms,
             rivals: self.rivals,
@@ -237,26 +184,11 @@ pub fn block_name(name: &str) -> Result<String, String> {
 }
 
 /// Parses `--format` values.
-pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Failure> {
+pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Error> {
     list.iter()
         .map(|f| f.trim().parse::<Format>())
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| Failure::msg(exit::USAGE, format!("--format: {e}")))
-}
-
-/// The one format written on stdout (`--out -`): the one `--format` names, JSON when it
-/// names several.
-pub fn stdout_format(formats: &[Format]) -> Format {
-    match formats {
-        [one] => *one,
-        _ => Format::Json,
-    }
-}
-
-/// `--out`, or `out/<stem>`.
-pub fn out_dir(out: &Option<PathBuf>, stem: &str) -> PathBuf {
-    out.clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(stem))
+        .map_err(|e| Error::Usage(format!("--format: {e}")))
 }
 
 /// Where the colonies start.
@@ -295,33 +227,8 @@ impl From<Start> for search::Start {
     }
 }
 
-/// The `--negative` files, read over the recordings' interface (a progress line each).
-pub fn read_negatives(
-    files: &[PathBuf],
-    set: &ScenarioSet,
-    progress: &super::progress::Progress,
-) -> Result<Vec<crate::scenario::negative::NegativeScenario>, Failure> {
-    use crate::scenario::negative;
-    let mut all = Vec::new();
-    for file in files {
-        let negs = negative::read(file, &set.inputs, &set.outputs, &set.initial_outputs)
-            .map_err(pipeline::Error::from)?;
-        progress.line(&format!(
-            "read {} negative scenario{} from {}",
-            negs.len(),
-            if negs.len() == 1 { "" } else { "s" },
-            file.display()
-        ));
-        all.extend(negs);
-    }
-    Ok(all)
-}
-
 /// The time limit `--time-limit` names, counted from the start of the run.
-pub fn time_limit(
-    seconds: f64,
-    progress: &super::progress::Progress,
-) -> Result<pipeline::limit::Limit, Failure> {
+pub fn time_limit(seconds: f64, progress: &Progress) -> Result<pipeline::limit::Limit, Error> {
     pipeline::seconds("--time-limit", seconds, true)?;
     Ok(pipeline::limit::Limit::new(progress.started(), seconds))
 }

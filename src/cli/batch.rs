@@ -1,13 +1,10 @@
 //! `synth batch`: one reconstruction per PLC over a folder of logs, and one summary table.
 
-use super::args::{out_dir, parse_formats, AlgorithmsArg, NusmvArgs};
+use super::args::{parse_formats, AlgorithmsArg, NusmvArgs};
 use super::progress::Progress;
 use super::show::print_written;
-use super::Failure;
-use crate::files::ResultSet;
-use crate::ingest::Mapping;
-use crate::pipeline::batch::{self, Outcome, Row, Verification};
-use crate::pipeline::{self, exact};
+use crate::command::batch::{run, Request};
+use crate::pipeline::{self, exact, Error};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -56,116 +53,32 @@ pub struct BatchArgs {
 }
 
 /// `synth batch --logs DIR [--map M] [--ltl F --plant P]`.
-pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
+pub fn batch(args: &BatchArgs) -> Result<(), Error> {
     if super::json() {
         super::data_on_stdout();
     }
     let progress = Progress::new(super::quiet());
-    let mapping = match &args.map {
-        Some(m) => Some(Mapping::read(m).map_err(Failure::input)?),
-        None => None,
+    let mut exact = exact::Options::default();
+    exact.sat.algorithms = args.algorithms.into();
+    exact.sat.max_states = args.max_states;
+    let request = Request {
+        logs: args.logs.clone(),
+        map: args.map.clone(),
+        formats: parse_formats(&args.format)?,
+        limit: pipeline::seconds("--time-limit", args.time_limit, true)?,
+        spec: args.nusmv.spec(&args.ltl, &args.plant),
+        out: args.out.clone(),
+        name: args.name.clone(),
+        exact,
+        threads: args.threads,
     };
-    let plcs = batch::plcs(&args.logs)?;
-    let formats = parse_formats(&args.format)?;
-    let limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
-    let verification = match (&args.ltl, &args.plant) {
-        (Some(ltl), Some(plant)) => Some(Verification {
-            ltl: ltl.clone(),
-            plant: plant.clone(),
-            nusmv: args.nusmv.nusmv()?,
-        }),
-        _ => None,
-    };
-    let stem = crate::pipeline::recordings::stem(&args.logs);
-    let out = out_dir(&args.out, &stem);
-    let results = ResultSet::open(&out).map_err(Failure::input)?;
-    let threads = args.threads.unwrap_or_else(rayon::current_num_threads);
-    progress.line(&format!(
-        "{} PLCs in {}, {} at a time{}",
-        plcs.len(),
-        args.logs.display(),
-        threads.min(plcs.len()),
-        if verification.is_some() {
-            ", each verified by NuSMV"
-        } else {
-            ""
-        }
-    ));
-    let opts = exact::Options {
-        sat: exact::SatOptions {
-            algorithms: args.algorithms.into(),
-            max_states: args.max_states,
-            ..exact::SatOptions::default()
-        },
-        ..exact::Options::default()
-    };
-    let outcomes = batch::run(
-        &plcs,
-        mapping.as_ref(),
-        verification.as_ref(),
-        &opts,
-        limit,
-        threads,
-        &|o: &Outcome| progress.line(&outcome_line(o)),
-    )?;
-    let summary = batch::write_results(
-        results.staging(),
-        &args.logs,
-        &outcomes,
-        &args.name,
-        &formats,
-        verification.as_ref(),
-    )?;
-    let files: Vec<PathBuf> = summary.files.iter().map(|f| results.published(f)).collect();
-    results
-        .publish()
-        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    print_table(&summary.rows);
-    print_written(&files);
+    let done = run(&request, &mut |e| progress.event(e), &|o| {
+        progress.line(&o.to_string())
+    })?;
+    out!("{done}");
+    print_written(&done.files);
     if super::json() {
-        super::write_json(&summary.to_json())?;
+        super::write_json(&done.summary())?;
     }
-    match summary.failure() {
-        Some(e) => Err(e.into()),
-        None => Ok(()),
-    }
-}
-
-/// The progress line of one PLC done.
-fn outcome_line(o: &Outcome) -> String {
-    match &o.result {
-        Ok(r) => format!(
-            "{}: {}{} ({:.2} s)",
-            o.plc.name,
-            r.synthesis.size,
-            if r.certificate.is_some() {
-                ", verified"
-            } else {
-                ""
-            },
-            o.seconds
-        ),
-        Err(e) => format!("{}: failed: {e}", o.plc.name),
-    }
-}
-
-/// The summary as a Markdown table on stdout.
-fn print_table(rows: &[Row]) {
-    out!("| PLC | status | scenarios | steps | C | K | T | N | seconds |");
-    out!("|---|---|---|---|---|---|---|---|---|");
-    for r in rows {
-        let cell = |v: Option<usize>| v.map_or("-".to_string(), |v| v.to_string());
-        out!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
-            r.plc,
-            r.status,
-            r.scenarios,
-            r.steps,
-            cell(r.c),
-            cell(r.k),
-            cell(r.t),
-            cell(r.n),
-            r.seconds
-        );
-    }
+    done.failure().map_or(Ok(()), Err)
 }

@@ -2,13 +2,11 @@
 //! divergence, and with `--refine` learn the divergent traces and synthesize again (verified
 //! again with `--ltl`/`--plant`).
 
-use super::args::{optional_check, parse_formats, NusmvArgs, TraceArgs};
+use super::args::{NusmvArgs, TraceArgs};
 use super::progress::Progress;
-use super::{exit, Failure};
-use crate::ecc::Ecc;
+use crate::command::conform::{conformance, refine, Request};
 use crate::pipeline::recordings::machine_and_scenarios;
-use crate::pipeline::{exact, refine, Recordings};
-use crate::scenario::ScenarioSet;
+use crate::pipeline::{Error, Recordings};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -39,103 +37,30 @@ pub struct ConformArgs {
     pub nusmv: NusmvArgs,
 }
 
-/// Prints the conformance report; returns the number of divergent scenarios.
-fn report(ecc: &Ecc, set: &ScenarioSet) -> usize {
-    let divergences = set.divergences(ecc);
-    let mut agreeing_steps = 0;
-    for (k, sc) in set.scenarios.iter().enumerate() {
-        match divergences.iter().find(|d| d.scenario == k) {
-            None => {
-                agreeing_steps += sc.steps.len();
-                out!("{}: agrees on all {} steps", sc.origin, sc.steps.len());
-            }
-            Some(d) => {
-                agreeing_steps += d.step;
-                out!("{}: DIVERGES: {}", sc.origin, d.describe_step());
-            }
-        }
-    }
-    let steps = set.step_count().max(1);
-    out!(
-        "agreement: {} of {} traces reproduced; {} of {} steps before the first divergence ({:.1}%)",
-        set.scenarios.len() - divergences.len(),
-        set.scenarios.len(),
-        agreeing_steps,
-        set.step_count(),
-        100.0 * agreeing_steps as f64 / steps as f64
-    );
-    divergences.len()
-}
-
 /// `synth conform`.
-pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
+pub fn conform(args: &ConformArgs) -> Result<(), Error> {
     let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
-    let divergent = report(&ecc, &set);
-    if divergent == 0 {
+    let found = conformance(&ecc, &set);
+    out!("{found}");
+    if found.divergent == 0 {
         return Ok(());
     }
     if !args.refine {
-        return Err(Failure::msg(
-            exit::FAILED,
-            format!(
-                "{} of {} traces diverge (use --refine --train FILE... to learn them)",
-                divergent,
-                set.scenarios.len()
-            ),
-        ));
+        return Err(found.failure());
     }
-    let training = Recordings {
-        traces: args.train.clone(),
-        input_names: args.traces.input_names.clone(),
-        output_names: args.traces.output_names.clone(),
-    }
-    .load()?;
-    let check = optional_check(&args.ltl, &args.plant, &set, &args.nusmv)?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out/refined"));
-    let formats = parse_formats(&["json", "fbt", "smv", "dot", "st"].map(String::from))?;
-    let progress = Progress::new(false);
-    // One result in the folder, published whole at the end, as `infer` does.
-    let results = crate::files::ResultSet::open(&out).map_err(Failure::input)?;
-    let opts = refine::Options {
-        out: results.staging(),
-        formats: &formats,
-        name: "SynthesizedFB",
-        exact: exact::Options {
-            // The model NuSMV failed on is kept for the user, beside the results.
-            keep_failed_model: check.is_some().then(|| out.join("closed_loop.last.smv")),
-            ..exact::Options::default()
+    let request = Request {
+        training: Recordings {
+            traces: args.train.clone(),
+            ..args.traces.recordings()
         },
+        spec: args.nusmv.spec(&args.ltl, &args.plant),
+        out: args.out.clone(),
     };
-    let refined = refine::run(&ecc, &set, training, check.as_ref(), &opts, &mut |e| {
-        progress.event(e)
-    })?
-    .expect("a divergent trace was found above");
-    out!(
-        "refining: {} training scenarios + {} divergent traces -> {}",
-        refined.training_scenarios,
-        refined.divergent.len(),
-        results.published(&refined.traces_file).display()
-    );
-    let s = refined.exact.synthesis.size;
-    if let Some(cert) = &refined.exact.certificate {
-        out!(
-            "verified: all {} properties hold (NuSMV)",
-            cert.report.properties.len()
-        );
-        for w in cert.report.warning_lines() {
-            out!("{w}");
-        }
-    }
-    out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
-    let files: Vec<PathBuf> = refined.files.iter().map(|f| results.published(f)).collect();
-    results
-        .publish()
-        .map_err(|e| Failure::input(crate::pipeline::Error::from(e)))?;
-    super::show::print_written(&files);
+    let progress = Progress::new(false);
+    let done = refine(&request, &ecc, &set, &mut |e| progress.event(e))?;
+    out!("{done}");
+    super::show::print_written(&done.files);
     out!("after refinement, on the new recordings:");
-    report(refined.ecc(), &set);
+    out!("{}", conformance(done.refined.ecc(), &set));
     Ok(())
 }

@@ -2,9 +2,8 @@
 //! replayed on a machine).
 
 use super::args::TraceArgs;
-use super::{exit, Failure};
-use crate::pipeline::recordings::machine_and_scenarios;
-use crate::scenario::{csvlog, fbsat};
+use crate::command::convert::{convert as job, replay as replay_job, To};
+use crate::pipeline::Error;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -38,56 +37,28 @@ pub struct ReplayArgs {
 }
 
 /// `synth convert`.
-pub fn convert(args: &ConvertArgs) -> Result<(), Failure> {
-    let mut inputs: Vec<PathBuf> = args.traces.traces.clone();
-    inputs.extend(args.traces.input_names.iter().cloned());
-    inputs.extend(args.traces.output_names.iter().cloned());
-    if let Some((i, o)) = args
-        .traces
-        .traces
-        .first()
-        .and_then(|t| crate::scenario::names::default_names_files(t))
-    {
-        inputs.extend([i, o]);
-    }
+pub fn convert(args: &ConvertArgs) -> Result<(), Error> {
     let to_stdout = crate::files::is_stdin(&args.output);
     if to_stdout {
         super::data_on_stdout();
-    } else {
-        super::args::refuse_overwrite(&[&args.output], &inputs)?;
     }
-    let set = args.traces.load()?;
-    let mut buf = Vec::new();
-    match args.to {
-        ConvertTo::Fbsat => fbsat::write(&set, &mut buf),
-        ConvertTo::Csv => csvlog::write(&set, &mut buf),
-    }
-    .map_err(Failure::input)?;
+    let to = match args.to {
+        ConvertTo::Fbsat => To::Fbsat,
+        ConvertTo::Csv => To::Csv,
+    };
+    let output = (!to_stdout).then_some(args.output.as_path());
+    let done = job(&args.traces.recordings(), to, output)?;
     if to_stdout {
-        return super::write_data(&buf);
+        return super::write_data(&done.bytes);
     }
-    crate::files::write_atomic(&args.output, &buf).map_err(Failure::input)?;
-    out!(
-        "wrote {} scenarios ({} steps) to {}",
-        set.scenarios.len(),
-        set.step_count(),
-        args.output.display()
-    );
+    out!("{}", done.line(&args.output));
     super::note_written(std::slice::from_ref(&args.output));
     Ok(())
 }
 
 /// `synth replay`: replays scenarios on a machine read from JSON and reports the first
 /// disagreement.
-pub fn replay(args: &ReplayArgs) -> Result<(), Failure> {
-    let (ecc, set) = machine_and_scenarios(&args.ecc, &args.traces.recordings())?;
-    set.check(&ecc)
-        .map_err(|m| Failure::msg(exit::FAILED, format!("not reproduced: {m}")))?;
-    out!(
-        "replayed {} scenarios ({} steps): all reproduced by {}",
-        set.scenarios.len(),
-        set.step_count(),
-        args.ecc.display()
-    );
+pub fn replay(args: &ReplayArgs) -> Result<(), Error> {
+    out!("{}", replay_job(&args.ecc, &args.traces.recordings())?);
     Ok(())
 }

@@ -1,8 +1,9 @@
 //! `synth completions SHELL` and `synth man`: shell completion scripts and the manual page,
 //! generated from the same clap definitions that parse the command line; `synth schema`: the
-//! JSON Schema of the machine contract, derived from the types that read it.
+//! JSON Schema of the machine contract, derived from the types that read it, or with
+//! `--summary` of every summary the commands write.
 
-use super::{Cli, Failure};
+use super::{Cli, Error};
 use clap::{Args, CommandFactory};
 use std::path::PathBuf;
 
@@ -14,7 +15,7 @@ pub struct CompletionsArgs {
 }
 
 /// `synth completions SHELL`: the completion script on stdout.
-pub fn completions(args: &CompletionsArgs) -> Result<(), Failure> {
+pub fn completions(args: &CompletionsArgs) -> Result<(), Error> {
     let mut cmd = Cli::command();
     let mut buf = Vec::new();
     clap_complete::generate(args.shell, &mut cmd, "synth", &mut buf);
@@ -30,29 +31,26 @@ pub struct ManArgs {
 }
 
 /// The roff text of one manual page, titled `title`.
-fn page(cmd: clap::Command, title: &str) -> Result<Vec<u8>, Failure> {
+fn page(cmd: clap::Command, title: &str) -> Result<Vec<u8>, Error> {
     let mut buf = Vec::new();
-    clap_mangen::Man::new(cmd)
-        .title(title)
-        .render(&mut buf)
-        .map_err(Failure::input)?;
+    clap_mangen::Man::new(cmd).title(title).render(&mut buf)?;
     Ok(buf)
 }
 
 /// `synth man`: the manual page (roff), on stdout or as files.
-pub fn man(args: &ManArgs) -> Result<(), Failure> {
+pub fn man(args: &ManArgs) -> Result<(), Error> {
     let cmd = Cli::command().name("synth");
     let Some(dir) = &args.out else {
         return super::write_data(&page(cmd, "synth")?);
     };
-    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+    std::fs::create_dir_all(dir)?;
     let mut written = vec![(dir.join("synth.1"), page(cmd.clone(), "synth")?)];
     for sub in cmd.get_subcommands() {
         let name = format!("synth-{}", sub.get_name());
         written.push((dir.join(format!("{name}.1")), page(sub.clone(), &name)?));
     }
     for (path, bytes) in &written {
-        crate::files::write_atomic(path, bytes).map_err(Failure::input)?;
+        crate::files::write_atomic(path, bytes)?;
         out!("wrote {}", path.display());
     }
     super::note_written(&written.into_iter().map(|(p, _)| p).collect::<Vec<_>>());
@@ -65,17 +63,24 @@ pub struct SchemaArgs {
     /// editor: a machine may name it in `"$schema"`).
     #[arg(long, short = 'o', value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// The schema of the summaries instead (`summary.json` and `--json`): one of them,
+    /// told by its `format`.
+    #[arg(long)]
+    pub summary: bool,
 }
 
-/// `synth schema`: the JSON Schema of the machine contract.
-pub fn schema(args: &SchemaArgs) -> Result<(), Failure> {
-    let mut text =
-        serde_json::to_string_pretty(&crate::export::json::schema()).expect("a schema is JSON");
+/// `synth schema`: the JSON Schema of the machine contract, or of the summaries.
+pub fn schema(args: &SchemaArgs) -> Result<(), Error> {
+    let schema = match args.summary {
+        true => crate::pipeline::summary::schema(),
+        false => crate::export::json::schema(),
+    };
+    let mut text = serde_json::to_string_pretty(&schema).expect("a schema is JSON");
     text.push('\n');
     let Some(path) = args.out.as_ref().filter(|p| !crate::files::is_stdin(p)) else {
         return super::write_data(text.as_bytes());
     };
-    crate::files::write_atomic(path, text.as_bytes()).map_err(Failure::input)?;
+    crate::files::write_atomic(path, text.as_bytes())?;
     out!("wrote {}", path.display());
     super::note_written(std::slice::from_ref(path));
     Ok(())

@@ -3,12 +3,8 @@
 
 use super::args::{AlgorithmsArg, AmbiguityArgs, TraceArgs};
 use super::progress::Progress;
-use super::{exit, Failure};
-use crate::cases::reference;
-use crate::ecc::Ecc;
-use crate::pipeline::active::{self, Comparison, Learned, Options, Round};
-use crate::pipeline::ambiguity::Verdict;
-use crate::scenario::ScenarioSet;
+use crate::command::learn::{run, Request};
+use crate::pipeline::{active, Error};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -41,165 +37,28 @@ pub struct LearnArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The oracle named by `--oracle`.
-fn oracle(name: &str) -> Result<Ecc, Failure> {
-    if let Some(case) = name.strip_prefix("case:") {
-        return reference::named(case).ok_or_else(|| {
-            let known: Vec<String> = reference::NAMES
-                .iter()
-                .map(|n| format!("case:{n}"))
-                .collect();
-            let (last, rest) = known.split_last().expect("at least one case");
-            let message = format!("unknown case {name:?}: {} or {last}", rest.join(", "));
-            Failure::msg(exit::USAGE, message)
-        });
-    }
-    let path = PathBuf::from(name);
-    let text = crate::files::read_text(&path, None).map_err(Failure::input)?;
-    crate::export::json::read_json(&text, &path).map_err(Failure::input)
-}
-
 /// `synth learn`.
-pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
+pub fn learn(args: &LearnArgs) -> Result<(), Error> {
     if super::json() {
         super::data_on_stdout();
     }
     let progress = Progress::new(super::quiet());
-    let oracle = oracle(&args.oracle)?;
-    let initial = args.traces.load()?;
-    if initial.inputs != oracle.inputs || initial.outputs != oracle.outputs {
-        return Err(Failure::msg(
-            exit::INPUT,
-            format!(
-                "the oracle's interface ({} / {}) is not the recordings' ({} / {})",
-                oracle.inputs.join(" "),
-                oracle.outputs.join(" "),
-                initial.inputs.join(" "),
-                initial.outputs.join(" ")
-            ),
-        ));
-    }
-    if let Some(out) = &args.out {
-        super::args::refuse_overwrite(&[out], &args.traces.traces)?;
-    }
-    let opts = Options {
-        ambiguity: args.ambiguity.options(args.algorithms.into())?,
-        max_rounds: args.max_rounds.max(1),
-        tour: !args.no_tour,
-    };
-    let mut round = 0;
-    let learned = active::learn(
-        &initial,
-        &oracle,
-        &opts,
-        &mut |r| {
-            round += 1;
-            progress.line(&round_line(round, r));
+    let request = Request {
+        oracle: args.oracle.clone(),
+        recordings: args.traces.recordings(),
+        options: active::Options {
+            ambiguity: args.ambiguity.options(args.algorithms.into())?,
+            max_rounds: args.max_rounds.max(1),
+            tour: !args.no_tour,
         },
-        &mut |e| progress.event(e),
-    )?;
-    let comparison = Comparison::new(&initial, &oracle, &learned, &opts)?;
-    let agreement = comparison.agreement(&learned.machine);
-    out!("{}", active_line(&learned, &initial, &agreement));
-    let mut passive = Vec::new();
-    for seed in 1..=args.passive_runs as u64 {
-        let m = comparison.passive(seed)?;
-        let a = comparison.agreement(&m);
-        out!(
-            "passive (seed {seed}): {} random steps in scenarios of {}; C = {}; {a}",
-            learned.recorded_steps,
-            comparison.length(),
-            m.states.len()
-        );
-        passive.push((seed, m.states.len(), a.equivalent()));
-    }
-    if args.passive_runs > 0 {
-        out!(
-            "passive: {} of {} random recordings of equal length give a machine equivalent to the oracle",
-            passive.iter().filter(|p| p.2).count(),
-            args.passive_runs
-        );
-    }
-    if let Some(out) = &args.out {
-        crate::files::write_atomic(
-            out,
-            crate::export::json::to_string(&learned.machine).as_bytes(),
-        )
-        .map_err(Failure::input)?;
-        out!("wrote {}", out.display());
-        super::note_written(std::slice::from_ref(out));
-    }
-    if super::json() {
-        return super::write_json(&summary(
-            &learned,
-            &initial,
-            agreement.equivalent(),
-            &passive,
-        ));
-    }
-    Ok(())
-}
-
-/// The progress line of round `number`.
-fn round_line(number: usize, r: &Round) -> String {
-    let verdict = match r.verdict {
-        Some(Verdict::Unique) => "unique",
-        Some(Verdict::Ambiguous) => "ambiguous",
-        Some(Verdict::Unknown) => "unknown",
-        None => r.asked.name(),
+        passive_runs: args.passive_runs,
+        out: args.out.clone(),
     };
-    let widened = if r.widened {
-        " over the recorded combinations; now over every input vector"
-    } else {
-        ""
-    };
-    format!(
-        "round {number}: C = {}, {verdict}{widened}; {} steps recorded",
-        r.states, r.recorded_steps
-    )
-}
-
-/// The line of the active loop's result.
-fn active_line(learned: &Learned, initial: &ScenarioSet, agreement: &active::Agreement) -> String {
-    format!(
-        "active: {} rounds, {} steps recorded beyond the initial {}; C = {}; {}; {agreement}",
-        learned.rounds.len(),
-        learned.recorded_steps,
-        initial.step_count(),
-        learned.machine.states.len(),
-        match learned.rounds.last().and_then(|r| r.verdict) {
-            Some(Verdict::Unique) => "unique",
-            Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
-            _ => "no verdict within the budget",
-        },
-    )
-}
-
-/// The `--json` summary: every round, the result, and each passive run as `(seed, C,
-/// equivalent)`.
-fn summary(
-    learned: &Learned,
-    initial: &ScenarioSet,
-    equivalent: bool,
-    passive: &[(u64, usize, bool)],
-) -> serde_json::Value {
-    serde_json::json!({
-        "rounds": learned.rounds.iter().map(|r| serde_json::json!({
-            "states": r.states,
-            "asked": r.asked,
-            "verdict": r.verdict,
-            "recorded_steps": r.recorded_steps,
-            "widened": r.widened,
-        })).collect::<Vec<_>>(),
-        "recorded_steps": learned.recorded_steps,
-        "initial_steps": initial.step_count(),
-        "unique": learned.unique,
-        "states": learned.machine.states.len(),
-        "equivalent": equivalent,
-        "passive": passive.iter().map(|(seed, states, equivalent)| serde_json::json!({
-            "seed": seed,
-            "states": states,
-            "equivalent": equivalent,
-        })).collect::<Vec<_>>(),
-    })
+    let done = run(&request, &mut |e| progress.event(e))?;
+    out!("{done}");
+    super::note_written(&done.written.iter().cloned().collect::<Vec<_>>());
+    match super::json() {
+        true => super::write_json(&done.summary()),
+        false => Ok(()),
+    }
 }

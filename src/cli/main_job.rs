@@ -1,25 +1,13 @@
 //! The main job (`synth --ltl SPEC --plant PLANT`, by exact SAT or by search): its
-//! arguments, the call to the library ([`crate::pipeline::main_job::run`]) and what it
-//! prints.
+//! arguments, the call to the library and what it prints.
 
-use super::args::{
-    check, out_dir, parse_formats, problem, read_negatives, time_limit, AlgorithmsArg, Judge,
-    NusmvArgs, Start, TraceArgs,
-};
+use super::args::{parse_formats, time_limit, AlgorithmsArg, Judge, NusmvArgs, Start, TraceArgs};
 use super::progress::Progress;
-use super::show::{closing, explained, print_files, size_line, verified_line};
-use super::{exit, Failure};
-use crate::files::ResultSet;
-use crate::pipeline::explain::{self, Explanation};
-use crate::pipeline::main_job::{self, VerifiedMachine};
-use crate::pipeline::output::{check_exportable, write_verified, Provenance};
-use crate::pipeline::recordings::stem;
-use crate::pipeline::{self, exact, search, Problem};
-use crate::scenario::negative::NegativeScenario;
-use crate::scenario::ScenarioSet;
+use super::show::print_files;
+use crate::command::main_job::{self as job, Request};
+use crate::pipeline::{self, exact, main_job, search, Error};
 use clap::{Args, ValueEnum};
-use std::path::{Path, PathBuf};
-
+use std::path::PathBuf;
 /// Arguments of the main job (no subcommand).
 #[derive(Debug, Args, Clone)]
 pub struct MainArgs {
@@ -134,140 +122,44 @@ pub struct SearchArgs {
 }
 
 /// `synth --ltl SPEC --plant PLANT`.
-pub fn main_job(args: &MainArgs) -> Result<(), Failure> {
+pub fn main_job(args: &MainArgs) -> Result<(), Error> {
     if super::json() {
         super::data_on_stdout();
     }
     let progress = Progress::new(super::quiet());
-    let (Some(ltl), Some(plant_file)) = (&args.ltl, &args.plant) else {
-        return Err(Failure::msg(
-            exit::USAGE,
-            "the main job needs --ltl FILE and --plant FILE (or use a subcommand: synth --help)",
+    let Some(spec) = args.nusmv.spec(&args.ltl, &args.plant) else {
+        return Err(Error::Usage(
+            "the main job needs --ltl FILE and --plant FILE (or use a subcommand: synth --help)"
+                .into(),
         ));
     };
-    let limit = time_limit(args.time_limit, &progress)?;
-    let proof_budget = pipeline::seconds("--proof-budget", args.proof_budget, false)?;
-    let (recordings, set, problem, found) = read(args, ltl, plant_file, &progress)?;
-    let negatives = read_negatives(&args.negative, &set, &progress)?;
-    if !negatives.is_empty() && args.method != Method::Sat {
-        return Err(Failure::msg(
-            exit::USAGE,
-            "--negative takes --method sat (the search does not read negative scenarios)",
-        ));
-    }
-    let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats, &recordings)?;
-    let out = out_dir(&args.out, &stem(ltl));
-    // Taken before the search: a second run into the same folder stops now, not at the end.
-    let results = ResultSet::open(&out).map_err(Failure::input)?;
-    let check = check(problem, &args.nusmv)?;
-    let keep = out.join("closed_loop.last.smv");
-    let opts = main_job::Options {
-        method: method(args),
-        exact: exact_options(args, negatives, proof_budget, keep),
-        limit,
-    };
-    let v = main_job::run(&set, &check, &found, &opts, &mut |e| progress.event(e))?;
-    let provenance = Provenance {
-        name: &args.name,
-        plant_file,
-        spec_file: ltl,
-    };
-    let staged = write_verified(
-        results.staging(),
-        &formats,
-        &v.ecc,
-        &v.certificate,
-        &provenance,
-        &v.summary,
-    )?;
-    let files = publish(args, &v, &set, &check, staged, results, &progress)?;
-    report(&v, &set, &out, &files)
-}
-
-/// The recordings, the problem and what the recordings say about its properties, each with
-/// its progress line. Recordings that violate a property leave no machine to find: refused
-/// before any synthesis.
-fn read(
-    args: &MainArgs,
-    ltl: &Path,
-    plant_file: &Path,
-    progress: &Progress,
-) -> Result<(pipeline::Recordings, ScenarioSet, Problem, Explanation), Failure> {
-    let recordings = recordings(args, ltl)?;
-    let set = recordings.load()?;
-    progress.line(&format!(
-        "read {} scenarios ({} steps) from {}",
-        set.scenarios.len(),
-        set.step_count(),
-        recordings.show()
-    ));
-    let problem = problem(ltl, plant_file, &set.inputs, &set.outputs)?;
-    progress.line(&format!(
-        "read {} properties from {} and plant {}",
-        problem.props.len(),
-        ltl.display(),
-        plant_file.display()
-    ));
-    let found =
-        explain::refuse_violations(&set, &problem.props, ltl).map_err(pipeline::Error::from)?;
-    explained(progress, &found, problem.props.len());
-    Ok((recordings, set, problem, found))
-}
-
-/// Adds the ambiguity report to the `staged` files when asked, publishes them all; the
-/// published paths.
-fn publish(
-    args: &MainArgs,
-    v: &VerifiedMachine,
-    set: &ScenarioSet,
-    check: &pipeline::Check,
-    mut staged: Vec<PathBuf>,
-    results: ResultSet,
-    progress: &Progress,
-) -> Result<Vec<PathBuf>, Failure> {
-    if args.ambiguity {
-        staged.extend(super::ambiguity::report_verified(
-            set,
-            &v.ecc,
-            &args.ambiguity_args,
-            args.algorithms,
-            check,
-            progress,
-            results.staging(),
-        )?);
-    }
-    let files: Vec<PathBuf> = staged.iter().map(|f| results.published(f)).collect();
-    results
-        .publish()
-        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    Ok(files)
-}
-
-/// The recordings of the main job: `--traces`, or `<stem>.traces` beside the `--ltl` file.
-fn recordings(args: &MainArgs, ltl: &Path) -> Result<pipeline::Recordings, Failure> {
-    let traces = if args.traces.is_empty() {
-        let default = ltl.with_file_name(format!("{}.traces", stem(ltl)));
-        if !default.is_file() {
-            return Err(Failure::msg(
-                exit::INPUT,
-                format!(
-                    "no --traces given and no default scenario file {} beside {}",
-                    default.display(),
-                    ltl.display()
-                ),
-            ));
+    let request = Request {
+        spec,
+        recordings: TraceArgs {
+            traces: args.traces.clone(),
+            input_names: args.input_names.clone(),
+            output_names: args.output_names.clone(),
         }
-        vec![default]
-    } else {
-        args.traces.clone()
+        .recordings(),
+        negatives: args.negative.clone(),
+        out: args.out.clone(),
+        limit: time_limit(args.time_limit, &progress)?,
+        exact: exact_options(args)?,
+        formats: parse_formats(&args.format)?,
+        name: args.name.clone(),
+        method: method(args),
+        ambiguity: match args.ambiguity {
+            true => Some(args.ambiguity_args.options(args.algorithms.into())?),
+            false => None,
+        },
     };
-    Ok(TraceArgs {
-        traces,
-        input_names: args.input_names.clone(),
-        output_names: args.output_names.clone(),
+    let done = job::run(&request, &mut |e| progress.event(e))?;
+    out!("{done}");
+    print_files(&done.out, &done.files);
+    match super::json() {
+        true => super::write_json(&done.summary()),
+        false => Ok(()),
     }
-    .recordings())
 }
 
 /// The method the arguments ask for.
@@ -290,15 +182,9 @@ fn method(args: &MainArgs) -> main_job::Method {
     }
 }
 
-/// The exact loop's settings from the command line; `keep` is where a model NuSMV rejected
-/// is kept.
-fn exact_options(
-    args: &MainArgs,
-    negatives: Vec<NegativeScenario>,
-    proof_budget: std::time::Duration,
-    keep: PathBuf,
-) -> exact::Options {
-    exact::Options {
+/// The exact loop's settings from the command line.
+fn exact_options(args: &MainArgs) -> Result<exact::Options, Error> {
+    Ok(exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
             max_states: args.max_states,
@@ -307,34 +193,7 @@ fn exact_options(
         },
         max_iterations: args.max_iterations,
         verbose: super::verbose(),
-        keep_failed_model: Some(keep),
-        proof_budget,
-        negatives,
-    }
-}
-
-/// What the main job prints of its machine, and its JSON summary with `--json`.
-fn report(
-    v: &VerifiedMachine,
-    set: &ScenarioSet,
-    out: &Path,
-    files: &[PathBuf],
-) -> Result<(), Failure> {
-    let report = &v.certificate.report;
-    out!(
-        "{}",
-        verified_line(report.properties.len(), set.scenarios.len())
-    );
-    for w in report.warning_lines() {
-        out!("{w}");
-    }
-    out!("{}", size_line(&v.summary.size()));
-    out!("{}", closing(&v.summary));
-    print_files(out, files);
-    if super::json() {
-        let mut summary = v.summary.to_json();
-        summary["files"] = serde_json::json!(files);
-        return super::write_json(&summary);
-    }
-    Ok(())
+        proof_budget: pipeline::seconds("--proof-budget", args.proof_budget, false)?,
+        ..exact::Options::default()
+    })
 }

@@ -1,11 +1,13 @@
 //! The `synth` command line: argument parsing, progress on stderr, exit codes.
 //!
 //! In: `std::env::args`. Out: files written by the library and a summary on stdout.
-//! Everything that computes lives in the library ([`crate::pipeline`] above all); each
-//! command file parses its arguments, calls the library and prints. Command files never
-//! import each other: what they share is here, in [`args`], [`progress`] and [`show`]. The
-//! developer binary `synth-dev` compiles this module too, for the same output flags, errors,
-//! exit codes, argument groups and progress lines.
+//! Everything that computes lives in the library (one function per command, above the
+//! pipelines of [`crate::pipeline`]); each command file here turns its arguments into the
+//! library's options, calls it and prints what came back. Command files never import each
+//! other: what they share is here, in [`args`], [`progress`] and [`show`]. Every failure is a
+//! library [`Error`]; its [`Class`] becomes the exit code in one place, [`code`]. The
+//! developer binary `synth-dev` uses this module too, for the same output flags, errors, exit
+//! codes, argument groups and progress lines.
 
 /// `println!` for the results on stdout, which survives a reader that went away (`synth ... |
 /// head`): the run goes on and finishes its files. A panic there, or death by SIGPIPE (which
@@ -115,33 +117,35 @@ pub struct OutputArgs {
     pub json: bool,
 }
 
-/// Writes a `--json` summary on stdout (pretty, one value, a final newline).
-pub fn write_json(summary: &serde_json::Value) -> Result<(), Failure> {
+/// Writes a `--json` summary on stdout (pretty, one value, its keys sorted, a final newline).
+pub fn write_json(summary: &impl serde::Serialize) -> Result<(), Error> {
     JSON_WRITTEN.store(true, std::sync::atomic::Ordering::Relaxed);
-    write_stdout(format!("{summary:#}\n").as_bytes())
+    let value = summary::to_json(summary);
+    write_stdout(format!("{value:#}\n").as_bytes())
 }
 
 /// The summary of a command without one of its own, with `--json`: its name, exit code, the
 /// files it wrote, what it printed (its result lines, and data it would have written on
 /// stdout), and the error.
-fn generic_summary(command: &str, code: i32, error: Option<&str>) -> serde_json::Value {
+fn generic_summary(command: &str, exit: i32, error: Option<String>) -> CommandSummary {
     let files = WRITTEN.lock().map(|w| w.clone()).unwrap_or_default();
     let output = CAPTURED
         .lock()
         .map(|c| String::from_utf8_lossy(&c).into_owned())
         .unwrap_or_default();
-    serde_json::json!({
-        "command": command,
-        "exit": code,
-        "files": files,
-        "output": output,
-        "error": error,
-    })
+    CommandSummary {
+        format: summary::COMMAND,
+        command: command.into(),
+        exit,
+        files,
+        output,
+        error,
+    }
 }
 
 /// Writes the result on stdout (see [`data_on_stdout`]); with `--json` it goes into the
 /// generic summary instead, so that stdout holds one JSON value.
-pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
+pub fn write_data(bytes: &[u8]) -> Result<(), Error> {
     if json() {
         if let Ok(mut c) = CAPTURED.lock() {
             c.extend_from_slice(bytes);
@@ -151,17 +155,14 @@ pub fn write_data(bytes: &[u8]) -> Result<(), Failure> {
     write_stdout(bytes)
 }
 
-fn write_stdout(bytes: &[u8]) -> Result<(), Failure> {
+fn write_stdout(bytes: &[u8]) -> Result<(), Error> {
     use std::io::Write as _;
     let mut out = std::io::stdout().lock();
     match out.write_all(bytes).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         // A reader that went away (`| head`) took what it wanted.
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(Failure::msg(
-            exit::INPUT,
-            format!("cannot write to stdout: {e}"),
-        )),
+        Err(e) => Err(Error::Input(format!("cannot write to stdout: {e}"))),
     }
 }
 
@@ -182,7 +183,8 @@ pub mod progress;
 pub mod show;
 mod verify;
 
-use crate::pipeline::{self, Class};
+use crate::pipeline::summary::{self, CommandSummary};
+pub use crate::pipeline::{Class, Error};
 use clap::{Parser, Subcommand};
 
 /// Exit codes, as documented in `--help`.
@@ -278,7 +280,8 @@ pub(crate) enum Command {
     Completions(docs::CompletionsArgs),
     /// Print the manual page (roff), or write one page per command with --out.
     Man(docs::ManArgs),
-    /// Print the JSON Schema of the machine contract (the JSON files synth writes and reads).
+    /// Print the JSON Schema of the machine contract (the JSON files synth writes and reads),
+    /// or with --summary of the summaries (summary.json, --json).
     Schema(docs::SchemaArgs),
     /// Write a machine (JSON, also a hand-edited one) in every format: fbt, st, smv, dot, pnml,
     /// PLCopen XML.
@@ -298,63 +301,43 @@ pub(crate) enum Command {
     Events(events::EventsArgs),
 }
 
-/// A failure the CLI reports: message, causes, exit code.
-pub struct Failure {
-    /// The exit code ([`exit`]).
-    pub code: i32,
-    /// The message, with a `caused by:` line per source.
-    pub message: String,
-}
-
-impl Failure {
-    /// A failure of the user's input (exit 4), with every source of `e`.
-    pub fn input(e: impl std::error::Error) -> Failure {
-        Failure::with_code(exit::INPUT, e)
-    }
-
-    /// A failure with exit `code`, with every source of `e`.
-    pub fn with_code(code: i32, e: impl std::error::Error) -> Failure {
-        let mut message = e.to_string();
-        let mut source = e.source();
-        while let Some(s) = source {
-            // Wrappers that only forward their source would repeat the message.
-            let text = s.to_string();
-            if !message.contains(&text) {
-                message.push_str(&format!("\ncaused by: {text}"));
-            }
-            source = s.source();
-        }
-        Failure { code, message }
-    }
-
-    /// A failure with exit `code` and a message of the command's own.
-    pub fn msg(code: i32, message: impl Into<String>) -> Failure {
-        Failure {
-            code,
-            message: message.into(),
-        }
+/// The exit code of each class of failure: the one place where a failure becomes a code.
+pub fn code(class: Class) -> i32 {
+    match class {
+        Class::Input => exit::INPUT,
+        Class::Vacuous | Class::Negative => exit::FAILED,
+        Class::Usage => exit::USAGE,
+        Class::NoMachine => exit::NO_MACHINE,
+        Class::Bug => exit::BUG,
     }
 }
 
-/// The one place where a library failure becomes an exit code.
-impl From<pipeline::Error> for Failure {
-    fn from(e: pipeline::Error) -> Failure {
-        // The notes come after the error and its causes, one a line.
-        if let pipeline::Error::Noted { error, notes } = e {
-            let mut f = Failure::from(*error);
-            for note in notes {
-                f.message.push_str(&format!("\n({note})"));
-            }
-            return f;
+/// What the command line says of a failure: the error, a `caused by:` line per source
+/// (unless the error already says it), then its notes, one a line.
+pub fn message(e: &Error) -> String {
+    if let Error::Noted { error, notes } = e {
+        let notes: String = notes.iter().map(|n| format!("\n({n})")).collect();
+        return message(error) + &notes;
+    }
+    let mut message = e.to_string();
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        // Wrappers that only forward their source would repeat the message.
+        let text = s.to_string();
+        if !message.contains(&text) {
+            message.push_str(&format!("\ncaused by: {text}"));
         }
-        let code = match e.class() {
-            Class::Input => exit::INPUT,
-            Class::Vacuous => exit::FAILED,
-            Class::Usage => exit::USAGE,
-            Class::NoMachine => exit::NO_MACHINE,
-            Class::Bug => exit::BUG,
-        };
-        Failure::with_code(code, e)
+        source = s.source();
+    }
+    message
+}
+
+/// Prints an error of clap (or the help it stands for); the exit code.
+pub fn clap_error(e: clap::Error) -> i32 {
+    let _ = e.print();
+    match e.use_stderr() {
+        true => code(Class::Usage),
+        false => exit::OK,
     }
 }
 
@@ -388,14 +371,7 @@ fn parse() -> Result<Cli, clap::Error> {
 pub fn run() -> i32 {
     let cli = match parse() {
         Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() {
-                exit::USAGE
-            } else {
-                exit::OK
-            };
-        }
+        Err(e) => return clap_error(e),
     };
     start(&cli.output);
     let command = std::env::args()
@@ -436,17 +412,17 @@ pub fn start(o: &OutputArgs) {
 
 /// Reports the result of `command` (`error: ...`; with `--json` the generic summary when the
 /// command wrote none); returns the exit code.
-pub fn finish(command: &str, result: Result<(), Failure>) -> i32 {
+pub fn finish(command: &str, result: Result<(), Error>) -> i32 {
     let (code, error) = match &result {
         Ok(()) => (exit::OK, None),
-        Err(f) => {
-            eprintln!("error: {}", f.message);
-            (f.code, Some(f.message.as_str()))
+        Err(e) => {
+            let message = message(e);
+            eprintln!("error: {message}");
+            (code(e.class()), Some(message))
         }
     };
     if json() && !JSON_WRITTEN.load(std::sync::atomic::Ordering::Relaxed) {
-        let summary = generic_summary(command, code, error);
-        let _ = write_stdout(format!("{summary:#}\n").as_bytes());
+        let _ = write_json(&generic_summary(command, code, error));
     }
     code
 }

@@ -291,9 +291,18 @@ impl Size {
     }
 }
 
+/// `C=.. K=.. T=.. N=..`; with `{:#}` the spaced form of result lines,
+/// `C = ..  K = ..  T = ..  N = ..`.
 impl fmt::Display for Size {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n)
+        match f.alternate() {
+            true => write!(
+                f,
+                "C = {}  K = {}  T = {}  N = {}",
+                self.c, self.k, self.t, self.n
+            ),
+            false => write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n),
+        }
     }
 }
 

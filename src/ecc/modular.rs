@@ -101,6 +101,29 @@ pub struct ModularSize {
 }
 
 impl Modular {
+    /// One line per module: its size, the outputs it writes and the inputs it reads
+    /// (`module 1: 2 states, 3 transitions, 4 guard literals; outputs: a; inputs: x, y`).
+    pub fn describe(&self) -> Vec<String> {
+        let list = |v: &[String]| match v.is_empty() {
+            true => "-".to_string(),
+            false => v.join(", "),
+        };
+        (self.modules.iter().enumerate())
+            .map(|(m, module)| {
+                let s = module.ecc.size();
+                format!(
+                    "module {}: {} states, {} transitions, {} guard literals; outputs: {}; inputs: {}",
+                    m + 1,
+                    s.c,
+                    s.t,
+                    s.n,
+                    list(&module.ecc.outputs),
+                    list(&module.ecc.inputs)
+                )
+            })
+            .collect()
+    }
+
     /// Checks that the modules partition the outputs, read existing inputs and that each
     /// module's ECC is valid over its own interface with the composite's names.
     pub fn validate(&self) -> Result<(), String> {

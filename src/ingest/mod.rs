@@ -45,7 +45,7 @@ mod reader;
 
 pub use crate::scenario::steps::StepStream;
 pub use mapping::{Mapping, Slot};
-pub use reader::{LogFormat, LogReader, ReadStats};
+pub use reader::{LogFormat, LogReader, ReadStats, Throughput};
 
 use crate::quote::quote;
 pub use crate::scenario::csvlog::Sample;

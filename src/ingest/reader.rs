@@ -413,6 +413,35 @@ fn parse_time(column: &str, cell: &[u8]) -> Result<f64, BadRow> {
     }
 }
 
+/// What reading a raw log took, one a line: rows, samples, rows skipped by kind, time and
+/// throughput.
+pub struct Throughput<'a> {
+    /// What the reader counted.
+    pub stats: &'a ReadStats,
+    /// Seconds the reading took.
+    pub seconds: f64,
+}
+
+impl std::fmt::Display for Throughput<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let stats = self.stats;
+        writeln!(f, "rows:    {}", stats.rows)?;
+        writeln!(f, "samples: {}", stats.samples)?;
+        for kind in RowKind::ALL {
+            let n = stats.skipped(kind);
+            if n > 0 {
+                writeln!(f, "skipped: {n} rows ({})", kind.label())?;
+            }
+        }
+        write!(
+            f,
+            "time:    {:.2} s ({:.2} M rows/s)",
+            self.seconds,
+            stats.rows as f64 / self.seconds.max(1e-9) / 1e6
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

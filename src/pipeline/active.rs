@@ -11,7 +11,7 @@
 //! service. The recorded steps count both parts.
 
 use super::ambiguity::{self, Verdict};
-use super::{Error, Events};
+use super::{Error, Event, Events};
 use crate::ecc::diff::{difference, difference_from};
 use crate::ecc::{Ecc, Run, StateId};
 use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
@@ -31,7 +31,7 @@ pub struct Options {
 }
 
 /// What a round asked the oracle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Asked {
     /// A [`tour`]: some configuration had a letter no recorded point of it tried.
@@ -152,14 +152,13 @@ fn infer(
     Ok(synthesis.ecc)
 }
 
-/// Runs the loop from `initial` (which the oracle must reproduce). `progress` hears of every
-/// round when it ends, `events` of the parts of each round's inference (on long recordings
-/// one inference can take minutes).
+/// Runs the loop from `initial` (which the oracle must reproduce). `events` hears of every
+/// round when it ends ([`Event::LearnRound`]) and of the parts of each round's inference (on
+/// long recordings one inference can take minutes).
 pub fn learn(
     initial: &ScenarioSet,
     oracle: &Ecc,
     opts: &Options,
-    progress: &mut dyn FnMut(&Round),
     events: Events<'_>,
 ) -> Result<Learned, Error> {
     initial.check(oracle).map_err(|m| {
@@ -213,7 +212,10 @@ pub fn learn(
                     kept = Some(machine);
                 }
                 recorded_steps += round.recorded_steps;
-                progress(&round);
+                events(Event::LearnRound {
+                    number: rounds.len() + 1,
+                    round: &round,
+                });
                 rounds.push(round);
                 continue;
             }
@@ -230,13 +232,19 @@ pub fn learn(
             widen = false;
             asking.all_inputs = true;
             round.widened = true;
-            progress(&round);
+            events(Event::LearnRound {
+                number: rounds.len() + 1,
+                round: &round,
+            });
             rounds.push(round);
             kept = Some(machine);
             continue;
         }
         if found.verdict != Verdict::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
-            progress(&round);
+            events(Event::LearnRound {
+                number: rounds.len() + 1,
+                round: &round,
+            });
             rounds.push(round);
             return Ok(Learned {
                 machine,
@@ -254,7 +262,10 @@ pub fn learn(
                 .push(record(oracle, &inputs, origin("oracle", k)));
         }
         recorded_steps += round.recorded_steps;
-        progress(&round);
+        events(Event::LearnRound {
+            number: rounds.len() + 1,
+            round: &round,
+        });
         rounds.push(round);
     }
 }
@@ -678,7 +689,7 @@ mod tests {
                 max_rounds: 50,
                 tour: true,
             };
-            let learned = learn(&initial, &oracle, &opts, &mut |_| {}, &mut |_| {}).unwrap();
+            let learned = learn(&initial, &oracle, &opts, &mut |_| {}).unwrap();
             learned.recordings.check(&learned.machine).unwrap();
             assert!(learned.unique, "seed {seed}: {:?}", learned.rounds);
             // Over the recorded combinations first: a round found no rival over them before

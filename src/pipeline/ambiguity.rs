@@ -65,7 +65,7 @@ pub const MAX_ALL_INPUTS: usize = 10;
 
 /// Where a distinguishing sequence starts: after the first `step` steps of scenario
 /// `scenario` (0-based index; `step` 0 is the initial state).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 pub struct Start {
     /// 0-based index of the scenario in the [`ScenarioSet`].
     pub scenario: usize,
@@ -86,7 +86,7 @@ pub struct Rival {
 }
 
 /// The verdict.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Verdict {
     /// No rival within the bounds.
@@ -414,43 +414,6 @@ impl Rival {
             ));
         }
         lines
-    }
-}
-
-impl Ambiguity {
-    /// The machine-readable form (`--json`): verdict, bounds and every rival's sequence with
-    /// both machines' answers (`null` for no `CNF`).
-    pub fn to_json(&self, set: &ScenarioSet, machine: &Ecc) -> serde_json::Value {
-        let bits = |b: &[bool]| crate::ecc::bits_to_string(b);
-        let rivals: Vec<serde_json::Value> = self
-            .rivals
-            .iter()
-            .map(|r| {
-                let answers = r.answers(set, machine);
-                serde_json::json!({
-                    "size": r.ecc.size(),
-                    "start": r.start,
-                    "steps": answers.iter().map(|a| serde_json::json!({
-                        "inputs": bits(&a.inputs),
-                        "recorded": a.recorded,
-                        "machine": a.machine.as_deref().map(bits),
-                        "rival": a.rival.as_deref().map(bits),
-                    })).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        serde_json::json!({
-            "verdict": self.verdict,
-            "complete": self.complete,
-            "states": self.states,
-            "extra_states": self.extra_states,
-            "per_state": self.per_state,
-            "depth": self.depth,
-            "alphabet": self.alphabet,
-            "all_inputs": self.all_inputs,
-            "seconds": self.seconds,
-            "rivals": rivals,
-        })
     }
 }
 

@@ -251,7 +251,7 @@ pub fn write(
 }
 
 /// One row of the summary: a PLC, its figures and whether it has a machine.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Row {
     /// The PLC's name.
     pub plc: String,
@@ -296,8 +296,12 @@ pub struct Summary {
 
 impl Summary {
     /// `summary.json`: the folder of logs and the rows.
-    pub fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({ "logs": self.logs, "plcs": self.rows })
+    pub(crate) fn summary(&self) -> super::summary::BatchSummary {
+        super::summary::BatchSummary {
+            format: super::summary::BATCH,
+            logs: self.logs.clone(),
+            plcs: self.rows.clone(),
+        }
     }
 
     /// `summary.csv`: the rows (RFC 4180 quoting where a cell needs it).
@@ -407,7 +411,10 @@ pub fn write_results(
     let csv_file = dir.join("summary.csv");
     let json_file = dir.join("summary.json");
     crate::files::write_atomic(&csv_file, summary.to_csv().as_bytes())?;
-    crate::files::write_atomic(&json_file, format!("{:#}\n", summary.to_json()).as_bytes())?;
+    crate::files::write_atomic(
+        &json_file,
+        format!("{:#}\n", super::summary::to_json(&summary.summary())).as_bytes(),
+    )?;
     summary.files.extend([csv_file, json_file]);
     Ok(summary)
 }

@@ -28,8 +28,11 @@
 //!
 //! [`output`] writes results to folders (every file atomically, mode 0644 under the usual
 //! umask). This module is the only one that joins [`crate::sat`] or [`crate::search`] with
-//! [`crate::nusmv`] and [`crate::verify`]; the command line only parses, calls one function
-//! here and prints.
+//! [`crate::nusmv`] and [`crate::verify`]. Above it, one function per command of `synth` reads
+//! the command's files, calls a pipeline here and writes its result folder; the command line
+//! only parses, calls that function and prints. Every [`Error`] has a [`Class`], which the
+//! command line turns into the exit code. `summary` holds the typed `summary.json` and
+//! `--json` of every command, with their JSON Schema.
 //!
 //! Letters, the same in every method's output, the README and `summary.json`:
 //! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,
@@ -39,8 +42,10 @@ pub mod active;
 pub mod ambiguity;
 pub mod batch;
 pub mod cegis;
+mod class;
 pub mod closed_loop;
 pub mod distributed;
+pub mod event;
 pub mod exact;
 pub mod explain;
 pub mod follow;
@@ -55,10 +60,13 @@ pub mod output;
 pub mod recordings;
 pub mod refine;
 pub mod search;
+pub(crate) mod summary;
 pub mod table1;
 
 pub use crate::nusmv::Nusmv;
 pub use crate::verify::{Problem, Report};
+pub use class::Class;
+pub use event::{Event, Events, Note};
 pub use recordings::Recordings;
 use std::sync::Arc;
 
@@ -100,111 +108,6 @@ impl Check {
     pub fn deadline(&self) -> crate::deadline::Deadline {
         self.nusmv.deadline
     }
-}
-
-/// Progress of a pipeline, for the caller to show (or not).
-#[derive(Debug)]
-pub enum Event<'a> {
-    /// A step inside a SAT minimization (solver-level detail, for verbose output).
-    Solver(crate::sat::Step),
-    /// The exact loop's lower bounds, from the recorded inputs alone.
-    LowerBounds {
-        /// Lower bound on the number of states C.
-        c: usize,
-        /// Lower bound on the number of transitions T.
-        t: usize,
-        /// Wall-clock seconds since the loop started, when the bounds were proven.
-        seconds: f64,
-    },
-    /// One candidate of the exact loop, verified by NuSMV.
-    Candidate(&'a cegis::Iteration),
-    /// The search's start machine, found by SAT for the scenarios alone.
-    SatStart {
-        /// The start machine's figures (C, K, T, N).
-        size: crate::ecc::Size,
-        /// Wall-clock seconds the SAT synthesis took.
-        seconds: f64,
-    },
-    /// The search begins.
-    SearchStarted {
-        /// The random seed (`--seed`) that makes the run reproducible.
-        seed: u64,
-        /// Number of states of every machine in the search.
-        states: usize,
-        /// Number of colonies searching side by side.
-        colonies: usize,
-        /// Worker threads.
-        threads: usize,
-        /// The search's time limit in seconds (`--time-limit`).
-        time_limit: f64,
-    },
-    /// A round of the search (emitted by the search at its own pace).
-    SearchRound(&'a crate::search::Progress),
-    /// The search ended.
-    SearchEnded {
-        /// Wall-clock seconds the search ran.
-        seconds: f64,
-        /// Scenario fitness evaluations.
-        evaluations: u64,
-        /// Candidates verified by running NuSMV.
-        nusmv_runs: u64,
-        /// Candidates judged by the in-process model checker ([`crate::check`]) without NuSMV.
-        in_process_checks: u64,
-        /// Verdicts answered from the cache of machines already verified.
-        cache_hits: u64,
-    },
-    /// NuSMV's verdict on a candidate of the noisy enumeration.
-    CandidateVerdict {
-        /// Names of the properties the candidate violates (empty: all hold).
-        failing: &'a [String],
-    },
-    /// A noisy candidate's corrected traces go into the closed loop.
-    ClosedLoopOf {
-        /// The candidate's number, 1-based, in the order of [`noisy::Noisy`]'s candidates.
-        candidate: usize,
-        /// Number of recording errors ε the candidate corrects.
-        errors: usize,
-    },
-    /// One controller checked in [`follow`] (a composite following a verified machine).
-    Followed(&'a follow::Round),
-    /// A round of noisy synthesis in parts ([`lazy_noisy`]) ended.
-    NoisyPart(lazy_noisy::PartRound),
-    /// The least ε of a noisy log in parts: lower bounds summed over disjoint parts.
-    NoisyBound(lazy_noisy::Bounds),
-    /// A stage of the closed-loop game's guide ([`guide`]).
-    Guide(guide::Stage),
-    /// A turn of the main job's strategy ([`main_job`]).
-    MainJob(main_job::Step),
-    /// A round of [`lazy`] synthesis over long recordings ended.
-    Lazy {
-        /// The round, 1-based.
-        round: usize,
-        /// Recorded steps encoded in this round.
-        encoded: usize,
-        /// Recorded steps in all.
-        total: usize,
-        /// Scenarios the round's machine departs from (0: the last round).
-        diverging: usize,
-    },
-}
-
-/// A sink for [`Event`]s.
-pub type Events<'a> = &'a mut dyn FnMut(Event<'_>);
-
-/// What kind of failure an [`Error`] is; the command line maps each to one exit code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Class {
-    /// Bad input (file, line, step named) or a failed tool.
-    Input,
-    /// The check came out negative without a verdict to show: the plant allows no behaviour,
-    /// so every property would hold vacuously and nothing is verified.
-    Vacuous,
-    /// An option out of its range or a combination the method does not take.
-    Usage,
-    /// No machine within the limits given.
-    NoMachine,
-    /// An internal invariant broke: a bug.
-    Bug,
 }
 
 /// Why a pipeline produced no result.
@@ -270,6 +173,18 @@ pub enum Error {
     /// A user's file could not be read.
     #[error(transparent)]
     Read(#[from] crate::files::ReadError),
+    /// A raw PLC log or its address mapping could not be read.
+    #[error(transparent)]
+    Ingest(#[from] crate::ingest::IngestError),
+    /// An event log could not be made from a raw log.
+    #[error(transparent)]
+    Events(#[from] crate::events::EventsError),
+    /// Two machines cannot be compared.
+    #[error(transparent)]
+    Diff(#[from] crate::ecc::diff::DiffError),
+    /// The output folder cannot be taken for this run.
+    #[error(transparent)]
+    Folder(#[from] crate::files::ResultSetError),
     /// Bad input described in words (the place is in the text).
     #[error("{0}")]
     Input(String),
@@ -279,6 +194,10 @@ pub enum Error {
     /// No machine within the limits given.
     #[error("{0}")]
     NoMachine(String),
+    /// The check asked for came out negative (a violated property, a difference, a step not
+    /// reproduced), said in words.
+    #[error("{0}")]
+    Negative(String),
     /// The time limit passed before a machine was verified.
     #[error("time limit of {seconds} s reached before a verified machine (raise --time-limit SECONDS): {so_far}")]
     TimeLimit {
@@ -321,49 +240,6 @@ impl Error {
                 errors.iter().any(|e| e.generated)
             }
             _ => false,
-        }
-    }
-
-    /// The kind of failure, for the exit code.
-    pub fn class(&self) -> Class {
-        use crate::sat::modular::ModularError;
-        use crate::sat::SatError;
-        use crate::search::algorithm::SearchError;
-        use crate::search::oracle::OracleError;
-        use crate::verify::VerifyError::Vacuous;
-        match self {
-            Error::Noted { error, .. } => error.class(),
-            Error::Verify(Vacuous { .. })
-            | Error::Cegis(cegis::CegisError::Verify(Vacuous { .. }))
-            | Error::Search(SearchError::Verify(OracleError::Nusmv(Vacuous { .. })))
-            | Error::Search(SearchError::Verify(OracleError::InProcess(
-                crate::check::CheckError::NoBehaviour { .. },
-            ))) => Class::Vacuous,
-            Error::Sat(
-                SatError::TooManyStates { .. }
-                | SatError::TooFewErrors { .. }
-                | SatError::OutOfBounds { .. }
-                | SatError::Stopped,
-            )
-            | Error::Modular(ModularError::Stopped)
-            | Error::Cegis(cegis::CegisError::Sat(
-                SatError::TooManyStates { .. } | SatError::Stopped,
-            ))
-            | Error::Cegis(cegis::CegisError::Iterations { .. })
-            | Error::Cegis(cegis::CegisError::Exhausted { .. })
-            | Error::Modular(ModularError::NoController { .. })
-            | Error::NoMachine(_)
-            | Error::TimeLimit { .. }
-            | Error::Interrupted { .. } => Class::NoMachine,
-            Error::Sat(SatError::Bug(_))
-            | Error::Cegis(cegis::CegisError::Sat(SatError::Bug(_)))
-            | Error::Cegis(cegis::CegisError::Disagreement { .. })
-            | Error::Modular(ModularError::Bug(_))
-            | Error::Bug(_) => Class::Bug,
-            Error::Modular(ModularError::NoModules | ModularError::PinsInChain)
-            | Error::Pin(_)
-            | Error::Usage(_) => Class::Usage,
-            _ => Class::Input,
         }
     }
 }

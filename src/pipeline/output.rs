@@ -6,6 +6,7 @@
 use super::exact::Certificate;
 use super::noisy::{InLoop, Noisy};
 use super::recordings::Recordings;
+use super::summary::{self, LoopSummary, NoisyVerifiedSummary};
 use super::Error;
 use crate::ecc::modular::{Modular, Module};
 use crate::ecc::{Algorithm, AlgorithmKind, Ecc, InputId, OutputId, State};
@@ -198,37 +199,8 @@ pub fn write_verified_modular(
     Ok(files)
 }
 
-/// The exact loop's figures on a noisy candidate's corrected traces (`closed_loop` in
-/// `verified/summary.json`).
-#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
-pub struct LoopSummary {
-    /// The machine's C, K, T and N.
-    pub size: crate::ecc::Size,
-    /// Whether no machine with C states has fewer transitions.
-    pub transitions_proven_minimal: bool,
-    /// Whether no machine with C states and T transitions has fewer guard literals.
-    pub guards_proven_minimal: bool,
-    /// Every candidate of the loop.
-    pub iterations: Vec<super::cegis::Iteration>,
-    /// NuSMV's verdicts on the machine.
-    pub report: Option<crate::verify::Report>,
-    /// Seconds since the run started.
-    pub total_seconds: f64,
-}
-
-/// `verified/summary.json` of `synth infer --noisy --ltl`.
-#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
-pub struct NoisyVerifiedSummary {
-    /// The candidate whose corrected traces gave the machine (1-based).
-    pub candidate: usize,
-    /// The errors ε it corrects.
-    pub errors: usize,
-    /// The exact loop's figures.
-    pub closed_loop: LoopSummary,
-}
-
 /// Writes the verified machine of noisy candidate `k` (1-based, [`Noisy::chosen`]) into
-/// `dir`: as [`write_verified`], with [`NoisyVerifiedSummary`] and the corrected traces as
+/// `dir`: as [`write_verified`], with its summary and the corrected traces as
 /// `corrected.csv`. Returns the files written.
 pub fn write_noisy_verified(
     dir: &Path,
@@ -248,6 +220,7 @@ pub fn write_noisy_verified(
         )));
     };
     let summary = NoisyVerifiedSummary {
+        format: summary::NOISY_VERIFIED,
         candidate: k,
         errors: c.errors,
         closed_loop: LoopSummary {
@@ -292,7 +265,7 @@ pub fn write_certificate(
 }
 
 /// One row of the noisy summary.
-#[derive(Debug, serde::Serialize)]
+#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
 pub struct NoisyRow {
     /// 1-based number of the candidate (as in `candidate_<k>`).
     pub candidate: usize,
@@ -399,22 +372,19 @@ pub fn write_noisy(
         );
     }
     write(&out.join("summary.txt"), table.as_bytes())?;
-    let summary = serde_json::json!({
-        // `c`, `k`, `t` as everywhere else; `n` and `r` are the older names of C and T.
-        "c": result.n, "k": result.k, "t": result.r,
-        "n": result.n, "r": result.r,
-        "exhausted": result.exhausted,
-        "chosen": noisy.chosen(),
-        "candidates": rows,
-        "stats": result.stats,
-        "total_seconds": total_seconds,
-    });
-    write(
-        &out.join("summary.json"),
-        serde_json::to_string_pretty(&summary)
-            .expect("serializable")
-            .as_bytes(),
-    )?;
+    let summary = summary::NoisySummary {
+        format: summary::NOISY,
+        c: result.n,
+        k: result.k,
+        t: result.r,
+        exhausted: result.exhausted,
+        chosen: noisy.chosen(),
+        candidates: rows,
+        stats: result.stats.clone(),
+        total_seconds,
+    };
+    let json = format!("{:#}", summary::to_json(&summary));
+    write(&out.join("summary.json"), json.as_bytes())?;
     Ok(table)
 }
 

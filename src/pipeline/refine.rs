@@ -74,11 +74,12 @@ pub fn run(
     let result = exact::run(&training, check, &exact_opts, events)?;
     let files = match (&result.certificate, check) {
         (Some(cert), Some(check)) => {
-            let summary = serde_json::json!({
-                "size": result.synthesis.size,
-                "iterations": result.iterations,
-                "report": cert.report,
-            });
+            let summary = super::summary::RefinedSummary {
+                format: super::summary::REFINED,
+                size: result.synthesis.size,
+                iterations: result.iterations.clone(),
+                report: cert.report.clone(),
+            };
             output::write_verified(
                 opts.out,
                 opts.formats,

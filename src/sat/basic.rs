@@ -142,7 +142,8 @@ pub struct Synthesis {
 }
 
 /// Figures of a run.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, schemars::JsonSchema)]
+#[schemars(rename = "SatStats")]
 pub struct Stats {
     /// Nodes of the scenario tree, root included.
     pub tree_nodes: usize,

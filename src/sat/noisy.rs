@@ -120,7 +120,7 @@ pub enum Flow {
 }
 
 /// Figures of a run.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct NoisyStats {
     /// Nodes of the trace graph.
     pub graph_nodes: usize,
@@ -140,7 +140,7 @@ pub struct NoisyStats {
     pub rounds: usize,
     /// Graph nodes of the last part encoded (in parts; 0 otherwise).
     pub encoded_nodes: usize,
-    /// Seconds to find `N, K, R`.
+    /// Seconds to find the least C, K and T (the paper's `N`, `K`, `R`).
     pub minimize_seconds: f64,
     /// Seconds spent enumerating (SAT calls, decoding, guards, replay, caller's checks).
     pub enumerate_seconds: f64,

@@ -74,7 +74,7 @@ fn infer_noisy_writes_a_folder_per_candidate_and_a_summary() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.path().join("summary.json")).unwrap())
             .unwrap();
-    assert_eq!(summary["n"], 2);
+    assert_eq!(summary["c"], 2);
     let candidates = summary["candidates"].as_array().unwrap();
     assert!(!candidates.is_empty());
     assert_eq!(candidates[0]["errors"], 1);

@@ -6,8 +6,12 @@
 //!
 //! Without xmllint the tests are skipped with a note, except under `CI=true`, where
 //! `.ci/install-xmllint.sh` provides it and its absence fails them.
+//!
+//! The JSON fbsynth writes is validated by boon (draft 2020-12) against the schemas `synth
+//! schema` prints: every machine against the machine contract, every summary (`summary.json`
+//! and `--json`) against the schema of the summaries.
 
-use crate::common::{root, synth_in, text, tool_or_skip, xmllint, Dir};
+use crate::common::{nusmv_or_skip, root, synth, synth_in, text, tool_or_skip, xmllint, Dir};
 use std::path::{Path, PathBuf};
 
 const FBT: &str = "iec61499-library-element.dtd";
@@ -415,4 +419,210 @@ fn machines_validate_against_the_json_schema_synth_prints() {
         assert_eq!(o.status.code(), Some(4), "synth takes {what}");
         assert!(text(&o.stderr).contains("bad.json"), "{}", text(&o.stderr));
     }
+}
+
+/// Runs `synth` with `args` in the repository; its stdout as JSON, after it exited with
+/// `code`.
+fn json_exiting(code: i32, args: &[&str]) -> serde_json::Value {
+    let o = synth(args);
+    assert_eq!(o.status.code(), Some(code), "{args:?}: {}", text(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
+}
+
+/// [`json_exiting`] a run that succeeds.
+fn json_of(args: &[&str]) -> serde_json::Value {
+    json_exiting(0, args)
+}
+
+/// A JSON file.
+fn json_file(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Every summary synth writes, as `(its format, the summary)`: each command's `summary.json`
+/// and `--json` output. The commands that need NuSMV only where it runs (always under
+/// `CI=true`).
+fn summaries(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
+    let d = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let door = "tests/data/scenarios/door.traces";
+    let machine = d("least/SynthesizedFB.json");
+    let mut all = vec![
+        (
+            "infer",
+            json_of(&["infer", "--traces", door, "--out", &d("least"), "--json"]),
+        ),
+        (
+            "command",
+            json_of(&["replay", "--ecc", &machine, "--traces", door, "--json"]),
+        ),
+    ];
+    // A failing command has the generic summary too, with its error.
+    let missing = d("missing.json");
+    let failed = json_exiting(4, &["export", "--ecc", &missing, "--json"]);
+    assert!(failed["error"].as_str().unwrap().contains("missing.json"));
+    all.push(("command", failed));
+    let rival = d("least/rival1.json");
+    all.push((
+        "diff",
+        json_exiting(1, &["diff", &machine, &rival, "--json"]),
+    ));
+    all.push(("diff", json_of(&["diff", &machine, &machine, "--json"])));
+    let next = [
+        "next-recording",
+        "--traces",
+        door,
+        "--out",
+        &d("next"),
+        "--json",
+    ];
+    all.push(("next-recording", json_of(&next)));
+    let learn = [
+        "learn",
+        "--oracle",
+        &rival,
+        "--traces",
+        door,
+        "--passive-runs",
+        "1",
+    ];
+    all.push(("learn", json_of(&[&learn[..], &["--json"]].concat())));
+    let noisy = ["infer", "--noisy", "--max-errors", "1", "--enumerate", "2"];
+    let traces = [
+        "--traces",
+        "tests/data/noisy/skewed.csv",
+        "--out",
+        &d("noisy"),
+        "--json",
+    ];
+    all.push(("command", json_of(&[&noisy[..], &traces].concat())));
+    all.push(("noisy", json_file(&dir.join("noisy/summary.json"))));
+    std::fs::create_dir(dir.join("logs")).unwrap();
+    let log = d("logs/door.csv");
+    json_of(&[
+        "convert", "--traces", door, "--to", "csv", "-o", &log, "--json",
+    ]);
+    let batch = json_of(&[
+        "batch",
+        "--logs",
+        &d("logs"),
+        "--out",
+        &d("batch"),
+        "--json",
+    ]);
+    all.push(("batch", batch));
+    all.push(("batch", json_file(&dir.join("batch/summary.json"))));
+    if nusmv_or_skip().is_some() {
+        all.extend(verified_summaries(dir));
+    }
+    all
+}
+
+/// The summaries of the commands that run NuSMV: the main job's and `infer --ltl`'s (on
+/// stdout and in `summary.json`), `verify --json`, `verified/summary.json` of `infer --noisy
+/// --ltl` and `summary.json` of `conform --refine --ltl`.
+fn verified_summaries(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
+    let d = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (ltl, plant) = (
+        "tests/data/closed_loop/lamp.ltl",
+        "tests/data/closed_loop/lamp_plant.smv",
+    );
+    let lamp = "tests/data/closed_loop/lamp.traces";
+    let closed = ["--ltl", ltl, "--plant", plant];
+    let mut all = vec![(
+        "main",
+        json_of(&[&closed[..], &["--out", &d("main"), "--json"]].concat()),
+    )];
+    all.push(("main", json_file(&dir.join("main/summary.json"))));
+    let infer = ["infer", "--traces", lamp, "--out", &d("ltl"), "--json"];
+    all.push(("main", json_of(&[&infer[..], &closed].concat())));
+    let verified = d("main/SynthesizedFB.json");
+    let verify = [
+        "verify", "--ecc", &verified, "--ltl", ltl, "--plant", plant, "--json",
+    ];
+    all.push(("verify", json_of(&verify)));
+    let noisy = ["infer", "--noisy", "--max-errors", "0", "--traces", lamp];
+    json_of(&[&noisy[..], &closed, &["--out", &d("noisy-ltl"), "--json"]].concat());
+    let file = dir.join("noisy-ltl/verified/summary.json");
+    all.push(("noisy-verified", json_file(&file)));
+    // The least machine of the recordings keeps the lamp on; a timeout that switches it off
+    // diverges, and the refined machine is verified.
+    let first = [
+        "infer",
+        "--traces",
+        lamp,
+        "--out",
+        &d("lamp"),
+        "--no-ambiguity",
+        "--json",
+    ];
+    json_of(&first);
+    let new = dir.join("new.traces");
+    std::fs::write(&new, "1\nin=REQ[10]; out=CNF[1]; in=REQ[01]; out=CNF[0];\n").unwrap();
+    let conform = [
+        "conform",
+        "--ecc",
+        &d("lamp/SynthesizedFB.json"),
+        "--traces",
+        new.to_str().unwrap(),
+        "--input-names",
+        "tests/data/closed_loop/lamp.inputs",
+        "--output-names",
+        "tests/data/closed_loop/lamp.outputs",
+        "--refine",
+        "--train",
+        lamp,
+        "--out",
+        &d("refined"),
+    ];
+    json_of(&[&conform[..], &closed, &["--json"]].concat());
+    all.push(("refined", json_file(&dir.join("refined/summary.json"))));
+    all
+}
+
+/// `synth schema --summary` is a JSON Schema boon compiles; every summary synth writes
+/// (each command's `summary.json` and `--json` output) names its format and validates against
+/// it; a summary with a field of the wrong type, or another format's name, does not.
+#[test]
+fn every_summary_validates_against_the_schema_synth_prints() {
+    let dir = Dir::new();
+    let schema = dir.path().join("summary.schema.json");
+    let o = synth(&["schema", "--summary", "-o", schema.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut schemas = boon::Schemas::new();
+    let index = boon::Compiler::new()
+        .compile(schema.to_str().unwrap(), &mut schemas)
+        .expect("the schema compiles");
+    let all = summaries(dir.path());
+    let mut seen = std::collections::BTreeSet::new();
+    for (command, summary) in &all {
+        assert_eq!(
+            summary["format"],
+            format!("fbsynth-summary/{command}/1"),
+            "{summary:#}"
+        );
+        if let Err(e) = schemas.validate(summary, index) {
+            panic!("{command}: {e}\n{summary:#}");
+        }
+        seen.insert(*command);
+    }
+    let mut want = vec![
+        "command",
+        "infer",
+        "diff",
+        "next-recording",
+        "learn",
+        "noisy",
+        "batch",
+    ];
+    if nusmv_or_skip().is_some() {
+        want.extend(["main", "verify", "noisy-verified", "refined"]);
+    }
+    assert_eq!(seen, want.into_iter().collect());
+    let (_, infer) = &all[0];
+    let mut bad = infer.clone();
+    bad["size"]["c"] = "two".into();
+    assert!(schemas.validate(&bad, index).is_err());
+    let mut other = infer.clone();
+    other["format"] = "fbsynth-summary/diff/1".into();
+    assert!(schemas.validate(&other, index).is_err());
 }

@@ -7,13 +7,12 @@
 //! - `bench-search`: the search's scenario-fitness evaluations per second;
 //! - `bench-ambiguity`: the ambiguity check after `synth infer`'s machine.
 
-use crate::cli::args::{problem, TraceArgs};
-use crate::cli::show::describe_modules;
-use crate::cli::{exit, Failure};
+use crate::cli::args::TraceArgs;
 use crate::stats::Stats;
 use clap::Args;
 use fbsynth::ecc::AlgorithmKind;
 use fbsynth::out;
+use fbsynth::pipeline::Error;
 use fbsynth::pipeline::{self, exact, modular, Check, Recordings};
 use fbsynth::search::{self, Evaluator, Machine, ScenarioData};
 use rand::SeedableRng;
@@ -90,7 +89,7 @@ fn cases(args: &BenchArgs) -> Vec<Case> {
 }
 
 /// The main job, `runs` times: iterations, time, SAT share, NuSMV time per check.
-fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
+fn bench_cegis(args: &BenchArgs) -> Result<(), Error> {
     let (ltl, plant_file) = (
         Path::new("specs/pnp.ltl"),
         Path::new("smv/pnp_surrogate.smv"),
@@ -100,7 +99,10 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
     }
     let nusmv = pipeline::nusmv(args.nusmv.as_deref(), 60.0)?;
     let set = Recordings::files(vec![args.pnp.clone()]).load()?;
-    let check = Check::new(problem(ltl, plant_file, &set.inputs, &set.outputs)?, nusmv);
+    let check = Check::new(
+        pipeline::Problem::load(ltl, plant_file, &set.inputs, &set.outputs)?,
+        nusmv,
+    );
     let opts = exact::Options::default();
     out!();
     out!("| main job run | candidates | C | T | N | total s | SAT s | NuSMV s | NuSMV ms per NuSMV check (median) |");
@@ -134,21 +136,18 @@ fn bench_cegis(args: &BenchArgs) -> Result<(), Failure> {
 
 /// `synth-dev bench`: exact synthesis `--runs` times per case, as a Markdown table; then the
 /// main job `--cegis-runs` times.
-pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
+pub fn bench(args: &BenchArgs) -> Result<(), Error> {
     let runs = args.runs.max(1);
     let all = cases(args);
     if all.is_empty() {
-        return Err(Failure::msg(
-            exit::INPUT,
-            format!(
-                "nothing to benchmark: {} does not exist and no fbSAT data was found{}",
-                args.pnp.display(),
-                args.fbsat_data
-                    .as_ref()
-                    .map(|d| format!(" in {}", d.display()))
-                    .unwrap_or_default()
-            ),
-        ));
+        return Err(Error::Input(format!(
+            "nothing to benchmark: {} does not exist and no fbSAT data was found{}",
+            args.pnp.display(),
+            args.fbsat_data
+                .as_ref()
+                .map(|d| format!(" in {}", d.display()))
+                .unwrap_or_default()
+        )));
     }
     // The last two columns measure the guards as fbSAT's extended guards: parse-tree nodes in
     // all (its N) and in the largest guard (its P).
@@ -209,7 +208,7 @@ pub struct BenchModularArgs {
 }
 
 /// `synth-dev bench-modular`: modular synthesis for M = 1..=max, as a Markdown table.
-pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
+pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Error> {
     let recordings = args.traces.recordings();
     let set = recordings.load()?;
     out!(
@@ -256,7 +255,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Failure> {
             time.median,
             time.max
         );
-        for line in describe_modules(&r.modular) {
+        for line in r.modular.describe() {
             eprintln!("    M={modules} {line}");
         }
     }
@@ -296,9 +295,9 @@ fn evaluations_per_second(data: &ScenarioData, pool: &[Machine], seconds: f64) -
 }
 
 /// `synth-dev bench-search`.
-pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Failure> {
+pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Error> {
     let set = Recordings::files(vec![args.traces.clone()]).load()?;
-    let data = ScenarioData::new(&set).map_err(Failure::input)?;
+    let data = ScenarioData::new(&set).map_err(Error::from)?;
     // Machines as the search sees them: random starts moved by a few dozen mutations.
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     let pool: Vec<Machine> = (0..256)
@@ -355,7 +354,7 @@ const AMBIGUITY_CASES: [&str; 4] = [
 
 /// `synth-dev bench-ambiguity`: the time of the ambiguity check (one rival, default depth) after
 /// `synth infer`'s machine, on each shipped case.
-pub fn bench_ambiguity(args: &BenchAmbiguityArgs) -> Result<(), Failure> {
+pub fn bench_ambiguity(args: &BenchAmbiguityArgs) -> Result<(), Error> {
     use fbsynth::pipeline::ambiguity;
     use fbsynth::scenario::tree::ScenarioTree;
     out!("| recordings | C | verdict | min s | median s | max s |");

@@ -2,14 +2,14 @@
 //! the loop (scenarios only; scenarios + LTL without the counterexample term; scenarios + LTL),
 //! repeated with the search on the project's data ([`fbsynth::pipeline::table1`]).
 
-use crate::cli::args::{check, problem, Judge, NusmvArgs, Start};
-use crate::cli::progress::{describe, Progress};
-use crate::cli::Failure;
+use crate::cli::args::{Judge, NusmvArgs, Start};
+use crate::cli::progress::Progress;
 use crate::stats::Stats;
 use clap::Args;
 use fbsynth::out;
 use fbsynth::pipeline::table1::{self, Configuration, Row, Run, Table1};
 use fbsynth::pipeline::{search, Event, Recordings};
+use fbsynth::pipeline::{Check, Error, Problem};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -71,7 +71,7 @@ pub struct ExperimentArgs {
 }
 
 /// `synth-dev experiment table1`.
-pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
+pub fn experiment(args: &ExperimentArgs) -> Result<(), Error> {
     let mut configurations = Vec::new();
     for &n in &args.configs {
         configurations.push(Configuration::numbered(n)?);
@@ -79,10 +79,9 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
     let progress = Progress::new(false);
     let mut set = Recordings::files(vec![args.traces.clone()]).load()?;
     set.scenarios.truncate(args.scenarios.max(1));
-    let problem = problem(&args.ltl, &args.plant, &set.inputs, &set.outputs)?
-        .select(&args.properties)
-        .map_err(|e| Failure::from(fbsynth::pipeline::Error::from(e)))?;
-    let check = check(problem, &args.nusmv)?;
+    let problem = Problem::load(&args.ltl, &args.plant, &set.inputs, &set.outputs)?
+        .select(&args.properties)?;
+    let check = Check::new(problem, args.nusmv.nusmv()?);
     let threads = search::threads(args.threads);
     let opts = table1::Options {
         runs: args.runs.max(1),
@@ -116,7 +115,7 @@ pub fn experiment(args: &ExperimentArgs) -> Result<(), Failure> {
         &mut |c, k, run| progress.line(&run_line(c, k, run)),
         &mut |e| {
             if crate::cli::verbose() && matches!(e, Event::SearchRound(_)) {
-                progress.line(&describe(&e));
+                progress.event(e);
             }
         },
     )?;

@@ -1,9 +1,9 @@
 //! `synth-dev generate`: re-record a shipped case's files from its reference controller and
 //! plant simulation.
 
-use crate::cli::Failure;
 use fbsynth::cases::{distribution, pnp, tank};
 use fbsynth::out;
+use fbsynth::pipeline::Error;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
@@ -18,17 +18,17 @@ pub struct GenerateArgs {
 }
 
 /// `synth-dev generate CASE`.
-pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+pub fn generate(args: &GenerateArgs) -> Result<(), Error> {
     let files = match args.case.as_str() {
         "tank" => {
-            let files = tank::write_files(&args.out).map_err(Failure::input)?;
+            let files = tank::write_files(&args.out).map_err(Error::from)?;
             out!(
                 "recorded the process-mining paper's tank scenarios and held-out runs from the reference programs:"
             );
             files
         }
         "distribution" => {
-            let (files, injected) = distribution::write_files(&args.out).map_err(Failure::input)?;
+            let (files, injected) = distribution::write_files(&args.out).map_err(Error::from)?;
             out!(
                 "recorded {} use cases and {} held-out runs of the distribution station; \
                  {injected} scan-cycle errors injected (rate {}, seed {}):",
@@ -40,7 +40,7 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Failure> {
             files
         }
         _ => {
-            let files = pnp::write_files(&args.out).map_err(Failure::input)?;
+            let files = pnp::write_files(&args.out).map_err(Error::from)?;
             let set = pnp::generate();
             out!(
                 "recorded {} work-piece orders ({} steps) from the reference controller:",

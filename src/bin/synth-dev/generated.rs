@@ -6,12 +6,12 @@
 //! - `bench-ingest`: ingestion throughput and peak memory on a generated long-format log.
 
 use crate::cli::progress::Progress;
-use crate::cli::show::print_read_stats;
-use crate::cli::{exit, Failure};
 use clap::Args;
 use fbsynth::cases::distribution;
+use fbsynth::ingest::Throughput;
 use fbsynth::ingest::{self, LogReader, Mapping};
 use fbsynth::out;
+use fbsynth::pipeline::Error;
 use fbsynth::pipeline::{exact, noisy};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -42,7 +42,7 @@ pub struct BenchNoisyArgs {
 
 /// `synth-dev bench-noisy`: times noisy synthesis on generated distribution-station logs
 /// ([`distribution::random_logs`], skew injected per log).
-pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
+pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Error> {
     out!(
         "samples  steps    nodes   traces  injected  C  K  T   ε      rounds  encoded  vars      clauses    sizes_s  epsilon_s  total_s  clean  peak_rss"
     );
@@ -72,7 +72,7 @@ pub fn bench_noisy(args: &BenchNoisyArgs) -> Result<(), Failure> {
         let t = Instant::now();
         let progress = Progress::new(!crate::cli::verbose());
         let r = noisy::run(&set, None, &opts, &mut |e| progress.event(e))
-            .map_err(|e| Failure::with_code(exit::BUG, e))?
+            .map_err(|e| Error::Bug(crate::cli::message(&e)))?
             .synthesis;
         let total = t.elapsed().as_secs_f64();
         let first = r.candidates.first();
@@ -112,11 +112,11 @@ fn save_logs(
     dir: &Path,
     name: &str,
     logs: &[Vec<fbsynth::scenario::csvlog::Sample>],
-) -> Result<(), Failure> {
-    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(Error::from)?;
     let mut text = Vec::new();
-    distribution::write_csv(logs, &mut text).map_err(Failure::input)?;
-    fbsynth::files::write_atomic(&dir.join(name), &text).map_err(Failure::input)
+    distribution::write_csv(logs, &mut text).map_err(Error::from)?;
+    fbsynth::files::write_atomic(&dir.join(name), &text).map_err(Error::from)
 }
 
 #[derive(Debug, Args)]
@@ -135,7 +135,7 @@ pub struct BenchLongArgs {
 
 /// `synth-dev bench-long`: exact synthesis (no properties) on one long run of the distribution
 /// station ([`distribution::long_run`]); every machine is replayed on the whole run.
-pub fn bench_long(args: &BenchLongArgs) -> Result<(), Failure> {
+pub fn bench_long(args: &BenchLongArgs) -> Result<(), Error> {
     out!("steps     C  K  T   N   rounds  encoded  generate_s  synth_s  peak_rss");
     for &steps in &args.steps {
         let t = Instant::now();
@@ -149,7 +149,7 @@ pub fn bench_long(args: &BenchLongArgs) -> Result<(), Failure> {
         let r = exact::run(&set, None, &exact::Options::default(), &mut |e| {
             progress.event(e)
         })
-        .map_err(|e| Failure::with_code(exit::BUG, e))?
+        .map_err(|e| Error::Bug(crate::cli::message(&e)))?
         .synthesis;
         // The pipeline has replayed the machine on every step of the run.
         let seconds = t.elapsed().as_secs_f64();
@@ -170,17 +170,15 @@ pub fn bench_long(args: &BenchLongArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn save_run(set: &fbsynth::scenario::ScenarioSet, dir: &Path, steps: usize) -> Result<(), Failure> {
+fn save_run(set: &fbsynth::scenario::ScenarioSet, dir: &Path, steps: usize) -> Result<(), Error> {
     use fbsynth::files::write_atomic;
-    std::fs::create_dir_all(dir).map_err(Failure::input)?;
+    std::fs::create_dir_all(dir).map_err(Error::from)?;
     let mut text = Vec::new();
-    fbsynth::scenario::fbsat::write(set, &mut text).map_err(Failure::input)?;
-    write_atomic(&dir.join(format!("long-{steps}.traces")), &text).map_err(Failure::input)?;
+    fbsynth::scenario::fbsat::write(set, &mut text).map_err(Error::from)?;
+    write_atomic(&dir.join(format!("long-{steps}.traces")), &text).map_err(Error::from)?;
     let names = |n: &[String]| format!("{}\n", n.join("\n"));
-    write_atomic(&dir.join("long.inputs"), names(&set.inputs).as_bytes())
-        .map_err(Failure::input)?;
-    write_atomic(&dir.join("long.outputs"), names(&set.outputs).as_bytes())
-        .map_err(Failure::input)?;
+    write_atomic(&dir.join("long.inputs"), names(&set.inputs).as_bytes()).map_err(Error::from)?;
+    write_atomic(&dir.join("long.outputs"), names(&set.outputs).as_bytes()).map_err(Error::from)?;
     Ok(())
 }
 
@@ -205,8 +203,8 @@ pub struct BenchIngestArgs {
 
 /// `synth-dev bench-ingest`: writes a random long-format log (gzip with `--gzip`) into a
 /// temporary file, then reads it through the ingestion as `synth ingest` does.
-pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
-    let io = |e: std::io::Error| Failure::msg(exit::INPUT, format!("temporary log: {e}"));
+pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Error> {
+    let io = |e: std::io::Error| Error::Input(format!("temporary log: {e}"));
     let tmp = tempfile::Builder::new()
         .suffix(if args.gzip { ".csv.gz" } else { ".csv" })
         .tempfile()
@@ -244,9 +242,9 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
         start.elapsed().as_secs_f64(),
         peak_rss()
     );
-    let mapping = Mapping::parse(Path::new("<generated>"), &map).map_err(Failure::input)?;
+    let mapping = Mapping::parse(Path::new("<generated>"), &map).map_err(Error::from)?;
     let start = Instant::now();
-    let reader = LogReader::open(tmp.path(), &mapping, false).map_err(Failure::input)?;
+    let reader = LogReader::open(tmp.path(), &mapping, false).map_err(Error::from)?;
     let mut steps: u64 = 0;
     let mut active: u64 = 0;
     let stats = ingest::convert_log(reader, vec![false; mapping.outputs().len()], |s| {
@@ -254,9 +252,15 @@ pub fn bench_ingest(args: &BenchIngestArgs) -> Result<(), Failure> {
         active += u64::from(s.outputs.is_some());
         Ok::<(), ingest::IngestError>(())
     })
-    .map_err(Failure::input)?;
+    .map_err(Error::from)?;
     let secs = start.elapsed().as_secs_f64();
-    print_read_stats(&stats, secs);
+    out!(
+        "{}",
+        Throughput {
+            stats: &stats,
+            seconds: secs
+        }
+    );
     out!("steps:   {steps} ({active} with CNF)");
     out!("peak RSS: {}", peak_rss());
     Ok(())

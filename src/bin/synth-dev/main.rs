@@ -23,6 +23,10 @@
 //! Every command takes `-q`, `-v` and `--json` as `synth` does, and exits with `synth`'s codes:
 //! both binaries share the library's command-line module ([`fbsynth::cli`]).
 
+// Commands return the library's `pipeline::Error` (128 bytes) by value; an error ends the
+// run, so its size costs nothing that matters.
+#![allow(clippy::result_large_err)]
+
 use fbsynth::cli;
 
 mod bench;
@@ -88,14 +92,7 @@ impl Command {
 fn main() {
     let cli = match DevCli::try_parse() {
         Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            std::process::exit(if e.use_stderr() {
-                cli::exit::USAGE
-            } else {
-                cli::exit::OK
-            });
-        }
+        Err(e) => std::process::exit(cli::clap_error(e)),
     };
     cli::start(&cli.output);
     let name = cli.command.name();

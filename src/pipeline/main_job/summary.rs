@@ -166,3 +166,72 @@ impl Summary {
 pub fn schema() -> schemars::Schema {
     schemars::schema_for!(Summary)
 }
+
+/// The closing lines of the main job: how the machine was found and what is proven.
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use super::super::event::plural;
+        match self {
+            Summary::Exact(e) => {
+                write!(
+                    f,
+                    "{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
+                    plural(e.iterations.len(), "candidate"),
+                    e.total_seconds,
+                    e.sat_seconds,
+                    e.nusmv_seconds
+                )?;
+                // C is always proven least; T and N only when the proof fit in the budget.
+                let unproven: Vec<&str> = [
+                    (!e.transitions_proven_minimal).then_some("T"),
+                    (!e.guards_proven_minimal).then_some("N"),
+                ]
+                .into_iter()
+                .flatten()
+                .collect();
+                if !unproven.is_empty() {
+                    write!(
+                        f,
+                        "\n{} not proven minimal within the proof budget (--proof-budget SECONDS to try longer)",
+                        unproven.join(" and ")
+                    )?;
+                }
+                Ok(())
+            }
+            Summary::Turn(Turn::BelowGuide(b)) => write!(
+                f,
+                "{}\n(the exact loop found it below the game's guide's {})",
+                Summary::Exact(b.exact.clone()),
+                b.guide_size
+            ),
+            Summary::Turn(Turn::Guide(g)) => write!(
+                f,
+                "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
+                g.total_seconds,
+                g.sat_seconds,
+                g.nusmv_seconds,
+                plural(g.nusmv_calls, "check"),
+                match g.least_for_recordings_and_runs {
+                    true => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                    false => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+                }
+            ),
+            Summary::Turn(Turn::Search(s)) => write!(
+                f,
+                "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) made small in {} ({}){}",
+                s.seed,
+                s.total_seconds,
+                s.search.evaluations,
+                s.in_process_checks,
+                s.nusmv_runs,
+                s.searched_size,
+                plural(s.shrink_rounds.len(), "round"),
+                s.shrunk_size,
+                match s.replaced_by_exact_loop {
+                    true => "; the exact loop below it found this smaller one",
+                    false => "",
+                }
+            ),
+        }
+    }
+}

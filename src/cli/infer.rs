@@ -1,33 +1,16 @@
-//! `synth infer`: the least machine that reproduces the recordings, exact, noisy
-//! ([`noisy`]), modular or distributed ([`modular`]); with `--ltl` the main job's method
-//! ([`crate::pipeline::main_job`]). Its arguments, the calls to the library and what it
-//! prints, one file per mode.
+//! `synth infer`: the least machine that reproduces the recordings, exact, noisy, modular
+//! or distributed; with `--ltl` the main job's method. Its arguments, the call to the library
+//! for the mode asked, and what it prints.
 
-// Jobs handed to `Limit::run` return `pipeline::Error` (128 bytes) by value; an error ends
-// the run, so its size costs nothing that matters.
-#![allow(clippy::result_large_err)]
-
-mod least;
-mod modular;
-mod noisy;
-
-use super::args::{
-    optional_check, out_dir, parse_formats, read_negatives, time_limit, AlgorithmsArg,
-    AmbiguityArgs, NusmvArgs, TraceArgs,
-};
+use super::args::{parse_formats, time_limit, AlgorithmsArg, AmbiguityArgs, NusmvArgs, TraceArgs};
 use super::progress::Progress;
-use super::show::{closing, explained, print_written, size_line, verified_line};
-use super::{exit, Failure};
-use crate::export;
-use crate::files::ResultSet;
-use crate::pipeline::explain::{self, Explanation};
-use crate::pipeline::main_job::{self, Summary, VerifiedMachine};
-use crate::pipeline::output::{check_exportable, write_verified, Provenance};
-use crate::pipeline::{self, exact, Check};
-use crate::scenario::negative::NegativeScenario;
-use crate::scenario::ScenarioSet;
+use super::show::print_written;
+use crate::command::infer::{self as job, Inferred, Request};
+use crate::command::modular::{self, Modules};
+use crate::command::noisy;
+use crate::pipeline::{self, exact, Error};
 use clap::{Args, ValueEnum};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct InferArgs {
@@ -152,16 +135,6 @@ pub struct FixedArgs {
     pub transitions: Option<usize>,
 }
 
-impl FixedArgs {
-    pub fn bounds(&self) -> crate::sat::Fixed {
-        crate::sat::Fixed {
-            states: self.states,
-            out_degree: self.out_degree,
-            transitions: self.transitions,
-        }
-    }
-}
-
 /// The options of `synth infer` that only `--noisy` reads.
 #[derive(Debug, Args, Clone)]
 pub struct NoisyArgs {
@@ -189,220 +162,141 @@ pub enum TopologyArg {
     Arbitrary,
 }
 
-impl From<TopologyArg> for crate::pipeline::modular::Topology {
-    fn from(t: TopologyArg) -> Self {
-        match t {
-            // An arbitrary network is a parallel composite over the extended inputs.
-            TopologyArg::Parallel | TopologyArg::Arbitrary => Self::Parallel,
-            TopologyArg::Consecutive => Self::Consecutive,
-        }
-    }
-}
-
 /// `synth infer`.
-pub fn infer(args: &InferArgs) -> Result<(), Failure> {
+pub fn infer(args: &InferArgs) -> Result<(), Error> {
     let to_stdout = args.out.as_deref().is_some_and(crate::files::is_stdin);
+    refuse_combinations(args, to_stdout)?;
     // With --json, --out -, --noisy and --modules give the generic summary (their files and
     // lines; the machine of --out - in its `output`).
     if to_stdout {
-        if args.noisy.noisy || args.modules.is_some() || args.distributed.is_some() {
-            return Err(Failure::msg(
-                exit::USAGE,
-                "--out - (the machine on stdout) is for one machine: --noisy, --modules and --distributed write result folders",
-            ));
-        }
         super::data_on_stdout();
     }
-    if args.noisy.noisy {
-        return noisy::infer_noisy(args);
-    }
-    if to_stdout && args.ltl.is_some() {
-        return Err(Failure::msg(
-            exit::USAGE,
-            "--out - (the machine on stdout) is for one machine without --ltl: a verified machine comes with its report in a result folder",
-        ));
-    }
-    if let Some(file) = &args.distributed {
-        return modular::infer_network(args, Some(file));
-    }
-    if args.topology == TopologyArg::Arbitrary {
-        if args.ltl.is_some() || args.noisy.noisy {
-            return Err(Failure::msg(
-                exit::USAGE,
-                "--topology arbitrary is for recordings alone: not with --ltl or --noisy",
-            ));
-        }
-        return modular::infer_network(args, None);
-    }
-    if let Some(m) = args.modules {
-        return modular::infer_modules(args, m);
-    }
-    infer_one(args, to_stdout)
-}
-
-/// `synth infer` of one machine: the least for the recordings, or with `--ltl` the main
-/// job's verified machine.
-fn infer_one(args: &InferArgs, to_stdout: bool) -> Result<(), Failure> {
     let progress = Progress::new(super::quiet());
-    let set = load(args, &progress)?;
-    let formats = parse_formats(&args.format)?;
-    check_exportable(&set, &args.name, &formats, &args.traces.recordings())?;
-    let check = loop_check(args, &set, &progress)?;
-    let negatives = read_negatives(&args.negative, &set, &progress)?;
-    // Rivals are searched without the negative scenarios, so they could be machines the user
-    // ruled out: no verdict rather than a wrong one.
-    let ambiguity = !args.no_ambiguity && negatives.is_empty();
-    if !args.no_ambiguity && !ambiguity {
-        progress.line("ambiguity check skipped: it does not take negative scenarios");
-    }
-    let results = match to_stdout {
-        true => None,
-        false => Some(infer_out(args)?),
-    };
-    if let Some((check, found)) = &check {
-        let results = results.expect("--out - with --ltl is refused above");
-        let v = verified(args, &set, check, found, negatives, &progress)?;
-        let staged = write_verified(
-            results.staging(),
-            &formats,
-            &v.ecc,
-            &v.certificate,
-            &provenance(args),
-            &v.summary,
-        )?;
-        let files = publish(results, &staged)?;
-        print_written(&files);
-        if super::json() {
-            let mut summary = v.summary.to_json();
-            summary["files"] = serde_json::json!(files);
-            return super::write_json(&summary);
+    let events: pipeline::Events = &mut |e| progress.event(e);
+    let r = request(args, to_stdout, &progress)?;
+    let modules = modules(args);
+    if args.noisy.noisy {
+        let settings = noisy::Settings {
+            max_errors: args.noisy.max_errors,
+            enumerate: args.noisy.enumerate,
+        };
+        let done = noisy::run(&r, &settings, args.modules.map(|_| &modules), events)?;
+        out_raw!("{done}");
+        if !done.files.is_empty() {
+            print_written(&done.files);
         }
+        out!("results in {}", done.out.display());
+        return done.failure.map_or(Ok(()), Err);
+    }
+    if args.distributed.is_some() || args.topology == TopologyArg::Arbitrary {
+        let done = modular::network(&r, &modules, args.distributed.as_deref(), events)?;
+        out!("{done}");
+        print_written(&done.files);
         return Ok(());
     }
-    let (opts, result) = least::least(args, &set, negatives, &progress)?;
-    let Some(results) = results else {
-        let format = super::args::stdout_format(&formats);
-        let text = export::text(&result.ecc, &args.name, format).map_err(Failure::input)?;
-        if ambiguity {
-            super::ambiguity::report(
-                &set,
-                &result.ecc,
-                &args.ambiguity,
-                args.algorithms,
-                &progress,
-                None,
-            )?;
+    if args.modules.is_some() {
+        let done = modular::modules(&r, &modules, events)?;
+        out!("{done}");
+        print_written(&done.files);
+        return Ok(());
+    }
+    match job::run(&r, events)? {
+        Inferred::Verified(v) => {
+            out!("{v}");
+            print_written(&v.files);
+            json(&v.summary())
         }
-        return super::write_data(text.as_bytes());
-    };
-    if let Some(dir) = &args.dump_cnf {
-        least::dump_cnf(&set, &opts.sat, &result, dir)?;
-    }
-    least::write_least(args, &set, &result, &formats, ambiguity, results, &progress)
-}
-
-/// The progress line saying what was read.
-pub(super) fn report_loaded(progress: &Progress, set: &ScenarioSet) {
-    progress.line(&format!(
-        "read {} scenarios, {} steps ({} active) over {} inputs and {} outputs",
-        set.scenarios.len(),
-        set.step_count(),
-        set.active_count(),
-        set.inputs.len(),
-        set.outputs.len()
-    ));
-}
-
-/// The recordings, read, with the progress line.
-pub(super) fn load(args: &InferArgs, progress: &Progress) -> Result<ScenarioSet, Failure> {
-    let set = args.traces.load()?;
-    report_loaded(progress, &set);
-    Ok(set)
-}
-
-/// The output folder (`--out`, default `out/<stem of the first trace>`), taken for this run
-/// before the search, so that a second run into it stops at once.
-pub(super) fn infer_out(args: &InferArgs) -> Result<ResultSet, Failure> {
-    let out = out_dir(&args.out, &args.traces.recordings().stem());
-    ResultSet::open(&out).map_err(Failure::input)
-}
-
-/// Publishes the staged results; the published paths of `staged`.
-pub(super) fn publish(results: ResultSet, staged: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
-    let files = staged.iter().map(|f| results.published(f)).collect();
-    results
-        .publish()
-        .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
-    Ok(files)
-}
-
-/// With --ltl/--plant: the check, after the recordings were checked against the properties
-/// (recordings that violate one leave no machine to find), with what they say about them.
-pub(super) fn loop_check(
-    args: &InferArgs,
-    set: &ScenarioSet,
-    progress: &Progress,
-) -> Result<Option<(Check, Explanation)>, Failure> {
-    let check = optional_check(&args.ltl, &args.plant, set, &args.nusmv)?;
-    let (Some(check), Some(ltl)) = (check, &args.ltl) else {
-        return Ok(None);
-    };
-    let props = &check.problem.props;
-    let found = explain::refuse_violations(set, props, ltl).map_err(pipeline::Error::from)?;
-    explained(progress, &found, props.len());
-    Ok(Some((check, found)))
-}
-
-/// Who made a verified machine, for its `verification.txt`.
-pub(super) fn provenance(args: &InferArgs) -> Provenance<'_> {
-    Provenance {
-        name: &args.name,
-        plant_file: args.plant.as_deref().unwrap_or(Path::new("")),
-        spec_file: args.ltl.as_deref().unwrap_or(Path::new("")),
+        Inferred::Least(l) => {
+            out!("{l}");
+            if !l.dumped.is_empty() {
+                print_written(&l.dumped);
+            }
+            if let Some(a) = &l.ambiguity {
+                out_raw!("{a}");
+            }
+            if let Some(text) = &l.text {
+                return super::write_data(text.as_bytes());
+            }
+            print_written(&l.files);
+            json(&l.summary())
+        }
     }
 }
 
-/// The exact loop's options for `infer --ltl` (also the closed loop of `--noisy --ltl`).
-pub(super) fn loop_options(args: &InferArgs, negatives: Vec<NegativeScenario>) -> exact::Options {
-    exact::Options {
+/// With `--json`: the summary.
+fn json(summary: &impl serde::Serialize) -> Result<(), Error> {
+    match super::json() {
+        true => super::write_json(summary),
+        false => Ok(()),
+    }
+}
+
+/// Combinations of options no mode takes.
+fn refuse_combinations(args: &InferArgs, to_stdout: bool) -> Result<(), Error> {
+    let modes = args.noisy.noisy || args.modules.is_some() || args.distributed.is_some();
+    let refused = if to_stdout && modes {
+        "--out - (the machine on stdout) is for one machine: --noisy, --modules and --distributed write result folders"
+    } else if to_stdout && args.ltl.is_some() && !args.noisy.noisy {
+        "--out - (the machine on stdout) is for one machine without --ltl: a verified machine comes with its report in a result folder"
+    } else if args.topology == TopologyArg::Arbitrary
+        && args.distributed.is_none()
+        && !args.noisy.noisy
+        && args.ltl.is_some()
+    {
+        "--topology arbitrary is for recordings alone: not with --ltl or --noisy"
+    } else {
+        return Ok(());
+    };
+    Err(Error::Usage(refused.into()))
+}
+
+/// What the arguments ask of every mode.
+fn request(args: &InferArgs, to_stdout: bool, progress: &Progress) -> Result<Request, Error> {
+    let f = &args.fixed;
+    Ok(Request {
+        recordings: args.traces.recordings(),
+        formats: parse_formats(&args.format)?,
+        name: args.name.clone(),
+        out: args.out.clone(),
+        to_stdout,
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
+            minimize_k: args.minimize_k,
             max_states: args.max_states,
             start_state: args.start_state,
+            guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
+            fixed: crate::sat::Fixed {
+                states: f.states,
+                out_degree: f.out_degree,
+                transitions: f.transitions,
+            },
             ..exact::SatOptions::default()
         },
+        plateau: f.plateau,
+        limit: time_limit(args.time_limit, progress)?,
+        spec: args.nusmv.spec(&args.ltl, &args.plant),
         max_iterations: args.max_iterations,
-        negatives,
-        ..exact::Options::default()
-    }
+        negatives: args.negative.clone(),
+        ambiguity: match args.no_ambiguity {
+            true => None,
+            false => Some(args.ambiguity.options(args.algorithms.into())?),
+        },
+        dump_cnf: args.dump_cnf.clone(),
+    })
 }
 
-/// With --ltl/--plant: the main job's verified machine for `set`, printed.
-pub(super) fn verified(
-    args: &InferArgs,
-    set: &ScenarioSet,
-    check: &Check,
-    found: &Explanation,
-    negatives: Vec<NegativeScenario>,
-    progress: &Progress,
-) -> Result<VerifiedMachine, Failure> {
-    let opts = main_job::Options {
-        method: main_job::Method::Sat,
-        exact: loop_options(args, negatives),
-        limit: time_limit(args.time_limit, progress)?,
-    };
-    let v = main_job::run(set, check, found, &opts, &mut |e| progress.event(e))?;
-    let report = &v.certificate.report;
-    out!(
-        "{}",
-        verified_line(report.properties.len(), set.scenarios.len())
-    );
-    match &v.summary {
-        Summary::Exact(e) => out!("{}; {} candidates", size_line(&e.size), e.iterations.len()),
-        s => {
-            out!("{}", size_line(&s.size()));
-            out!("{}", closing(s));
-        }
+/// The modules `--modules`, `--slots`, `--pin` and `--topology` ask for (one module for
+/// `--distributed`).
+fn modules(args: &InferArgs) -> Modules {
+    Modules {
+        count: args.modules.unwrap_or(1),
+        slots: args.slots,
+        pins: args.pin.clone(),
+        topology: match args.topology {
+            // An arbitrary network is a parallel composite over the extended inputs.
+            TopologyArg::Parallel | TopologyArg::Arbitrary => pipeline::modular::Topology::Parallel,
+            TopologyArg::Consecutive => pipeline::modular::Topology::Consecutive,
+        },
+        arbitrary: args.topology == TopologyArg::Arbitrary,
     }
-    Ok(v)
 }
