@@ -16,8 +16,9 @@ use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
 use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
-use crate::smv::closed_loop::{
-    compose, compose_controller, ClosedLoop, Coupling, Source, CONTROLLER_INSTANCE, PLANT_INSTANCE,
+use crate::smv::composition::{
+    compose, compose_controller, ComposedModel, Coupling, Source, CONTROLLER_INSTANCE,
+    PLANT_INSTANCE,
 };
 use crate::smv::plant::Plant;
 use crate::smv::SmvError;
@@ -278,7 +279,7 @@ pub enum ProblemError {
     Plant(#[from] crate::smv::plant::PlantError),
     /// Plant, controller interface and properties do not fit together.
     #[error(transparent)]
-    Coupling(#[from] crate::smv::closed_loop::CouplingError),
+    Coupling(#[from] crate::smv::composition::CouplingError),
     /// [`Problem::select`] was asked for a property name the spec does not define.
     #[error("{file}: no property named {}", crate::quote::backquote(name), file = .file.display())]
     UnknownProperty {
@@ -302,7 +303,7 @@ impl Problem {
         // The file is read once: the scan for the coupling and the full parse share its text.
         let plant = crate::smv::plant::read_plant(plant_file)?;
         let coupling =
-            crate::smv::closed_loop::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
+            crate::smv::composition::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
         let model = crate::plant::parse::parse_str(&plant.text, plant_file)
             .map(std::sync::Arc::new)
             .map_err(|e| e.to_string());
@@ -392,12 +393,16 @@ impl Verifier {
     }
 
     /// Verifies `ecc` in closed loop (see [`verify`]).
-    pub fn verify(&mut self, ecc: &Ecc) -> Result<Verification, VerifyError> {
+    pub fn verify(&mut self, ecc: &Ecc) -> Result<VerificationResult, VerifyError> {
         self.verify_with(ecc, CheckMode::AllCounterexamples)
     }
 
     /// Verifies `ecc`, asking NuSMV for the traces `mode` says (see [`verify`]).
-    pub fn verify_with(&mut self, ecc: &Ecc, mode: CheckMode) -> Result<Verification, VerifyError> {
+    pub fn verify_with(
+        &mut self,
+        ecc: &Ecc,
+        mode: CheckMode,
+    ) -> Result<VerificationResult, VerifyError> {
         verify(
             ecc,
             &self.problem,
@@ -414,7 +419,7 @@ impl Verifier {
         controller: String,
         inputs: &[String],
         mode: CheckMode,
-    ) -> Result<Verification, VerifyError> {
+    ) -> Result<VerificationResult, VerifyError> {
         let p = &self.problem;
         let model = compose_controller(controller, inputs, &p.plant, &p.coupling, &p.props);
         check_model(model, p, &mut self.session, self.workdir.path(), mode)
@@ -429,13 +434,13 @@ impl Verifier {
 }
 
 /// The result of one verification run.
-pub struct Verification {
+pub struct VerificationResult {
     /// The verdict on every property.
     pub report: Report,
     /// Counterexamples of the violated properties that have a trace, in spec order.
     pub counterexamples: Vec<Counterexample>,
     /// The composed model (kept for the user or for error reports).
-    pub model: ClosedLoop,
+    pub model: ComposedModel,
 }
 
 impl Drop for Verifier {
@@ -452,19 +457,19 @@ pub fn verify(
     session: &mut Session,
     workdir: &Path,
     mode: CheckMode,
-) -> Result<Verification, VerifyError> {
+) -> Result<VerificationResult, VerifyError> {
     let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
     check_model(model, problem, session, workdir, mode)
 }
 
 /// Writes the composed closed loop into `workdir` and has NuSMV check it.
 fn check_model(
-    model: ClosedLoop,
+    model: ComposedModel,
     problem: &Problem,
     session: &mut Session,
     workdir: &Path,
     mode: CheckMode,
-) -> Result<Verification, VerifyError> {
+) -> Result<VerificationResult, VerifyError> {
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();
@@ -517,7 +522,7 @@ fn check_model(
         });
         counterexamples.extend(cx);
     }
-    Ok(Verification {
+    Ok(VerificationResult {
         report: Report {
             properties,
             nusmv_seconds,
@@ -563,7 +568,7 @@ fn match_results(
 
 fn locate_errors(
     errors: &[ModelError],
-    model: &ClosedLoop,
+    model: &ComposedModel,
     problem: &Problem,
     path: &Path,
 ) -> Vec<LocatedError> {

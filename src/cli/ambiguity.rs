@@ -8,7 +8,7 @@ use super::{exit, Failure};
 use crate::ecc::Ecc;
 use crate::export;
 use crate::files::ResultSet;
-use crate::pipeline::ambiguity::{self, Ambiguity, Verdict};
+use crate::pipeline::ambiguity::{self, Ambiguity, Uniqueness};
 use crate::pipeline::{self, exact};
 use crate::scenario::ScenarioSet;
 use clap::Args;
@@ -77,10 +77,10 @@ pub fn report_verified(
         }
     }
     match (found.verdict, fitting) {
-        (Verdict::Ambiguous, 0) => out!(
+        (Uniqueness::Ambiguous, 0) => out!(
             "every rival found violates a property: the properties, not the recordings, tell them apart (more rivals may exist: --rivals N)"
         ),
-        (Verdict::Ambiguous, n) => out!(
+        (Uniqueness::Ambiguous, n) => out!(
             "ambiguous with the properties: {n} rival{} reproduce{} the recordings and satisfy every property",
             if n == 1 { "" } else { "s" },
             if n == 1 { "s" } else { "" }
@@ -166,11 +166,11 @@ pub fn next_recording(args: &NextRecordingArgs) -> Result<(), Failure> {
         .publish()
         .map_err(|e| Failure::input(pipeline::Error::from(e)))?;
     match found.verdict {
-        Verdict::Unique => {
+        Uniqueness::Unique => {
             out!("nothing to record: the recordings determine the machine within the bounds above")
         }
-        Verdict::Unknown => out!("no plan: the check found no answer within the budget"),
-        Verdict::Ambiguous => out!(
+        Uniqueness::Unknown => out!("no plan: the check found no answer within the budget"),
+        Uniqueness::Ambiguous => out!(
             "plan: {} sequences, {} steps to record in all",
             found.rivals.len(),
             found

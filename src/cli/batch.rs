@@ -6,7 +6,7 @@ use super::show::print_written;
 use super::Failure;
 use crate::files::ResultSet;
 use crate::ingest::Mapping;
-use crate::pipeline::batch::{self, Outcome, Row, Verification};
+use crate::pipeline::batch::{self, Outcome, Row, VerificationSetup};
 use crate::pipeline::{self, exact};
 use clap::Args;
 use std::path::PathBuf;
@@ -69,7 +69,7 @@ pub fn batch(args: &BatchArgs) -> Result<(), Failure> {
     let formats = parse_formats(&args.format)?;
     let limit = pipeline::seconds("--time-limit", args.time_limit, true)?;
     let verification = match (&args.ltl, &args.plant) {
-        (Some(ltl), Some(plant)) => Some(Verification {
+        (Some(ltl), Some(plant)) => Some(VerificationSetup {
             ltl: ltl.clone(),
             plant: plant.clone(),
             nusmv: args.nusmv.nusmv()?,

@@ -129,7 +129,7 @@ pub fn conform(args: &ConformArgs) -> Result<(), Failure> {
             out!("{w}");
         }
     }
-    out!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n);
+    out!("{s:#}");
     let files: Vec<PathBuf> = refined.files.iter().map(|f| results.published(f)).collect();
     results
         .publish()

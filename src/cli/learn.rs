@@ -7,7 +7,7 @@ use super::{exit, Failure};
 use crate::cases::reference;
 use crate::ecc::Ecc;
 use crate::pipeline::active::{self, Comparison, Learned, Options, Round};
-use crate::pipeline::ambiguity::Verdict;
+use crate::pipeline::ambiguity::Uniqueness;
 use crate::scenario::ScenarioSet;
 use clap::Args;
 use std::path::PathBuf;
@@ -143,9 +143,9 @@ pub fn learn(args: &LearnArgs) -> Result<(), Failure> {
 /// The progress line of round `number`.
 fn round_line(number: usize, r: &Round) -> String {
     let verdict = match r.verdict {
-        Some(Verdict::Unique) => "unique",
-        Some(Verdict::Ambiguous) => "ambiguous",
-        Some(Verdict::Unknown) => "unknown",
+        Some(Uniqueness::Unique) => "unique",
+        Some(Uniqueness::Ambiguous) => "ambiguous",
+        Some(Uniqueness::Unknown) => "unknown",
         None => r.asked.name(),
     };
     let widened = if r.widened {
@@ -168,8 +168,8 @@ fn active_line(learned: &Learned, initial: &ScenarioSet, agreement: &active::Agr
         initial.step_count(),
         learned.machine.states.len(),
         match learned.rounds.last().and_then(|r| r.verdict) {
-            Some(Verdict::Unique) => "unique",
-            Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
+            Some(Uniqueness::Unique) => "unique",
+            Some(Uniqueness::Ambiguous) => "still ambiguous (round limit)",
             _ => "no verdict within the budget",
         },
     )

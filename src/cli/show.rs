@@ -83,7 +83,7 @@ pub fn print_read_stats(stats: &ReadStats, secs: f64) {
 
 /// `C = …  K = …  T = …  N = …`.
 pub fn size_line(s: &Size) -> String {
-    format!("C = {}  K = {}  T = {}  N = {}", s.c, s.k, s.t, s.n)
+    format!("{s:#}")
 }
 
 /// The progress lines after the recordings were checked against `properties` properties.

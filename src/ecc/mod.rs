@@ -291,9 +291,15 @@ impl Size {
     }
 }
 
+/// `C=2 K=1 T=2 N=2` inside a sentence; with `{:#}` the command line's result line
+/// `C = 2  K = 1  T = 2  N = 2`.
 impl fmt::Display for Size {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n)
+        let (c, k, t, n) = (self.c, self.k, self.t, self.n);
+        match f.alternate() {
+            true => write!(f, "C = {c}  K = {k}  T = {t}  N = {n}"),
+            false => write!(f, "C={c} K={k} T={t} N={n}"),
+        }
     }
 }
 
@@ -386,6 +392,18 @@ impl Ecc {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn size_is_written_inside_a_sentence_and_as_the_result_line() {
+        let s = Size {
+            c: 5,
+            k: 3,
+            t: 10,
+            n: 15,
+        };
+        assert_eq!(s.to_string(), "C=5 K=3 T=10 N=15");
+        assert_eq!(format!("{s:#}"), "C = 5  K = 3  T = 10  N = 15");
+    }
 
     #[test]
     fn effects_of_both_algorithm_forms() {

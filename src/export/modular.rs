@@ -44,7 +44,7 @@
 //! `MODULE <stem>(REQ, x1, ..., xX)` has the signature and the variables (`CNF`, every output)
 //! of a single ECC's module ([`crate::smv::ecc_module`]): instances `_m1.._mM` of the module
 //! types `<stem>_M<i>`, `CNF := _m1.CNF | ... | _mM.CNF` and each output defined as its
-//! owner's. Named [`crate::smv::closed_loop::CONTROLLER_MODULE`], it replaces the controller
+//! owner's. Named [`crate::smv::composition::CONTROLLER_MODULE`], it replaces the controller
 //! of a closed loop.
 
 use super::fbt::write_head;

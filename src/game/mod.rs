@@ -1,7 +1,7 @@
 //! A controller from the properties themselves: the closed loop as a game between the
 //! controller and the plant, solved explicitly, where the recordings leave the machine open.
 //!
-//! In: a plant [`Model`] with its [`Coupling`], properties in the fragment of [`Monitors`],
+//! In: a plant [`Model`] with its [`Wiring`], properties in the fragment of [`Monitors`],
 //! and the recordings' [`ScenarioTree`]. Out: a winning [`Strategy`] (a [`Controller`] that
 //! answers every recorded step as recorded and keeps every property in closed loop with every
 //! behaviour of the plant), or why there is none here ([`Outcome`]), or why the engine does not
@@ -32,7 +32,7 @@ mod tests;
 
 pub use monitor::{Monitors, Outside};
 
-use crate::check::{CheckError, Coupling};
+use crate::check::{CheckError, Wiring};
 use crate::deadline::Deadline;
 use crate::ecc::sim::{Controller, Reactive};
 use crate::ltl::Property;
@@ -91,7 +91,7 @@ struct Expanded {
 /// The explicit game.
 struct Arena<'a> {
     sem: Semantics<'a>,
-    coupling: &'a Coupling,
+    coupling: &'a Wiring,
     monitors: Monitors,
     tree: &'a ScenarioTree,
     tree_inputs: HashMap<u64, usize>,
@@ -129,7 +129,7 @@ fn bits(v: &[bool]) -> u64 {
 impl<'a> Arena<'a> {
     fn new(
         model: &'a Model,
-        coupling: &'a Coupling,
+        coupling: &'a Wiring,
         props: &[Property],
         tree: &'a ScenarioTree,
         max_positions: usize,
@@ -549,7 +549,7 @@ struct ArenaData {
 /// `deadline` passes.
 pub fn solve(
     model: &Model,
-    coupling: &Coupling,
+    coupling: &Wiring,
     props: &[Property],
     tree: &ScenarioTree,
     initial_outputs: &[bool],

@@ -18,7 +18,7 @@
 //! splits. The assumption form is exact because `G F x | G F y` is `G F (x | y)`: the
 //! property fails only where the environment keeps `e` from some step on.
 
-use crate::check::{Atom, AtomError, Coupling, Source};
+use crate::check::{Atom, AtomError, Source, Wiring};
 use crate::ltl::{Ltl, Property};
 use crate::plant::explicit::Semantics;
 use crate::plant::{Model, Name, Value};
@@ -105,7 +105,7 @@ pub struct Outside(pub String);
 
 struct Builder<'a> {
     model: &'a Model,
-    coupling: &'a Coupling,
+    coupling: &'a Wiring,
     atoms: Vec<Atom>,
     index: HashMap<Ltl, usize>,
 }
@@ -235,7 +235,7 @@ impl Builder<'_> {
 impl Monitors {
     /// The monitors of `props` (names as [`crate::ltl::property_name`]), or the first property
     /// outside the fragment.
-    pub fn of(props: &[Property], model: &Model, coupling: &Coupling) -> Result<Monitors, Outside> {
+    pub fn of(props: &[Property], model: &Model, coupling: &Wiring) -> Result<Monitors, Outside> {
         let mut b = Builder {
             model,
             coupling,

@@ -10,7 +10,7 @@
 //! recorded prefix, then the distinguishing steps): what an engineer does on the machine in
 //! service. The recorded steps count both parts.
 
-use super::ambiguity::{self, Verdict};
+use super::ambiguity::{self, Uniqueness};
 use super::{Error, Events};
 use crate::ecc::diff::{difference, difference_from};
 use crate::ecc::{Ecc, Run, StateId};
@@ -62,7 +62,7 @@ pub struct Round {
     pub asked: Asked,
     /// What the ambiguity check said about this round's machine; `None` when the round
     /// recorded a tour or probes instead.
-    pub verdict: Option<Verdict>,
+    pub verdict: Option<Uniqueness>,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
     pub recorded_steps: usize,
     /// The round found no rival over the recorded combinations and widened the alphabet to
@@ -226,7 +226,7 @@ pub fn learn(
             recorded_steps: 0,
             widened: false,
         };
-        if widen && found.verdict != Verdict::Ambiguous && rounds.len() + 1 < opts.max_rounds {
+        if widen && found.verdict != Uniqueness::Ambiguous && rounds.len() + 1 < opts.max_rounds {
             widen = false;
             asking.all_inputs = true;
             round.widened = true;
@@ -235,7 +235,7 @@ pub fn learn(
             kept = Some(machine);
             continue;
         }
-        if found.verdict != Verdict::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
+        if found.verdict != Uniqueness::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
             progress(&round);
             rounds.push(round);
             return Ok(Learned {
@@ -243,7 +243,7 @@ pub fn learn(
                 recordings: set,
                 rounds,
                 recorded_steps,
-                unique: found.verdict == Verdict::Unique,
+                unique: found.verdict == Uniqueness::Unique,
             });
         }
         for r in &found.rivals {

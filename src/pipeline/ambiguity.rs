@@ -88,7 +88,7 @@ pub struct Rival {
 /// The verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Verdict {
+pub enum Uniqueness {
     /// No rival within the bounds.
     Unique,
     /// At least one rival.
@@ -101,7 +101,7 @@ pub enum Verdict {
 #[derive(Debug, Clone)]
 pub struct Ambiguity {
     /// Unique, ambiguous or unknown within the bounds.
-    pub verdict: Verdict,
+    pub verdict: Uniqueness,
     /// The rivals found, each differing from the machine and every rival before it.
     pub rivals: Vec<Rival>,
     /// Whether the list is complete within the bounds (the last search found no further
@@ -112,7 +112,7 @@ pub struct Ambiguity {
     /// States a rival may have beyond the machine's ([`Options::extra_states`]).
     pub extra_states: usize,
     /// At most this many transitions per state.
-    pub per_state: usize,
+    pub max_out_degree: usize,
     /// The longest distinguishing sequence looked for, in steps.
     pub depth: usize,
     /// Number of input vectors the sequences were drawn from.
@@ -141,8 +141,8 @@ impl Ambiguity {
             if self.extra_states > 0 { "at most" } else { "" },
             self.states,
             if self.states == 1 { "" } else { "s" },
-            self.per_state,
-            if self.per_state == 1 { "" } else { "s" }
+            self.max_out_degree,
+            if self.max_out_degree == 1 { "" } else { "s" }
         )
         .trim_start()
         .to_string();
@@ -154,13 +154,13 @@ impl Ambiguity {
             false => "a recorded point".to_string(),
         };
         match self.verdict {
-            Verdict::Unique => format!(
+            Uniqueness::Unique => format!(
                 "unique: no other machine with {size} reproduces the recordings and answers differently within {} step{} of {points} (inputs: {over}; {:.2} s)",
                 self.depth,
                 if self.depth == 1 { "" } else { "s" },
                 self.seconds
             ),
-            Verdict::Ambiguous => format!(
+            Uniqueness::Ambiguous => format!(
                 "ambiguous: {}{} other machine{} with {size} reproduce{} the recordings but answer{} differently (inputs: {over}; {:.2} s)",
                 if self.complete { "" } else { "at least " },
                 self.rivals.len(),
@@ -169,7 +169,7 @@ impl Ambiguity {
                 if self.rivals.len() == 1 { "s" } else { "" },
                 self.seconds
             ),
-            Verdict::Unknown => format!(
+            Uniqueness::Unknown => format!(
                 "unknown: no answer within the budget ({:.2} s); raise --ambiguity-budget",
                 self.seconds
             ),
@@ -218,7 +218,7 @@ pub fn check(
         tree,
         kind: opts.algorithms,
         states,
-        slots: size.k.max(1),
+        max_out_degree: size.k.max(1),
         polish: opts.polish,
         // Over every vector the steps' inputs are free bits (see the encoding).
         alphabet: match opts.all_inputs {
@@ -232,7 +232,7 @@ pub fn check(
     };
     let mut known: Vec<Ecc> = vec![machine.clone()];
     let mut rivals: Vec<Rival> = Vec::new();
-    let mut verdict = Verdict::Unique;
+    let mut verdict = Uniqueness::Unique;
     let mut complete = true;
     let limit = opts.rivals.max(1);
     while rivals.len() < limit {
@@ -241,7 +241,7 @@ pub fn check(
             Outcome::None => break,
             Outcome::Unknown => {
                 if rivals.is_empty() {
-                    verdict = Verdict::Unknown;
+                    verdict = Uniqueness::Unknown;
                 }
                 complete = false;
                 break;
@@ -251,7 +251,7 @@ pub fn check(
                     SatError::Bug(format!("a rival does not reproduce the recordings: {m}"))
                 })?;
                 let rival = told_apart(tree, machine, ecc, &alphabet)?;
-                verdict = Verdict::Ambiguous;
+                verdict = Uniqueness::Ambiguous;
                 known.push(rival.ecc.clone());
                 rivals.push(rival);
             }
@@ -266,7 +266,7 @@ pub fn check(
         complete,
         states,
         extra_states: opts.extra_states,
-        per_state: query.slots,
+        max_out_degree: query.max_out_degree,
         depth,
         alphabet: alphabet.len(),
         all_inputs: opts.all_inputs,
@@ -444,7 +444,7 @@ impl Ambiguity {
             "complete": self.complete,
             "states": self.states,
             "extra_states": self.extra_states,
-            "per_state": self.per_state,
+            "per_state": self.max_out_degree,
             "depth": self.depth,
             "alphabet": self.alphabet,
             "all_inputs": self.all_inputs,
@@ -487,7 +487,7 @@ impl Ambiguity {
                 let _ = writeln!(s, "    {line}");
             }
         }
-        if self.verdict == Verdict::Ambiguous {
+        if self.verdict == Uniqueness::Ambiguous {
             let _ = writeln!(
                 s,
                 "  to tell them apart, record the sequences above on the machine in service (`synth next-recording` writes them as a plan)"

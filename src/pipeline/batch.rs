@@ -3,7 +3,7 @@
 //! In: a folder whose entries are the PLCs ([`plcs`]): a log file (CSV or Parquet recordings,
 //! or with a mapping a raw data-flow log) or a subfolder of them (a partition of a data set,
 //! `plc=3/part-00000.parquet`, each file one scenario), and the exact method's options; with a
-//! [`Verification`], the properties and plant every machine must satisfy in closed loop.
+//! [`VerificationSetup`], the properties and plant every machine must satisfy in closed loop.
 //! Out: an [`Outcome`] per PLC, in the folder's order: the machine (and NuSMV's certificate),
 //! or why there is none. A PLC that fails does not stop the others. [`write_results`] writes
 //! every machine into its folder and the [`Summary`] (one [`Row`] per PLC) as `summary.csv`
@@ -38,7 +38,7 @@ pub struct Plc {
 /// The properties and plant every machine is checked against (each PLC's interface gives its
 /// own closed loop), and the NuSMV that checks.
 #[derive(Debug, Clone)]
-pub struct Verification {
+pub struct VerificationSetup {
     /// The LTL specification file with the properties.
     pub ltl: PathBuf,
     /// The plant model file (SMV) every machine is closed in a loop with.
@@ -52,7 +52,7 @@ pub struct Verification {
 pub struct Reconstruction {
     /// The minimal machine found by exact synthesis, with its figures.
     pub synthesis: Synthesis,
-    /// With a [`Verification`]: NuSMV's word that every property holds.
+    /// With a [`VerificationSetup`]: NuSMV's word that every property holds.
     pub certificate: Option<Certificate>,
 }
 
@@ -141,7 +141,7 @@ pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> 
 pub fn run(
     plcs: &[Plc],
     mapping: Option<&Mapping>,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
     threads: usize,
@@ -176,7 +176,7 @@ pub fn run(
 fn one(
     plc: &Plc,
     mapping: Option<&Mapping>,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
 ) -> Outcome {
@@ -199,7 +199,7 @@ fn one(
 
 fn reconstruct(
     set: &ScenarioSet,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
 ) -> Result<Reconstruction, Error> {
@@ -230,7 +230,7 @@ pub fn write(
     r: &Reconstruction,
     name: &str,
     formats: &[crate::export::Format],
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
 ) -> Result<Vec<PathBuf>, Error> {
     super::output::create_dir(dir)?;
     let mut files = crate::export::write_all(&r.synthesis.ecc, dir, name, formats)?;
@@ -356,7 +356,7 @@ pub fn write_results(
     outcomes: &[Outcome],
     name: &str,
     formats: &[crate::export::Format],
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
 ) -> Result<Summary, Error> {
     let mut summary = Summary {
         logs: logs.to_path_buf(),

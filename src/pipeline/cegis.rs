@@ -9,7 +9,7 @@
 //! the loop repeats on the same solver. When the current number of states cannot leave every
 //! lasso the minimization itself moves on to more states.
 
-use super::closed_loop::{environment_of, negative_of, ClosedLoop};
+use super::loop_encoding::{environment_of, negative_of, LoopEncoding};
 use super::{Event, Events};
 use crate::check;
 use crate::nusmv::CheckMode;
@@ -18,7 +18,7 @@ use crate::sat::solver::Bounded;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
-use crate::verify::{Report, Verification, Verifier, VerifyError};
+use crate::verify::{Report, VerificationResult, Verifier, VerifyError};
 use std::time::Instant;
 
 /// Settings of the loop.
@@ -127,13 +127,13 @@ pub fn run(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     verifier: &mut Verifier,
-    closed: Option<&ClosedLoop>,
+    closed: Option<&LoopEncoding>,
     config: &Config,
     events: Events<'_>,
 ) -> Result<Verified, CegisError> {
     std::thread::scope(|scope| {
         let mut lower = LowerBound::none();
-        if config.sat.cube_slots.is_some() {
+        if config.sat.max_out_degree.is_some() {
             lower = LowerBound::start(scope, set, tree, &config.sat, config.verbose, events)?;
         }
         Cegis::new(set, tree, verifier, closed, config, &mut lower, events).run()
@@ -179,7 +179,7 @@ impl<'scope> LowerBound<'scope> {
     ) -> Result<LowerBound<'scope>, SatError> {
         let started = Instant::now();
         let tree_exact = Options {
-            cube_slots: None,
+            max_out_degree: None,
             minimize_k: false,
             // Only C, T and the colouring are used: no time for guards.
             guard_budget: std::time::Duration::ZERO,
@@ -276,7 +276,7 @@ enum InProcess {
 struct Cegis<'a, 'l, 'e> {
     set: &'a ScenarioSet,
     verifier: &'a mut Verifier,
-    closed: Option<&'a ClosedLoop>,
+    closed: Option<&'a LoopEncoding>,
     config: &'a Config,
     lower: &'a mut LowerBound<'l>,
     events: Events<'e>,
@@ -305,7 +305,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         set: &'a ScenarioSet,
         tree: &'a ScenarioTree,
         verifier: &'a mut Verifier,
-        closed: Option<&'a ClosedLoop>,
+        closed: Option<&'a LoopEncoding>,
         config: &'a Config,
         lower: &'a mut LowerBound<'l>,
         events: Events<'e>,
@@ -515,14 +515,14 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         };
         let names = problem.property_names();
         let holds = (verdicts.iter())
-            .map(|v| matches!(v, check::Verdict::Holds))
+            .map(|v| matches!(v, check::ExplicitVerdict::Holds))
             .collect();
         let (added, length) = self.refine_in_process(closed, &verdicts, &names, &synthesis.ecc)?;
         if added == 0 {
             return Ok(InProcess::Unrefuted(holds));
         }
         let failing: Vec<String> = (verdicts.iter().zip(&names))
-            .filter(|(v, _)| matches!(v, check::Verdict::Violated(_)))
+            .filter(|(v, _)| matches!(v, check::ExplicitVerdict::Violated(_)))
             .map(|(_, name)| name.clone())
             .collect();
         let it = Iteration {
@@ -549,14 +549,14 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     /// added and the length of the first.
     fn refine_in_process(
         &mut self,
-        closed: &ClosedLoop,
-        verdicts: &[check::Verdict],
+        closed: &LoopEncoding,
+        verdicts: &[check::ExplicitVerdict],
         names: &[String],
         ecc: &crate::ecc::Ecc,
     ) -> Result<(usize, Option<usize>), CegisError> {
         let violated = || {
             (verdicts.iter().enumerate()).filter_map(|(k, v)| match v {
-                check::Verdict::Violated(lasso) => Some((k, lasso)),
+                check::ExplicitVerdict::Violated(lasso) => Some((k, lasso)),
                 _ => None,
             })
         };
@@ -598,7 +598,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         synthesis: &Synthesis,
         sat_seconds: f64,
         holds: &[bool],
-    ) -> Result<(Verification, Vec<String>), CegisError> {
+    ) -> Result<(VerificationResult, Vec<String>), CegisError> {
         // With environments one counterexample per candidate is enough: each rules out every
         // machine that fails on its environment. NuSMV's backward re-check per trace is most of
         // its time.
@@ -635,7 +635,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// A candidate NuSMV passed: the result if this was the final pass, else kept while the
     /// final pass starts (`None`).
-    fn passed(&mut self, synthesis: Synthesis, v: Verification) -> Option<Verified> {
+    fn passed(&mut self, synthesis: Synthesis, v: VerificationResult) -> Option<Verified> {
         if !self.in_final_pass {
             self.passed = Some(Passed {
                 synthesis,
@@ -662,7 +662,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     /// `loop length x C` steps into the solver.
     fn refine(
         &mut self,
-        v: &Verification,
+        v: &VerificationResult,
         failing: &[String],
         ecc: &crate::ecc::Ecc,
     ) -> Result<(), CegisError> {
@@ -700,7 +700,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// The environments of NuSMV's counterexamples of encoded properties, added to the
     /// synthesizer; returns how many were new.
-    fn add_environments(&mut self, v: &Verification) -> usize {
+    fn add_environments(&mut self, v: &VerificationResult) -> usize {
         let Some(closed) = self.closed else {
             return 0;
         };

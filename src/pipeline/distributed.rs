@@ -252,8 +252,8 @@ pub fn extend(set: &ScenarioSet) -> ScenarioSet {
 /// Settings of a distributed run.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Transition slots per state (guards are conjunctions).
-    pub slots: usize,
+    /// The largest out-degree `K`: transition slots per state (guards are conjunctions).
+    pub max_out_degree: usize,
     /// Give up above this many states in one controller.
     pub max_states: usize,
     /// The algorithm form of every controller.
@@ -281,11 +281,11 @@ pub fn run(
     let extended = extend(set);
     let modular = ModularOptions {
         modules: interfaces.names.len(),
-        slots: opts.slots,
+        max_out_degree: opts.max_out_degree,
         max_states: opts.max_states,
         algorithms: opts.algorithms,
         pins: interfaces.pins.clone(),
-        widen_slots: false,
+        widen_max_out_degree: false,
         topology: Topology::Parallel,
         reads: Some(interfaces.reads.clone()),
         feedback: Some(set.inputs.len()),
@@ -325,14 +325,16 @@ fn synthesize(
     let found = synthesize_modular(extended, &tree, opts, &mut |m| events(Event::Solver(m)));
     let synthesis = match found {
         Err(ModularError::NoController {
-            max_states, slots, ..
+            max_states,
+            max_out_degree,
+            ..
         }) => {
             let reads = match opts.reads {
                 Some(_) => ", or let a controller read more signals",
                 None => "",
             };
             return Err(Error::NoMachine(format!(
-                "no network of {} blocks with at most {max_states} states each and {slots} transitions per state reproduces the recordings (raise --max-states or --slots{reads})",
+                "no network of {} blocks with at most {max_states} states each and {max_out_degree} transitions per state reproduces the recordings (raise --max-states or --slots{reads})",
                 names.len()
             )));
         }
@@ -391,7 +393,7 @@ mod tests {
             let file = Path::new("net.json");
             let interfaces = description(PAIR).resolve(&set, file).unwrap();
             let opts = Options {
-                slots: 3,
+                max_out_degree: 3,
                 max_states: 8,
                 algorithms: AlgorithmKind::Tri,
                 deadline: crate::deadline::Deadline::NONE,

@@ -61,7 +61,7 @@ pub use crate::sat::Options as SatOptions;
 #[derive(Debug, Clone)]
 pub struct Options {
     /// The SAT synthesis: algorithms, bounds, guard model. With a [`Check`] the cube guard
-    /// model is always used (at most [`DEFAULT_OUT_DEGREE`] transitions per state unless
+    /// model is always used (at most [`DEFAULT_MAX_OUT_DEGREE`] transitions per state unless
     /// set), so the machine is defined on every input: counterexamples run on inputs nobody
     /// recorded.
     pub sat: SatOptions,
@@ -99,13 +99,13 @@ impl Default for Options {
 pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
-pub const DEFAULT_OUT_DEGREE: usize = 6;
+pub const DEFAULT_MAX_OUT_DEGREE: usize = 6;
 
 impl Options {
     fn sat(&self, verified: bool) -> SatOptions {
         let mut sat = self.sat.clone();
-        if verified && sat.cube_slots.is_none() {
-            sat.cube_slots = Some(DEFAULT_OUT_DEGREE);
+        if verified && sat.max_out_degree.is_none() {
+            sat.max_out_degree = Some(DEFAULT_MAX_OUT_DEGREE);
         }
         sat
     }
@@ -178,10 +178,10 @@ pub fn run(
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
     };
-    let closed = super::closed_loop::ClosedLoop::new(
+    let closed = super::loop_encoding::LoopEncoding::new(
         &check.problem,
         set,
-        super::closed_loop::DEFAULT_RESPONSE_BOUND,
+        super::loop_encoding::DEFAULT_RESPONSE_BOUND,
     )
     .ok();
     match cegis::run(set, &tree, &mut verifier, closed.as_ref(), &config, events) {

@@ -9,7 +9,7 @@
 //! value only, which properties read ([`Unrecorded`]).
 //!
 //! # A recorded scenario as a closed-loop run
-//! In the closed loop ([`crate::smv::closed_loop`]) the controller reads the plant's values of
+//! In the closed loop ([`crate::smv::composition`]) the controller reads the plant's values of
 //! step `t` and its outputs change at `t + 1`; a counterexample's state `i` becomes the
 //! negative step `i` with the inputs of state `i` and the outputs *before* it
 //! ([`crate::verify::Counterexample::negative_scenario`]). A recorded scenario of `n` steps is
@@ -450,7 +450,7 @@ pub const GAME_POSITIONS: usize = 1_000_000;
 /// tool's own semantics of the plant go; a lost one says none does.
 pub fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Option<String> {
     let model = problem.model.as_ref().ok()?;
-    let coupling = crate::check::Coupling::new(model, &problem.coupling).ok()?;
+    let coupling = crate::check::Wiring::new(model, &problem.coupling).ok()?;
     let tree = crate::scenario::tree::ScenarioTree::build(set).ok()?;
     let started = std::time::Instant::now();
     let outcome = crate::game::solve(

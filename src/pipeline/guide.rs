@@ -222,7 +222,7 @@ impl Guide<'_, '_> {
         let Ok(model) = problem.model.as_ref() else {
             return Ok(Err("the game does not read this plant".into()));
         };
-        let coupling = match crate::check::Coupling::new(model, &problem.coupling) {
+        let coupling = match crate::check::Wiring::new(model, &problem.coupling) {
             Ok(c) => c,
             Err(e) => return Ok(Err(format!("the game does not apply: {e}"))),
         };
@@ -387,7 +387,7 @@ impl Guide<'_, '_> {
         verifier: &mut crate::verify::Verifier,
         ecc: &Ecc,
         machine: &'static str,
-    ) -> Result<(crate::verify::Verification, bool), Error> {
+    ) -> Result<(crate::verify::VerificationResult, bool), Error> {
         let v = verifier.verify_with(ecc, CheckMode::VerdictsOnly)?;
         self.nusmv_calls += 1;
         self.nusmv_seconds += v.report.nusmv_seconds;

@@ -39,7 +39,6 @@ pub mod active;
 pub mod ambiguity;
 pub mod batch;
 pub mod cegis;
-pub mod closed_loop;
 pub mod distributed;
 pub mod exact;
 pub mod explain;
@@ -48,6 +47,7 @@ pub mod guide;
 pub mod lazy;
 pub mod lazy_noisy;
 pub mod limit;
+pub mod loop_encoding;
 pub mod main_job;
 pub mod modular;
 pub mod noisy;
@@ -395,7 +395,10 @@ pub fn nusmv(path: Option<&std::path::Path>, timeout_seconds: f64) -> Result<Nus
 }
 
 /// Verifies an existing machine in closed loop (no synthesis).
-pub fn verify(ecc: &crate::ecc::Ecc, check: &Check) -> Result<crate::verify::Verification, Error> {
+pub fn verify(
+    ecc: &crate::ecc::Ecc,
+    check: &Check,
+) -> Result<crate::verify::VerificationResult, Error> {
     Ok(check.verifier()?.verify(ecc)?)
 }
 

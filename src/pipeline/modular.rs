@@ -50,7 +50,7 @@
 //! - `N.smv`: the modules and `MODULE N(REQ, inputs...)` with `CNF` the disjunction of theirs
 //!   and each output its owner's: the signature of a single ECC's SMV module, so, named `ECC`,
 //!   it takes a controller's place in the closed loop
-//!   ([`crate::smv::closed_loop::compose_controller`]). A test runs it against the recordings
+//!   ([`crate::smv::composition::compose_controller`]). A test runs it against the recordings
 //!   inside NuSMV.
 //! - `N.modules.json`: per module its type name, inputs, outputs, states, transitions, guard
 //!   literals, and the three minimized figures.
@@ -89,7 +89,7 @@ use crate::scenario::ScenarioSet;
 
 pub use crate::ecc::modular::Topology;
 pub use crate::sat::modular::{
-    parse_pins, ModularOptions as Options, ModularSynthesis, DEFAULT_SLOTS,
+    parse_pins, ModularOptions as Options, ModularSynthesis, DEFAULT_MAX_OUT_DEGREE,
 };
 
 /// The smallest modular controller for `set` (least largest module, then fewest inputs used,
@@ -135,7 +135,7 @@ pub fn run_verified(
     max_rounds: usize,
     events: Events<'_>,
 ) -> Result<VerifiedModular, Error> {
-    use crate::smv::closed_loop::CONTROLLER_MODULE;
+    use crate::smv::composition::CONTROLLER_MODULE;
     let mut last = None;
     let check = &check.until(opts.deadline);
     let followed = super::follow::run(set, oracle, check, max_rounds, events, &mut |s, events| {

@@ -47,8 +47,8 @@ pub struct Query<'a> {
     pub kind: AlgorithmKind,
     /// The rival's size, at most: states and transitions per state (the cube model's slots).
     pub states: usize,
-    /// Transition slots per state `K` in the cube model: the bound on the rival's out-degree.
-    pub slots: usize,
+    /// The largest out-degree `K` of the rival: transition slots per state in the cube model.
+    pub max_out_degree: usize,
     /// Time to make a rival found smaller (fewer transitions, then fewer guard literals).
     pub polish: std::time::Duration,
     /// The input vectors distinguishing sequences may use; the tree's vectors come first, in
@@ -110,7 +110,7 @@ pub fn rival(q: &Query, known: &[&Ecc], deadline: Instant) -> Outcome {
 /// The rival's colouring of the tree in the cube guard model, over the whole alphabet, with
 /// counters of its transitions and guard literals.
 fn encode_rival(f: &mut impl ExtendFormula, q: &Query) -> (Vars, [Counter; 2]) {
-    let mut v = Vars::new(f, q.tree, q.states, Some(q.slots));
+    let mut v = Vars::new(f, q.tree, q.states, Some(q.max_out_degree));
     let sel: Vec<Lit> = (0..v.inputs).map(|_| f.new_lit()).collect();
     let mut tails: Vec<Lit> = (0..q.states * q.states).map(|_| f.new_lit()).collect();
     constraints::basic(f, &v, q.tree, q.kind, false, &sel, &tails);
@@ -399,7 +399,7 @@ fn rival_moves_on_bits(
     };
     for m in 0..v.c_max {
         let mut earlier = vec![!step.live, !before.m[m]];
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             // fire <-> en & no literal of the cube is false on x.
             let fire = s.new_lit();
             let en = cv.en(0, m, k);
@@ -513,7 +513,7 @@ fn decode_rival(model: &Model, q: &Query, v: &Vars) -> Ecc {
             State {
                 name: format!("s{m}"),
                 algorithm: decode::algorithm(q.kind, a0, a1),
-                transitions: (0..cv.slots)
+                transitions: (0..cv.max_out_degree)
                     .filter(|&k| model.value(cv.en(0, m, k)))
                     .map(|k| decode::cube_transition(model, cv, 0, m, k, InputId))
                     .collect(),

@@ -17,7 +17,7 @@
 //!   of them is visited (each structure blocked once seen) within the guard budget, and `N` is
 //!   the least over all (on 40 random recordings, 14 got a smaller `N` than the first
 //!   structure's, e.g. 24 -> 15; fbSAT's tests-39: 20 -> 16);
-//! - cube (`Options::cube_slots`, the main job): guards are conjunctions of literals inside the
+//! - cube (`Options::max_out_degree`, the main job): guards are conjunctions of literals inside the
 //!   encoding with first-fire priority ([`super::cubes`]), `T` counts transitions and `N` is
 //!   minimized on the same solver, so the machine is determined on every input. Verification
 //!   in the loop needs that: counterexamples run on inputs nobody recorded.
@@ -65,7 +65,7 @@ pub struct Options {
     /// `Some(k)`: guards are conjunctions of literals inside the encoding, at most `k`
     /// transitions per state ([`super::cubes`]); `None`: transitions on recorded inputs only, guards
     /// minimized afterwards (the tree-exact model).
-    pub cube_slots: Option<usize>,
+    pub max_out_degree: Option<usize>,
     /// Sizes asked for rather than minimized ([`Fixed`]).
     pub fixed: Fixed,
     /// Where every solver call stops ([`Solver::until`]); the guard budget ends there too.
@@ -74,13 +74,13 @@ pub struct Options {
 
 /// Fixed bounds (fbSAT's `-C`, `-K`, `-T`): a machine within them, the rest still minimized.
 /// `states`: no fewer states are looked for (with [`Synthesizer`]: the search starts and ends
-/// there); `out_degree` and `transitions`: upper bounds every solver call assumes.
+/// there); `max_out_degree` and `transitions`: upper bounds every solver call assumes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Fixed {
     /// fbSAT's `-C`: the number of states to look for; fewer are not tried.
     pub states: Option<usize>,
     /// fbSAT's `-K`: at most this many transitions leave any one state.
-    pub out_degree: Option<usize>,
+    pub max_out_degree: Option<usize>,
     /// fbSAT's `-T`: at most this many transitions in all.
     pub transitions: Option<usize>,
 }
@@ -96,7 +96,7 @@ impl std::fmt::Display for Fixed {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let parts: Vec<String> = [
             self.states.map(|c| format!("{c} states")),
-            self.out_degree
+            self.max_out_degree
                 .map(|k| format!("at most {k} transitions per state")),
             self.transitions.map(|t| format!("at most {t} transitions")),
         ]
@@ -115,7 +115,7 @@ impl Default for Options {
             max_states: 32,
             start_state: false,
             guard_budget: Duration::from_secs(10),
-            cube_slots: None,
+            max_out_degree: None,
             fixed: Fixed::default(),
             deadline: crate::deadline::Deadline::NONE,
         }
@@ -210,7 +210,7 @@ impl Encoding {
             solver.keep_clauses();
         }
         let sink = &mut solver;
-        let vars = Vars::new(sink, tree, c_max, opts.cube_slots);
+        let vars = Vars::new(sink, tree, c_max, opts.max_out_degree);
         // Allocated in both guard models, so that both number their variables alike; only the
         // tree-exact model constrains them.
         let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
@@ -226,15 +226,17 @@ impl Encoding {
         );
         let (total_t, total_n) = match &vars.guards {
             GuardModel::Cubes(cv) => (
-                Totalizer::new(sink, cv.all_en(), c_max * cv.slots),
+                Totalizer::new(sink, cv.all_en(), c_max * cv.max_out_degree),
                 Some(Totalizer::new(sink, &cv.all_literals(), 200)),
             ),
             GuardModel::TreeExact => (Totalizer::new(sink, vars.all_t(), c_max * c_max), None),
         };
-        let degree = if opts.minimize_k || opts.fixed.out_degree.is_some() {
+        let degree = if opts.minimize_k || opts.fixed.max_out_degree.is_some() {
             (0..c_max)
                 .map(|q| match &vars.guards {
-                    GuardModel::Cubes(cv) => Totalizer::new(sink, cv.en_row(0, q), cv.slots),
+                    GuardModel::Cubes(cv) => {
+                        Totalizer::new(sink, cv.en_row(0, q), cv.max_out_degree)
+                    }
                     GuardModel::TreeExact => Totalizer::new(sink, vars.t_row(q), c_max),
                 })
                 .collect()
@@ -259,7 +261,7 @@ impl Encoding {
             clauses: stats.clauses,
             calls_counted: 0,
         };
-        if let Some(k) = opts.fixed.out_degree {
+        if let Some(k) = opts.fixed.max_out_degree {
             let l = enc.k_at_most(k);
             enc.fixed.push(l);
         }

@@ -198,7 +198,7 @@ impl Structure {
             GuardModel::Cubes(cv) => Some(
                 (0..c)
                     .map(|q| {
-                        (0..cv.slots)
+                        (0..cv.max_out_degree)
                             .filter(|&k| model.value(cv.en(0, q, k)))
                             .map(|k| cube_transition(model, cv, 0, q, k, InputId))
                             .collect()

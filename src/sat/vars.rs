@@ -137,12 +137,12 @@ pub(crate) fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
 }
 
 impl Vars {
-    /// `cube_slots`: `Some(k)` for the cube-guard model with `k` slots per state.
+    /// `max_out_degree`: `Some(k)` for the cube-guard model with `k` slots per state.
     pub fn new(
         f: &mut impl ExtendFormula,
         tree: &ScenarioTree,
         c_max: usize,
-        cube_slots: Option<usize>,
+        max_out_degree: Option<usize>,
     ) -> Vars {
         let nodes = tree.nodes.len();
         let outputs = tree.nodes[0].outputs.len();
@@ -160,10 +160,10 @@ impl Vars {
             p: alloc(f, c_max * c_max),
             m: Vec::new(),
             nm: vec![alloc(f, c_max * c_max)],
-            guards: match cube_slots {
-                Some(slots) => {
+            guards: match max_out_degree {
+                Some(max_out_degree) => {
                     let bits = tree.input_vectors.first().map_or(0, Vec::len);
-                    GuardModel::Cubes(CubeVars::new(f, 1, c_max, slots, bits))
+                    GuardModel::Cubes(CubeVars::new(f, 1, c_max, max_out_degree, bits))
                 }
                 None => GuardModel::TreeExact,
             },
@@ -263,8 +263,8 @@ pub struct CubeVars {
     pub machines: usize,
     /// States per machine `C_max`.
     pub c_max: usize,
-    /// Transition slots per state `K`: the bound on a state's out-degree.
-    pub slots: usize,
+    /// The largest out-degree `K`: transition slots per state.
+    pub max_out_degree: usize,
     /// Input variables `X` a guard may test.
     pub bits: usize,
     /// Input vectors allocated so far.
@@ -288,14 +288,14 @@ impl CubeVars {
         f: &mut impl ExtendFormula,
         machines: usize,
         c_max: usize,
-        slots: usize,
+        max_out_degree: usize,
         bits: usize,
     ) -> CubeVars {
-        let n = machines * c_max * slots;
+        let n = machines * c_max * max_out_degree;
         CubeVars {
             machines,
             c_max,
-            slots,
+            max_out_degree,
             bits,
             vectors: 0,
             en: alloc(f, n),
@@ -314,13 +314,13 @@ impl CubeVars {
             "machine-major layout"
         );
         let per = self.machines * count * self.c_max;
-        self.fire.extend(alloc(f, per * self.slots));
-        self.nf.extend(alloc(f, per * (self.slots + 1)));
+        self.fire.extend(alloc(f, per * self.max_out_degree));
+        self.nf.extend(alloc(f, per * (self.max_out_degree + 1)));
         self.vectors += count;
     }
 
     fn slot(&self, m: usize, q: usize, k: usize) -> usize {
-        (m * self.c_max + q) * self.slots + k
+        (m * self.c_max + q) * self.max_out_degree + k
     }
     fn at(&self, m: usize, u: InputVec, q: usize) -> usize {
         (m * self.vectors + u.0) * self.c_max + q
@@ -344,11 +344,11 @@ impl CubeVars {
     /// `fire[m][u][q][k]`: the guard of slot `k` of state `q` holds on input vector `u` (whether
     /// or not an earlier slot fires first).
     pub fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
-        self.fire[self.at(m, u, q) * self.slots + k]
+        self.fire[self.at(m, u, q) * self.max_out_degree + k]
     }
     /// `k in 0..=K`; `nf[.., K]` says that nothing fires.
     pub fn nf(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
-        self.nf[self.at(m, u, q) * (self.slots + 1) + k]
+        self.nf[self.at(m, u, q) * (self.max_out_degree + 1) + k]
     }
     /// Every `en`, for counting transitions.
     pub fn all_en(&self) -> &[Lit] {
@@ -357,7 +357,7 @@ impl CubeVars {
     /// `en[m][q][·]`, for counting the out-degree of `q`.
     pub fn en_row(&self, m: usize, q: usize) -> &[Lit] {
         let s = self.slot(m, q, 0);
-        &self.en[s..s + self.slots]
+        &self.en[s..s + self.max_out_degree]
     }
     /// Every guard literal, for counting `N`.
     pub fn all_literals(&self) -> Vec<Lit> {

@@ -14,11 +14,11 @@
 
 use super::fitness::Verdicts;
 use super::machine::input_bits;
-use crate::check::{self, Automata, CheckError, Coupling, Limits, PlantMemo, Verdict};
+use crate::check::{self, Automata, CheckError, ExplicitVerdict, Limits, PlantMemo, Wiring};
 use crate::ecc::Ecc;
 use crate::ltl::Property;
 use crate::plant::Model;
-use crate::verify::{Problem, Verification, Verifier, VerifyError};
+use crate::verify::{Problem, VerificationResult, Verifier, VerifyError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -67,7 +67,7 @@ impl Oracle {
 }
 
 /// The verdicts of one verification run.
-pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
+pub fn verdicts_of(v: &VerificationResult, ecc: &Ecc) -> Verdicts {
     let props = &v.report.properties;
     let satisfied = props.iter().filter(|p| p.holds).count();
     let longest = props
@@ -140,7 +140,7 @@ impl Checker for Oracle {
 #[derive(Debug)]
 pub struct Closed {
     model: Arc<Model>,
-    coupling: Coupling,
+    coupling: Wiring,
     props: Vec<Property>,
     automata: Automata,
     names: Vec<String>,
@@ -152,7 +152,7 @@ impl Closed {
     /// wire up (NuSMV then gives every verdict).
     pub fn new(problem: &Problem) -> Option<Closed> {
         let model = problem.model.clone().ok()?;
-        let coupling = Coupling::new(&model, &problem.coupling).ok()?;
+        let coupling = Wiring::new(&model, &problem.coupling).ok()?;
         Some(Closed {
             model,
             coupling,
@@ -207,9 +207,9 @@ impl InProcess {
         };
         for (k, v) in verdicts.iter().enumerate() {
             match v {
-                Verdict::Holds => out.satisfied += 1,
-                Verdict::Unsupported(_) => return Ok(None),
-                Verdict::Violated(lasso) => {
+                ExplicitVerdict::Holds => out.satisfied += 1,
+                ExplicitVerdict::Unsupported(_) => return Ok(None),
+                ExplicitVerdict::Violated(lasso) => {
                     let n = c.coupling.negative(&c.model, lasso, &c.names[k])?;
                     out.longest_counterexample = out.longest_counterexample.max(n.steps.len());
                     out.counterexamples
@@ -268,7 +268,7 @@ mod tests {
         let problem = Arc::new(Problem::load(&spec, &plant, &set.inputs, &set.outputs).unwrap());
         let tree = ScenarioTree::build(&set).unwrap();
         let opts = crate::sat::Options {
-            cube_slots: Some(6),
+            max_out_degree: Some(6),
             ..Default::default()
         };
         let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();

@@ -5,7 +5,7 @@
 //! identifier that cannot be used. Every name that reaches SMV code passes [`check_identifier`]
 //! first, so a model never fails to parse because of a user's naming.
 
-pub mod closed_loop;
+pub mod composition;
 pub mod ecc_module;
 pub mod plant;
 

@@ -324,7 +324,7 @@ fn composite_closes_the_loop_with_the_pnp_plant() {
     use fbsynth::ltl::parse_spec_file;
     use fbsynth::sat::modular::{synthesize_modular, ModularOptions};
     use fbsynth::scenario::tree::ScenarioTree;
-    use fbsynth::smv::closed_loop::{check_coupling, compose_controller, CONTROLLER_MODULE};
+    use fbsynth::smv::composition::{check_coupling, compose_controller, CONTROLLER_MODULE};
     use fbsynth::smv::plant::read_plant;
     let Some(nusmv) = nusmv_or_skip() else {
         return;

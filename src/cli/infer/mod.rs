@@ -156,7 +156,7 @@ impl FixedArgs {
     pub fn bounds(&self) -> crate::sat::Fixed {
         crate::sat::Fixed {
             states: self.states,
-            out_degree: self.out_degree,
+            max_out_degree: self.out_degree,
             transitions: self.transitions,
         }
     }

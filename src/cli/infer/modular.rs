@@ -71,7 +71,7 @@ pub(super) fn infer_network(args: &InferArgs, file: Option<&PathBuf>) -> Result<
     };
     let results = infer_out(args)?;
     let opts = distributed::Options {
-        slots: args.slots.unwrap_or(modular::DEFAULT_SLOTS),
+        max_out_degree: args.slots.unwrap_or(modular::DEFAULT_MAX_OUT_DEGREE),
         max_states: args.max_states,
         algorithms: args.algorithms.into(),
         deadline: crate::deadline::Deadline::NONE,
@@ -109,7 +109,7 @@ pub(super) fn print_network(
         s.max_states,
         s.inputs_used,
         s.total_states,
-        result.synthesis.stats.slots
+        result.synthesis.stats.max_out_degree
     );
     let network = &result.network;
     for (module, name) in network.modular.modules.iter().zip(&network.names) {
@@ -168,8 +168,8 @@ pub(super) fn modular_options(
 ) -> Result<modular::Options, Failure> {
     Ok(modular::Options {
         modules,
-        slots: args.slots.unwrap_or(modular::DEFAULT_SLOTS),
-        widen_slots: args.slots.is_none(),
+        max_out_degree: args.slots.unwrap_or(modular::DEFAULT_MAX_OUT_DEGREE),
+        widen_max_out_degree: args.slots.is_none(),
         max_states: args.max_states,
         algorithms: args.algorithms.into(),
         pins: modular::parse_pins(&args.pin, &set.outputs, modules)
@@ -194,8 +194,8 @@ pub(super) fn describe_modular(modules: usize, result: &modular::ModularSynthesi
         s.max_states,
         s.inputs_used,
         s.total_states,
-        result.stats.slots,
-        if result.stats.slots > modular::DEFAULT_SLOTS { ", widened" } else { "" }
+        result.stats.max_out_degree,
+        if result.stats.max_out_degree > modular::DEFAULT_MAX_OUT_DEGREE { ", widened" } else { "" }
     );
     for line in describe_modules(&result.modular) {
         out!("  {line}");

@@ -56,7 +56,7 @@ pub fn step<F: ExtendFormula>(
             continue;
         }
         let mut nf = B::C(true);
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             let mut conj = vec![B::L(cv.en(0, q, k))];
             for (x, &input) in inputs.iter().enumerate() {
                 conj.push(g.or2(!B::L(cv.pos(0, q, k, x)), input));

@@ -23,7 +23,7 @@
 //! - [`plant::next_state`]: the plant's next state under the machine's outputs;
 //! - [`property::Bounded::require`]: each property on the run.
 //!
-//! Timing is the closed loop's (see [`crate::smv::closed_loop`]): at step `t` the machine reads
+//! Timing is the closed loop's (see [`crate::smv::composition`]): at step `t` the machine reads
 //! the plant's values of step `t`, its new outputs appear at `t + 1`, and the plant's step from
 //! `t` to `t + 1` reads the outputs of step `t`.
 

@@ -53,9 +53,9 @@ pub fn slots(f: &mut impl ExtendFormula, v: &ModVars) {
     let (d, cv) = (v.d, &v.cubes);
     for m in 0..d.modules {
         for q in 0..d.c_max {
-            for k in 0..d.slots {
+            for k in 0..d.max_out_degree {
                 let en = cv.en(m, q, k);
-                if k + 1 < d.slots {
+                if k + 1 < d.max_out_degree {
                     f.add_clause(&[!cv.en(m, q, k + 1), en]);
                 }
                 f.add_clause(&[!en, v.used(m, q)]);
@@ -89,7 +89,7 @@ pub fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool
     for m in 0..v.d.modules {
         for q in 0..v.d.c_max {
             f.add_clause(&[cv.nf(m, g, q, 0)]);
-            for k in 0..v.d.slots {
+            for k in 0..v.d.max_out_degree {
                 cubes::slot_fires(f, cv, (m, g, q, k), bits);
             }
         }
@@ -108,11 +108,11 @@ pub fn active_edges(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree
         for m in 0..d.modules {
             let fired = v.fired(m, w);
             for q in 0..d.c_max {
-                let (cp, none) = (v.color(m, p, q), cv.nf(m, g, q, d.slots));
+                let (cp, none) = (v.color(m, p, q), cv.nf(m, g, q, d.max_out_degree));
                 f.add_clause(&[!cp, !none, !fired]);
                 f.add_clause(&[!cp, none, fired]);
                 f.add_clause(&[!cp, !none, v.color(m, w, q)]);
-                for k in 0..d.slots {
+                for k in 0..d.max_out_degree {
                     let (nf, fire) = (cv.nf(m, g, q, k), cv.fire(m, g, q, k));
                     for t in 0..d.c_max {
                         f.add_clause(&[!cp, !nf, !fire, !cv.tgt(m, q, k, t), v.color(m, w, t)]);
@@ -233,7 +233,7 @@ pub fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
             for t in 0..d.c_max {
                 let tr = v.tr(m, q, t);
                 let mut clause = vec![!tr];
-                for k in 0..d.slots {
+                for k in 0..d.max_out_degree {
                     let y = v.cubes.tgt(m, q, k, t);
                     f.add_clause(&[!y, tr]);
                     clause.push(y);
@@ -276,7 +276,7 @@ pub fn all(
         firing(f, v, InputVec(g), bits);
     }
     active_edges(f, v, tree);
-    let none = |m: usize, q: usize, g: InputVec| v.cubes.nf(m, g, q, v.d.slots);
+    let none = |m: usize, q: usize, g: InputVec| v.cubes.nf(m, g, q, v.d.max_out_degree);
     if chain {
         // Only module 1 gets the passive step's REQ.
         shared::passive_marks(f, tree, &modules[..1], none);

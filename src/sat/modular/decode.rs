@@ -43,7 +43,7 @@ pub fn decode(
             let n = (0..d.c_max).filter(|&q| model.value(v.used(m, q))).count();
             let states = (0..n)
                 .map(|q| {
-                    let transitions = (0..d.slots)
+                    let transitions = (0..d.max_out_degree)
                         .take_while(|&k| model.value(v.cubes.en(m, q, k)))
                         .map(|k| cube_transition(model, &v.cubes, m, q, k, local))
                         .collect();

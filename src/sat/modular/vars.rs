@@ -19,8 +19,8 @@ pub struct Dims {
     pub modules: usize,
     /// States per module at most (`N` of the paper, the encoding window).
     pub c_max: usize,
-    /// Transition slots per state (`K`).
-    pub slots: usize,
+    /// The largest out-degree `K`: transition slots per state.
+    pub max_out_degree: usize,
     /// Input variables `X`.
     pub bits: usize,
     /// Output variables `Z`.
@@ -70,13 +70,13 @@ impl ModVars {
         tree: &ScenarioTree,
         modules: usize,
         c_max: usize,
-        slots: usize,
+        max_out_degree: usize,
         chain: bool,
     ) -> ModVars {
         let d = Dims {
             modules,
             c_max,
-            slots,
+            max_out_degree,
             bits: tree.input_vectors.first().map_or(0, Vec::len),
             outputs: tree.nodes[0].outputs.len(),
             nodes: tree.nodes.len(),
@@ -87,7 +87,7 @@ impl ModVars {
         let color = alloc(f, m * d.nodes * n);
         let theta = alloc(f, m * d.outputs);
         let alpha = alloc(f, m * d.bits);
-        let mut cubes = CubeVars::new(f, m, n, slots, d.bits);
+        let mut cubes = CubeVars::new(f, m, n, max_out_degree, d.bits);
         let a0 = alloc(f, m * n * d.outputs);
         let a1 = alloc(f, m * n * d.outputs);
         cubes.add_inputs(f, d.vectors);

@@ -3,7 +3,7 @@
 //! ([`crate::sat::closed_loop`]).
 //!
 //! In: a [`Problem`] with a plant model the tool can run, the scenario set (the controller's
-//! interface). Out: a [`ClosedLoop`]: the encoding's [`Spec`] and, per property, whether it is
+//! interface). Out: a [`LoopEncoding`]: the encoding's [`Spec`] and, per property, whether it is
 //! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
 //! counterexamples still come back as negative scenarios.
 
@@ -22,28 +22,28 @@ pub const DEFAULT_RESPONSE_BOUND: usize = 32;
 
 /// The encoding's view of a problem.
 #[derive(Debug, Clone)]
-pub struct ClosedLoop {
+pub struct LoopEncoding {
     /// How plant, machine and the encoded properties fit together in the SAT encoding.
     pub spec: Arc<Spec>,
     /// Per property (spec order): `Ok(())` if encoded, else why not.
     pub coverage: Vec<Result<(), String>>,
     /// The wiring for the in-process checker ([`crate::check`]).
-    pub coupling: crate::check::Coupling,
+    pub coupling: crate::check::Wiring,
 }
 
-impl ClosedLoop {
+impl LoopEncoding {
     /// The encoding's view of `problem` for a controller over `set`'s interface; `Err` says
     /// why no property can be encoded (the plant is outside the subset, ...).
     pub fn new(
         problem: &Problem,
         set: &ScenarioSet,
         response_bound: usize,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<LoopEncoding, String> {
         let model = problem.model.clone()?;
         closed_loop::plant::encodable(&model)
             .map_err(|c| format!("the plant uses {c}, which the encoding does not cover"))?;
         let coupling =
-            crate::check::Coupling::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
+            crate::check::Wiring::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
         let mut spec = Spec {
             plant: model,
             inputs: coupling.inputs.clone(),
@@ -104,7 +104,7 @@ impl ClosedLoop {
                 .max()
                 .unwrap_or(0);
         }
-        Ok(ClosedLoop {
+        Ok(LoopEncoding {
             spec: Arc::new(spec),
             coverage,
             coupling,
@@ -155,9 +155,9 @@ impl ClosedLoop {
 }
 
 /// The controller's side of an in-process counterexample to `property` (see
-/// [`crate::check::Coupling::negative`]). For properties the encoding does not carry.
+/// [`crate::check::Wiring::negative`]). For properties the encoding does not carry.
 pub fn negative_of(
-    closed: &ClosedLoop,
+    closed: &LoopEncoding,
     lasso: &crate::check::Lasso,
     property: &str,
 ) -> Result<NegativeScenario, crate::check::CheckError> {
@@ -182,7 +182,7 @@ fn plant_state(model: &Model, s: &BTreeMap<String, String>) -> Option<Vec<Value>
             let text = s
                 .get(&format!(
                     "{}.{}",
-                    crate::smv::closed_loop::PLANT_INSTANCE,
+                    crate::smv::composition::PLANT_INSTANCE,
                     v.name
                 ))
                 .or_else(|| s.get(&v.name))?;

@@ -224,7 +224,7 @@ pub enum Source {
 
 /// A composed closed-loop model.
 #[derive(Debug, Clone)]
-pub struct ClosedLoop {
+pub struct ComposedModel {
     /// The whole NuSMV model: controller module, plant file verbatim, `main`, `LTLSPEC`s.
     pub text: String,
     /// First model line (1-based) holding plant line 1.
@@ -234,7 +234,7 @@ pub struct ClosedLoop {
     spec_lines: Vec<(usize, usize, String)>,
 }
 
-impl ClosedLoop {
+impl ComposedModel {
     /// Where a line of the composed model came from.
     pub fn source(&self, model_line: usize) -> Source {
         if model_line >= self.plant_first && model_line < self.plant_first + self.plant_lines {
@@ -265,7 +265,7 @@ pub fn compose(
     plant: &Plant,
     coupling: &Coupling,
     props: &[Property],
-) -> Result<ClosedLoop, SmvError> {
+) -> Result<ComposedModel, SmvError> {
     let mut out: Vec<u8> = Vec::new();
     write_ecc_module(ecc, CONTROLLER_MODULE, &mut out)?;
     let text = String::from_utf8(out).expect("emitter writes UTF-8");
@@ -287,7 +287,7 @@ pub fn compose_controller(
     plant: &Plant,
     coupling: &Coupling,
     props: &[Property],
-) -> ClosedLoop {
+) -> ComposedModel {
     let mut text = controller;
     if !text.ends_with('\n') {
         text.push('\n');
@@ -338,7 +338,7 @@ pub fn compose_controller(
         ));
         spec_lines.push((line, p.line, name));
     }
-    ClosedLoop {
+    ComposedModel {
         text,
         plant_first,
         plant_lines,
