@@ -81,7 +81,7 @@ pub enum Binding {
 
 /// The checked coupling: every bare name and what it resolves to, and which controller output
 /// drives each plant parameter. Checked once ([`check_coupling`]); the NuSMV model
-/// ([`compose`]) and the in-process checker ([`crate::check::Coupling::new`]) are both built
+/// ([`compose`]) and the in-process checker ([`crate::check::Wiring::new`]) are both built
 /// from it.
 #[derive(Debug, Clone)]
 pub struct Coupling {
