@@ -33,23 +33,23 @@
 #![warn(missing_docs)]
 
 pub mod cases;
-pub mod check;
+pub(crate) mod check;
 pub mod cli;
-pub mod deadline;
+pub(crate) mod deadline;
 pub mod ecc;
 pub mod events;
 pub mod export;
 pub mod files;
-pub mod game;
+pub(crate) mod game;
 pub mod ingest;
 pub mod ltl;
 pub mod nusmv;
 pub mod pipeline;
 pub mod plant;
-pub mod quote;
+pub(crate) mod quote;
 pub mod sat;
 pub mod scenario;
 pub mod search;
-pub mod signals;
+pub(crate) mod signals;
 pub mod smv;
-pub mod verify;
+pub(crate) mod verify;

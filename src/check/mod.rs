@@ -44,7 +44,7 @@ use std::sync::Arc;
 
 /// How the controller and the plant are wired, by index.
 #[derive(Debug, Clone)]
-pub struct Wiring {
+pub(crate) struct Wiring {
     /// Per ECC input (interface order): the plant variable or define it reads.
     pub(crate) inputs: Vec<Name>,
     /// Per plant parameter ([`crate::plant::ParamId`] order): the ECC output it is.
@@ -60,7 +60,10 @@ impl Wiring {
     /// reads, the output each plant parameter is. The coupling convention is not checked again;
     /// refused here is what this checker cannot run (an input on a variable that is not
     /// Boolean, more than 64 outputs) and a `model` of another plant.
-    pub fn new(model: &Model, coupling: &composition::Coupling) -> Result<Wiring, CheckError> {
+    pub(crate) fn new(
+        model: &Model,
+        coupling: &composition::Coupling,
+    ) -> Result<Wiring, CheckError> {
         let bad = |message: String| CheckError::Coupling {
             file: model.file.display().to_string(),
             message,
@@ -128,7 +131,7 @@ impl Wiring {
     }
 
     /// The controller's inputs (interface order) on a state of the closed loop.
-    pub fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
+    pub(crate) fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
         let params: Vec<bool> = self.params.iter().map(|&z| s.outputs[z]).collect();
         self.read_inputs(&Semantics::new(model), &s.plant, &params)
     }
@@ -160,7 +163,7 @@ impl Wiring {
     /// The controller's side of a counterexample to `property`: the lasso of its inputs and
     /// outputs, which a machine must leave to avoid the same run of the plant (the plant sees
     /// only the outputs).
-    pub fn negative(
+    pub(crate) fn negative(
         &self,
         model: &Model,
         lasso: &Lasso,
@@ -195,7 +198,7 @@ impl Wiring {
 
 /// The verdict on one property.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum ExplicitVerdict {
+pub(crate) enum ExplicitVerdict {
     /// The property holds on every fair run of the closed loop.
     Holds,
     /// A run of the closed loop on which the property is false.
@@ -206,29 +209,29 @@ pub enum ExplicitVerdict {
 
 /// A lasso-shaped run: `states[..loop_start]` followed by `states[loop_start..]` forever.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Lasso {
+pub(crate) struct Lasso {
     /// The run's states; the last one's successor is `states[loop_start]`.
-    pub states: Vec<LoopState>,
+    pub(crate) states: Vec<LoopState>,
     /// Index in `states` where the repeated cycle starts (`< states.len()`).
-    pub loop_start: usize,
+    pub(crate) loop_start: usize,
 }
 
 /// One state of the closed loop.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct LoopState {
+pub(crate) struct LoopState {
     /// The plant's variables, indexed by [`crate::plant::VarId`].
-    pub plant: Vec<Value>,
+    pub(crate) plant: Vec<Value>,
     /// The ECC's state.
-    pub ctrl: StateId,
+    pub(crate) ctrl: StateId,
     /// The ECC's outputs, in interface order.
-    pub outputs: Vec<bool>,
+    pub(crate) outputs: Vec<bool>,
 }
 
 /// Bounds on the exploration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Limits {
+pub(crate) struct Limits {
     /// Most closed-loop states (or plant states, for [`behaviour`]) explored.
-    pub max_states: usize,
+    pub(crate) max_states: usize,
 }
 
 impl Default for Limits {
@@ -292,11 +295,11 @@ pub enum CheckError {
 /// The properties' negations as Büchi automata, built once for many [`check_with`] calls (a
 /// search checks thousands of machines against the same properties).
 #[derive(Debug, Clone)]
-pub struct Automata(Vec<Result<Gba, gba::Refused>>);
+pub(crate) struct Automata(Vec<Result<Gba, gba::Refused>>);
 
 impl Automata {
     /// Builds the automaton of each property's negation (or why it is refused), in order.
-    pub fn of(props: &[Property]) -> Automata {
+    pub(crate) fn of(props: &[Property]) -> Automata {
         Automata(
             props
                 .iter()
@@ -310,7 +313,7 @@ impl Automata {
 /// across the checks of many machines against one plant and coupling (a search's), where it
 /// was most of the work of building each closed loop. Use one memo per plant and coupling.
 #[derive(Debug, Default)]
-pub struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
+pub(crate) struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
 
 /// Plant successor states, shared between the memo and a closed loop's build.
 type Successors = Arc<[Box<[Value]>]>;
@@ -376,7 +379,7 @@ impl PlantMemo {
 }
 
 /// Checks every property on the closed loop of `model` and `ecc`.
-pub fn check(
+pub(crate) fn check(
     model: &Model,
     coupling: &Wiring,
     ecc: &Ecc,
@@ -395,7 +398,7 @@ pub fn check(
 }
 
 /// [`check`] with the automata of `props` built beforehand.
-pub fn check_with(
+pub(crate) fn check_with(
     model: &Model,
     coupling: &Wiring,
     ecc: &Ecc,
@@ -492,7 +495,7 @@ pub fn check_with(
 
 /// Checks that the plant alone, its parameters chosen freely at every step, has an initial
 /// state and a fair infinite path: [`CheckError::NoBehaviour`] otherwise.
-pub fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {
+pub(crate) fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {
     if model.params.len() > 16 || model.fairness.len() > 64 {
         return Err(CheckError::Coupling {
             file: model.file.display().to_string(),

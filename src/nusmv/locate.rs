@@ -16,10 +16,10 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 /// How to get NuSMV, in one line (the message of [`NusmvError::NotFound`]).
-pub const INSTALL_HINT: &str = "run .ci/install-nusmv.sh, or pass --nusmv PATH / set NUSMV";
+pub(crate) const INSTALL_HINT: &str = "run .ci/install-nusmv.sh, or pass --nusmv PATH / set NUSMV";
 
 /// Where `.ci/install-nusmv.sh` puts the binary, relative to [`cache_dir`].
-pub const CACHED_BINARY: &str = "nusmv-2.5.4/bin/NuSMV";
+pub(crate) const CACHED_BINARY: &str = "nusmv-2.5.4/bin/NuSMV";
 
 /// Binary names tried in `PATH`, in order.
 const NAMES: [&str; 2] = ["NuSMV", "nusmv"];
@@ -31,7 +31,7 @@ pub fn locate(explicit: Option<&Path>) -> Result<PathBuf, NusmvError> {
 
 /// fbsynth's cache folder: `$FBSYNTH_CACHE`, else `$XDG_CACHE_HOME/fbsynth`, else
 /// `$HOME/.cache/fbsynth` (empty variables count as unset, as in the install script).
-pub fn cache_dir() -> Option<PathBuf> {
+pub(crate) fn cache_dir() -> Option<PathBuf> {
     Env::from_process().cache_dir()
 }
 

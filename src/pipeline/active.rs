@@ -20,20 +20,20 @@ use std::path::PathBuf;
 
 /// Settings of the loop.
 #[derive(Debug, Clone)]
-pub struct Options {
+pub(crate) struct Options {
     /// How rivals are looked for each round (bounds, budget, alphabet).
-    pub ambiguity: ambiguity::Options,
+    pub(crate) ambiguity: ambiguity::Options,
     /// Rounds at most; the last one ends the loop even if the machine is still ambiguous.
-    pub max_rounds: usize,
+    pub(crate) max_rounds: usize,
     /// Before looking for rivals, record a tour of the machine that tries every letter of the
     /// alphabet in every configuration it reaches (see [`tour`]).
-    pub tour: bool,
+    pub(crate) tour: bool,
 }
 
 /// What a round asked the oracle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Asked {
+pub(crate) enum Asked {
     /// A [`tour`]: some configuration had a letter no recorded point of it tried.
     Tour,
     /// [`probes`]: some configuration's access sequence had a letter not tried after it.
@@ -44,7 +44,7 @@ pub enum Asked {
 
 impl Asked {
     /// The word for it in progress lines and recordings' origins.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Asked::Tour => "tour",
             Asked::Probes => "probes",
@@ -55,39 +55,39 @@ impl Asked {
 
 /// One round of the loop.
 #[derive(Debug, Clone)]
-pub struct Round {
+pub(crate) struct Round {
     /// States of the machine inferred in this round.
-    pub states: usize,
+    pub(crate) states: usize,
     /// What the round recorded.
-    pub asked: Asked,
+    pub(crate) asked: Asked,
     /// What the ambiguity check said about this round's machine; `None` when the round
     /// recorded a tour or probes instead.
-    pub verdict: Option<Uniqueness>,
+    pub(crate) verdict: Option<Uniqueness>,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
-    pub recorded_steps: usize,
+    pub(crate) recorded_steps: usize,
     /// The round found no rival over the recorded combinations and widened the alphabet to
     /// every input vector (`all_inputs`) rather than ending the loop.
-    pub widened: bool,
+    pub(crate) widened: bool,
 }
 
 /// The result of [`learn`].
 #[derive(Debug, Clone)]
-pub struct Learned {
+pub(crate) struct Learned {
     /// The machine inferred in the last round.
-    pub machine: Ecc,
+    pub(crate) machine: Ecc,
     /// The initial recordings plus every scenario recorded on the oracle.
-    pub recordings: ScenarioSet,
+    pub(crate) recordings: ScenarioSet,
     /// Every round's figures, in order.
-    pub rounds: Vec<Round>,
+    pub(crate) rounds: Vec<Round>,
     /// Steps recorded on the oracle in all (beyond the initial recordings).
-    pub recorded_steps: usize,
+    pub(crate) recorded_steps: usize,
     /// Whether the last round found the machine unique (otherwise the round limit or the
     /// budget ended the loop).
-    pub unique: bool,
+    pub(crate) unique: bool,
 }
 
 /// The oracle's answers to `inputs` from its initial state, as a scenario.
-pub fn record(oracle: &Ecc, inputs: &[Vec<bool>], origin: Origin) -> Scenario {
+pub(crate) fn record(oracle: &Ecc, inputs: &[Vec<bool>], origin: Origin) -> Scenario {
     let mut run = Run::new(oracle);
     let steps = inputs
         .iter()
@@ -155,7 +155,7 @@ fn infer(
 /// Runs the loop from `initial` (which the oracle must reproduce). `progress` hears of every
 /// round when it ends, `events` of the parts of each round's inference (on long recordings
 /// one inference can take minutes).
-pub fn learn(
+pub(crate) fn learn(
     initial: &ScenarioSet,
     oracle: &Ecc,
     opts: &Options,
@@ -351,7 +351,11 @@ fn letter_index(letters: &[Vec<bool>]) -> std::collections::HashMap<&[bool], usi
 /// machine maps there tried it. When the machine has merged two states of the oracle, the
 /// other state answered, and the state merged with it is never asked. Probing from a
 /// point of its own (as the transition cover of conformance testing does) asks it.
-pub fn probes(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Vec<Vec<bool>>> {
+pub(crate) fn probes(
+    machine: &Ecc,
+    tree: &ScenarioTree,
+    letters: &[Vec<bool>],
+) -> Vec<Vec<Vec<bool>>> {
     let letter = letter_index(letters);
     let graph = Graph::new(machine, letters);
     let access = graph.access(letters);
@@ -397,7 +401,11 @@ pub fn probes(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<
 /// one recording, so the SAT calls are left with what only a longer sequence can show.
 /// The oracle may leave the machine's path during the tour; its answers are recorded all
 /// the same and the next round's machine accounts for them.
-pub fn tour(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Vec<Vec<bool>>> {
+pub(crate) fn tour(
+    machine: &Ecc,
+    tree: &ScenarioTree,
+    letters: &[Vec<bool>],
+) -> Vec<Vec<Vec<bool>>> {
     use std::collections::{HashSet, VecDeque};
     let letter = letter_index(letters);
     let Graph {
@@ -471,7 +479,7 @@ pub fn tour(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Ve
 /// Passive learning for comparison: `initial` plus random recordings on the oracle (input
 /// vectors drawn uniformly from `alphabet`, scenarios of `length` steps) until `steps` steps are
 /// recorded; the machine inferred from them.
-pub fn passive(
+pub(crate) fn passive(
     initial: &ScenarioSet,
     oracle: &Ecc,
     alphabet: &[Vec<bool>],
@@ -499,18 +507,18 @@ pub fn passive(
 
 /// How a machine compares with the oracle.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Agreement {
+pub(crate) struct Agreement {
     /// Over every input vector: `Ok(None)` equivalent, `Ok(Some(n))` they answer differently
     /// after `n` steps (the shortest such sequence), `Err` why they were not compared.
-    pub difference: Result<Option<usize>, String>,
+    pub(crate) difference: Result<Option<usize>, String>,
     /// Whether the machine answers as the oracle on every sequence over the alphabet of the
     /// comparison, from both initial states.
-    pub over_alphabet: bool,
+    pub(crate) over_alphabet: bool,
 }
 
 impl Agreement {
     /// Whether the machine is equivalent to the oracle over every input sequence.
-    pub fn equivalent(&self) -> bool {
+    pub(crate) fn equivalent(&self) -> bool {
         self.difference == Ok(None)
     }
 }
@@ -533,7 +541,7 @@ impl std::fmt::Display for Agreement {
 /// recordings of as many steps as the loop recorded ([`passive`]), in scenarios as long as the
 /// longest it recorded, over the alphabet of its final recordings; each compared with the
 /// oracle as the loop's machine is ([`Agreement`]).
-pub struct Comparison<'a> {
+pub(crate) struct Comparison<'a> {
     initial: &'a ScenarioSet,
     oracle: &'a Ecc,
     opts: &'a Options,
@@ -544,7 +552,7 @@ pub struct Comparison<'a> {
 
 impl<'a> Comparison<'a> {
     /// The comparison for what [`learn`] gave from `initial`.
-    pub fn new(
+    pub(crate) fn new(
         initial: &'a ScenarioSet,
         oracle: &'a Ecc,
         learned: &Learned,
@@ -568,12 +576,12 @@ impl<'a> Comparison<'a> {
     }
 
     /// Steps of each random scenario: the longest the loop recorded.
-    pub fn length(&self) -> usize {
+    pub(crate) fn length(&self) -> usize {
         self.length
     }
 
     /// How `machine` compares with the oracle.
-    pub fn agreement(&self, machine: &Ecc) -> Agreement {
+    pub(crate) fn agreement(&self, machine: &Ecc) -> Agreement {
         let difference = match difference(machine, self.oracle) {
             Ok(found) => Ok(found.map(|d| d.inputs.len())),
             Err(e) => Err(e.to_string()),
@@ -591,7 +599,7 @@ impl<'a> Comparison<'a> {
     }
 
     /// The machine passive learning infers from random recordings drawn with `seed`.
-    pub fn passive(&self, seed: u64) -> Result<Ecc, Error> {
+    pub(crate) fn passive(&self, seed: u64) -> Result<Ecc, Error> {
         passive(
             self.initial,
             self.oracle,

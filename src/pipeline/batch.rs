@@ -28,52 +28,52 @@ use std::time::{Duration, Instant};
 
 /// One PLC: its name (the file's stem or the folder's name) and where its logs are.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Plc {
+pub(crate) struct Plc {
     /// The PLC's name: the log file's stem or the subfolder's name.
-    pub name: String,
+    pub(crate) name: String,
     /// The PLC's log file or its folder of logs.
-    pub source: PathBuf,
+    pub(crate) source: PathBuf,
 }
 
 /// The properties and plant every machine is checked against (each PLC's interface gives its
 /// own closed loop), and the NuSMV that checks.
 #[derive(Debug, Clone)]
-pub struct VerificationSetup {
+pub(crate) struct VerificationSetup {
     /// The LTL specification file with the properties.
-    pub ltl: PathBuf,
+    pub(crate) ltl: PathBuf,
     /// The plant model file (SMV) every machine is closed in a loop with.
-    pub plant: PathBuf,
+    pub(crate) plant: PathBuf,
     /// The NuSMV that checks every PLC's closed loop.
-    pub nusmv: Nusmv,
+    pub(crate) nusmv: Nusmv,
 }
 
 /// A machine for one PLC.
 #[derive(Debug, Clone)]
-pub struct Reconstruction {
+pub(crate) struct Reconstruction {
     /// The minimal machine found by exact synthesis, with its figures.
-    pub synthesis: Synthesis,
+    pub(crate) synthesis: Synthesis,
     /// With a [`VerificationSetup`]: NuSMV's word that every property holds.
-    pub certificate: Option<Certificate>,
+    pub(crate) certificate: Option<Certificate>,
 }
 
 /// What one PLC gave.
 #[derive(Debug)]
-pub struct Outcome {
+pub(crate) struct Outcome {
     /// The PLC this is the outcome of.
-    pub plc: Plc,
+    pub(crate) plc: Plc,
     /// Scenarios and steps read (zero when the logs could not be read).
-    pub scenarios: usize,
+    pub(crate) scenarios: usize,
     /// Steps read in all scenarios.
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// The machine, or why there is none (read, synthesis, time limit or verification failed).
-    pub result: Result<Reconstruction, Error>,
+    pub(crate) result: Result<Reconstruction, Error>,
     /// Wall-clock seconds for this PLC: reading, synthesis and verification.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 /// The PLCs of `dir`: every log file (named by its stem) and every subfolder holding logs
 /// (named by the folder), sorted by name. Two entries with one name are refused.
-pub fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
+pub(crate) fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
     let entries =
         std::fs::read_dir(dir).map_err(|e| Error::Input(format!("{}: {e}", dir.display())))?;
     let mut found = Vec::new();
@@ -116,7 +116,7 @@ pub fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
 
 /// The scenarios of one PLC: its recordings, or with `mapping` its raw logs through the
 /// ingestion (each file one scenario).
-pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> {
+pub(crate) fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> {
     let Some(mapping) = mapping else {
         return Recordings::files(vec![plc.source.clone()]).load();
     };
@@ -138,7 +138,7 @@ pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> 
 }
 
 /// Reconstructs every PLC, `threads` at a time, each within `limit`.
-pub fn run(
+pub(crate) fn run(
     plcs: &[Plc],
     mapping: Option<&Mapping>,
     verification: Option<&VerificationSetup>,
@@ -225,7 +225,7 @@ fn reconstruct(
 
 /// Writes one PLC's machine into `dir` (created): the exports in `formats` named `name`, and
 /// with a verification NuSMV's `verification.txt`. Returns the files written.
-pub fn write(
+pub(crate) fn write(
     dir: &Path,
     r: &Reconstruction,
     name: &str,
@@ -252,56 +252,56 @@ pub fn write(
 
 /// One row of the summary: a PLC, its figures and whether it has a machine.
 #[derive(Debug, Clone, serde::Serialize)]
-pub struct Row {
+pub(crate) struct Row {
     /// The PLC's name.
-    pub plc: String,
+    pub(crate) plc: String,
     /// Its log file or folder.
-    pub source: String,
+    pub(crate) source: String,
     /// `ok`, `verified` or `failed`.
-    pub status: &'static str,
+    pub(crate) status: &'static str,
     /// Scenarios read.
-    pub scenarios: usize,
+    pub(crate) scenarios: usize,
     /// Steps read.
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// States of the machine.
     #[serde(rename = "C")]
-    pub c: Option<usize>,
+    pub(crate) c: Option<usize>,
     /// Largest out-degree of the machine.
     #[serde(rename = "K")]
-    pub k: Option<usize>,
+    pub(crate) k: Option<usize>,
     /// Transitions of the machine.
     #[serde(rename = "T")]
-    pub t: Option<usize>,
+    pub(crate) t: Option<usize>,
     /// Guard literals of the machine.
     #[serde(rename = "N")]
-    pub n: Option<usize>,
+    pub(crate) n: Option<usize>,
     /// Wall-clock seconds for this PLC.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
     /// Why a PLC has no machine.
-    pub message: String,
+    pub(crate) message: String,
 }
 
 /// What a batch wrote: one row per PLC, and the files.
 #[derive(Debug, Clone)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// The folder of logs.
-    pub logs: PathBuf,
+    pub(crate) logs: PathBuf,
     /// One row per PLC, in the folder's order.
-    pub rows: Vec<Row>,
+    pub(crate) rows: Vec<Row>,
     /// Every file written: the machines' and the summaries.
-    pub files: Vec<PathBuf>,
+    pub(crate) files: Vec<PathBuf>,
     /// Whether every PLC without a machine failed for want of one within the limits.
     only_no_machine: bool,
 }
 
 impl Summary {
     /// `summary.json`: the folder of logs and the rows.
-    pub fn to_json(&self) -> serde_json::Value {
+    pub(crate) fn to_json(&self) -> serde_json::Value {
         serde_json::json!({ "logs": self.logs, "plcs": self.rows })
     }
 
     /// `summary.csv`: the rows (RFC 4180 quoting where a cell needs it).
-    pub fn to_csv(&self) -> String {
+    pub(crate) fn to_csv(&self) -> String {
         use crate::files::csv::quote_cell as quote;
         let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
         let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
@@ -326,7 +326,7 @@ impl Summary {
 
     /// With a PLC left without a machine: the error that says which (no machine within the
     /// limits when that is why every one failed, else bad input).
-    pub fn failure(&self) -> Option<Error> {
+    pub(crate) fn failure(&self) -> Option<Error> {
         let failed: Vec<&str> = (self.rows.iter())
             .filter(|r| r.status == "failed")
             .map(|r| r.plc.as_str())
@@ -350,7 +350,7 @@ impl Summary {
 /// Writes each PLC's machine into `dir/<plc>` ([`write()`]) and the [`Summary`] as
 /// `dir/summary.csv` and `dir/summary.json`. A machine that cannot be written fails its row,
 /// not the batch.
-pub fn write_results(
+pub(crate) fn write_results(
     dir: &Path,
     logs: &Path,
     outcomes: &[Outcome],

@@ -23,18 +23,18 @@ use std::time::Instant;
 
 /// Settings of the loop.
 #[derive(Debug, Clone)]
-pub struct Config {
+pub(crate) struct Config {
     /// Options of the SAT synthesizer (bounds, encoding, budgets).
-    pub sat: Options,
+    pub(crate) sat: Options,
     /// Give up after this many candidates.
-    pub max_iterations: usize,
+    pub(crate) max_iterations: usize,
     /// Report every step of every minimization, not only one line per candidate.
-    pub verbose: bool,
+    pub(crate) verbose: bool,
     /// With the properties in the encoding: how long the final machine's `T` and `N` may take
     /// to be proven minimal ([`Proofs::Budget`]).
-    pub proof_budget: std::time::Duration,
+    pub(crate) proof_budget: std::time::Duration,
     /// The user's negative scenarios, encoded before the first candidate.
-    pub negatives: Vec<crate::scenario::negative::NegativeScenario>,
+    pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -56,26 +56,26 @@ pub struct Iteration {
     /// Names of the properties the candidate violates (empty: verified).
     pub failing: Vec<String>,
     /// Number of states of the first counterexample fed back, if any.
-    pub counterexample_length: Option<usize>,
+    pub(crate) counterexample_length: Option<usize>,
     /// Wall-clock seconds the SAT minimization of this candidate took.
     pub sat_seconds: f64,
     /// Seconds NuSMV took on this candidate (0 when it was not asked).
     pub nusmv_seconds: f64,
     /// Time of the check that gave the verdict (NuSMV's or the in-process checker's).
-    pub check_seconds: f64,
+    pub(crate) check_seconds: f64,
 }
 
 /// A verified controller.
 #[derive(Debug, Clone)]
-pub struct Verified {
+pub(crate) struct Verified {
     /// The verified machine and its figures.
-    pub synthesis: Synthesis,
+    pub(crate) synthesis: Synthesis,
     /// NuSMV's report: every property holds.
-    pub report: Report,
+    pub(crate) report: Report,
     /// Every candidate in order; the last is the result (or [`UNCHANGED`], keeping it).
-    pub iterations: Vec<Iteration>,
+    pub(crate) iterations: Vec<Iteration>,
     /// The closed-loop model NuSMV verified.
-    pub model_text: String,
+    pub(crate) model_text: String,
 }
 
 /// Why the loop ended without a verified controller.
@@ -123,7 +123,7 @@ pub enum CegisError {
 }
 
 /// Runs CEGIS; `verifier` holds the closed-loop model of the current candidate.
-pub fn run(
+pub(crate) fn run(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     verifier: &mut Verifier,

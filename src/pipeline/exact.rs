@@ -46,7 +46,8 @@
 //!
 //! Times, and the commands that reproduce them, are in `BENCHMARKS.md`.
 
-use super::cegis::{self, Iteration};
+use super::cegis;
+pub use super::cegis::{Iteration, UNCHANGED};
 use super::{Check, Error, Event, Events};
 use crate::sat::{self, Synthesis};
 use crate::scenario::negative::{self, NegativeScenario};
@@ -96,10 +97,10 @@ impl Default for Options {
 /// The default of [`Options::proof_budget`].
 /// Proving the literal count minimal in closed loop usually takes far longer than the whole
 /// synthesis, so by default the final pass only looks briefly for a smaller machine.
-pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
+pub(crate) const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
-pub const DEFAULT_MAX_OUT_DEGREE: usize = 6;
+pub(crate) const DEFAULT_MAX_OUT_DEGREE: usize = 6;
 
 impl Options {
     fn sat(&self, verified: bool) -> SatOptions {
@@ -215,7 +216,7 @@ pub fn run(
 /// and so on, until `width` such steps in a row bring no fewer guard literals, or
 /// `max_states`. Returns the machine with the fewest literals (on a tie the one found first,
 /// with fewer states). Without a check only.
-pub fn plateau(
+pub(crate) fn plateau(
     set: &ScenarioSet,
     opts: &Options,
     first: Synthesis,

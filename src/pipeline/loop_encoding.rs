@@ -18,23 +18,23 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Steps within which the encoding requires eventualities to be fulfilled when none is given.
-pub const DEFAULT_RESPONSE_BOUND: usize = 32;
+pub(crate) const DEFAULT_RESPONSE_BOUND: usize = 32;
 
 /// The encoding's view of a problem.
 #[derive(Debug, Clone)]
-pub struct LoopEncoding {
+pub(crate) struct LoopEncoding {
     /// How plant, machine and the encoded properties fit together in the SAT encoding.
-    pub spec: Arc<Spec>,
+    pub(crate) spec: Arc<Spec>,
     /// Per property (spec order): `Ok(())` if encoded, else why not.
-    pub coverage: Vec<Result<(), String>>,
+    pub(crate) coverage: Vec<Result<(), String>>,
     /// The wiring for the in-process checker ([`crate::check`]).
-    pub coupling: crate::check::Wiring,
+    pub(crate) coupling: crate::check::Wiring,
 }
 
 impl LoopEncoding {
     /// The encoding's view of `problem` for a controller over `set`'s interface; `Err` says
     /// why no property can be encoded (the plant is outside the subset, ...).
-    pub fn new(
+    pub(crate) fn new(
         problem: &Problem,
         set: &ScenarioSet,
         response_bound: usize,
@@ -112,12 +112,12 @@ impl LoopEncoding {
     }
 
     /// Whether the property at `index` (spec order) is encoded.
-    pub fn encodes(&self, index: usize) -> bool {
+    pub(crate) fn encodes(&self, index: usize) -> bool {
         self.coverage.get(index).is_some_and(|c| c.is_ok())
     }
 
     /// Names of the properties that are not encoded, with the reason.
-    pub fn not_encoded(&self, problem: &Problem) -> Vec<String> {
+    pub(crate) fn not_encoded(&self, problem: &Problem) -> Vec<String> {
         problem
             .props
             .iter()
@@ -133,7 +133,7 @@ impl LoopEncoding {
 
     /// The environment of a NuSMV counterexample: the plant's state at every step, read from
     /// the trace (`plant.x` or the alias `x`). `None` if the trace lacks a variable.
-    pub fn environment(&self, cx: &Counterexample) -> Option<Environment> {
+    pub(crate) fn environment(&self, cx: &Counterexample) -> Option<Environment> {
         let model = &self.spec.plant;
         let end = match cx.violation_at {
             Some(k) => k + 1,
@@ -156,7 +156,7 @@ impl LoopEncoding {
 
 /// The controller's side of an in-process counterexample to `property` (see
 /// [`crate::check::Wiring::negative`]). For properties the encoding does not carry.
-pub fn negative_of(
+pub(crate) fn negative_of(
     closed: &LoopEncoding,
     lasso: &crate::check::Lasso,
     property: &str,
@@ -167,7 +167,7 @@ pub fn negative_of(
 }
 
 /// The environment of an in-process counterexample.
-pub fn environment_of(lasso: &crate::check::Lasso) -> Environment {
+pub(crate) fn environment_of(lasso: &crate::check::Lasso) -> Environment {
     Environment {
         states: lasso.states.iter().map(|s| s.plant.clone()).collect(),
         loop_start: lasso.loop_start,

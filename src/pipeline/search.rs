@@ -114,7 +114,7 @@ impl Judge {
     /// Probability of judging a child below the scenario threshold: NuSMV costs about
     /// 10^4 scenario evaluations a run, the in-process checker about 10^2 (6 ms on Table I's
     /// case), so it can judge ten times as often.
-    pub fn default_probability(self) -> f64 {
+    pub(crate) fn default_probability(self) -> f64 {
         match self {
             Judge::InProcess => 0.01,
             Judge::Nusmv => 0.001,
@@ -179,13 +179,13 @@ pub struct Searched {
     /// NuSMV's check of the machine in a fresh session, on every property.
     pub verification: VerificationResult,
     /// Candidates verified by running NuSMV during the search.
-    pub nusmv_runs: u64,
+    pub(crate) nusmv_runs: u64,
     /// Candidates judged by the in-process model checker ([`crate::check`]) without NuSMV.
-    pub in_process_checks: u64,
+    pub(crate) in_process_checks: u64,
     /// Verdicts answered from the cache of machines already verified.
-    pub cache_hits: u64,
+    pub(crate) cache_hits: u64,
     /// States reachable from the initial state.
-    pub reachable_states: usize,
+    pub(crate) reachable_states: usize,
 }
 
 impl Searched {
@@ -233,7 +233,7 @@ pub fn threads(arg: Option<usize>) -> usize {
 
 /// The minimal machine SAT finds for the scenarios alone (conjunction guards, at most
 /// `max_out_degree` transitions per state, as in the exact loop), as a search machine.
-pub fn sat_start(
+pub(crate) fn sat_start(
     set: &ScenarioSet,
     max_out_degree: usize,
     events: Events<'_>,

@@ -25,7 +25,7 @@ use crate::scenario::tree::InputVec;
 use varisat::{ExtendFormula, Lit};
 
 /// The slots of the single ECC of the basic encoding: targets and literal exclusivity.
-pub fn slots(f: &mut impl ExtendFormula, cv: &CubeVars, machine: &Coloring) {
+pub(crate) fn slots(f: &mut impl ExtendFormula, cv: &CubeVars, machine: &Coloring) {
     let c = cv.c_max;
     for q in 0..c {
         for k in 0..cv.max_out_degree {
@@ -76,7 +76,7 @@ pub(crate) fn first_fire(
 
 /// Slot `k` of state `q` of machine `m` on input vector `u` with bits `bits`: whether it fires,
 /// and whether any slot up to it does (the first-fire gadget above).
-pub fn slot_fires(
+pub(crate) fn slot_fires(
     f: &mut impl ExtendFormula,
     cv: &CubeVars,
     (m, u, q, k): (usize, InputVec, usize, usize),
@@ -105,7 +105,13 @@ pub fn slot_fires(
 
 /// The basic encoding's part of input vector `u` with bits `bits`: which slot fires, hence
 /// `y[·,u,·]`.
-pub fn input(f: &mut impl ExtendFormula, v: &Vars, cv: &CubeVars, u: InputVec, bits: &[bool]) {
+pub(crate) fn input(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    cv: &CubeVars,
+    u: InputVec,
+    bits: &[bool],
+) {
     let c = v.c_max;
     for q in 0..c {
         for k in 0..cv.max_out_degree {

@@ -221,4 +221,4 @@ impl fmt::Display for Step {
 }
 
 /// Where a minimization reports its steps.
-pub type Progress<'a> = &'a mut dyn FnMut(Step);
+pub(crate) type Progress<'a> = &'a mut dyn FnMut(Step);

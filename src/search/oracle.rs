@@ -36,38 +36,38 @@ pub enum OracleError {
 }
 
 /// Something that gives verdicts on candidates; one per colony.
-pub trait Checker: Send {
+pub(crate) trait Checker: Send {
     /// The verdicts on `ecc` in closed loop with the plant (both checkers cache them).
     fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError>;
 }
 
 /// Shared cache and counters of every [`Oracle`] made from one [`Shared`].
 #[derive(Debug, Default)]
-pub struct Shared {
+pub(crate) struct Shared {
     cache: Mutex<HashMap<Ecc, Arc<Verdicts>>>,
     /// NuSMV runs.
-    pub runs: AtomicU64,
+    pub(crate) runs: AtomicU64,
     /// In-process checks.
-    pub in_process: AtomicU64,
+    pub(crate) in_process: AtomicU64,
     /// Answers from the cache.
-    pub hits: AtomicU64,
+    pub(crate) hits: AtomicU64,
 }
 
 /// The verifier of one colony with the shared cache.
-pub struct Oracle {
+pub(crate) struct Oracle {
     verifier: Verifier,
     shared: Arc<Shared>,
 }
 
 impl Oracle {
     /// A colony's oracle: its own verifier, the cache shared with the others.
-    pub fn new(verifier: Verifier, shared: Arc<Shared>) -> Oracle {
+    pub(crate) fn new(verifier: Verifier, shared: Arc<Shared>) -> Oracle {
         Oracle { verifier, shared }
     }
 }
 
 /// The verdicts of one verification run.
-pub fn verdicts_of(v: &VerificationResult, ecc: &Ecc) -> Verdicts {
+pub(crate) fn verdicts_of(v: &VerificationResult, ecc: &Ecc) -> Verdicts {
     let props = &v.report.properties;
     let satisfied = props.iter().filter(|p| p.holds).count();
     let longest = props
@@ -138,7 +138,7 @@ impl Checker for Oracle {
 
 /// The plant, wiring and properties the in-process checker needs, shared by the colonies.
 #[derive(Debug)]
-pub struct Closed {
+pub(crate) struct Closed {
     model: Arc<Model>,
     coupling: Wiring,
     props: Vec<Property>,
@@ -150,7 +150,7 @@ impl Closed {
     /// The in-process view of `problem` for a controller over the interface it was loaded
     /// with; `None` when the plant is outside what [`crate::check`] reads or the names do not
     /// wire up (NuSMV then gives every verdict).
-    pub fn new(problem: &Problem) -> Option<Closed> {
+    pub(crate) fn new(problem: &Problem) -> Option<Closed> {
         let model = problem.model.clone().ok()?;
         let coupling = Wiring::new(&model, &problem.coupling).ok()?;
         Some(Closed {
@@ -165,7 +165,7 @@ impl Closed {
 
 /// A colony's in-process checker with the shared cache; a machine on which it cannot decide
 /// (a property outside its subset, too many states) goes to NuSMV.
-pub struct InProcess {
+pub(crate) struct InProcess {
     closed: Arc<Closed>,
     nusmv: Oracle,
     memo: PlantMemo,
@@ -174,7 +174,7 @@ pub struct InProcess {
 impl InProcess {
     /// A colony's in-process checker of `closed`, falling back to `nusmv` (whose cache it
     /// shares) when it cannot decide.
-    pub fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
+    pub(crate) fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
         InProcess {
             closed,
             nusmv,

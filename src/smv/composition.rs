@@ -34,9 +34,9 @@ use std::path::{Path, PathBuf};
 pub use crate::ecc::ident::CONTROLLER_MODULE;
 
 /// Instance names in `main`.
-pub const CONTROLLER_INSTANCE: &str = "ctrl";
+pub(crate) const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
-pub const PLANT_INSTANCE: &str = "plant";
+pub(crate) const PLANT_INSTANCE: &str = "plant";
 
 /// The names the closed loop gives its own modules and instances.
 const RESERVED: &[&str] = &[
@@ -88,12 +88,12 @@ pub struct Coupling {
     /// Bare name -> what it is, sorted by name.
     pub names: BTreeMap<String, Binding>,
     /// The controller's inputs in interface order: each is a name the plant declares.
-    pub inputs: Vec<String>,
+    pub(crate) inputs: Vec<String>,
     /// The controller's outputs in interface order.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
     /// Per parameter of `MODULE plant`, in order: the index in [`Coupling::outputs`] of the
     /// controller output it is.
-    pub params: Vec<usize>,
+    pub(crate) params: Vec<usize>,
 }
 
 /// Checks the coupling convention between a controller interface, a plant and properties.
@@ -213,7 +213,7 @@ pub fn check_coupling(
 
 /// Where a line of the composed model came from.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Source {
+pub(crate) enum Source {
     /// A line of the user's plant file.
     Plant(usize),
     /// The property defined on this line of the spec file.
@@ -236,7 +236,7 @@ pub struct ComposedModel {
 
 impl ComposedModel {
     /// Where a line of the composed model came from.
-    pub fn source(&self, model_line: usize) -> Source {
+    pub(crate) fn source(&self, model_line: usize) -> Source {
         if model_line >= self.plant_first && model_line < self.plant_first + self.plant_lines {
             return Source::Plant(model_line - self.plant_first + 1);
         }
@@ -248,19 +248,19 @@ impl ComposedModel {
 
     /// Whether `model_line` is one of the two generated lines right after the plant (a blank
     /// line and `MODULE main`).
-    pub fn follows_plant(&self, model_line: usize) -> bool {
+    pub(crate) fn follows_plant(&self, model_line: usize) -> bool {
         let end = self.plant_first + self.plant_lines;
         (end..end + 2).contains(&model_line)
     }
 
     /// Property names in order.
-    pub fn property_names(&self) -> Vec<String> {
+    pub(crate) fn property_names(&self) -> Vec<String> {
         self.spec_lines.iter().map(|(_, _, n)| n.clone()).collect()
     }
 }
 
 /// Composes the closed loop of `ecc` and `plant` with `props` (checked by [`check_coupling`]).
-pub fn compose(
+pub(crate) fn compose(
     ecc: &Ecc,
     plant: &Plant,
     coupling: &Coupling,

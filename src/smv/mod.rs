@@ -6,13 +6,14 @@
 //! first, so a model never fails to parse because of a user's naming.
 
 pub mod composition;
-pub mod ecc_module;
+pub(crate) mod ecc_module;
 pub mod plant;
 
-pub use ecc_module::{state_value, write_ecc_module, SmvError};
+pub use ecc_module::SmvError;
+pub(crate) use ecc_module::{state_value, write_ecc_module};
 
-pub use crate::ecc::ident::check_smv as check_identifier;
-pub use crate::ecc::ident::{bool_literal, parse_bool_literal};
+pub(crate) use crate::ecc::ident::check_smv as check_identifier;
+pub(crate) use crate::ecc::ident::{bool_literal, parse_bool_literal};
 
 #[cfg(test)]
 mod tests {

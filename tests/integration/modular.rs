@@ -458,7 +458,7 @@ fn composite_verdicts(dir: &Path, set: &ScenarioSet, ltl: &str, plant: &str) -> 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let composite = read_back(dir, "SynthesizedFB", set);
     set.check(&composite).unwrap();
-    let problem = fbsynth::verify::Problem::load(
+    let problem = fbsynth::pipeline::Problem::load(
         &root.join(ltl),
         &root.join(plant),
         &set.inputs,

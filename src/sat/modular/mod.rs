@@ -29,9 +29,9 @@
 //! is not minimal), and replayed on every scenario before it is returned; a mismatch is
 //! reported as [`ModularError::Bug`].
 
-pub mod constraints;
-pub mod decode;
-pub mod vars;
+pub(crate) mod constraints;
+pub(crate) mod decode;
+pub(crate) mod vars;
 
 use super::card::Totalizer;
 use super::solver::{Model, Solver};
@@ -107,7 +107,7 @@ pub struct ModularSynthesis {
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct ModularStats {
     /// Nodes of the scenario tree, root included.
-    pub tree_nodes: usize,
+    pub(crate) tree_nodes: usize,
     /// Variables of the encoding as built, summed over every window of states tried.
     pub variables: usize,
     /// Clauses of the encoding as built, summed like `variables`.
@@ -115,7 +115,7 @@ pub struct ModularStats {
     /// SAT calls made.
     pub solver_calls: usize,
     /// Wall-clock seconds of the minimization (before decoding and pruning).
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// The largest out-degree `K` of the result: slots per state (more than asked when widened).
     #[serde(rename = "slots")]
     pub max_out_degree: usize,
@@ -193,7 +193,7 @@ pub enum PinError {
 
 /// Parses `--pin` arguments `MODULE=OUTPUT,OUTPUT` (modules numbered from 1) against the output
 /// names; returns the pinned outputs per module (0-based, `modules` entries).
-pub fn parse_pins(
+pub(crate) fn parse_pins(
     args: &[String],
     outputs: &[String],
     modules: usize,
@@ -537,7 +537,7 @@ fn single_machine_ceiling(
 
 /// Whether a modular controller whose modules have at most `n` states each reproduces the tree
 /// (the building block of the first minimization, exposed for tests of known minima).
-pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
+pub(crate) fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
     if n == 0 || check_options(opts).is_err() {
         return false;
     }
