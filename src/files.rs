@@ -10,7 +10,7 @@ pub(crate) mod csv;
 pub(crate) mod result_set;
 pub(crate) mod xml;
 
-pub(crate) use result_set::{ResultSet, ResultSetError};
+pub(crate) use result_set::ResultSet;
 
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};

@@ -31,6 +31,7 @@
 
 // Every public item says what it means in the domain; clippy's -D warnings keeps it so.
 #![warn(missing_docs)]
+#![cfg_attr(not(test), allow(dead_code, unused_imports))]
 
 pub mod cases;
 pub(crate) mod check;

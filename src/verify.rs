@@ -108,8 +108,6 @@ pub struct Counterexample {
     /// For a safety property `G p` (`p` without temporal operators): the first state where `p`
     /// is false. The prefix up to it is a violation on its own, whatever follows.
     pub(crate) violation_at: Option<usize>,
-    /// Whether the lasso evaluation confirmed that this loop point violates the property.
-    pub(crate) confirmed: bool,
     /// Controller state names (`s0`, ...) along the lasso, when the trace shows them.
     pub(crate) controller_states: Vec<Option<String>>,
 }
@@ -637,10 +635,7 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
         .iter()
         .copied()
         .find(|&l| p.formula.holds_on_lasso(&states, l) == Ok(false));
-    let (loop_start, confirmed) = match violating {
-        Some(l) => (l, true),
-        None => (candidates.last().copied().unwrap_or(n - 1), false),
-    };
+    let loop_start = violating.unwrap_or_else(|| candidates.last().copied().unwrap_or(n - 1));
     let key = format!("{CONTROLLER_INSTANCE}._state");
     let controller_states = states.iter().map(|s| s.get(&key).cloned()).collect();
     let violation_at = match &p.formula {
@@ -654,7 +649,6 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
         states,
         loop_start,
         violation_at,
-        confirmed,
         controller_states,
     }
 }

@@ -135,23 +135,6 @@ impl Guard {
         }
     }
 
-    /// Inputs the guard reads, sorted, without repetition.
-    pub(crate) fn vars(&self) -> Vec<InputId> {
-        fn go(g: &Guard, out: &mut Vec<InputId>) {
-            match g {
-                Guard::True | Guard::False => {}
-                Guard::Var(i) => out.push(*i),
-                Guard::Not(g) => go(g, out),
-                Guard::And(gs) | Guard::Or(gs) => gs.iter().for_each(|g| go(g, out)),
-            }
-        }
-        let mut v = Vec::new();
-        go(self, &mut v);
-        v.sort();
-        v.dedup();
-        v
-    }
-
     /// Display with input names in the project's guard syntax (`!`, `&`, `|`).
     pub(crate) fn display<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
         GuardDisplay {

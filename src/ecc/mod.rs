@@ -25,7 +25,7 @@ pub(crate) mod sim;
 
 pub use guard::Guard;
 pub use network::{Network, NetworkRun};
-pub(crate) use sim::{replay, Mismatch};
+pub(crate) use sim::replay;
 pub use sim::{Controller, Fired, Reactive, Run};
 
 use std::fmt;
@@ -131,11 +131,6 @@ impl Algorithm {
             Algorithm::Tri(t) => t.len(),
             Algorithm::Binary { a0, .. } => a0.len(),
         }
-    }
-
-    /// True when the algorithm is written for no output at all.
-    pub(crate) fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 
     /// New value of one output whose old value is `old`.

@@ -86,11 +86,6 @@ impl NetworkRun<'_> {
         self.extended = extended;
         fired
     }
-
-    /// The network's outputs.
-    pub(crate) fn outputs(&self) -> &[bool] {
-        &self.run.outputs
-    }
 }
 
 impl Reactive for NetworkRun<'_> {

@@ -156,11 +156,6 @@ impl<'a> Record<'a> {
         self.ends.len()
     }
 
-    /// Whether the record has no cells (never true for a record [`Records`] returns).
-    pub(crate) fn is_empty(&self) -> bool {
-        self.ends.is_empty()
-    }
-
     /// Cell `k` (0-based), if the record has it.
     pub(crate) fn get(&self, k: usize) -> Option<&'a [u8]> {
         let end = *self.ends.get(k)?;

@@ -30,7 +30,7 @@ pub(crate) mod repair;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use monitor::{Monitors, Outside};
+pub(crate) use monitor::Monitors;
 
 use crate::check::{CheckError, Wiring};
 use crate::deadline::Deadline;

@@ -49,10 +49,6 @@ pub(crate) struct Repaired {
     pub(crate) ecc: Ecc,
     /// Defects fixed (one per round).
     pub(crate) rounds: usize,
-    /// States added to the base.
-    pub(crate) added_states: usize,
-    /// Nodes of its closed loop with the game.
-    pub(crate) closed_loop_nodes: usize,
 }
 
 /// An output algorithm as bit masks: outputs in `set` take their bit of `values`.
@@ -392,8 +388,6 @@ pub(crate) fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repa
                         return Ok(Repaired {
                             ecc: table.to_ecc(),
                             rounds: round,
-                            added_states: table.algorithms.len() - base.states.len(),
-                            closed_loop_nodes: p.nodes.len(),
                         })
                     }
                     Some(Err(e)) => return Err(e),

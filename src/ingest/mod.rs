@@ -46,7 +46,6 @@ mod reader;
 pub(crate) use crate::scenario::steps::StepStream;
 pub use mapping::Mapping;
 pub(crate) use mapping::Slot;
-pub(crate) use reader::LogFormat;
 pub use reader::LogReader;
 pub use reader::ReadStats;
 

@@ -42,7 +42,7 @@ mod lasso;
 mod parse;
 
 pub(crate) use finite::{NotEvaluable, Truth};
-pub(crate) use lasso::EvalError;
+#[cfg(test)]
 pub(crate) use parse::parse_spec;
 pub use parse::LtlErrorKind;
 pub use parse::{parse_spec_file, LtlError};

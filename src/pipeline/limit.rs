@@ -77,16 +77,6 @@ impl Limit {
         Limit::new(Instant::now(), budget.as_secs_f64())
     }
 
-    /// The limit as given, in seconds (what the messages name).
-    pub(crate) fn seconds(&self) -> f64 {
-        self.seconds
-    }
-
-    /// When the run started.
-    pub(crate) fn started(&self) -> Instant {
-        self.started
-    }
-
     /// Seconds since the run started.
     pub(crate) fn elapsed(&self) -> f64 {
         self.started.elapsed().as_secs_f64()
@@ -95,11 +85,6 @@ impl Limit {
     /// The time left.
     pub(crate) fn left(&self) -> Duration {
         self.deadline.left().unwrap_or(Duration::MAX)
-    }
-
-    /// The deadline.
-    pub(crate) fn deadline(&self) -> Deadline {
-        self.deadline
     }
 
     /// `job` given the deadline, its events to `events` until the deadline passes; after it,

@@ -8,7 +8,7 @@
 //! counterexamples still come back as negative scenarios.
 
 use crate::ecc::ident::{parse_smv_value, SmvValue};
-use crate::ltl::{property_name, Ltl};
+use crate::ltl::Ltl;
 use crate::plant::{Model, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
 use crate::scenario::negative::NegativeScenario;
@@ -114,21 +114,6 @@ impl LoopEncoding {
     /// Whether the property at `index` (spec order) is encoded.
     pub(crate) fn encodes(&self, index: usize) -> bool {
         self.coverage.get(index).is_some_and(|c| c.is_ok())
-    }
-
-    /// Names of the properties that are not encoded, with the reason.
-    pub(crate) fn not_encoded(&self, problem: &Problem) -> Vec<String> {
-        problem
-            .props
-            .iter()
-            .enumerate()
-            .zip(&self.coverage)
-            .filter_map(|((k, p), c)| {
-                c.as_ref()
-                    .err()
-                    .map(|why| format!("{} ({why})", property_name(k, p)))
-            })
-            .collect()
     }
 
     /// The environment of a NuSMV counterexample: the plant's state at every step, read from

@@ -41,12 +41,10 @@ pub(crate) enum Site {
     Trans(usize),
     /// The k-th `FAIRNESS`/`JUSTICE` constraint.
     Fairness(usize),
-    /// An expression built by a caller (an LTL atom, a test); no line.
-    Other,
 }
 
 impl Site {
-    /// The construct as the user wrote it, and its line (0 for [`Site::Other`]).
+    /// The construct as the user wrote it, and its line.
     fn describe(self, m: &Model) -> (String, usize) {
         match self {
             Site::Init(v) => (format!("init({})", m.var(v).name), m.var(v).line),
@@ -59,7 +57,6 @@ impl Site {
             Site::Invar(k) => ("INVAR".into(), m.invar[k].line),
             Site::Trans(k) => ("TRANS".into(), m.trans[k].line),
             Site::Fairness(k) => ("FAIRNESS".into(), m.fairness[k].line),
-            Site::Other => ("expression".into(), 0),
         }
     }
 }

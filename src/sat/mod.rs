@@ -55,7 +55,6 @@ pub(crate) mod vars;
 pub(crate) use basic::{satisfiable, Proofs, Synthesizer};
 pub use basic::{synthesize, Options};
 pub use basic::{Fixed, Stats, Synthesis};
-pub(crate) use step::Progress;
 pub use step::{Bound, Step};
 
 /// Why synthesis produced no machine.

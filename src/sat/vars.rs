@@ -40,13 +40,12 @@ pub(crate) struct Coloring<'a> {
 pub(crate) enum Scope<'a> {
     /// The whole controller: it owns every output and fires on every active step.
     Whole,
-    /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
-    /// with `reads[x]` (α) and fires on the tree edge into `v` iff `fires[v]`.
+    /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ)
+    /// and fires on the tree edge into `v` iff `fires[v]` (which inputs it reads, α, its cube
+    /// guards say: [`crate::sat::modular::constraints::slots`]).
     Module {
         /// `owns[z]` (θ): the module owns output `z`.
         owns: &'a [Lit],
-        /// `reads[x]` (α): the module reads input variable `x`.
-        reads: &'a [Lit],
         /// `fires[v]`: the module makes a transition on the tree edge into node `v`.
         fires: &'a [Lit],
     },
@@ -107,8 +106,6 @@ pub(crate) struct Vars {
     /// `C_max`: states allocated (the window); a smaller `C` is an assumption
     /// ([`Vars::states_at_most`]).
     pub(crate) c_max: usize,
-    /// Number of scenario-tree nodes coloured.
-    pub(crate) nodes: usize,
     /// Input vectors allocated so far: the tree's, then those counterexamples bring
     /// ([`Vars::add_input`]).
     pub(crate) inputs: usize,
@@ -148,7 +145,6 @@ impl Vars {
         let outputs = tree.nodes[0].outputs.len();
         let mut v = Vars {
             c_max,
-            nodes,
             inputs: 0,
             outputs,
             used: alloc(f, c_max),

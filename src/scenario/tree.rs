@@ -14,7 +14,6 @@
 //! reproduces both, and building the tree fails naming both places.
 
 use super::{Origin, ScenarioError, ScenarioSet};
-use crate::ecc::bits_to_string;
 use std::collections::HashMap;
 
 /// Index of a tree node; node 0 is the root.
@@ -143,6 +142,7 @@ impl ScenarioTree {
         NodeId(0)
     }
 
+    #[cfg(test)]
     /// Number of active edges (nodes other than the root).
     pub(crate) fn active_edges(&self) -> usize {
         self.nodes.len() - 1
@@ -151,11 +151,6 @@ impl ScenarioTree {
     /// Total number of passive marks.
     pub(crate) fn passive_marks(&self) -> usize {
         self.nodes.iter().map(|n| n.passive.len()).sum()
-    }
-
-    /// Human-readable input vector.
-    pub(crate) fn input_bits(&self, u: InputVec) -> String {
-        bits_to_string(&self.input_vectors[u.0])
     }
 }
 

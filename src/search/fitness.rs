@@ -19,7 +19,7 @@
 //! [`Evaluator::evaluate`] is the hot loop: it labels the states and replays every scenario on
 //! buffers it owns, so an evaluation allocates nothing once the buffers have grown.
 
-pub(crate) use super::data::{DataError, ScenarioData, MAX_OUTPUTS};
+pub(crate) use super::data::{DataError, ScenarioData};
 use super::data::{StepData, PASSIVE};
 use super::labeling::{self, Counts};
 use super::machine::Machine;

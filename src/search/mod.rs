@@ -26,12 +26,11 @@ pub(crate) mod machine;
 pub mod operators;
 pub(crate) mod oracle;
 
-pub(crate) use algorithm::{run, Config, Restart, Stats};
+pub(crate) use algorithm::{run, Config, Restart};
 pub use algorithm::{Outcome, Progress, SearchError};
 pub use data::DataError;
 pub use data::ScenarioData;
 pub use fitness::Evaluator;
-pub(crate) use fitness::Verdicts;
 pub use fitness::{ScenarioScore, Weights};
 pub use machine::Machine;
 pub use oracle::OracleError;

@@ -252,11 +252,6 @@ impl ComposedModel {
         let end = self.plant_first + self.plant_lines;
         (end..end + 2).contains(&model_line)
     }
-
-    /// Property names in order.
-    pub(crate) fn property_names(&self) -> Vec<String> {
-        self.spec_lines.iter().map(|(_, _, n)| n.clone()).collect()
-    }
 }
 
 /// Composes the closed loop of `ecc` and `plant` with `props` (checked by [`check_coupling`]).

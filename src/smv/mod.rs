@@ -10,7 +10,6 @@ pub(crate) mod ecc_module;
 pub mod plant;
 
 pub use ecc_module::SmvError;
-pub(crate) use ecc_module::{state_value, write_ecc_module};
 
 pub(crate) use crate::ecc::ident::check_smv as check_identifier;
 pub(crate) use crate::ecc::ident::{bool_literal, parse_bool_literal};

@@ -52,15 +52,6 @@ impl Fd {
             .find(|(w, _)| *w == v)
             .map_or(B::C(false), |&(_, b)| b)
     }
-
-    /// The value as a Boolean (the condition that it is `TRUE`); `None` if it can be a
-    /// non-Boolean.
-    pub(crate) fn as_bool(&self) -> Option<B> {
-        self.0
-            .iter()
-            .all(|(v, _)| matches!(v, Value::Bool(_)))
-            .then(|| self.is(Value::Bool(true)))
-    }
 }
 
 /// Gate builder over a clause sink.
@@ -163,6 +154,7 @@ impl<F: ExtendFormula> Gates<'_, F> {
         }
     }
 
+    #[cfg(test)]
     /// `o <-> (c ? a : b)`.
     pub(crate) fn ite(&mut self, c: B, a: B, b: B) -> B {
         match c {
@@ -175,17 +167,6 @@ impl<F: ExtendFormula> Gates<'_, F> {
                 self.or2(x, y)
             }
         }
-    }
-
-    /// Forces `a -> b`.
-    pub(crate) fn implies(&mut self, a: B, b: B) {
-        self.clause(&[!a, b]);
-    }
-
-    /// Forces `a <-> b`.
-    pub(crate) fn equal(&mut self, a: B, b: B) {
-        self.clause(&[!a, b]);
-        self.clause(&[a, !b]);
     }
 
     /// Joins `(value, condition)` pairs, which may repeat values, into an [`Fd`]: one `OR`

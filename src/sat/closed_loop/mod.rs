@@ -80,13 +80,6 @@ impl Environment {
     }
 }
 
-/// Figures of one encoded environment.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Unrolled {
-    /// Positions unrolled: the environment's steps plus [`Spec::response_bound`].
-    pub(crate) steps: usize,
-}
-
 /// The names a property may read, for checking before anything is encoded: every machine
 /// output and every plant variable and define.
 pub(crate) fn resolves(spec: &Spec, name: &str) -> bool {
@@ -116,7 +109,7 @@ pub(crate) fn encode(
     cv: &CubeVars,
     spec: &Spec,
     env: &Environment,
-) -> Unrolled {
+) {
     let model = &*spec.plant;
     let mut g = Gates { f };
     let n = env.states.len();
@@ -201,7 +194,6 @@ pub(crate) fn encode(
     for p in &spec.properties {
         bounded.require(&mut g, p);
     }
-    Unrolled { steps: last + 1 }
 }
 
 #[cfg(test)]

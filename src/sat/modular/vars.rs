@@ -126,7 +126,6 @@ impl ModVars {
             parent: &self.parent[m * n * n..(m + 1) * n * n],
             scope: Scope::Module {
                 owns: &self.theta[m * d.outputs..(m + 1) * d.outputs],
-                reads: &self.alpha[m * d.bits..(m + 1) * d.bits],
                 fires: &self.fired[m * d.nodes..(m + 1) * d.nodes],
             },
         }
