@@ -19,33 +19,33 @@ impl Deadline {
     pub const NONE: Deadline = Deadline(None);
 
     /// The deadline at `at`.
-    pub fn at(at: Instant) -> Deadline {
+    pub(crate) fn at(at: Instant) -> Deadline {
         Deadline(Some(at))
     }
 
     /// The deadline `limit` from now (none if that instant is out of the clock's range).
-    pub fn after(limit: Duration) -> Deadline {
+    pub(crate) fn after(limit: Duration) -> Deadline {
         Deadline(Instant::now().checked_add(limit))
     }
 
     /// The instant, if there is a deadline.
-    pub fn instant(self) -> Option<Instant> {
+    pub(crate) fn instant(self) -> Option<Instant> {
         self.0
     }
 
     /// Whether the deadline has passed (never for [`Deadline::NONE`]).
-    pub fn passed(self) -> bool {
+    pub(crate) fn passed(self) -> bool {
         self.0.is_some_and(|at| Instant::now() >= at)
     }
 
     /// The time left (`None`: no deadline; zero once passed).
-    pub fn left(self) -> Option<Duration> {
+    pub(crate) fn left(self) -> Option<Duration> {
         self.0
             .map(|at| at.saturating_duration_since(Instant::now()))
     }
 
     /// The earlier of the two.
-    pub fn min(self, other: Deadline) -> Deadline {
+    pub(crate) fn min(self, other: Deadline) -> Deadline {
         match (self.0, other.0) {
             (Some(a), Some(b)) => Deadline(Some(a.min(b))),
             (a, b) => Deadline(a.or(b)),
@@ -53,7 +53,7 @@ impl Deadline {
     }
 
     /// `at`, or this deadline when it comes first: a budget that may not outlive the deadline.
-    pub fn cap(self, at: Instant) -> Instant {
+    pub(crate) fn cap(self, at: Instant) -> Instant {
         self.0.map_or(at, |d| d.min(at))
     }
 }

@@ -6,11 +6,12 @@
 //! half-written file behind ([`write_atomic`], [`AtomicFile`]). CSV cells are read in [`csv`],
 //! XML written in [`xml`].
 
-pub mod csv;
-pub mod result_set;
-pub mod xml;
+pub(crate) mod csv;
+pub(crate) mod result_set;
+pub(crate) mod xml;
 
-pub use result_set::{ResultSet, ResultSetError};
+pub(crate) use result_set::ResultSet;
+pub use result_set::ResultSetError;
 
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -21,7 +22,7 @@ static TEMPORARIES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::
 
 /// Removes `path` (a file or a folder with its content) if a termination signal ends the
 /// program before [`keep_on_signal`].
-pub fn remove_on_signal(path: &Path) {
+pub(crate) fn remove_on_signal(path: &Path) {
     TEMPORARIES
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -30,7 +31,7 @@ pub fn remove_on_signal(path: &Path) {
 }
 
 /// Forgets `path` for [`remove_on_signal`]: it is gone, or it is a result now.
-pub fn keep_on_signal(path: &Path) {
+pub(crate) fn keep_on_signal(path: &Path) {
     for list in [&TEMPORARIES, &MADE_FOLDERS] {
         list.lock()
             .unwrap_or_else(|e| e.into_inner())
@@ -44,7 +45,7 @@ static MADE_FOLDERS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec:
 
 /// Removes the folder `path` if it is empty once the temporaries are gone, when a termination
 /// signal ends the program before [`keep_on_signal`].
-pub fn remove_empty_on_signal(path: &Path) {
+pub(crate) fn remove_empty_on_signal(path: &Path) {
     MADE_FOLDERS
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -88,15 +89,15 @@ const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
 /// The UTF-8 encoding of U+FEFF, which Windows editors and spreadsheet programs put before
 /// the first character of a text file.
-pub const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+pub(crate) const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// A file opened for reading by [`open_input`].
-pub struct Input {
+pub(crate) struct Input {
     /// The content, decompressed when the file is gzip, without a leading byte order mark.
-    pub reader: Box<dyn BufRead>,
+    pub(crate) reader: Box<dyn BufRead>,
     /// Whether the file started with gzip's magic bytes (an error while reading is then
     /// likely a broken gzip stream).
-    pub gzip: bool,
+    pub(crate) gzip: bool,
 }
 
 /// Opens `path` for reading, gunzipping it on the fly when it starts with the gzip magic
@@ -106,7 +107,7 @@ pub struct Input {
 ///
 /// `-` is standard input: streamed on its first opening, unless [`stdin_text_head`] cached it
 /// whole before (then every opening reads the cached copy).
-pub fn open_input(path: &Path) -> std::io::Result<Input> {
+pub(crate) fn open_input(path: &Path) -> std::io::Result<Input> {
     let source: Box<dyn Read> = match is_stdin(path) {
         true => match STDIN.get() {
             Some(Ok(bytes)) => Box::new(std::io::Cursor::new(bytes.as_slice())),
@@ -129,7 +130,7 @@ pub fn open_input(path: &Path) -> std::io::Result<Input> {
 }
 
 /// Whether a file argument means standard input (or, for an output, standard output).
-pub fn is_stdin(path: &Path) -> bool {
+pub(crate) fn is_stdin(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
@@ -139,7 +140,7 @@ static STDIN: std::sync::OnceLock<Result<Vec<u8>, String>> = std::sync::OnceLock
 
 /// The first `n` bytes of standard input (reading and caching it whole), e.g. to tell a CSV
 /// log from fbSAT scenarios.
-pub fn stdin_text_head(n: usize) -> std::io::Result<Vec<u8>> {
+pub(crate) fn stdin_text_head(n: usize) -> std::io::Result<Vec<u8>> {
     let all = STDIN.get_or_init(|| {
         let mut buf = Vec::new();
         std::io::stdin()
@@ -279,7 +280,7 @@ impl ReadError {
     }
 
     /// The error with the file it is about.
-    pub fn at(self, file: &Path) -> FileReadError {
+    pub(crate) fn at(self, file: &Path) -> FileReadError {
         FileReadError {
             file: file.to_path_buf(),
             error: self,
@@ -369,7 +370,7 @@ fn bytes(n: u64) -> String {
 /// Reads all of `src`, refusing more than `max_file` bytes and, with `max_line`, a line longer
 /// than that (its line break not counted). Either is found having read at most a line past
 /// the limit, so an endless input ends in an error, not in all of memory.
-pub fn read_all(
+pub(crate) fn read_all(
     mut src: impl BufRead,
     max_line: Option<usize>,
     max_file: u64,
@@ -410,7 +411,7 @@ pub fn read_all(
 }
 
 /// The bytes as text, or the line of the first byte that is not UTF-8.
-pub fn utf8_text(bytes: Vec<u8>) -> Result<String, ReadError> {
+pub(crate) fn utf8_text(bytes: Vec<u8>) -> Result<String, ReadError> {
     String::from_utf8(bytes).map_err(|e| {
         let valid = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..valid]
@@ -455,12 +456,12 @@ pub struct WriteError {
     pub path: PathBuf,
     /// The I/O failure: creating a folder or the temporary file, writing, or renaming it.
     #[source]
-    pub source: std::io::Error,
+    pub(crate) source: std::io::Error,
 }
 
 /// What a writer does about missing folders above the file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Folders {
+pub(crate) enum Folders {
     /// Creates them.
     Create,
     /// Fails: the caller's folder must already be there.
@@ -474,7 +475,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
 }
 
 /// [`write_atomic`], saying what to do about missing parent folders.
-pub fn write_atomic_in(path: &Path, bytes: &[u8], folders: Folders) -> Result<(), WriteError> {
+pub(crate) fn write_atomic_in(
+    path: &Path,
+    bytes: &[u8],
+    folders: Folders,
+) -> Result<(), WriteError> {
     let mut file = AtomicFile::open(path, folders)?;
     file.write_all(bytes).map_err(|e| file.error(e))?;
     file.commit()
@@ -490,7 +495,7 @@ pub fn write_atomic_in(path: &Path, bytes: &[u8], folders: Folders) -> Result<()
 /// A symbolic link is followed: the file it names is replaced and the link stays. A special
 /// file (a FIFO, a device such as `/dev/null` or `/dev/stdout`) is written in place, since a
 /// rename would put a regular file where it was.
-pub struct AtomicFile {
+pub(crate) struct AtomicFile {
     path: PathBuf,
     /// Where the temporary file is renamed to: `path` with its symbolic links followed.
     target: PathBuf,
@@ -554,13 +559,13 @@ fn follow_links(path: &Path) -> PathBuf {
 
 impl AtomicFile {
     /// Starts writing `path` (parent folders are created; `.gz` paths are gzip-compressed).
-    pub fn create(path: &Path) -> Result<AtomicFile, WriteError> {
+    pub(crate) fn create(path: &Path) -> Result<AtomicFile, WriteError> {
         AtomicFile::open(path, Folders::Create)
     }
 
     /// Starts writing `path`, creating missing parent folders or not as `folders` says
     /// (`.gz` paths are gzip-compressed).
-    pub fn open(path: &Path, folders: Folders) -> Result<AtomicFile, WriteError> {
+    pub(crate) fn open(path: &Path, folders: Folders) -> Result<AtomicFile, WriteError> {
         let err = |source| WriteError {
             path: path.to_path_buf(),
             source,
@@ -607,7 +612,7 @@ impl AtomicFile {
     }
 
     /// The error for `source`, naming this file.
-    pub fn error(&self, source: std::io::Error) -> WriteError {
+    pub(crate) fn error(&self, source: std::io::Error) -> WriteError {
         WriteError {
             path: self.path.clone(),
             source,
@@ -616,7 +621,7 @@ impl AtomicFile {
 
     /// Flushes, syncs and renames the temporary file over the target path (a special file:
     /// flushes what was written into it).
-    pub fn commit(self) -> Result<(), WriteError> {
+    pub(crate) fn commit(self) -> Result<(), WriteError> {
         let path = self.path;
         let target = self.target;
         let err = |source| WriteError {
@@ -671,7 +676,7 @@ impl Write for AtomicFile {
 /// compared by device and inode (so a hard link or a symlink to an input is the input);
 /// otherwise the paths are compared after resolving their folders, so `./a.csv` and `a.csv`
 /// are the same.
-pub fn same_file(a: &Path, b: &Path) -> bool {
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt;

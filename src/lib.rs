@@ -33,26 +33,27 @@
 
 // Every public item says what it means in the domain; clippy's -D warnings keeps it so.
 #![warn(missing_docs)]
+#![cfg_attr(not(test), allow(dead_code, unused_imports))]
 
 pub mod cases;
-pub mod check;
+pub(crate) mod check;
 pub mod cli;
 pub(crate) mod command;
-pub mod deadline;
+pub(crate) mod deadline;
 pub mod ecc;
 pub mod events;
 pub mod export;
 pub mod files;
-pub mod game;
+pub(crate) mod game;
 pub mod ingest;
 pub mod ltl;
 pub mod nusmv;
 pub mod pipeline;
 pub mod plant;
-pub mod quote;
+pub(crate) mod quote;
 pub mod sat;
 pub mod scenario;
 pub mod search;
-pub mod signals;
+pub(crate) mod signals;
 pub mod smv;
-pub mod verify;
+pub(crate) mod verify;

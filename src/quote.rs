@@ -10,17 +10,17 @@
 use std::fmt;
 
 /// Text of at most this many characters is shown whole.
-pub const WHOLE: usize = 60;
+pub(crate) const WHOLE: usize = 60;
 
 /// Longer text shows this many characters, then `…` and its length.
-pub const SHOWN: usize = 40;
+pub(crate) const SHOWN: usize = 40;
 
 /// A message of another library is shown whole up to this many characters.
-pub const MESSAGE: usize = 300;
+pub(crate) const MESSAGE: usize = 300;
 
 /// Text as a message shows it; see [`quote`].
 #[derive(Debug, Clone, Copy)]
-pub struct Quoted<'a> {
+pub(crate) struct Quoted<'a> {
     text: &'a str,
     mark: &'static str,
     whole: usize,
@@ -29,7 +29,7 @@ pub struct Quoted<'a> {
 
 /// `'text'`, or for text longer than [`WHOLE`] characters its first [`SHOWN`] ones:
 /// `'abc…' (123456 characters)`.
-pub fn quote(text: &str) -> Quoted<'_> {
+pub(crate) fn quote(text: &str) -> Quoted<'_> {
     Quoted {
         text,
         mark: "'",
@@ -39,7 +39,7 @@ pub fn quote(text: &str) -> Quoted<'_> {
 }
 
 /// Like [`quote`], between backquotes: `` `text` ``.
-pub fn backquote(text: &str) -> Quoted<'_> {
+pub(crate) fn backquote(text: &str) -> Quoted<'_> {
     Quoted {
         mark: "`",
         ..quote(text)
@@ -47,7 +47,7 @@ pub fn backquote(text: &str) -> Quoted<'_> {
 }
 
 /// Like [`quote`], without quotes: for text that a message shows as it is (a number, a list).
-pub fn cut(text: &str) -> Quoted<'_> {
+pub(crate) fn cut(text: &str) -> Quoted<'_> {
     Quoted {
         mark: "",
         ..quote(text)
@@ -56,7 +56,7 @@ pub fn cut(text: &str) -> Quoted<'_> {
 
 /// A whole message of another library (serde, pest), which may quote the input it choked on
 /// whatever its length: up to [`MESSAGE`] characters whole, else cut like [`cut`].
-pub fn message(text: &str) -> Quoted<'_> {
+pub(crate) fn message(text: &str) -> Quoted<'_> {
     Quoted {
         text,
         mark: "",
@@ -109,7 +109,7 @@ impl fmt::Display for Quoted<'_> {
 /// has at most 2 × [`WHOLE`] characters, otherwise [`WHOLE`] characters on each side of the
 /// 1-based character `column`, with `…` where the line goes on. Returns the text and the
 /// column in it.
-pub fn around(line: &str, column: usize) -> (String, usize) {
+pub(crate) fn around(line: &str, column: usize) -> (String, usize) {
     // One character for one keeps the caret under its column.
     let visible: String = line
         .chars()

@@ -10,7 +10,7 @@ static HOOKS: Mutex<Vec<fn()>> = Mutex::new(Vec::new());
 static INSTALL: Once = Once::new();
 
 /// Runs `hook` when a termination signal arrives (once per distinct function).
-pub fn on_termination(hook: fn()) {
+pub(crate) fn on_termination(hook: fn()) {
     {
         let mut hooks = HOOKS.lock().unwrap_or_else(|e| e.into_inner());
         if !hooks.iter().any(|&h| h as usize == hook as usize) {
@@ -28,7 +28,7 @@ pub fn on_termination(hook: fn()) {
 }
 
 /// Runs every registered clean-up.
-pub fn run_hooks() {
+pub(crate) fn run_hooks() {
     let hooks: Vec<fn()> = HOOKS.lock().unwrap_or_else(|e| e.into_inner()).clone();
     for hook in hooks {
         hook();

@@ -16,8 +16,9 @@ use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
 use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
-use crate::smv::closed_loop::{
-    compose, compose_controller, ClosedLoop, Coupling, Source, CONTROLLER_INSTANCE, PLANT_INSTANCE,
+use crate::smv::composition::{
+    compose, compose_controller, ComposedModel, Coupling, Source, CONTROLLER_INSTANCE,
+    PLANT_INSTANCE,
 };
 use crate::smv::plant::Plant;
 use crate::smv::SmvError;
@@ -29,17 +30,17 @@ use std::time::Instant;
 #[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct PropertyReport {
     /// The property's name: its label, or `p<k>` for the unlabelled `k`-th one.
-    pub name: String,
+    pub(crate) name: String,
     /// The formula as the user wrote it.
-    pub text: String,
+    pub(crate) text: String,
     /// Line in the spec file.
-    pub line: usize,
+    pub(crate) line: usize,
     /// Whether NuSMV found the property true on the closed loop.
-    pub holds: bool,
+    pub(crate) holds: bool,
     /// NuSMV's own verdict line, verbatim.
-    pub verdict_line: String,
+    pub(crate) verdict_line: String,
     /// Length (states, without the repeated last one) of the counterexample, if one was printed.
-    pub counterexample_length: Option<usize>,
+    pub(crate) counterexample_length: Option<usize>,
 }
 
 /// The verdicts on every property, in spec order.
@@ -48,9 +49,9 @@ pub struct Report {
     /// One report per property, in spec order.
     pub properties: Vec<PropertyReport>,
     /// Wall-clock time NuSMV took to check the closed loop, in seconds.
-    pub nusmv_seconds: f64,
+    pub(crate) nusmv_seconds: f64,
     /// What NuSMV printed on stderr that no verdict accounts for ([`Session::warnings`]).
-    pub nusmv_warnings: Vec<String>,
+    pub(crate) nusmv_warnings: Vec<String>,
 }
 
 impl Report {
@@ -60,7 +61,7 @@ impl Report {
     }
 
     /// The names of the violated properties, in spec order.
-    pub fn failing(&self) -> Vec<&str> {
+    pub(crate) fn failing(&self) -> Vec<&str> {
         self.properties
             .iter()
             .filter(|p| !p.holds)
@@ -89,7 +90,7 @@ impl Report {
     }
 
     /// A line per NuSMV warning, as reports show them.
-    pub fn warning_lines(&self) -> impl Iterator<Item = String> + '_ {
+    pub(crate) fn warning_lines(&self) -> impl Iterator<Item = String> + '_ {
         (self.nusmv_warnings.iter())
             .map(|w| format!("NuSMV WARNING (read it: it may change a verdict): {w}"))
     }
@@ -99,24 +100,22 @@ impl Report {
 #[derive(Debug, Clone)]
 pub struct Counterexample {
     /// Name of the violated property (as in [`PropertyReport::name`]).
-    pub property: String,
+    pub(crate) property: String,
     /// States of the lasso without the repeated last state.
-    pub states: Vec<BTreeMap<String, String>>,
+    pub(crate) states: Vec<BTreeMap<String, String>>,
     /// Index of the state the loop returns to.
-    pub loop_start: usize,
+    pub(crate) loop_start: usize,
     /// For a safety property `G p` (`p` without temporal operators): the first state where `p`
     /// is false. The prefix up to it is a violation on its own, whatever follows.
-    pub violation_at: Option<usize>,
-    /// Whether the lasso evaluation confirmed that this loop point violates the property.
-    pub confirmed: bool,
+    pub(crate) violation_at: Option<usize>,
     /// Controller state names (`s0`, ...) along the lasso, when the trace shows them.
-    pub controller_states: Vec<Option<String>>,
+    pub(crate) controller_states: Vec<Option<String>>,
 }
 
 impl Counterexample {
     /// The run as signals to show ([`crate::export::waveform`]): the controller's `inputs`,
     /// its `outputs` and state, then the plant's own variables, in the order NuSMV names them.
-    pub fn waveform(&self, inputs: &[String], outputs: &[String]) -> Waveform {
+    pub(crate) fn waveform(&self, inputs: &[String], outputs: &[String]) -> Waveform {
         use crate::export::waveform::{Group, Signal, Value};
         let along = |key: &str| -> Vec<Value> {
             (self.states.iter())
@@ -212,13 +211,13 @@ pub enum VerifyError {
 #[derive(Debug, Clone)]
 pub struct LocatedError {
     /// The plant file, the spec file, or the generated closed-loop model.
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// 1-based line in `file`.
-    pub line: usize,
+    pub(crate) line: usize,
     /// NuSMV's message.
-    pub message: String,
+    pub(crate) message: String,
     /// The error is in generated code, not in a user file.
-    pub generated: bool,
+    pub(crate) generated: bool,
 }
 
 fn describe(errors: &[LocatedError]) -> String {
@@ -254,13 +253,13 @@ fn describe(errors: &[LocatedError]) -> String {
 #[derive(Debug, Clone)]
 pub struct Problem {
     /// The surrogate plant (`MODULE plant(...)`).
-    pub plant: Plant,
+    pub(crate) plant: Plant,
     /// How plant and controller signals are wired.
-    pub coupling: Coupling,
+    pub(crate) coupling: Coupling,
     /// The spec file the properties come from (errors are located in it).
-    pub spec_file: PathBuf,
+    pub(crate) spec_file: PathBuf,
     /// The LTL properties, in spec order.
-    pub props: Vec<Property>,
+    pub(crate) props: Vec<Property>,
     /// The plant as a model the tool can run itself ([`crate::plant`]), or why the plant is
     /// outside the subset it reads. Without it the properties stay outside the synthesis and
     /// only NuSMV's counterexamples guide it.
@@ -278,7 +277,7 @@ pub enum ProblemError {
     Plant(#[from] crate::smv::plant::PlantError),
     /// Plant, controller interface and properties do not fit together.
     #[error(transparent)]
-    Coupling(#[from] crate::smv::closed_loop::CouplingError),
+    Coupling(#[from] crate::smv::composition::CouplingError),
     /// [`Problem::select`] was asked for a property name the spec does not define.
     #[error("{file}: no property named {}", crate::quote::backquote(name), file = .file.display())]
     UnknownProperty {
@@ -302,7 +301,7 @@ impl Problem {
         // The file is read once: the scan for the coupling and the full parse share its text.
         let plant = crate::smv::plant::read_plant(plant_file)?;
         let coupling =
-            crate::smv::closed_loop::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
+            crate::smv::composition::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
         let model = crate::plant::parse::parse_str(&plant.text, plant_file)
             .map(std::sync::Arc::new)
             .map_err(|e| e.to_string());
@@ -343,7 +342,7 @@ impl Problem {
     }
 
     /// The properties' names, in spec order.
-    pub fn property_names(&self) -> Vec<String> {
+    pub(crate) fn property_names(&self) -> Vec<String> {
         self.props
             .iter()
             .enumerate()
@@ -362,7 +361,7 @@ pub struct Verifier {
 
 impl Verifier {
     /// Opens a session of `nusmv` for `problem`.
-    pub fn new(
+    pub(crate) fn new(
         problem: std::sync::Arc<Problem>,
         nusmv: &crate::nusmv::Nusmv,
     ) -> Result<Verifier, VerifyError> {
@@ -382,22 +381,26 @@ impl Verifier {
     }
 
     /// The problem this verifier checks against.
-    pub fn problem(&self) -> &Problem {
+    pub(crate) fn problem(&self) -> &Problem {
         &self.problem
     }
 
     /// The folder the models are written into (0700).
-    pub fn workdir(&self) -> &Path {
+    pub(crate) fn workdir(&self) -> &Path {
         self.workdir.path()
     }
 
     /// Verifies `ecc` in closed loop (see [`verify`]).
-    pub fn verify(&mut self, ecc: &Ecc) -> Result<Verification, VerifyError> {
+    pub(crate) fn verify(&mut self, ecc: &Ecc) -> Result<VerificationResult, VerifyError> {
         self.verify_with(ecc, CheckMode::AllCounterexamples)
     }
 
     /// Verifies `ecc`, asking NuSMV for the traces `mode` says (see [`verify`]).
-    pub fn verify_with(&mut self, ecc: &Ecc, mode: CheckMode) -> Result<Verification, VerifyError> {
+    pub(crate) fn verify_with(
+        &mut self,
+        ecc: &Ecc,
+        mode: CheckMode,
+    ) -> Result<VerificationResult, VerifyError> {
         verify(
             ecc,
             &self.problem,
@@ -414,7 +417,7 @@ impl Verifier {
         controller: String,
         inputs: &[String],
         mode: CheckMode,
-    ) -> Result<Verification, VerifyError> {
+    ) -> Result<VerificationResult, VerifyError> {
         let p = &self.problem;
         let model = compose_controller(controller, inputs, &p.plant, &p.coupling, &p.props);
         check_model(model, p, &mut self.session, self.workdir.path(), mode)
@@ -422,20 +425,20 @@ impl Verifier {
 
     /// The closed-loop model of the last check, if one was written (kept for the user when
     /// NuSMV rejects it).
-    pub fn last_model(&self) -> Option<PathBuf> {
+    pub(crate) fn last_model(&self) -> Option<PathBuf> {
         let p = self.workdir.path().join("closed_loop.smv");
         p.is_file().then_some(p)
     }
 }
 
 /// The result of one verification run.
-pub struct Verification {
+pub struct VerificationResult {
     /// The verdict on every property.
     pub report: Report,
     /// Counterexamples of the violated properties that have a trace, in spec order.
     pub counterexamples: Vec<Counterexample>,
     /// The composed model (kept for the user or for error reports).
-    pub model: ClosedLoop,
+    pub(crate) model: ComposedModel,
 }
 
 impl Drop for Verifier {
@@ -446,25 +449,25 @@ impl Drop for Verifier {
 }
 
 /// Verifies `ecc` in closed loop; `workdir` receives the model file.
-pub fn verify(
+pub(crate) fn verify(
     ecc: &Ecc,
     problem: &Problem,
     session: &mut Session,
     workdir: &Path,
     mode: CheckMode,
-) -> Result<Verification, VerifyError> {
+) -> Result<VerificationResult, VerifyError> {
     let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
     check_model(model, problem, session, workdir, mode)
 }
 
 /// Writes the composed closed loop into `workdir` and has NuSMV check it.
 fn check_model(
-    model: ClosedLoop,
+    model: ComposedModel,
     problem: &Problem,
     session: &mut Session,
     workdir: &Path,
     mode: CheckMode,
-) -> Result<Verification, VerifyError> {
+) -> Result<VerificationResult, VerifyError> {
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
     let t = Instant::now();
@@ -517,7 +520,7 @@ fn check_model(
         });
         counterexamples.extend(cx);
     }
-    Ok(Verification {
+    Ok(VerificationResult {
         report: Report {
             properties,
             nusmv_seconds,
@@ -563,7 +566,7 @@ fn match_results(
 
 fn locate_errors(
     errors: &[ModelError],
-    model: &ClosedLoop,
+    model: &ComposedModel,
     problem: &Problem,
     path: &Path,
 ) -> Vec<LocatedError> {
@@ -632,10 +635,7 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
         .iter()
         .copied()
         .find(|&l| p.formula.holds_on_lasso(&states, l) == Ok(false));
-    let (loop_start, confirmed) = match violating {
-        Some(l) => (l, true),
-        None => (candidates.last().copied().unwrap_or(n - 1), false),
-    };
+    let loop_start = violating.unwrap_or_else(|| candidates.last().copied().unwrap_or(n - 1));
     let key = format!("{CONTROLLER_INSTANCE}._state");
     let controller_states = states.iter().map(|s| s.get(&key).cloned()).collect();
     let violation_at = match &p.formula {
@@ -649,7 +649,6 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
         states,
         loop_start,
         violation_at,
-        confirmed,
         controller_states,
     }
 }
@@ -682,7 +681,7 @@ impl Counterexample {
     /// step. For a safety violation, the finite prefix up to the violating state; otherwise
     /// the lasso. `None` if a controller input or output is missing from the trace or not
     /// Boolean, or if the violation is in the initial state (no controller can avoid it).
-    pub fn negative_scenario(
+    pub(crate) fn negative_scenario(
         &self,
         inputs: &[String],
         outputs: &[String],

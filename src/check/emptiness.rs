@@ -26,7 +26,7 @@
 use std::collections::{HashMap, VecDeque};
 
 /// A graph explored on demand. Node numbers are assigned by the graph.
-pub trait Graph {
+pub(crate) trait Graph {
     type Error;
     fn initial(&mut self) -> Result<Vec<u32>, Self::Error>;
     /// Appends the successors of `n` to `out`.
@@ -37,9 +37,9 @@ pub trait Graph {
 
 /// An accepting lasso: `prefix` then `cycle` repeated forever.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct NodeLasso {
-    pub prefix: Vec<u32>,
-    pub cycle: Vec<u32>,
+pub(crate) struct NodeLasso {
+    pub(crate) prefix: Vec<u32>,
+    pub(crate) cycle: Vec<u32>,
 }
 
 /// The search state of a node: not seen, live with its depth-first number, or dead.
@@ -109,7 +109,7 @@ impl Search {
 }
 
 /// Searches for an accepting lasso; `all` is the mask of every acceptance set.
-pub fn find_lasso<G: Graph>(g: &mut G, all: u64) -> Result<Option<NodeLasso>, G::Error> {
+pub(crate) fn find_lasso<G: Graph>(g: &mut G, all: u64) -> Result<Option<NodeLasso>, G::Error> {
     let mut s = Search {
         number: HashMap::new(),
         count: 0,

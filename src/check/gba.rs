@@ -26,7 +26,7 @@ use std::collections::{BTreeSet, HashMap};
 
 /// A formula with a past operator, or too large for the automaton's bit sets.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Refused(pub String);
+pub(crate) struct Refused(pub(crate) String);
 
 /// Index of a formula in [`Nnf`].
 type F = u32;
@@ -150,24 +150,24 @@ impl Nnf {
 
 /// A state-labelled generalized Büchi automaton over the valuations of [`Gba::atoms`].
 #[derive(Debug, Clone)]
-pub struct Gba {
+pub(crate) struct Gba {
     /// The atoms the labels read, numbered as the bits of the masks.
-    pub atoms: Vec<Ltl>,
+    pub(crate) atoms: Vec<Ltl>,
     /// Per state: atoms that must be true (bit mask).
-    pub pos: Vec<u64>,
+    pub(crate) pos: Vec<u64>,
     /// Per state: atoms that must be false.
-    pub neg: Vec<u64>,
+    pub(crate) neg: Vec<u64>,
     /// Per state: the acceptance sets it belongs to (bit `i`: set `i`).
-    pub accepting: Vec<u64>,
+    pub(crate) accepting: Vec<u64>,
     /// Number of acceptance sets.
-    pub sets: usize,
-    pub initial: Vec<u32>,
-    pub successors: Vec<Vec<u32>>,
+    pub(crate) sets: usize,
+    pub(crate) initial: Vec<u32>,
+    pub(crate) successors: Vec<Vec<u32>>,
 }
 
 impl Gba {
     /// The automaton of `f`. At most 64 atoms and 64 until subformulas.
-    pub fn of(f: &Ltl) -> Result<Gba, Refused> {
+    pub(crate) fn of(f: &Ltl) -> Result<Gba, Refused> {
         let mut nnf = Nnf::default();
         let root = nnf.build(f, false)?;
         if nnf.atoms.len() > 64 {
@@ -225,7 +225,7 @@ impl Gba {
     }
 
     /// Whether state `q` accepts a letter where exactly the atoms in `valuation` hold.
-    pub fn reads(&self, q: u32, valuation: u64) -> bool {
+    pub(crate) fn reads(&self, q: u32, valuation: u64) -> bool {
         let q = q as usize;
         valuation & self.pos[q] == self.pos[q] && valuation & self.neg[q] == 0
     }

@@ -2,13 +2,13 @@
 //! LTL properties, with NuSMV's semantics (NuSMV stays the authority; this one is fast enough
 //! to run on every candidate of a synthesis loop).
 //!
-//! In: a resolved plant, the [`Coupling`] of its names with a controller interface, an ECC,
-//! future-only LTL [`Property`]s and [`Limits`]. Out: one [`Verdict`] per property, each
+//! In: a resolved plant, the [`Wiring`] of its names with a controller interface, an ECC,
+//! future-only LTL [`Property`]s and [`Limits`]. Out: one [`ExplicitVerdict`] per property, each
 //! violation with a [`Lasso`] that has been re-evaluated with [`Ltl::holds_on_lasso`]; or a
 //! [`CheckError`] (a plant evaluation error with its line, too many states, no behaviour at
 //! all).
 //!
-//! # The closed loop (as `smv::closed_loop` composes it for NuSMV)
+//! # The closed loop (as `smv::composition` composes it for NuSMV)
 //! A state is `(s, q, o)`: plant variables, ECC state, ECC outputs. Initially `q` is state 0,
 //! `o` the ECC's initial outputs and `s` an initial plant state under parameters `o`. REQ is
 //! TRUE at every step: `(q', o')` is the ECC's step from `(q, o)` on the inputs read from `s`
@@ -36,7 +36,7 @@ use crate::ltl::{CmpOp, Ltl, Property};
 use crate::plant::explicit::{self, EvalError, Semantics};
 use crate::plant::{Model, Name, Type, Value};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
-use crate::smv::closed_loop;
+use crate::smv::composition;
 use emptiness::{find_lasso, Graph};
 use gba::Gba;
 use std::collections::{BTreeMap, HashMap};
@@ -44,7 +44,7 @@ use std::sync::Arc;
 
 /// How the controller and the plant are wired, by index.
 #[derive(Debug, Clone)]
-pub struct Coupling {
+pub(crate) struct Wiring {
     /// Per ECC input (interface order): the plant variable or define it reads.
     pub(crate) inputs: Vec<Name>,
     /// Per plant parameter ([`crate::plant::ParamId`] order): the ECC output it is.
@@ -53,14 +53,17 @@ pub struct Coupling {
     pub(crate) outputs: Vec<String>,
 }
 
-impl Coupling {
+impl Wiring {
     /// Wires a controller to `model` along `coupling`, checked by
-    /// [`check_coupling`](closed_loop::check_coupling) on the plant file `model` was read from
+    /// [`check_coupling`](composition::check_coupling) on the plant file `model` was read from
     /// (as [`crate::verify::Problem::load`] does): the plant variable or define each input
     /// reads, the output each plant parameter is. The coupling convention is not checked again;
     /// refused here is what this checker cannot run (an input on a variable that is not
     /// Boolean, more than 64 outputs) and a `model` of another plant.
-    pub fn new(model: &Model, coupling: &closed_loop::Coupling) -> Result<Coupling, CheckError> {
+    pub(crate) fn new(
+        model: &Model,
+        coupling: &composition::Coupling,
+    ) -> Result<Wiring, CheckError> {
         let bad = |message: String| CheckError::Coupling {
             file: model.file.display().to_string(),
             message,
@@ -98,7 +101,7 @@ impl Coupling {
                 coupling.outputs.len()
             )));
         }
-        Ok(Coupling {
+        Ok(Wiring {
             inputs: wired,
             params: coupling.params.clone(),
             outputs: coupling.outputs.clone(),
@@ -112,14 +115,14 @@ impl Coupling {
         model: &Model,
         inputs: &[String],
         outputs: &[String],
-    ) -> Result<Coupling, String> {
+    ) -> Result<Wiring, String> {
         let text = crate::plant::print::to_smv(model);
         let plant =
             crate::smv::plant::parse_plant(&model.file, &text).map_err(|e| e.to_string())?;
         let spec = std::path::Path::new("t.ltl");
-        let coupling = closed_loop::check_coupling(inputs, outputs, &plant, spec, &[])
+        let coupling = composition::check_coupling(inputs, outputs, &plant, spec, &[])
             .map_err(|e| e.to_string())?;
-        Coupling::new(model, &coupling).map_err(|e| e.to_string())
+        Wiring::new(model, &coupling).map_err(|e| e.to_string())
     }
 
     /// The plant parameters for the output bits `o` (bit `z`: output `z`).
@@ -128,7 +131,7 @@ impl Coupling {
     }
 
     /// The controller's inputs (interface order) on a state of the closed loop.
-    pub fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
+    pub(crate) fn inputs_on(&self, model: &Model, s: &LoopState) -> Result<Vec<bool>, CheckError> {
         let params: Vec<bool> = self.params.iter().map(|&z| s.outputs[z]).collect();
         self.read_inputs(&Semantics::new(model), &s.plant, &params)
     }
@@ -160,7 +163,7 @@ impl Coupling {
     /// The controller's side of a counterexample to `property`: the lasso of its inputs and
     /// outputs, which a machine must leave to avoid the same run of the plant (the plant sees
     /// only the outputs).
-    pub fn negative(
+    pub(crate) fn negative(
         &self,
         model: &Model,
         lasso: &Lasso,
@@ -195,7 +198,7 @@ impl Coupling {
 
 /// The verdict on one property.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Verdict {
+pub(crate) enum ExplicitVerdict {
     /// The property holds on every fair run of the closed loop.
     Holds,
     /// A run of the closed loop on which the property is false.
@@ -206,29 +209,29 @@ pub enum Verdict {
 
 /// A lasso-shaped run: `states[..loop_start]` followed by `states[loop_start..]` forever.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Lasso {
+pub(crate) struct Lasso {
     /// The run's states; the last one's successor is `states[loop_start]`.
-    pub states: Vec<LoopState>,
+    pub(crate) states: Vec<LoopState>,
     /// Index in `states` where the repeated cycle starts (`< states.len()`).
-    pub loop_start: usize,
+    pub(crate) loop_start: usize,
 }
 
 /// One state of the closed loop.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct LoopState {
+pub(crate) struct LoopState {
     /// The plant's variables, indexed by [`crate::plant::VarId`].
-    pub plant: Vec<Value>,
+    pub(crate) plant: Vec<Value>,
     /// The ECC's state.
-    pub ctrl: StateId,
+    pub(crate) ctrl: StateId,
     /// The ECC's outputs, in interface order.
-    pub outputs: Vec<bool>,
+    pub(crate) outputs: Vec<bool>,
 }
 
 /// Bounds on the exploration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Limits {
+pub(crate) struct Limits {
     /// Most closed-loop states (or plant states, for [`behaviour`]) explored.
-    pub max_states: usize,
+    pub(crate) max_states: usize,
 }
 
 impl Default for Limits {
@@ -252,7 +255,7 @@ pub enum CheckError {
         /// What does not fit.
         message: String,
     },
-    /// The ECC is invalid, or its interface is not the one the [`Coupling`] was made for.
+    /// The ECC is invalid, or its interface is not the one the [`Wiring`] was made for.
     #[error("the controller: {0}")]
     Ecc(String),
     /// Evaluating a plant expression failed (located in the plant file).
@@ -292,11 +295,11 @@ pub enum CheckError {
 /// The properties' negations as Büchi automata, built once for many [`check_with`] calls (a
 /// search checks thousands of machines against the same properties).
 #[derive(Debug, Clone)]
-pub struct Automata(Vec<Result<Gba, gba::Refused>>);
+pub(crate) struct Automata(Vec<Result<Gba, gba::Refused>>);
 
 impl Automata {
     /// Builds the automaton of each property's negation (or why it is refused), in order.
-    pub fn of(props: &[Property]) -> Automata {
+    pub(crate) fn of(props: &[Property]) -> Automata {
         Automata(
             props
                 .iter()
@@ -310,7 +313,7 @@ impl Automata {
 /// across the checks of many machines against one plant and coupling (a search's), where it
 /// was most of the work of building each closed loop. Use one memo per plant and coupling.
 #[derive(Debug, Default)]
-pub struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
+pub(crate) struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
 
 /// Plant successor states, shared between the memo and a closed loop's build.
 type Successors = Arc<[Box<[Value]>]>;
@@ -338,7 +341,7 @@ impl PlantMemo {
     fn at(
         &mut self,
         sem: &Semantics,
-        coupling: &Coupling,
+        coupling: &Wiring,
         key: &Key,
     ) -> Result<(Arc<[bool]>, u64), CheckError> {
         let e = self.entry(&key.plant);
@@ -355,7 +358,7 @@ impl PlantMemo {
     fn successors(
         &mut self,
         sem: &Semantics,
-        coupling: &Coupling,
+        coupling: &Wiring,
         key: &Key,
         next_outputs: u64,
     ) -> Result<Successors, CheckError> {
@@ -376,13 +379,13 @@ impl PlantMemo {
 }
 
 /// Checks every property on the closed loop of `model` and `ecc`.
-pub fn check(
+pub(crate) fn check(
     model: &Model,
-    coupling: &Coupling,
+    coupling: &Wiring,
     ecc: &Ecc,
     props: &[Property],
     limits: &Limits,
-) -> Result<Vec<Verdict>, CheckError> {
+) -> Result<Vec<ExplicitVerdict>, CheckError> {
     check_with(
         model,
         coupling,
@@ -395,22 +398,22 @@ pub fn check(
 }
 
 /// [`check`] with the automata of `props` built beforehand.
-pub fn check_with(
+pub(crate) fn check_with(
     model: &Model,
-    coupling: &Coupling,
+    coupling: &Wiring,
     ecc: &Ecc,
     props: &[Property],
     automata: &Automata,
     limits: &Limits,
     memo: &mut PlantMemo,
-) -> Result<Vec<Verdict>, CheckError> {
+) -> Result<Vec<ExplicitVerdict>, CheckError> {
     ecc.validate().map_err(CheckError::Ecc)?;
     if ecc.inputs.len() != coupling.inputs.len() || ecc.outputs != coupling.outputs {
         return Err(CheckError::Ecc(
             "its interface is not the one the coupling was made for".into(),
         ));
     }
-    let closed = ClosedLoop::build(model, coupling, ecc, limits, memo)?;
+    let closed = ExplicitLoop::build(model, coupling, ecc, limits, memo)?;
     let fairness = model.fairness.len();
     let all_fair = mask(fairness);
     if closed.initial.is_empty() {
@@ -430,12 +433,12 @@ pub fn check_with(
         let gba = match gba {
             Ok(g) => g,
             Err(gba::Refused(why)) => {
-                verdicts.push(Verdict::Unsupported(why.clone()));
+                verdicts.push(ExplicitVerdict::Unsupported(why.clone()));
                 continue;
             }
         };
         if gba.sets + fairness > 64 {
-            verdicts.push(Verdict::Unsupported(format!(
+            verdicts.push(ExplicitVerdict::Unsupported(format!(
                 "{} acceptance sets and {fairness} fairness conditions (at most 64 in all)",
                 gba.sets
             )));
@@ -477,13 +480,13 @@ pub fn check_with(
         };
         let all = mask(gba.sets) | all_fair << gba.sets;
         verdicts.push(match find_lasso(&mut product, all)? {
-            None => Verdict::Holds,
+            None => ExplicitVerdict::Holds,
             Some(l) => {
                 let nodes = nodes as u32;
                 let project = |v: &[u32]| v.iter().map(|n| n / nodes).collect::<Vec<u32>>();
                 let lasso = closed.lasso(&project(&l.prefix), &project(&l.cycle));
                 closed.confirm(&p.formula, &lasso)?;
-                Verdict::Violated(lasso)
+                ExplicitVerdict::Violated(lasso)
             }
         });
     }
@@ -492,7 +495,7 @@ pub fn check_with(
 
 /// Checks that the plant alone, its parameters chosen freely at every step, has an initial
 /// state and a fair infinite path: [`CheckError::NoBehaviour`] otherwise.
-pub fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {
+pub(crate) fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {
     if model.params.len() > 16 || model.fairness.len() > 64 {
         return Err(CheckError::Coupling {
             file: model.file.display().to_string(),
@@ -568,9 +571,9 @@ impl OutputEffect {
 }
 
 /// The reachable closed loop, explicitly.
-struct ClosedLoop<'a> {
+struct ExplicitLoop<'a> {
     sem: Semantics<'a>,
-    coupling: &'a Coupling,
+    coupling: &'a Wiring,
     keys: Vec<Key>,
     succ: Vec<Vec<u32>>,
     initial: Vec<u32>,
@@ -578,14 +581,14 @@ struct ClosedLoop<'a> {
     fair: Vec<u64>,
 }
 
-impl<'a> ClosedLoop<'a> {
+impl<'a> ExplicitLoop<'a> {
     fn build(
         model: &'a Model,
-        coupling: &'a Coupling,
+        coupling: &'a Wiring,
         ecc: &Ecc,
         limits: &Limits,
         memo: &mut PlantMemo,
-    ) -> Result<ClosedLoop<'a>, CheckError> {
+    ) -> Result<ExplicitLoop<'a>, CheckError> {
         let sem = Semantics::new(model);
         let effects: Vec<OutputEffect> = ecc
             .states
@@ -597,7 +600,7 @@ impl<'a> ClosedLoop<'a> {
             .iter()
             .enumerate()
             .fold(0u64, |o, (z, &v)| o | (v as u64) << z);
-        let mut c = ClosedLoop {
+        let mut c = ExplicitLoop {
             sem,
             coupling,
             keys: Vec::new(),
@@ -606,7 +609,7 @@ impl<'a> ClosedLoop<'a> {
             fair: Vec::new(),
         };
         let mut index: HashMap<Key, u32> = HashMap::new();
-        let mut intern = |c: &mut ClosedLoop, key: Key| -> Result<u32, CheckError> {
+        let mut intern = |c: &mut ExplicitLoop, key: Key| -> Result<u32, CheckError> {
             if let Some(&i) = index.get(&key) {
                 return Ok(i);
             }
@@ -747,7 +750,7 @@ impl<'a> ClosedLoop<'a> {
 }
 
 /// The closed loop itself as a graph whose acceptance sets are the fairness conditions.
-struct Plain<'c, 'a>(&'c ClosedLoop<'a>);
+struct Plain<'c, 'a>(&'c ExplicitLoop<'a>);
 
 impl Graph for Plain<'_, '_> {
     type Error = CheckError;
@@ -766,7 +769,7 @@ impl Graph for Plain<'_, '_> {
 /// The product of the closed loop with the automaton of a negated property: node
 /// `s * |Q| + q`.
 struct Product<'p, 'a> {
-    closed: &'p ClosedLoop<'a>,
+    closed: &'p ExplicitLoop<'a>,
     gba: &'p Gba,
     labels: &'p [u64],
 }
@@ -946,7 +949,7 @@ impl Atom {
         }
     }
 
-    pub(crate) fn resolve(a: &Ltl, model: &Model, coupling: &Coupling) -> Result<Atom, String> {
+    pub(crate) fn resolve(a: &Ltl, model: &Model, coupling: &Wiring) -> Result<Atom, String> {
         let name = |n: &str| -> Option<Source> {
             if let Some(z) = coupling.outputs.iter().position(|o| o == n) {
                 return Some(Source::Output(z));
@@ -994,7 +997,7 @@ impl Atom {
         }
     }
 
-    fn holds(&self, c: &ClosedLoop, k: &Key, params: &[bool]) -> Result<bool, AtomError> {
+    fn holds(&self, c: &ExplicitLoop, k: &Key, params: &[bool]) -> Result<bool, AtomError> {
         self.holds_on(&c.sem, &k.plant, k.outputs, params)
     }
 

@@ -46,8 +46,8 @@ fn toggle() -> Ecc {
     }
 }
 
-fn verdicts(model: &Model, ecc: &Ecc, texts: &[&str]) -> Vec<Verdict> {
-    let coupling = Coupling::of_model(model, &ecc.inputs, &ecc.outputs).unwrap();
+fn verdicts(model: &Model, ecc: &Ecc, texts: &[&str]) -> Vec<ExplicitVerdict> {
+    let coupling = Wiring::of_model(model, &ecc.inputs, &ecc.outputs).unwrap();
     let props: Vec<Property> = texts.iter().map(|t| prop(t)).collect();
     check(model, &coupling, ecc, &props, &Limits::default()).unwrap()
 }
@@ -67,15 +67,15 @@ fn lamp_verdicts_and_counterexamples() {
             "Y lamp",
         ],
     );
-    assert_eq!(v[0], Verdict::Holds);
-    assert_eq!(v[1], Verdict::Holds);
-    let Verdict::Violated(l) = &v[2] else {
+    assert_eq!(v[0], ExplicitVerdict::Holds);
+    assert_eq!(v[1], ExplicitVerdict::Holds);
+    let ExplicitVerdict::Violated(l) = &v[2] else {
         panic!("F lamp is violated: the button may never be pressed")
     };
     assert!(l.states.iter().all(|s| s.plant[0] == Value::Bool(false)));
-    assert!(matches!(v[3], Verdict::Violated(_)));
-    assert_eq!(v[4], Verdict::Holds);
-    assert!(matches!(&v[5], Verdict::Unsupported(why) if why.contains("past")));
+    assert!(matches!(v[3], ExplicitVerdict::Violated(_)));
+    assert_eq!(v[4], ExplicitVerdict::Holds);
+    assert!(matches!(&v[5], ExplicitVerdict::Unsupported(why) if why.contains("past")));
 }
 
 #[test]
@@ -87,8 +87,8 @@ fn fairness_restricts_the_paths() {
     });
     // With the button pressed infinitely often, the lamp is lit infinitely often.
     let v = verdicts(&m, &toggle(), &["G F lamp", "F G lamp"]);
-    assert_eq!(v[0], Verdict::Holds);
-    let Verdict::Violated(l) = &v[1] else {
+    assert_eq!(v[0], ExplicitVerdict::Holds);
+    let ExplicitVerdict::Violated(l) = &v[1] else {
         panic!("F G lamp is violated")
     };
     let pressed_in_loop = l.states[l.loop_start..]
@@ -118,7 +118,7 @@ fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
     for (what, m) in dead {
         let e = behaviour(&m, &Limits::default()).unwrap_err();
         assert!(matches!(e, CheckError::NoBehaviour { .. }), "{what}: {e}");
-        let coupling = Coupling::of_model(&m, &["button".into()], &["on".into()]).unwrap();
+        let coupling = Wiring::of_model(&m, &["button".into()], &["on".into()]).unwrap();
         let e = check(
             &m,
             &coupling,
@@ -141,7 +141,7 @@ fn no_behaviour_is_an_error_not_a_vacuous_verdict() {
 #[test]
 fn the_state_limit_is_an_error() {
     let (m, e) = (lamp(), toggle());
-    let coupling = Coupling::of_model(&m, &e.inputs, &e.outputs).unwrap();
+    let coupling = Wiring::of_model(&m, &e.inputs, &e.outputs).unwrap();
     let err = check(
         &m,
         &coupling,
@@ -167,24 +167,24 @@ fn the_state_limit_is_an_error() {
 #[test]
 fn coupling_mistakes_are_reported() {
     let m = lamp();
-    let e = Coupling::of_model(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
+    let e = Wiring::of_model(&m, &["lamp_off".into()], &["on".into()]).unwrap_err();
     assert!(
         e.to_string().contains("no variable or define 'lamp_off'"),
         "{e}"
     );
-    let e = Coupling::of_model(&m, &["button".into()], &["off".into()]).unwrap_err();
+    let e = Wiring::of_model(&m, &["button".into()], &["off".into()]).unwrap_err();
     assert!(
         e.to_string()
             .contains("plant parameter 'on' is not a controller output"),
         "{e}"
     );
-    let e = Coupling::of_model(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
+    let e = Wiring::of_model(&m, &["button".into()], &["on".into(), "lamp".into()]).unwrap_err();
     assert!(
         e.to_string()
             .contains("'lamp' has the name of a plant variable"),
         "{e}"
     );
-    let c = Coupling::of_model(&m, &["button".into()], &["on".into()]).unwrap();
+    let c = Wiring::of_model(&m, &["button".into()], &["on".into()]).unwrap();
     let e = check(&m, &c, &toggle(), &[prop("G nothing")], &Limits::default()).unwrap_err();
     assert!(e.to_string().contains("unknown name 'nothing'"), "{e}");
 }
@@ -196,7 +196,7 @@ fn evaluation_errors_name_the_construct_and_line() {
     b.init(&n, int(0));
     b.next(&n, bin(BinOp::Add, n.clone(), int(1)));
     let m = b.m;
-    let coupling = Coupling::of_model(&m, &[], &[]).unwrap();
+    let coupling = Wiring::of_model(&m, &[], &[]).unwrap();
     let ecc = Ecc {
         inputs: vec![],
         outputs: vec![],
@@ -417,7 +417,7 @@ fn pnp_props() -> Vec<Property> {
 fn pnp_reference_controller_satisfies_its_specification() {
     let model = pnp_plant();
     let ecc = crate::cases::pnp::reference();
-    let coupling = Coupling::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
+    let coupling = Wiring::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
     let props = pnp_props();
     behaviour(&model, &Limits::default()).unwrap();
     let start = std::time::Instant::now();
@@ -427,7 +427,7 @@ fn pnp_reference_controller_satisfies_its_specification() {
         props.len(),
         start.elapsed()
     );
-    assert!(v.iter().all(|v| *v == Verdict::Holds), "{v:?}");
+    assert!(v.iter().all(|v| *v == ExplicitVerdict::Holds), "{v:?}");
     // The plain "every piece on track 2 is picked up" is false (track 1 starves it).
     let v = check(
         &model,
@@ -437,7 +437,7 @@ fn pnp_reference_controller_satisfies_its_specification() {
         &Limits::default(),
     )
     .unwrap();
-    assert!(matches!(v[0], Verdict::Violated(_)));
+    assert!(matches!(v[0], ExplicitVerdict::Violated(_)));
 }
 
 #[test]
@@ -446,7 +446,7 @@ fn pnp_random_machines_check_fast() {
     let props = pnp_props();
     let inputs = crate::cases::pnp::input_names();
     let outputs = crate::cases::pnp::output_names();
-    let coupling = Coupling::of_model(&model, &inputs, &outputs).unwrap();
+    let coupling = Wiring::of_model(&model, &inputs, &outputs).unwrap();
     let mut worst = std::time::Duration::ZERO;
     for seed in 0..5 {
         let mut ecc = crate::ecc::random::random_ecc(seed, 8, inputs.len(), outputs.len());
@@ -488,12 +488,12 @@ fn pnp_verdicts_agree_with_nusmv_on_the_shipped_plant() {
         machines.push(e);
     }
     for (k, ecc) in machines.iter().enumerate() {
-        let coupling = Coupling::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
+        let coupling = Wiring::of_model(&model, &ecc.inputs, &ecc.outputs).unwrap();
         let ours = check(&model, &coupling, ecc, &props, &Limits::default()).unwrap();
         if k == 0 {
-            assert!(matches!(ours.last(), Some(Verdict::Violated(_))));
+            assert!(matches!(ours.last(), Some(ExplicitVerdict::Violated(_))));
         }
-        let smv_coupling = crate::smv::closed_loop::check_coupling(
+        let smv_coupling = crate::smv::composition::check_coupling(
             &ecc.inputs,
             &ecc.outputs,
             &plant,
@@ -501,14 +501,14 @@ fn pnp_verdicts_agree_with_nusmv_on_the_shipped_plant() {
             &props,
         )
         .unwrap();
-        let closed = crate::smv::closed_loop::compose(ecc, &plant, &smv_coupling, &props).unwrap();
+        let closed = crate::smv::composition::compose(ecc, &plant, &smv_coupling, &props).unwrap();
         let file = dir.path().join(format!("pnp{k}.smv"));
         std::fs::write(&file, closed.text).unwrap();
         let theirs = differential::nusmv_verdicts(&nusmv.path, &file);
         for (i, (p, v)) in props.iter().zip(&ours).enumerate() {
             let name = crate::ltl::property_name(i, p);
             assert_eq!(
-                *v == Verdict::Holds,
+                *v == ExplicitVerdict::Holds,
                 theirs[&name],
                 "machine {k}, property {name}: in-process {v:?}"
             );

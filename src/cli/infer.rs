@@ -267,7 +267,7 @@ fn request(args: &InferArgs, to_stdout: bool, progress: &Progress) -> Result<Req
             guard_budget: pipeline::seconds("--guard-budget", args.guard_budget, false)?,
             fixed: crate::sat::Fixed {
                 states: f.states,
-                out_degree: f.out_degree,
+                max_out_degree: f.out_degree,
                 transitions: f.transitions,
             },
             ..exact::SatOptions::default()

@@ -48,7 +48,7 @@ pub struct MainArgs {
     #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
     pub max_states: usize,
     /// Transitions per state at most (each guarded by a conjunction of input literals).
-    #[arg(long, default_value_t = exact::DEFAULT_OUT_DEGREE, value_name = "K", value_parser = super::args::per_state())]
+    #[arg(long, default_value_t = exact::DEFAULT_MAX_OUT_DEGREE, value_name = "K", value_parser = super::args::per_state())]
     pub max_out_degree: usize,
     /// Give up after this many candidate controllers.
     #[arg(long, default_value_t = 500, value_name = "N")]
@@ -188,7 +188,7 @@ fn exact_options(args: &MainArgs) -> Result<exact::Options, Error> {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
             max_states: args.max_states,
-            cube_slots: Some(args.max_out_degree),
+            max_out_degree: Some(args.max_out_degree),
             ..exact::SatOptions::default()
         },
         max_iterations: args.max_iterations,

@@ -6,7 +6,7 @@ use super::{out_dir, publish};
 use crate::ecc::Ecc;
 use crate::export;
 use crate::files::{write_atomic, ResultSet};
-use crate::pipeline::ambiguity::{self, Ambiguity, Verdict};
+use crate::pipeline::ambiguity::{self, Ambiguity, Uniqueness};
 use crate::pipeline::summary::AmbiguitySummary;
 use crate::pipeline::{exact, recordings, Check, Error, Event, Events, Note, Recordings};
 use crate::scenario::ScenarioSet;
@@ -103,10 +103,10 @@ pub(crate) fn report_verified(
         });
     }
     match (report.found.verdict, fitting) {
-        (Verdict::Ambiguous, 0) => report.verified.push(
+        (Uniqueness::Ambiguous, 0) => report.verified.push(
             "every rival found violates a property: the properties, not the recordings, tell them apart (more rivals may exist: --rivals N)".into(),
         ),
-        (Verdict::Ambiguous, n) => report.verified.push(format!(
+        (Uniqueness::Ambiguous, n) => report.verified.push(format!(
             "ambiguous with the properties: {n} rival{} reproduce{} the recordings and satisfy every property",
             if n == 1 { "" } else { "s" },
             if n == 1 { "s" } else { "" }
@@ -147,12 +147,14 @@ impl fmt::Display for Plan {
         write!(f, "{}", self.report)?;
         let found = &self.report.found;
         match found.verdict {
-            Verdict::Unique => write!(
+            Uniqueness::Unique => write!(
                 f,
                 "nothing to record: the recordings determine the machine within the bounds above"
             ),
-            Verdict::Unknown => write!(f, "no plan: the check found no answer within the budget"),
-            Verdict::Ambiguous => write!(
+            Uniqueness::Unknown => {
+                write!(f, "no plan: the check found no answer within the budget")
+            }
+            Uniqueness::Ambiguous => write!(
                 f,
                 "plan: {} sequences, {} steps to record in all",
                 found.rivals.len(),

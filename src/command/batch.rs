@@ -5,7 +5,7 @@ use super::{out_dir, Spec};
 use crate::export::Format;
 use crate::files::ResultSet;
 use crate::ingest::Mapping;
-use crate::pipeline::batch::{self, Outcome, Verification};
+use crate::pipeline::batch::{self, Outcome, VerificationSetup};
 use crate::pipeline::summary::BatchSummary;
 use crate::pipeline::{exact, recordings, Error, Event, Events, Note};
 use std::fmt;
@@ -95,7 +95,7 @@ pub(crate) fn run(
     };
     let plcs = batch::plcs(&r.logs)?;
     let verification = match &r.spec {
-        Some(spec) => Some(Verification {
+        Some(spec) => Some(VerificationSetup {
             ltl: spec.ltl.clone(),
             plant: spec.plant.clone(),
             nusmv: spec.nusmv.locate()?,

@@ -5,7 +5,7 @@ use super::refuse_overwrite;
 use crate::cases::reference;
 use crate::ecc::Ecc;
 use crate::pipeline::active::{self, Agreement, Comparison, Learned};
-use crate::pipeline::ambiguity::Verdict;
+use crate::pipeline::ambiguity::Uniqueness;
 use crate::pipeline::summary::{LearnSummary, PassiveSummary, RoundSummary, LEARN};
 use crate::pipeline::{recordings, Error, Events, Recordings};
 use std::fmt;
@@ -62,8 +62,8 @@ impl fmt::Display for Done {
             self.initial_steps,
             l.machine.states.len(),
             match l.rounds.last().and_then(|r| r.verdict) {
-                Some(Verdict::Unique) => "unique",
-                Some(Verdict::Ambiguous) => "still ambiguous (round limit)",
+                Some(Uniqueness::Unique) => "unique",
+                Some(Uniqueness::Ambiguous) => "still ambiguous (round limit)",
                 _ => "no verdict within the budget",
             },
             self.agreement

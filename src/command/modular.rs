@@ -34,8 +34,8 @@ impl Modules {
     pub fn options(&self, r: &Request, set: &ScenarioSet) -> Result<modular::Options, Error> {
         Ok(modular::Options {
             modules: self.count,
-            slots: self.slots.unwrap_or(modular::DEFAULT_SLOTS),
-            widen_slots: self.slots.is_none(),
+            max_out_degree: self.slots.unwrap_or(modular::DEFAULT_MAX_OUT_DEGREE),
+            widen_max_out_degree: self.slots.is_none(),
             max_states: r.sat.max_states,
             algorithms: r.sat.algorithms,
             pins: modular::parse_pins(&self.pins, &set.outputs, self.count)?,
@@ -64,7 +64,7 @@ fn describe(f: &mut fmt::Formatter<'_>, result: &ModularSynthesis) -> fmt::Resul
         modular::Topology::Consecutive => " in a chain",
         modular::Topology::Parallel => "",
     };
-    let widened = match result.stats.slots > modular::DEFAULT_SLOTS {
+    let widened = match result.stats.max_out_degree > modular::DEFAULT_MAX_OUT_DEGREE {
         true => ", widened",
         false => "",
     };
@@ -75,7 +75,7 @@ fn describe(f: &mut fmt::Formatter<'_>, result: &ModularSynthesis) -> fmt::Resul
         s.max_states,
         s.inputs_used,
         s.total_states,
-        result.stats.slots,
+        result.stats.max_out_degree,
     )?;
     (result.modular.describe().iter()).try_for_each(|line| writeln!(f, "  {line}"))
 }
@@ -253,7 +253,7 @@ impl fmt::Display for Network {
             s.max_states,
             s.inputs_used,
             s.total_states,
-            synthesis.stats.slots
+            synthesis.stats.max_out_degree
         )?;
         for (module, name) in network.modular.modules.iter().zip(&network.names) {
             let size = module.ecc.size();
@@ -305,7 +305,7 @@ pub(crate) fn network(
     };
     let results = r.open()?;
     let opts = distributed::Options {
-        slots: modules.slots.unwrap_or(modular::DEFAULT_SLOTS),
+        max_out_degree: modules.slots.unwrap_or(modular::DEFAULT_MAX_OUT_DEGREE),
         max_states: r.sat.max_states,
         algorithms: r.sat.algorithms,
         deadline: crate::deadline::Deadline::NONE,

@@ -15,17 +15,17 @@ use super::{Ecc, StateId};
 use std::collections::{HashMap, VecDeque};
 
 /// Inputs the search enumerates at most (2^16 input vectors per configuration pair).
-pub const MAX_INPUTS: usize = 16;
+pub(crate) const MAX_INPUTS: usize = 16;
 
 /// Two machines that answer one input sequence differently.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Difference {
+pub(crate) struct Difference {
     /// The input vector of each `REQ`, from the initial states.
-    pub inputs: Vec<Vec<bool>>,
+    pub(crate) inputs: Vec<Vec<bool>>,
     /// What each machine answers to the last `REQ`: `CNF` outputs, or `None` for nothing.
-    pub first: Option<Vec<bool>>,
+    pub(crate) first: Option<Vec<bool>>,
     /// The same for the second machine.
-    pub second: Option<Vec<bool>>,
+    pub(crate) second: Option<Vec<bool>>,
 }
 
 /// Why two machines cannot be compared.
@@ -63,7 +63,7 @@ type Parents = HashMap<(Config, Config), Option<((Config, Config), usize)>>;
 
 /// The shortest input sequence on which `a` and `b` answer differently, or `None` when they
 /// are equivalent.
-pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
+pub(crate) fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
     difference_interface(a, b)?;
     let n = a.inputs.len();
     let vectors: Vec<Vec<bool>> = (0..1u32 << n)
@@ -86,12 +86,12 @@ pub fn difference(a: &Ecc, b: &Ecc) -> Result<Option<Difference>, DiffError> {
 }
 
 /// One machine's configuration: state and output values.
-pub type Configuration = (StateId, Vec<bool>);
+pub(crate) type Configuration = (StateId, Vec<bool>);
 
 /// The shortest input sequence over `vectors` on which `a` and `b` answer differently, from
 /// any of the configuration pairs `starts`; with the index of the start it begins at (the
 /// earliest in `starts` among the shortest). `None` when no such sequence exists.
-pub fn difference_from(
+pub(crate) fn difference_from(
     a: &Ecc,
     b: &Ecc,
     starts: &[(Configuration, Configuration)],
@@ -139,24 +139,24 @@ pub fn difference_from(
 
 /// Two states put side by side by [`structure`], with what differs between them.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct StatePair {
+pub(crate) struct StatePair {
     /// The state of the first machine.
-    pub first: StateId,
+    pub(crate) first: StateId,
     /// The state of the second machine matched to it.
-    pub second: StateId,
+    pub(crate) second: StateId,
     /// One line per difference (algorithm, transitions by priority), empty when alike.
-    pub changes: Vec<String>,
+    pub(crate) changes: Vec<String>,
 }
 
 /// The states of two machines matched up, for reviewing one against the other.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Structure {
+pub(crate) struct Structure {
     /// Matched states, in the order the matching reached them.
-    pub pairs: Vec<StatePair>,
+    pub(crate) pairs: Vec<StatePair>,
     /// States of either machine that no state of the other was matched to.
-    pub unmatched_first: Vec<StateId>,
+    pub(crate) unmatched_first: Vec<StateId>,
     /// The same for the second machine.
-    pub unmatched_second: Vec<StateId>,
+    pub(crate) unmatched_second: Vec<StateId>,
 }
 
 /// Matches the states of `a` and `b` (same interface, checked by [`difference`]): the initial
@@ -164,7 +164,7 @@ pub struct Structure {
 /// matched pair, then those their transitions of equal priority lead to, each state at its
 /// first match. A transition is compared by its priority,
 /// its guard and its target seen through the matching.
-pub fn structure(a: &Ecc, b: &Ecc) -> Result<Structure, DiffError> {
+pub(crate) fn structure(a: &Ecc, b: &Ecc) -> Result<Structure, DiffError> {
     difference_interface(a, b)?;
     let n = a.inputs.len();
     let mut to_second: Vec<Option<StateId>> = vec![None; a.states.len()];

@@ -25,11 +25,11 @@ pub enum Guard {
 }
 
 /// One literal of a conjunction: input and required value.
-pub type Literal = (InputId, bool);
+pub(crate) type Literal = (InputId, bool);
 
 impl Guard {
     /// Evaluate on an input vector.
-    pub fn eval(&self, x: &[bool]) -> bool {
+    pub(crate) fn eval(&self, x: &[bool]) -> bool {
         match self {
             Guard::True => true,
             Guard::False => false,
@@ -41,7 +41,7 @@ impl Guard {
     }
 
     /// A conjunction of literals; the empty conjunction is `TRUE`.
-    pub fn cube(lits: &[Literal]) -> Guard {
+    pub(crate) fn cube(lits: &[Literal]) -> Guard {
         let mut parts: Vec<Guard> = lits
             .iter()
             .map(|&(i, v)| {
@@ -60,7 +60,7 @@ impl Guard {
     }
 
     /// A disjunction of cubes (sum of products); the empty disjunction is `FALSE`.
-    pub fn dnf(cubes: &[Vec<Literal>]) -> Guard {
+    pub(crate) fn dnf(cubes: &[Vec<Literal>]) -> Guard {
         let mut parts: Vec<Guard> = cubes.iter().map(|c| Guard::cube(c)).collect();
         if parts.contains(&Guard::True) {
             return Guard::True;
@@ -74,7 +74,7 @@ impl Guard {
 
     /// The literals of a conjunction of literals (`TRUE` is the empty one); `None` for any other
     /// guard. The inverse of [`Guard::cube`].
-    pub fn as_cube(&self) -> Option<Vec<Literal>> {
+    pub(crate) fn as_cube(&self) -> Option<Vec<Literal>> {
         fn literal(g: &Guard) -> Option<Literal> {
             match g {
                 Guard::Var(v) => Some((*v, true)),
@@ -94,7 +94,7 @@ impl Guard {
 
     /// The cubes of a disjunction of conjunctions of literals (`FALSE` is the empty one);
     /// `None` for any other guard. The inverse of [`Guard::dnf`].
-    pub fn as_dnf(&self) -> Option<Vec<Vec<Literal>>> {
+    pub(crate) fn as_dnf(&self) -> Option<Vec<Vec<Literal>>> {
         match self {
             Guard::False => Some(vec![]),
             Guard::Or(parts) => parts.iter().map(Guard::as_cube).collect(),
@@ -103,7 +103,7 @@ impl Guard {
     }
 
     /// Number of variable occurrences (the guard size N of the papers).
-    pub fn literal_count(&self) -> usize {
+    pub(crate) fn literal_count(&self) -> usize {
         match self {
             Guard::True | Guard::False => 0,
             Guard::Var(_) => 1,
@@ -126,7 +126,7 @@ impl Guard {
     }
 
     /// Largest input index the guard reads, if any.
-    pub fn max_var(&self) -> Option<InputId> {
+    pub(crate) fn max_var(&self) -> Option<InputId> {
         match self {
             Guard::True | Guard::False => None,
             Guard::Var(i) => Some(*i),
@@ -135,25 +135,8 @@ impl Guard {
         }
     }
 
-    /// Inputs the guard reads, sorted, without repetition.
-    pub fn vars(&self) -> Vec<InputId> {
-        fn go(g: &Guard, out: &mut Vec<InputId>) {
-            match g {
-                Guard::True | Guard::False => {}
-                Guard::Var(i) => out.push(*i),
-                Guard::Not(g) => go(g, out),
-                Guard::And(gs) | Guard::Or(gs) => gs.iter().for_each(|g| go(g, out)),
-            }
-        }
-        let mut v = Vec::new();
-        go(self, &mut v);
-        v.sort();
-        v.dedup();
-        v
-    }
-
     /// Display with input names in the project's guard syntax (`!`, `&`, `|`).
-    pub fn display<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
+    pub(crate) fn display<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
         GuardDisplay {
             guard: self,
             names,
@@ -162,7 +145,7 @@ impl Guard {
     }
 
     /// Display in IEC 61131-3 Structured Text syntax (`NOT`, `AND`, `OR`).
-    pub fn display_st<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
+    pub(crate) fn display_st<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
         GuardDisplay {
             guard: self,
             names,
@@ -180,7 +163,7 @@ enum Syntax {
 }
 
 /// A guard paired with input names, ready to print.
-pub struct GuardDisplay<'a> {
+pub(crate) struct GuardDisplay<'a> {
     guard: &'a Guard,
     names: &'a [String],
     syntax: Syntax,

@@ -31,14 +31,14 @@ fn check_rest(name: &str) -> Result<(), String> {
 
 /// Is `name` in the portable core `[A-Za-z][A-Za-z0-9_]*`, usable as an interface variable
 /// name? (Keywords of the target languages are checked where those languages are emitted.)
-pub fn is_identifier(name: &str) -> bool {
+pub(crate) fn is_identifier(name: &str) -> bool {
     name.starts_with(|c: char| c.is_ascii_alphabetic()) && name.chars().all(word_char)
 }
 
 /// NuSMV 2.5's reserved words as its lexer lists them: none can be a name in a file the
 /// tool reads (LTL specifications, plants), nor in one it writes ([`check_smv`]).
 #[rustfmt::skip]
-pub const NUSMV_LEXER_KEYWORDS: &[&str] = &[
+pub(crate) const NUSMV_LEXER_KEYWORDS: &[&str] = &[
     "A", "ABF", "ABG", "AF", "AG", "ASSIGN", "AX", "BU", "COMPASSION", "COMPID", "COMPUTE",
     "COMPWFF", "CONSTANTS", "CONSTRAINT", "CTLSPEC", "CTLWFF", "DEFINE", "E", "EBF", "EBG", "EF",
     "EG", "EX", "F", "FAIRNESS", "FALSE", "FROZENVAR", "G", "H", "IN", "INIT", "INVAR",
@@ -53,7 +53,7 @@ pub const NUSMV_LEXER_KEYWORDS: &[&str] = &[
 /// Words NuSMV 2.5/2.6 reserves (case-sensitive), plus the LTL/CTL operator letters, which
 /// NuSMV's lexer also treats as keywords. [`check_smv`] refuses these and
 /// [`NUSMV_LEXER_KEYWORDS`].
-pub const SMV_KEYWORDS: &[&str] = &[
+pub(crate) const SMV_KEYWORDS: &[&str] = &[
     "MODULE",
     "VAR",
     "IVAR",
@@ -144,7 +144,7 @@ pub const SMV_KEYWORDS: &[&str] = &[
 /// at `MAX` or `Integer` used as a name). Names starting with `_` are reserved
 /// for identifiers the emitters generate, so generated names never collide with user names.
 /// The error says why the name is rejected; the caller adds where the name came from.
-pub fn check_smv(name: &str) -> Result<(), String> {
+pub(crate) fn check_smv(name: &str) -> Result<(), String> {
     match name.chars().next() {
         None => return Err("the name is empty".into()),
         Some('_') => {
@@ -170,16 +170,16 @@ pub const CONTROLLER_MODULE: &str = "ECC";
 /// The modules of the closed loop synth composes: `main` (NuSMV's top module, which takes no
 /// parameters) over the controller [`CONTROLLER_MODULE`] and the plant file's `plant`. A block
 /// by one of these names could not stand beside them.
-pub const CLOSED_LOOP_MODULES: [&str; 3] = ["main", CONTROLLER_MODULE, "plant"];
+pub(crate) const CLOSED_LOOP_MODULES: [&str; 3] = ["main", CONTROLLER_MODULE, "plant"];
 
 /// Names the exported function block declares itself: its events, and the state variable of
 /// the Structured Text block (compared ignoring case, as ST does).
-pub const BLOCK_MEMBERS: [&str; 3] = ["REQ", "CNF", "state"];
+pub(crate) const BLOCK_MEMBERS: [&str; 3] = ["REQ", "CNF", "state"];
 
 /// Checks the name of the block itself (`--name`), which names the SMV module, the Structured
 /// Text function block and the IEC 61499 type: it must pass [`check_smv`] and [`check_iec`],
 /// and be none of [`CLOSED_LOOP_MODULES`] and [`BLOCK_MEMBERS`].
-pub fn check_block_name(name: &str) -> Result<(), String> {
+pub(crate) fn check_block_name(name: &str) -> Result<(), String> {
     check_smv(name)?;
     check_iec(name)?;
     if name == "main" {
@@ -195,7 +195,7 @@ pub fn check_block_name(name: &str) -> Result<(), String> {
 }
 
 /// IEC 61131-3 keywords and elementary type names (compared ignoring case, as ST does).
-pub const IEC_KEYWORDS: &[&str] = &[
+pub(crate) const IEC_KEYWORDS: &[&str] = &[
     "ABSTRACT",
     "ACTION",
     "AND",
@@ -327,7 +327,7 @@ pub const IEC_KEYWORDS: &[&str] = &[
 
 /// Checks an IEC 61131-3 identifier: a letter or `_`, then letters, digits and single `_`s,
 /// not ending in `_`, and no keyword or elementary type name (ignoring case).
-pub fn check_iec(name: &str) -> Result<(), String> {
+pub(crate) fn check_iec(name: &str) -> Result<(), String> {
     match name.chars().next() {
         None => return Err("the name is empty".into()),
         Some(c) if !(c.is_ascii_alphabetic() || c == '_') => {
@@ -348,7 +348,7 @@ pub fn check_iec(name: &str) -> Result<(), String> {
 
 /// `TRUE` / `FALSE`: how SMV writes a Boolean constant and NuSMV prints one in a trace.
 /// IEC 61131-3 Structured Text and 4diac spell them the same way.
-pub fn bool_literal(v: bool) -> &'static str {
+pub(crate) fn bool_literal(v: bool) -> &'static str {
     if v {
         "TRUE"
     } else {
@@ -358,7 +358,7 @@ pub fn bool_literal(v: bool) -> &'static str {
 
 /// A value as NuSMV prints it in a trace (and as SMV writes a constant).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SmvValue<'a> {
+pub(crate) enum SmvValue<'a> {
     /// `TRUE` or `FALSE`.
     Bool(bool),
     /// An integer, e.g. `-3`.
@@ -368,7 +368,7 @@ pub enum SmvValue<'a> {
 }
 
 /// Reads a value as NuSMV prints it in a trace: `TRUE`/`FALSE`, an integer, or a symbol.
-pub fn parse_smv_value(text: &str) -> SmvValue<'_> {
+pub(crate) fn parse_smv_value(text: &str) -> SmvValue<'_> {
     match text {
         "TRUE" => SmvValue::Bool(true),
         "FALSE" => SmvValue::Bool(false),
@@ -379,7 +379,7 @@ pub fn parse_smv_value(text: &str) -> SmvValue<'_> {
 /// Reads a Boolean as NuSMV prints it in a trace ([`bool_literal`] read back): `TRUE` or
 /// `FALSE` only. Unlike a log's cells ([`crate::files::csv::parse_bool_cell`]), `1` and
 /// `true` are not Booleans here: in a trace `1` is an integer and `true` a symbol.
-pub fn parse_bool_literal(value: &str) -> Option<bool> {
+pub(crate) fn parse_bool_literal(value: &str) -> Option<bool> {
     match parse_smv_value(value) {
         SmvValue::Bool(b) => Some(b),
         _ => None,

@@ -15,16 +15,18 @@
 //! Numbering: states, inputs and outputs are 0-based everywhere inside the crate. Exports name
 //! states `s0..s{C-1}` (the `.fbt` export calls state 0 `START`, as 4diac expects).
 
-pub mod diff;
-pub mod guard;
-pub mod ident;
+pub(crate) mod diff;
+pub(crate) mod guard;
+pub(crate) mod ident;
 pub mod modular;
-pub mod network;
+pub(crate) mod network;
 pub mod random;
-pub mod sim;
+pub(crate) mod sim;
 
 pub use guard::Guard;
-pub use sim::{replay, Controller, Fired, Mismatch, Reactive, Run};
+pub use network::{Network, NetworkRun};
+pub(crate) use sim::replay;
+pub use sim::{Controller, Fired, Reactive, Run};
 
 use std::fmt;
 
@@ -59,7 +61,7 @@ pub enum Tri {
 
 impl Tri {
     /// The symbol of the JSON contract and the papers: `0`, `1` or `x`.
-    pub fn symbol(self) -> char {
+    pub(crate) fn symbol(self) -> char {
         match self {
             Tri::Zero => '0',
             Tri::One => '1',
@@ -68,7 +70,7 @@ impl Tri {
     }
 
     /// Reads a symbol (`0`, `1`, `x` or `X`); `None` for any other character.
-    pub fn from_symbol(c: char) -> Option<Tri> {
+    pub(crate) fn from_symbol(c: char) -> Option<Tri> {
         match c {
             '0' => Some(Tri::Zero),
             '1' => Some(Tri::One),
@@ -105,7 +107,7 @@ pub enum AlgorithmKind {
 
 impl Algorithm {
     /// The algorithm that changes nothing.
-    pub fn keep_all(kind: AlgorithmKind, outputs: usize) -> Algorithm {
+    pub(crate) fn keep_all(kind: AlgorithmKind, outputs: usize) -> Algorithm {
         match kind {
             AlgorithmKind::Tri => Algorithm::Tri(vec![Tri::Keep; outputs]),
             AlgorithmKind::Binary => Algorithm::Binary {
@@ -116,7 +118,7 @@ impl Algorithm {
     }
 
     /// Which of the two forms this algorithm is written in.
-    pub fn kind(&self) -> AlgorithmKind {
+    pub(crate) fn kind(&self) -> AlgorithmKind {
         match self {
             Algorithm::Tri(_) => AlgorithmKind::Tri,
             Algorithm::Binary { .. } => AlgorithmKind::Binary,
@@ -124,20 +126,15 @@ impl Algorithm {
     }
 
     /// Number of outputs the algorithm is written for.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         match self {
             Algorithm::Tri(t) => t.len(),
             Algorithm::Binary { a0, .. } => a0.len(),
         }
     }
 
-    /// True when the algorithm is written for no output at all.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// New value of one output whose old value is `old`.
-    pub fn apply_one(&self, z: usize, old: bool) -> bool {
+    pub(crate) fn apply_one(&self, z: usize, old: bool) -> bool {
         match self {
             Algorithm::Tri(t) => match t[z] {
                 Tri::Zero => false,
@@ -155,14 +152,14 @@ impl Algorithm {
     }
 
     /// Apply the algorithm to an output vector in place.
-    pub fn apply(&self, outputs: &mut [bool]) {
+    pub(crate) fn apply(&self, outputs: &mut [bool]) {
         for (z, v) in outputs.iter_mut().enumerate() {
             *v = self.apply_one(z, *v);
         }
     }
 
     /// The algorithm as text: `x01x...` for tri; `a0/a1` bit strings for binary.
-    pub fn to_strings(&self) -> Vec<String> {
+    pub(crate) fn to_strings(&self) -> Vec<String> {
         match self {
             Algorithm::Tri(t) => vec![t.iter().map(|s| s.symbol()).collect()],
             Algorithm::Binary { a0, a1 } => vec![bits_to_string(a0), bits_to_string(a1)],
@@ -186,7 +183,7 @@ impl fmt::Display for Algorithm {
 /// Both algorithm forms reduce to this: an output's new value is a function of its old value
 /// alone, and there are exactly four such functions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Effect {
+pub(crate) enum Effect {
     /// Set to the given value.
     Set(bool),
     /// Leave unchanged.
@@ -199,7 +196,7 @@ impl Effect {
     /// The effect of `algorithm` on output `z`. Derived from [`Algorithm::apply_one`] so that
     /// every emitter agrees with the simulator by construction: `(new if old=0, new if old=1)`
     /// is `(0,0)` set FALSE, `(1,1)` set TRUE, `(0,1)` keep, `(1,0)` flip.
-    pub fn of(algorithm: &Algorithm, z: usize) -> Effect {
+    pub(crate) fn of(algorithm: &Algorithm, z: usize) -> Effect {
         match (algorithm.apply_one(z, false), algorithm.apply_one(z, true)) {
             (false, false) => Effect::Set(false),
             (true, true) => Effect::Set(true),
@@ -209,7 +206,7 @@ impl Effect {
     }
 
     /// The effects of `algorithm` on every output, in interface order.
-    pub fn all(algorithm: &Algorithm) -> Vec<Effect> {
+    pub(crate) fn all(algorithm: &Algorithm) -> Vec<Effect> {
         (0..algorithm.len())
             .map(|z| Effect::of(algorithm, z))
             .collect()
@@ -217,12 +214,12 @@ impl Effect {
 }
 
 /// `[true, false]` -> `"10"`.
-pub fn bits_to_string(bits: &[bool]) -> String {
+pub(crate) fn bits_to_string(bits: &[bool]) -> String {
     bits.iter().map(|&b| if b { '1' } else { '0' }).collect()
 }
 
 /// `"10"` -> `[true, false]`; `None` on any other character.
-pub fn bits_from_str(s: &str) -> Option<Vec<bool>> {
+pub(crate) fn bits_from_str(s: &str) -> Option<Vec<bool>> {
     s.chars()
         .map(|c| match c {
             '0' => Some(false),
@@ -281,34 +278,31 @@ pub struct Size {
 impl Size {
     /// The order in which the minimization ranks machines: fewer states, then fewer
     /// transitions, then fewer guard literals (`K` is not compared).
-    pub fn order_key(&self) -> (usize, usize, usize) {
+    pub(crate) fn order_key(&self) -> (usize, usize, usize) {
         (self.c, self.t, self.n)
     }
 
     /// Whether this machine is smaller than `other` in [`Self::order_key`]'s order.
-    pub fn is_smaller_than(&self, other: &Size) -> bool {
+    pub(crate) fn is_smaller_than(&self, other: &Size) -> bool {
         self.order_key() < other.order_key()
     }
 }
 
-/// `C=.. K=.. T=.. N=..`; with `{:#}` the spaced form of result lines,
-/// `C = ..  K = ..  T = ..  N = ..`.
+/// `C=2 K=1 T=2 N=2` inside a sentence; with `{:#}` the command line's result line
+/// `C = 2  K = 1  T = 2  N = 2`.
 impl fmt::Display for Size {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (c, k, t, n) = (self.c, self.k, self.t, self.n);
         match f.alternate() {
-            true => write!(
-                f,
-                "C = {}  K = {}  T = {}  N = {}",
-                self.c, self.k, self.t, self.n
-            ),
-            false => write!(f, "C={} K={} T={} N={}", self.c, self.k, self.t, self.n),
+            true => write!(f, "C = {c}  K = {k}  T = {t}  N = {n}"),
+            false => write!(f, "C={c} K={k} T={t} N={n}"),
         }
     }
 }
 
 impl Ecc {
     /// The state with this id (panics on an id of another machine).
-    pub fn state(&self, id: StateId) -> &State {
+    pub(crate) fn state(&self, id: StateId) -> &State {
         &self.states[id.0]
     }
 
@@ -334,7 +328,7 @@ impl Ecc {
 
     /// The algorithm form of its states (the initial state's; [`AlgorithmKind::Tri`] when
     /// it has no state).
-    pub fn algorithm_kind(&self) -> AlgorithmKind {
+    pub(crate) fn algorithm_kind(&self) -> AlgorithmKind {
         self.states
             .first()
             .map(|s| s.algorithm.kind())
@@ -395,6 +389,18 @@ impl Ecc {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn size_is_written_inside_a_sentence_and_as_the_result_line() {
+        let s = Size {
+            c: 5,
+            k: 3,
+            t: 10,
+            n: 15,
+        };
+        assert_eq!(s.to_string(), "C=5 K=3 T=10 N=15");
+        assert_eq!(format!("{s:#}"), "C = 5  K = 3  T = 10  N = 15");
+    }
 
     #[test]
     fn effects_of_both_algorithm_forms() {

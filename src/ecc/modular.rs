@@ -53,7 +53,7 @@ pub enum Topology {
 
 impl Topology {
     /// The name users write (`--topology`) and the JSON files carry.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Topology::Parallel => "parallel",
             Topology::Consecutive => "consecutive",
@@ -205,7 +205,7 @@ impl Modular {
     /// modules' states), entered when the whole chain fires; a transition's guard is "module
     /// `m` takes its `k_m`-th transition" for every `m`, and a state's algorithm is the modules'
     /// algorithms composed. Fails on a parallel composite or past `limit` states.
-    pub fn flatten(&self, limit: usize) -> Result<Ecc, String> {
+    pub(crate) fn flatten(&self, limit: usize) -> Result<Ecc, String> {
         if self.topology != Topology::Consecutive {
             return Err("only a consecutive composite is flattened".into());
         }
@@ -310,7 +310,7 @@ impl Modular {
 
     /// The module owning output `z`: in a consecutive composite the last one, whose values
     /// are the composite's.
-    pub fn owner(&self, z: OutputId) -> Option<usize> {
+    pub(crate) fn owner(&self, z: OutputId) -> Option<usize> {
         match self.topology {
             Topology::Parallel => self.modules.iter().position(|m| m.outputs.contains(&z)),
             Topology::Consecutive => self.modules.len().checked_sub(1),
@@ -359,15 +359,15 @@ pub struct ModularRun<'a> {
     /// Each module's run, in module order.
     pub runs: Vec<Run<'a>>,
     /// The composite's current output values.
-    pub outputs: Vec<bool>,
+    pub(crate) outputs: Vec<bool>,
     /// Per module, the transition it fired on the last `REQ` (`None`: it did not fire or, in
     /// a chain, got no `REQ`).
-    pub fired: Vec<Option<Fired>>,
+    pub(crate) fired: Vec<Option<Fired>>,
 }
 
 impl<'a> ModularRun<'a> {
     /// Every module in its initial state, the composite outputs at their initial values.
-    pub fn new(modular: &'a Modular) -> ModularRun<'a> {
+    pub(crate) fn new(modular: &'a Modular) -> ModularRun<'a> {
         ModularRun {
             modular,
             runs: modular.modules.iter().map(|m| Run::new(&m.ecc)).collect(),
@@ -379,7 +379,7 @@ impl<'a> ModularRun<'a> {
     /// One `REQ` on the full input vector `x`: every module steps on its inputs. Returns
     /// whether the composite emitted `CNF` (some module fired); `self.outputs` then holds the
     /// values emitted.
-    pub fn step(&mut self, x: &[bool]) -> bool {
+    pub(crate) fn step(&mut self, x: &[bool]) -> bool {
         self.fired.iter_mut().for_each(|f| *f = None);
         if self.modular.topology == Topology::Consecutive {
             return self.chain(x);

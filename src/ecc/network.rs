@@ -24,9 +24,9 @@ use super::{Controller as Behaviour, Reactive};
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Network {
     /// Names of the controllers, in order (each is its function block's type name).
-    pub names: Vec<String>,
+    pub(crate) names: Vec<String>,
     /// Plant-side inputs (the first `external` entries of `modular.inputs`).
-    pub external: usize,
+    pub(crate) external: usize,
     /// The controllers as a parallel composite over the plant-side inputs followed by every
     /// output (a read of output `z` is a read of input `external + z`).
     pub modular: Modular,
@@ -34,7 +34,7 @@ pub struct Network {
 
 impl Network {
     /// Checks the composite, the extended inputs and that no controller reads its own output.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), String> {
         self.modular.validate()?;
         if self.modular.topology != Topology::Parallel {
             return Err("the controllers of a network run side by side".into());
@@ -77,7 +77,7 @@ pub struct NetworkRun<'a> {
 
 impl NetworkRun<'_> {
     /// One scan of every controller on plant-side inputs `x`; whether the network emitted `CNF`.
-    pub fn step(&mut self, x: &[bool]) -> bool {
+    pub(crate) fn step(&mut self, x: &[bool]) -> bool {
         self.extended.truncate(0);
         self.extended.extend_from_slice(&x[..self.external]);
         self.extended.extend_from_slice(&self.run.outputs);
@@ -85,11 +85,6 @@ impl NetworkRun<'_> {
         let fired = self.run.step(&extended);
         self.extended = extended;
         fired
-    }
-
-    /// The network's outputs.
-    pub fn outputs(&self) -> &[bool] {
-        &self.run.outputs
     }
 }
 

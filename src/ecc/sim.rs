@@ -10,11 +10,11 @@ use super::{Ecc, StateId};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Fired {
     /// The state the machine was in.
-    pub source: StateId,
+    pub(crate) source: StateId,
     /// Index of the transition in the source state's priority list.
-    pub index: usize,
+    pub(crate) index: usize,
     /// The state entered.
-    pub target: StateId,
+    pub(crate) target: StateId,
 }
 
 /// A running instance of an ECC: current state and output values.
@@ -22,7 +22,7 @@ pub struct Fired {
 pub struct Run<'a> {
     ecc: &'a Ecc,
     /// The current state.
-    pub state: StateId,
+    pub(crate) state: StateId,
     /// The current output values.
     pub outputs: Vec<bool>,
 }
@@ -38,7 +38,7 @@ impl<'a> Run<'a> {
     }
 
     /// The machine in state `state` with output values `outputs`, as if it had run there.
-    pub fn at(ecc: &'a Ecc, state: StateId, outputs: Vec<bool>) -> Run<'a> {
+    pub(crate) fn at(ecc: &'a Ecc, state: StateId, outputs: Vec<bool>) -> Run<'a> {
         Run {
             ecc,
             state,
@@ -69,13 +69,13 @@ impl<'a> Run<'a> {
 
 /// The first step where a machine and a recorded trace disagree.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Mismatch {
+pub(crate) struct Mismatch {
     /// 0-based index of the `REQ` in the trace.
-    pub step: usize,
+    pub(crate) step: usize,
     /// Recorded outputs of `CNF`, or `None` if the trace records no `CNF`.
-    pub expected: Option<Vec<bool>>,
+    pub(crate) expected: Option<Vec<bool>>,
     /// Outputs the machine emitted with `CNF`, or `None` if it emitted nothing.
-    pub actual: Option<Vec<bool>>,
+    pub(crate) actual: Option<Vec<bool>>,
 }
 
 /// Something that reacts to `REQ`: a running ECC ([`Run`]) or a running modular composite
@@ -112,7 +112,7 @@ impl Controller for Ecc {
 
 /// Replays a trace of `(inputs, expected CNF outputs or None)` on `controller` from its initial
 /// state and returns the first disagreement.
-pub fn replay<'t, I>(controller: &impl Controller, steps: I) -> Result<(), Mismatch>
+pub(crate) fn replay<'t, I>(controller: &impl Controller, steps: I) -> Result<(), Mismatch>
 where
     I: IntoIterator<Item = (&'t [bool], Option<&'t [bool]>)>,
 {

@@ -6,20 +6,20 @@ use crate::files::csv::quote_cell as cell;
 use std::io::{self, Write};
 
 /// Writes CSV rows as the events arrive.
-pub struct CsvWriter<W: Write> {
+pub(crate) struct CsvWriter<W: Write> {
     w: W,
     case: usize,
 }
 
 impl<W: Write> CsvWriter<W> {
     /// Writes the header row.
-    pub fn new(mut w: W) -> io::Result<CsvWriter<W>> {
+    pub(crate) fn new(mut w: W) -> io::Result<CsvWriter<W>> {
         writeln!(w, "case_id,activity,timestamp,class")?;
         Ok(CsvWriter { w, case: 0 })
     }
 
     /// Returns the writer.
-    pub fn finish(self) -> W {
+    pub(crate) fn finish(self) -> W {
         self.w
     }
 }

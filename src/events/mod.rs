@@ -94,8 +94,8 @@
 //!     --out big.xes --csv big.events.csv
 //! ```
 
-pub mod csv;
-pub mod xes;
+pub(crate) mod csv;
+pub(crate) mod xes;
 
 use crate::files::AtomicFile;
 use crate::ingest::{IngestError, LogReader, Mapping, Sample, Slot};
@@ -104,11 +104,11 @@ use std::io::BufRead;
 use std::path::Path;
 
 /// Joins the activities of merged changes into one activity name.
-pub const JOIN: &str = " + ";
+pub(crate) const JOIN: &str = " + ";
 
 /// The two classes of the process-mining paper: data read by the PLC, or written by it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum EventClass {
+pub(crate) enum EventClass {
     /// A change of a signal the PLC reads.
     Input,
     /// A change of a signal the PLC writes.
@@ -117,7 +117,7 @@ pub enum EventClass {
 
 impl EventClass {
     /// The attribute value written to event logs.
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             EventClass::Input => "input",
             EventClass::Output => "output",
@@ -127,11 +127,11 @@ impl EventClass {
 
 /// One address taking a value.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Change {
+pub(crate) struct Change {
     /// The signal's address as the log names it.
-    pub address: String,
+    pub(crate) address: String,
     /// The value it takes.
-    pub value: bool,
+    pub(crate) value: bool,
 }
 
 impl fmt::Display for Change {
@@ -142,18 +142,18 @@ impl fmt::Display for Change {
 
 /// One event: the changes of one class at one timestamp.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Event {
+pub(crate) struct Event {
     /// Seconds, as in the log.
-    pub time: f64,
+    pub(crate) time: f64,
     /// Whether the changes are of inputs or of outputs.
-    pub class: EventClass,
+    pub(crate) class: EventClass,
     /// In mapping order; never empty.
-    pub changes: Vec<Change>,
+    pub(crate) changes: Vec<Change>,
 }
 
 impl Event {
     /// The activity name: the changes joined by [`JOIN`].
-    pub fn activity(&self) -> String {
+    pub(crate) fn activity(&self) -> String {
         self.changes
             .iter()
             .map(Change::to_string)
@@ -194,9 +194,9 @@ pub enum EventsError {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ResetActivity {
     /// The class of the event it matches.
-    pub class: EventClass,
+    pub(crate) class: EventClass,
     /// The changes the event must consist of, in mapping order.
-    pub changes: Vec<Change>,
+    pub(crate) changes: Vec<Change>,
 }
 
 impl ResetActivity {
@@ -248,7 +248,7 @@ impl ResetActivity {
     }
 
     /// Whether `event` resets the process: it has the reset's class and every reset change.
-    pub fn matches(&self, event: &Event) -> bool {
+    pub(crate) fn matches(&self, event: &Event) -> bool {
         event.class == self.class && self.changes.iter().all(|c| event.changes.contains(c))
     }
 }
@@ -271,7 +271,7 @@ fn address_of(mapping: &Mapping, slot: Slot) -> String {
 
 /// Push-style conversion of timestamped samples into events (rules 1-3).
 #[derive(Debug, Clone)]
-pub struct EventStream {
+pub(crate) struct EventStream {
     input_addresses: Vec<String>,
     output_addresses: Vec<String>,
     /// Values at the end of the last finished timestamp.
@@ -282,7 +282,7 @@ pub struct EventStream {
 
 impl EventStream {
     /// A conversion for the signals of `mapping`, all `false` before the first sample.
-    pub fn new(mapping: &Mapping) -> EventStream {
+    pub(crate) fn new(mapping: &Mapping) -> EventStream {
         let mut input_addresses = vec![String::new(); mapping.inputs().len()];
         let mut output_addresses = vec![String::new(); mapping.outputs().len()];
         for (address, slot) in mapping.addresses() {
@@ -304,7 +304,7 @@ impl EventStream {
 
     /// Takes the sample at `time` (not before the previous one); returns the events of the
     /// previous timestamp once `time` moves past it.
-    pub fn push(&mut self, time: f64, sample: Sample) -> Vec<Event> {
+    pub(crate) fn push(&mut self, time: f64, sample: Sample) -> Vec<Event> {
         match &mut self.current {
             Some((t, values)) if *t == time => {
                 *values = sample;
@@ -319,7 +319,7 @@ impl EventStream {
     }
 
     /// Ends the stream; returns the events of the last timestamp.
-    pub fn finish(&mut self) -> Vec<Event> {
+    pub(crate) fn finish(&mut self) -> Vec<Event> {
         self.flush()
     }
 
@@ -361,7 +361,7 @@ impl EventStream {
 }
 
 /// Receives the event log as it is produced: traces in order, each with its events.
-pub trait EventSink {
+pub(crate) trait EventSink {
     /// A new trace starts; `case` is its 1-based number.
     fn begin_trace(&mut self, case: usize) -> std::io::Result<()>;
     /// One event of the current trace.
@@ -371,7 +371,7 @@ pub trait EventSink {
 }
 
 /// Slices events into traces at the reset activity (rule 4) and feeds the sinks.
-pub struct TraceSlicer<'a> {
+pub(crate) struct TraceSlicer<'a> {
     reset: &'a ResetActivity,
     /// Number of the open trace, if one is open.
     open: Option<usize>,
@@ -382,7 +382,7 @@ pub struct TraceSlicer<'a> {
 
 impl<'a> TraceSlicer<'a> {
     /// A slicer with no trace open yet.
-    pub fn new(reset: &'a ResetActivity) -> TraceSlicer<'a> {
+    pub(crate) fn new(reset: &'a ResetActivity) -> TraceSlicer<'a> {
         TraceSlicer {
             reset,
             open: None,
@@ -394,7 +394,11 @@ impl<'a> TraceSlicer<'a> {
 
     /// Hands one event to every sink, opening a new trace first when it is a reset (or when
     /// no trace is open yet).
-    pub fn push(&mut self, event: &Event, sinks: &mut [&mut dyn EventSink]) -> std::io::Result<()> {
+    pub(crate) fn push(
+        &mut self,
+        event: &Event,
+        sinks: &mut [&mut dyn EventSink],
+    ) -> std::io::Result<()> {
         let reset = self.reset.matches(event);
         if reset {
             self.resets += 1;
@@ -419,7 +423,7 @@ impl<'a> TraceSlicer<'a> {
     }
 
     /// Closes the open trace; returns the counts.
-    pub fn finish(self, sinks: &mut [&mut dyn EventSink]) -> std::io::Result<Summary> {
+    pub(crate) fn finish(self, sinks: &mut [&mut dyn EventSink]) -> std::io::Result<Summary> {
         if self.open.is_some() {
             for s in sinks.iter_mut() {
                 s.end_trace()?;
@@ -438,23 +442,23 @@ impl<'a> TraceSlicer<'a> {
 
 /// What a conversion produced.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// Traces written.
-    pub traces: usize,
+    pub(crate) traces: usize,
     /// Events written, over all traces.
-    pub events: u64,
+    pub(crate) events: u64,
     /// Events that matched the reset activity.
-    pub resets: u64,
+    pub(crate) resets: u64,
     /// Samples and data rows read, rows skipped (lenient mode).
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Data rows read.
-    pub rows: u64,
+    pub(crate) rows: u64,
     /// Rows skipped (lenient mode only).
-    pub skipped: u64,
+    pub(crate) skipped: u64,
 }
 
 /// Streams a whole log through rules 1-4 into `sinks`.
-pub fn convert<R: BufRead>(
+pub(crate) fn convert<R: BufRead>(
     mut reader: LogReader<R>,
     mapping: &Mapping,
     reset: &ResetActivity,
@@ -485,7 +489,7 @@ pub fn convert<R: BufRead>(
 /// Why [`convert`] stopped: a bad log, or a sink that could not write (the caller knows
 /// which files its sinks write).
 #[derive(Debug, thiserror::Error)]
-pub enum ConvertError {
+pub(crate) enum ConvertError {
     /// The log cannot be read.
     #[error(transparent)]
     Log(#[from] IngestError),
@@ -496,7 +500,7 @@ pub enum ConvertError {
 
 /// `synth events`: converts the log file `log` into an XES file and a CSV file, both written
 /// atomically (neither is touched when the log has a bad row).
-pub fn write_event_logs(
+pub(crate) fn write_event_logs(
     log: &Path,
     mapping: &Mapping,
     reset: &ResetActivity,
@@ -529,7 +533,7 @@ pub fn write_event_logs(
 
 /// Formats seconds since 1970-01-01T00:00:00Z as an ISO 8601 UTC date-time with milliseconds,
 /// as XES's `xs:dateTime` wants it.
-pub fn iso_time(seconds: f64) -> String {
+pub(crate) fn iso_time(seconds: f64) -> String {
     let millis = (seconds * 1000.0).round() as i64;
     let days = millis.div_euclid(86_400_000);
     let ms_of_day = millis.rem_euclid(86_400_000);

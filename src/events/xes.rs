@@ -13,7 +13,7 @@ use crate::files::xml::XmlWriter;
 use std::io::{self, Write};
 
 /// Writes XES as the traces arrive; call [`XesWriter::finish`] to close the document.
-pub struct XesWriter<W: Write> {
+pub(crate) struct XesWriter<W: Write> {
     x: XmlWriter<W>,
 }
 
@@ -34,7 +34,7 @@ const EXTENSIONS: [(&str, &str, &str); 3] = [
 
 impl<W: Write> XesWriter<W> {
     /// Writes the header; `log_name` becomes the log's `concept:name`.
-    pub fn new(w: W, log_name: &str) -> io::Result<XesWriter<W>> {
+    pub(crate) fn new(w: W, log_name: &str) -> io::Result<XesWriter<W>> {
         let mut x = XmlWriter::new(w);
         x.declaration()?;
         x.open(
@@ -79,7 +79,7 @@ impl<W: Write> XesWriter<W> {
     }
 
     /// Closes the document and returns the writer.
-    pub fn finish(mut self) -> io::Result<W> {
+    pub(crate) fn finish(mut self) -> io::Result<W> {
         self.x.close(0, "log")?;
         Ok(self.x.into_inner())
     }

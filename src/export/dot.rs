@@ -50,7 +50,7 @@ fn actions(ecc: &Ecc, algorithm: &crate::ecc::Algorithm) -> String {
 }
 
 /// Writes the DOT text.
-pub fn write_dot(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_dot(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     writeln!(w, "digraph ecc {{")?;
     writeln!(w, "  // {}", ecc.size())?;
     writeln!(w, "  rankdir=LR;")?;
@@ -87,7 +87,7 @@ pub fn write_dot(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
 }
 
 /// [`write_dot`] into a string.
-pub fn to_string(ecc: &Ecc) -> String {
+pub(crate) fn to_string(ecc: &Ecc) -> String {
     let mut buf = Vec::new();
     write_dot(ecc, &mut buf).expect("writing to a Vec does not fail");
     String::from_utf8(buf).expect("the DOT emitter writes UTF-8 only")
@@ -97,7 +97,7 @@ pub fn to_string(ecc: &Ecc) -> String {
 ///
 /// Returns `Ok(false)` without touching `out` when `dot` is not installed, `Ok(true)` once the
 /// SVG is written. The file is replaced atomically, so a failing `dot` leaves no partial file.
-pub fn render_svg(dot_text: &str, out: &Path) -> Result<bool, io::Error> {
+pub(crate) fn render_svg(dot_text: &str, out: &Path) -> Result<bool, io::Error> {
     let Ok(dot) = which::which("dot") else {
         return Ok(false);
     };

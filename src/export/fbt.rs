@@ -30,13 +30,13 @@ const NEVER: &str = "REQ[FALSE]";
 
 /// Options of the `.fbt` export.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FbtOptions {
+pub(crate) struct FbtOptions {
     /// Name of the FB type; an IEC 61131-3 identifier. 4diac expects the file to be named
     /// `<type_name>.fbt`.
-    pub type_name: String,
+    pub(crate) type_name: String,
     /// `Date` of `VersionInfo`, e.g. `2024-05-31`; empty by default so output stays
     /// reproducible.
-    pub date: String,
+    pub(crate) date: String,
 }
 
 impl Default for FbtOptions {
@@ -57,7 +57,7 @@ const ORIGIN: i64 = 300;
 const LABEL_STEP: i64 = 100;
 
 /// The `<ECState>` name of state `i`.
-pub fn state_name(i: usize) -> String {
+pub(crate) fn state_name(i: usize) -> String {
     if i == 0 {
         "START".into()
     } else {
@@ -66,14 +66,14 @@ pub fn state_name(i: usize) -> String {
 }
 
 /// The `<Algorithm>` name of state `i`.
-pub fn algorithm_name(i: usize) -> String {
+pub(crate) fn algorithm_name(i: usize) -> String {
     format!("ALG_{}", state_name(i))
 }
 
 /// Checks the type name and the interface names (IEC identifiers, distinct ignoring case, none
 /// equal to an event or algorithm name of the block). State names live apart: no expression
 /// can mention a state, so an input may be called `start`.
-pub fn check_names(ecc: &Ecc, type_name: &str) -> Result<(), NameError> {
+pub(crate) fn check_names(ecc: &Ecc, type_name: &str) -> Result<(), NameError> {
     let mut reserved = vec!["REQ".to_string(), "CNF".to_string()];
     reserved.extend((0..ecc.states.len()).map(algorithm_name));
     check_iec_names(ecc, "an IEC 61499 .fbt file", type_name, &reserved)
@@ -103,7 +103,7 @@ fn algorithm_text(ecc: &Ecc, i: usize) -> Option<String> {
 
 /// Writes the `.fbt` file; fails with [`io::ErrorKind::InvalidInput`] (wrapping a
 /// [`NameError`]) before writing anything if a name is unusable.
-pub fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_fbt(ecc: &Ecc, options: &FbtOptions, w: &mut impl Write) -> io::Result<()> {
     check_names(ecc, &options.type_name)?;
     let comment = format!("Basic FB synthesized by fbsynth ({})", ecc.size());
     let mut x = XmlWriter::new(w);
@@ -301,7 +301,7 @@ pub(crate) fn write_head(
 }
 
 /// [`write_fbt`] into a string.
-pub fn to_string(ecc: &Ecc, options: &FbtOptions) -> io::Result<String> {
+pub(crate) fn to_string(ecc: &Ecc, options: &FbtOptions) -> io::Result<String> {
     let mut buf = Vec::new();
     write_fbt(ecc, options, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the .fbt emitter writes UTF-8 only"))
@@ -317,24 +317,24 @@ pub(crate) mod tests {
     /// Just enough of a DOM to check structure.
     #[derive(Debug)]
     pub(crate) struct Node {
-        pub name: String,
-        pub attrs: Vec<(String, String)>,
-        pub children: Vec<Node>,
+        pub(crate) name: String,
+        pub(crate) attrs: Vec<(String, String)>,
+        pub(crate) children: Vec<Node>,
     }
 
     impl Node {
-        pub fn attr(&self, key: &str) -> Option<&str> {
+        pub(crate) fn attr(&self, key: &str) -> Option<&str> {
             self.attrs
                 .iter()
                 .find(|(k, _)| k == key)
                 .map(|(_, v)| v.as_str())
         }
 
-        pub fn all(&self, name: &str) -> Vec<&Node> {
+        pub(crate) fn all(&self, name: &str) -> Vec<&Node> {
             self.children.iter().filter(|c| c.name == name).collect()
         }
 
-        pub fn one(&self, name: &str) -> &Node {
+        pub(crate) fn one(&self, name: &str) -> &Node {
             let found = self.all(name);
             assert_eq!(found.len(), 1, "exactly one <{name}> in <{}>", self.name);
             found[0]

@@ -24,7 +24,7 @@ use parser::{GuardParser, Rule};
 /// Deepest nesting of parentheses, and longest run of `!`, a guard may have. Far beyond any
 /// guard a person writes or synthesis produces; it keeps hostile input from exhausting the
 /// stack of the recursive parser and of the recursive [`Guard`] functions.
-pub const MAX_DEPTH: usize = 100;
+pub(crate) const MAX_DEPTH: usize = 100;
 
 /// Why guard text could not be parsed; `column` is 1-based, in characters.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

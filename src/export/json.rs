@@ -57,7 +57,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// The version of the contract this build writes, and the newest it reads.
-pub const FORMAT: u32 = 1;
+pub(crate) const FORMAT: u32 = 1;
 
 // The serde types are the contract: their doc comments become the JSON Schema's descriptions.
 
@@ -128,7 +128,7 @@ struct TransitionEntry {
 }
 
 /// The JSON Schema (draft 2020-12) of the contract, as `synth schema` prints it.
-pub fn schema() -> serde_json::Value {
+pub(crate) fn schema() -> serde_json::Value {
     serde_json::to_value(schemars::schema_for!(Document)).expect("a schema is JSON")
 }
 
@@ -234,7 +234,7 @@ pub enum ContentProblem {
 
 /// Writes the ECC as pretty JSON (two-space indent, fields in contract order, trailing newline).
 /// The `Ecc` is expected to be valid ([`Ecc::validate`]).
-pub fn write_json(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_json(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     let doc = Document {
         schema: None,
         format: Some(FORMAT),

@@ -8,21 +8,21 @@
 //! [`check_iec_identifier`]; names that reach SMV are checked by [`crate::smv`]; both rules
 //! live in [`crate::ecc::ident`]. Files are written by [`crate::files`], as ordinary files.
 
-pub mod dot;
-pub mod fbt;
+pub(crate) mod dot;
+pub(crate) mod fbt;
 pub mod guard_text;
 pub mod json;
 pub mod modular;
-pub mod network;
-pub mod plcopen;
-pub mod pnml;
-pub mod st;
-pub mod waveform;
+pub(crate) mod network;
+pub(crate) mod plcopen;
+pub(crate) mod pnml;
+pub(crate) mod st;
+pub(crate) mod waveform;
 
 #[cfg(test)]
 pub(crate) mod samples;
 
-pub use crate::ecc::ident::check_iec as check_iec_identifier;
+pub(crate) use crate::ecc::ident::check_iec as check_iec_identifier;
 
 use crate::ecc::Ecc;
 use crate::files::{self, Folders, WriteError};
@@ -56,7 +56,7 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order `--help` lists them.
-    pub const ALL: [Format; 7] = [
+    pub(crate) const ALL: [Format; 7] = [
         Format::Json,
         Format::Fbt,
         Format::Smv,
@@ -67,7 +67,7 @@ impl Format {
     ];
 
     /// The format's name on the command line, which is also its file extension.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Format::Json => "json",
             Format::Fbt => "fbt",
@@ -80,7 +80,7 @@ impl Format {
     }
 
     /// File extension, without the dot: the name, except `xml` for PLCopen.
-    pub fn extension(self) -> &'static str {
+    pub(crate) fn extension(self) -> &'static str {
         match self {
             Format::Plcopen => "xml",
             f => f.name(),
@@ -102,7 +102,7 @@ impl fmt::Display for Format {
 )]
 pub struct UnknownFormat {
     /// The name as given.
-    pub given: String,
+    pub(crate) given: String,
 }
 
 impl FromStr for Format {
@@ -214,7 +214,7 @@ pub fn text(ecc: &Ecc, stem: &str, format: Format) -> Result<String, ExportError
 /// Every text is produced and every name checked before the first file is touched, and each
 /// file is written to a temporary file in `dir` and renamed over its target, so a failure
 /// never leaves a half-written file, and a bad name leaves no file at all.
-pub fn write_all(
+pub(crate) fn write_all(
     ecc: &Ecc,
     dir: &Path,
     stem: &str,
@@ -264,13 +264,13 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
 )]
 pub struct NameError {
     /// Where the name comes from: `type name`, `input 3`, `output 1` (1-based).
-    pub role: String,
+    pub(crate) role: String,
     /// The name as given.
-    pub name: String,
+    pub(crate) name: String,
     /// The format that cannot use it, e.g. `an IEC 61499 .fbt file`.
-    pub format: &'static str,
+    pub(crate) format: &'static str,
     /// Which rule the name breaks.
-    pub reason: String,
+    pub(crate) reason: String,
 }
 
 impl From<NameError> for io::Error {

@@ -44,7 +44,7 @@
 //! `MODULE <stem>(REQ, x1, ..., xX)` has the signature and the variables (`CNF`, every output)
 //! of a single ECC's module ([`crate::smv::ecc_module`]): instances `_m1.._mM` of the module
 //! types `<stem>_M<i>`, `CNF := _m1.CNF | ... | _mM.CNF` and each output defined as its
-//! owner's. Named [`crate::smv::closed_loop::CONTROLLER_MODULE`], it replaces the controller
+//! owner's. Named [`crate::smv::composition::CONTROLLER_MODULE`], it replaces the controller
 //! of a closed loop.
 
 use super::fbt::write_head;
@@ -59,7 +59,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// Type name of module `m` (0-based) of a composite named `stem`: `<stem>_M<m+1>`.
-pub fn module_type_name(stem: &str, m: usize) -> String {
+pub(crate) fn module_type_name(stem: &str, m: usize) -> String {
     format!("{stem}_M{}", m + 1)
 }
 
@@ -89,7 +89,7 @@ fn interface(modular: &Modular) -> Ecc {
 
 /// Checks every name the `.fbt` files would contain: the composite's interface and type name
 /// and every module's type name.
-pub fn check_fbt_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
+pub(crate) fn check_fbt_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
     super::fbt::check_names(&interface(modular), stem)?;
     for (m, module) in modular.modules.iter().enumerate() {
         let name = module_type_name(stem, m);
@@ -106,7 +106,11 @@ pub fn check_fbt_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
 
 /// Writes the `CompositeFBType`; see the module header for its network. Fails with
 /// [`io::ErrorKind::InvalidInput`] before writing anything if a name is unusable.
-pub fn write_composite_fbt(modular: &Modular, stem: &str, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_composite_fbt(
+    modular: &Modular,
+    stem: &str,
+    w: &mut impl Write,
+) -> io::Result<()> {
     check_fbt_names(modular, stem)?;
     let size = modular.size();
     let comment = format!(
@@ -242,7 +246,7 @@ fn write_data_connections(x: &mut XmlWriter<impl Write>, modular: &Modular) -> i
 }
 
 /// [`write_composite_fbt`] into a string.
-pub fn composite_fbt_to_string(modular: &Modular, stem: &str) -> io::Result<String> {
+pub(crate) fn composite_fbt_to_string(modular: &Modular, stem: &str) -> io::Result<String> {
     let mut buf = Vec::new();
     write_composite_fbt(modular, stem, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the .fbt emitter writes UTF-8 only"))
@@ -251,7 +255,7 @@ pub fn composite_fbt_to_string(modular: &Modular, stem: &str) -> io::Result<Stri
 /// Checks the names of the composite SMV: the composite as one ECC module and every module.
 /// The instance names `_m<i>` cannot clash: SMV names starting with `_` are reserved for
 /// generated identifiers ([`crate::smv::check_identifier`]).
-pub fn check_smv_names(modular: &Modular, module_name: &str) -> Result<(), SmvError> {
+pub(crate) fn check_smv_names(modular: &Modular, module_name: &str) -> Result<(), SmvError> {
     ecc_module::check_names(&interface(modular), module_name)?;
     for (m, module) in modular.modules.iter().enumerate() {
         ecc_module::check_names(&module.ecc, &module_type_name(module_name, m))?;
@@ -260,11 +264,11 @@ pub fn check_smv_names(modular: &Modular, module_name: &str) -> Result<(), SmvEr
 }
 
 /// The most states a chain's single ECC may have before the export gives up.
-pub const FLAT_LIMIT: usize = 4096;
+pub(crate) const FLAT_LIMIT: usize = 4096;
 
 /// Writes the composite as SMV: every module's ECC module, then `MODULE module_name`; see the
 /// module header. A chain is written as its single ECC.
-pub fn write_composite_smv(
+pub(crate) fn write_composite_smv(
     modular: &Modular,
     module_name: &str,
     w: &mut impl Write,
@@ -329,7 +333,7 @@ pub fn composite_smv_to_string(modular: &Modular, module_name: &str) -> Result<S
 
 /// Checks every name the `.st` and PLCopen files would contain: the composite's interface
 /// (which may not use an instance name `M<i>` either) and type name, and every module.
-pub fn check_st_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
+pub(crate) fn check_st_names(modular: &Modular, stem: &str) -> Result<(), NameError> {
     let mut reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
     reserved.extend((0..modular.modules.len()).map(instance_name));
     super::check_iec_names(&interface(modular), "Structured Text", stem, &reserved)?;
@@ -365,7 +369,11 @@ fn composite_statements(modular: &Modular) -> String {
 
 /// Writes every module's `FUNCTION_BLOCK` and the composite's; see the module header. Fails
 /// with [`io::ErrorKind::InvalidInput`] before writing anything if a name is unusable.
-pub fn write_composite_st(modular: &Modular, stem: &str, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_composite_st(
+    modular: &Modular,
+    stem: &str,
+    w: &mut impl Write,
+) -> io::Result<()> {
     check_st_names(modular, stem)?;
     for (m, module) in modular.modules.iter().enumerate() {
         super::st::write_st(&module.ecc, &module_type_name(stem, m), w)?;
@@ -408,7 +416,7 @@ pub fn write_composite_st(modular: &Modular, stem: &str, w: &mut impl Write) -> 
 
 /// Writes the modules and the composite as one PLCopen project named `stem`, created at
 /// `created` (an `xsd:dateTime`). Fails like [`write_composite_st`].
-pub fn write_composite_plcopen(
+pub(crate) fn write_composite_plcopen(
     modular: &Modular,
     stem: &str,
     created: &str,
@@ -455,7 +463,7 @@ pub fn write_composite_plcopen(
 
 /// The network as a Graphviz drawing: each input, module and output a node, an edge from each
 /// input to every module that reads it and from each module to the outputs it owns.
-pub fn composite_dot(modular: &Modular, stem: &str) -> String {
+pub(crate) fn composite_dot(modular: &Modular, stem: &str) -> String {
     // DOT strings escape quotes and backslashes; `\n` is DOT's line break.
     let quote = |s: &str| {
         let escaped = s.replace('\\', "\\\\").replace('"', "\\\"");
@@ -511,7 +519,7 @@ pub fn composite_dot(modular: &Modular, stem: &str) -> String {
 }
 
 /// The decomposition as JSON: per module, its type name, inputs, outputs and size.
-pub fn decomposition_json(modular: &Modular, stem: &str) -> String {
+pub(crate) fn decomposition_json(modular: &Modular, stem: &str) -> String {
     let modules: Vec<serde_json::Value> = modular
         .modules
         .iter()
@@ -546,7 +554,7 @@ pub fn decomposition_json(modular: &Modular, stem: &str) -> String {
 /// Writes every file of the module header into `dir`, and returns the paths in the order
 /// written. Every name is checked before the first file is touched; files are written
 /// atomically.
-pub fn write_modular(
+pub(crate) fn write_modular(
     modular: &Modular,
     dir: &Path,
     stem: &str,

@@ -47,7 +47,7 @@ fn interface(net: &Network) -> Ecc {
 }
 
 /// Writes the network as SMV; see the module header.
-pub fn write_network_smv(
+pub(crate) fn write_network_smv(
     net: &Network,
     module_name: &str,
     w: &mut impl Write,
@@ -91,7 +91,7 @@ pub fn write_network_smv(
 }
 
 /// [`write_network_smv`] into a string.
-pub fn network_smv_to_string(net: &Network, module_name: &str) -> Result<String, SmvError> {
+pub(crate) fn network_smv_to_string(net: &Network, module_name: &str) -> Result<String, SmvError> {
     let mut buf = Vec::new();
     write_network_smv(net, module_name, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the SMV emitter writes UTF-8 only"))
@@ -104,7 +104,7 @@ fn st_instance(m: usize) -> String {
 
 /// Checks every name of the network's Structured Text: the block's interface and type name
 /// (none an instance `M<i>` or a controller's name) and every controller.
-pub fn check_st_names(net: &Network, stem: &str) -> Result<(), super::NameError> {
+pub(crate) fn check_st_names(net: &Network, stem: &str) -> Result<(), super::NameError> {
     let mut reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
     reserved.extend((0..net.modular.modules.len()).map(st_instance));
     reserved.extend(net.names.iter().cloned());
@@ -118,7 +118,11 @@ pub fn check_st_names(net: &Network, stem: &str) -> Result<(), super::NameError>
 /// Writes every controller's `FUNCTION_BLOCK` and the network's; see the module header.
 /// Fails with [`std::io::ErrorKind::InvalidInput`] before writing anything if a name is
 /// unusable.
-pub fn write_network_st(net: &Network, stem: &str, w: &mut impl Write) -> std::io::Result<()> {
+pub(crate) fn write_network_st(
+    net: &Network,
+    stem: &str,
+    w: &mut impl Write,
+) -> std::io::Result<()> {
     check_st_names(net, stem)?;
     let m = &net.modular;
     for (module, name) in m.modules.iter().zip(&net.names) {
@@ -175,7 +179,7 @@ pub fn write_network_st(net: &Network, stem: &str, w: &mut impl Write) -> std::i
 }
 
 /// The network as a Graphviz drawing.
-pub fn network_dot(net: &Network, stem: &str) -> String {
+pub(crate) fn network_dot(net: &Network, stem: &str) -> String {
     let quote = |s: &str| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""));
     let m = &net.modular;
     let mut text = format!(
@@ -228,7 +232,7 @@ pub fn network_dot(net: &Network, stem: &str) -> String {
 }
 
 /// The network as JSON: per controller its inputs, outputs and size.
-pub fn network_json(net: &Network, stem: &str) -> String {
+pub(crate) fn network_json(net: &Network, stem: &str) -> String {
     let m = &net.modular;
     let controllers: Vec<serde_json::Value> = (m.modules.iter().zip(&net.names))
         .map(|(module, name)| {
@@ -260,7 +264,11 @@ pub fn network_json(net: &Network, stem: &str) -> String {
 
 /// Writes every file of the module header into `dir`; every text is made (and every name
 /// checked) before the first file is written. Returns the paths in the order written.
-pub fn write_network(net: &Network, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, ExportError> {
+pub(crate) fn write_network(
+    net: &Network,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ExportError> {
     net.validate().map_err(ExportError::InvalidEcc)?;
     if let Some(name) = net.names.iter().find(|n| n.eq_ignore_ascii_case(stem)) {
         return Err(ExportError::InvalidEcc(format!(

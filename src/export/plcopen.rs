@@ -23,25 +23,25 @@ use crate::files::xml::XmlWriter;
 use std::io::{self, Write};
 
 /// The XML namespace of PLCopen TC6 XML 2.01.
-pub const NAMESPACE: &str = "http://www.plcopen.org/xml/tc6_0201";
+pub(crate) const NAMESPACE: &str = "http://www.plcopen.org/xml/tc6_0201";
 
 /// The XHTML namespace the ST body is written in.
 const XHTML: &str = "http://www.w3.org/1999/xhtml";
 
 /// Options of the PLCopen export.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PlcopenOptions {
+pub(crate) struct PlcopenOptions {
     /// The function block's name (an IEC 61131-3 identifier), also the project's name.
-    pub block_name: String,
+    pub(crate) block_name: String,
     /// `creationDateTime` of the file header, an `xsd:dateTime` such as
     /// `2026-12-03T09:00:00Z`; [`creation_time`] gives the one the command line uses.
-    pub created: String,
+    pub(crate) created: String,
 }
 
 /// The creation time of an export: `SOURCE_DATE_EPOCH` (seconds since the Unix epoch, the
 /// reproducible-builds convention) when it is set and valid, otherwise the clock; in UTC,
 /// as an `xsd:dateTime`.
-pub fn creation_time() -> String {
+pub(crate) fn creation_time() -> String {
     let seconds = std::env::var("SOURCE_DATE_EPOCH")
         .ok()
         .and_then(|s| s.trim().parse::<i64>().ok())
@@ -60,13 +60,17 @@ pub fn creation_time() -> String {
 }
 
 /// Checks the block name and the interface names, as for Structured Text.
-pub fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
+pub(crate) fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
     st::check_names(ecc, block_name)
 }
 
 /// Writes the project; fails with [`io::ErrorKind::InvalidInput`] (wrapping a [`NameError`])
 /// before writing anything if a name is unusable.
-pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_plcopen(
+    ecc: &Ecc,
+    options: &PlcopenOptions,
+    w: &mut impl Write,
+) -> io::Result<()> {
     let name = options.block_name.as_str();
     check_names(ecc, name)?;
     let pou = Pou::of_ecc(ecc, name)?;
@@ -76,11 +80,11 @@ pub fn write_plcopen(ecc: &Ecc, options: &PlcopenOptions, w: &mut impl Write) ->
 /// A variable of a POU's interface.
 pub(crate) struct Var {
     /// Its name.
-    pub name: String,
+    pub(crate) name: String,
     /// An elementary type (`BOOL`, `INT`), or a function block type for an instance.
-    pub type_name: TypeName,
+    pub(crate) type_name: TypeName,
     /// Its initial value as IEC 61131-3 text, if it has one.
-    pub initial: Option<&'static str>,
+    pub(crate) initial: Option<&'static str>,
 }
 
 /// The type of a [`Var`].
@@ -93,7 +97,7 @@ pub(crate) enum TypeName {
 
 impl Var {
     /// A `BOOL`, TRUE at the start when `initial`.
-    pub fn boolean(name: &str, initial: bool) -> Var {
+    pub(crate) fn boolean(name: &str, initial: bool) -> Var {
         Var {
             name: name.to_string(),
             type_name: TypeName::Elementary("BOOL"),
@@ -105,20 +109,20 @@ impl Var {
 /// One function block of a project: its interface and its body in ST.
 pub(crate) struct Pou {
     /// The block's type name.
-    pub name: String,
+    pub(crate) name: String,
     /// `REQ` first, then the inputs.
-    pub inputs: Vec<Var>,
+    pub(crate) inputs: Vec<Var>,
     /// `CNF` first, then the outputs.
-    pub outputs: Vec<Var>,
+    pub(crate) outputs: Vec<Var>,
     /// Internal variables (the state, module instances).
-    pub locals: Vec<Var>,
+    pub(crate) locals: Vec<Var>,
     /// The statements.
-    pub body: String,
+    pub(crate) body: String,
 }
 
 impl Pou {
     /// The POU of one ECC, named `name`: the `.st` export's interface and statements.
-    pub fn of_ecc(ecc: &Ecc, name: &str) -> io::Result<Pou> {
+    pub(crate) fn of_ecc(ecc: &Ecc, name: &str) -> io::Result<Pou> {
         let mut body = Vec::new();
         st::write_statements(ecc, &mut body)?;
         Ok(Pou {
@@ -250,7 +254,7 @@ fn variable<W: Write>(x: &mut XmlWriter<W>, var: &Var) -> io::Result<()> {
 }
 
 /// [`write_plcopen`] into a string.
-pub fn to_string(ecc: &Ecc, options: &PlcopenOptions) -> io::Result<String> {
+pub(crate) fn to_string(ecc: &Ecc, options: &PlcopenOptions) -> io::Result<String> {
     let mut buf = Vec::new();
     write_plcopen(ecc, options, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the emitter writes UTF-8"))

@@ -56,17 +56,17 @@ use std::io::{self, Write};
 use std::str::FromStr;
 
 /// The XML namespace of ISO/IEC 15909-2 PNML documents.
-pub const NAMESPACE: &str = "http://www.pnml.org/version-2009/grammar/pnml";
+pub(crate) const NAMESPACE: &str = "http://www.pnml.org/version-2009/grammar/pnml";
 
 /// The net type URI of a place/transition net.
-pub const PTNET: &str = "http://www.pnml.org/version-2009/grammar/ptnet";
+pub(crate) const PTNET: &str = "http://www.pnml.org/version-2009/grammar/ptnet";
 
 /// The net type URI of the core model, which ProM and pm4py write.
 const CORE_MODEL: &str = "http://www.pnml.org/version-2009/grammar/pnmlcoremodel";
 
 /// Which PNML a net is written in; see the module header.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Dialect {
+pub(crate) enum Dialect {
     /// ISO/IEC 15909-2 P/T net in the PNML namespace, fbsynth's tool data in
     /// `<toolspecific>`.
     #[default]
@@ -102,16 +102,16 @@ impl FromStr for Dialect {
 
 /// How inputs and outputs appear in activities.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Labels {
+pub(crate) struct Labels {
     /// Per input, in interface order.
-    pub inputs: Vec<String>,
+    pub(crate) inputs: Vec<String>,
     /// Per output, in interface order.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
 }
 
 impl Labels {
     /// The ECC's own signal names.
-    pub fn names(ecc: &Ecc) -> Labels {
+    pub(crate) fn names(ecc: &Ecc) -> Labels {
         Labels {
             inputs: ecc.inputs.clone(),
             outputs: ecc.outputs.clone(),
@@ -142,12 +142,12 @@ fn entry_outputs(ecc: &Ecc) -> Vec<BTreeSet<Vec<bool>>> {
 const MAX_VECTORS: usize = 64;
 
 /// Writes the ISO net of `ecc` labelled by its own signal names.
-pub fn write_pnml(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_pnml(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
     write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", Dialect::Iso, w)
 }
 
 /// Inputs up to which input events are analysed exactly (2^n vectors per state).
-pub const MAX_EXACT_INPUTS: usize = 12;
+pub(crate) const MAX_EXACT_INPUTS: usize = 12;
 
 /// What an input event (`input` taking `value`) can do in a state: `None` = nothing fires,
 /// `Some(k)` = transition `k` fires. Sorted, `None` first.
@@ -174,7 +174,7 @@ fn event_outcomes(ecc: &Ecc, state: usize, input: usize, value: bool) -> BTreeSe
 
 /// Writes the net of `ecc` in `dialect` with activities built from `labels`; `name` names the
 /// net (its `<name>`: any text; the net's `id` is `net`).
-pub fn write_pnml_labelled(
+pub(crate) fn write_pnml_labelled(
     ecc: &Ecc,
     labels: &Labels,
     name: &str,
@@ -430,7 +430,7 @@ impl<W: Write> Net<'_, W> {
 const FBSYNTH_TOOL: [(&str, &str); 2] = [("tool", "fbsynth"), ("version", "1.0")];
 
 /// [`write_pnml`] into a string.
-pub fn to_string(ecc: &Ecc) -> String {
+pub(crate) fn to_string(ecc: &Ecc) -> String {
     let mut buf = Vec::new();
     write_pnml(ecc, &mut buf).expect("writing into memory cannot fail");
     String::from_utf8(buf).expect("the emitter writes UTF-8")

@@ -51,7 +51,7 @@ fn state(i: usize, algorithm: Algorithm, transitions: Vec<(usize, Guard)>) -> St
 }
 
 /// One state that switches the lamp on at every `start`.
-pub fn one_state() -> Ecc {
+pub(crate) fn one_state() -> Ecc {
     Ecc {
         inputs: vec!["start".into()],
         outputs: vec!["lamp".into()],
@@ -61,7 +61,7 @@ pub fn one_state() -> Ecc {
 }
 
 /// A pick-and-place-like cylinder controller: 4 states, tri algorithms.
-pub fn tri() -> Ecc {
+pub(crate) fn tri() -> Ecc {
     // inputs: 0 c1Home, 1 c1End, 2 vac, 3 go
     Ecc {
         inputs: vec!["c1Home".into(), "c1End".into(), "vac".into(), "go".into()],
@@ -98,7 +98,7 @@ pub fn tri() -> Ecc {
 }
 
 /// A lamp with a buzzer: binary algorithms, state 1 flips the lamp, state 2 flips the buzzer.
-pub fn binary() -> Ecc {
+pub(crate) fn binary() -> Ecc {
     // inputs: 0 toggle, 1 reset
     Ecc {
         inputs: vec!["toggle".into(), "reset".into()],
@@ -125,7 +125,7 @@ pub fn binary() -> Ecc {
 }
 
 /// All samples with a short name each, for tests that run over every one.
-pub fn all() -> Vec<(&'static str, Ecc)> {
+pub(crate) fn all() -> Vec<(&'static str, Ecc)> {
     vec![
         ("one_state", one_state()),
         ("tri", tri()),

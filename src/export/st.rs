@@ -21,14 +21,14 @@ use std::io::{self, Write};
 
 /// Checks the block name and the interface names (IEC identifiers, distinct ignoring case,
 /// none of `REQ`, `CNF`, `state`).
-pub fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
+pub(crate) fn check_names(ecc: &Ecc, block_name: &str) -> Result<(), NameError> {
     let reserved: Vec<String> = BLOCK_MEMBERS.iter().map(|r| r.to_string()).collect();
     check_iec_names(ecc, "Structured Text", block_name, &reserved)
 }
 
 /// Writes the function block; fails with [`io::ErrorKind::InvalidInput`] (wrapping a
 /// [`NameError`]) before writing anything if a name is unusable.
-pub fn write_st(ecc: &Ecc, block_name: &str, w: &mut impl Write) -> io::Result<()> {
+pub(crate) fn write_st(ecc: &Ecc, block_name: &str, w: &mut impl Write) -> io::Result<()> {
     check_names(ecc, block_name)?;
     writeln!(w, "FUNCTION_BLOCK {block_name}")?;
     writeln!(w, "(* Synthesized by fbsynth ({}).", ecc.size())?;
@@ -113,7 +113,7 @@ pub(crate) fn write_statements(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> 
 }
 
 /// [`write_st`] into a string.
-pub fn to_string(ecc: &Ecc, block_name: &str) -> io::Result<String> {
+pub(crate) fn to_string(ecc: &Ecc, block_name: &str) -> io::Result<String> {
     let mut buf = Vec::new();
     write_st(ecc, block_name, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the ST emitter writes UTF-8 only"))

@@ -15,7 +15,7 @@ use std::fmt::Write;
 
 /// Where a signal belongs in the closed loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Group {
+pub(crate) enum Group {
     /// A controller input (a plant value the controller reads).
     Input,
     /// A controller output.
@@ -39,7 +39,7 @@ impl Group {
 
 /// One value of a signal at one step.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Value {
+pub(crate) enum Value {
     /// `TRUE` or `FALSE`.
     Bool(bool),
     /// A bounded integer.
@@ -53,7 +53,7 @@ pub enum Value {
 impl Value {
     /// A value as NuSMV prints it: `TRUE`/`FALSE`, an integer, or a symbol
     /// ([`parse_smv_value`]).
-    pub fn parse(text: &str) -> Value {
+    pub(crate) fn parse(text: &str) -> Value {
         match parse_smv_value(text) {
             SmvValue::Bool(b) => Value::Bool(b),
             SmvValue::Int(i) => Value::Int(i),
@@ -73,27 +73,27 @@ impl Value {
 
 /// One signal along the lasso.
 #[derive(Debug, Clone)]
-pub struct Signal {
+pub(crate) struct Signal {
     /// Where it comes from, which orders the rows.
-    pub group: Group,
+    pub(crate) group: Group,
     /// Its name in the closed loop.
-    pub name: String,
+    pub(crate) name: String,
     /// A value per step.
-    pub values: Vec<Value>,
+    pub(crate) values: Vec<Value>,
 }
 
 /// The signals of a lasso-shaped run: steps `0..steps`, after which the run goes on at
 /// `loop_start` forever.
 #[derive(Debug, Clone)]
-pub struct Waveform {
+pub(crate) struct Waveform {
     /// What the run is a counterexample of (a property name).
-    pub title: String,
+    pub(crate) title: String,
     /// The rows, in display order.
-    pub signals: Vec<Signal>,
+    pub(crate) signals: Vec<Signal>,
     /// Steps in the prefix and the loop together.
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// The step the run returns to after the last one.
-    pub loop_start: usize,
+    pub(crate) loop_start: usize,
 }
 
 impl Waveform {
@@ -121,7 +121,7 @@ impl Waveform {
 ///       loop         ^  ^  ^
 /// in    button    0  1  0  0
 /// ```
-pub fn table(w: &Waveform) -> String {
+pub(crate) fn table(w: &Waveform) -> String {
     let cells: Vec<Vec<String>> = w
         .signals
         .iter()
@@ -198,7 +198,7 @@ fn vcd_name(name: &str) -> String {
 /// scope per [`Group`], Boolean signals as 1-bit wires, integers and controller states as
 /// 32-bit integers (a state `sK` as `K`), and a wire `in_loop` that is 1 from the loop start
 /// on. The loop is drawn once more after the last step.
-pub fn vcd(w: &Waveform) -> String {
+pub(crate) fn vcd(w: &Waveform) -> String {
     let mut out = String::new();
     out.push_str("$version fbsynth counterexample $end\n");
     let _ = writeln!(
@@ -298,7 +298,7 @@ const NAMES: usize = 170;
 /// The run as an SVG waveform: a row per signal (Booleans as high/low lines, other values as
 /// labelled boxes), step numbers on top, the loop shaded and drawn once more, dashed, after
 /// the last step.
-pub fn svg(w: &Waveform) -> String {
+pub(crate) fn svg(w: &Waveform) -> String {
     let drawn = w.drawn();
     let width = NAMES + STEP * drawn + 20;
     let height = ROW * (w.signals.len() + 2) + 10;

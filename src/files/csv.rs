@@ -18,7 +18,7 @@ use std::io::BufRead;
 /// skips blank lines, and every error message of a log names the line of the file. Memory
 /// holds one record, whatever the length of the file, and a record holds at most
 /// [`MAX_LINE_BYTES`], whatever the length of a line.
-pub struct Records<R: BufRead> {
+pub(crate) struct Records<R: BufRead> {
     src: R,
     splitter: csv_core::Reader,
     /// The record's text (one line, or more while a quoted cell holds line breaks).
@@ -34,7 +34,7 @@ pub struct Records<R: BufRead> {
 
 impl<R: BufRead> Records<R> {
     /// A reader over `src` whose cells are separated by `delimiter` (e.g. `b','`).
-    pub fn new(src: R, delimiter: u8) -> Records<R> {
+    pub(crate) fn new(src: R, delimiter: u8) -> Records<R> {
         Records {
             src,
             splitter: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
@@ -47,7 +47,7 @@ impl<R: BufRead> Records<R> {
     }
 
     /// The next non-blank record and the 1-based line it starts on, or `None` at the end.
-    pub fn next_record(&mut self) -> Result<Option<(usize, Record<'_>)>, ReadError> {
+    pub(crate) fn next_record(&mut self) -> Result<Option<(usize, Record<'_>)>, ReadError> {
         loop {
             self.text.clear();
             let first = self.line + 1;
@@ -145,31 +145,26 @@ fn odd_quotes(text: &[u8]) -> bool {
 
 /// One record: its cells, each trimmed of surrounding blanks.
 #[derive(Clone, Copy)]
-pub struct Record<'a> {
+pub(crate) struct Record<'a> {
     cells: &'a [u8],
     ends: &'a [usize],
 }
 
 impl<'a> Record<'a> {
     /// The number of cells.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.ends.len()
     }
 
-    /// Whether the record has no cells (never true for a record [`Records`] returns).
-    pub fn is_empty(&self) -> bool {
-        self.ends.is_empty()
-    }
-
     /// Cell `k` (0-based), if the record has it.
-    pub fn get(&self, k: usize) -> Option<&'a [u8]> {
+    pub(crate) fn get(&self, k: usize) -> Option<&'a [u8]> {
         let end = *self.ends.get(k)?;
         let start = if k == 0 { 0 } else { self.ends[k - 1] };
         Some(self.cells[start..end].trim_ascii())
     }
 
     /// The cells in order.
-    pub fn iter(&self) -> impl Iterator<Item = &'a [u8]> + use<'a> {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = &'a [u8]> + use<'a> {
         let (cells, ends) = (self.cells, self.ends);
         ends.iter().enumerate().map(move |(k, &end)| {
             let start = if k == 0 { 0 } else { ends[k - 1] };
@@ -180,7 +175,7 @@ impl<'a> Record<'a> {
 
 /// One cell as RFC 4180 writes it: quoted, with quotes doubled, when it holds a comma, a quote
 /// or a line break; as it is otherwise.
-pub fn quote_cell(text: &str) -> String {
+pub(crate) fn quote_cell(text: &str) -> String {
     if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {
@@ -192,7 +187,7 @@ pub fn quote_cell(text: &str) -> String {
 /// caller's to trim). Looser than NuSMV's `TRUE`/`FALSE`
 /// ([`crate::ecc::ident::parse_bool_literal`]) on purpose: historians and PLC exports write
 /// Booleans all these ways.
-pub fn parse_bool_cell(cell: &[u8]) -> Option<bool> {
+pub(crate) fn parse_bool_cell(cell: &[u8]) -> Option<bool> {
     match cell {
         b"0" => Some(false),
         b"1" => Some(true),

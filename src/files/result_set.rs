@@ -15,12 +15,12 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// The lock file inside an output folder.
-pub const LOCK: &str = ".synth.lock";
+pub(crate) const LOCK: &str = ".synth.lock";
 /// The list of files the last run published into an output folder.
-pub const MANIFEST: &str = ".synth-files";
+pub(crate) const MANIFEST: &str = ".synth-files";
 
 /// An output folder taken by this run.
-pub struct ResultSet {
+pub(crate) struct ResultSet {
     out: PathBuf,
     /// This run made the folder: a run that publishes nothing removes it again.
     created: bool,
@@ -48,7 +48,7 @@ pub enum ResultSetError {
 
 impl ResultSet {
     /// Creates `out` if needed, locks it for this run and makes the staging folder.
-    pub fn open(out: &Path) -> Result<ResultSet, ResultSetError> {
+    pub(crate) fn open(out: &Path) -> Result<ResultSet, ResultSetError> {
         let err = |path: &Path| {
             let path = path.to_path_buf();
             move |source| WriteError { path, source }
@@ -94,12 +94,12 @@ impl ResultSet {
     }
 
     /// The folder to write the results into.
-    pub fn staging(&self) -> &Path {
+    pub(crate) fn staging(&self) -> &Path {
         self.staging.path()
     }
 
     /// Where a file written at `staged` (inside [`Self::staging`]) is after publishing.
-    pub fn published(&self, staged: &Path) -> PathBuf {
+    pub(crate) fn published(&self, staged: &Path) -> PathBuf {
         match staged.strip_prefix(self.staging.path()) {
             Ok(rel) => self.out.join(rel),
             Err(_) => staged.to_path_buf(),
@@ -109,7 +109,7 @@ impl ResultSet {
     /// Moves every staged file into the output folder, removes what the previous run
     /// published and this one did not, and records the new list. Returns the files published
     /// (relative to the output folder, sorted).
-    pub fn publish(mut self) -> Result<Vec<PathBuf>, WriteError> {
+    pub(crate) fn publish(mut self) -> Result<Vec<PathBuf>, WriteError> {
         self.published = true;
         let mut files = Vec::new();
         walk(self.staging.path(), Path::new(""), &mut files).map_err(|source| WriteError {

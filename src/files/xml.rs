@@ -16,7 +16,7 @@ use std::io::{self, Write};
 
 /// Escapes text for a double-quoted XML attribute. Line breaks and tabs become character
 /// references, because a parser normalizes literal ones in attributes to spaces.
-pub fn escape_attr(value: &str) -> Cow<'_, str> {
+pub(crate) fn escape_attr(value: &str) -> Cow<'_, str> {
     let escaped = quick_xml::escape::partial_escape(value);
     if !escaped.contains(['"', '\n', '\r', '\t']) {
         return escaped;
@@ -35,90 +35,100 @@ pub fn escape_attr(value: &str) -> Cow<'_, str> {
 }
 
 /// A document being written; see the module header.
-pub struct XmlWriter<W: Write> {
+pub(crate) struct XmlWriter<W: Write> {
     w: Writer<W>,
 }
 
 impl<W: Write> XmlWriter<W> {
     /// Starts a document on `w` (nothing is written yet).
-    pub fn new(w: W) -> XmlWriter<W> {
+    pub(crate) fn new(w: W) -> XmlWriter<W> {
         XmlWriter { w: Writer::new(w) }
     }
 
     /// The underlying writer, after the document.
-    pub fn into_inner(self) -> W {
+    pub(crate) fn into_inner(self) -> W {
         self.w.into_inner()
     }
 
     /// `<?xml version="1.0" encoding="UTF-8"?>` and a line break.
-    pub fn declaration(&mut self) -> io::Result<()> {
+    pub(crate) fn declaration(&mut self) -> io::Result<()> {
         let decl = BytesDecl::new("1.0", Some("UTF-8"), None);
         self.w.write_event(Event::Decl(decl))?;
         self.newline()
     }
 
     /// `<!DOCTYPE text>` and a line break; `text` is written as it is.
-    pub fn doctype(&mut self, text: &str) -> io::Result<()> {
+    pub(crate) fn doctype(&mut self, text: &str) -> io::Result<()> {
         self.w
             .write_event(Event::DocType(BytesText::from_escaped(text)))?;
         self.newline()
     }
 
     /// A start tag with its attributes.
-    pub fn start(&mut self, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
+    pub(crate) fn start(&mut self, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
         self.w.write_event(Event::Start(tag(name, attrs)))
     }
 
     /// An empty element `<name .../>`.
-    pub fn empty(&mut self, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
+    pub(crate) fn empty(&mut self, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
         self.w.write_event(Event::Empty(tag(name, attrs)))
     }
 
     /// An end tag.
-    pub fn end(&mut self, name: &str) -> io::Result<()> {
+    pub(crate) fn end(&mut self, name: &str) -> io::Result<()> {
         self.w.write_event(Event::End(BytesEnd::new(name)))
     }
 
     /// Escaped text.
-    pub fn text(&mut self, text: &str) -> io::Result<()> {
+    pub(crate) fn text(&mut self, text: &str) -> io::Result<()> {
         let escaped = quick_xml::escape::partial_escape(text);
         self.w
             .write_event(Event::Text(BytesText::from_escaped(escaped)))
     }
 
     /// `<name>text</name>` on the current line.
-    pub fn text_element(&mut self, name: &str, text: &str) -> io::Result<()> {
+    pub(crate) fn text_element(&mut self, name: &str, text: &str) -> io::Result<()> {
         self.start(name, &[])?;
         self.text(text)?;
         self.end(name)
     }
 
     /// The indentation of a line at `depth` (two spaces a level).
-    pub fn indent(&mut self, depth: usize) -> io::Result<()> {
+    pub(crate) fn indent(&mut self, depth: usize) -> io::Result<()> {
         self.layout(&"  ".repeat(depth))
     }
 
     /// A line break.
-    pub fn newline(&mut self) -> io::Result<()> {
+    pub(crate) fn newline(&mut self) -> io::Result<()> {
         self.layout("\n")
     }
 
     /// A line at `depth` holding a start tag.
-    pub fn open(&mut self, depth: usize, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
+    pub(crate) fn open(
+        &mut self,
+        depth: usize,
+        name: &str,
+        attrs: &[(&str, &str)],
+    ) -> io::Result<()> {
         self.indent(depth)?;
         self.start(name, attrs)?;
         self.newline()
     }
 
     /// A line at `depth` holding an empty element.
-    pub fn leaf(&mut self, depth: usize, name: &str, attrs: &[(&str, &str)]) -> io::Result<()> {
+    pub(crate) fn leaf(
+        &mut self,
+        depth: usize,
+        name: &str,
+        attrs: &[(&str, &str)],
+    ) -> io::Result<()> {
         self.indent(depth)?;
         self.empty(name, attrs)?;
         self.newline()
     }
 
     /// A line at `depth` holding an end tag.
-    pub fn close(&mut self, depth: usize, name: &str) -> io::Result<()> {
+    pub(crate) fn close(&mut self, depth: usize, name: &str) -> io::Result<()> {
         self.indent(depth)?;
         self.end(name)?;
         self.newline()

@@ -1,7 +1,7 @@
 //! A controller from the properties themselves: the closed loop as a game between the
 //! controller and the plant, solved explicitly, where the recordings leave the machine open.
 //!
-//! In: a plant [`Model`] with its [`Coupling`], properties in the fragment of [`Monitors`],
+//! In: a plant [`Model`] with its [`Wiring`], properties in the fragment of [`Monitors`],
 //! and the recordings' [`ScenarioTree`]. Out: a winning [`Strategy`] (a [`Controller`] that
 //! answers every recorded step as recorded and keeps every property in closed loop with every
 //! behaviour of the plant), or why there is none here ([`Outcome`]), or why the engine does not
@@ -26,13 +26,13 @@
 //! outputs (a PLC's natural "nothing to do"), then the fewest changed outputs.
 
 mod monitor;
-pub mod repair;
+pub(crate) mod repair;
 #[cfg(test)]
 mod tests;
 
-pub use monitor::{Monitors, Outside};
+pub(crate) use monitor::Monitors;
 
-use crate::check::{CheckError, Coupling};
+use crate::check::{CheckError, Wiring};
 use crate::deadline::Deadline;
 use crate::ecc::sim::{Controller, Reactive};
 use crate::ltl::Property;
@@ -45,7 +45,7 @@ const NONE: u32 = u32::MAX;
 
 /// Why the engine does not give an answer.
 #[derive(Debug, thiserror::Error)]
-pub enum GameError {
+pub(crate) enum GameError {
     /// The problem is outside what the engine solves (the property's form, a plant whose
     /// state the controller cannot know, too many positions).
     #[error("{0}")]
@@ -59,7 +59,7 @@ pub enum GameError {
 }
 
 /// What the game says.
-pub enum Outcome {
+pub(crate) enum Outcome {
     /// The controller wins: a strategy.
     Won(Box<Strategy>),
     /// The environment wins from an initial position: no controller of any size that answers
@@ -91,7 +91,7 @@ struct Expanded {
 /// The explicit game.
 struct Arena<'a> {
     sem: Semantics<'a>,
-    coupling: &'a Coupling,
+    coupling: &'a Wiring,
     monitors: Monitors,
     tree: &'a ScenarioTree,
     tree_inputs: HashMap<u64, usize>,
@@ -129,7 +129,7 @@ fn bits(v: &[bool]) -> u64 {
 impl<'a> Arena<'a> {
     fn new(
         model: &'a Model,
-        coupling: &'a Coupling,
+        coupling: &'a Wiring,
         props: &[Property],
         tree: &'a ScenarioTree,
         max_positions: usize,
@@ -516,7 +516,7 @@ impl Arena<'_> {
 }
 
 /// A winning strategy, as a controller.
-pub struct Strategy {
+pub(crate) struct Strategy {
     arena: ArenaData,
     /// Per position and goal: the move (index into the position's moves), `NONE` if not
     /// winning.
@@ -531,9 +531,9 @@ pub struct Strategy {
     initial: Vec<u32>,
     initial_outputs: Vec<bool>,
     /// Positions of the game, for the figures.
-    pub positions: usize,
+    pub(crate) positions: usize,
     /// Positions × goals the strategy can reach.
-    pub reachable: usize,
+    pub(crate) reachable: usize,
 }
 
 /// What a strategy needs of the arena once it is solved.
@@ -547,9 +547,9 @@ struct ArenaData {
 /// Solves the game of `props` in closed loop with `model`, for controllers answering the
 /// recordings of `tree` as recorded, from `initial_outputs`; [`GameError::Stopped`] once
 /// `deadline` passes.
-pub fn solve(
+pub(crate) fn solve(
     model: &Model,
-    coupling: &Coupling,
+    coupling: &Wiring,
     props: &[Property],
     tree: &ScenarioTree,
     initial_outputs: &[bool],
@@ -693,7 +693,7 @@ impl Strategy {
 }
 
 /// A strategy running as a controller.
-pub struct StrategyRun<'a> {
+pub(crate) struct StrategyRun<'a> {
     s: &'a Strategy,
     /// The positions the plant may be in now, with the goals met on the way there.
     candidates: Vec<(u32, u64)>,

@@ -18,7 +18,7 @@
 //! splits. The assumption form is exact because `G F x | G F y` is `G F (x | y)`: the
 //! property fails only where the environment keeps `e` from some step on.
 
-use crate::check::{Atom, AtomError, Coupling, Source};
+use crate::check::{Atom, AtomError, Source, Wiring};
 use crate::ltl::{Ltl, Property};
 use crate::plant::explicit::Semantics;
 use crate::plant::{Model, Name, Value};
@@ -74,18 +74,18 @@ enum Kind {
 
 /// What one step of the closed loop does to the monitors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Step {
+pub(crate) struct Step {
     /// The monitors' memory after the step.
-    pub memory: u64,
+    pub(crate) memory: u64,
     /// A safety part failed at this step.
-    pub bad: bool,
+    pub(crate) bad: bool,
     /// Bit `g`: goal `g` was met at this step.
-    pub goals: u64,
+    pub(crate) goals: u64,
 }
 
 /// The monitors of every property, with the atoms they read.
 #[derive(Debug, Clone)]
-pub struct Monitors {
+pub(crate) struct Monitors {
     kinds: Vec<Kind>,
     /// Per monitor: its memory bit, if it has one.
     bits: Vec<Option<u32>>,
@@ -96,16 +96,16 @@ pub struct Monitors {
     /// through a define of the plant that reads its parameters).
     plant_only: Vec<bool>,
     /// Per goal: the name of its property.
-    pub goal_names: Vec<String>,
+    pub(crate) goal_names: Vec<String>,
 }
 
 /// Why a property is outside the fragment (or cannot be resolved).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Outside(pub String);
+pub(crate) struct Outside(pub(crate) String);
 
 struct Builder<'a> {
     model: &'a Model,
-    coupling: &'a Coupling,
+    coupling: &'a Wiring,
     atoms: Vec<Atom>,
     index: HashMap<Ltl, usize>,
 }
@@ -235,7 +235,11 @@ impl Builder<'_> {
 impl Monitors {
     /// The monitors of `props` (names as [`crate::ltl::property_name`]), or the first property
     /// outside the fragment.
-    pub fn of(props: &[Property], model: &Model, coupling: &Coupling) -> Result<Monitors, Outside> {
+    pub(crate) fn of(
+        props: &[Property],
+        model: &Model,
+        coupling: &Wiring,
+    ) -> Result<Monitors, Outside> {
         let mut b = Builder {
             model,
             coupling,
@@ -302,7 +306,7 @@ impl Monitors {
     }
 
     /// How many recurring goals there are.
-    pub fn goal_count(&self) -> usize {
+    pub(crate) fn goal_count(&self) -> usize {
         self.goal_names.len()
     }
 
@@ -340,7 +344,7 @@ impl Monitors {
     }
 
     /// One step of every monitor from `memory` on the atom valuation `v`.
-    pub fn step(&self, memory: u64, v: u64) -> Step {
+    pub(crate) fn step(&self, memory: u64, v: u64) -> Step {
         let mut out = Step {
             memory: 0,
             bad: false,

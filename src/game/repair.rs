@@ -27,7 +27,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Why a machine could not be repaired.
 #[derive(Debug, thiserror::Error)]
-pub enum RepairError {
+pub(crate) enum RepairError {
     /// The base machine does not fit the game (another algorithm form, other interface).
     #[error("the machine does not fit the game: {0}")]
     Unfit(String),
@@ -44,15 +44,11 @@ pub enum RepairError {
 
 /// A repaired machine and how it came about.
 #[derive(Debug, Clone)]
-pub struct Repaired {
+pub(crate) struct Repaired {
     /// The machine: the base's states and transitions, with the overrides first in each state.
-    pub ecc: Ecc,
+    pub(crate) ecc: Ecc,
     /// Defects fixed (one per round).
-    pub rounds: usize,
-    /// States added to the base.
-    pub added_states: usize,
-    /// Nodes of its closed loop with the game.
-    pub closed_loop_nodes: usize,
+    pub(crate) rounds: usize,
 }
 
 /// An output algorithm as bit masks: outputs in `set` take their bit of `values`.
@@ -370,7 +366,7 @@ fn recorded_entries(s: &Strategy, base: &Ecc) -> HashSet<(u32, u64)> {
 
 /// Repairs `base` (a machine that reproduces the recordings of the game) until it wins the
 /// game, in at most `max_rounds` fixes.
-pub fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repaired, RepairError> {
+pub(crate) fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repaired, RepairError> {
     if bits(&base.initial_outputs) != bits(&s.initial_outputs)
         || base.initial_outputs.len() != s.initial_outputs.len()
     {
@@ -392,8 +388,6 @@ pub fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repaired, R
                         return Ok(Repaired {
                             ecc: table.to_ecc(),
                             rounds: round,
-                            added_states: table.algorithms.len() - base.states.len(),
-                            closed_loop_nodes: p.nodes.len(),
                         })
                     }
                     Some(Err(e)) => return Err(e),
@@ -456,7 +450,7 @@ pub fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repaired, R
 
 /// Whether `ecc` wins the game: every closed-loop run stays in winning positions and meets
 /// every goal again and again (in the game's model of the plant; NuSMV has the last word).
-pub fn wins(s: &Strategy, ecc: &Ecc) -> Result<bool, RepairError> {
+pub(crate) fn wins(s: &Strategy, ecc: &Ecc) -> Result<bool, RepairError> {
     let mut table = Table::of(ecc)?;
     Ok(match explore(s, &mut table) {
         Err(_) => false,
@@ -466,7 +460,7 @@ pub fn wins(s: &Strategy, ecc: &Ecc) -> Result<bool, RepairError> {
 
 /// Runs of `ecc` in closed loop with the game that together pass every node of the closed loop
 /// (one per leaf of its breadth-first tree), as scenarios with the machine's answers.
-pub fn covering_runs(s: &Strategy, ecc: &Ecc) -> Result<Vec<Scenario>, RepairError> {
+pub(crate) fn covering_runs(s: &Strategy, ecc: &Ecc) -> Result<Vec<Scenario>, RepairError> {
     let mut table = Table::of(ecc)?;
     let p = explore(s, &mut table).map_err(|_| RepairError::Loses)?;
     let mut is_parent = vec![false; p.nodes.len()];

@@ -18,9 +18,9 @@ ASSIGN
     esac;
 ";
 
-fn queue() -> (Model, Coupling) {
+fn queue() -> (Model, Wiring) {
     let model = crate::plant::parse::parse_str(QUEUE, Path::new("queue.smv")).unwrap();
-    let coupling = Coupling::of_model(&model, &["busy".into()], &["work".into()]).unwrap();
+    let coupling = Wiring::of_model(&model, &["busy".into()], &["work".into()]).unwrap();
     (model, coupling)
 }
 
@@ -133,7 +133,7 @@ fn every_pick_and_place_property_is_a_monitor() {
     let props = crate::ltl::parse_spec_file(&root.join("specs/pnp.ltl")).unwrap();
     let names = |f: &str| crate::scenario::names::read_names(&root.join(f)).unwrap();
     let (inputs, outputs) = (names("specs/pnp.inputs"), names("specs/pnp.outputs"));
-    let coupling = Coupling::of_model(&model, &inputs, &outputs).unwrap();
+    let coupling = Wiring::of_model(&model, &inputs, &outputs).unwrap();
     let m = Monitors::of(&props, &model, &coupling).unwrap();
     assert_eq!(
         m.goal_names,
@@ -272,7 +272,7 @@ fn many_outputs_stop_at_the_move_cap_before_memory_runs_out() {
         outputs.join(", ")
     );
     let model = crate::plant::parse::parse_str(&text, Path::new("wide.smv")).unwrap();
-    let coupling = Coupling::of_model(&model, &["busy".into()], &outputs).unwrap();
+    let coupling = Wiring::of_model(&model, &["busy".into()], &outputs).unwrap();
     let set = ScenarioSet {
         inputs: vec!["busy".into()],
         outputs: outputs.clone(),

@@ -12,7 +12,7 @@ use std::path::Path;
 
 /// Where a signal's value goes in a sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Slot {
+pub(crate) enum Slot {
     /// The signal is this input variable of the interface.
     Input(InputId),
     /// The signal is this output variable of the interface.
@@ -169,7 +169,7 @@ impl Mapping {
     }
 
     /// Input names in interface order (file order of the `in` lines).
-    pub fn inputs(&self) -> &[String] {
+    pub(crate) fn inputs(&self) -> &[String] {
         &self.inputs
     }
 
@@ -179,12 +179,12 @@ impl Mapping {
     }
 
     /// `(address, slot)` of every signal, inputs first, each side in file order.
-    pub fn addresses(&self) -> &[(String, Slot)] {
+    pub(crate) fn addresses(&self) -> &[(String, Slot)] {
         &self.addresses
     }
 
     /// The slot of an address or a name.
-    pub fn slot(&self, key: &[u8]) -> Option<Slot> {
+    pub(crate) fn slot(&self, key: &[u8]) -> Option<Slot> {
         self.lookup.get(key).copied()
     }
 }

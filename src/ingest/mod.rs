@@ -43,9 +43,10 @@
 mod mapping;
 mod reader;
 
-pub use crate::scenario::steps::StepStream;
-pub use mapping::{Mapping, Slot};
-pub use reader::{LogFormat, LogReader, ReadStats, Throughput};
+pub(crate) use crate::scenario::steps::StepStream;
+pub use mapping::Mapping;
+pub(crate) use mapping::Slot;
+pub use reader::{LogReader, ReadStats, Throughput};
 
 use crate::quote::quote;
 pub use crate::scenario::csvlog::Sample;
@@ -57,7 +58,7 @@ use std::path::PathBuf;
 /// and in the integer count `synth events` writes dates from) and two scans a millisecond
 /// apart stay apart. Unix times in seconds and in milliseconds fit; `1e20` does not, and would
 /// otherwise be merged with its neighbours or turned into a date clamped to the year 292 million.
-pub const MAX_TIMESTAMP: f64 = 9e12;
+pub(crate) const MAX_TIMESTAMP: f64 = 9e12;
 
 /// What is wrong with a data row.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,7 +97,7 @@ pub enum BadRow {
 
 /// The kinds of [`BadRow`], for counting skipped rows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RowKind {
+pub(crate) enum RowKind {
     /// [`BadRow::Value`]: an unparsable value or timestamp.
     Value,
     /// [`BadRow::TimeRange`]: a timestamp beyond [`MAX_TIMESTAMP`].
@@ -111,7 +112,7 @@ pub enum RowKind {
 
 impl RowKind {
     /// Every kind, in the order reports list them.
-    pub const ALL: [RowKind; 5] = [
+    pub(crate) const ALL: [RowKind; 5] = [
         RowKind::Value,
         RowKind::TimeRange,
         RowKind::UnknownAddress,
@@ -120,7 +121,7 @@ impl RowKind {
     ];
 
     /// A short label for reports.
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             RowKind::Value => "unparsable value",
             RowKind::TimeRange => "timestamp out of range",
@@ -133,7 +134,7 @@ impl RowKind {
 
 impl BadRow {
     /// The kind of the problem.
-    pub fn kind(&self) -> RowKind {
+    pub(crate) fn kind(&self) -> RowKind {
         match self {
             BadRow::Value { .. } => RowKind::Value,
             BadRow::TimeRange { .. } => RowKind::TimeRange,
@@ -256,20 +257,20 @@ pub fn convert_log<R: std::io::BufRead, E: From<IngestError>>(
 
 /// What [`write_scenario`] read and wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Written {
+pub(crate) struct Written {
     /// What the log reader counted (rows, samples, skipped bad rows).
-    pub stats: ReadStats,
+    pub(crate) stats: ReadStats,
     /// Steps written, and those of them with a `CNF`.
-    pub steps: u64,
+    pub(crate) steps: u64,
     /// Steps written that carry a `CNF` output event (some output changed).
-    pub active: u64,
+    pub(crate) active: u64,
 }
 
 /// `synth ingest`: converts the log file `log` into an fbSAT scenario file `out` with one
 /// scenario (initial outputs all 0, as the log formats assume), written step by step as the
 /// log is read, so memory does not grow with the log; `out` is published atomically (`.gz`
 /// compresses) and not touched when the log has a bad row.
-pub fn write_scenario(
+pub(crate) fn write_scenario(
     log: &std::path::Path,
     mapping: &Mapping,
     lenient: bool,

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 /// The two layouts a tapping device writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LogFormat {
+pub(crate) enum LogFormat {
     /// `timestamp,address,value`: one row per changed signal.
     Long,
     /// `timestamp,COL,...`: one row per scan.
@@ -26,21 +26,21 @@ pub enum LogFormat {
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ReadStats {
     /// Non-blank data rows (after the header), including skipped ones.
-    pub rows: u64,
+    pub(crate) rows: u64,
     /// Samples produced.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Skipped rows per kind, indexed like [`RowKind::ALL`] (lenient mode only).
-    pub skipped: [u64; 5],
+    pub(crate) skipped: [u64; 5],
 }
 
 impl ReadStats {
     /// Skipped rows of one kind.
-    pub fn skipped(&self, kind: RowKind) -> u64 {
+    pub(crate) fn skipped(&self, kind: RowKind) -> u64 {
         self.skipped[kind as usize]
     }
 
     /// Skipped rows of every kind.
-    pub fn skipped_total(&self) -> u64 {
+    pub(crate) fn skipped_total(&self) -> u64 {
         self.skipped.iter().sum()
     }
 }
@@ -99,7 +99,7 @@ impl LogReader {
 
 impl<R: BufRead> LogReader<R> {
     /// A reader over `src` (already decompressed); `file` names it in errors. Reads the header.
-    pub fn new(
+    pub(crate) fn new(
         file: PathBuf,
         mut src: R,
         mapping: &Mapping,
@@ -150,17 +150,17 @@ impl<R: BufRead> LogReader<R> {
     }
 
     /// The detected format.
-    pub fn format(&self) -> LogFormat {
+    pub(crate) fn format(&self) -> LogFormat {
         self.rows.format
     }
 
     /// What has been read so far.
-    pub fn stats(&self) -> &ReadStats {
+    pub(crate) fn stats(&self) -> &ReadStats {
         &self.stats
     }
 
     /// The timestamp of the sample the iterator returned last (`None` before the first).
-    pub fn sample_time(&self) -> Option<f64> {
+    pub(crate) fn sample_time(&self) -> Option<f64> {
         self.rows.sample_time
     }
 }

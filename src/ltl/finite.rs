@@ -31,7 +31,7 @@ use super::{CmpOp, Ltl};
 
 /// A truth value decided by a prefix, or not.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Truth {
+pub(crate) enum Truth {
     /// Holds on every continuation.
     True,
     /// Fails on every continuation.
@@ -79,7 +79,7 @@ impl Truth {
 
 /// Why a formula cannot be evaluated on recorded Boolean values.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum NotEvaluable {
+pub(crate) enum NotEvaluable {
     /// A name with no recorded column (a name of the plant, for instance).
     #[error("{} is not recorded", crate::quote::quote(.0))]
     Name(String),
@@ -102,7 +102,7 @@ impl Ltl {
     /// the values of a name the formula reads (`None` at a position where it is unknown);
     /// positions past the end of a column are unknown, and a name without a column makes the
     /// formula [`NotEvaluable`].
-    pub fn truth_on_prefix<'c>(
+    pub(crate) fn truth_on_prefix<'c>(
         &self,
         len: usize,
         column: &dyn Fn(&str) -> Option<&'c [Option<bool>]>,

@@ -32,7 +32,7 @@ use std::collections::BTreeMap;
 /// Why a formula could not be evaluated on a lasso. State indices are 0-based positions in the
 /// given state slice.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum EvalError {
+pub(crate) enum EvalError {
     /// The state slice is empty.
     #[error("the lasso has no state")]
     Empty,
@@ -94,7 +94,7 @@ impl Ltl {
     /// A name that the formula reads as a variable (see [`Ltl::names`]) must have a value in
     /// every state. A name on the right of a comparison is looked up too and, when a state has
     /// no value for it, taken as a symbolic constant (NuSMV prints every variable in a state).
-    pub fn holds_on_lasso(
+    pub(crate) fn holds_on_lasso(
         &self,
         states: &[BTreeMap<String, String>],
         loop_start: usize,

@@ -41,9 +41,11 @@ mod finite;
 mod lasso;
 mod parse;
 
-pub use finite::{NotEvaluable, Truth};
-pub use lasso::EvalError;
-pub use parse::{parse_spec, parse_spec_file, LtlError, LtlErrorKind};
+pub(crate) use finite::{NotEvaluable, Truth};
+#[cfg(test)]
+pub(crate) use parse::parse_spec;
+pub use parse::LtlErrorKind;
+pub use parse::{parse_spec_file, LtlError};
 
 use std::collections::BTreeSet;
 use std::fmt;
@@ -67,7 +69,7 @@ pub enum CmpOp {
 
 impl CmpOp {
     /// The NuSMV spelling.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             CmpOp::Eq => "=",
             CmpOp::Ne => "!=",
@@ -79,7 +81,7 @@ impl CmpOp {
     }
 
     /// Whether the operator orders integers (as opposed to testing equality).
-    pub fn is_ordering(self) -> bool {
+    pub(crate) fn is_ordering(self) -> bool {
         !matches!(self, CmpOp::Eq | CmpOp::Ne)
     }
 }
@@ -147,14 +149,14 @@ pub struct Property {
     /// The parsed formula.
     pub formula: Ltl,
     /// 1-based line of the file.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The formula as written, without label and comment.
-    pub text: String,
+    pub(crate) text: String,
 }
 
 /// The SMV name of the property at 0-based position `index` in its file: its label, or
 /// `p{index+1}`. The parser guarantees these names are unique within a file.
-pub fn property_name(index: usize, p: &Property) -> String {
+pub(crate) fn property_name(index: usize, p: &Property) -> String {
     match &p.label {
         Some(l) => l.clone(),
         None => default_name(index),
@@ -172,14 +174,14 @@ fn default_name(index: usize) -> String {
 /// the temporal operators, but they keep the text unambiguous to a reader, and NuSMV does need
 /// them under `!`.
 mod prec {
-    pub const IMPLIES: u8 = 1;
-    pub const IFF: u8 = 2;
-    pub const OR: u8 = 3;
-    pub const AND: u8 = 4;
-    pub const CMP: u8 = 5;
-    pub const BINARY_TEMPORAL: u8 = 6;
-    pub const PREFIX: u8 = 7;
-    pub const ATOM: u8 = 8;
+    pub(crate) const IMPLIES: u8 = 1;
+    pub(crate) const IFF: u8 = 2;
+    pub(crate) const OR: u8 = 3;
+    pub(crate) const AND: u8 = 4;
+    pub(crate) const CMP: u8 = 5;
+    pub(crate) const BINARY_TEMPORAL: u8 = 6;
+    pub(crate) const PREFIX: u8 = 7;
+    pub(crate) const ATOM: u8 = 8;
 }
 
 impl Ltl {
@@ -188,7 +190,7 @@ impl Ltl {
     ///
     /// A name on the right of a comparison whose left side is a name is left out: it may be a
     /// symbolic constant (`pos = idle`), which only the model can tell from a variable.
-    pub fn names(&self) -> BTreeSet<String> {
+    pub(crate) fn names(&self) -> BTreeSet<String> {
         let mut out = BTreeSet::new();
         self.visit(&mut |f| match f {
             Ltl::Atom(n) => {
@@ -244,12 +246,12 @@ impl Ltl {
     }
 
     /// Whether the formula uses no past operator (`Y Z H O S T`).
-    pub fn is_future_only(&self) -> bool {
+    pub(crate) fn is_future_only(&self) -> bool {
         self.past_depth() == 0
     }
 
     /// The largest number of past operators on one path from the root to a leaf.
-    pub fn past_depth(&self) -> usize {
+    pub(crate) fn past_depth(&self) -> usize {
         self.depth(&|f| {
             matches!(
                 f,
@@ -260,7 +262,7 @@ impl Ltl {
 
     /// The largest number of `X` on one path from the root to a leaf: how many steps past a
     /// position the formula reads, apart from `G F U V`.
-    pub fn next_depth(&self) -> usize {
+    pub(crate) fn next_depth(&self) -> usize {
         self.depth(&|f| matches!(f, Ltl::X(_)))
     }
 
@@ -282,7 +284,7 @@ impl Ltl {
     /// `resolve` maps each name in [`Ltl::names`] to its SMV expression (for example
     /// `c1Extend` to `ctrl.c1Extend`); other names (possible symbolic constants on the right
     /// of a comparison) are printed as written.
-    pub fn to_smv(&self, resolve: &dyn Fn(&str) -> String) -> String {
+    pub(crate) fn to_smv(&self, resolve: &dyn Fn(&str) -> String) -> String {
         let mut out = String::new();
         self.write_smv(resolve, &mut out);
         out
@@ -441,7 +443,7 @@ pub(crate) mod arb {
 
     /// Formulas over the Boolean atoms `a`, `b` (and, with `with_cmp`, comparisons of the
     /// integer `n` and the enumeration `s`), using every operator.
-    pub fn formula(with_cmp: bool) -> impl Strategy<Value = Ltl> {
+    pub(crate) fn formula(with_cmp: bool) -> impl Strategy<Value = Ltl> {
         let mut leaves = vec![
             Just(Ltl::Atom("a".into())).boxed(),
             Just(Ltl::Atom("b".into())).boxed(),
@@ -499,7 +501,7 @@ pub(crate) mod arb {
 
     /// Past operators nested under a future one: the formulas whose value at a loop state
     /// depends on how often the loop has been run through.
-    pub fn past_under_future() -> impl Strategy<Value = Ltl> {
+    pub(crate) fn past_under_future() -> impl Strategy<Value = Ltl> {
         let literal = (select(&["a", "b"][..]), any::<bool>()).prop_map(|(n, positive)| {
             let atom = Ltl::Atom(n.into());
             if positive {

@@ -115,7 +115,7 @@ pub fn parse_spec_file(path: &Path) -> Result<Vec<Property>, LtlError> {
 }
 
 /// Parses the text of a specification file; `file` is only used in error messages.
-pub fn parse_spec(file: &Path, text: &str) -> Result<Vec<Property>, LtlError> {
+pub(crate) fn parse_spec(file: &Path, text: &str) -> Result<Vec<Property>, LtlError> {
     // `lines` keeps the `\r` of a last line that has no `\n`.
     let lines: Vec<&str> = text
         .lines()
@@ -193,7 +193,7 @@ fn syntax(pos: usize, msg: impl Into<String>) -> LineError {
 /// The most operators and parentheses one formula may hold. The parser, the formula tree and
 /// every walk over it recurse once per level; a formula beyond any real specification (a
 /// thousand nested parentheses, a hundred thousand `!`) must be refused, not overflow the stack.
-pub const MAX_OPERATORS: usize = 1000;
+pub(crate) const MAX_OPERATORS: usize = 1000;
 
 /// Refuses a line with more than [`MAX_OPERATORS`] operators and open parentheses, at the
 /// place where the limit is passed.

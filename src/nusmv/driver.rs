@@ -32,15 +32,15 @@ pub struct Nusmv {
     /// The NuSMV executable (as found by [`locate`](super::locate())).
     pub path: PathBuf,
     /// Wall-clock limit per model; the process is killed when it is exceeded.
-    pub timeout: Duration,
+    pub(crate) timeout: Duration,
     /// The run's deadline: a check still running then is killed ([`NusmvError::Stopped`]),
     /// and none starts after it.
-    pub deadline: Deadline,
+    pub(crate) deadline: Deadline,
 }
 
 impl Nusmv {
     /// The timeout [`Nusmv::new`] sets.
-    pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
+    pub(crate) const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
 
     /// The binary at `path` with [`Nusmv::DEFAULT_TIMEOUT`].
     pub fn new(path: PathBuf) -> Nusmv {
@@ -101,7 +101,7 @@ impl Nusmv {
     }
 
     /// A [`Session`] running this binary with this timeout.
-    pub fn session(&self) -> Session {
+    pub(crate) fn session(&self) -> Session {
         Session::new(self.clone())
     }
 
@@ -133,7 +133,7 @@ pub enum CheckMode {
 /// session usable for the next; a timeout or crash kills the process and the next
 /// [`Session::check`] starts a new one. The process is also restarted every
 /// [`Session::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
-pub struct Session {
+pub(crate) struct Session {
     nusmv: Nusmv,
     process: Option<SessionProcess>,
     models_in_process: usize,
@@ -148,10 +148,10 @@ const MARKER: &str = "==fbsynth-end-";
 
 impl Session {
     /// Models checked by one process before it is replaced by a fresh one.
-    pub const DEFAULT_RESTART_EVERY: usize = 2000;
+    pub(crate) const DEFAULT_RESTART_EVERY: usize = 2000;
 
     /// A session; the process starts with the first [`Session::check`].
-    pub fn new(nusmv: Nusmv) -> Session {
+    pub(crate) fn new(nusmv: Nusmv) -> Session {
         Session {
             nusmv,
             process: None,
@@ -165,23 +165,23 @@ impl Session {
     /// What NuSMV printed on stderr while checking the last model that no verdict or error
     /// accounts for (a warning of a newer or patched NuSMV, say): reports show it, since it
     /// may change what a verdict means.
-    pub fn warnings(&self) -> &[String] {
+    pub(crate) fn warnings(&self) -> &[String] {
         &self.warnings
     }
 
     /// Replaces the process after `models` models (at least 1).
-    pub fn set_restart_every(&mut self, models: usize) {
+    pub(crate) fn set_restart_every(&mut self, models: usize) {
         self.restart_every = models.max(1);
     }
 
     /// The process id of the running NuSMV, if one is running.
-    pub fn pid(&self) -> Option<u32> {
+    pub(crate) fn pid(&self) -> Option<u32> {
         self.process.as_ref().map(|p| p.child.id)
     }
 
     /// Checks the LTL properties of `model`. Results come in file order; see [`CheckMode`]
     /// for which carry traces.
-    pub fn check(
+    pub(crate) fn check(
         &mut self,
         model: &Path,
         mode: CheckMode,
@@ -611,7 +611,7 @@ static NEXT_CHILD: AtomicU64 = AtomicU64::new(0);
 ///
 /// Registered with [`crate::signals`] when the first child starts: SIGINT, SIGTERM and SIGHUP
 /// call it before the program exits with status 130.
-pub fn kill_all_children() {
+pub(crate) fn kill_all_children() {
     let children = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
     for child in children.values() {
         let mut child = child.lock().unwrap_or_else(|e| e.into_inner());
@@ -652,7 +652,7 @@ fn kill_group(child: &Child) {
 /// The address space a NuSMV process may take: `FBSYNTH_NUSMV_MEMORY_MB` megabytes, by default
 /// half of the machine's memory. A plant with a huge range can make NuSMV grow past 10 GB
 /// before the timeout ends it; with the cap it fails early and says it ran out of memory.
-pub fn memory_cap() -> libc::rlim_t {
+pub(crate) fn memory_cap() -> libc::rlim_t {
     let from_env = std::env::var("FBSYNTH_NUSMV_MEMORY_MB")
         .ok()
         .and_then(|v| v.trim().parse::<u64>().ok())

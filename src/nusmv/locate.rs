@@ -16,10 +16,10 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 /// How to get NuSMV, in one line (the message of [`NusmvError::NotFound`]).
-pub const INSTALL_HINT: &str = "run .ci/install-nusmv.sh, or pass --nusmv PATH / set NUSMV";
+pub(crate) const INSTALL_HINT: &str = "run .ci/install-nusmv.sh, or pass --nusmv PATH / set NUSMV";
 
-/// Where `.ci/install-nusmv.sh` puts the binary, relative to [`cache_dir`].
-pub const CACHED_BINARY: &str = "nusmv-2.5.4/bin/NuSMV";
+/// Where `.ci/install-nusmv.sh` puts the binary, relative to fbsynth's cache folder ([`Env::cache_dir`]).
+pub(crate) const CACHED_BINARY: &str = "nusmv-2.5.4/bin/NuSMV";
 
 /// Binary names tried in `PATH`, in order.
 const NAMES: [&str; 2] = ["NuSMV", "nusmv"];
@@ -27,12 +27,6 @@ const NAMES: [&str; 2] = ["NuSMV", "nusmv"];
 /// Finds NuSMV; see the module documentation for the order.
 pub fn locate(explicit: Option<&Path>) -> Result<PathBuf, NusmvError> {
     locate_in(explicit, &Env::from_process())
-}
-
-/// fbsynth's cache folder: `$FBSYNTH_CACHE`, else `$XDG_CACHE_HOME/fbsynth`, else
-/// `$HOME/.cache/fbsynth` (empty variables count as unset, as in the install script).
-pub fn cache_dir() -> Option<PathBuf> {
-    Env::from_process().cache_dir()
 }
 
 /// The parts of the environment the lookup reads, apart so tests need not mutate the
@@ -60,6 +54,8 @@ impl Env {
         }
     }
 
+    /// fbsynth's cache folder: `$FBSYNTH_CACHE`, else `$XDG_CACHE_HOME/fbsynth`, else
+    /// `$HOME/.cache/fbsynth` (empty variables count as unset, as in the install script).
     fn cache_dir(&self) -> Option<PathBuf> {
         if let Some(dir) = &self.fbsynth_cache {
             return Some(PathBuf::from(dir));

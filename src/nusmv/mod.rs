@@ -14,15 +14,15 @@
 //! This module knows nothing about SAT synthesis: the CEGIS loop that joins both lives
 //! elsewhere.
 
-pub mod driver;
-pub mod locate;
-pub mod output;
+pub(crate) mod driver;
+pub(crate) mod locate;
+pub(crate) mod output;
 
-pub use driver::{kill_all_children, CheckMode, Nusmv, Session};
+pub(crate) use driver::{kill_all_children, Session};
+pub use driver::{CheckMode, Nusmv};
 pub use locate::locate;
-pub use output::{
-    parse_errors, parse_output, ModelError, OutputParseError, PropertyResult, Trace, Verdict,
-};
+pub use output::{parse_errors, parse_output, Verdict};
+pub use output::{ModelError, OutputParseError, PropertyResult, Trace};
 
 use std::path::PathBuf;
 

@@ -30,9 +30,9 @@ pub struct PropertyResult {
     pub name: Option<String>,
     /// What NuSMV printed in place of the property: its reprint of the formula (not the text
     /// of the model file), or `'name'` / `[index]` under the `name` / `index` print methods.
-    pub formula: String,
+    pub(crate) formula: String,
     /// The whole verdict line, `-- specification ... is true|false`, without the newline.
-    pub verdict_line: String,
+    pub(crate) verdict_line: String,
     /// Whether the property holds, with the counterexample when it does not.
     pub verdict: Verdict,
 }
@@ -57,11 +57,11 @@ pub struct Trace {
     pub states: Vec<BTreeMap<String, String>>,
     /// The input section printed before each state, all IVARs carried forward; empty for
     /// `k = 0` and for models without IVARs.
-    pub inputs: Vec<BTreeMap<String, String>>,
+    pub(crate) inputs: Vec<BTreeMap<String, String>>,
     /// Indices of the states preceded by `-- Loop starts here`. NuSMV marks every earlier
     /// state equal to the last one, so several entries are normal, and not every one of them
     /// need violate the property.
-    pub loop_starts: Vec<usize>,
+    pub(crate) loop_starts: Vec<usize>,
 }
 
 /// One error NuSMV reported about the model on stderr.
@@ -71,9 +71,9 @@ pub struct ModelError {
     /// `<command-line>` for a formula given with `check_ltlspec -p`).
     pub file: String,
     /// 1-based line in `file`.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The rest of NuSMV's message, e.g. `case conditions are not exhaustive`.
-    pub message: String,
+    pub(crate) message: String,
 }
 
 impl fmt::Display for ModelError {
@@ -94,7 +94,7 @@ pub struct OutputParseError {
     pub column: usize,
     /// What is wrong there: what the grammar expected, or an inconsistency such as an input
     /// section without a following state.
-    pub message: String,
+    pub(crate) message: String,
 }
 
 /// Parses NuSMV's stdout: banner, prompts (`NuSMV > `), verdict lines and traces. Any other

@@ -10,7 +10,7 @@
 //! recorded prefix, then the distinguishing steps): what an engineer does on the machine in
 //! service. The recorded steps count both parts.
 
-use super::ambiguity::{self, Verdict};
+use super::ambiguity::{self, Uniqueness};
 use super::{Error, Event, Events};
 use crate::ecc::diff::{difference, difference_from};
 use crate::ecc::{Ecc, Run, StateId};
@@ -20,20 +20,20 @@ use std::path::PathBuf;
 
 /// Settings of the loop.
 #[derive(Debug, Clone)]
-pub struct Options {
+pub(crate) struct Options {
     /// How rivals are looked for each round (bounds, budget, alphabet).
-    pub ambiguity: ambiguity::Options,
+    pub(crate) ambiguity: ambiguity::Options,
     /// Rounds at most; the last one ends the loop even if the machine is still ambiguous.
-    pub max_rounds: usize,
+    pub(crate) max_rounds: usize,
     /// Before looking for rivals, record a tour of the machine that tries every letter of the
     /// alphabet in every configuration it reaches (see [`tour`]).
-    pub tour: bool,
+    pub(crate) tour: bool,
 }
 
 /// What a round asked the oracle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
-pub enum Asked {
+pub(crate) enum Asked {
     /// A [`tour`]: some configuration had a letter no recorded point of it tried.
     Tour,
     /// [`probes`]: some configuration's access sequence had a letter not tried after it.
@@ -44,7 +44,7 @@ pub enum Asked {
 
 impl Asked {
     /// The word for it in progress lines and recordings' origins.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Asked::Tour => "tour",
             Asked::Probes => "probes",
@@ -57,37 +57,37 @@ impl Asked {
 #[derive(Debug, Clone)]
 pub struct Round {
     /// States of the machine inferred in this round.
-    pub states: usize,
+    pub(crate) states: usize,
     /// What the round recorded.
-    pub asked: Asked,
+    pub(crate) asked: Asked,
     /// What the ambiguity check said about this round's machine; `None` when the round
     /// recorded a tour or probes instead.
-    pub verdict: Option<Verdict>,
+    pub(crate) verdict: Option<Uniqueness>,
     /// Steps recorded on the oracle after this round (0 when it ended the loop).
-    pub recorded_steps: usize,
+    pub(crate) recorded_steps: usize,
     /// The round found no rival over the recorded combinations and widened the alphabet to
     /// every input vector (`all_inputs`) rather than ending the loop.
-    pub widened: bool,
+    pub(crate) widened: bool,
 }
 
 /// The result of [`learn`].
 #[derive(Debug, Clone)]
-pub struct Learned {
+pub(crate) struct Learned {
     /// The machine inferred in the last round.
-    pub machine: Ecc,
+    pub(crate) machine: Ecc,
     /// The initial recordings plus every scenario recorded on the oracle.
-    pub recordings: ScenarioSet,
+    pub(crate) recordings: ScenarioSet,
     /// Every round's figures, in order.
-    pub rounds: Vec<Round>,
+    pub(crate) rounds: Vec<Round>,
     /// Steps recorded on the oracle in all (beyond the initial recordings).
-    pub recorded_steps: usize,
+    pub(crate) recorded_steps: usize,
     /// Whether the last round found the machine unique (otherwise the round limit or the
     /// budget ended the loop).
-    pub unique: bool,
+    pub(crate) unique: bool,
 }
 
 /// The oracle's answers to `inputs` from its initial state, as a scenario.
-pub fn record(oracle: &Ecc, inputs: &[Vec<bool>], origin: Origin) -> Scenario {
+pub(crate) fn record(oracle: &Ecc, inputs: &[Vec<bool>], origin: Origin) -> Scenario {
     let mut run = Run::new(oracle);
     let steps = inputs
         .iter()
@@ -155,7 +155,7 @@ fn infer(
 /// Runs the loop from `initial` (which the oracle must reproduce). `events` hears of every
 /// round when it ends ([`Event::LearnRound`]) and of the parts of each round's inference (on
 /// long recordings one inference can take minutes).
-pub fn learn(
+pub(crate) fn learn(
     initial: &ScenarioSet,
     oracle: &Ecc,
     opts: &Options,
@@ -228,7 +228,7 @@ pub fn learn(
             recorded_steps: 0,
             widened: false,
         };
-        if widen && found.verdict != Verdict::Ambiguous && rounds.len() + 1 < opts.max_rounds {
+        if widen && found.verdict != Uniqueness::Ambiguous && rounds.len() + 1 < opts.max_rounds {
             widen = false;
             asking.all_inputs = true;
             round.widened = true;
@@ -240,7 +240,7 @@ pub fn learn(
             kept = Some(machine);
             continue;
         }
-        if found.verdict != Verdict::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
+        if found.verdict != Uniqueness::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
             events(Event::LearnRound {
                 number: rounds.len() + 1,
                 round: &round,
@@ -251,7 +251,7 @@ pub fn learn(
                 recordings: set,
                 rounds,
                 recorded_steps,
-                unique: found.verdict == Verdict::Unique,
+                unique: found.verdict == Uniqueness::Unique,
             });
         }
         for r in &found.rivals {
@@ -362,7 +362,11 @@ fn letter_index(letters: &[Vec<bool>]) -> std::collections::HashMap<&[bool], usi
 /// machine maps there tried it. When the machine has merged two states of the oracle, the
 /// other state answered, and the state merged with it is never asked. Probing from a
 /// point of its own (as the transition cover of conformance testing does) asks it.
-pub fn probes(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Vec<Vec<bool>>> {
+pub(crate) fn probes(
+    machine: &Ecc,
+    tree: &ScenarioTree,
+    letters: &[Vec<bool>],
+) -> Vec<Vec<Vec<bool>>> {
     let letter = letter_index(letters);
     let graph = Graph::new(machine, letters);
     let access = graph.access(letters);
@@ -408,7 +412,11 @@ pub fn probes(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<
 /// one recording, so the SAT calls are left with what only a longer sequence can show.
 /// The oracle may leave the machine's path during the tour; its answers are recorded all
 /// the same and the next round's machine accounts for them.
-pub fn tour(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Vec<Vec<bool>>> {
+pub(crate) fn tour(
+    machine: &Ecc,
+    tree: &ScenarioTree,
+    letters: &[Vec<bool>],
+) -> Vec<Vec<Vec<bool>>> {
     use std::collections::{HashSet, VecDeque};
     let letter = letter_index(letters);
     let Graph {
@@ -482,7 +490,7 @@ pub fn tour(machine: &Ecc, tree: &ScenarioTree, letters: &[Vec<bool>]) -> Vec<Ve
 /// Passive learning for comparison: `initial` plus random recordings on the oracle (input
 /// vectors drawn uniformly from `alphabet`, scenarios of `length` steps) until `steps` steps are
 /// recorded; the machine inferred from them.
-pub fn passive(
+pub(crate) fn passive(
     initial: &ScenarioSet,
     oracle: &Ecc,
     alphabet: &[Vec<bool>],
@@ -510,18 +518,18 @@ pub fn passive(
 
 /// How a machine compares with the oracle.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Agreement {
+pub(crate) struct Agreement {
     /// Over every input vector: `Ok(None)` equivalent, `Ok(Some(n))` they answer differently
     /// after `n` steps (the shortest such sequence), `Err` why they were not compared.
-    pub difference: Result<Option<usize>, String>,
+    pub(crate) difference: Result<Option<usize>, String>,
     /// Whether the machine answers as the oracle on every sequence over the alphabet of the
     /// comparison, from both initial states.
-    pub over_alphabet: bool,
+    pub(crate) over_alphabet: bool,
 }
 
 impl Agreement {
     /// Whether the machine is equivalent to the oracle over every input sequence.
-    pub fn equivalent(&self) -> bool {
+    pub(crate) fn equivalent(&self) -> bool {
         self.difference == Ok(None)
     }
 }
@@ -544,7 +552,7 @@ impl std::fmt::Display for Agreement {
 /// recordings of as many steps as the loop recorded ([`passive`]), in scenarios as long as the
 /// longest it recorded, over the alphabet of its final recordings; each compared with the
 /// oracle as the loop's machine is ([`Agreement`]).
-pub struct Comparison<'a> {
+pub(crate) struct Comparison<'a> {
     initial: &'a ScenarioSet,
     oracle: &'a Ecc,
     opts: &'a Options,
@@ -555,7 +563,7 @@ pub struct Comparison<'a> {
 
 impl<'a> Comparison<'a> {
     /// The comparison for what [`learn`] gave from `initial`.
-    pub fn new(
+    pub(crate) fn new(
         initial: &'a ScenarioSet,
         oracle: &'a Ecc,
         learned: &Learned,
@@ -579,12 +587,12 @@ impl<'a> Comparison<'a> {
     }
 
     /// Steps of each random scenario: the longest the loop recorded.
-    pub fn length(&self) -> usize {
+    pub(crate) fn length(&self) -> usize {
         self.length
     }
 
     /// How `machine` compares with the oracle.
-    pub fn agreement(&self, machine: &Ecc) -> Agreement {
+    pub(crate) fn agreement(&self, machine: &Ecc) -> Agreement {
         let difference = match difference(machine, self.oracle) {
             Ok(found) => Ok(found.map(|d| d.inputs.len())),
             Err(e) => Err(e.to_string()),
@@ -602,7 +610,7 @@ impl<'a> Comparison<'a> {
     }
 
     /// The machine passive learning infers from random recordings drawn with `seed`.
-    pub fn passive(&self, seed: u64) -> Result<Ecc, Error> {
+    pub(crate) fn passive(&self, seed: u64) -> Result<Ecc, Error> {
         passive(
             self.initial,
             self.oracle,

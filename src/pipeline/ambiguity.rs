@@ -28,22 +28,22 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone)]
 pub struct Options {
     /// The algorithm form of the machines (`{0, 1, x}` per output, or two bit strings).
-    pub algorithms: AlgorithmKind,
+    pub(crate) algorithms: AlgorithmKind,
     /// Rivals to list at most, at least 1 (each differs from the machine and from every
     /// rival before it).
-    pub rivals: usize,
+    pub(crate) rivals: usize,
     /// The longest distinguishing sequence looked for; `None`: the default, `C`.
-    pub depth: Option<usize>,
+    pub(crate) depth: Option<usize>,
     /// Sequences over every input vector, not only the recorded ones (at most
     /// [`MAX_ALL_INPUTS`] inputs).
-    pub all_inputs: bool,
+    pub(crate) all_inputs: bool,
     /// Time for each rival's search.
-    pub budget: Duration,
+    pub(crate) budget: Duration,
     /// Time to make each rival found smaller (fewer transitions, then guard literals).
-    pub polish: Duration,
+    pub(crate) polish: Duration,
     /// States a rival may have beyond the machine's: a machine in service may need more
     /// states than the recordings show, and only a rival with more can say so.
-    pub extra_states: usize,
+    pub(crate) extra_states: usize,
 }
 
 impl Default for Options {
@@ -61,34 +61,34 @@ impl Default for Options {
 }
 
 /// The most inputs for which [`Options::all_inputs`] enumerates every vector.
-pub const MAX_ALL_INPUTS: usize = 10;
+pub(crate) const MAX_ALL_INPUTS: usize = 10;
 
 /// Where a distinguishing sequence starts: after the first `step` steps of scenario
 /// `scenario` (0-based index; `step` 0 is the initial state).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 pub struct Start {
     /// 0-based index of the scenario in the [`ScenarioSet`].
-    pub scenario: usize,
+    pub(crate) scenario: usize,
     /// Number of that scenario's steps reproduced first (0: from the initial state).
-    pub step: usize,
+    pub(crate) step: usize,
 }
 
 /// A second machine that fits the recordings as well, and where it differs.
 #[derive(Debug, Clone)]
-pub struct Rival {
+pub(crate) struct Rival {
     /// The rival machine; it reproduces every recording.
-    pub ecc: Ecc,
+    pub(crate) ecc: Ecc,
     /// Where the distinguishing sequence starts, after a recorded prefix.
-    pub start: Start,
+    pub(crate) start: Start,
     /// The sequence after the prefix; `first` is the minimal machine's answer to its last
     /// step, `second` the rival's.
-    pub difference: Difference,
+    pub(crate) difference: Difference,
 }
 
 /// The verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
-pub enum Verdict {
+pub enum Uniqueness {
     /// No rival within the bounds.
     Unique,
     /// At least one rival.
@@ -101,36 +101,36 @@ pub enum Verdict {
 #[derive(Debug, Clone)]
 pub struct Ambiguity {
     /// Unique, ambiguous or unknown within the bounds.
-    pub verdict: Verdict,
+    pub verdict: Uniqueness,
     /// The rivals found, each differing from the machine and every rival before it.
-    pub rivals: Vec<Rival>,
+    pub(crate) rivals: Vec<Rival>,
     /// Whether the list is complete within the bounds (the last search found no further
     /// rival), rather than cut by [`Options::rivals`] or the budget.
-    pub complete: bool,
+    pub(crate) complete: bool,
     /// States a rival may have: the machine's plus [`extra_states`](Self::extra_states).
-    pub states: usize,
+    pub(crate) states: usize,
     /// States a rival may have beyond the machine's ([`Options::extra_states`]).
-    pub extra_states: usize,
+    pub(crate) extra_states: usize,
     /// At most this many transitions per state.
-    pub per_state: usize,
+    pub(crate) max_out_degree: usize,
     /// The longest distinguishing sequence looked for, in steps.
-    pub depth: usize,
+    pub(crate) depth: usize,
     /// Number of input vectors the sequences were drawn from.
-    pub alphabet: usize,
+    pub(crate) alphabet: usize,
     /// Whether the alphabet is every input vector rather than the recorded combinations.
-    pub all_inputs: bool,
+    pub(crate) all_inputs: bool,
     /// Wall-clock seconds the check took.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
     /// Recorded steps whose points the check started from: all of them, or on long
     /// recordings the part of them that [`check_long`] encoded last.
-    pub steps_encoded: usize,
+    pub(crate) steps_encoded: usize,
     /// Recorded steps in all.
-    pub steps: usize,
+    pub(crate) steps: usize,
 }
 
 impl Ambiguity {
     /// The verdict line: `unique (...)`, `ambiguous: ...` or `unknown (...)`.
-    pub fn summary(&self) -> String {
+    pub(crate) fn summary(&self) -> String {
         let over = if self.all_inputs {
             format!("any of the {} input vectors", self.alphabet)
         } else {
@@ -141,8 +141,8 @@ impl Ambiguity {
             if self.extra_states > 0 { "at most" } else { "" },
             self.states,
             if self.states == 1 { "" } else { "s" },
-            self.per_state,
-            if self.per_state == 1 { "" } else { "s" }
+            self.max_out_degree,
+            if self.max_out_degree == 1 { "" } else { "s" }
         )
         .trim_start()
         .to_string();
@@ -154,13 +154,13 @@ impl Ambiguity {
             false => "a recorded point".to_string(),
         };
         match self.verdict {
-            Verdict::Unique => format!(
+            Uniqueness::Unique => format!(
                 "unique: no other machine with {size} reproduces the recordings and answers differently within {} step{} of {points} (inputs: {over}; {:.2} s)",
                 self.depth,
                 if self.depth == 1 { "" } else { "s" },
                 self.seconds
             ),
-            Verdict::Ambiguous => format!(
+            Uniqueness::Ambiguous => format!(
                 "ambiguous: {}{} other machine{} with {size} reproduce{} the recordings but answer{} differently (inputs: {over}; {:.2} s)",
                 if self.complete { "" } else { "at least " },
                 self.rivals.len(),
@@ -169,7 +169,7 @@ impl Ambiguity {
                 if self.rivals.len() == 1 { "s" } else { "" },
                 self.seconds
             ),
-            Verdict::Unknown => format!(
+            Uniqueness::Unknown => format!(
                 "unknown: no answer within the budget ({:.2} s); raise --ambiguity-budget",
                 self.seconds
             ),
@@ -178,7 +178,7 @@ impl Ambiguity {
 }
 
 /// The alphabet of the check: the tree's vectors, then (with `all_inputs`) every other one.
-pub fn alphabet(
+pub(crate) fn alphabet(
     tree: &ScenarioTree,
     inputs: usize,
     all_inputs: bool,
@@ -218,7 +218,7 @@ pub fn check(
         tree,
         kind: opts.algorithms,
         states,
-        slots: size.k.max(1),
+        max_out_degree: size.k.max(1),
         polish: opts.polish,
         // Over every vector the steps' inputs are free bits (see the encoding).
         alphabet: match opts.all_inputs {
@@ -232,7 +232,7 @@ pub fn check(
     };
     let mut known: Vec<Ecc> = vec![machine.clone()];
     let mut rivals: Vec<Rival> = Vec::new();
-    let mut verdict = Verdict::Unique;
+    let mut verdict = Uniqueness::Unique;
     let mut complete = true;
     let limit = opts.rivals.max(1);
     while rivals.len() < limit {
@@ -241,7 +241,7 @@ pub fn check(
             Outcome::None => break,
             Outcome::Unknown => {
                 if rivals.is_empty() {
-                    verdict = Verdict::Unknown;
+                    verdict = Uniqueness::Unknown;
                 }
                 complete = false;
                 break;
@@ -251,7 +251,7 @@ pub fn check(
                     SatError::Bug(format!("a rival does not reproduce the recordings: {m}"))
                 })?;
                 let rival = told_apart(tree, machine, ecc, &alphabet)?;
-                verdict = Verdict::Ambiguous;
+                verdict = Uniqueness::Ambiguous;
                 known.push(rival.ecc.clone());
                 rivals.push(rival);
             }
@@ -266,7 +266,7 @@ pub fn check(
         complete,
         states,
         extra_states: opts.extra_states,
-        per_state: query.slots,
+        max_out_degree: query.max_out_degree,
         depth,
         alphabet: alphabet.len(),
         all_inputs: opts.all_inputs,
@@ -282,7 +282,11 @@ pub fn check(
 /// search is repeated. Every rival returned reproduces every recorded step; "unique" is
 /// claimed for distinguishing sequences started in the part encoded (the summary says so),
 /// since any machine that fits the whole fits the part.
-pub fn check_long(set: &ScenarioSet, machine: &Ecc, opts: &Options) -> Result<Ambiguity, Error> {
+pub(crate) fn check_long(
+    set: &ScenarioSet,
+    machine: &Ecc,
+    opts: &Options,
+) -> Result<Ambiguity, Error> {
     use super::lazy::{until_reproduced, whole_tree, FIRST_PART_STEPS};
     let t0 = Instant::now();
     if let Some(tree) = whole_tree(set)? {
@@ -335,21 +339,21 @@ fn told_apart(
 
 /// One step of a rival's sequence as both machines answer it.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Answer {
+pub(crate) struct Answer {
     /// The input vector of this step.
-    pub inputs: Vec<bool>,
+    pub(crate) inputs: Vec<bool>,
     /// `CNF` with the outputs, or `None`.
-    pub machine: Option<Vec<bool>>,
+    pub(crate) machine: Option<Vec<bool>>,
     /// The rival's answer: `CNF` with the outputs, or `None`.
-    pub rival: Option<Vec<bool>>,
+    pub(crate) rival: Option<Vec<bool>>,
     /// Part of the recorded prefix (both machines answer as recorded).
-    pub recorded: bool,
+    pub(crate) recorded: bool,
 }
 
 impl Rival {
     /// Every input vector to apply from the initial state: the recorded prefix, then the
     /// distinguishing sequence.
-    pub fn inputs(&self, set: &ScenarioSet) -> Vec<Vec<bool>> {
+    pub(crate) fn inputs(&self, set: &ScenarioSet) -> Vec<Vec<bool>> {
         let prefix = &set.scenarios[self.start.scenario].steps[..self.start.step];
         prefix
             .iter()
@@ -359,7 +363,7 @@ impl Rival {
     }
 
     /// Both machines' answers along [`Self::inputs`].
-    pub fn answers(&self, set: &ScenarioSet, machine: &Ecc) -> Vec<Answer> {
+    pub(crate) fn answers(&self, set: &ScenarioSet, machine: &Ecc) -> Vec<Answer> {
         let (mut a, mut b) = (Run::new(machine), Run::new(&self.ecc));
         self.inputs(set)
             .into_iter()
@@ -374,7 +378,7 @@ impl Rival {
     }
 
     /// A readable account: where to start, then the sequence with both answers.
-    pub fn describe(&self, set: &ScenarioSet, machine: &Ecc, name: &str) -> Vec<String> {
+    pub(crate) fn describe(&self, set: &ScenarioSet, machine: &Ecc, name: &str) -> Vec<String> {
         let origin = &set.scenarios[self.start.scenario].origin;
         let mut lines = vec![match self.start.step {
             0 => "from the initial state, apply:".to_string(),
@@ -420,7 +424,7 @@ impl Rival {
 impl Ambiguity {
     /// NuSMV's verdict on every rival in closed loop, in order: the properties it violates
     /// (none: every property holds for the rival too).
-    pub fn verify_rivals(&self, check: &super::Check) -> Result<Vec<Vec<String>>, Error> {
+    pub(crate) fn verify_rivals(&self, check: &super::Check) -> Result<Vec<Vec<String>>, Error> {
         let mut verifier = check.verifier()?;
         let mut out = Vec::new();
         for r in &self.rivals {
@@ -432,7 +436,7 @@ impl Ambiguity {
 
     /// The verdict and every rival with its sequence, as `synth infer` prints it and writes
     /// `ambiguity.txt`.
-    pub fn to_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+    pub(crate) fn to_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
         let mut s = String::new();
         let _ = writeln!(s, "{}", self.summary());
         if !self.rivals.is_empty() {
@@ -450,7 +454,7 @@ impl Ambiguity {
                 let _ = writeln!(s, "    {line}");
             }
         }
-        if self.verdict == Verdict::Ambiguous {
+        if self.verdict == Uniqueness::Ambiguous {
             let _ = writeln!(
                 s,
                 "  to tell them apart, record the sequences above on the machine in service (`synth next-recording` writes them as a plan)"
@@ -462,7 +466,7 @@ impl Ambiguity {
     /// The plan of what to record (`plan.csv`): one row per step to apply, `scenario`,
     /// `step`, `phase` (`replay` for the recorded prefix, `probe` after it), the inputs, and
     /// what the machine and the rival would answer (`-` for no `CNF`).
-    pub fn plan_csv(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+    pub(crate) fn plan_csv(&self, set: &ScenarioSet, machine: &Ecc) -> String {
         let mut csv = String::from("scenario,step,phase");
         for x in &set.inputs {
             let _ = write!(csv, ",in:{x}");
@@ -488,7 +492,7 @@ impl Ambiguity {
 
     /// The plan as a table (`plan.txt`): per sequence, its length and the steps to probe
     /// after the recorded prefix.
-    pub fn plan_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
+    pub(crate) fn plan_text(&self, set: &ScenarioSet, machine: &Ecc) -> String {
         let mut txt = String::new();
         for (k, r) in self.rivals.iter().enumerate() {
             let answers = r.answers(set, machine);

@@ -3,7 +3,7 @@
 //! In: a folder whose entries are the PLCs ([`plcs`]): a log file (CSV or Parquet recordings,
 //! or with a mapping a raw data-flow log) or a subfolder of them (a partition of a data set,
 //! `plc=3/part-00000.parquet`, each file one scenario), and the exact method's options; with a
-//! [`Verification`], the properties and plant every machine must satisfy in closed loop.
+//! [`VerificationSetup`], the properties and plant every machine must satisfy in closed loop.
 //! Out: an [`Outcome`] per PLC, in the folder's order: the machine (and NuSMV's certificate),
 //! or why there is none. A PLC that fails does not stop the others. [`write_results`] writes
 //! every machine into its folder and the [`Summary`] (one [`Row`] per PLC) as `summary.csv`
@@ -28,52 +28,52 @@ use std::time::{Duration, Instant};
 
 /// One PLC: its name (the file's stem or the folder's name) and where its logs are.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Plc {
+pub(crate) struct Plc {
     /// The PLC's name: the log file's stem or the subfolder's name.
-    pub name: String,
+    pub(crate) name: String,
     /// The PLC's log file or its folder of logs.
-    pub source: PathBuf,
+    pub(crate) source: PathBuf,
 }
 
 /// The properties and plant every machine is checked against (each PLC's interface gives its
 /// own closed loop), and the NuSMV that checks.
 #[derive(Debug, Clone)]
-pub struct Verification {
+pub(crate) struct VerificationSetup {
     /// The LTL specification file with the properties.
-    pub ltl: PathBuf,
+    pub(crate) ltl: PathBuf,
     /// The plant model file (SMV) every machine is closed in a loop with.
-    pub plant: PathBuf,
+    pub(crate) plant: PathBuf,
     /// The NuSMV that checks every PLC's closed loop.
-    pub nusmv: Nusmv,
+    pub(crate) nusmv: Nusmv,
 }
 
 /// A machine for one PLC.
 #[derive(Debug, Clone)]
-pub struct Reconstruction {
+pub(crate) struct Reconstruction {
     /// The minimal machine found by exact synthesis, with its figures.
-    pub synthesis: Synthesis,
-    /// With a [`Verification`]: NuSMV's word that every property holds.
-    pub certificate: Option<Certificate>,
+    pub(crate) synthesis: Synthesis,
+    /// With a [`VerificationSetup`]: NuSMV's word that every property holds.
+    pub(crate) certificate: Option<Certificate>,
 }
 
 /// What one PLC gave.
 #[derive(Debug)]
-pub struct Outcome {
+pub(crate) struct Outcome {
     /// The PLC this is the outcome of.
-    pub plc: Plc,
+    pub(crate) plc: Plc,
     /// Scenarios and steps read (zero when the logs could not be read).
-    pub scenarios: usize,
+    pub(crate) scenarios: usize,
     /// Steps read in all scenarios.
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// The machine, or why there is none (read, synthesis, time limit or verification failed).
-    pub result: Result<Reconstruction, Error>,
+    pub(crate) result: Result<Reconstruction, Error>,
     /// Wall-clock seconds for this PLC: reading, synthesis and verification.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 /// The PLCs of `dir`: every log file (named by its stem) and every subfolder holding logs
 /// (named by the folder), sorted by name. Two entries with one name are refused.
-pub fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
+pub(crate) fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
     let entries =
         std::fs::read_dir(dir).map_err(|e| Error::Input(format!("{}: {e}", dir.display())))?;
     let mut found = Vec::new();
@@ -116,7 +116,7 @@ pub fn plcs(dir: &Path) -> Result<Vec<Plc>, Error> {
 
 /// The scenarios of one PLC: its recordings, or with `mapping` its raw logs through the
 /// ingestion (each file one scenario).
-pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> {
+pub(crate) fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> {
     let Some(mapping) = mapping else {
         return Recordings::files(vec![plc.source.clone()]).load();
     };
@@ -138,10 +138,10 @@ pub fn load(plc: &Plc, mapping: Option<&Mapping>) -> Result<ScenarioSet, Error> 
 }
 
 /// Reconstructs every PLC, `threads` at a time, each within `limit`.
-pub fn run(
+pub(crate) fn run(
     plcs: &[Plc],
     mapping: Option<&Mapping>,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
     threads: usize,
@@ -176,7 +176,7 @@ pub fn run(
 fn one(
     plc: &Plc,
     mapping: Option<&Mapping>,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
 ) -> Outcome {
@@ -199,7 +199,7 @@ fn one(
 
 fn reconstruct(
     set: &ScenarioSet,
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
     opts: &exact::Options,
     limit: Duration,
 ) -> Result<Reconstruction, Error> {
@@ -225,12 +225,12 @@ fn reconstruct(
 
 /// Writes one PLC's machine into `dir` (created): the exports in `formats` named `name`, and
 /// with a verification NuSMV's `verification.txt`. Returns the files written.
-pub fn write(
+pub(crate) fn write(
     dir: &Path,
     r: &Reconstruction,
     name: &str,
     formats: &[crate::export::Format],
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
 ) -> Result<Vec<PathBuf>, Error> {
     super::output::create_dir(dir)?;
     let mut files = crate::export::write_all(&r.synthesis.ecc, dir, name, formats)?;
@@ -254,42 +254,42 @@ pub fn write(
 #[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Row {
     /// The PLC's name.
-    pub plc: String,
+    pub(crate) plc: String,
     /// Its log file or folder.
-    pub source: String,
+    pub(crate) source: String,
     /// `ok`, `verified` or `failed`.
-    pub status: &'static str,
+    pub(crate) status: &'static str,
     /// Scenarios read.
-    pub scenarios: usize,
+    pub(crate) scenarios: usize,
     /// Steps read.
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// States of the machine.
     #[serde(rename = "C")]
-    pub c: Option<usize>,
+    pub(crate) c: Option<usize>,
     /// Largest out-degree of the machine.
     #[serde(rename = "K")]
-    pub k: Option<usize>,
+    pub(crate) k: Option<usize>,
     /// Transitions of the machine.
     #[serde(rename = "T")]
-    pub t: Option<usize>,
+    pub(crate) t: Option<usize>,
     /// Guard literals of the machine.
     #[serde(rename = "N")]
-    pub n: Option<usize>,
+    pub(crate) n: Option<usize>,
     /// Wall-clock seconds for this PLC.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
     /// Why a PLC has no machine.
-    pub message: String,
+    pub(crate) message: String,
 }
 
 /// What a batch wrote: one row per PLC, and the files.
 #[derive(Debug, Clone)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// The folder of logs.
-    pub logs: PathBuf,
+    pub(crate) logs: PathBuf,
     /// One row per PLC, in the folder's order.
-    pub rows: Vec<Row>,
+    pub(crate) rows: Vec<Row>,
     /// Every file written: the machines' and the summaries.
-    pub files: Vec<PathBuf>,
+    pub(crate) files: Vec<PathBuf>,
     /// Whether every PLC without a machine failed for want of one within the limits.
     only_no_machine: bool,
 }
@@ -305,7 +305,7 @@ impl Summary {
     }
 
     /// `summary.csv`: the rows (RFC 4180 quoting where a cell needs it).
-    pub fn to_csv(&self) -> String {
+    pub(crate) fn to_csv(&self) -> String {
         use crate::files::csv::quote_cell as quote;
         let cell = |v: Option<usize>| v.map_or(String::new(), |v| v.to_string());
         let mut text = String::from("plc,source,status,scenarios,steps,C,K,T,N,seconds,message\n");
@@ -330,7 +330,7 @@ impl Summary {
 
     /// With a PLC left without a machine: the error that says which (no machine within the
     /// limits when that is why every one failed, else bad input).
-    pub fn failure(&self) -> Option<Error> {
+    pub(crate) fn failure(&self) -> Option<Error> {
         let failed: Vec<&str> = (self.rows.iter())
             .filter(|r| r.status == "failed")
             .map(|r| r.plc.as_str())
@@ -354,13 +354,13 @@ impl Summary {
 /// Writes each PLC's machine into `dir/<plc>` ([`write()`]) and the [`Summary`] as
 /// `dir/summary.csv` and `dir/summary.json`. A machine that cannot be written fails its row,
 /// not the batch.
-pub fn write_results(
+pub(crate) fn write_results(
     dir: &Path,
     logs: &Path,
     outcomes: &[Outcome],
     name: &str,
     formats: &[crate::export::Format],
-    verification: Option<&Verification>,
+    verification: Option<&VerificationSetup>,
 ) -> Result<Summary, Error> {
     let mut summary = Summary {
         logs: logs.to_path_buf(),

@@ -9,7 +9,7 @@
 //! the loop repeats on the same solver. When the current number of states cannot leave every
 //! lasso the minimization itself moves on to more states.
 
-use super::closed_loop::{environment_of, negative_of, ClosedLoop};
+use super::loop_encoding::{environment_of, negative_of, LoopEncoding};
 use super::{Event, Events};
 use crate::check;
 use crate::nusmv::CheckMode;
@@ -18,23 +18,23 @@ use crate::sat::solver::Bounded;
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
-use crate::verify::{Report, Verification, Verifier, VerifyError};
+use crate::verify::{Report, VerificationResult, Verifier, VerifyError};
 use std::time::Instant;
 
 /// Settings of the loop.
 #[derive(Debug, Clone)]
-pub struct Config {
+pub(crate) struct Config {
     /// Options of the SAT synthesizer (bounds, encoding, budgets).
-    pub sat: Options,
+    pub(crate) sat: Options,
     /// Give up after this many candidates.
-    pub max_iterations: usize,
+    pub(crate) max_iterations: usize,
     /// Report every step of every minimization, not only one line per candidate.
-    pub verbose: bool,
+    pub(crate) verbose: bool,
     /// With the properties in the encoding: how long the final machine's `T` and `N` may take
     /// to be proven minimal ([`Proofs::Budget`]).
-    pub proof_budget: std::time::Duration,
+    pub(crate) proof_budget: std::time::Duration,
     /// The user's negative scenarios, encoded before the first candidate.
-    pub negatives: Vec<crate::scenario::negative::NegativeScenario>,
+    pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -56,26 +56,26 @@ pub struct Iteration {
     /// Names of the properties the candidate violates (empty: verified).
     pub failing: Vec<String>,
     /// Number of states of the first counterexample fed back, if any.
-    pub counterexample_length: Option<usize>,
+    pub(crate) counterexample_length: Option<usize>,
     /// Wall-clock seconds the SAT minimization of this candidate took.
     pub sat_seconds: f64,
     /// Seconds NuSMV took on this candidate (0 when it was not asked).
     pub nusmv_seconds: f64,
     /// Time of the check that gave the verdict (NuSMV's or the in-process checker's).
-    pub check_seconds: f64,
+    pub(crate) check_seconds: f64,
 }
 
 /// A verified controller.
 #[derive(Debug, Clone)]
-pub struct Verified {
+pub(crate) struct Verified {
     /// The verified machine and its figures.
-    pub synthesis: Synthesis,
+    pub(crate) synthesis: Synthesis,
     /// NuSMV's report: every property holds.
-    pub report: Report,
+    pub(crate) report: Report,
     /// Every candidate in order; the last is the result (or [`UNCHANGED`], keeping it).
-    pub iterations: Vec<Iteration>,
+    pub(crate) iterations: Vec<Iteration>,
     /// The closed-loop model NuSMV verified.
-    pub model_text: String,
+    pub(crate) model_text: String,
 }
 
 /// Why the loop ended without a verified controller.
@@ -123,17 +123,17 @@ pub enum CegisError {
 }
 
 /// Runs CEGIS; `verifier` holds the closed-loop model of the current candidate.
-pub fn run(
+pub(crate) fn run(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     verifier: &mut Verifier,
-    closed: Option<&ClosedLoop>,
+    closed: Option<&LoopEncoding>,
     config: &Config,
     events: Events<'_>,
 ) -> Result<Verified, CegisError> {
     std::thread::scope(|scope| {
         let mut lower = LowerBound::none();
-        if config.sat.cube_slots.is_some() {
+        if config.sat.max_out_degree.is_some() {
             lower = LowerBound::start(scope, set, tree, &config.sat, config.verbose, events)?;
         }
         Cegis::new(set, tree, verifier, closed, config, &mut lower, events).run()
@@ -179,7 +179,7 @@ impl<'scope> LowerBound<'scope> {
     ) -> Result<LowerBound<'scope>, SatError> {
         let started = Instant::now();
         let tree_exact = Options {
-            cube_slots: None,
+            max_out_degree: None,
             minimize_k: false,
             // Only C, T and the colouring are used: no time for guards.
             guard_budget: std::time::Duration::ZERO,
@@ -276,7 +276,7 @@ enum InProcess {
 struct Cegis<'a, 'l, 'e> {
     set: &'a ScenarioSet,
     verifier: &'a mut Verifier,
-    closed: Option<&'a ClosedLoop>,
+    closed: Option<&'a LoopEncoding>,
     config: &'a Config,
     lower: &'a mut LowerBound<'l>,
     events: Events<'e>,
@@ -305,7 +305,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         set: &'a ScenarioSet,
         tree: &'a ScenarioTree,
         verifier: &'a mut Verifier,
-        closed: Option<&'a ClosedLoop>,
+        closed: Option<&'a LoopEncoding>,
         config: &'a Config,
         lower: &'a mut LowerBound<'l>,
         events: Events<'e>,
@@ -515,14 +515,14 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         };
         let names = problem.property_names();
         let holds = (verdicts.iter())
-            .map(|v| matches!(v, check::Verdict::Holds))
+            .map(|v| matches!(v, check::ExplicitVerdict::Holds))
             .collect();
         let (added, length) = self.refine_in_process(closed, &verdicts, &names, &synthesis.ecc)?;
         if added == 0 {
             return Ok(InProcess::Unrefuted(holds));
         }
         let failing: Vec<String> = (verdicts.iter().zip(&names))
-            .filter(|(v, _)| matches!(v, check::Verdict::Violated(_)))
+            .filter(|(v, _)| matches!(v, check::ExplicitVerdict::Violated(_)))
             .map(|(_, name)| name.clone())
             .collect();
         let it = Iteration {
@@ -549,14 +549,14 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     /// added and the length of the first.
     fn refine_in_process(
         &mut self,
-        closed: &ClosedLoop,
-        verdicts: &[check::Verdict],
+        closed: &LoopEncoding,
+        verdicts: &[check::ExplicitVerdict],
         names: &[String],
         ecc: &crate::ecc::Ecc,
     ) -> Result<(usize, Option<usize>), CegisError> {
         let violated = || {
             (verdicts.iter().enumerate()).filter_map(|(k, v)| match v {
-                check::Verdict::Violated(lasso) => Some((k, lasso)),
+                check::ExplicitVerdict::Violated(lasso) => Some((k, lasso)),
                 _ => None,
             })
         };
@@ -598,7 +598,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         synthesis: &Synthesis,
         sat_seconds: f64,
         holds: &[bool],
-    ) -> Result<(Verification, Vec<String>), CegisError> {
+    ) -> Result<(VerificationResult, Vec<String>), CegisError> {
         // With environments one counterexample per candidate is enough: each rules out every
         // machine that fails on its environment. NuSMV's backward re-check per trace is most of
         // its time.
@@ -635,7 +635,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// A candidate NuSMV passed: the result if this was the final pass, else kept while the
     /// final pass starts (`None`).
-    fn passed(&mut self, synthesis: Synthesis, v: Verification) -> Option<Verified> {
+    fn passed(&mut self, synthesis: Synthesis, v: VerificationResult) -> Option<Verified> {
         if !self.in_final_pass {
             self.passed = Some(Passed {
                 synthesis,
@@ -662,7 +662,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     /// `loop length x C` steps into the solver.
     fn refine(
         &mut self,
-        v: &Verification,
+        v: &VerificationResult,
         failing: &[String],
         ecc: &crate::ecc::Ecc,
     ) -> Result<(), CegisError> {
@@ -700,7 +700,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// The environments of NuSMV's counterexamples of encoded properties, added to the
     /// synthesizer; returns how many were new.
-    fn add_environments(&mut self, v: &Verification) -> usize {
+    fn add_environments(&mut self, v: &VerificationResult) -> usize {
         let Some(closed) = self.closed else {
             return 0;
         };

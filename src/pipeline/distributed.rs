@@ -36,21 +36,21 @@ use std::path::{Path, PathBuf};
 /// One controller of a [`Description`].
 #[derive(Debug, Clone, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct ControllerSpec {
+pub(crate) struct ControllerSpec {
     /// Its name, which names its function block.
-    pub name: String,
+    pub(crate) name: String,
     /// The signals it reads: plant-side inputs or other controllers' outputs.
-    pub inputs: Vec<String>,
+    pub(crate) inputs: Vec<String>,
     /// The outputs it writes.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
 }
 
 /// The controllers of a network and their interfaces.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct Description {
+pub(crate) struct Description {
     /// The controllers, in order.
-    pub controllers: Vec<ControllerSpec>,
+    pub(crate) controllers: Vec<ControllerSpec>,
 }
 
 /// A description that cannot be used.
@@ -97,7 +97,7 @@ pub enum DescriptionError {
 }
 
 /// Reads a description file (not yet checked against any recordings).
-pub fn read_description(file: &Path) -> Result<Description, DescriptionError> {
+pub(crate) fn read_description(file: &Path) -> Result<Description, DescriptionError> {
     let text = std::fs::read_to_string(file).map_err(|source| DescriptionError::Read {
         file: file.to_path_buf(),
         source,
@@ -113,18 +113,22 @@ pub fn read_description(file: &Path) -> Result<Description, DescriptionError> {
 /// A description resolved against recordings: per controller, the outputs it writes and the
 /// extended inputs ([`extend`]) it may read.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Interfaces {
+pub(crate) struct Interfaces {
     /// Controller names, in order.
-    pub names: Vec<String>,
+    pub(crate) names: Vec<String>,
     /// `pins[m]`: the outputs controller `m` writes.
-    pub pins: Vec<Vec<OutputId>>,
+    pub(crate) pins: Vec<Vec<OutputId>>,
     /// `reads[m]`: the extended inputs controller `m` may read.
-    pub reads: Vec<Vec<InputId>>,
+    pub(crate) reads: Vec<Vec<InputId>>,
 }
 
 impl Description {
     /// Checks the description against the recordings' names; `file` is named in errors.
-    pub fn resolve(&self, set: &ScenarioSet, file: &Path) -> Result<Interfaces, DescriptionError> {
+    pub(crate) fn resolve(
+        &self,
+        set: &ScenarioSet,
+        file: &Path,
+    ) -> Result<Interfaces, DescriptionError> {
         let bad = |controller: &str, message: String| DescriptionError::Controller {
             file: file.to_path_buf(),
             controller: controller.to_string(),
@@ -218,7 +222,7 @@ impl Description {
 
 /// The recordings with each step's inputs followed by the outputs before the step (the
 /// initial ones, then the last recorded), the input names followed by the output names.
-pub fn extend(set: &ScenarioSet) -> ScenarioSet {
+pub(crate) fn extend(set: &ScenarioSet) -> ScenarioSet {
     let scenarios = (set.scenarios.iter())
         .map(|sc| {
             let mut before = set.initial_outputs.clone();
@@ -251,28 +255,28 @@ pub fn extend(set: &ScenarioSet) -> ScenarioSet {
 
 /// Settings of a distributed run.
 #[derive(Debug, Clone)]
-pub struct Options {
-    /// Transition slots per state (guards are conjunctions).
-    pub slots: usize,
+pub(crate) struct Options {
+    /// The largest out-degree `K`: transition slots per state (guards are conjunctions).
+    pub max_out_degree: usize,
     /// Give up above this many states in one controller.
-    pub max_states: usize,
+    pub(crate) max_states: usize,
     /// The algorithm form of every controller.
-    pub algorithms: AlgorithmKind,
+    pub(crate) algorithms: AlgorithmKind,
     /// Where every solver call stops.
-    pub deadline: crate::deadline::Deadline,
+    pub(crate) deadline: crate::deadline::Deadline,
 }
 
 /// The result of [`run`].
 #[derive(Debug, Clone)]
-pub struct Distributed {
+pub(crate) struct Distributed {
     /// The controllers, replayed as a network on every scenario.
-    pub network: Network,
+    pub(crate) network: Network,
     /// The composite's figures (largest controller, inputs read, states in all, solver).
-    pub synthesis: ModularSynthesis,
+    pub(crate) synthesis: ModularSynthesis,
 }
 
 /// The least network of the described controllers that reproduces `set`.
-pub fn run(
+pub(crate) fn run(
     set: &ScenarioSet,
     interfaces: &Interfaces,
     opts: &Options,
@@ -281,11 +285,11 @@ pub fn run(
     let extended = extend(set);
     let modular = ModularOptions {
         modules: interfaces.names.len(),
-        slots: opts.slots,
+        max_out_degree: opts.max_out_degree,
         max_states: opts.max_states,
         algorithms: opts.algorithms,
         pins: interfaces.pins.clone(),
-        widen_slots: false,
+        widen_max_out_degree: false,
         topology: Topology::Parallel,
         reads: Some(interfaces.reads.clone()),
         feedback: Some(set.inputs.len()),
@@ -297,7 +301,7 @@ pub fn run(
 /// The least network of `opts.modules` blocks named `names` whose wiring the solver chooses
 /// (`--topology arbitrary`): each output written by one block, each block reading any recorded
 /// input and any other block's output (before the scan). `opts.pins` may fix some outputs.
-pub fn run_arbitrary(
+pub(crate) fn run_arbitrary(
     set: &ScenarioSet,
     names: Vec<String>,
     opts: &ModularOptions,
@@ -325,14 +329,16 @@ fn synthesize(
     let found = synthesize_modular(extended, &tree, opts, &mut |m| events(Event::Solver(m)));
     let synthesis = match found {
         Err(ModularError::NoController {
-            max_states, slots, ..
+            max_states,
+            max_out_degree,
+            ..
         }) => {
             let reads = match opts.reads {
                 Some(_) => ", or let a controller read more signals",
                 None => "",
             };
             return Err(Error::NoMachine(format!(
-                "no network of {} blocks with at most {max_states} states each and {slots} transitions per state reproduces the recordings (raise --max-states or --slots{reads})",
+                "no network of {} blocks with at most {max_states} states each and {max_out_degree} transitions per state reproduces the recordings (raise --max-states or --slots{reads})",
                 names.len()
             )));
         }
@@ -391,7 +397,7 @@ mod tests {
             let file = Path::new("net.json");
             let interfaces = description(PAIR).resolve(&set, file).unwrap();
             let opts = Options {
-                slots: 3,
+                max_out_degree: 3,
                 max_states: 8,
                 algorithms: AlgorithmKind::Tri,
                 deadline: crate::deadline::Deadline::NONE,

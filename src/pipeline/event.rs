@@ -411,11 +411,11 @@ impl fmt::Display for Note<'_> {
 
 /// The line of round `number` of active learning.
 fn learn_round(f: &mut fmt::Formatter<'_>, number: usize, r: &super::active::Round) -> fmt::Result {
-    use super::ambiguity::Verdict;
+    use super::ambiguity::Uniqueness;
     let verdict = match r.verdict {
-        Some(Verdict::Unique) => "unique",
-        Some(Verdict::Ambiguous) => "ambiguous",
-        Some(Verdict::Unknown) => "unknown",
+        Some(Uniqueness::Unique) => "unique",
+        Some(Uniqueness::Ambiguous) => "ambiguous",
+        Some(Uniqueness::Unknown) => "unknown",
         None => r.asked.name(),
     };
     let widened = if r.widened {

@@ -46,7 +46,8 @@
 //!
 //! Times, and the commands that reproduce them, are in `BENCHMARKS.md`.
 
-use super::cegis::{self, Iteration};
+use super::cegis;
+pub use super::cegis::{Iteration, UNCHANGED};
 use super::{Check, Error, Event, Events};
 use crate::sat::{self, Synthesis};
 use crate::scenario::negative::{self, NegativeScenario};
@@ -61,7 +62,7 @@ pub use crate::sat::Options as SatOptions;
 #[derive(Debug, Clone)]
 pub struct Options {
     /// The SAT synthesis: algorithms, bounds, guard model. With a [`Check`] the cube guard
-    /// model is always used (at most [`DEFAULT_OUT_DEGREE`] transitions per state unless
+    /// model is always used (at most [`DEFAULT_MAX_OUT_DEGREE`] transitions per state unless
     /// set), so the machine is defined on every input: counterexamples run on inputs nobody
     /// recorded.
     pub sat: SatOptions,
@@ -96,16 +97,16 @@ impl Default for Options {
 /// The default of [`Options::proof_budget`].
 /// Proving the literal count minimal in closed loop usually takes far longer than the whole
 /// synthesis, so by default the final pass only looks briefly for a smaller machine.
-pub const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
+pub(crate) const DEFAULT_PROOF_BUDGET: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The out-degree bound of the closed-loop guard model when none is given.
-pub const DEFAULT_OUT_DEGREE: usize = 6;
+pub(crate) const DEFAULT_MAX_OUT_DEGREE: usize = 6;
 
 impl Options {
     fn sat(&self, verified: bool) -> SatOptions {
         let mut sat = self.sat.clone();
-        if verified && sat.cube_slots.is_none() {
-            sat.cube_slots = Some(DEFAULT_OUT_DEGREE);
+        if verified && sat.max_out_degree.is_none() {
+            sat.max_out_degree = Some(DEFAULT_MAX_OUT_DEGREE);
         }
         sat
     }
@@ -178,10 +179,10 @@ pub fn run(
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
     };
-    let closed = super::closed_loop::ClosedLoop::new(
+    let closed = super::loop_encoding::LoopEncoding::new(
         &check.problem,
         set,
-        super::closed_loop::DEFAULT_RESPONSE_BOUND,
+        super::loop_encoding::DEFAULT_RESPONSE_BOUND,
     )
     .ok();
     match cegis::run(set, &tree, &mut verifier, closed.as_ref(), &config, events) {
@@ -215,7 +216,7 @@ pub fn run(
 /// and so on, until `width` such steps in a row bring no fewer guard literals, or
 /// `max_states`. Returns the machine with the fewest literals (on a tie the one found first,
 /// with fewer states). Without a check only.
-pub fn plateau(
+pub(crate) fn plateau(
     set: &ScenarioSet,
     opts: &Options,
     first: Synthesis,

@@ -9,7 +9,7 @@
 //! value only, which properties read ([`Unrecorded`]).
 //!
 //! # A recorded scenario as a closed-loop run
-//! In the closed loop ([`crate::smv::closed_loop`]) the controller reads the plant's values of
+//! In the closed loop ([`crate::smv::composition`]) the controller reads the plant's values of
 //! step `t` and its outputs change at `t + 1`; a counterexample's state `i` becomes the
 //! negative step `i` with the inputs of state `i` and the outputs *before* it
 //! ([`crate::verify::Counterexample::negative_scenario`]). A recorded scenario of `n` steps is
@@ -36,14 +36,14 @@ use std::path::{Path, PathBuf};
 
 /// A closed-loop state of a recorded scenario (see the module header).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Place {
+pub(crate) struct Place {
     /// Where the scenario starts in its file.
-    pub origin: Origin,
+    pub(crate) origin: Origin,
     /// 0-based state: `i < steps` is step `i + 1`'s inputs with the outputs before them,
     /// `steps` the outputs after the last step.
-    pub state: usize,
+    pub(crate) state: usize,
     /// Steps of the scenario.
-    pub steps: usize,
+    pub(crate) steps: usize,
 }
 
 /// `FILE:LINE step N (...)`: the place as a reader finds it in the file.
@@ -72,7 +72,7 @@ impl fmt::Display for Place {
 
 /// How much of the recordings violates a property.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Extent {
+pub(crate) enum Extent {
     /// For `G p`: the states where `p` is definitely false, of all recorded states.
     States {
         /// Recorded states where `p` is definitely false.
@@ -105,24 +105,24 @@ impl fmt::Display for Extent {
 
 /// A property the recordings violate whatever would have followed them.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct RecordedViolation {
+pub(crate) struct RecordedViolation {
     /// The property's name (label or `p<k>`).
-    pub property: String,
+    pub(crate) property: String,
     /// Its line in the spec file.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The first violating state, in the order of the scenarios and their steps.
-    pub first: Place,
+    pub(crate) first: Place,
     /// How much of the recordings violates the property.
-    pub extent: Extent,
+    pub(crate) extent: Extent,
 }
 
 /// A property the recordings cannot decide.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Undecidable {
+pub(crate) struct Undecidable {
     /// The property's name (label or `p<k>`).
-    pub property: String,
+    pub(crate) property: String,
     /// Why the recordings cannot evaluate it.
-    pub reason: NotEvaluable,
+    pub(crate) reason: NotEvaluable,
 }
 
 /// A controller input that keeps one value through every recorded step, read by properties.
@@ -131,13 +131,13 @@ pub struct Undecidable {
 /// Pick-and-Place loop from a recording without pieces on tracks 2 and 3 had no verified
 /// machine after minutes; with them, seconds).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Unrecorded {
+pub(crate) struct Unrecorded {
     /// The input's name.
-    pub input: String,
+    pub(crate) input: String,
     /// The value no recorded step shows.
-    pub never: bool,
+    pub(crate) never: bool,
     /// The properties that read the input, in spec order.
-    pub properties: Vec<String>,
+    pub(crate) properties: Vec<String>,
 }
 
 impl fmt::Display for Unrecorded {
@@ -156,20 +156,20 @@ impl fmt::Display for Unrecorded {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Explanation {
     /// The properties violated, in spec order.
-    pub violations: Vec<RecordedViolation>,
+    pub(crate) violations: Vec<RecordedViolation>,
     /// Properties evaluated on the recordings.
-    pub checked: usize,
+    pub(crate) checked: usize,
     /// Properties that read names not recorded or compare integers.
-    pub undecidable: Vec<Undecidable>,
+    pub(crate) undecidable: Vec<Undecidable>,
     /// Inputs the properties read that the recordings show with one value only, in input
     /// order.
-    pub unrecorded: Vec<Unrecorded>,
+    pub(crate) unrecorded: Vec<Unrecorded>,
 }
 
 impl Explanation {
     /// The line after the recordings were checked against `properties` properties (none
     /// violated), naming the ones that read names not recorded.
-    pub fn checked_line(&self, properties: usize) -> String {
+    pub(crate) fn checked_line(&self, properties: usize) -> String {
         let mut line = format!(
             "checked {} of {properties} properties on the recordings, none violated",
             self.checked
@@ -187,7 +187,7 @@ impl Explanation {
 
     /// What the recordings never show of the inputs the properties read, and why it matters;
     /// `None` when they show every value.
-    pub fn unrecorded_line(&self) -> Option<String> {
+    pub(crate) fn unrecorded_line(&self) -> Option<String> {
         if self.unrecorded.is_empty() {
             return None;
         }
@@ -206,7 +206,7 @@ pub struct RecordingsViolate {
     /// The specification file the properties come from, for the message.
     pub spec_file: PathBuf,
     /// Every property violated, in spec order.
-    pub violations: Vec<RecordedViolation>,
+    pub(crate) violations: Vec<RecordedViolation>,
 }
 
 impl fmt::Display for RecordingsViolate {
@@ -439,7 +439,7 @@ fn violation(
 
 /// Most positions of the closed-loop game [`realizability`] explores (Pick-and-Place from
 /// one recorded scenario: 601,356).
-pub const GAME_POSITIONS: usize = 1_000_000;
+pub(crate) const GAME_POSITIONS: usize = 1_000_000;
 
 /// What the closed-loop game ([`crate::game`]) says about a problem the loop found no machine
 /// for: whether any controller, of any size, answers the recordings as recorded and keeps every
@@ -448,9 +448,9 @@ pub const GAME_POSITIONS: usize = 1_000_000;
 ///
 /// Neither answer is a verdict of NuSMV: a won game says a controller exists, as far as the
 /// tool's own semantics of the plant go; a lost one says none does.
-pub fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Option<String> {
+pub(crate) fn realizability(set: &ScenarioSet, problem: &crate::verify::Problem) -> Option<String> {
     let model = problem.model.as_ref().ok()?;
-    let coupling = crate::check::Coupling::new(model, &problem.coupling).ok()?;
+    let coupling = crate::check::Wiring::new(model, &problem.coupling).ok()?;
     let tree = crate::scenario::tree::ScenarioTree::build(set).ok()?;
     let started = std::time::Instant::now();
     let outcome = crate::game::solve(

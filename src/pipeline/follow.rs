@@ -24,34 +24,34 @@ use crate::scenario::negative::NegativeScenario;
 use crate::scenario::{Origin, Scenario, ScenarioSet};
 
 /// What a round's controller is, for the round's figures and for NuSMV.
-pub struct Made {
+pub(crate) struct Made {
     /// States of the largest part (a single machine: all of them).
-    pub largest: usize,
+    pub(crate) largest: usize,
     /// States in all.
-    pub states: usize,
+    pub(crate) states: usize,
     /// Wall-clock seconds spent making the controller (SAT).
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// The controller as SMV text defining `MODULE ECC(REQ, inputs...)`.
-    pub smv: String,
+    pub(crate) smv: String,
 }
 
 /// One controller checked by NuSMV.
 #[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct Round {
     /// 1-based number of the round.
-    pub number: usize,
+    pub(crate) number: usize,
     /// States of the controller's largest part.
-    pub largest_states: usize,
+    pub(crate) largest_states: usize,
     /// States of the controller in all.
-    pub states: usize,
+    pub(crate) states: usize,
     /// Properties NuSMV found violated (empty: verified).
-    pub failing: Vec<String>,
+    pub(crate) failing: Vec<String>,
     /// Steps of the scenarios recorded from the oracle along the counterexamples.
-    pub added_steps: usize,
+    pub(crate) added_steps: usize,
     /// Wall-clock seconds spent making the controller (SAT).
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// Seconds NuSMV took to check the controller.
-    pub nusmv_seconds: f64,
+    pub(crate) nusmv_seconds: f64,
 }
 
 /// The end of a successful [`run`].
@@ -59,17 +59,17 @@ pub struct Followed {
     /// NuSMV's report and the closed-loop model of the verified controller.
     pub certificate: super::exact::Certificate,
     /// Every round, the last one the verified controller.
-    pub rounds: Vec<Round>,
+    pub(crate) rounds: Vec<Round>,
     /// The recordings and the scenarios recorded from the oracle.
-    pub scenarios: ScenarioSet,
+    pub(crate) scenarios: ScenarioSet,
 }
 
 /// A controller made from scenarios, with its figures and SMV text.
-pub type Make<'m, C> = dyn FnMut(&ScenarioSet, Events<'_>) -> Result<(C, Made), Error> + 'm;
+pub(crate) type Make<'m, C> = dyn FnMut(&ScenarioSet, Events<'_>) -> Result<(C, Made), Error> + 'm;
 
 /// Makes controllers with `make` from `set` and the scenarios recorded from `oracle` along
 /// their counterexamples until NuSMV verifies one (at most `max_rounds`).
-pub fn run<C: Controller>(
+pub(crate) fn run<C: Controller>(
     set: &ScenarioSet,
     oracle: &Ecc,
     check: &Check,

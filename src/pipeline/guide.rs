@@ -35,7 +35,7 @@ use crate::scenario::ScenarioSet;
 use std::time::Instant;
 
 /// Most fixes the repair makes before it gives up.
-pub const MAX_ROUNDS: usize = 1_000;
+pub(crate) const MAX_ROUNDS: usize = 1_000;
 
 /// One stage of the guide, for progress.
 #[derive(Debug, Clone)]
@@ -133,27 +133,27 @@ impl std::fmt::Display for Stage {
 }
 
 /// A verified machine from the guide.
-pub struct Guided {
+pub(crate) struct Guided {
     /// The machine; it reproduces the recordings.
-    pub ecc: Ecc,
+    pub(crate) ecc: Ecc,
     /// Its size.
-    pub size: Size,
+    pub(crate) size: Size,
     /// NuSMV's verdicts on it (all hold) and the model it checked.
-    pub certificate: Certificate,
+    pub(crate) certificate: Certificate,
     /// Whether it is the least machine for the recordings and the runs (else the repaired one).
-    pub least_for_runs: bool,
+    pub(crate) least_for_runs: bool,
     /// Every stage, in order.
-    pub stages: Vec<Stage>,
+    pub(crate) stages: Vec<Stage>,
     /// NuSMV checks made.
-    pub nusmv_calls: usize,
+    pub(crate) nusmv_calls: usize,
     /// Seconds in NuSMV.
-    pub nusmv_seconds: f64,
+    pub(crate) nusmv_seconds: f64,
     /// Seconds in SAT.
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
 }
 
 /// What the guide gives.
-pub enum Outcome {
+pub(crate) enum Outcome {
     /// A verified machine.
     Verified(Box<Guided>),
     /// No machine from the guide, and why.
@@ -170,7 +170,7 @@ fn sat_options(check: &Check) -> sat::Options {
 
 /// The guide (module documentation) on `set` with `check`; its SAT calls and the game stop at
 /// the check's deadline ([`Check::deadline`]).
-pub fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
+pub(crate) fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
     let mut guide = Guide {
         set,
         events,
@@ -222,7 +222,7 @@ impl Guide<'_, '_> {
         let Ok(model) = problem.model.as_ref() else {
             return Ok(Err("the game does not read this plant".into()));
         };
-        let coupling = match crate::check::Coupling::new(model, &problem.coupling) {
+        let coupling = match crate::check::Wiring::new(model, &problem.coupling) {
             Ok(c) => c,
             Err(e) => return Ok(Err(format!("the game does not apply: {e}"))),
         };
@@ -387,7 +387,7 @@ impl Guide<'_, '_> {
         verifier: &mut crate::verify::Verifier,
         ecc: &Ecc,
         machine: &'static str,
-    ) -> Result<(crate::verify::Verification, bool), Error> {
+    ) -> Result<(crate::verify::VerificationResult, bool), Error> {
         let v = verifier.verify_with(ecc, CheckMode::VerdictsOnly)?;
         self.nusmv_calls += 1;
         self.nusmv_seconds += v.report.nusmv_seconds;

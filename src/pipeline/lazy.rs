@@ -29,17 +29,17 @@ use crate::scenario::tree::ScenarioTree;
 use crate::scenario::{Divergence, Scenario, ScenarioSet};
 
 /// Recordings whose scenario tree has at least this many nodes are synthesized lazily.
-pub const LAZY_FROM_NODES: usize = 4_096;
+pub(crate) const LAZY_FROM_NODES: usize = 4_096;
 
 /// The steps of the first part, shared among the scenarios.
-pub const FIRST_PART_STEPS: usize = 1_024;
+pub(crate) const FIRST_PART_STEPS: usize = 1_024;
 
 /// The shortest first prefix of a scenario (unless the scenario is shorter).
 const MIN_PREFIX: usize = 16;
 
 /// The part of `set` made of the first `lens[k]` steps of scenario `k`. Origins are kept, so
 /// a contradiction inside the part is reported at its place in the recordings.
-pub fn prefixes(set: &ScenarioSet, lens: &[usize]) -> ScenarioSet {
+pub(crate) fn prefixes(set: &ScenarioSet, lens: &[usize]) -> ScenarioSet {
     ScenarioSet {
         inputs: set.inputs.clone(),
         outputs: set.outputs.clone(),
@@ -67,14 +67,15 @@ fn first_lengths(set: &ScenarioSet, first_part: usize) -> Vec<usize> {
 }
 
 /// What a round runs on a part: the part, its scenario tree, and the caller's event sink.
-pub type Round<'f, T> = dyn FnMut(&ScenarioSet, &ScenarioTree, Events<'_>) -> Result<T, Error> + 'f;
+pub(crate) type Round<'f, T> =
+    dyn FnMut(&ScenarioSet, &ScenarioTree, Events<'_>) -> Result<T, Error> + 'f;
 
 /// Runs `synthesize` on growing parts of `set` until its machine reproduces all of `set`
 /// (see the module documentation), starting from [`FIRST_PART_STEPS`]; once on the whole when
 /// its tree has fewer than [`LAZY_FROM_NODES`] nodes (scenarios sharing their beginnings, as
 /// fbSAT's sets of hundreds of thousands of steps do, make a small tree). The machine returned
 /// is replayed on every step of `set`.
-pub fn synthesize(
+pub(crate) fn synthesize(
     set: &ScenarioSet,
     synthesize: &mut Round<'_, Synthesis>,
     events: Events<'_>,
@@ -104,7 +105,7 @@ pub(super) fn whole_tree(set: &ScenarioSet) -> Result<Option<ScenarioTree>, Erro
 
 /// [`synthesize`] in parts whatever the length, the first part holding about `first_part`
 /// steps.
-pub fn in_parts(
+pub(crate) fn in_parts(
     set: &ScenarioSet,
     first_part: usize,
     synthesize: &mut Round<'_, Synthesis>,
@@ -138,9 +139,9 @@ fn machine_in_parts(
 /// The part a run in parts ended with.
 pub(super) struct LastPart {
     /// Its round, 1-based.
-    pub round: usize,
+    pub(crate) round: usize,
     /// Its recorded steps.
-    pub encoded: usize,
+    pub(crate) encoded: usize,
 }
 
 /// The loop of every run in parts: `run` on the part, `departures` of what it found from the

@@ -77,10 +77,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 /// Logs whose trace graph has at least this many nodes are synthesized in parts.
-pub const LAZY_FROM_NODES: usize = 2_048;
+pub(crate) const LAZY_FROM_NODES: usize = 2_048;
 
 /// Active steps (graph nodes) the first part holds at most (`first_part`).
-pub const FIRST_PART_NODES: usize = 512;
+pub(crate) const FIRST_PART_NODES: usize = 512;
 
 /// Steps of recorded traces without correction that a short group takes as context in one
 /// round, at least (see [`EpsilonProof`]).
@@ -93,37 +93,37 @@ const JOIN_PER_ROUND: usize = 4;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PartRound {
     /// The round, 1-based.
-    pub round: usize,
+    pub(crate) round: usize,
     /// Distinct traces encoded in this round.
-    pub traces: usize,
+    pub(crate) traces: usize,
     /// Distinct traces in all.
-    pub total: usize,
+    pub(crate) total: usize,
     /// Traces the round's machine cannot explain, even with corrections (0: the last round,
     /// unless the corrections exceed the bound).
-    pub unexplained: usize,
+    pub(crate) unexplained: usize,
     /// Corrections the machine needs over every trace it explains.
-    pub corrections: usize,
+    pub(crate) corrections: usize,
 }
 
 /// The least ε so far ([`Event::NoisyBound`]): lower bounds summed over disjoint parts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Bounds {
     /// Parts whose least corrections were computed.
-    pub parts: usize,
+    pub(crate) parts: usize,
     /// The sum of the parts' least corrections.
-    pub lower: usize,
+    pub(crate) lower: usize,
     /// The corrections the machine needs (the least ε when equal to `lower`).
-    pub upper: usize,
+    pub(crate) upper: usize,
 }
 
 /// Where the parts start; [`Default`] is what
 /// `synth infer --noisy` uses.
 #[derive(Debug, Clone, Copy)]
-pub struct Parts {
+pub(crate) struct Parts {
     /// Logs with fewer graph nodes are encoded whole.
-    pub from_nodes: usize,
+    pub(crate) from_nodes: usize,
     /// Active steps of the first part.
-    pub first_nodes: usize,
+    pub(crate) first_nodes: usize,
 }
 
 impl Default for Parts {
@@ -137,7 +137,7 @@ impl Default for Parts {
 
 /// Algorithm 1 on `set`, in parts when its trace graph has at least `parts.from_nodes` nodes
 /// (then one candidate, whatever `opts.enumerate` says), else whole.
-pub fn synthesize(
+pub(crate) fn synthesize(
     set: &ScenarioSet,
     opts: &Options,
     parts: Parts,

@@ -23,9 +23,9 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, Default)]
 pub struct SoFar {
     /// Lower bounds on C and T from the recorded inputs alone.
-    pub lower_bounds: Option<(usize, usize)>,
+    pub(crate) lower_bounds: Option<(usize, usize)>,
     /// Candidates checked by NuSMV (none verified), the last one last.
-    pub candidates: Vec<Iteration>,
+    pub(crate) candidates: Vec<Iteration>,
 }
 
 impl std::fmt::Display for SoFar {
@@ -60,7 +60,7 @@ pub struct Limit {
 impl Limit {
     /// The limit `seconds` counted from `started` (no deadline when the number is not a time:
     /// [`super::seconds`] checks the user's).
-    pub fn new(started: Instant, seconds: f64) -> Limit {
+    pub(crate) fn new(started: Instant, seconds: f64) -> Limit {
         let at = Duration::try_from_secs_f64(seconds)
             .ok()
             .and_then(|d| started.checked_add(d));
@@ -73,38 +73,23 @@ impl Limit {
     }
 
     /// The limit `budget` from now.
-    pub fn from_now(budget: Duration) -> Limit {
+    pub(crate) fn from_now(budget: Duration) -> Limit {
         Limit::new(Instant::now(), budget.as_secs_f64())
     }
 
-    /// The limit as given, in seconds (what the messages name).
-    pub fn seconds(&self) -> f64 {
-        self.seconds
-    }
-
-    /// When the run started.
-    pub fn started(&self) -> Instant {
-        self.started
-    }
-
     /// Seconds since the run started.
-    pub fn elapsed(&self) -> f64 {
+    pub(crate) fn elapsed(&self) -> f64 {
         self.started.elapsed().as_secs_f64()
     }
 
     /// The time left.
-    pub fn left(&self) -> Duration {
+    pub(crate) fn left(&self) -> Duration {
         self.deadline.left().unwrap_or(Duration::MAX)
-    }
-
-    /// The deadline.
-    pub fn deadline(&self) -> Deadline {
-        self.deadline
     }
 
     /// `job` given the deadline, its events to `events` until the deadline passes; after it,
     /// [`Error::Interrupted`] naming the last solver step it reported (module documentation).
-    pub fn run<T>(
+    pub(crate) fn run<T>(
         &self,
         events: Events<'_>,
         job: impl FnOnce(Deadline, Events<'_>) -> Result<T, Error>,
@@ -130,7 +115,7 @@ impl Limit {
 
     /// [`exact::run`] with `check`, stopped at the deadline with [`Error::TimeLimit`] saying
     /// what had been found by then.
-    pub fn exact(
+    pub(crate) fn exact(
         &self,
         set: &ScenarioSet,
         check: &Check,
@@ -161,7 +146,7 @@ impl Limit {
 
     /// The closed-loop game's guide ([`super::guide::run`]) with `check`, stopped at the
     /// deadline with [`Error::Interrupted`].
-    pub fn guide(
+    pub(crate) fn guide(
         &self,
         set: &ScenarioSet,
         check: &Check,
@@ -174,7 +159,7 @@ impl Limit {
 }
 
 /// `job` within `limit` from now ([`Limit::run`]).
-pub fn within<T>(
+pub(crate) fn within<T>(
     limit: Duration,
     events: Events<'_>,
     job: impl FnOnce(Deadline, Events<'_>) -> Result<T, Error>,
@@ -183,7 +168,7 @@ pub fn within<T>(
 }
 
 /// [`exact::run`] with `check` within `limit` from now ([`Limit::exact`]).
-pub fn exact_within(
+pub(crate) fn exact_within(
     set: &ScenarioSet,
     check: &Check,
     opts: &exact::Options,

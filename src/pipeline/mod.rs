@@ -38,35 +38,49 @@
 //! C states, K largest out-degree, T transitions, N guard literals, ε corrected errors,
 //! M modules.
 
-pub mod active;
+pub(crate) mod active;
 pub mod ambiguity;
-pub mod batch;
-pub mod cegis;
+pub(crate) mod batch;
+pub(crate) mod cegis;
 mod class;
-pub mod closed_loop;
-pub mod distributed;
+pub(crate) mod distributed;
 pub mod event;
 pub mod exact;
 pub mod explain;
-pub mod follow;
-pub mod guide;
-pub mod lazy;
-pub mod lazy_noisy;
-pub mod limit;
+pub(crate) mod follow;
+pub(crate) mod guide;
+pub(crate) mod lazy;
+pub(crate) mod lazy_noisy;
+pub(crate) mod limit;
+pub(crate) mod loop_encoding;
 pub mod main_job;
 pub mod modular;
 pub mod noisy;
-pub mod output;
-pub mod recordings;
+pub(crate) mod output;
+pub(crate) mod recordings;
 pub mod refine;
 pub mod search;
 pub(crate) mod summary;
 pub mod table1;
 
-pub use crate::nusmv::Nusmv;
-pub use crate::verify::{Problem, Report};
+pub use crate::check::CheckError;
+pub use crate::deadline::Deadline;
+pub use crate::ecc::diff::DiffError;
+pub use crate::files::ResultSetError;
+pub(crate) use crate::nusmv::Nusmv;
+pub use crate::verify::{
+    Counterexample, LocatedError, Problem, ProblemError, PropertyReport, Report,
+    VerificationResult, Verifier, VerifyError,
+};
+pub use active::Round as LearnRound;
+pub use cegis::CegisError;
 pub use class::Class;
+pub use distributed::DescriptionError;
 pub use event::{Event, Events, Note};
+pub use follow::{Followed, Round};
+pub use guide::Stage;
+pub use lazy_noisy::{Bounds, PartRound};
+pub use limit::{Limit, SoFar};
 pub use recordings::Recordings;
 use std::sync::Arc;
 
@@ -76,7 +90,7 @@ pub struct Check {
     /// Plant, coupling and properties, shared by every verifier of a run.
     pub problem: Arc<Problem>,
     /// The model checker; every "verified" comes from it.
-    pub nusmv: Nusmv,
+    pub(crate) nusmv: Nusmv,
 }
 
 impl Check {
@@ -98,14 +112,14 @@ impl Check {
 
     /// The same check with NuSMV stopped at `deadline`; the pipelines that take a check stop
     /// their other work there too ([`Check::deadline`]).
-    pub fn until(&self, deadline: crate::deadline::Deadline) -> Check {
+    pub(crate) fn until(&self, deadline: crate::deadline::Deadline) -> Check {
         let mut check = self.clone();
         check.nusmv.deadline = deadline;
         check
     }
 
     /// The deadline of the run this check belongs to ([`Check::until`]).
-    pub fn deadline(&self) -> crate::deadline::Deadline {
+    pub(crate) fn deadline(&self) -> crate::deadline::Deadline {
         self.nusmv.deadline
     }
 }
@@ -231,7 +245,7 @@ pub enum Error {
 impl Error {
     /// Whether NuSMV rejected code synth generated (not the user's plant or spec): the
     /// closed-loop model is then worth keeping for the bug report.
-    pub fn in_generated_code(&self) -> bool {
+    pub(crate) fn in_generated_code(&self) -> bool {
         use crate::verify::VerifyError::Model;
         match self {
             Error::Noted { error, .. } => error.in_generated_code(),
@@ -246,11 +260,15 @@ impl Error {
 
 /// The longest time any option may name: a year. Longer (or infinite) values are refused
 /// rather than turned into a timer that panics or never fires.
-pub const MAX_SECONDS: f64 = 365.0 * 24.0 * 3600.0;
+pub(crate) const MAX_SECONDS: f64 = 365.0 * 24.0 * 3600.0;
 
 /// A number of seconds given as option `option`: finite, not negative (positive when
 /// `positive`), at most [`MAX_SECONDS`].
-pub fn seconds(option: &str, value: f64, positive: bool) -> Result<std::time::Duration, Error> {
+pub(crate) fn seconds(
+    option: &str,
+    value: f64,
+    positive: bool,
+) -> Result<std::time::Duration, Error> {
     let low_ok = if positive { value > 0.0 } else { value >= 0.0 };
     if !(value.is_finite() && low_ok && value <= MAX_SECONDS) {
         return Err(Error::Usage(format!(
@@ -271,7 +289,10 @@ pub fn nusmv(path: Option<&std::path::Path>, timeout_seconds: f64) -> Result<Nus
 }
 
 /// Verifies an existing machine in closed loop (no synthesis).
-pub fn verify(ecc: &crate::ecc::Ecc, check: &Check) -> Result<crate::verify::Verification, Error> {
+pub fn verify(
+    ecc: &crate::ecc::Ecc,
+    check: &Check,
+) -> Result<crate::verify::VerificationResult, Error> {
     Ok(check.verifier()?.verify(ecc)?)
 }
 

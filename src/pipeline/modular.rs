@@ -50,7 +50,7 @@
 //! - `N.smv`: the modules and `MODULE N(REQ, inputs...)` with `CNF` the disjunction of theirs
 //!   and each output its owner's: the signature of a single ECC's SMV module, so, named `ECC`,
 //!   it takes a controller's place in the closed loop
-//!   ([`crate::smv::closed_loop::compose_controller`]). A test runs it against the recordings
+//!   ([`crate::smv::composition::compose_controller`]). A test runs it against the recordings
 //!   inside NuSMV.
 //! - `N.modules.json`: per module its type name, inputs, outputs, states, transitions, guard
 //!   literals, and the three minimized figures.
@@ -87,10 +87,9 @@ use crate::sat::modular::synthesize_modular;
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 
-pub use crate::ecc::modular::Topology;
-pub use crate::sat::modular::{
-    parse_pins, ModularOptions as Options, ModularSynthesis, DEFAULT_SLOTS,
-};
+pub(crate) use crate::ecc::modular::Topology;
+pub(crate) use crate::sat::modular::{parse_pins, ModularSynthesis};
+pub use crate::sat::modular::{ModularOptions as Options, DEFAULT_MAX_OUT_DEGREE};
 
 /// The smallest modular controller for `set` (least largest module, then fewest inputs used,
 /// then fewest states in all); replayed on every scenario.
@@ -111,23 +110,23 @@ pub fn tree_nodes(set: &ScenarioSet) -> Result<usize, Error> {
 }
 
 /// A modular controller NuSMV verified in closed loop.
-pub struct VerifiedModular {
+pub(crate) struct VerifiedModular {
     /// The verified composite: M modules and their figures.
-    pub synthesis: ModularSynthesis,
+    pub(crate) synthesis: ModularSynthesis,
     /// NuSMV's report and the closed-loop model it verified.
-    pub certificate: super::exact::Certificate,
+    pub(crate) certificate: super::exact::Certificate,
     /// Every round of following the single verified machine ([`super::follow`]).
-    pub rounds: Vec<super::follow::Round>,
+    pub(crate) rounds: Vec<super::follow::Round>,
     /// The scenarios the composite reproduces: the recordings and those recorded from the
     /// verified machine along counterexamples.
-    pub scenarios: ScenarioSet,
+    pub(crate) scenarios: ScenarioSet,
 }
 
 /// The modular controller for `set` that NuSMV verifies, given `oracle`, a single machine that
 /// reproduces `set` and that NuSMV verified against the same `check`: modular synthesis
 /// refined along counterexamples with the oracle's answers ([`super::follow`]). NuSMV stops
 /// at `opts.deadline` too.
-pub fn run_verified(
+pub(crate) fn run_verified(
     set: &ScenarioSet,
     oracle: &crate::ecc::Ecc,
     check: &super::Check,
@@ -135,7 +134,7 @@ pub fn run_verified(
     max_rounds: usize,
     events: Events<'_>,
 ) -> Result<VerifiedModular, Error> {
-    use crate::smv::closed_loop::CONTROLLER_MODULE;
+    use crate::smv::composition::CONTROLLER_MODULE;
     let mut last = None;
     let check = &check.until(opts.deadline);
     let followed = super::follow::run(set, oracle, check, max_rounds, events, &mut |s, events| {

@@ -77,7 +77,7 @@ pub struct Noisy {
     /// Per candidate, with a check: the properties NuSMV finds violated by the candidate as
     /// found (before any closed loop), so the engineer sees which raw machines fail and why.
     /// Empty without a check.
-    pub as_found: Vec<Vec<String>>,
+    pub(crate) as_found: Vec<Vec<String>>,
 }
 
 /// What the closed loop made of one candidate's corrected traces.
@@ -95,7 +95,7 @@ impl Noisy {
     }
 
     /// The verified machine of candidate `k` (1-based), if any.
-    pub fn verified(&self, k: usize) -> Option<&Exact> {
+    pub(crate) fn verified(&self, k: usize) -> Option<&Exact> {
         match self.closed.get(k.checked_sub(1)?)? {
             Some(InLoop::Verified(e)) => Some(e),
             _ => None,

@@ -16,7 +16,7 @@ use crate::scenario::{csvlog, fbsat, ScenarioSet};
 use std::path::{Path, PathBuf};
 
 /// Creates `dir` (and its parents) with a located error.
-pub fn create_dir(dir: &Path) -> Result<(), Error> {
+pub(crate) fn create_dir(dir: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::Input(format!("cannot create {}: {e}", dir.display())))
 }
@@ -43,7 +43,7 @@ fn probe(set: &ScenarioSet, outputs: &[OutputId]) -> Ecc {
 /// written in every requested format: an empty machine over the interface must export. An
 /// interface name that cannot is reported where `recordings` wrote it (its names file and
 /// line), since that is where the user renames it.
-pub fn check_exportable(
+pub(crate) fn check_exportable(
     set: &ScenarioSet,
     name: &str,
     formats: &[Format],
@@ -87,7 +87,7 @@ fn locate_name_error(e: export::ExportError, recordings: &Recordings) -> Error {
 /// Checks before a modular search that the block name and the interface can be exported: a
 /// probe composite with `modules` modules must pass the name checks of the `.fbt` and SMV
 /// files.
-pub fn check_exportable_modular(
+pub(crate) fn check_exportable_modular(
     set: &ScenarioSet,
     name: &str,
     modules: usize,
@@ -116,19 +116,19 @@ pub fn check_exportable_modular(
 }
 
 /// Where a verified result came from, for the head of `verification.txt`.
-pub struct Provenance<'a> {
+pub(crate) struct Provenance<'a> {
     /// The function block type's name.
-    pub name: &'a str,
+    pub(crate) name: &'a str,
     /// The plant model file the machine was closed in a loop with.
-    pub plant_file: &'a Path,
+    pub(crate) plant_file: &'a Path,
     /// The LTL specification file with the properties checked.
-    pub spec_file: &'a Path,
+    pub(crate) spec_file: &'a Path,
 }
 
 /// Writes a verified machine into `out`: every export format, NuSMV's report, the
 /// closed-loop model it checked and `summary.json` (its keys sorted). Returns the files
 /// written.
-pub fn write_verified(
+pub(crate) fn write_verified(
     out: &Path,
     formats: &[Format],
     ecc: &Ecc,
@@ -159,7 +159,7 @@ pub fn write_verified(
 /// Writes the size questions around `size`, the least machine's for `set`, into `dir` as
 /// DIMACS files with `verdicts.txt`, a fresh solver's answer to each
 /// ([`crate::sat::dimacs`]). Returns the files written.
-pub fn write_size_questions(
+pub(crate) fn write_size_questions(
     dir: &Path,
     set: &ScenarioSet,
     sat: &crate::sat::Options,
@@ -183,7 +183,7 @@ pub fn write_size_questions(
 /// Writes a composite NuSMV verified into `out`: its files
 /// ([`export::modular::write_modular`]), its `verification.txt` and `closed_loop.smv`, and
 /// `rounds.json` (one entry per composite checked). Returns the files written.
-pub fn write_verified_modular(
+pub(crate) fn write_verified_modular(
     out: &Path,
     r: &super::modular::VerifiedModular,
     provenance: &Provenance<'_>,
@@ -202,7 +202,7 @@ pub fn write_verified_modular(
 /// Writes the verified machine of noisy candidate `k` (1-based, [`Noisy::chosen`]) into
 /// `dir`: as [`write_verified`], with its summary and the corrected traces as
 /// `corrected.csv`. Returns the files written.
-pub fn write_noisy_verified(
+pub(crate) fn write_noisy_verified(
     dir: &Path,
     formats: &[Format],
     noisy: &Noisy,
@@ -245,7 +245,7 @@ pub fn write_noisy_verified(
 /// Writes NuSMV's certificate for `what` into `out`: `verification.txt` (the report under a
 /// header naming plant and properties) and `closed_loop.smv` (the model it checked). Returns
 /// the files written.
-pub fn write_certificate(
+pub(crate) fn write_certificate(
     out: &Path,
     what: &str,
     certificate: &Certificate,
@@ -268,30 +268,30 @@ pub fn write_certificate(
 #[derive(Debug, serde::Serialize, schemars::JsonSchema)]
 pub struct NoisyRow {
     /// 1-based number of the candidate (as in `candidate_<k>`).
-    pub candidate: usize,
+    pub(crate) candidate: usize,
     /// Number of recording errors ε the candidate corrects.
-    pub errors: usize,
+    pub(crate) errors: usize,
     /// The candidate's figures C, K, T and N.
-    pub size: crate::ecc::Size,
+    pub(crate) size: crate::ecc::Size,
     /// Whether every guard's literal count is proven minimal.
-    pub guards_exact: bool,
+    pub(crate) guards_exact: bool,
     /// With a check: whether the closed loop found a verified machine for the corrected
     /// traces; `None`: not checked.
-    pub verified: Option<bool>,
+    pub(crate) verified: Option<bool>,
     /// That verified machine's size.
-    pub verified_size: Option<crate::ecc::Size>,
+    pub(crate) verified_size: Option<crate::ecc::Size>,
     /// Why the closed loop found none.
-    pub why_not: Option<String>,
+    pub(crate) why_not: Option<String>,
     /// With a check: the properties the candidate as found violates (NuSMV).
-    pub as_found_violates: Option<Vec<String>>,
+    pub(crate) as_found_violates: Option<Vec<String>>,
     /// The candidate's folder name, `candidate_<k>`, relative to the output folder.
-    pub folder: String,
+    pub(crate) folder: String,
 }
 
 /// Writes every noisy candidate into `out/candidate_<k>/` (the machine in every format, the
 /// corrected traces as `corrected.txt` and `corrected.csv`, and `candidate.json`), then
 /// `summary.txt` and `summary.json`. Returns the summary table.
-pub fn write_noisy(
+pub(crate) fn write_noisy(
     out: &Path,
     name: &str,
     formats: &[Format],
@@ -390,7 +390,7 @@ pub fn write_noisy(
 
 /// Writes scenarios in the fbSAT text format with their names files beside them
 /// (`<stem>.traces`, `<stem>.inputs`, `<stem>.outputs`). Returns the traces file.
-pub fn write_scenarios(dir: &Path, stem: &str, set: &ScenarioSet) -> Result<PathBuf, Error> {
+pub(crate) fn write_scenarios(dir: &Path, stem: &str, set: &ScenarioSet) -> Result<PathBuf, Error> {
     create_dir(dir)?;
     let traces = dir.join(format!("{stem}.traces"));
     let mut text = Vec::new();

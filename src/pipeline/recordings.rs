@@ -57,7 +57,7 @@ impl Recordings {
     /// `FILE:LINE` in its names file, or the header of the first trace file when that is a
     /// CSV log and no names file is read. `None` for names nobody wrote (fbSAT traces without
     /// names files).
-    pub fn name_place(&self, output: bool, index: usize) -> Option<String> {
+    pub(crate) fn name_place(&self, output: bool, index: usize) -> Option<String> {
         let (in_file, out_file) = self.names_files();
         if let Some(file) = if output { out_file } else { in_file } {
             // The file was read once already; a line is found the way parse_names counts.
@@ -146,7 +146,7 @@ impl Recordings {
 
     /// The first trace file's name up to its first dot (`specs/pnp.traces` -> `pnp`): the
     /// default name of an output folder.
-    pub fn stem(&self) -> String {
+    pub(crate) fn stem(&self) -> String {
         self.traces
             .first()
             .map_or_else(|| "traces".into(), |p| stem(p))
@@ -163,14 +163,14 @@ impl Recordings {
 }
 
 /// Whether a file is a log (not an fbSAT scenario file): CSV, plain or gzip, or Parquet.
-pub fn is_log(path: &Path) -> bool {
+pub(crate) fn is_log(path: &Path) -> bool {
     parquet::is_parquet(path) || is_csv(path)
 }
 
 /// The logs in a folder and its subfolders (a partitioned data set such as Spark writes:
 /// `plc=3/part-00000.parquet`): files ending in `.parquet`, `.csv` or `.csv.gz`, in path
 /// order. Hidden files and Spark's markers (`_SUCCESS`) are skipped.
-pub fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, Error> {
+pub(crate) fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, Error> {
     let mut found = Vec::new();
     let mut todo = vec![dir.to_path_buf()];
     while let Some(d) = todo.pop() {
@@ -196,7 +196,7 @@ pub fn logs_in(dir: &Path) -> Result<Vec<PathBuf>, Error> {
 }
 
 /// A file's name up to its first dot.
-pub fn stem(path: &Path) -> String {
+pub(crate) fn stem(path: &Path) -> String {
     if crate::files::is_stdin(path) {
         return "stdin".into();
     }
@@ -208,14 +208,14 @@ pub fn stem(path: &Path) -> String {
 }
 
 /// Reads a machine from its JSON file.
-pub fn read_ecc(path: &Path) -> Result<Ecc, Error> {
+pub(crate) fn read_ecc(path: &Path) -> Result<Ecc, Error> {
     // Machines may be written as one line of JSON: only the file's size is limited.
     let text = crate::files::read_text(path, None).map_err(|e| Error::Input(e.to_string()))?;
     Ok(crate::export::json::read_json(&text, path)?)
 }
 
 /// Reads a machine and recordings and checks that they share one interface.
-pub fn machine_and_scenarios(
+pub(crate) fn machine_and_scenarios(
     ecc_file: &Path,
     recordings: &Recordings,
 ) -> Result<(Ecc, ScenarioSet), Error> {

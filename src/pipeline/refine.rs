@@ -28,13 +28,13 @@ pub struct Refined {
     /// Indices (in the new recordings) of the traces the old machine did not reproduce.
     pub divergent: Vec<usize>,
     /// Training scenarios before the divergent traces were added.
-    pub training_scenarios: usize,
+    pub(crate) training_scenarios: usize,
     /// The file holding training + divergent traces.
     pub traces_file: PathBuf,
     /// The new machine (with NuSMV's certificate when checked).
-    pub exact: Exact,
+    pub(crate) exact: Exact,
     /// Files written for the new machine.
-    pub files: Vec<PathBuf>,
+    pub(crate) files: Vec<PathBuf>,
 }
 
 impl Refined {

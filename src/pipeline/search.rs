@@ -87,7 +87,7 @@ use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
 use crate::search::oracle::{Checker, Closed, InProcess, Oracle, Shared};
 use crate::search::{self, Machine, Outcome, ScenarioData, Weights};
-use crate::verify::Verification;
+use crate::verify::VerificationResult;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -114,7 +114,7 @@ impl Judge {
     /// Probability of judging a child below the scenario threshold: NuSMV costs about
     /// 10^4 scenario evaluations a run, the in-process checker about 10^2 (6 ms on Table I's
     /// case), so it can judge ten times as often.
-    pub fn default_probability(self) -> f64 {
+    pub(crate) fn default_probability(self) -> f64 {
         match self {
             Judge::InProcess => 0.01,
             Judge::Nusmv => 0.001,
@@ -163,7 +163,7 @@ impl Default for Options {
             colonies: 4,
             start: Start::Sat,
             verify_probability: None,
-            max_out_degree: super::exact::DEFAULT_OUT_DEGREE,
+            max_out_degree: super::exact::DEFAULT_MAX_OUT_DEGREE,
             weights: Weights::default(),
             replay_counterexamples: true,
             every_round: false,
@@ -177,15 +177,15 @@ pub struct Searched {
     /// What the search ended with.
     pub outcome: Outcome,
     /// NuSMV's check of the machine in a fresh session, on every property.
-    pub verification: Verification,
+    pub verification: VerificationResult,
     /// Candidates verified by running NuSMV during the search.
-    pub nusmv_runs: u64,
+    pub(crate) nusmv_runs: u64,
     /// Candidates judged by the in-process model checker ([`crate::check`]) without NuSMV.
-    pub in_process_checks: u64,
+    pub(crate) in_process_checks: u64,
     /// Verdicts answered from the cache of machines already verified.
-    pub cache_hits: u64,
+    pub(crate) cache_hits: u64,
     /// States reachable from the initial state.
-    pub reachable_states: usize,
+    pub(crate) reachable_states: usize,
 }
 
 impl Searched {
@@ -232,16 +232,16 @@ pub fn threads(arg: Option<usize>) -> usize {
 }
 
 /// The minimal machine SAT finds for the scenarios alone (conjunction guards, at most
-/// `out_degree` transitions per state, as in the exact loop), as a search machine.
-pub fn sat_start(
+/// `max_out_degree` transitions per state, as in the exact loop), as a search machine.
+pub(crate) fn sat_start(
     set: &ScenarioSet,
-    out_degree: usize,
+    max_out_degree: usize,
     events: Events<'_>,
 ) -> Result<Machine, Error> {
     let t = Instant::now();
     let tree = ScenarioTree::build(set)?;
     let opts = sat::Options {
-        cube_slots: Some(out_degree.max(1)),
+        max_out_degree: Some(max_out_degree.max(1)),
         ..sat::Options::default()
     };
     let s = sat::synthesize(set, &tree, &opts, &mut |_| {})?;
@@ -398,9 +398,9 @@ pub fn shrink(
     max_out_degree: usize,
     events: Events<'_>,
 ) -> Result<(sat::Synthesis, super::follow::Followed), Error> {
-    use crate::smv::closed_loop::CONTROLLER_MODULE;
+    use crate::smv::composition::CONTROLLER_MODULE;
     let opts = sat::Options {
-        cube_slots: Some(max_out_degree),
+        max_out_degree: Some(max_out_degree),
         ..sat::Options::default()
     };
     let mut last = None;

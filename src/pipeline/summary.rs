@@ -9,7 +9,7 @@
 
 use crate::ecc::{bits_to_string, Ecc, Size};
 use crate::pipeline::active::Asked;
-use crate::pipeline::ambiguity::{self, Ambiguity, Verdict};
+use crate::pipeline::ambiguity::{self, Ambiguity, Uniqueness};
 use crate::pipeline::{cegis::Iteration, main_job, Report};
 use crate::scenario::ScenarioSet;
 use schemars::JsonSchema;
@@ -99,7 +99,7 @@ pub(crate) struct InferSummary {
 #[derive(Debug, Serialize, JsonSchema)]
 pub(crate) struct AmbiguitySummary {
     /// Unique, ambiguous or unknown within the bounds.
-    pub verdict: Verdict,
+    pub verdict: Uniqueness,
     /// Whether the list of rivals is complete within the bounds.
     pub complete: bool,
     /// States a rival may have (C of the machine, plus `extra_states`).
@@ -167,7 +167,7 @@ impl AmbiguitySummary {
             complete: found.complete,
             states: found.states,
             extra_states: found.extra_states,
-            per_state: found.per_state,
+            per_state: found.max_out_degree,
             depth: found.depth,
             alphabet: found.alphabet,
             all_inputs: found.all_inputs,
@@ -303,7 +303,7 @@ pub(crate) struct RoundSummary {
     /// What the round recorded.
     pub asked: Asked,
     /// The ambiguity check's verdict, when it ran.
-    pub verdict: Option<Verdict>,
+    pub verdict: Option<Uniqueness>,
     /// Steps recorded after the round.
     pub recorded_steps: usize,
     /// Whether the round widened the alphabet to every input vector.

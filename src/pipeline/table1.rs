@@ -56,7 +56,7 @@ impl Configuration {
     }
 
     /// The fitness weights: zero for the terms the configuration leaves out.
-    pub fn weights(self) -> Weights {
+    pub(crate) fn weights(self) -> Weights {
         match self {
             Configuration::Scenarios => Weights {
                 sat: 0.0,

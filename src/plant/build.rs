@@ -4,12 +4,12 @@
 //! made up: variable `k` on line `k + 2`, defines from 100, constraints from 200).
 use crate::plant::*;
 
-pub struct Builder {
-    pub m: Model,
+pub(crate) struct Builder {
+    pub(crate) m: Model,
 }
 
 impl Builder {
-    pub fn new(params: &[&str]) -> Builder {
+    pub(crate) fn new(params: &[&str]) -> Builder {
         Builder {
             m: Model {
                 file: "built.smv".into(),
@@ -25,7 +25,7 @@ impl Builder {
         }
     }
 
-    pub fn sym(&mut self, name: &str) -> Value {
+    pub(crate) fn sym(&mut self, name: &str) -> Value {
         match self.m.symbol(name) {
             Some(v) => v,
             None => {
@@ -53,20 +53,20 @@ impl Builder {
         Expr::Var(VarId(self.m.vars.len() - 1))
     }
 
-    pub fn var(&mut self, name: &str, ty: Type) -> Expr {
+    pub(crate) fn var(&mut self, name: &str, ty: Type) -> Expr {
         self.declare(name, ty, VarKind::State)
     }
 
-    pub fn ivar(&mut self, name: &str, ty: Type) -> Expr {
+    pub(crate) fn ivar(&mut self, name: &str, ty: Type) -> Expr {
         self.declare(name, ty, VarKind::Input)
     }
 
-    pub fn enumeration(&mut self, name: &str, values: &[&str]) -> Expr {
+    pub(crate) fn enumeration(&mut self, name: &str, values: &[&str]) -> Expr {
         let vs = values.iter().map(|v| self.sym(v)).collect();
         self.var(name, Type::Enum(vs))
     }
 
-    pub fn define(&mut self, name: &str, e: Expr) -> Expr {
+    pub(crate) fn define(&mut self, name: &str, e: Expr) -> Expr {
         self.m.defines.push(Define {
             name: name.into(),
             line: 100 + self.m.defines.len(),
@@ -75,7 +75,7 @@ impl Builder {
         Expr::Define(DefineId(self.m.defines.len() - 1))
     }
 
-    pub fn param(&self, name: &str) -> Expr {
+    pub(crate) fn param(&self, name: &str) -> Expr {
         match self.m.lookup(name) {
             Some(Name::Param(p)) => Expr::Param(p),
             _ => panic!("no parameter {name}"),
@@ -89,11 +89,11 @@ impl Builder {
         }
     }
 
-    pub fn init(&mut self, v: &Expr, e: Expr) {
+    pub(crate) fn init(&mut self, v: &Expr, e: Expr) {
         self.m.vars[Self::id(v)].init = Some(e);
     }
 
-    pub fn next(&mut self, v: &Expr, e: Expr) {
+    pub(crate) fn next(&mut self, v: &Expr, e: Expr) {
         self.m.vars[Self::id(v)].next = Some(e);
     }
 
@@ -104,58 +104,58 @@ impl Builder {
         }
     }
 
-    pub fn init_constraint(&mut self, e: Expr) {
+    pub(crate) fn init_constraint(&mut self, e: Expr) {
         let c = self.constraint(e);
         self.m.init.push(c);
     }
-    pub fn invar(&mut self, e: Expr) {
+    pub(crate) fn invar(&mut self, e: Expr) {
         let c = self.constraint(e);
         self.m.invar.push(c);
     }
-    pub fn trans(&mut self, e: Expr) {
+    pub(crate) fn trans(&mut self, e: Expr) {
         let c = self.constraint(e);
         self.m.trans.push(c);
     }
-    pub fn fairness(&mut self, e: Expr) {
+    pub(crate) fn fairness(&mut self, e: Expr) {
         let c = self.constraint(e);
         self.m.fairness.push(c);
     }
 }
 
-pub fn int(i: i64) -> Expr {
+pub(crate) fn int(i: i64) -> Expr {
     Expr::Const(Value::Int(i))
 }
-pub fn bool(b: bool) -> Expr {
+pub(crate) fn bool(b: bool) -> Expr {
     Expr::Const(Value::Bool(b))
 }
-pub fn not(a: Expr) -> Expr {
+pub(crate) fn not(a: Expr) -> Expr {
     Expr::Not(Box::new(a))
 }
-pub fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
+pub(crate) fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
     Expr::Bin(op, Box::new(a), Box::new(b))
 }
-pub fn and(parts: Vec<Expr>) -> Expr {
+pub(crate) fn and(parts: Vec<Expr>) -> Expr {
     parts
         .into_iter()
         .reduce(|a, b| bin(BinOp::And, a, b))
         .unwrap_or(bool(true))
 }
-pub fn or(parts: Vec<Expr>) -> Expr {
+pub(crate) fn or(parts: Vec<Expr>) -> Expr {
     parts
         .into_iter()
         .reduce(|a, b| bin(BinOp::Or, a, b))
         .unwrap_or(bool(false))
 }
-pub fn eq(a: Expr, b: Expr) -> Expr {
+pub(crate) fn eq(a: Expr, b: Expr) -> Expr {
     bin(BinOp::Eq, a, b)
 }
-pub fn case(branches: Vec<(Expr, Expr)>) -> Expr {
+pub(crate) fn case(branches: Vec<(Expr, Expr)>) -> Expr {
     Expr::Case(branches)
 }
-pub fn set(items: Vec<Expr>) -> Expr {
+pub(crate) fn set(items: Vec<Expr>) -> Expr {
     Expr::Set(items)
 }
-pub fn next_of(v: &Expr) -> Expr {
+pub(crate) fn next_of(v: &Expr) -> Expr {
     match v {
         Expr::Var(id) => Expr::Next(*id),
         _ => panic!("not a variable"),

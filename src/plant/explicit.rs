@@ -22,11 +22,11 @@ use std::fmt;
 use std::path::PathBuf;
 
 /// A state: the value of every variable, indexed by [`VarId`].
-pub type State = Vec<Value>;
+pub(crate) type State = Vec<Value>;
 
 /// Where an expression being evaluated comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Site {
+pub(crate) enum Site {
     /// `init(v)`.
     Init(VarId),
     /// `next(v)`.
@@ -41,12 +41,10 @@ pub enum Site {
     Trans(usize),
     /// The k-th `FAIRNESS`/`JUSTICE` constraint.
     Fairness(usize),
-    /// An expression built by a caller (an LTL atom, a test); no line.
-    Other,
 }
 
 impl Site {
-    /// The construct as the user wrote it, and its line (0 for [`Site::Other`]).
+    /// The construct as the user wrote it, and its line.
     fn describe(self, m: &Model) -> (String, usize) {
         match self {
             Site::Init(v) => (format!("init({})", m.var(v).name), m.var(v).line),
@@ -59,14 +57,13 @@ impl Site {
             Site::Invar(k) => ("INVAR".into(), m.invar[k].line),
             Site::Trans(k) => ("TRANS".into(), m.trans[k].line),
             Site::Fairness(k) => ("FAIRNESS".into(), m.fairness[k].line),
-            Site::Other => ("expression".into(), 0),
         }
     }
 }
 
 /// What went wrong evaluating an expression.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum EvalErrorKind {
+pub(crate) enum EvalErrorKind {
     /// No condition of a `case` holds.
     NoCaseBranch,
     /// An integer division or `mod` by zero.
@@ -90,13 +87,13 @@ pub enum EvalErrorKind {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub struct EvalError {
     /// Path of the plant file.
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// 1-based line of the construct (0: a caller's expression).
-    pub line: usize,
+    pub(crate) line: usize,
     /// `next(pos)`, `DEFINE grip1`, `TRANS`, ...
-    pub construct: String,
+    pub(crate) construct: String,
     /// What went wrong.
-    pub kind: EvalErrorKind,
+    pub(crate) kind: EvalErrorKind,
 }
 
 impl fmt::Display for EvalError {
@@ -127,11 +124,11 @@ impl fmt::Display for EvalError {
 }
 
 /// Most candidate successors (before `TRANS`/`INVAR` filtering) enumerated for one state.
-pub const MAX_CANDIDATES: u128 = 1 << 20;
+pub(crate) const MAX_CANDIDATES: u128 = 1 << 20;
 
 /// Evaluates `expr` on `state` and `params` (and `next` inside `TRANS`): every value it can
 /// take, sorted, without repetition (one value unless sets are involved).
-pub fn eval(
+pub(crate) fn eval(
     model: &Model,
     expr: &Expr,
     site: Site,
@@ -146,7 +143,7 @@ pub fn eval(
 }
 
 /// Whether `value` belongs to the type of `var`.
-pub fn in_domain(var: &Var, value: Value) -> bool {
+pub(crate) fn in_domain(var: &Var, value: Value) -> bool {
     match (&var.ty, value) {
         (Type::Bool, Value::Bool(_)) => true,
         (Type::Range(lo, hi), Value::Int(i)) => *lo <= i && i <= *hi,
@@ -362,14 +359,14 @@ enum InitMode {
 
 /// The semantics of one model, with what can be computed once (which `init`s read the state).
 #[derive(Debug, Clone)]
-pub struct Semantics<'m> {
+pub(crate) struct Semantics<'m> {
     model: &'m Model,
     init_mode: Vec<InitMode>,
 }
 
 impl<'m> Semantics<'m> {
     /// Prepares the semantics of `model` (classifies each `init` by whether it reads the state).
-    pub fn new(model: &'m Model) -> Semantics<'m> {
+    pub(crate) fn new(model: &'m Model) -> Semantics<'m> {
         let init_mode = model
             .vars
             .iter()
@@ -383,12 +380,12 @@ impl<'m> Semantics<'m> {
     }
 
     /// The model these semantics run.
-    pub fn model(&self) -> &'m Model {
+    pub(crate) fn model(&self) -> &'m Model {
         self.model
     }
 
     /// The initial states under parameters `params`: `init` assignments, `INIT` and `INVAR`.
-    pub fn initial_states(&self, params: &[bool]) -> Result<Vec<State>, EvalError> {
+    pub(crate) fn initial_states(&self, params: &[bool]) -> Result<Vec<State>, EvalError> {
         let m = self.model;
         let empty: State = m.vars.iter().map(|v| v.domain[0]).collect();
         let mut choices = Vec::with_capacity(m.vars.len());
@@ -440,7 +437,7 @@ impl<'m> Semantics<'m> {
     /// `TRANS` hold on `state`, `params` and the successor, and `INVAR` holds on the successor
     /// with `next_params` (the parameters of the next step: in the closed loop, the
     /// controller's outputs change together with the plant).
-    pub fn successors(
+    pub(crate) fn successors(
         &self,
         state: &[Value],
         params: &[bool],
@@ -522,7 +519,7 @@ impl<'m> Semantics<'m> {
 
     /// Which `FAIRNESS` constraints hold on `state` with `params`: bit `k` for constraint `k`.
     /// At most 64 constraints (the caller checks).
-    pub fn fairness(&self, state: &[Value], params: &[bool]) -> Result<u64, EvalError> {
+    pub(crate) fn fairness(&self, state: &[Value], params: &[bool]) -> Result<u64, EvalError> {
         let mut env = Env::new(self.model, state, params, None);
         let mut bits = 0u64;
         for (k, c) in self.model.fairness.iter().enumerate() {
@@ -534,7 +531,12 @@ impl<'m> Semantics<'m> {
     }
 
     /// The value of a variable or define on `state` with `params`.
-    pub fn read(&self, name: Name, state: &[Value], params: &[bool]) -> Result<Value, EvalError> {
+    pub(crate) fn read(
+        &self,
+        name: Name,
+        state: &[Value],
+        params: &[bool],
+    ) -> Result<Value, EvalError> {
         Ok(match name {
             Name::Var(v) => state[v.0],
             Name::Define(d) => Env::new(self.model, state, params, None).define(d)?,
@@ -585,7 +587,7 @@ fn reads_next(m: &Model, e: &Expr) -> bool {
 }
 
 /// Whether `e` reads a parameter (directly or through a define).
-pub fn reads_params(m: &Model, e: &Expr) -> bool {
+pub(crate) fn reads_params(m: &Model, e: &Expr) -> bool {
     reads(m, e, &|leaf| matches!(leaf, Expr::Param(_)))
 }
 
@@ -634,6 +636,6 @@ fn product(m: &Model, choices: &[Vec<Value>]) -> Result<Vec<State>, EvalError> {
 }
 
 /// A parameter vector from bits: bit `p` is parameter `p`.
-pub fn params_from_bits(bits: u64, n: usize) -> Vec<bool> {
+pub(crate) fn params_from_bits(bits: u64, n: usize) -> Vec<bool> {
     (0..n).map(|p| bits >> p & 1 == 1).collect()
 }

@@ -39,29 +39,31 @@
 
 #[cfg(test)]
 pub(crate) mod build;
-pub mod explicit;
+pub(crate) mod explicit;
 pub mod parse;
-pub mod print;
+pub(crate) mod print;
+
+pub use explicit::EvalError;
 
 use std::fmt;
 use std::path::PathBuf;
 
 /// Index of a variable in [`Model::vars`] (0-based, declaration order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct VarId(pub usize);
+pub(crate) struct VarId(pub(crate) usize);
 
 /// Index of a define in [`Model::defines`] (0-based; defines are ordered so that each refers
 /// only to earlier ones).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct DefineId(pub usize);
+pub(crate) struct DefineId(pub(crate) usize);
 
 /// Index of a formal parameter of `MODULE plant` (0-based): a controller output, Boolean.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct ParamId(pub usize);
+pub(crate) struct ParamId(pub(crate) usize);
 
 /// A value of the subset. Symbolic constants are interned in [`Model::symbols`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Value {
+pub(crate) enum Value {
     /// A Boolean (`TRUE`/`FALSE`).
     Bool(bool),
     /// An integer (of a range or an enumeration).
@@ -72,7 +74,7 @@ pub enum Value {
 
 /// The declared type of a variable.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Type {
+pub(crate) enum Type {
     /// `boolean`.
     Bool,
     /// `lo..hi`, both included.
@@ -83,7 +85,7 @@ pub enum Type {
 
 /// State variable (`VAR`) or input variable (`IVAR`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum VarKind {
+pub(crate) enum VarKind {
     /// A `VAR`: part of the state, constrained by `init`/`next`.
     State,
     /// An `IVAR`: chosen freely at every step, not part of `INIT`/`INVAR`.
@@ -92,46 +94,46 @@ pub enum VarKind {
 
 /// A declared variable.
 #[derive(Debug, Clone)]
-pub struct Var {
+pub(crate) struct Var {
     /// The name as declared.
-    pub name: String,
+    pub(crate) name: String,
     /// The declared type.
-    pub ty: Type,
+    pub(crate) ty: Type,
     /// Whether it was declared under `VAR` or `IVAR`.
-    pub kind: VarKind,
+    pub(crate) kind: VarKind,
     /// 1-based line of the declaration.
-    pub line: usize,
+    pub(crate) line: usize,
     /// Every value of the type, in order (`Bool`: false, true).
-    pub domain: Vec<Value>,
+    pub(crate) domain: Vec<Value>,
     /// `init(v) := e`, if any.
-    pub init: Option<Expr>,
+    pub(crate) init: Option<Expr>,
     /// `next(v) := e`, if any.
-    pub next: Option<Expr>,
+    pub(crate) next: Option<Expr>,
 }
 
 /// A `DEFINE name := expr;`.
 #[derive(Debug, Clone)]
-pub struct Define {
+pub(crate) struct Define {
     /// The defined name.
-    pub name: String,
+    pub(crate) name: String,
     /// 1-based line of the definition.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The right-hand side, evaluated on the same state.
-    pub expr: Expr,
+    pub(crate) expr: Expr,
 }
 
 /// A constraint section entry (`INIT`, `INVAR`, `TRANS`, `FAIRNESS`/`JUSTICE`), Boolean.
 #[derive(Debug, Clone)]
-pub struct Constraint {
+pub(crate) struct Constraint {
     /// 1-based line of the entry.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The Boolean condition.
-    pub expr: Expr,
+    pub(crate) expr: Expr,
 }
 
 /// Binary operators of the subset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BinOp {
+pub(crate) enum BinOp {
     /// `&`.
     And,
     /// `|`.
@@ -170,7 +172,7 @@ pub enum BinOp {
 
 /// An expression with every name resolved.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Expr {
+pub(crate) enum Expr {
     /// A literal value.
     Const(Value),
     /// Current value of a variable.
@@ -218,28 +220,28 @@ impl Expr {
 #[derive(Debug, Clone)]
 pub struct Model {
     /// Path of the plant file the model was read from (for messages).
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// Formal parameters of `MODULE plant`, in order: controller outputs the plant reads.
-    pub params: Vec<String>,
+    pub(crate) params: Vec<String>,
     /// Declared variables (`VAR` and `IVAR`), indexed by [`VarId`].
-    pub vars: Vec<Var>,
+    pub(crate) vars: Vec<Var>,
     /// Defines, indexed by [`DefineId`], each referring only to earlier ones.
-    pub defines: Vec<Define>,
+    pub(crate) defines: Vec<Define>,
     /// `INIT` constraints: every one holds in an initial state.
-    pub init: Vec<Constraint>,
+    pub(crate) init: Vec<Constraint>,
     /// `INVAR` constraints: every one holds in every reachable state.
-    pub invar: Vec<Constraint>,
+    pub(crate) invar: Vec<Constraint>,
     /// `TRANS` constraints: every one holds between a state and its successor.
-    pub trans: Vec<Constraint>,
+    pub(crate) trans: Vec<Constraint>,
     /// `FAIRNESS p` / `JUSTICE p`: along every fair path `p` holds infinitely often.
-    pub fairness: Vec<Constraint>,
+    pub(crate) fairness: Vec<Constraint>,
     /// Symbolic constants, indexed by [`Value::Sym`].
-    pub symbols: Vec<String>,
+    pub(crate) symbols: Vec<String>,
 }
 
 /// What a bare name of the plant stands for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Name {
+pub(crate) enum Name {
     /// A variable (`VAR` or `IVAR`).
     Var(VarId),
     /// A `DEFINE`.
@@ -250,7 +252,7 @@ pub enum Name {
 
 impl Model {
     /// The variable, define or parameter called `name`.
-    pub fn lookup(&self, name: &str) -> Option<Name> {
+    pub(crate) fn lookup(&self, name: &str) -> Option<Name> {
         if let Some(i) = self.vars.iter().position(|v| v.name == name) {
             return Some(Name::Var(VarId(i)));
         }
@@ -264,12 +266,12 @@ impl Model {
     }
 
     /// The declaration of variable `v` (panics if `v` is not an index of [`Model::vars`]).
-    pub fn var(&self, v: VarId) -> &Var {
+    pub(crate) fn var(&self, v: VarId) -> &Var {
         &self.vars[v.0]
     }
 
     /// The name a [`Name`] stands for.
-    pub fn name_of(&self, n: Name) -> &str {
+    pub(crate) fn name_of(&self, n: Name) -> &str {
         match n {
             Name::Var(v) => &self.vars[v.0].name,
             Name::Define(d) => &self.defines[d.0].name,
@@ -278,7 +280,7 @@ impl Model {
     }
 
     /// The symbolic constant called `name`, if the plant uses it.
-    pub fn symbol(&self, name: &str) -> Option<Value> {
+    pub(crate) fn symbol(&self, name: &str) -> Option<Value> {
         self.symbols
             .iter()
             .position(|s| s == name)
@@ -286,7 +288,7 @@ impl Model {
     }
 
     /// A value as NuSMV prints it (`TRUE`, `3`, `idle`).
-    pub fn show(&self, v: Value) -> String {
+    pub(crate) fn show(&self, v: Value) -> String {
         match v {
             Value::Bool(true) => "TRUE".into(),
             Value::Bool(false) => "FALSE".into(),

@@ -48,7 +48,7 @@ pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
 }
 
 /// Parses the text of a plant file; `file` names it in the model and in error messages.
-pub fn parse_str(text: &str, file: &Path) -> Result<Model, ModelError> {
+pub(crate) fn parse_str(text: &str, file: &Path) -> Result<Model, ModelError> {
     let src = Source::new(text, file);
     let plant = syntax(&src)?;
     resolve::resolve(&src, plant)

@@ -10,7 +10,7 @@ use super::{BinOp, Expr, Model, Type, Value, VarKind};
 use std::fmt::{self, Write};
 
 /// Writes the model as one `MODULE plant`.
-pub fn write_plant(m: &Model, w: &mut impl Write) -> fmt::Result {
+pub(crate) fn write_plant(m: &Model, w: &mut impl Write) -> fmt::Result {
     if m.params.is_empty() {
         writeln!(w, "MODULE plant")?;
     } else {
@@ -66,14 +66,14 @@ pub fn write_plant(m: &Model, w: &mut impl Write) -> fmt::Result {
 }
 
 /// [`write_plant`] into a string.
-pub fn to_smv(m: &Model) -> String {
+pub(crate) fn to_smv(m: &Model) -> String {
     let mut s = String::new();
     write_plant(m, &mut s).expect("writing to a String cannot fail");
     s
 }
 
 /// An expression as SMV text, every compound part in parentheses.
-pub fn expr(m: &Model, e: &Expr) -> String {
+pub(crate) fn expr(m: &Model, e: &Expr) -> String {
     let mut s = String::new();
     write_expr(m, e, &mut s);
     s
@@ -133,7 +133,7 @@ fn write_expr(m: &Model, e: &Expr, out: &mut String) {
 }
 
 /// The SMV spelling of an operator.
-pub fn symbol(op: BinOp) -> &'static str {
+pub(crate) fn symbol(op: BinOp) -> &'static str {
     use BinOp::*;
     match op {
         And => "&",

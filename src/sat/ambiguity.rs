@@ -39,35 +39,35 @@ use varisat::{ExtendFormula, Lit};
 
 /// What a rival must be and do.
 #[derive(Debug, Clone)]
-pub struct Query<'a> {
+pub(crate) struct Query<'a> {
     /// The scenario tree the rival must reproduce (every recorded point is a possible start of a
     /// distinguishing path).
-    pub tree: &'a ScenarioTree,
+    pub(crate) tree: &'a ScenarioTree,
     /// The algorithm form of the rival's states, as for the minimal machine.
-    pub kind: AlgorithmKind,
+    pub(crate) kind: AlgorithmKind,
     /// The rival's size, at most: states and transitions per state (the cube model's slots).
-    pub states: usize,
-    /// Transition slots per state `K` in the cube model: the bound on the rival's out-degree.
-    pub slots: usize,
+    pub(crate) states: usize,
+    /// The largest out-degree `K` of the rival: transition slots per state in the cube model.
+    pub(crate) max_out_degree: usize,
     /// Time to make a rival found smaller (fewer transitions, then fewer guard literals).
-    pub polish: std::time::Duration,
+    pub(crate) polish: std::time::Duration,
     /// The input vectors distinguishing sequences may use; the tree's vectors come first, in
     /// the tree's order. Ignored with `every_vector`.
-    pub alphabet: Vec<Vec<bool>>,
+    pub(crate) alphabet: Vec<Vec<bool>>,
     /// Sequences over every input vector: each step's input is a vector of free bits and both
     /// machines' guards are evaluated on it, instead of a choice among the alphabet.
-    pub every_vector: bool,
+    pub(crate) every_vector: bool,
     /// The longest distinguishing sequence looked for.
-    pub depth: usize,
+    pub(crate) depth: usize,
     /// Names for the decoded rival.
-    pub inputs: Vec<String>,
+    pub(crate) inputs: Vec<String>,
     /// Output names of the decoded rival, in scenario order.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
 }
 
 /// The answer of [`rival`].
 #[derive(Debug, Clone)]
-pub enum Outcome {
+pub(crate) enum Outcome {
     /// A machine that reproduces the recordings and differs from every known machine.
     Rival(Ecc),
     /// None exists within the bounds.
@@ -79,7 +79,7 @@ pub enum Outcome {
 /// Looks for a rival of every machine in `known` (each must replay the tree); once one is
 /// found, looks for smaller ones (fewer transitions, then fewer guard literals) for
 /// [`Query::polish`].
-pub fn rival(q: &Query, known: &[&Ecc], deadline: Instant) -> Outcome {
+pub(crate) fn rival(q: &Query, known: &[&Ecc], deadline: Instant) -> Outcome {
     let mut s = Solver::new();
     s.keep_clauses();
     let (v, counters) = encode_rival(&mut s, q);
@@ -110,7 +110,7 @@ pub fn rival(q: &Query, known: &[&Ecc], deadline: Instant) -> Outcome {
 /// The rival's colouring of the tree in the cube guard model, over the whole alphabet, with
 /// counters of its transitions and guard literals.
 fn encode_rival(f: &mut impl ExtendFormula, q: &Query) -> (Vars, [Counter; 2]) {
-    let mut v = Vars::new(f, q.tree, q.states, Some(q.slots));
+    let mut v = Vars::new(f, q.tree, q.states, Some(q.max_out_degree));
     let sel: Vec<Lit> = (0..v.inputs).map(|_| f.new_lit()).collect();
     let mut tails: Vec<Lit> = (0..q.states * q.states).map(|_| f.new_lit()).collect();
     constraints::basic(f, &v, q.tree, q.kind, false, &sel, &tails);
@@ -143,7 +143,7 @@ struct Counter {
 }
 
 /// The state `ecc` is in at every tree node (it replays the tree).
-pub fn node_states(ecc: &Ecc, tree: &ScenarioTree) -> Vec<StateId> {
+pub(crate) fn node_states(ecc: &Ecc, tree: &ScenarioTree) -> Vec<StateId> {
     let mut states = vec![StateId(0); tree.nodes.len()];
     let mut stack = vec![NodeId(0)];
     while let Some(p) = stack.pop() {
@@ -399,7 +399,7 @@ fn rival_moves_on_bits(
     };
     for m in 0..v.c_max {
         let mut earlier = vec![!step.live, !before.m[m]];
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             // fire <-> en & no literal of the cube is false on x.
             let fire = s.new_lit();
             let en = cv.en(0, m, k);
@@ -513,7 +513,7 @@ fn decode_rival(model: &Model, q: &Query, v: &Vars) -> Ecc {
             State {
                 name: format!("s{m}"),
                 algorithm: decode::algorithm(q.kind, a0, a1),
-                transitions: (0..cv.slots)
+                transitions: (0..cv.max_out_degree)
                     .filter(|&k| model.value(cv.en(0, m, k)))
                     .map(|k| decode::cube_transition(model, cv, 0, m, k, InputId))
                     .collect(),

@@ -17,7 +17,7 @@
 //!   of them is visited (each structure blocked once seen) within the guard budget, and `N` is
 //!   the least over all (on 40 random recordings, 14 got a smaller `N` than the first
 //!   structure's, e.g. 24 -> 15; fbSAT's tests-39: 20 -> 16);
-//! - cube (`Options::cube_slots`, the main job): guards are conjunctions of literals inside the
+//! - cube (`Options::max_out_degree`, the main job): guards are conjunctions of literals inside the
 //!   encoding with first-fire priority ([`super::cubes`]), `T` counts transitions and `N` is
 //!   minimized on the same solver, so the machine is determined on every input. Verification
 //!   in the loop needs that: counterexamples run on inputs nobody recorded.
@@ -65,7 +65,7 @@ pub struct Options {
     /// `Some(k)`: guards are conjunctions of literals inside the encoding, at most `k`
     /// transitions per state ([`super::cubes`]); `None`: transitions on recorded inputs only, guards
     /// minimized afterwards (the tree-exact model).
-    pub cube_slots: Option<usize>,
+    pub max_out_degree: Option<usize>,
     /// Sizes asked for rather than minimized ([`Fixed`]).
     pub fixed: Fixed,
     /// Where every solver call stops ([`Solver::until`]); the guard budget ends there too.
@@ -74,20 +74,20 @@ pub struct Options {
 
 /// Fixed bounds (fbSAT's `-C`, `-K`, `-T`): a machine within them, the rest still minimized.
 /// `states`: no fewer states are looked for (with [`Synthesizer`]: the search starts and ends
-/// there); `out_degree` and `transitions`: upper bounds every solver call assumes.
+/// there); `max_out_degree` and `transitions`: upper bounds every solver call assumes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Fixed {
     /// fbSAT's `-C`: the number of states to look for; fewer are not tried.
     pub states: Option<usize>,
     /// fbSAT's `-K`: at most this many transitions leave any one state.
-    pub out_degree: Option<usize>,
+    pub(crate) max_out_degree: Option<usize>,
     /// fbSAT's `-T`: at most this many transitions in all.
-    pub transitions: Option<usize>,
+    pub(crate) transitions: Option<usize>,
 }
 
 impl Fixed {
     /// Whether any bound is given.
-    pub fn any(&self) -> bool {
+    pub(crate) fn any(&self) -> bool {
         *self != Fixed::default()
     }
 }
@@ -96,7 +96,7 @@ impl std::fmt::Display for Fixed {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let parts: Vec<String> = [
             self.states.map(|c| format!("{c} states")),
-            self.out_degree
+            self.max_out_degree
                 .map(|k| format!("at most {k} transitions per state")),
             self.transitions.map(|t| format!("at most {t} transitions")),
         ]
@@ -115,7 +115,7 @@ impl Default for Options {
             max_states: 32,
             start_state: false,
             guard_budget: Duration::from_secs(10),
-            cube_slots: None,
+            max_out_degree: None,
             fixed: Fixed::default(),
             deadline: crate::deadline::Deadline::NONE,
         }
@@ -131,14 +131,14 @@ pub struct Synthesis {
     /// `guards_exact`.
     pub size: Size,
     /// Whether `N` is proven minimal for the structure (guard search finished in budget).
-    pub guards_exact: bool,
+    pub(crate) guards_exact: bool,
     /// Whether `T` is proven minimal for `C` (see [`Proofs`]).
-    pub transitions_exact: bool,
+    pub(crate) transitions_exact: bool,
     /// Figures of the run (encoding size, solver calls, time).
     pub stats: Stats,
     /// The state of every scenario tree node (a hint for the next search, see
     /// [`Synthesizer::hint`]).
-    pub colors: Vec<usize>,
+    pub(crate) colors: Vec<usize>,
 }
 
 /// Figures of a run.
@@ -146,22 +146,22 @@ pub struct Synthesis {
 #[schemars(rename = "SatStats")]
 pub struct Stats {
     /// Nodes of the scenario tree, root included.
-    pub tree_nodes: usize,
+    pub(crate) tree_nodes: usize,
     /// Distinct input vectors recorded in the tree (the alphabet before any counterexample).
-    pub distinct_inputs: usize,
+    pub(crate) distinct_inputs: usize,
     /// Passive marks of the tree: `(node, input)` pairs on which nothing may fire.
-    pub passive_marks: usize,
+    pub(crate) passive_marks: usize,
     /// Variables written, summed over every (re)build of the encoding and every negative
     /// scenario or environment added.
-    pub variables: usize,
+    pub(crate) variables: usize,
     /// Clauses written, counted like `variables`.
-    pub clauses: usize,
+    pub(crate) clauses: usize,
     /// SAT calls made, over every minimization of this synthesizer.
-    pub solver_calls: usize,
+    pub(crate) solver_calls: usize,
     /// Wall-clock seconds of steps 1-3 (`C`, `K`, `T`) of the latest minimization.
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// Wall-clock seconds of step 4 (guards, `N`) of the latest minimization.
-    pub guard_seconds: f64,
+    pub(crate) guard_seconds: f64,
     /// Syntheses over growing parts of long recordings ([`crate::pipeline::lazy`]); 1 when
     /// the recordings were encoded whole, 0 when not counted.
     pub rounds: usize,
@@ -211,7 +211,7 @@ impl Encoding {
             solver.keep_clauses();
         }
         let sink = &mut solver;
-        let vars = Vars::new(sink, tree, c_max, opts.cube_slots);
+        let vars = Vars::new(sink, tree, c_max, opts.max_out_degree);
         // Allocated in both guard models, so that both number their variables alike; only the
         // tree-exact model constrains them.
         let sel: Vec<Lit> = (0..vars.inputs).map(|_| sink.new_lit()).collect();
@@ -227,15 +227,17 @@ impl Encoding {
         );
         let (total_t, total_n) = match &vars.guards {
             GuardModel::Cubes(cv) => (
-                Totalizer::new(sink, cv.all_en(), c_max * cv.slots),
+                Totalizer::new(sink, cv.all_en(), c_max * cv.max_out_degree),
                 Some(Totalizer::new(sink, &cv.all_literals(), 200)),
             ),
             GuardModel::TreeExact => (Totalizer::new(sink, vars.all_t(), c_max * c_max), None),
         };
-        let degree = if opts.minimize_k || opts.fixed.out_degree.is_some() {
+        let degree = if opts.minimize_k || opts.fixed.max_out_degree.is_some() {
             (0..c_max)
                 .map(|q| match &vars.guards {
-                    GuardModel::Cubes(cv) => Totalizer::new(sink, cv.en_row(0, q), cv.slots),
+                    GuardModel::Cubes(cv) => {
+                        Totalizer::new(sink, cv.en_row(0, q), cv.max_out_degree)
+                    }
                     GuardModel::TreeExact => Totalizer::new(sink, vars.t_row(q), c_max),
                 })
                 .collect()
@@ -260,7 +262,7 @@ impl Encoding {
             clauses: stats.clauses,
             calls_counted: 0,
         };
-        if let Some(k) = opts.fixed.out_degree {
+        if let Some(k) = opts.fixed.max_out_degree {
             let l = enc.k_at_most(k);
             enc.fixed.push(l);
         }
@@ -378,7 +380,7 @@ const MAX_HINTS: usize = 6;
 /// with one transition fewer exists can take minutes where finding the machine took a
 /// second, so a loop that only needs candidates skips it and the final machine gets a budget.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Proofs {
+pub(crate) enum Proofs {
     /// Every bound proven (the default).
     Full,
     /// Fewest transitions with the colouring found (or hinted) only; nothing proven.
@@ -390,7 +392,7 @@ pub enum Proofs {
 
 /// Exact synthesis, kept incremental across calls: negative scenarios can be added between
 /// minimizations (CEGIS), and every call continues on the same solver.
-pub struct Synthesizer<'a> {
+pub(crate) struct Synthesizer<'a> {
     set: &'a ScenarioSet,
     tree: &'a ScenarioTree,
     opts: Options,
@@ -415,13 +417,17 @@ pub struct Synthesizer<'a> {
 impl<'a> Synthesizer<'a> {
     /// A synthesizer for `tree` (built from `set`, which the final replay uses) that proves every
     /// bound ([`Proofs::Full`]). Nothing is solved before [`Self::minimize`].
-    pub fn new(set: &'a ScenarioSet, tree: &'a ScenarioTree, opts: &Options) -> Synthesizer<'a> {
+    pub(crate) fn new(
+        set: &'a ScenarioSet,
+        tree: &'a ScenarioTree,
+        opts: &Options,
+    ) -> Synthesizer<'a> {
         Synthesizer::with_proofs(set, tree, opts, Proofs::Full)
     }
 
     /// A synthesizer that starts with `proofs` (see [`Self::set_proofs`]); anything but `Full`
     /// keeps a copy of the clauses for budgeted proofs from the start.
-    pub fn with_proofs(
+    pub(crate) fn with_proofs(
         set: &'a ScenarioSet,
         tree: &'a ScenarioTree,
         opts: &Options,
@@ -474,7 +480,7 @@ impl<'a> Synthesizer<'a> {
     /// the minimum of the tree-exact model, which bounds the cube model from below: restricting
     /// a cube machine to the recorded inputs gives a tree-exact machine with the same states and
     /// no more edges.
-    pub fn assume_lower_bounds(&mut self, c: usize, t: usize) {
+    pub(crate) fn assume_lower_bounds(&mut self, c: usize, t: usize) {
         self.known.c_lo = self.known.c_lo.max(c);
         // A bound proven on the loop's constraints may already be higher.
         self.known.t_lo = match self.known.t_lo {
@@ -489,7 +495,7 @@ impl<'a> Synthesizer<'a> {
     }
 
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
-    pub fn add_negative(&mut self, neg: NegativeScenario) {
+    pub(crate) fn add_negative(&mut self, neg: NegativeScenario) {
         let (v0, c0) = (self.enc.variables, self.enc.clauses);
         let ids = (neg.steps.first().map(|s| &s.before) == Some(&self.set.initial_outputs))
             .then(|| self.enc.add_negative(&neg));
@@ -502,7 +508,7 @@ impl<'a> Synthesizer<'a> {
     /// Requires every property of `spec` on the closed loop along `env`, for every later
     /// [`Self::minimize`] ([`closed_loop`]). Needs the cube guard model; every call must pass
     /// the same `spec`.
-    pub fn add_environment(
+    pub(crate) fn add_environment(
         &mut self,
         spec: &Arc<closed_loop::Spec>,
         env: closed_loop::Environment,
@@ -532,7 +538,7 @@ impl<'a> Synthesizer<'a> {
     /// (or from the previous candidate) usually still fits, and searching the guards for a
     /// fixed colouring is fast where the free search for the least `T` is not. Minimality does
     /// not depend on it: every bound is still proven on the whole problem.
-    pub fn hint(&mut self, colors: Vec<usize>) {
+    pub(crate) fn hint(&mut self, colors: Vec<usize>) {
         self.hints.retain(|h| *h != colors);
         self.hints.push(colors);
         // The newest few: each refuted hint costs a solver call.
@@ -544,7 +550,7 @@ impl<'a> Synthesizer<'a> {
     /// How hard the next [`Self::minimize`] calls work to prove `T` minimal ([`Proofs`]).
     /// Anything but `Full` keeps a copy of the clauses for the budgeted proof, from the next
     /// encoding built on.
-    pub fn set_proofs(&mut self, proofs: Proofs) {
+    pub(crate) fn set_proofs(&mut self, proofs: Proofs) {
         self.proofs = proofs;
         if matches!(proofs, Proofs::Budget(_)) && !self.enc.solver.keeps_clauses() {
             self.grow(self.enc.vars.c_max);
@@ -553,18 +559,18 @@ impl<'a> Synthesizer<'a> {
 
     /// Whether [`Self::minimize`] minimizes `N` in the cube model (the default). A loop that
     /// only needs candidates turns it off until one passes, then on for the final machine.
-    pub fn set_minimize_n(&mut self, on: bool) {
+    pub(crate) fn set_minimize_n(&mut self, on: bool) {
         self.minimize_n = on;
     }
 
     /// How many environments are encoded.
-    pub fn environments(&self) -> usize {
+    pub(crate) fn environments(&self) -> usize {
         self.environments.len()
     }
 
     /// The negative scenarios added so far ([`Self::add_negative`]), in order; the CEGIS loop
     /// reads them to count counterexamples and to skip one it already has.
-    pub fn negatives(&self) -> &[NegativeScenario] {
+    pub(crate) fn negatives(&self) -> &[NegativeScenario] {
         &self.negatives
     }
 
@@ -595,7 +601,7 @@ impl<'a> Synthesizer<'a> {
     /// at most `size.t` transitions and fewer than `size.n` guard literals. `Sat` carries no
     /// machine the caller can use directly (run [`Self::minimize`] for it); `Unknown` when the
     /// budget ran out or the encoding keeps no clauses for such proofs.
-    pub fn smaller_exists(&mut self, size: Size, budget: Duration) -> (Bounded, Bounded) {
+    pub(crate) fn smaller_exists(&mut self, size: Size, budget: Duration) -> (Bounded, Bounded) {
         let t_known = self.known.t_lo == Some((size.c, size.t));
         let n_known = self.known.n_lo == Some((size.c, size.t, size.n));
         let enc = &mut self.enc;
@@ -634,7 +640,7 @@ impl<'a> Synthesizer<'a> {
     /// Finds the least `C`, then (optionally) `K`, then `T`, then minimal guards (Algorithm 1
     /// of Chivilikhin et al., "Automatic state machine reconstruction from legacy PLC using
     /// data collection and SAT solver"), and replays the machine on every scenario.
-    pub fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
+    pub(crate) fn minimize(&mut self, progress: Progress<'_>) -> Result<Synthesis, SatError> {
         let t0 = Instant::now();
         let (c, model, hint) = match self.hinted_machine(progress) {
             Some((model, hint)) => (self.known.c_lo, model, Some(hint)),
@@ -1364,7 +1370,7 @@ pub fn synthesize(
 /// The question "an ECC with at most `c` states (and at most `t` transitions) reproduces the
 /// tree" as one CNF formula: the encoding with every assumption of the solver call as a unit
 /// clause, for an independent solver to answer ([`satisfiable`] asks varisat the same).
-pub fn formula(
+pub(crate) fn formula(
     tree: &ScenarioTree,
     opts: &Options,
     c: usize,
@@ -1395,7 +1401,7 @@ pub fn formula(
 
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.
 /// The building block of the minimization loops, exposed for tests of known minima.
-pub fn satisfiable(tree: &ScenarioTree, opts: &Options, c: usize, t: Option<usize>) -> bool {
+pub(crate) fn satisfiable(tree: &ScenarioTree, opts: &Options, c: usize, t: Option<usize>) -> bool {
     let mut enc = Encoding::new(tree, c.max(1), opts);
     let mut assume: Vec<Lit> = Vec::new();
     if c == 0 {

@@ -9,7 +9,7 @@ use varisat::{ExtendFormula, Lit};
 
 /// Unary counter over a set of literals.
 #[derive(Debug, Clone)]
-pub struct Totalizer {
+pub(crate) struct Totalizer {
     /// `outputs[k-1]` is implied when at least `k` inputs are true.
     outputs: Vec<Lit>,
 }
@@ -17,19 +17,19 @@ pub struct Totalizer {
 impl Totalizer {
     /// Encodes a totalizer over `inputs`, counting up to `limit` (outputs above it are not
     /// built; a bound `b >= limit` then constrains nothing).
-    pub fn new(f: &mut impl ExtendFormula, inputs: &[Lit], limit: usize) -> Totalizer {
+    pub(crate) fn new(f: &mut impl ExtendFormula, inputs: &[Lit], limit: usize) -> Totalizer {
         let outputs = build(f, inputs, limit.max(1));
         Totalizer { outputs }
     }
 
     /// The assumption that at most `bound` inputs are true, or `None` if the counter cannot
     /// exceed `bound` anyway.
-    pub fn at_most(&self, bound: usize) -> Option<Lit> {
+    pub(crate) fn at_most(&self, bound: usize) -> Option<Lit> {
         self.outputs.get(bound).map(|&o| !o)
     }
 
     /// Number of outputs built.
-    pub fn width(&self) -> usize {
+    pub(crate) fn width(&self) -> usize {
         self.outputs.len()
     }
 }

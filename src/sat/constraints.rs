@@ -36,7 +36,7 @@ pub(crate) fn tree_edges(
 }
 
 /// States in use form a prefix containing the initial state: `used[0]`, `used[q+1] -> used[q]`.
-pub fn used_prefix(f: &mut impl ExtendFormula, c: &Coloring) {
+pub(crate) fn used_prefix(f: &mut impl ExtendFormula, c: &Coloring) {
     f.add_clause(&[c.used(0)]);
     for q in 1..c.c_max {
         f.add_clause(&[!c.used(q), c.used(q - 1)]);
@@ -45,7 +45,7 @@ pub fn used_prefix(f: &mut impl ExtendFormula, c: &Coloring) {
 
 /// Every node has exactly one colour, a used one; the root has colour 0:
 /// `ALO_q c[v,q]`, `AMO_q c[v,q]`, `c[v,q] -> used[q]`, `c[root,0]`.
-pub fn coloring(f: &mut impl ExtendFormula, c: &Coloring) {
+pub(crate) fn coloring(f: &mut impl ExtendFormula, c: &Coloring) {
     for n in 0..c.nodes() {
         let lits: Vec<Lit> = (0..c.c_max).map(|q| c.color(NodeId(n), q)).collect();
         f.add_clause(&lits);
@@ -61,7 +61,7 @@ pub fn coloring(f: &mut impl ExtendFormula, c: &Coloring) {
 /// `idle(m, q, u)` is machine `m`'s literal "in state `q` nothing fires on `u`" (`y[q,u,⊥]` in
 /// the basic encoding). (The passive step's target node is merged with `p` in the tree, so
 /// "same colour" holds by construction.)
-pub fn passive_marks(
+pub(crate) fn passive_marks(
     f: &mut impl ExtendFormula,
     tree: &ScenarioTree,
     machines: &[Coloring],
@@ -85,7 +85,7 @@ pub fn passive_marks(
 ///
 /// Per state: tri algorithms forbid "flip", `a0[q,z] -> a1[q,z]`; a module's entries it never
 /// reads (of unused states, of outputs it does not own) are 0 (symmetry breaking).
-pub fn algorithms(
+pub(crate) fn algorithms(
     f: &mut impl ExtendFormula,
     tree: &ScenarioTree,
     machines: &[Coloring],
@@ -137,7 +137,7 @@ pub fn algorithms(
 ///
 /// Sound because every used state is reachable from state 0: each colour labels a tree node,
 /// and the tree path to it consists of transitions. (Spurious `t` could only weaken it.)
-pub fn bfs_parents(f: &mut impl ExtendFormula, c: &Coloring) {
+pub(crate) fn bfs_parents(f: &mut impl ExtendFormula, c: &Coloring) {
     let n = c.c_max;
     let module = matches!(c.scope, Scope::Module { .. });
     // `!p[j,i]` for `i >= j`.
@@ -184,7 +184,7 @@ pub fn bfs_parents(f: &mut impl ExtendFormula, c: &Coloring) {
 }
 
 /// Every `(q, u)` has exactly one target in `0..C_max ∪ {⊥}`; targets are used states.
-pub fn transition_function(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
+pub(crate) fn transition_function(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
         let lits: Vec<Lit> = (0..=v.c_max).map(|t| v.y(q, u, t)).collect();
         f.add_clause(&lits);
@@ -200,7 +200,7 @@ pub fn transition_function(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
 ///
 /// (A module of the modular encoding may stay put on an active edge, so its edges have their
 /// own family, [`super::modular::constraints::active_edges`].)
-pub fn active_edges(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
+pub(crate) fn active_edges(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
     for (p, u, w) in tree_edges(tree) {
         for q in 0..v.c_max {
             for q2 in 0..v.c_max {
@@ -217,7 +217,7 @@ pub fn active_edges(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree) {
 /// `sel[u]` is assumed true while `u` is an input of the scenarios only. Once a counterexample
 /// uses `u`, the assumption is dropped: to leave a bad lasso the machine may need a transition
 /// on an input where the scenarios saw it do nothing.
-pub fn no_unexercised_transitions(
+pub(crate) fn no_unexercised_transitions(
     f: &mut impl ExtendFormula,
     v: &Vars,
     tree: &ScenarioTree,
@@ -239,7 +239,7 @@ pub fn no_unexercised_transitions(
 }
 
 /// Edge variables, part 1: `y[q,u,q'] -> t[q,q']` for one input.
-pub fn edge_of_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
+pub(crate) fn edge_of_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
         for q2 in 0..v.c_max {
             f.add_clause(&[!v.y(q, u, q2), v.t(q, q2)]);
@@ -249,7 +249,7 @@ pub fn edge_of_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
 
 /// Edge variables, part 2: `t[q,q'] -> OR_u y[q,u,q'] | tail[q,q']`, with `!tail` assumed.
 /// The tail keeps the disjunction open for inputs added later ([`extend_edges`]).
-pub fn edge_definition(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
+pub(crate) fn edge_definition(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
     for q in 0..v.c_max {
         for q2 in 0..v.c_max {
             let mut clause = vec![!v.t(q, q2), tails[q * v.c_max + q2]];
@@ -260,7 +260,7 @@ pub fn edge_definition(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
 }
 
 /// Extends every edge disjunction by input `u`: `tail_old -> y[q,u,q'] | tail_new`.
-pub fn extend_edges(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, tails: &mut [Lit]) {
+pub(crate) fn extend_edges(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, tails: &mut [Lit]) {
     for q in 0..v.c_max {
         for q2 in 0..v.c_max {
             let new = f.new_lit();
@@ -274,7 +274,7 @@ pub fn extend_edges(f: &mut impl ExtendFormula, v: &Vars, u: InputVec, tails: &m
 /// input leading to them.
 /// - `nm[i,u+1,j] <-> nm[i,u,j] & !y[i,u,j]`, `m[i,u,j] <-> y[i,u,j] & nm[i,u,j]`;
 /// - `p[j,i] & p[j+1,i] & m[i,u,j] -> nm[i,u,j+1]`.
-pub fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
+pub(crate) fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     let c = v.c_max;
     let col = v.coloring();
     for i in 0..c {
@@ -307,7 +307,7 @@ pub fn bfs_input(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
 
 /// The start of the chain of [`bfs_input`]: before the first input nothing leads anywhere,
 /// `nm[i,0,j]`.
-pub fn bfs_inputs_start(f: &mut impl ExtendFormula, v: &Vars) {
+pub(crate) fn bfs_inputs_start(f: &mut impl ExtendFormula, v: &Vars) {
     for i in 0..v.c_max {
         for j in 0..v.c_max {
             f.add_clause(&[v.nm(i, 0, j)]);
@@ -317,14 +317,14 @@ pub fn bfs_inputs_start(f: &mut impl ExtendFormula, v: &Vars) {
 
 /// fbSAT's convention (optional): state 0 is a start state that no transition enters,
 /// `!y[q,u,0]`. The published fbSAT minima are counted under it, so it costs one state there.
-pub fn start_state_never_entered(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
+pub(crate) fn start_state_never_entered(f: &mut impl ExtendFormula, v: &Vars, u: InputVec) {
     for q in 0..v.c_max {
         f.add_clause(&[!v.y(q, u, 0)]);
     }
 }
 
 /// The families of one input vector (`bits`: its values).
-pub fn per_input(
+pub(crate) fn per_input(
     f: &mut impl ExtendFormula,
     v: &Vars,
     u: InputVec,
@@ -345,7 +345,12 @@ pub fn per_input(
 /// The families every colouring of the tree by one ECC has, whatever labels its edges:
 /// states, colours, the families of every input, passive marks and algorithms. Active edges
 /// are the caller's (the basic and the noisy encodings differ there).
-pub fn ecc_coloring(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, start_state: bool) {
+pub(crate) fn ecc_coloring(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    tree: &ScenarioTree,
+    start_state: bool,
+) {
     let c = v.coloring();
     used_prefix(f, &c);
     coloring(f, &c);
@@ -358,20 +363,20 @@ pub fn ecc_coloring(f: &mut impl ExtendFormula, v: &Vars, tree: &ScenarioTree, s
 }
 
 /// The edge variables' definition and BFS symmetry breaking, last in every ECC encoding.
-pub fn ecc_edges_and_bfs(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
+pub(crate) fn ecc_edges_and_bfs(f: &mut impl ExtendFormula, v: &Vars, tails: &[Lit]) {
     edge_definition(f, v, tails);
     bfs_parents(f, &v.coloring());
     bfs_inputs_start(f, v);
 }
 
 /// `y[q,u,⊥]`: the basic encoding's "nothing fires", for [`passive_marks`].
-pub fn idle(v: &Vars) -> impl Fn(usize, usize, InputVec) -> Lit + '_ {
+pub(crate) fn idle(v: &Vars) -> impl Fn(usize, usize, InputVec) -> Lit + '_ {
     move |_, q, u| v.y(q, u, v.none())
 }
 
 /// Every family of the basic encoding. `sel` and `tails` are the assumption literals of
 /// [`no_unexercised_transitions`] and [`edge_definition`].
-pub fn basic(
+pub(crate) fn basic(
     f: &mut impl ExtendFormula,
     v: &Vars,
     tree: &ScenarioTree,

@@ -1,5 +1,5 @@
 //! The cube-guard model: guards inside the encoding, for one ECC (the basic encoding with
-//! `Options::cube_slots`) or for every module of a modular controller (the SAT reconstruction paper, section V).
+//! `Options::max_out_degree`) or for every module of a modular controller (the SAT reconstruction paper, section V).
 //!
 //! In the tree-exact model the solver decides transitions only on recorded input vectors and
 //! guards are minimized afterwards, so behaviour on unrecorded inputs is outside the solver.
@@ -25,12 +25,12 @@ use crate::scenario::tree::InputVec;
 use varisat::{ExtendFormula, Lit};
 
 /// The slots of the single ECC of the basic encoding: targets and literal exclusivity.
-pub fn slots(f: &mut impl ExtendFormula, cv: &CubeVars, machine: &Coloring) {
+pub(crate) fn slots(f: &mut impl ExtendFormula, cv: &CubeVars, machine: &Coloring) {
     let c = cv.c_max;
     for q in 0..c {
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             let en = cv.en(0, q, k);
-            if k + 1 < cv.slots {
+            if k + 1 < cv.max_out_degree {
                 f.add_clause(&[!cv.en(0, q, k + 1), en]);
             }
             f.add_clause(&[!en, machine.used(q)]);
@@ -76,7 +76,7 @@ pub(crate) fn first_fire(
 
 /// Slot `k` of state `q` of machine `m` on input vector `u` with bits `bits`: whether it fires,
 /// and whether any slot up to it does (the first-fire gadget above).
-pub fn slot_fires(
+pub(crate) fn slot_fires(
     f: &mut impl ExtendFormula,
     cv: &CubeVars,
     (m, u, q, k): (usize, InputVec, usize, usize),
@@ -105,10 +105,16 @@ pub fn slot_fires(
 
 /// The basic encoding's part of input vector `u` with bits `bits`: which slot fires, hence
 /// `y[·,u,·]`.
-pub fn input(f: &mut impl ExtendFormula, v: &Vars, cv: &CubeVars, u: InputVec, bits: &[bool]) {
+pub(crate) fn input(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    cv: &CubeVars,
+    u: InputVec,
+    bits: &[bool],
+) {
     let c = v.c_max;
     for q in 0..c {
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             slot_fires(f, cv, (0, u, q, k), bits);
             let (nf, fire) = (cv.nf(0, u, q, k), cv.fire(0, u, q, k));
             for t in 0..c {
@@ -116,7 +122,7 @@ pub fn input(f: &mut impl ExtendFormula, v: &Vars, cv: &CubeVars, u: InputVec, b
             }
         }
         f.add_clause(&[cv.nf(0, u, q, 0)]);
-        let last = cv.nf(0, u, q, cv.slots);
+        let last = cv.nf(0, u, q, cv.max_out_degree);
         f.add_clause(&[!last, v.y(q, u, v.none())]);
         f.add_clause(&[last, !v.y(q, u, v.none())]);
     }

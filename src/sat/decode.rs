@@ -10,26 +10,26 @@ use crate::scenario::tree::{InputVec, NodeId, ScenarioTree};
 
 /// The machine found by the solver, before guards are minimized.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Structure {
+pub(crate) struct Structure {
     /// Input vectors, indexed like `delta`'s second axis.
-    pub alphabet: Vec<Vec<bool>>,
+    pub(crate) alphabet: Vec<Vec<bool>>,
     /// Number of states.
-    pub c: usize,
+    pub(crate) c: usize,
     /// Colour (state) of every tree node.
-    pub colors: Vec<usize>,
+    pub(crate) colors: Vec<usize>,
     /// `delta[q][u]`: target of state `q` on input `u`, `None` if nothing fires (or unobserved).
-    pub delta: Vec<Vec<Option<usize>>>,
+    pub(crate) delta: Vec<Vec<Option<usize>>>,
     /// `algorithms[q]`: the output algorithm of state `q`.
-    pub algorithms: Vec<Algorithm>,
+    pub(crate) algorithms: Vec<Algorithm>,
     /// `care_inputs[q]`: alphabet inputs on which negative scenarios need state `q` to behave
     /// exactly as the solver chose (beyond what the scenario tree fixes).
-    pub care_inputs: Vec<Vec<usize>>,
+    pub(crate) care_inputs: Vec<Vec<usize>>,
     /// Cube-guard model: every state's transitions in priority order, exactly as encoded.
-    pub cube_transitions: Option<Vec<Vec<Transition>>>,
+    pub(crate) cube_transitions: Option<Vec<Vec<Transition>>>,
 }
 
 /// A negative scenario with the alphabet index of every step's inputs.
-pub type IndexedNegative<'a> = (&'a NegativeScenario, &'a [InputVec]);
+pub(crate) type IndexedNegative<'a> = (&'a NegativeScenario, &'a [InputVec]);
 
 /// Runs the solver's machine along a negative scenario until it leaves it, marking every
 /// transition input and algorithm entry it uses.
@@ -133,7 +133,7 @@ impl Structure {
     /// negative scenario, up to and including the step where it leaves, are kept as chosen.
     /// With `closed_loop` (environments encoded, [`super::closed_loop`]) every entry is kept as
     /// chosen: the closed-loop runs the solver checked may use any of them.
-    pub fn decode(
+    pub(crate) fn decode(
         model: &Model,
         v: &Vars,
         tree: &ScenarioTree,
@@ -198,7 +198,7 @@ impl Structure {
             GuardModel::Cubes(cv) => Some(
                 (0..c)
                     .map(|q| {
-                        (0..cv.slots)
+                        (0..cv.max_out_degree)
                             .filter(|&k| model.value(cv.en(0, q, k)))
                             .map(|k| cube_transition(model, cv, 0, q, k, InputId))
                             .collect()
@@ -218,7 +218,7 @@ impl Structure {
     }
 
     /// Distinct targets of state `q`, in order of the smallest input leading to them.
-    pub fn targets(&self, q: usize) -> Vec<usize> {
+    pub(crate) fn targets(&self, q: usize) -> Vec<usize> {
         let mut out = Vec::new();
         for t in self.delta[q].iter().flatten() {
             if !out.contains(t) {
@@ -237,17 +237,17 @@ impl Structure {
     }
 
     /// Number of transitions.
-    pub fn transition_count(&self) -> usize {
+    pub(crate) fn transition_count(&self) -> usize {
         (0..self.c).map(|q| self.out_degree(q)).sum()
     }
 
     /// Largest out-degree.
-    pub fn max_out_degree(&self) -> usize {
+    pub(crate) fn max_out_degree(&self) -> usize {
         (0..self.c).map(|q| self.out_degree(q)).max().unwrap_or(0)
     }
 
     /// Total guard literals (cube model).
-    pub fn literal_count(&self) -> usize {
+    pub(crate) fn literal_count(&self) -> usize {
         self.cube_transitions
             .iter()
             .flatten()

@@ -13,18 +13,18 @@ use crate::scenario::tree::ScenarioTree;
 use varisat::{CnfFormula, ExtendFormula};
 
 /// One size question and its answer.
-pub struct Question {
+pub(crate) struct Question {
     /// Its file name: `states-<C>.cnf` or `transitions-<T>.cnf`.
-    pub name: String,
+    pub(crate) name: String,
     /// The formula, every bound a unit clause.
-    pub formula: CnfFormula,
+    pub(crate) formula: CnfFormula,
     /// Whether it is satisfiable.
-    pub satisfiable: bool,
+    pub(crate) satisfiable: bool,
 }
 
 impl Question {
     /// The formula in DIMACS CNF.
-    pub fn dimacs(&self) -> Vec<u8> {
+    pub(crate) fn dimacs(&self) -> Vec<u8> {
         let mut text = Vec::new();
         varisat::dimacs::write_dimacs(&mut text, &self.formula)
             .expect("writing into memory does not fail");
@@ -32,7 +32,7 @@ impl Question {
     }
 
     /// Its line of `verdicts.txt`: the name and `SATISFIABLE` or `UNSATISFIABLE`.
-    pub fn verdict_line(&self) -> String {
+    pub(crate) fn verdict_line(&self) -> String {
         let verdict = match self.satisfiable {
             true => "SATISFIABLE",
             false => "UNSATISFIABLE",
@@ -42,7 +42,7 @@ impl Question {
 }
 
 /// The questions around `size`, the least machine's for `tree` (module documentation).
-pub fn size_questions(tree: &ScenarioTree, opts: &Options, size: &Size) -> Vec<Question> {
+pub(crate) fn size_questions(tree: &ScenarioTree, opts: &Options, size: &Size) -> Vec<Question> {
     let mut asked = vec![(format!("states-{}.cnf", size.c), size.c, None)];
     if size.c > 1 {
         asked.push((format!("states-{}.cnf", size.c - 1), size.c - 1, None));

@@ -25,31 +25,31 @@ use varisat::{ExtendFormula, Lit};
 
 /// Guards of one state, in priority order.
 #[derive(Debug, Clone)]
-pub struct StateGuards {
+pub(crate) struct StateGuards {
     /// The state's transitions in priority order (the first whose guard holds fires).
-    pub transitions: Vec<Transition>,
+    pub(crate) transitions: Vec<Transition>,
     /// Whether the literal count is proven minimal.
-    pub exact: bool,
+    pub(crate) exact: bool,
 }
 
 /// What the scenarios require of one state's guards.
 #[derive(Debug, Clone, Default)]
-pub struct GuardProblem {
+pub(crate) struct GuardProblem {
     /// Targets, one transition each.
-    pub targets: Vec<usize>,
+    pub(crate) targets: Vec<usize>,
     /// `positive[i]`: input vectors on which transition `i` fires.
-    pub positive: Vec<Vec<Vec<bool>>>,
+    pub(crate) positive: Vec<Vec<Vec<bool>>>,
     /// Input vectors on which nothing fires.
-    pub negative: Vec<Vec<bool>>,
+    pub(crate) negative: Vec<Vec<bool>>,
     /// Number of input variables `X` the guards range over (the length of every vector).
-    pub inputs: usize,
+    pub(crate) inputs: usize,
 }
 
 impl GuardProblem {
     /// The requirements on state `q` of a decoded structure. Inputs that negative scenarios
     /// need in state `q` (`Structure::care_inputs`) are cared for too: the solver's machine
     /// leaves those lassos through its choices there, so the guards must reproduce them.
-    pub fn of_state(s: &Structure, tree: &ScenarioTree, q: usize) -> GuardProblem {
+    pub(crate) fn of_state(s: &Structure, tree: &ScenarioTree, q: usize) -> GuardProblem {
         let targets = s.targets(q);
         let positive = targets
             .iter()
@@ -239,7 +239,11 @@ fn absorbed(cubes: Vec<Vec<Literal>>) -> Vec<Vec<Literal>> {
 
 /// Guards of every state of a tree-exact structure, minimized state by state until
 /// `deadline`, as [`State`]s named `s0..`; and whether every literal count is proven minimal.
-pub fn all_states(s: &Structure, tree: &ScenarioTree, deadline: Instant) -> (Vec<State>, bool) {
+pub(crate) fn all_states(
+    s: &Structure,
+    tree: &ScenarioTree,
+    deadline: Instant,
+) -> (Vec<State>, bool) {
     let mut exact = true;
     let states = (0..s.c)
         .map(|q| {
@@ -256,7 +260,7 @@ pub fn all_states(s: &Structure, tree: &ScenarioTree, deadline: Instant) -> (Vec
 }
 
 /// Minimizes the guards of one state; stops improving at `deadline` (keeps the best so far).
-pub fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
+pub(crate) fn minimize_state(p: &GuardProblem, deadline: Instant) -> StateGuards {
     if p.targets.is_empty() {
         return StateGuards {
             transitions: Vec::new(),

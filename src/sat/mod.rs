@@ -36,24 +36,26 @@
 //! - O. Bailleux, Y. Boufkhad. Efficient CNF encoding of Boolean cardinality constraints.
 //!   CP 2003 (the totalizer).
 
-pub mod ambiguity;
-pub mod basic;
-pub mod card;
-pub mod closed_loop;
-pub mod constraints;
-pub mod cubes;
-pub mod decode;
-pub mod dimacs;
-pub mod guards;
+pub(crate) mod ambiguity;
+pub(crate) mod basic;
+pub(crate) mod card;
+pub(crate) mod closed_loop;
+pub(crate) mod constraints;
+pub(crate) mod cubes;
+pub(crate) mod decode;
+pub(crate) mod dimacs;
+pub(crate) mod guards;
 pub mod modular;
-pub mod negative;
+pub(crate) mod negative;
 pub mod noisy;
-pub mod solver;
-pub mod step;
-pub mod vars;
+pub(crate) mod solver;
+pub(crate) mod step;
+pub(crate) mod vars;
 
-pub use basic::{satisfiable, synthesize, Fixed, Options, Proofs, Stats, Synthesis, Synthesizer};
-pub use step::{Bound, Progress, Step};
+pub(crate) use basic::{satisfiable, Proofs, Synthesizer};
+pub use basic::{synthesize, Options};
+pub use basic::{Fixed, Stats, Synthesis};
+pub use step::{Bound, Step};
 
 /// Why synthesis produced no machine.
 #[derive(Debug, thiserror::Error)]

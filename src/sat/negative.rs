@@ -22,7 +22,12 @@ use crate::scenario::tree::InputVec;
 use varisat::{ExtendFormula, Lit};
 
 /// Encodes one negative scenario; `ids[i]` is the alphabet index of step `i`'s inputs.
-pub fn leave_lasso(f: &mut impl ExtendFormula, v: &Vars, neg: &NegativeScenario, ids: &[InputVec]) {
+pub(crate) fn leave_lasso(
+    f: &mut impl ExtendFormula,
+    v: &Vars,
+    neg: &NegativeScenario,
+    ids: &[InputVec],
+) {
     let n = neg.steps.len();
     let c = v.c_max;
     let (p, l, horizon) = match neg.loop_start {

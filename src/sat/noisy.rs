@@ -99,15 +99,15 @@ pub struct Candidate {
     /// The machine, replayed through the simulator on its corrected traces.
     pub ecc: Ecc,
     /// Its size `C, K, T, N`: `C, K, T` are Algorithm 1's least `N, K, R`.
-    pub size: Size,
+    pub(crate) size: Size,
     /// Number of alternative edges used: errors corrected in the traces.
     pub errors: usize,
     /// Per alternative of the graph: used or not.
-    pub used: Vec<bool>,
+    pub(crate) used: Vec<bool>,
     /// The traces with the chosen edges; the machine reproduces them.
     pub corrected: ScenarioSet,
     /// Whether every guard's literal count is proven minimal.
-    pub guards_exact: bool,
+    pub(crate) guards_exact: bool,
 }
 
 /// What the caller wants after seeing a candidate.
@@ -127,15 +127,15 @@ pub struct NoisyStats {
     /// Distinct scenarios (one chain each) in the graph.
     pub distinct_traces: usize,
     /// Alternative edges: places where a scan-cycle glitch may be corrected.
-    pub alternatives: usize,
+    pub(crate) alternatives: usize,
     /// Distinct input vectors in the graph.
-    pub distinct_inputs: usize,
+    pub(crate) distinct_inputs: usize,
     /// Variables of the encoding as built, summed over every window of states tried.
     pub variables: usize,
     /// Clauses of the encoding as built (blocking clauses of the enumeration not counted).
     pub clauses: usize,
     /// SAT calls made, minimization and enumeration.
-    pub solver_calls: usize,
+    pub(crate) solver_calls: usize,
     /// Rounds of synthesis in parts (0: the whole log encoded at once).
     pub rounds: usize,
     /// Graph nodes of the last part encoded (in parts; 0 otherwise).
@@ -159,13 +159,13 @@ pub struct NoisySynthesis {
     pub candidates: Vec<Candidate>,
     /// Whether enumeration ran until no further choice exists within the error bound
     /// (false: stopped by `enumerate`, `max_calls` or the caller).
-    pub exhausted: bool,
+    pub(crate) exhausted: bool,
     /// Figures of the run (graph, encoding size, solver calls, time).
     pub stats: NoisyStats,
 }
 
 /// The selection variables `e[a]`, one per alternative of the graph.
-pub fn selection(f: &mut impl ExtendFormula, graph: &TraceGraph) -> Vec<Lit> {
+pub(crate) fn selection(f: &mut impl ExtendFormula, graph: &TraceGraph) -> Vec<Lit> {
     graph.alternatives.iter().map(|_| f.new_lit()).collect()
 }
 
@@ -192,7 +192,7 @@ fn edges_into(graph: &TraceGraph, e: &[Lit], w: NodeId) -> Vec<(InputVec, Option
 /// colour per node" they imply the paper's clause: the target is not `⊥`, and any target other
 /// than `c[w]`'s colour would give `w` a second colour. `C` + `C²` clauses per edge instead of
 /// `2·C²`, which matters on logs of 10^5 samples.
-pub fn selected_edges(f: &mut impl ExtendFormula, v: &Vars, graph: &TraceGraph, e: &[Lit]) {
+pub(crate) fn selected_edges(f: &mut impl ExtendFormula, v: &Vars, graph: &TraceGraph, e: &[Lit]) {
     for w in 1..graph.tree.nodes.len() {
         let w = NodeId(w);
         let (p, _) = graph.parent(w);
@@ -215,7 +215,7 @@ pub fn selected_edges(f: &mut impl ExtendFormula, v: &Vars, graph: &TraceGraph, 
 /// Transitions only where a selected edge needs them:
 /// `y[q,g,⊥] | OR_{edges (p,w) labelled g} s[p,w,q]`, with `s = c[p,q]` for an edge without
 /// alternative and, for one with, a fresh `s -> c[p,q]`, `s -> sel`.
-pub fn no_unselected_transitions(
+pub(crate) fn no_unselected_transitions(
     f: &mut impl ExtendFormula,
     v: &Vars,
     graph: &TraceGraph,
@@ -253,7 +253,7 @@ pub fn no_unselected_transitions(
 
 /// Every family of the noisy encoding for up to `v.c_max` states; returns the selection
 /// variables. Edge-definition tails are closed with unit clauses (no inputs are added later).
-pub fn encode(
+pub(crate) fn encode(
     f: &mut impl ExtendFormula,
     v: &Vars,
     graph: &TraceGraph,
@@ -658,7 +658,7 @@ impl Enumeration<'_> {
 /// with `upper` corrections; not checked here). A lower bound, for a part of a log, on the corrections of every
 /// machine of those sizes: [`crate::pipeline::noisy`] sums them over disjoint parts to prove
 /// the least `ε` of a whole log without encoding it whole.
-pub fn least_errors_within(
+pub(crate) fn least_errors_within(
     set: &ScenarioSet,
     kind: AlgorithmKind,
     sizes: (usize, usize, usize),
@@ -668,7 +668,7 @@ pub fn least_errors_within(
 }
 
 /// Steps of a scenario set: `(scenario, steps)`.
-pub type Stretch = (usize, std::ops::Range<usize>);
+pub(crate) type Stretch = (usize, std::ops::Range<usize>);
 
 /// [`least_errors_within`], told bounds already proven on disjoint stretches of `set`: every
 /// machine within the sizes needs at least `n` corrections on the stretches of each
@@ -677,7 +677,7 @@ pub type Stretch = (usize, std::ops::Range<usize>);
 /// outside them is taken as recorded, and the proof is about which of a few corrections to
 /// make, not about every step of the set. The solver stops at `deadline` (the answer then
 /// means nothing).
-pub fn least_errors_knowing(
+pub(crate) fn least_errors_knowing(
     set: &ScenarioSet,
     kind: AlgorithmKind,
     (c, k, t): (usize, usize, usize),
@@ -746,7 +746,7 @@ pub fn least_errors_knowing(
 
 /// Whether some machine with at most `n` states (and at most `r` transitions) reproduces the
 /// noisy traces with at most `eps` alternative edges. For tests of known minima.
-pub fn satisfiable(
+pub(crate) fn satisfiable(
     set: &ScenarioSet,
     kind: AlgorithmKind,
     n: usize,

@@ -24,17 +24,17 @@ use varisat::{ExtendFormula, Lit, Var};
 
 /// What a solver has been given and asked.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SolverStats {
+pub(crate) struct SolverStats {
     /// Variables allocated.
-    pub variables: usize,
+    pub(crate) variables: usize,
     /// Clauses added (assumptions are not clauses).
-    pub clauses: usize,
+    pub(crate) clauses: usize,
     /// Solve calls made, budgeted ones ([`Solver::solve_within`]) included.
-    pub calls: usize,
+    pub(crate) calls: usize,
 }
 
 /// An incremental varisat solver that counts what it is given.
-pub struct Solver {
+pub(crate) struct Solver {
     inner: varisat::Solver<'static>,
     stats: SolverStats,
     /// Every clause given, when kept (see [`Solver::keep_clauses`]).
@@ -46,7 +46,7 @@ pub struct Solver {
 }
 
 /// The outcome of a solve with a time budget.
-pub enum Bounded {
+pub(crate) enum Bounded {
     /// Satisfiable under the assumptions, with a model.
     Sat(Model),
     /// Unsatisfiable under the assumptions (in a minimization: nothing within the bounds they
@@ -102,12 +102,12 @@ impl Default for Solver {
 
 impl Solver {
     /// An empty solver that keeps no copy of its clauses.
-    pub fn new() -> Solver {
+    pub(crate) fn new() -> Solver {
         Solver::until(Deadline::NONE)
     }
 
     /// An empty solver whose calls stop at `deadline` (module documentation).
-    pub fn until(deadline: Deadline) -> Solver {
+    pub(crate) fn until(deadline: Deadline) -> Solver {
         let mut inner = varisat::Solver::new();
         if let Some(at) = deadline.instant() {
             inner.write_proof(StopAt(at), varisat::ProofFormat::Varisat);
@@ -123,25 +123,29 @@ impl Solver {
 
     /// Whether a call was stopped at the deadline (its answer, and every later one, means
     /// nothing).
-    pub fn stopped(&self) -> bool {
+    pub(crate) fn stopped(&self) -> bool {
         self.stopped
     }
 
     /// Keeps a copy of every clause from now on, for [`Self::solve_within`]. Call before any
     /// clause is given.
-    pub fn keep_clauses(&mut self) {
+    pub(crate) fn keep_clauses(&mut self) {
         self.log = Some(varisat::CnfFormula::new());
     }
 
     /// Whether [`Self::keep_clauses`] was called.
-    pub fn keeps_clauses(&self) -> bool {
+    pub(crate) fn keeps_clauses(&self) -> bool {
         self.log.is_some()
     }
 
     /// Solves the clauses kept so far under `assumptions` on a fresh solver that gives up at
     /// `deadline` (`Unknown`), so that a proof that may take minutes can be tried for seconds.
     /// The incremental solver is untouched. `Unknown` without kept clauses.
-    pub fn solve_within(&mut self, assumptions: &[Lit], deadline: std::time::Instant) -> Bounded {
+    pub(crate) fn solve_within(
+        &mut self,
+        assumptions: &[Lit],
+        deadline: std::time::Instant,
+    ) -> Bounded {
         let Some(log) = &self.log else {
             return Bounded::Unknown;
         };
@@ -165,18 +169,18 @@ impl Solver {
     }
 
     /// Every clause given so far, when kept (see [`Solver::keep_clauses`]).
-    pub fn clauses(&self) -> Option<&varisat::CnfFormula> {
+    pub(crate) fn clauses(&self) -> Option<&varisat::CnfFormula> {
         self.log.as_ref()
     }
 
     /// Variables and clauses written so far, and solver calls made.
-    pub fn stats(&self) -> SolverStats {
+    pub(crate) fn stats(&self) -> SolverStats {
         self.stats
     }
 
     /// Solves under `assumptions` (they hold for this call only); the model when satisfiable.
     /// With a deadline ([`Solver::until`]): `None` once it has passed.
-    pub fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
+    pub(crate) fn solve(&mut self, assumptions: &[Lit]) -> Option<Model> {
         self.stats.calls += 1;
         if self.stopped || self.deadline.passed() {
             self.stopped = true;
@@ -200,7 +204,7 @@ impl Solver {
 
     /// The least value `b` of `range` whose assumptions `bound(b)` are satisfiable, with its
     /// model, by ascent (`None`: none is). `trying` hears every value before its call.
-    pub fn ascend(
+    pub(crate) fn ascend(
         &mut self,
         range: RangeInclusive<usize>,
         bound: impl Fn(usize) -> Vec<Lit>,
@@ -220,7 +224,7 @@ impl Solver {
     /// solves under `base` and that bound; `found` reads every model's value (and keeps what it
     /// needs of the model). Returns the least value: unsatisfiable one below, or at `floor`.
     /// `trying` hears every bound before its call.
-    pub fn descend(
+    pub(crate) fn descend(
         &mut self,
         base: &[Lit],
         mut value: usize,
@@ -263,12 +267,12 @@ impl ExtendFormula for Solver {
 }
 
 /// A satisfying assignment, looked up by literal.
-pub struct Model(Vec<bool>);
+pub(crate) struct Model(Vec<bool>);
 
 impl Model {
     /// The assignment that makes every literal of `lits` true (varisat's model);
     /// variables not mentioned are false.
-    pub fn new(lits: &[Lit]) -> Model {
+    pub(crate) fn new(lits: &[Lit]) -> Model {
         let mut values = vec![false; lits.len() + 1];
         for l in lits {
             let i = l.var().index();
@@ -281,12 +285,12 @@ impl Model {
     }
 
     /// Whether `l` is true in the model (a variable beyond the model counts as false).
-    pub fn value(&self, l: Lit) -> bool {
+    pub(crate) fn value(&self, l: Lit) -> bool {
         self.0.get(l.var().index()).copied().unwrap_or(false) == l.is_positive()
     }
 
     /// How many of `lits` are true.
-    pub fn count(&self, lits: &[Lit]) -> usize {
+    pub(crate) fn count(&self, lits: &[Lit]) -> usize {
         lits.iter().filter(|&&l| self.value(l)).count()
     }
 }

@@ -134,10 +134,10 @@ pub enum Step {
         best: usize,
     },
     /// Modular: no module of at most `states` states fits, which the least single machine shows
-    /// is for want of slots: `slots` per state from now on.
-    WideningSlots {
-        /// Transition slots per state from now on (one more than before).
-        slots: usize,
+    /// is for want of transitions per state: `max_out_degree` from now on.
+    WideningOutDegree {
+        /// The largest out-degree `K` from now on (one more than before).
+        max_out_degree: usize,
         /// The states bound refuted: the least single machine's number of states.
         states: usize,
     },
@@ -211,14 +211,14 @@ impl fmt::Display for Step {
                 f,
                 "plateau: at most {states} states: N = {n} (fewest so far {best})"
             ),
-            Step::WideningSlots { slots, states } => write!(
+            Step::WideningOutDegree { max_out_degree, states } => write!(
                 f,
-                "no modules of at most {states} states (the least single machine's) with {} transitions per state: widening to {slots}",
-                slots - 1
+                "no modules of at most {states} states (the least single machine's) with {} transitions per state: widening to {max_out_degree}",
+                max_out_degree - 1
             ),
         }
     }
 }
 
 /// Where a minimization reports its steps.
-pub type Progress<'a> = &'a mut dyn FnMut(Step);
+pub(crate) type Progress<'a> = &'a mut dyn FnMut(Step);

@@ -239,7 +239,7 @@ fn smaller_exists_refutes_below_the_minimum_and_finds_above_it() {
     let s = set(text);
     let tree = ScenarioTree::build(&s).unwrap();
     let o = Options {
-        cube_slots: Some(3),
+        max_out_degree: Some(3),
         ..opts(AlgorithmKind::Tri)
     };
     let least = synthesize(&s, &tree, &o, &mut |_| {}).unwrap();
@@ -287,7 +287,7 @@ fn a_disjunctive_guard_saves_the_transition_a_conjunction_needs() {
     assert!(on.guard.eval(&[true, false]) && on.guard.eval(&[false, true]));
     // Conjunctions only (the cube model of the main job): the same states, one more transition.
     let cubes = Options {
-        cube_slots: Some(4),
+        max_out_degree: Some(4),
         ..opts(AlgorithmKind::Tri)
     };
     let conj = synthesize(&s, &tree, &cubes, &mut |_| {}).unwrap();

@@ -13,40 +13,39 @@ use varisat::{ExtendFormula, Lit};
 /// Every shared constraint family ([`super::constraints`]) is written against this view, so it
 /// is written once for the basic, noisy and modular encodings.
 #[derive(Debug, Clone, Copy)]
-pub struct Coloring<'a> {
+pub(crate) struct Coloring<'a> {
     /// `C_max`: states allocated (the window); those in use are a prefix `0..C`.
-    pub c_max: usize,
+    pub(crate) c_max: usize,
     /// Number of outputs `Z` (the row length of `a0` and `a1`).
-    pub outputs: usize,
+    pub(crate) outputs: usize,
     /// `used[q]`: state `q` exists; states in use form a prefix `0..C`.
-    pub used: &'a [Lit],
+    pub(crate) used: &'a [Lit],
     /// `color[v][q]`: tree node `v` is coloured with (mapped to) state `q`.
-    pub color: &'a [Lit],
+    pub(crate) color: &'a [Lit],
     /// `a0[q][z]` / `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0 / 1.
-    pub a0: &'a [Lit],
+    pub(crate) a0: &'a [Lit],
     /// `a1[q][z]`: see `a0`, when output `z` was 1.
-    pub a1: &'a [Lit],
+    pub(crate) a1: &'a [Lit],
     /// `edge[q][q']`: some transition leads from `q` to `q'` (the basic encoding's `t`, the
     /// modular encoding's `tr`).
-    pub edge: &'a [Lit],
+    pub(crate) edge: &'a [Lit],
     /// `parent[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
-    pub parent: &'a [Lit],
+    pub(crate) parent: &'a [Lit],
     /// The whole controller, or one module with its ownership and firing literals.
-    pub scope: Scope<'a>,
+    pub(crate) scope: Scope<'a>,
 }
 
 /// What part of the controller a coloured machine is.
 #[derive(Debug, Clone, Copy)]
-pub enum Scope<'a> {
+pub(crate) enum Scope<'a> {
     /// The whole controller: it owns every output and fires on every active step.
     Whole,
-    /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ), reads the inputs
-    /// with `reads[x]` (α) and fires on the tree edge into `v` iff `fires[v]`.
+    /// A module (the SAT reconstruction paper, section V): it owns the outputs with `owns[z]` (θ)
+    /// and fires on the tree edge into `v` iff `fires[v]` (which inputs it reads, α, its cube
+    /// guards say: [`crate::sat::modular::constraints::slots`]).
     Module {
         /// `owns[z]` (θ): the module owns output `z`.
         owns: &'a [Lit],
-        /// `reads[x]` (α): the module reads input variable `x`.
-        reads: &'a [Lit],
         /// `fires[v]`: the module makes a transition on the tree edge into node `v`.
         fires: &'a [Lit],
     },
@@ -54,23 +53,23 @@ pub enum Scope<'a> {
 
 impl Coloring<'_> {
     /// `used[q]`: state `q` exists.
-    pub fn used(&self, q: usize) -> Lit {
+    pub(crate) fn used(&self, q: usize) -> Lit {
         self.used[q]
     }
     /// `color[v][q]`: tree node `v` is coloured with state `q`.
-    pub fn color(&self, v: NodeId, q: usize) -> Lit {
+    pub(crate) fn color(&self, v: NodeId, q: usize) -> Lit {
         self.color[v.0 * self.c_max + q]
     }
     /// `a0[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 0.
-    pub fn a0(&self, q: usize, z: usize) -> Lit {
+    pub(crate) fn a0(&self, q: usize, z: usize) -> Lit {
         self.a0[q * self.outputs + z]
     }
     /// `a1[q][z]`: state `q`'s algorithm sets output `z` to 1 when it was 1.
-    pub fn a1(&self, q: usize, z: usize) -> Lit {
+    pub(crate) fn a1(&self, q: usize, z: usize) -> Lit {
         self.a1[q * self.outputs + z]
     }
     /// `a0` or `a1` by the old value of the output.
-    pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
+    pub(crate) fn a(&self, q: usize, z: usize, old: bool) -> Lit {
         if old {
             self.a1(q, z)
         } else {
@@ -78,22 +77,22 @@ impl Coloring<'_> {
         }
     }
     /// `edge[q][target]`: some transition leads from `q` to `target`.
-    pub fn edge(&self, q: usize, target: usize) -> Lit {
+    pub(crate) fn edge(&self, q: usize, target: usize) -> Lit {
         self.edge[q * self.c_max + target]
     }
     /// `parent[j][i]` (`i < j`): state `i` is the BFS parent of state `j`.
-    pub fn parent(&self, j: usize, i: usize) -> Lit {
+    pub(crate) fn parent(&self, j: usize, i: usize) -> Lit {
         self.parent[j * self.c_max + i]
     }
     /// Number of tree nodes coloured.
-    pub fn nodes(&self) -> usize {
+    pub(crate) fn nodes(&self) -> usize {
         self.color.len() / self.c_max
     }
 }
 
 /// How the basic encoding models guards.
 #[derive(Debug, Clone)]
-pub enum GuardModel {
+pub(crate) enum GuardModel {
     /// Transitions exist on recorded inputs only; guards are minimized after solving
     /// ([`super::guards`]).
     TreeExact,
@@ -103,17 +102,15 @@ pub enum GuardModel {
 
 /// All variables of the basic ECC encoding for at most `c_max` states.
 #[derive(Debug, Clone)]
-pub struct Vars {
+pub(crate) struct Vars {
     /// `C_max`: states allocated (the window); a smaller `C` is an assumption
     /// ([`Vars::states_at_most`]).
-    pub c_max: usize,
-    /// Number of scenario-tree nodes coloured.
-    pub nodes: usize,
+    pub(crate) c_max: usize,
     /// Input vectors allocated so far: the tree's, then those counterexamples bring
     /// ([`Vars::add_input`]).
-    pub inputs: usize,
+    pub(crate) inputs: usize,
     /// Number of outputs `Z`.
-    pub outputs: usize,
+    pub(crate) outputs: usize,
     used: Vec<Lit>,
     color: Vec<Lit>,
     /// `y[u][q][q']`: in state `q`, input `u` leads to `q'` (`q' = C_max` is `⊥`: nothing fires).
@@ -129,7 +126,7 @@ pub struct Vars {
     /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
     nm: Vec<Vec<Lit>>,
     /// How guards are modelled; in the cube model it holds the slot variables.
-    pub guards: GuardModel,
+    pub(crate) guards: GuardModel,
 }
 
 pub(crate) fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
@@ -137,18 +134,17 @@ pub(crate) fn alloc(f: &mut impl ExtendFormula, n: usize) -> Vec<Lit> {
 }
 
 impl Vars {
-    /// `cube_slots`: `Some(k)` for the cube-guard model with `k` slots per state.
-    pub fn new(
+    /// `max_out_degree`: `Some(k)` for the cube-guard model with `k` slots per state.
+    pub(crate) fn new(
         f: &mut impl ExtendFormula,
         tree: &ScenarioTree,
         c_max: usize,
-        cube_slots: Option<usize>,
+        max_out_degree: Option<usize>,
     ) -> Vars {
         let nodes = tree.nodes.len();
         let outputs = tree.nodes[0].outputs.len();
         let mut v = Vars {
             c_max,
-            nodes,
             inputs: 0,
             outputs,
             used: alloc(f, c_max),
@@ -160,10 +156,10 @@ impl Vars {
             p: alloc(f, c_max * c_max),
             m: Vec::new(),
             nm: vec![alloc(f, c_max * c_max)],
-            guards: match cube_slots {
-                Some(slots) => {
+            guards: match max_out_degree {
+                Some(max_out_degree) => {
                     let bits = tree.input_vectors.first().map_or(0, Vec::len);
-                    GuardModel::Cubes(CubeVars::new(f, 1, c_max, slots, bits))
+                    GuardModel::Cubes(CubeVars::new(f, 1, c_max, max_out_degree, bits))
                 }
                 None => GuardModel::TreeExact,
             },
@@ -175,7 +171,7 @@ impl Vars {
     }
 
     /// Allocates the variables of one more input vector (index `self.inputs` before the call).
-    pub fn add_input(&mut self, f: &mut impl ExtendFormula) -> InputVec {
+    pub(crate) fn add_input(&mut self, f: &mut impl ExtendFormula) -> InputVec {
         let c = self.c_max;
         self.y.push(alloc(f, c * (c + 1)));
         self.m.push(alloc(f, c * c));
@@ -188,7 +184,7 @@ impl Vars {
     }
 
     /// The machine's colouring, for the shared constraint families.
-    pub fn coloring(&self) -> Coloring<'_> {
+    pub(crate) fn coloring(&self) -> Coloring<'_> {
         Coloring {
             c_max: self.c_max,
             outputs: self.outputs,
@@ -203,50 +199,50 @@ impl Vars {
     }
 
     /// The assumption "at most `c` states" (`None`: the window has no more).
-    pub fn states_at_most(&self, c: usize) -> Option<Lit> {
+    pub(crate) fn states_at_most(&self, c: usize) -> Option<Lit> {
         (c < self.c_max).then(|| !self.used(c))
     }
 
     /// Index of the `⊥` ("nothing fires") target.
-    pub fn none(&self) -> usize {
+    pub(crate) fn none(&self) -> usize {
         self.c_max
     }
 
     /// `used[q]`: state `q` exists (states in use form a prefix).
-    pub fn used(&self, q: usize) -> Lit {
+    pub(crate) fn used(&self, q: usize) -> Lit {
         self.used[q]
     }
     /// `color[v][q]`: tree node `v` is coloured with state `q`.
-    pub fn color(&self, v: NodeId, q: usize) -> Lit {
+    pub(crate) fn color(&self, v: NodeId, q: usize) -> Lit {
         self.color[v.0 * self.c_max + q]
     }
     /// `y[u][q][target]`: in state `q`, input `u` leads to `target` (`target = C_max` is `⊥`:
     /// nothing fires).
-    pub fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
+    pub(crate) fn y(&self, q: usize, u: InputVec, target: usize) -> Lit {
         self.y[u.0][q * (self.c_max + 1) + target]
     }
     /// `a0` or `a1` of state `q` by the old value of output `z`.
-    pub fn a(&self, q: usize, z: usize, old: bool) -> Lit {
+    pub(crate) fn a(&self, q: usize, z: usize, old: bool) -> Lit {
         self.coloring().a(q, z, old)
     }
     /// `t[q][target]`: some input leads from `q` to `target`.
-    pub fn t(&self, q: usize, target: usize) -> Lit {
+    pub(crate) fn t(&self, q: usize, target: usize) -> Lit {
         self.t[q * self.c_max + target]
     }
     /// `m[u][i][j]`: `u` is the smallest input on which `i` goes to `j` (BFS symmetry breaking).
-    pub fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
+    pub(crate) fn m(&self, i: usize, u: InputVec, j: usize) -> Lit {
         self.m[u.0][i * self.c_max + j]
     }
     /// `nm[u][i][j]`: no input smaller than `u` leads from `i` to `j` (`u` in `0..=U`).
-    pub fn nm(&self, i: usize, u: usize, j: usize) -> Lit {
+    pub(crate) fn nm(&self, i: usize, u: usize, j: usize) -> Lit {
         self.nm[u][i * self.c_max + j]
     }
     /// All `t[q][q']` literals, for counting transitions.
-    pub fn all_t(&self) -> &[Lit] {
+    pub(crate) fn all_t(&self) -> &[Lit] {
         &self.t
     }
     /// `t[q][·]`, for counting the out-degree of `q`.
-    pub fn t_row(&self, q: usize) -> &[Lit] {
+    pub(crate) fn t_row(&self, q: usize) -> &[Lit] {
         &self.t[q * self.c_max..(q + 1) * self.c_max]
     }
 }
@@ -258,15 +254,15 @@ impl Vars {
 /// Layout: machine-major everywhere. The per-input variables of several machines are allocated
 /// at once ([`Self::add_inputs`]); only a single machine's alphabet grows one vector at a time.
 #[derive(Debug, Clone)]
-pub struct CubeVars {
+pub(crate) struct CubeVars {
     /// Machines sharing the layout: 1 for an ECC, `M` for a modular controller.
-    pub machines: usize,
+    pub(crate) machines: usize,
     /// States per machine `C_max`.
-    pub c_max: usize,
-    /// Transition slots per state `K`: the bound on a state's out-degree.
-    pub slots: usize,
+    pub(crate) c_max: usize,
+    /// The largest out-degree `K`: transition slots per state.
+    pub(crate) max_out_degree: usize,
     /// Input variables `X` a guard may test.
-    pub bits: usize,
+    pub(crate) bits: usize,
     /// Input vectors allocated so far.
     vectors: usize,
     /// `en[m][q][k]`: slot `k` of state `q` holds a transition.
@@ -284,18 +280,18 @@ pub struct CubeVars {
 
 impl CubeVars {
     /// The slot variables; per-input variables come with [`Self::add_inputs`].
-    pub fn new(
+    pub(crate) fn new(
         f: &mut impl ExtendFormula,
         machines: usize,
         c_max: usize,
-        slots: usize,
+        max_out_degree: usize,
         bits: usize,
     ) -> CubeVars {
-        let n = machines * c_max * slots;
+        let n = machines * c_max * max_out_degree;
         CubeVars {
             machines,
             c_max,
-            slots,
+            max_out_degree,
             bits,
             vectors: 0,
             en: alloc(f, n),
@@ -308,59 +304,59 @@ impl CubeVars {
     }
 
     /// Allocates `fire` and then `nf` of `count` more input vectors, for every machine.
-    pub fn add_inputs(&mut self, f: &mut impl ExtendFormula, count: usize) {
+    pub(crate) fn add_inputs(&mut self, f: &mut impl ExtendFormula, count: usize) {
         debug_assert!(
             self.machines == 1 || self.vectors == 0,
             "machine-major layout"
         );
         let per = self.machines * count * self.c_max;
-        self.fire.extend(alloc(f, per * self.slots));
-        self.nf.extend(alloc(f, per * (self.slots + 1)));
+        self.fire.extend(alloc(f, per * self.max_out_degree));
+        self.nf.extend(alloc(f, per * (self.max_out_degree + 1)));
         self.vectors += count;
     }
 
     fn slot(&self, m: usize, q: usize, k: usize) -> usize {
-        (m * self.c_max + q) * self.slots + k
+        (m * self.c_max + q) * self.max_out_degree + k
     }
     fn at(&self, m: usize, u: InputVec, q: usize) -> usize {
         (m * self.vectors + u.0) * self.c_max + q
     }
     /// `en[m][q][k]`: slot `k` of state `q` of machine `m` holds a transition.
-    pub fn en(&self, m: usize, q: usize, k: usize) -> Lit {
+    pub(crate) fn en(&self, m: usize, q: usize, k: usize) -> Lit {
         self.en[self.slot(m, q, k)]
     }
     /// `tgt[m][q][k][t]`: that slot's transition leads to state `t`.
-    pub fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
+    pub(crate) fn tgt(&self, m: usize, q: usize, k: usize, t: usize) -> Lit {
         self.tgt[self.slot(m, q, k) * self.c_max + t]
     }
     /// `pos[m][q][k][x]`: that slot's guard contains the literal `x`.
-    pub fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+    pub(crate) fn pos(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
         self.pos[self.slot(m, q, k) * self.bits + x]
     }
     /// `neg[m][q][k][x]`: that slot's guard contains the literal `!x`.
-    pub fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
+    pub(crate) fn neg(&self, m: usize, q: usize, k: usize, x: usize) -> Lit {
         self.neg[self.slot(m, q, k) * self.bits + x]
     }
     /// `fire[m][u][q][k]`: the guard of slot `k` of state `q` holds on input vector `u` (whether
     /// or not an earlier slot fires first).
-    pub fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
-        self.fire[self.at(m, u, q) * self.slots + k]
+    pub(crate) fn fire(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.fire[self.at(m, u, q) * self.max_out_degree + k]
     }
     /// `k in 0..=K`; `nf[.., K]` says that nothing fires.
-    pub fn nf(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
-        self.nf[self.at(m, u, q) * (self.slots + 1) + k]
+    pub(crate) fn nf(&self, m: usize, u: InputVec, q: usize, k: usize) -> Lit {
+        self.nf[self.at(m, u, q) * (self.max_out_degree + 1) + k]
     }
     /// Every `en`, for counting transitions.
-    pub fn all_en(&self) -> &[Lit] {
+    pub(crate) fn all_en(&self) -> &[Lit] {
         &self.en
     }
     /// `en[m][q][·]`, for counting the out-degree of `q`.
-    pub fn en_row(&self, m: usize, q: usize) -> &[Lit] {
+    pub(crate) fn en_row(&self, m: usize, q: usize) -> &[Lit] {
         let s = self.slot(m, q, 0);
-        &self.en[s..s + self.slots]
+        &self.en[s..s + self.max_out_degree]
     }
     /// Every guard literal, for counting `N`.
-    pub fn all_literals(&self) -> Vec<Lit> {
+    pub(crate) fn all_literals(&self) -> Vec<Lit> {
         self.pos.iter().chain(&self.neg).copied().collect()
     }
     /// The literals of slot `k` of state `q` of machine `m` as a conjunction, read from a model.

@@ -30,7 +30,8 @@
 //! back is lossless except for active steps that did not change the outputs (they become
 //! passive): a sampled log cannot see an event that changed nothing.
 
-pub use super::steps::{samples_to_steps, Sample};
+pub(crate) use super::steps::samples_to_steps;
+pub use super::steps::Sample;
 use super::{read_text, Origin, Scenario, ScenarioError, ScenarioSet};
 use crate::ecc::ident::is_identifier;
 use crate::files::csv::{parse_bool_cell, Record, Records};
@@ -47,7 +48,7 @@ enum Column {
 }
 
 /// Parses a CSV log into scenarios.
-pub fn parse(
+pub(crate) fn parse(
     file: &Path,
     text: &str,
     input_names: Option<&[String]>,
@@ -312,7 +313,7 @@ pub fn read(
 
 /// Writes scenarios as a CSV log: `scenario` column, `in:`/`out:` prefixed signals, one row
 /// per step with the outputs after that step.
-pub fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
+pub(crate) fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
     let mut header = vec!["scenario".to_string()];
     header.extend(set.inputs.iter().map(|n| format!("in:{n}")));
     header.extend(set.outputs.iter().map(|n| format!("out:{n}")));

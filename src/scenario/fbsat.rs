@@ -17,13 +17,13 @@ use std::io::Write;
 use std::path::Path;
 
 /// The input event every `in` action must carry.
-pub const INPUT_EVENT: &str = "REQ";
+pub(crate) const INPUT_EVENT: &str = "REQ";
 /// The output event every `out` action must carry.
-pub const OUTPUT_EVENT: &str = "CNF";
+pub(crate) const OUTPUT_EVENT: &str = "CNF";
 
 /// Parses scenario text. `inputs`/`outputs` are the interface names; when `None`, names
 /// `x1..xN` / `z1..zM` are made up from the bit counts of the first actions.
-pub fn parse(
+pub(crate) fn parse(
     file: &Path,
     text: &str,
     inputs: Option<Vec<String>>,
@@ -211,7 +211,7 @@ pub fn write(set: &ScenarioSet, w: &mut impl Write) -> std::io::Result<()> {
 /// memory (a raw log of any length is one scenario): the number of scenarios first, then
 /// [`ScenarioWriter::step`] for each step and [`ScenarioWriter::end_scenario`] after each
 /// scenario.
-pub struct ScenarioWriter<W: Write> {
+pub(crate) struct ScenarioWriter<W: Write> {
     w: W,
     /// Whether the scenario being written has no step yet.
     fresh: bool,
@@ -219,13 +219,13 @@ pub struct ScenarioWriter<W: Write> {
 
 impl<W: Write> ScenarioWriter<W> {
     /// Writes line 1: the number of scenarios that will follow.
-    pub fn new(mut w: W, scenarios: usize) -> std::io::Result<ScenarioWriter<W>> {
+    pub(crate) fn new(mut w: W, scenarios: usize) -> std::io::Result<ScenarioWriter<W>> {
         writeln!(w, "{scenarios}")?;
         Ok(ScenarioWriter { w, fresh: true })
     }
 
     /// Appends a step to the scenario being written.
-    pub fn step(&mut self, step: &Step) -> std::io::Result<()> {
+    pub(crate) fn step(&mut self, step: &Step) -> std::io::Result<()> {
         if !self.fresh {
             write!(self.w, "; ")?;
         }
@@ -238,13 +238,13 @@ impl<W: Write> ScenarioWriter<W> {
     }
 
     /// Ends the scenario's line.
-    pub fn end_scenario(&mut self) -> std::io::Result<()> {
+    pub(crate) fn end_scenario(&mut self) -> std::io::Result<()> {
         self.fresh = true;
         writeln!(self.w, ";")
     }
 
     /// The writer, for the caller to flush or commit.
-    pub fn into_inner(self) -> W {
+    pub(crate) fn into_inner(self) -> W {
         self.w
     }
 }

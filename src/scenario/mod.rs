@@ -13,9 +13,9 @@ pub mod csvlog;
 pub mod fbsat;
 pub mod names;
 pub mod negative;
-pub mod parquet;
-pub mod steps;
-pub mod trace_graph;
+pub(crate) mod parquet;
+pub(crate) mod steps;
+pub(crate) mod trace_graph;
 pub mod tree;
 
 use crate::ecc::{bits_to_string, replay, Controller};
@@ -46,7 +46,7 @@ pub struct Origin {
 impl Origin {
     /// Where step `step` (1-based) of the scenario is: `FILE:ROW (step K of the scenario
     /// from line L)` for a CSV log, `FILE:LINE step K` otherwise.
-    pub fn step(&self, step: usize) -> String {
+    pub(crate) fn step(&self, step: usize) -> String {
         let row = (self.rows.as_ref()).and_then(|r| r.get(step.checked_sub(1)?));
         match row {
             Some(row) => format!(
@@ -157,20 +157,20 @@ pub struct Contradiction {
     /// Where the scenario seen first comes from.
     pub first: Origin,
     /// 1-based step of the first scenario where it answers.
-    pub first_step: usize,
+    pub(crate) first_step: usize,
     /// What the first scenario does there ([`Step::describe`]).
-    pub first_says: String,
+    pub(crate) first_says: String,
     /// Where the contradicting scenario comes from.
     pub second: Origin,
     /// 1-based step of the second scenario where it answers differently.
-    pub second_step: usize,
+    pub(crate) second_step: usize,
     /// What the second scenario does there ([`Step::describe`]).
-    pub second_says: String,
+    pub(crate) second_says: String,
 }
 
 impl Step {
     /// Human-readable description of what the step records.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         match &self.outputs {
             Some(o) => format!(
                 "answers inputs {} with CNF[{}]",
@@ -225,7 +225,7 @@ impl ScenarioSet {
     }
 
     /// Number of active steps over all scenarios.
-    pub fn active_count(&self) -> usize {
+    pub(crate) fn active_count(&self) -> usize {
         self.scenarios
             .iter()
             .flat_map(|s| &s.steps)
@@ -234,7 +234,7 @@ impl ScenarioSet {
     }
 
     /// Appends the scenarios of another set over the same interface.
-    pub fn merge(&mut self, other: ScenarioSet) -> Result<(), ScenarioError> {
+    pub(crate) fn merge(&mut self, other: ScenarioSet) -> Result<(), ScenarioError> {
         if other.inputs != self.inputs || other.outputs != self.outputs {
             let file = other
                 .scenarios
@@ -285,20 +285,20 @@ impl ScenarioSet {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Divergence {
     /// Index of the scenario in its set.
-    pub scenario: usize,
+    pub(crate) scenario: usize,
     /// 0-based step.
-    pub step: usize,
+    pub(crate) step: usize,
     /// The step's input values.
-    pub inputs: Vec<bool>,
+    pub(crate) inputs: Vec<bool>,
     /// Outputs recorded with `CNF`, or `None` if no `CNF` was recorded.
-    pub recorded: Option<Vec<bool>>,
+    pub(crate) recorded: Option<Vec<bool>>,
     /// Outputs the machine emits with `CNF`, or `None` if it emits nothing.
-    pub machine: Option<Vec<bool>>,
+    pub(crate) machine: Option<Vec<bool>>,
 }
 
 impl Divergence {
     /// `scenario FILE:LINE step K: inputs ... recorded ..., the machine gives ...` (1-based step).
-    pub fn describe(&self, set: &ScenarioSet) -> String {
+    pub(crate) fn describe(&self, set: &ScenarioSet) -> String {
         format!(
             "scenario {} {}",
             set.scenarios[self.scenario].origin,
@@ -307,7 +307,7 @@ impl Divergence {
     }
 
     /// `step K: inputs ... recorded ..., the machine gives ...` (1-based step).
-    pub fn describe_step(&self) -> String {
+    pub(crate) fn describe_step(&self) -> String {
         let show = |o: &Option<Vec<bool>>| match o {
             Some(v) => format!("CNF[{}]", bits_to_string(v)),
             None => "no CNF".to_string(),
@@ -325,7 +325,7 @@ impl Divergence {
 /// Reads a whole file with [`crate::files::read_text`] (gunzipped when it is gzip): at most
 /// [`MAX_FILE_BYTES`](crate::files::MAX_FILE_BYTES), and lines of at most `max_line` bytes
 /// when given.
-pub fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, ScenarioError> {
+pub(crate) fn read_text(path: &Path, max_line: Option<usize>) -> Result<String, ScenarioError> {
     use crate::files::ReadError;
     crate::files::read_text(path, max_line).map_err(|e| match e.error {
         ReadError::Io(source) => ScenarioError::Io {

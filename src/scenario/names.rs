@@ -9,10 +9,10 @@ use crate::quote::quote;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-pub use crate::ecc::ident::is_identifier;
+pub(crate) use crate::ecc::ident::is_identifier;
 
 /// Parses the text of a names file.
-pub fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError> {
+pub(crate) fn parse_names(file: &Path, text: &str) -> Result<Vec<String>, ScenarioError> {
     let mut names = Vec::new();
     let mut seen: HashMap<String, usize> = HashMap::new();
     for (i, line) in text.lines().enumerate() {
@@ -57,7 +57,7 @@ pub fn read_names(file: &Path) -> Result<Vec<String>, ScenarioError> {
 /// Default names files beside a trace file: `<stem>.inputs` / `<stem>.outputs`, else
 /// `input-names` / `output-names` in the same folder (the fbSAT layout).
 /// The stem drops every extension: `tests-10.gz` -> `tests-10`, `pnp.traces` -> `pnp`.
-pub fn default_names_files(traces: &Path) -> Option<(PathBuf, PathBuf)> {
+pub(crate) fn default_names_files(traces: &Path) -> Option<(PathBuf, PathBuf)> {
     // Standard input lies beside nothing: its names come from --input-names/--output-names.
     if crate::files::is_stdin(traces) {
         return None;

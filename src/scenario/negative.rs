@@ -17,13 +17,13 @@ use std::path::Path;
 
 /// One step of a negative scenario.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct NegativeStep {
+pub(crate) struct NegativeStep {
     /// Input values of the step's `REQ`.
-    pub inputs: Vec<bool>,
+    pub(crate) inputs: Vec<bool>,
     /// Controller outputs when the step starts.
-    pub before: Vec<bool>,
+    pub(crate) before: Vec<bool>,
     /// Controller outputs after the step.
-    pub after: Vec<bool>,
+    pub(crate) after: Vec<bool>,
 }
 
 /// A lasso of steps: `steps[..loop_start]` once, then `steps[loop_start..]` forever; the
@@ -33,11 +33,11 @@ pub struct NegativeStep {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct NegativeScenario {
     /// The steps, prefix then loop.
-    pub steps: Vec<NegativeStep>,
+    pub(crate) steps: Vec<NegativeStep>,
     /// 0-based index of the first step of the loop, or `None` for a finite prefix.
-    pub loop_start: Option<usize>,
+    pub(crate) loop_start: Option<usize>,
     /// What it came from, for messages (e.g. the property name).
-    pub label: String,
+    pub(crate) label: String,
 }
 
 impl NegativeScenario {
@@ -126,17 +126,17 @@ fn from_scenario(s: &Scenario, initial_outputs: &[bool]) -> NegativeScenario {
 #[error("{negative}: every machine that reproduces the recordings shows this negative scenario (its {steps} steps follow the recorded behaviour, last through {place}), so none can avoid it: remove it or the recording")]
 pub struct Recorded {
     /// The negative scenario's label.
-    pub negative: String,
+    pub(crate) negative: String,
     /// The recorded step the scenario's last active step coincides with (or the start).
-    pub place: String,
+    pub(crate) place: String,
     /// Number of steps of the negative scenario.
-    pub steps: usize,
+    pub(crate) steps: usize,
 }
 
 /// Checks that no finite negative scenario is forced by the recordings: following it through
 /// the scenario tree, every step recorded (actively, or passively: nothing fires, which the
 /// tree merges into its node) with the outputs the negative scenario names.
-pub fn check_not_recorded(
+pub(crate) fn check_not_recorded(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     negatives: &[NegativeScenario],

@@ -17,13 +17,13 @@ use parquet::record::Field;
 use std::path::Path;
 
 /// Whether `path` names a Parquet file (by its extension).
-pub fn is_parquet(path: &Path) -> bool {
+pub(crate) fn is_parquet(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("parquet"))
 }
 
 /// Reads a Parquet log into scenarios.
-pub fn read(
+pub(crate) fn read(
     file: &Path,
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
@@ -34,7 +34,7 @@ pub fn read(
 
 /// The log as CSV text: the column names, then one line per row (booleans as 0/1,
 /// timestamps as seconds since the epoch).
-pub fn to_csv(file: &Path) -> Result<String, ScenarioError> {
+pub(crate) fn to_csv(file: &Path) -> Result<String, ScenarioError> {
     let bad = |line: usize, e: parquet::errors::ParquetError| ScenarioError::Syntax {
         file: file.to_path_buf(),
         line,

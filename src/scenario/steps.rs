@@ -18,13 +18,13 @@ use super::Step;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Sample {
     /// Input values at the sample, in interface order.
-    pub inputs: Vec<bool>,
+    pub(crate) inputs: Vec<bool>,
     /// Output values at the sample, in interface order.
-    pub outputs: Vec<bool>,
+    pub(crate) outputs: Vec<bool>,
 }
 
 /// The SAT reconstruction paper's preprocessing of one sampled trace into scenario steps.
-pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
+pub(crate) fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Step> {
     let mut stream = StepStream::new(initial_outputs.to_vec());
     let mut steps: Vec<Step> = samples
         .iter()
@@ -36,7 +36,7 @@ pub fn samples_to_steps(samples: &[Sample], initial_outputs: &[bool]) -> Vec<Ste
 
 /// Push-style streaming conversion of one trace.
 #[derive(Debug, Clone)]
-pub struct StepStream {
+pub(crate) struct StepStream {
     pending: Option<Sample>,
     /// The tag (a line) given with the pending sample.
     pending_tag: usize,
@@ -47,7 +47,7 @@ pub struct StepStream {
 
 impl StepStream {
     /// A conversion starting from `initial_outputs`.
-    pub fn new(initial_outputs: Vec<bool>) -> StepStream {
+    pub(crate) fn new(initial_outputs: Vec<bool>) -> StepStream {
         StepStream {
             pending: None,
             pending_tag: 0,
@@ -56,13 +56,13 @@ impl StepStream {
     }
 
     /// Takes the next sample; returns a step that became final, if any.
-    pub fn push(&mut self, sample: Sample) -> Option<Step> {
+    pub(crate) fn push(&mut self, sample: Sample) -> Option<Step> {
         self.push_tagged(sample, 0).map(|(step, _)| step)
     }
 
     /// [`StepStream::push`] of a sample with a tag (its line), returned with the step the
     /// sample became: the first of repeated samples, the last of skewed ones.
-    pub fn push_tagged(&mut self, sample: Sample, tag: usize) -> Option<(Step, usize)> {
+    pub(crate) fn push_tagged(&mut self, sample: Sample, tag: usize) -> Option<(Step, usize)> {
         match &self.pending {
             // Rule 1: a repeated sample adds nothing.
             Some(p) if *p == sample => None,
@@ -81,12 +81,12 @@ impl StepStream {
     }
 
     /// Ends the trace; returns the last step, if any.
-    pub fn finish(&mut self) -> Option<Step> {
+    pub(crate) fn finish(&mut self) -> Option<Step> {
         self.finish_tagged().map(|(step, _)| step)
     }
 
     /// [`StepStream::finish`] with the tag of the last step.
-    pub fn finish_tagged(&mut self) -> Option<(Step, usize)> {
+    pub(crate) fn finish_tagged(&mut self) -> Option<(Step, usize)> {
         let tag = self.pending_tag;
         self.pending.take().map(|e| (self.emit(e), tag))
     }

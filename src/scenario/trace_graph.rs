@@ -32,38 +32,38 @@ use std::collections::HashMap;
 
 /// A hypothesis edge: the active step into `node` may really have happened on `input`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Alternative {
+pub(crate) struct Alternative {
     /// The node the active step enters (its parent is the edge's source).
-    pub node: NodeId,
+    pub(crate) node: NodeId,
     /// The input of the step after it in the trace, interned in the tree.
-    pub input: InputVec,
+    pub(crate) input: InputVec,
 }
 
 /// One distinct scenario laid out as a chain of the graph.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Chain {
+pub(crate) struct Chain {
     /// Indices (into the scenario set) of every scenario with exactly these steps.
-    pub scenarios: Vec<usize>,
+    pub(crate) scenarios: Vec<usize>,
     /// Per step: the node an active step enters, `None` for a passive step.
-    pub nodes: Vec<Option<NodeId>>,
+    pub(crate) nodes: Vec<Option<NodeId>>,
 }
 
 /// The trace graph with its alternative edges.
 #[derive(Debug, Clone)]
-pub struct TraceGraph {
+pub(crate) struct TraceGraph {
     /// Nodes and recorded edges, laid out as described in the module doc.
-    pub tree: ScenarioTree,
+    pub(crate) tree: ScenarioTree,
     /// One chain per distinct scenario, in order of first appearance.
-    pub chains: Vec<Chain>,
+    pub(crate) chains: Vec<Chain>,
     /// Alternative edges, in order of the nodes they enter; at most one per node.
-    pub alternatives: Vec<Alternative>,
+    pub(crate) alternatives: Vec<Alternative>,
     /// `alternative_of[node]`: index into `alternatives`.
-    pub alternative_of: HashMap<NodeId, usize>,
+    pub(crate) alternative_of: HashMap<NodeId, usize>,
 }
 
 impl TraceGraph {
     /// Builds the graph; never fails (noise is what the graph is for).
-    pub fn build(set: &ScenarioSet) -> TraceGraph {
+    pub(crate) fn build(set: &ScenarioSet) -> TraceGraph {
         let mut tree = ScenarioTree::root_only(&set.initial_outputs);
         let mut interned: HashMap<Vec<bool>, InputVec> = HashMap::new();
         let mut intern = |tree: &mut ScenarioTree, x: &[bool]| -> InputVec {
@@ -131,7 +131,7 @@ impl TraceGraph {
     /// The scenarios with the chosen edges: `used[a]` says whether alternative `a` replaces
     /// the recorded edge. Each scenario keeps its origin; a step on a used alternative edge
     /// gets the alternative's input.
-    pub fn corrected(&self, set: &ScenarioSet, used: &[bool]) -> ScenarioSet {
+    pub(crate) fn corrected(&self, set: &ScenarioSet, used: &[bool]) -> ScenarioSet {
         let mut out = set.clone();
         for chain in &self.chains {
             for &si in &chain.scenarios {
@@ -150,7 +150,7 @@ impl TraceGraph {
     }
 
     /// Source of the recorded (and alternative) edge into `node`, with the recorded input.
-    pub fn parent(&self, node: NodeId) -> (NodeId, InputVec) {
+    pub(crate) fn parent(&self, node: NodeId) -> (NodeId, InputVec) {
         self.tree.nodes[node.0]
             .parent
             .expect("every node but the root has a parent")
@@ -161,19 +161,19 @@ impl TraceGraph {
 /// `changed` the outputs and a next step exists on other inputs (equal inputs would make the
 /// alternative the recorded edge itself). The one rule of the error model, shared by the
 /// graph and [`least_corrections`].
-pub fn alternative_input(steps: &[Step], k: usize, changed: bool) -> Option<&[bool]> {
+pub(crate) fn alternative_input(steps: &[Step], k: usize, changed: bool) -> Option<&[bool]> {
     let next = steps.get(k + 1).filter(|_| changed)?;
     (next.inputs != steps[k].inputs).then_some(next.inputs.as_slice())
 }
 
 /// How a fixed machine explains one noisy trace with the fewest corrections.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Corrections {
+pub(crate) struct Corrections {
     /// The steps (0-based) whose alternative edge is taken: the corrected errors.
-    pub steps: Vec<usize>,
+    pub(crate) steps: Vec<usize>,
     /// Per alternative of the trace, in step order (the order of [`TraceGraph::alternatives`]
     /// along the trace's chain): taken or not.
-    pub used: Vec<bool>,
+    pub(crate) used: Vec<bool>,
 }
 
 /// The fewest alternative edges with which `ecc` reproduces `steps` (from its initial state
@@ -184,7 +184,7 @@ pub struct Corrections {
 /// This replays a machine under the error model of [`TraceGraph`] without encoding the trace:
 /// the noisy encoding over a graph of this trace alone, with the machine's transitions fixed,
 /// has a model with `ε` errors exactly when this finds at most `ε`.
-pub fn least_corrections(
+pub(crate) fn least_corrections(
     ecc: &Ecc,
     initial_outputs: &[bool],
     steps: &[Step],

@@ -14,28 +14,27 @@
 //! reproduces both, and building the tree fails naming both places.
 
 use super::{Origin, ScenarioError, ScenarioSet};
-use crate::ecc::bits_to_string;
 use std::collections::HashMap;
 
 /// Index of a tree node; node 0 is the root.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct NodeId(pub usize);
+pub(crate) struct NodeId(pub(crate) usize);
 
 /// Index of a distinct input vector of the tree.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct InputVec(pub usize);
+pub(crate) struct InputVec(pub(crate) usize);
 
 /// One node: output values reached, the edge from its parent, its children and passive marks.
 #[derive(Debug, Clone)]
-pub struct Node {
+pub(crate) struct Node {
     /// Outputs after the history of this node (the root has the initial outputs).
-    pub outputs: Vec<bool>,
+    pub(crate) outputs: Vec<bool>,
     /// `(parent, input)` of the active step leading here; `None` for the root.
-    pub parent: Option<(NodeId, InputVec)>,
+    pub(crate) parent: Option<(NodeId, InputVec)>,
     /// Active steps from here, in order of first appearance.
-    pub children: Vec<(InputVec, NodeId)>,
+    pub(crate) children: Vec<(InputVec, NodeId)>,
     /// Inputs on which nothing fires here, in order of first appearance.
-    pub passive: Vec<InputVec>,
+    pub(crate) passive: Vec<InputVec>,
 }
 
 /// Where an edge was first seen: scenario and 1-based step.
@@ -52,9 +51,9 @@ pub struct ScenarioTree {
     /// The distinct input vectors of the scenarios, indexed by [`InputVec`].
     pub input_vectors: Vec<Vec<bool>>,
     /// The nodes, indexed by [`NodeId`]; node 0 is the root (initial outputs).
-    pub nodes: Vec<Node>,
+    pub(crate) nodes: Vec<Node>,
     /// For every node, the first scenario and step that reached it (`step` 0 = the root).
-    pub witness: Vec<(usize, usize)>,
+    pub(crate) witness: Vec<(usize, usize)>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -139,23 +138,19 @@ impl ScenarioTree {
     }
 
     /// The root node, which holds the initial outputs.
-    pub fn root(&self) -> NodeId {
+    pub(crate) fn root(&self) -> NodeId {
         NodeId(0)
     }
 
+    #[cfg(test)]
     /// Number of active edges (nodes other than the root).
-    pub fn active_edges(&self) -> usize {
+    pub(crate) fn active_edges(&self) -> usize {
         self.nodes.len() - 1
     }
 
     /// Total number of passive marks.
-    pub fn passive_marks(&self) -> usize {
+    pub(crate) fn passive_marks(&self) -> usize {
         self.nodes.iter().map(|n| n.passive.len()).sum()
-    }
-
-    /// Human-readable input vector.
-    pub fn input_bits(&self, u: InputVec) -> String {
-        bits_to_string(&self.input_vectors[u.0])
     }
 }
 

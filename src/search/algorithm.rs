@@ -33,49 +33,49 @@ use std::time::{Duration, Instant};
 
 /// Settings of a search run.
 #[derive(Debug, Clone)]
-pub struct Config {
+pub(crate) struct Config {
     /// Number of states of every candidate.
-    pub states: usize,
+    pub(crate) states: usize,
     /// Most significant inputs of one transition group.
-    pub max_vars: usize,
+    pub(crate) max_vars: usize,
     /// Colonies (independent of the number of threads, so results do not depend on it).
-    pub colonies: usize,
+    pub(crate) colonies: usize,
     /// Children per generation (the `λ` of `(1+λ)`).
-    pub offspring: usize,
+    pub(crate) offspring: usize,
     /// Generations between two sharing steps.
-    pub generations_per_round: usize,
+    pub(crate) generations_per_round: usize,
     /// A colony without improvement for this many rounds restarts (see [`Restart`]).
-    pub stagnation_rounds: usize,
+    pub(crate) stagnation_rounds: usize,
     /// ... or after this many of its own verifications without improvement: on a plateau of
     /// machines that all reproduce the scenarios every child is verified, and a round costs
     /// a thousand times more than while climbing.
-    pub stagnation_checks: u64,
+    pub(crate) stagnation_checks: u64,
     /// Where a stagnating colony restarts.
-    pub restart: Restart,
+    pub(crate) restart: Restart,
     /// The fitness constants `c1..c5`.
-    pub weights: Weights,
+    pub(crate) weights: Weights,
     /// Probability `p` of verifying a child whose scenario part is below the threshold.
-    pub verify_probability: f64,
+    pub(crate) verify_probability: f64,
     /// Share of the scenario part's maximum above which a child is always verified.
-    pub verify_threshold: f64,
+    pub(crate) verify_threshold: f64,
     /// The verification-in-the-loop paper's `λ`: weight added per counterexample visit of a transition.
-    pub counterexample_weight: f64,
+    pub(crate) counterexample_weight: f64,
     /// Probability that "add or delete transitions" touches a state.
-    pub add_delete_probability: f64,
+    pub(crate) add_delete_probability: f64,
     /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
     /// verdicts: those properties fail, the rest inherited), beyond the verification-in-the-loop paper.
-    pub replay_counterexamples: bool,
+    pub(crate) replay_counterexamples: bool,
     /// Seed of every colony's generator (colony `k` uses stream `k`): same seed, same run.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Worker threads (rayon).
-    pub threads: usize,
+    pub(crate) threads: usize,
     /// Stop after the round in which this much wall-clock time has passed; `None`: no limit.
-    pub time_limit: Option<Duration>,
+    pub(crate) time_limit: Option<Duration>,
     /// Stop after the round in which this many scenario evaluations were reached.
-    pub max_evaluations: Option<u64>,
+    pub(crate) max_evaluations: Option<u64>,
     /// Starting machines (e.g. from SAT); colony `k` starts from `initial[k % len]`, padded
     /// to `states` states. Empty: random starts.
-    pub initial: Vec<Machine>,
+    pub(crate) initial: Vec<Machine>,
 }
 
 impl Default for Config {
@@ -111,7 +111,7 @@ const KNOWN_COUNTEREXAMPLES: usize = 64;
 
 /// Where a stagnating colony restarts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Restart {
+pub(crate) enum Restart {
     /// From the shared best when that is better than its own, else from a random machine
     /// (keeps the colonies near a good start such as SAT's machine).
     Elite,
@@ -141,53 +141,53 @@ pub enum SearchError {
 
 /// Figures of a run.
 #[derive(Debug, Clone, Default, serde::Serialize, schemars::JsonSchema)]
-pub struct Stats {
+pub(crate) struct Stats {
     /// Scenario fitness evaluations.
-    pub evaluations: u64,
+    pub(crate) evaluations: u64,
     /// Verification requests (NuSMV runs plus cache hits).
-    pub verifications: u64,
+    pub(crate) verifications: u64,
     /// Verifications saved because the child still followed a parent's counterexample.
-    pub replayed: u64,
+    pub(crate) replayed: u64,
     /// Rounds run (each `generations_per_round` generations of every colony, then sharing).
     pub rounds: usize,
     /// Wall-clock time of the run, in seconds.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 /// What the progress callback sees after every round.
 #[derive(Debug, Clone)]
 pub struct Progress {
     /// The round just finished (1-based).
-    pub round: usize,
+    pub(crate) round: usize,
     /// Fitness of the best machine so far (over all colonies and rounds).
-    pub best_fitness: f64,
+    pub(crate) best_fitness: f64,
     /// Scenario terms of the best machine so far.
-    pub best_score: ScenarioScore,
+    pub(crate) best_score: ScenarioScore,
     /// `(satisfied, total)` of the best machine's latest verdicts, if it has any.
-    pub properties: Option<(usize, usize)>,
+    pub(crate) properties: Option<(usize, usize)>,
     /// Scenario evaluations so far, over all colonies.
-    pub evaluations: u64,
+    pub(crate) evaluations: u64,
     /// Wall-clock time since the start of the run, in seconds.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 /// The result of a run.
 #[derive(Debug, Clone)]
 pub struct Outcome {
     /// The best machine found, in the search's representation.
-    pub machine: Machine,
+    pub(crate) machine: Machine,
     /// The machine with its labeled algorithms.
     pub ecc: Ecc,
     /// Its scenario terms.
-    pub score: ScenarioScore,
+    pub(crate) score: ScenarioScore,
     /// Verdicts the search saw for it (computed for this machine, not inherited).
-    pub verdicts: Option<Verdicts>,
+    pub(crate) verdicts: Option<Verdicts>,
     /// Its fitness `F` under [`Config::weights`].
-    pub fitness: f64,
+    pub(crate) fitness: f64,
     /// Every scenario reproduced and (with properties) every property held in the search.
-    pub perfect: bool,
+    pub(crate) perfect: bool,
     /// Figures of the run.
-    pub stats: Stats,
+    pub(crate) stats: Stats,
 }
 
 #[derive(Debug, Clone)]
@@ -399,7 +399,7 @@ impl Colony<'_> {
 }
 
 /// Runs the search. `checkers`: one per colony when there are properties, else empty.
-pub fn run(
+pub(crate) fn run(
     data: &ScenarioData,
     config: &Config,
     checkers: Vec<Box<dyn Checker>>,

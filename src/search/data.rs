@@ -14,17 +14,17 @@ use std::ops::Range;
 pub(crate) const PASSIVE: u32 = u32::MAX;
 
 /// The search supports at most this many outputs.
-pub const MAX_OUTPUTS: usize = 31;
+pub(crate) const MAX_OUTPUTS: usize = 31;
 
 /// One step, precomputed.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct StepData {
     /// Inputs as a bit mask.
-    pub x: u32,
+    pub(crate) x: u32,
     /// Recorded `CNF` outputs as a bit mask, or [`PASSIVE`].
-    pub expected: u32,
+    pub(crate) expected: u32,
     /// Recorded outputs before the step.
-    pub before: u32,
+    pub(crate) before: u32,
 }
 
 /// The scenarios as flat bit-mask arrays.
@@ -33,9 +33,9 @@ pub struct ScenarioData {
     /// Input variable names; input `i` is bit `i` of a step's input mask.
     pub inputs: Vec<String>,
     /// Output variable names; output `i` is bit `i` of an output mask.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
     /// Output values before the first step of every scenario.
-    pub initial_outputs: Vec<bool>,
+    pub(crate) initial_outputs: Vec<bool>,
     pub(crate) initial: u32,
     pub(crate) steps: Vec<StepData>,
     /// Range of `steps` of every scenario.

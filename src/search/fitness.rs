@@ -19,7 +19,7 @@
 //! [`Evaluator::evaluate`] is the hot loop: it labels the states and replays every scenario on
 //! buffers it owns, so an evaluation allocates nothing once the buffers have grown.
 
-pub use super::data::{DataError, ScenarioData, MAX_OUTPUTS};
+pub(crate) use super::data::{DataError, ScenarioData};
 use super::data::{StepData, PASSIVE};
 use super::labeling::{self, Counts};
 use super::machine::Machine;
@@ -32,47 +32,47 @@ pub struct ScenarioScore {
     /// `F_ed`: one minus the normalized edit distance of the `CNF` outputs, in `[0, 1]`.
     pub ed: f64,
     /// `F_fe`: how far into each scenario the first wrong output comes, in `[0, 1]`.
-    pub fe: f64,
+    pub(crate) fe: f64,
     /// `F_sc`: one minus the share of steps that change state, in `[0, 1]`.
-    pub sc: f64,
+    pub(crate) sc: f64,
     /// Scenarios reproduced exactly.
-    pub reproduced: usize,
+    pub(crate) reproduced: usize,
     /// Number of (non-empty) scenarios scored.
-    pub scenarios: usize,
+    pub(crate) scenarios: usize,
 }
 
 impl ScenarioScore {
     /// Every scenario reproduced exactly.
-    pub fn perfect(&self) -> bool {
+    pub(crate) fn perfect(&self) -> bool {
         self.reproduced == self.scenarios
     }
 }
 
 /// What NuSMV said about a candidate, reduced to what the search uses.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct Verdicts {
+pub(crate) struct Verdicts {
     /// Number of properties that hold.
-    pub satisfied: usize,
+    pub(crate) satisfied: usize,
     /// Number of properties checked.
-    pub total: usize,
+    pub(crate) total: usize,
     /// Longest counterexample (states of the lasso); 0 when every property holds.
-    pub longest_counterexample: usize,
+    pub(crate) longest_counterexample: usize,
     /// Controller input vectors (bit masks) of every counterexample, for the weighted
     /// mutation.
-    pub counterexamples: Vec<Vec<u32>>,
+    pub(crate) counterexamples: Vec<Vec<u32>>,
     /// The counterexamples seen from the controller. A machine that still follows one of
     /// them violates its property for sure, without asking NuSMV.
-    pub negatives: Vec<NegativeScenario>,
+    pub(crate) negatives: Vec<NegativeScenario>,
 }
 
 impl Verdicts {
     /// Whether every property holds (also without properties).
-    pub fn all_hold(&self) -> bool {
+    pub(crate) fn all_hold(&self) -> bool {
         self.satisfied == self.total
     }
 
     /// `F_sat`: the share of properties that hold (1 without properties).
-    pub fn f_sat(&self) -> f64 {
+    pub(crate) fn f_sat(&self) -> f64 {
         if self.total == 0 {
             1.0
         } else {
@@ -81,7 +81,7 @@ impl Verdicts {
     }
 
     /// `F_ce` of the verification-in-the-loop paper.
-    pub fn f_ce(&self) -> f64 {
+    pub(crate) fn f_ce(&self) -> f64 {
         f_ce(if self.all_hold() {
             0
         } else {
@@ -91,7 +91,7 @@ impl Verdicts {
 }
 
 /// The verification-in-the-loop paper: `1` for `l_max = 0`, else `1 - 1/(1 + l_max/10)^(1/10)`, increasing in `l_max`.
-pub fn f_ce(l_max: usize) -> f64 {
+pub(crate) fn f_ce(l_max: usize) -> f64 {
     if l_max == 0 {
         1.0
     } else {
@@ -105,13 +105,13 @@ pub struct Weights {
     /// `c1`, the weight of `F_ed`.
     pub ed: f64,
     /// `c2`, the weight of `F_fe`.
-    pub fe: f64,
+    pub(crate) fe: f64,
     /// `c3`, the weight of `F_sc`.
-    pub sc: f64,
+    pub(crate) sc: f64,
     /// `c4`, the weight of `F_sat`.
-    pub sat: f64,
+    pub(crate) sat: f64,
     /// `c5`, the weight of `F_ce`.
-    pub ce: f64,
+    pub(crate) ce: f64,
 }
 
 impl Default for Weights {
@@ -132,22 +132,22 @@ impl Default for Weights {
 
 impl Weights {
     /// `c1·F_ed + c2·F_fe + c3·F_sc`.
-    pub fn scenario_part(&self, s: &ScenarioScore) -> f64 {
+    pub(crate) fn scenario_part(&self, s: &ScenarioScore) -> f64 {
         self.ed * s.ed + self.fe * s.fe + self.sc * s.sc
     }
 
     /// Largest possible scenario part.
-    pub fn scenario_max(&self) -> f64 {
+    pub(crate) fn scenario_max(&self) -> f64 {
         self.ed + self.fe + self.sc
     }
 
     /// `c4·F_sat + c5·F_ce` (0 without verdicts).
-    pub fn verification_part(&self, v: Option<&Verdicts>) -> f64 {
+    pub(crate) fn verification_part(&self, v: Option<&Verdicts>) -> f64 {
         v.map_or(0.0, |v| self.sat * v.f_sat() + self.ce * v.f_ce())
     }
 
     /// The whole fitness.
-    pub fn total(&self, s: &ScenarioScore, v: Option<&Verdicts>) -> f64 {
+    pub(crate) fn total(&self, s: &ScenarioScore, v: Option<&Verdicts>) -> f64 {
         self.scenario_part(s) + self.verification_part(v)
     }
 }
@@ -178,7 +178,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// The scenarios this evaluator scores against.
-    pub fn data(&self) -> &'a ScenarioData {
+    pub(crate) fn data(&self) -> &'a ScenarioData {
         self.data
     }
 
@@ -252,7 +252,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// The labeled algorithms of the last evaluated machine, one `{0,1,x}` string per state.
-    pub fn algorithms(&self) -> Vec<Vec<Tri>> {
+    pub(crate) fn algorithms(&self) -> Vec<Vec<Tri>> {
         let z = self.data.outputs.len();
         self.masks
             .iter()

@@ -27,7 +27,7 @@ use super::machine::Machine;
 use crate::ecc::Tri;
 
 /// Counts of one output in one state: `[falls (1->0), rises (0->1), stays 0, stays 1]`.
-pub type Counts = [u32; 4];
+pub(crate) type Counts = [u32; 4];
 
 /// Runs the scenarios; fills `path` with the state entered at every step (`u32::MAX` when the
 /// machine does not fire) and `counts` (`states * outputs` tables, state-major).
@@ -63,7 +63,7 @@ pub(crate) fn run(m: &Machine, data: &ScenarioData, path: &mut Vec<u32>, counts:
 }
 
 /// The symbol the counts elect (arg max; ties to `x`, then `0`).
-pub fn decide(c: Counts) -> Tri {
+pub(crate) fn decide(c: Counts) -> Tri {
     let [falls, rises, same0, same1] = c;
     let (zero, one, same) = (falls + same0, rises + same1, same0 + same1);
     if same >= zero && same >= one {
@@ -76,7 +76,7 @@ pub fn decide(c: Counts) -> Tri {
 }
 
 /// The algorithm of every state of `m` on `data`.
-pub fn label(m: &Machine, data: &ScenarioData) -> Vec<Vec<Tri>> {
+pub(crate) fn label(m: &Machine, data: &ScenarioData) -> Vec<Vec<Tri>> {
     let mut path = Vec::new();
     let mut counts = Vec::new();
     run(m, data, &mut path, &mut counts);

@@ -20,45 +20,45 @@ use rand::Rng;
 
 /// A transition group of one state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct Group {
+pub(crate) struct Group {
     /// Significant inputs, ascending (the paper's mask `m_t`).
-    pub vars: Vec<InputId>,
+    pub(crate) vars: Vec<InputId>,
     /// `2^vars.len()` entries: the target for that assignment, or `None` (the paper's `-1`).
-    pub table: Vec<Option<StateId>>,
+    pub(crate) table: Vec<Option<StateId>>,
 }
 
 /// One state: its transition groups in priority order.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
-pub struct SearchState {
+pub(crate) struct SearchState {
     /// The groups; on `REQ` the first whose entry for the input vector is present fires.
-    pub groups: Vec<Group>,
+    pub(crate) groups: Vec<Group>,
 }
 
 /// A candidate ECC without algorithms (those come from state labeling).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Machine {
     /// Number of inputs of the interface.
-    pub inputs: usize,
+    pub(crate) inputs: usize,
     /// States; index 0 is the initial state.
-    pub states: Vec<SearchState>,
+    pub(crate) states: Vec<SearchState>,
 }
 
 /// Names one present table entry: state, group, entry index (all 0-based).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct TransitionRef {
+pub(crate) struct TransitionRef {
     /// The source state (index in [`Machine::states`]).
-    pub state: StateId,
+    pub(crate) state: StateId,
     /// Index of the group in the state's [`SearchState::groups`].
-    pub group: usize,
+    pub(crate) group: usize,
     /// Index in the group's [`Group::table`] (the significant inputs read as a number).
-    pub entry: usize,
+    pub(crate) entry: usize,
 }
 
 /// Input vectors are bit masks: bit `i` is input `i`. The search supports at most this many.
-pub const MAX_INPUTS: usize = 32;
+pub(crate) const MAX_INPUTS: usize = 32;
 
 /// `x` as a bit mask (bit `i` = input `i`).
-pub fn input_bits(x: &[bool]) -> u32 {
+pub(crate) fn input_bits(x: &[bool]) -> u32 {
     x.iter()
         .enumerate()
         .fold(0, |acc, (i, &b)| acc | (u32::from(b) << i))
@@ -66,7 +66,7 @@ pub fn input_bits(x: &[bool]) -> u32 {
 
 impl Group {
     /// A group over `vars` with every entry absent.
-    pub fn empty(mut vars: Vec<InputId>) -> Group {
+    pub(crate) fn empty(mut vars: Vec<InputId>) -> Group {
         vars.sort();
         vars.dedup();
         Group {
@@ -77,14 +77,14 @@ impl Group {
 
     /// The table index the input vector `x` (bit mask) selects.
     #[inline]
-    pub fn index(&self, x: u32) -> usize {
+    pub(crate) fn index(&self, x: u32) -> usize {
         self.vars
             .iter()
             .fold(0, |acc, v| (acc << 1) | ((x >> v.0) & 1) as usize)
     }
 
     /// The literals of entry `entry`: each significant input with its value in that entry.
-    pub fn literals(&self, entry: usize) -> Vec<(InputId, bool)> {
+    pub(crate) fn literals(&self, entry: usize) -> Vec<(InputId, bool)> {
         let k = self.vars.len();
         self.vars
             .iter()
@@ -94,12 +94,12 @@ impl Group {
     }
 
     /// Number of present entries.
-    pub fn present(&self) -> usize {
+    pub(crate) fn present(&self) -> usize {
         self.table.iter().filter(|t| t.is_some()).count()
     }
 
     /// Whether `v` is significant.
-    pub fn has_var(&self, v: InputId) -> bool {
+    pub(crate) fn has_var(&self, v: InputId) -> bool {
         self.vars.binary_search(&v).is_ok()
     }
 }
@@ -131,7 +131,7 @@ impl Machine {
 
     /// The entry that fires in state `s` on input vector `x`: `(group, entry, target)`.
     #[inline]
-    pub fn fire(&self, s: usize, x: u32) -> Option<(usize, usize, StateId)> {
+    pub(crate) fn fire(&self, s: usize, x: u32) -> Option<(usize, usize, StateId)> {
         for (gi, g) in self.states[s].groups.iter().enumerate() {
             let e = g.index(x);
             if let Some(t) = g.table[e] {
@@ -142,7 +142,7 @@ impl Machine {
     }
 
     /// Every present entry, in state, group, entry order.
-    pub fn transitions(&self) -> Vec<TransitionRef> {
+    pub(crate) fn transitions(&self) -> Vec<TransitionRef> {
         let mut out = Vec::new();
         for (s, st) in self.states.iter().enumerate() {
             for (g, grp) in st.groups.iter().enumerate() {
@@ -161,7 +161,7 @@ impl Machine {
     }
 
     /// Number of present entries (transitions of the ECC).
-    pub fn transition_count(&self) -> usize {
+    pub(crate) fn transition_count(&self) -> usize {
         self.states
             .iter()
             .flat_map(|s| &s.groups)
@@ -170,18 +170,18 @@ impl Machine {
     }
 
     /// Target of a present entry.
-    pub fn target(&self, t: TransitionRef) -> Option<StateId> {
+    pub(crate) fn target(&self, t: TransitionRef) -> Option<StateId> {
         self.states[t.state.0].groups[t.group].table[t.entry]
     }
 
     /// Sets the target of an entry (present or not).
-    pub fn set_target(&mut self, t: TransitionRef, target: Option<StateId>) {
+    pub(crate) fn set_target(&mut self, t: TransitionRef, target: Option<StateId>) {
         self.states[t.state.0].groups[t.group].table[t.entry] = target;
     }
 
     /// Checks the invariants the operators keep: table sizes, sorted distinct variables in
     /// range, targets in range.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), String> {
         for (s, st) in self.states.iter().enumerate() {
             for (g, grp) in st.groups.iter().enumerate() {
                 if grp.table.len() != 1 << grp.vars.len() {
@@ -202,7 +202,7 @@ impl Machine {
     }
 
     /// The ECC with the given state algorithms (one `{0,1,x}` string per state).
-    pub fn to_ecc(
+    pub(crate) fn to_ecc(
         &self,
         inputs: &[String],
         outputs: &[String],
@@ -243,7 +243,7 @@ impl Machine {
     /// literals: every cube becomes a group of its own with one present entry, in transition
     /// order, so priorities are kept. Algorithms are dropped (labeling recomputes them).
     /// `None` for any other guard or more than [`MAX_INPUTS`] inputs.
-    pub fn from_ecc(ecc: &Ecc) -> Option<Machine> {
+    pub(crate) fn from_ecc(ecc: &Ecc) -> Option<Machine> {
         if ecc.inputs.len() > MAX_INPUTS {
             return None;
         }

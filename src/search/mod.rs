@@ -18,15 +18,19 @@
 //!
 //! This module does not use [`crate::sat`]; the CLI joins the two paths.
 
-pub mod algorithm;
-pub mod data;
-pub mod fitness;
-pub mod labeling;
-pub mod machine;
+pub(crate) mod algorithm;
+pub(crate) mod data;
+pub(crate) mod fitness;
+pub(crate) mod labeling;
+pub(crate) mod machine;
 pub mod operators;
-pub mod oracle;
+pub(crate) mod oracle;
 
-pub use algorithm::{run, Config, Outcome, Progress, Restart, SearchError, Stats};
+pub(crate) use algorithm::{run, Config, Restart};
+pub use algorithm::{Outcome, Progress, SearchError};
+pub use data::DataError;
 pub use data::ScenarioData;
-pub use fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
+pub use fitness::Evaluator;
+pub use fitness::{ScenarioScore, Weights};
 pub use machine::Machine;
+pub use oracle::OracleError;

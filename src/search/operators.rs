@@ -14,7 +14,7 @@ use rand::Rng;
 
 /// The operators, for choosing one and for statistics.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Operator {
+pub(crate) enum Operator {
     /// A uniformly chosen transition gets another target.
     ChangeTarget,
     /// Per state with a fixed probability: add an absent entry or delete a present one.
@@ -38,7 +38,7 @@ fn other_state(rng: &mut impl Rng, states: usize, old: StateId) -> Option<StateI
 }
 
 /// The metaheuristic paper, "change transition end state".
-pub fn change_target(rng: &mut impl Rng, m: &mut Machine) -> bool {
+pub(crate) fn change_target(rng: &mut impl Rng, m: &mut Machine) -> bool {
     let all = m.transitions();
     if all.is_empty() {
         return false;
@@ -132,7 +132,7 @@ fn reindex(
 /// The metaheuristic paper, "change significance mask": in a uniformly chosen group with at least one
 /// transition, a significant input `i` and an insignificant `j` swap roles; every entry keeps
 /// its target, now under `x_j` where it was under `x_i`.
-pub fn swap_significance(rng: &mut impl Rng, m: &mut Machine) -> bool {
+pub(crate) fn swap_significance(rng: &mut impl Rng, m: &mut Machine) -> bool {
     let inputs = m.inputs;
     let candidates: Vec<(usize, usize)> = groups(m)
         .filter(|&(s, g)| {
@@ -237,7 +237,7 @@ pub fn resize_significance(rng: &mut impl Rng, m: &mut Machine, max_vars: usize)
 
 /// The entries a run of `m` from the initial state fires on the input vectors `xs`, in order
 /// (one per step that fires).
-pub fn visited(m: &Machine, xs: &[u32]) -> Vec<TransitionRef> {
+pub(crate) fn visited(m: &Machine, xs: &[u32]) -> Vec<TransitionRef> {
     let mut s = 0usize;
     let mut out = Vec::new();
     for &x in xs {
@@ -255,7 +255,7 @@ pub fn visited(m: &Machine, xs: &[u32]) -> Vec<TransitionRef> {
 
 /// The verification-in-the-loop paper's transition weights: 1 for every present entry, plus `lambda` per visit by a
 /// replayed counterexample. In [`Machine::transitions`] order.
-pub fn weights(
+pub(crate) fn weights(
     m: &Machine,
     counterexamples: &[Vec<u32>],
     lambda: f64,
@@ -272,7 +272,7 @@ pub fn weights(
 }
 
 /// Roulette wheel: index `k` with probability `w[k] / sum(w)`.
-pub fn roulette(rng: &mut impl Rng, w: &[f64]) -> usize {
+pub(crate) fn roulette(rng: &mut impl Rng, w: &[f64]) -> usize {
     let total: f64 = w.iter().sum();
     let mut r = rng.gen_range(0.0..total);
     for (k, &x) in w.iter().enumerate() {
@@ -286,7 +286,7 @@ pub fn roulette(rng: &mut impl Rng, w: &[f64]) -> usize {
 
 /// The verification-in-the-loop paper's verification-aware mutation: a transition picked by [`roulette`] over
 /// [`weights`] gets another target.
-pub fn weighted_change_target(
+pub(crate) fn weighted_change_target(
     rng: &mut impl Rng,
     m: &mut Machine,
     counterexamples: &[Vec<u32>],

@@ -14,11 +14,11 @@
 
 use super::fitness::Verdicts;
 use super::machine::input_bits;
-use crate::check::{self, Automata, CheckError, Coupling, Limits, PlantMemo, Verdict};
+use crate::check::{self, Automata, CheckError, ExplicitVerdict, Limits, PlantMemo, Wiring};
 use crate::ecc::Ecc;
 use crate::ltl::Property;
 use crate::plant::Model;
-use crate::verify::{Problem, Verification, Verifier, VerifyError};
+use crate::verify::{Problem, VerificationResult, Verifier, VerifyError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -36,38 +36,38 @@ pub enum OracleError {
 }
 
 /// Something that gives verdicts on candidates; one per colony.
-pub trait Checker: Send {
+pub(crate) trait Checker: Send {
     /// The verdicts on `ecc` in closed loop with the plant (both checkers cache them).
     fn check(&mut self, ecc: &Ecc) -> Result<Arc<Verdicts>, OracleError>;
 }
 
 /// Shared cache and counters of every [`Oracle`] made from one [`Shared`].
 #[derive(Debug, Default)]
-pub struct Shared {
+pub(crate) struct Shared {
     cache: Mutex<HashMap<Ecc, Arc<Verdicts>>>,
     /// NuSMV runs.
-    pub runs: AtomicU64,
+    pub(crate) runs: AtomicU64,
     /// In-process checks.
-    pub in_process: AtomicU64,
+    pub(crate) in_process: AtomicU64,
     /// Answers from the cache.
-    pub hits: AtomicU64,
+    pub(crate) hits: AtomicU64,
 }
 
 /// The verifier of one colony with the shared cache.
-pub struct Oracle {
+pub(crate) struct Oracle {
     verifier: Verifier,
     shared: Arc<Shared>,
 }
 
 impl Oracle {
     /// A colony's oracle: its own verifier, the cache shared with the others.
-    pub fn new(verifier: Verifier, shared: Arc<Shared>) -> Oracle {
+    pub(crate) fn new(verifier: Verifier, shared: Arc<Shared>) -> Oracle {
         Oracle { verifier, shared }
     }
 }
 
 /// The verdicts of one verification run.
-pub fn verdicts_of(v: &Verification, ecc: &Ecc) -> Verdicts {
+pub(crate) fn verdicts_of(v: &VerificationResult, ecc: &Ecc) -> Verdicts {
     let props = &v.report.properties;
     let satisfied = props.iter().filter(|p| p.holds).count();
     let longest = props
@@ -138,9 +138,9 @@ impl Checker for Oracle {
 
 /// The plant, wiring and properties the in-process checker needs, shared by the colonies.
 #[derive(Debug)]
-pub struct Closed {
+pub(crate) struct Closed {
     model: Arc<Model>,
-    coupling: Coupling,
+    coupling: Wiring,
     props: Vec<Property>,
     automata: Automata,
     names: Vec<String>,
@@ -150,9 +150,9 @@ impl Closed {
     /// The in-process view of `problem` for a controller over the interface it was loaded
     /// with; `None` when the plant is outside what [`crate::check`] reads or the names do not
     /// wire up (NuSMV then gives every verdict).
-    pub fn new(problem: &Problem) -> Option<Closed> {
+    pub(crate) fn new(problem: &Problem) -> Option<Closed> {
         let model = problem.model.clone().ok()?;
-        let coupling = Coupling::new(&model, &problem.coupling).ok()?;
+        let coupling = Wiring::new(&model, &problem.coupling).ok()?;
         Some(Closed {
             model,
             coupling,
@@ -165,7 +165,7 @@ impl Closed {
 
 /// A colony's in-process checker with the shared cache; a machine on which it cannot decide
 /// (a property outside its subset, too many states) goes to NuSMV.
-pub struct InProcess {
+pub(crate) struct InProcess {
     closed: Arc<Closed>,
     nusmv: Oracle,
     memo: PlantMemo,
@@ -174,7 +174,7 @@ pub struct InProcess {
 impl InProcess {
     /// A colony's in-process checker of `closed`, falling back to `nusmv` (whose cache it
     /// shares) when it cannot decide.
-    pub fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
+    pub(crate) fn new(closed: Arc<Closed>, nusmv: Oracle) -> InProcess {
         InProcess {
             closed,
             nusmv,
@@ -207,9 +207,9 @@ impl InProcess {
         };
         for (k, v) in verdicts.iter().enumerate() {
             match v {
-                Verdict::Holds => out.satisfied += 1,
-                Verdict::Unsupported(_) => return Ok(None),
-                Verdict::Violated(lasso) => {
+                ExplicitVerdict::Holds => out.satisfied += 1,
+                ExplicitVerdict::Unsupported(_) => return Ok(None),
+                ExplicitVerdict::Violated(lasso) => {
                     let n = c.coupling.negative(&c.model, lasso, &c.names[k])?;
                     out.longest_counterexample = out.longest_counterexample.max(n.steps.len());
                     out.counterexamples
@@ -268,7 +268,7 @@ mod tests {
         let problem = Arc::new(Problem::load(&spec, &plant, &set.inputs, &set.outputs).unwrap());
         let tree = ScenarioTree::build(&set).unwrap();
         let opts = crate::sat::Options {
-            cube_slots: Some(6),
+            max_out_degree: Some(6),
             ..Default::default()
         };
         let start = crate::sat::synthesize(&set, &tree, &opts, &mut |_| {}).unwrap();

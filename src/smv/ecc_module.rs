@@ -49,7 +49,7 @@ pub enum SmvError {
 }
 
 /// The SMV enumeration value of a state: `s{i}` for 0-based index `i`.
-pub fn state_value(id: StateId) -> String {
+pub(crate) fn state_value(id: StateId) -> String {
     format!("s{}", id.0)
 }
 
@@ -69,7 +69,7 @@ fn state_values(ecc: &Ecc) -> Vec<String> {
 /// [`check_smv`], be distinct, and differ from `REQ`, `CNF` and the state values
 /// (NuSMV resolves a variable and an enumeration constant of the same name ambiguously); the
 /// module is not `main`, NuSMV's top module.
-pub fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
+pub(crate) fn check_names(ecc: &Ecc, module_name: &str) -> Result<(), SmvError> {
     let bad = |role: String, name: &str, reason: String| SmvError::Identifier {
         role,
         name: name.to_string(),
@@ -124,7 +124,11 @@ fn conjunct(g: &Guard, names: &[String]) -> Option<String> {
 }
 
 /// Writes the module; see the module header for its semantics.
-pub fn write_ecc_module(ecc: &Ecc, module_name: &str, w: &mut impl Write) -> Result<(), SmvError> {
+pub(crate) fn write_ecc_module(
+    ecc: &Ecc,
+    module_name: &str,
+    w: &mut impl Write,
+) -> Result<(), SmvError> {
     check_names(ecc, module_name)?;
     let mut params = vec!["REQ".to_string()];
     params.extend(ecc.inputs.iter().cloned());
@@ -247,7 +251,7 @@ fn write_output(ecc: &Ecc, z: usize, w: &mut impl Write) -> io::Result<()> {
 }
 
 /// [`write_ecc_module`] into a string.
-pub fn ecc_module_to_string(ecc: &Ecc, module_name: &str) -> Result<String, SmvError> {
+pub(crate) fn ecc_module_to_string(ecc: &Ecc, module_name: &str) -> Result<String, SmvError> {
     let mut buf = Vec::new();
     write_ecc_module(ecc, module_name, &mut buf)?;
     Ok(String::from_utf8(buf).expect("the SMV emitter writes UTF-8 only"))

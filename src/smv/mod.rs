@@ -5,14 +5,14 @@
 //! identifier that cannot be used. Every name that reaches SMV code passes [`check_identifier`]
 //! first, so a model never fails to parse because of a user's naming.
 
-pub mod closed_loop;
-pub mod ecc_module;
+pub mod composition;
+pub(crate) mod ecc_module;
 pub mod plant;
 
-pub use ecc_module::{state_value, write_ecc_module, SmvError};
+pub use ecc_module::SmvError;
 
-pub use crate::ecc::ident::check_smv as check_identifier;
-pub use crate::ecc::ident::{bool_literal, parse_bool_literal};
+pub(crate) use crate::ecc::ident::check_smv as check_identifier;
+pub(crate) use crate::ecc::ident::{bool_literal, parse_bool_literal};
 
 #[cfg(test)]
 mod tests {

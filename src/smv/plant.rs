@@ -133,7 +133,7 @@ const SPECS: &[&str] = &[
 ];
 
 /// Scans a plant file.
-pub fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
+pub(crate) fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
     let mut scan = Scanner {
         file,
         text,

@@ -9,9 +9,7 @@
 //! ```
 
 use fbsynth::export::{self, Format};
-use fbsynth::pipeline::recordings::Recordings;
-use fbsynth::pipeline::{self, exact, Check};
-use fbsynth::verify::Problem;
+use fbsynth::pipeline::{self, exact, Check, Problem, Recordings};
 use std::path::{Path, PathBuf};
 
 fn main() {

@@ -324,7 +324,7 @@ fn composite_closes_the_loop_with_the_pnp_plant() {
     use fbsynth::ltl::parse_spec_file;
     use fbsynth::sat::modular::{synthesize_modular, ModularOptions};
     use fbsynth::scenario::tree::ScenarioTree;
-    use fbsynth::smv::closed_loop::{check_coupling, compose_controller, CONTROLLER_MODULE};
+    use fbsynth::smv::composition::{check_coupling, compose_controller, CONTROLLER_MODULE};
     use fbsynth::smv::plant::read_plant;
     let Some(nusmv) = nusmv_or_skip() else {
         return;
@@ -458,7 +458,7 @@ fn composite_verdicts(dir: &Path, set: &ScenarioSet, ltl: &str, plant: &str) -> 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let composite = read_back(dir, "SynthesizedFB", set);
     set.check(&composite).unwrap();
-    let problem = fbsynth::verify::Problem::load(
+    let problem = fbsynth::pipeline::Problem::load(
         &root.join(ltl),
         &root.join(plant),
         &set.inputs,

@@ -196,6 +196,6 @@ fn properties_inside_the_encoding_supply_unrecorded_behaviour() {
         .expect("a candidate NuSMV passed");
     assert!(
         passed + 1 == r.iterations.len()
-            || r.iterations.last().unwrap().checked_by == fbsynth::pipeline::cegis::UNCHANGED
+            || r.iterations.last().unwrap().checked_by == fbsynth::pipeline::exact::UNCHANGED
     );
 }

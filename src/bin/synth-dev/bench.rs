@@ -200,7 +200,7 @@ pub struct BenchModularArgs {
     pub max_modules: usize,
     /// Transition slots per state to start with (widened while too few; the table's K is the
     /// result's).
-    #[arg(long, default_value_t = modular::DEFAULT_SLOTS, value_name = "K")]
+    #[arg(long, default_value_t = modular::DEFAULT_MAX_OUT_DEGREE, value_name = "K")]
     pub slots: usize,
     /// Runs per M; the table shows min / median / max.
     #[arg(long, default_value_t = 3)]
@@ -228,7 +228,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Error> {
     for modules in 1..=args.max_modules {
         let opts = modular::Options {
             modules,
-            slots: args.slots,
+            max_out_degree: args.slots,
             ..modular::Options::default()
         };
         let mut times = Vec::new();
@@ -247,7 +247,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Error> {
             r.size.max_states,
             r.size.inputs_used,
             r.size.total_states,
-            r.stats.slots,
+            r.stats.max_out_degree,
             r.stats.variables,
             r.stats.clauses,
             r.stats.solver_calls,

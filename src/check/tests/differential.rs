@@ -8,7 +8,7 @@
 //! parameters `u` (`w`) and sometimes an output `z` the plant ignores. Properties come from
 //! [`crate::ltl::arb::formula`], past operators replaced by their future mirror images and the
 //! atoms `a`, `b` renamed to random Boolean names of the closed loop. The composition for
-//! NuSMV is the production one ([`crate::smv::closed_loop::compose`]) over the printed plant
+//! NuSMV is the production one ([`crate::smv::composition::compose`]) over the printed plant
 //! ([`crate::plant::print`]). Every counterexample is also replayed step by step through the
 //! plant semantics and the ECC simulator.
 
@@ -357,7 +357,7 @@ fn nusmv_model(c: &Case, dir: &Path) -> std::path::PathBuf {
     let file = dir.join(format!("case{}.smv", c.seed));
     let text = crate::plant::print::to_smv(&c.model);
     let plant = crate::smv::plant::parse_plant(&file, &text).expect("the printed plant scans");
-    let coupling = crate::smv::closed_loop::check_coupling(
+    let coupling = crate::smv::composition::check_coupling(
         &c.ecc.inputs,
         &c.ecc.outputs,
         &plant,
@@ -372,7 +372,7 @@ fn nusmv_model(c: &Case, dir: &Path) -> std::path::PathBuf {
         line: props.len() + 1,
         text: "FALSE".into(),
     });
-    let closed = crate::smv::closed_loop::compose(&c.ecc, &plant, &coupling, &props)
+    let closed = crate::smv::composition::compose(&c.ecc, &plant, &coupling, &props)
         .expect("the random controller composes");
     std::fs::write(&file, closed.text).expect("write the model");
     file
@@ -451,7 +451,7 @@ pub(super) fn nusmv_verdicts(nusmv: &Path, model: &Path) -> BTreeMap<String, boo
 /// Replays a counterexample through the plant semantics and the ECC simulator.
 fn replay(c: &Case, lasso: &Lasso) -> Result<(), String> {
     let sem = Semantics::new(&c.model);
-    let coupling = Coupling::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs).expect("coupled");
+    let coupling = Wiring::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs).expect("coupled");
     let params =
         |s: &LoopState| -> Vec<bool> { coupling.params.iter().map(|&z| s.outputs[z]).collect() };
     let first = &lasso.states[0];
@@ -517,7 +517,7 @@ fn verdicts_agree_with_nusmv_on_random_triples() {
     for seed in 0..CASES {
         let c = random_case(seed);
         let start = std::time::Instant::now();
-        let coupling = Coupling::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs)
+        let coupling = Wiring::of_model(&c.model, &c.ecc.inputs, &c.ecc.outputs)
             .unwrap_or_else(|e| panic!("{e}\n{}", describe(&c, None)));
         let ours = check(&c.model, &coupling, &c.ecc, &c.props, &Limits::default());
         let free = behaviour(&c.model, &Limits::default());
@@ -530,8 +530,8 @@ fn verdicts_agree_with_nusmv_on_random_triples() {
                     tally.triples += 1;
                     let nusmv_holds = theirs[&crate::ltl::property_name(k, &c.props[k])];
                     let agree = match o {
-                        Verdict::Holds => nusmv_holds,
-                        Verdict::Violated(lasso) => {
+                        ExplicitVerdict::Holds => nusmv_holds,
+                        ExplicitVerdict::Violated(lasso) => {
                             tally.violated += 1;
                             if let Err(e) = replay(&c, lasso) {
                                 tally.disagreements.push(format!(
@@ -541,7 +541,7 @@ fn verdicts_agree_with_nusmv_on_random_triples() {
                             }
                             !nusmv_holds
                         }
-                        Verdict::Unsupported(why) => {
+                        ExplicitVerdict::Unsupported(why) => {
                             panic!("unsupported: {why}\n{}", describe(&c, Some(k)))
                         }
                     };

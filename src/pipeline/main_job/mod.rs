@@ -31,7 +31,7 @@
 //! ([`super::limit`]). The search keeps its own clock ([`search::Options::time_limit`]) and the
 //! shrinking runs to its end, as the exact loop below it then has only what is left.
 
-pub mod summary;
+pub(crate) mod summary;
 
 pub use summary::{BelowGuideSummary, ExactSummary, GuideSummary, SearchSummary, Summary, Turn};
 
@@ -57,12 +57,12 @@ pub enum Method {
 #[derive(Debug, Clone)]
 pub struct Options {
     /// How it synthesizes.
-    pub method: Method,
+    pub(crate) method: Method,
     /// The exact loop. Its turns below the guide's and the shrunk machine keep no failed
     /// model and have at most that machine's states.
     pub exact: exact::Options,
     /// The time limit, counted from the start of the run.
-    pub limit: Limit,
+    pub(crate) limit: Limit,
 }
 
 /// A turn of the strategy, for progress.
@@ -107,11 +107,11 @@ pub enum Step {
 #[derive(Debug, Clone)]
 pub struct VerifiedMachine {
     /// The machine; it reproduces the recordings.
-    pub ecc: Ecc,
+    pub(crate) ecc: Ecc,
     /// NuSMV's verdicts (all hold) and the closed-loop model it checked.
-    pub certificate: Certificate,
+    pub(crate) certificate: Certificate,
     /// How it was found and what is proven (`summary.json`).
-    pub summary: Summary,
+    pub(crate) summary: Summary,
 }
 
 /// The main job (module documentation) on `set` with `check`; `explained` is what the

@@ -27,21 +27,21 @@ pub enum Summary {
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ExactSummary {
     /// The machine's C, K, T and N.
-    pub size: Size,
+    pub(crate) size: Size,
     /// Whether no machine with C states has fewer transitions (proved within the budget).
-    pub transitions_proven_minimal: bool,
+    pub(crate) transitions_proven_minimal: bool,
     /// Whether no machine with C states and T transitions has fewer guard literals.
-    pub guards_proven_minimal: bool,
+    pub(crate) guards_proven_minimal: bool,
     /// Every candidate of the loop, the result last.
-    pub iterations: Vec<Iteration>,
+    pub(crate) iterations: Vec<Iteration>,
     /// NuSMV's verdicts on the machine (all hold).
-    pub report: Report,
+    pub(crate) report: Report,
     /// Seconds in SAT over all candidates.
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// Seconds in NuSMV over all candidates.
-    pub nusmv_seconds: f64,
+    pub(crate) nusmv_seconds: f64,
     /// Seconds since the run started.
-    pub total_seconds: f64,
+    pub(crate) total_seconds: f64,
 }
 
 /// The turn of the strategy that gave a machine other than the exact loop's.
@@ -64,74 +64,74 @@ pub enum Turn {
 pub struct BelowGuideSummary {
     /// The exact loop's figures.
     #[serde(flatten)]
-    pub exact: ExactSummary,
+    pub(crate) exact: ExactSummary,
     /// The guide's machine's C, K, T and N.
-    pub guide_size: Size,
+    pub(crate) guide_size: Size,
     /// The guide's stages, one line each.
-    pub guide: Vec<String>,
+    pub(crate) guide: Vec<String>,
 }
 
 /// The guide's machine.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct GuideSummary {
     /// What the exact loop's turn below the guide's machine found.
-    pub exact_loop_below_it: String,
+    pub(crate) exact_loop_below_it: String,
     /// The machine's C, K, T and N.
-    pub size: Size,
+    pub(crate) size: Size,
     /// Whether it is least for the recordings and the guide's closed-loop runs (else it is
     /// the repaired machine, not minimal).
-    pub least_for_recordings_and_runs: bool,
+    pub(crate) least_for_recordings_and_runs: bool,
     /// The guide's stages, one line each.
-    pub guide: Vec<String>,
+    pub(crate) guide: Vec<String>,
     /// NuSMV's verdicts on the machine (all hold).
-    pub report: Report,
+    pub(crate) report: Report,
     /// Seconds in SAT.
-    pub sat_seconds: f64,
+    pub(crate) sat_seconds: f64,
     /// NuSMV checks made.
-    pub nusmv_calls: usize,
+    pub(crate) nusmv_calls: usize,
     /// Seconds in NuSMV.
-    pub nusmv_seconds: f64,
+    pub(crate) nusmv_seconds: f64,
     /// Seconds since the run started.
-    pub total_seconds: f64,
+    pub(crate) total_seconds: f64,
 }
 
 /// The search's machine, made small along the closed loop.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct SearchSummary {
     /// The search's seed.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Where the colonies started: `sat` or `random`.
-    pub start: String,
+    pub(crate) start: String,
     /// The result's C, K, T and N.
-    pub size: Size,
+    pub(crate) size: Size,
     /// The search's machine's.
-    pub searched_size: Size,
+    pub(crate) searched_size: Size,
     /// The shrunk machine's.
-    pub shrunk_size: Size,
+    pub(crate) shrunk_size: Size,
     /// Whether the exact loop below the shrunk machine found the result.
-    pub replaced_by_exact_loop: bool,
+    pub(crate) replaced_by_exact_loop: bool,
     /// The rounds that shrank the search's machine.
-    pub shrink_rounds: Vec<follow::Round>,
+    pub(crate) shrink_rounds: Vec<follow::Round>,
     /// The search's best fitness.
-    pub fitness: f64,
+    pub(crate) fitness: f64,
     /// The search's figures.
-    pub search: crate::search::algorithm::Stats,
+    pub(crate) search: crate::search::algorithm::Stats,
     /// Candidates NuSMV judged during the search.
-    pub nusmv_runs: u64,
+    pub(crate) nusmv_runs: u64,
     /// Candidates the in-process checker judged.
-    pub in_process_checks: u64,
+    pub(crate) in_process_checks: u64,
     /// Verdicts taken from the cache.
-    pub cache_hits: u64,
+    pub(crate) cache_hits: u64,
     /// NuSMV's final check of the search's machine.
-    pub report: Report,
+    pub(crate) report: Report,
     /// Seconds since the run started.
-    pub total_seconds: f64,
+    pub(crate) total_seconds: f64,
 }
 
 impl ExactSummary {
     /// The summary of the exact loop's result `r` (checked: it has a certificate), `total`
     /// seconds into the run.
-    pub fn of(r: &Exact, report: &Report, total_seconds: f64) -> ExactSummary {
+    pub(crate) fn of(r: &Exact, report: &Report, total_seconds: f64) -> ExactSummary {
         ExactSummary {
             size: r.synthesis.size,
             transitions_proven_minimal: r.synthesis.transitions_exact,
@@ -147,7 +147,7 @@ impl ExactSummary {
 
 impl Summary {
     /// The machine's C, K, T and N.
-    pub fn size(&self) -> Size {
+    pub(crate) fn size(&self) -> Size {
         match self {
             Summary::Exact(e)
             | Summary::Turn(Turn::BelowGuide(BelowGuideSummary { exact: e, .. })) => e.size,
@@ -157,13 +157,13 @@ impl Summary {
     }
 
     /// The summary as JSON (the keys sorted).
-    pub fn to_json(&self) -> serde_json::Value {
+    pub(crate) fn to_json(&self) -> serde_json::Value {
         serde_json::to_value(self).expect("a summary is JSON")
     }
 }
 
 /// The JSON Schema of [`Summary`].
-pub fn schema() -> schemars::Schema {
+pub(crate) fn schema() -> schemars::Schema {
     schemars::schema_for!(Summary)
 }
 

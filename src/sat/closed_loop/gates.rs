@@ -9,7 +9,7 @@ use varisat::{ExtendFormula, Lit};
 
 /// A Boolean that is a constant or a literal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum B {
+pub(crate) enum B {
     /// A constant, folded away by every gate.
     C(bool),
     /// A solver literal.
@@ -29,16 +29,16 @@ impl std::ops::Not for B {
 /// A value of a finite domain: each possible value with the condition under which it is the
 /// value. Exactly one condition holds; values with a false condition are left out.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Fd(pub Vec<(Value, B)>);
+pub(crate) struct Fd(pub(crate) Vec<(Value, B)>);
 
 impl Fd {
     /// The value `v` unconditionally.
-    pub fn constant(v: Value) -> Fd {
+    pub(crate) fn constant(v: Value) -> Fd {
         Fd(vec![(v, B::C(true))])
     }
 
     /// A Boolean as a value of the domain `{FALSE, TRUE}`.
-    pub fn of_bool(b: B) -> Fd {
+    pub(crate) fn of_bool(b: B) -> Fd {
         match b {
             B::C(c) => Fd::constant(Value::Bool(c)),
             l => Fd(vec![(Value::Bool(false), !l), (Value::Bool(true), l)]),
@@ -46,33 +46,24 @@ impl Fd {
     }
 
     /// The condition that the value is `v`.
-    pub fn is(&self, v: Value) -> B {
+    pub(crate) fn is(&self, v: Value) -> B {
         self.0
             .iter()
             .find(|(w, _)| *w == v)
             .map_or(B::C(false), |&(_, b)| b)
     }
-
-    /// The value as a Boolean (the condition that it is `TRUE`); `None` if it can be a
-    /// non-Boolean.
-    pub fn as_bool(&self) -> Option<B> {
-        self.0
-            .iter()
-            .all(|(v, _)| matches!(v, Value::Bool(_)))
-            .then(|| self.is(Value::Bool(true)))
-    }
 }
 
 /// Gate builder over a clause sink.
-pub struct Gates<'f, F: ExtendFormula> {
+pub(crate) struct Gates<'f, F: ExtendFormula> {
     /// The clause sink every gate writes into (the solver, or a `CnfFormula` in tests).
-    pub f: &'f mut F,
+    pub(crate) f: &'f mut F,
 }
 
 impl<F: ExtendFormula> Gates<'_, F> {
     /// Adds `OR lits`: skipped when a constant is true, false constants dropped (so all-false
     /// constants add the empty clause and make the formula UNSAT).
-    pub fn clause(&mut self, lits: &[B]) {
+    pub(crate) fn clause(&mut self, lits: &[B]) {
         if lits.contains(&B::C(true)) {
             return;
         }
@@ -87,12 +78,12 @@ impl<F: ExtendFormula> Gates<'_, F> {
     }
 
     /// A fresh unconstrained literal.
-    pub fn fresh(&mut self) -> Lit {
+    pub(crate) fn fresh(&mut self) -> Lit {
         self.f.new_lit()
     }
 
     /// `o <-> AND xs`.
-    pub fn and(&mut self, xs: &[B]) -> B {
+    pub(crate) fn and(&mut self, xs: &[B]) -> B {
         let mut ls: Vec<Lit> = Vec::with_capacity(xs.len());
         for &x in xs {
             match x {
@@ -125,23 +116,23 @@ impl<F: ExtendFormula> Gates<'_, F> {
     }
 
     /// `o <-> OR xs`.
-    pub fn or(&mut self, xs: &[B]) -> B {
+    pub(crate) fn or(&mut self, xs: &[B]) -> B {
         let neg: Vec<B> = xs.iter().map(|&x| !x).collect();
         !self.and(&neg)
     }
 
     /// `o <-> a & b`.
-    pub fn and2(&mut self, a: B, b: B) -> B {
+    pub(crate) fn and2(&mut self, a: B, b: B) -> B {
         self.and(&[a, b])
     }
 
     /// `o <-> a | b`.
-    pub fn or2(&mut self, a: B, b: B) -> B {
+    pub(crate) fn or2(&mut self, a: B, b: B) -> B {
         self.or(&[a, b])
     }
 
     /// `o <-> (a <-> b)`.
-    pub fn iff(&mut self, a: B, b: B) -> B {
+    pub(crate) fn iff(&mut self, a: B, b: B) -> B {
         match (a, b) {
             (B::C(x), y) | (y, B::C(x)) => {
                 if x {
@@ -163,8 +154,9 @@ impl<F: ExtendFormula> Gates<'_, F> {
         }
     }
 
+    #[cfg(test)]
     /// `o <-> (c ? a : b)`.
-    pub fn ite(&mut self, c: B, a: B, b: B) -> B {
+    pub(crate) fn ite(&mut self, c: B, a: B, b: B) -> B {
         match c {
             B::C(true) => a,
             B::C(false) => b,
@@ -177,20 +169,9 @@ impl<F: ExtendFormula> Gates<'_, F> {
         }
     }
 
-    /// Forces `a -> b`.
-    pub fn implies(&mut self, a: B, b: B) {
-        self.clause(&[!a, b]);
-    }
-
-    /// Forces `a <-> b`.
-    pub fn equal(&mut self, a: B, b: B) {
-        self.clause(&[!a, b]);
-        self.clause(&[a, !b]);
-    }
-
     /// Joins `(value, condition)` pairs, which may repeat values, into an [`Fd`]: one `OR`
     /// per value.
-    pub fn join(&mut self, pairs: Vec<(Value, B)>) -> Fd {
+    pub(crate) fn join(&mut self, pairs: Vec<(Value, B)>) -> Fd {
         let mut out: Vec<(Value, Vec<B>)> = Vec::new();
         for (v, b) in pairs {
             if b == B::C(false) {

@@ -17,16 +17,16 @@ use varisat::ExtendFormula;
 
 /// The machine at one step.
 #[derive(Debug, Clone)]
-pub struct MachineState {
+pub(crate) struct MachineState {
     /// One-hot over `0..C_max`.
-    pub state: Vec<B>,
+    pub(crate) state: Vec<B>,
     /// Output values, one per machine output (scenario order).
-    pub outputs: Vec<B>,
+    pub(crate) outputs: Vec<B>,
 }
 
 impl MachineState {
     /// State 0 with the initial outputs.
-    pub fn initial(c_max: usize, outputs: &[bool]) -> MachineState {
+    pub(crate) fn initial(c_max: usize, outputs: &[bool]) -> MachineState {
         MachineState {
             state: (0..c_max).map(|q| B::C(q == 0)).collect(),
             outputs: outputs.iter().map(|&o| B::C(o)).collect(),
@@ -35,7 +35,7 @@ impl MachineState {
 }
 
 /// One reaction of the machine to `inputs`.
-pub fn step<F: ExtendFormula>(
+pub(crate) fn step<F: ExtendFormula>(
     g: &mut Gates<'_, F>,
     vars: &Vars,
     cv: &CubeVars,
@@ -56,7 +56,7 @@ pub fn step<F: ExtendFormula>(
             continue;
         }
         let mut nf = B::C(true);
-        for k in 0..cv.slots {
+        for k in 0..cv.max_out_degree {
             let mut conj = vec![B::L(cv.en(0, q, k))];
             for (x, &input) in inputs.iter().enumerate() {
                 conj.push(g.or2(!B::L(cv.pos(0, q, k, x)), input));

@@ -23,14 +23,14 @@
 //! - [`plant::next_state`]: the plant's next state under the machine's outputs;
 //! - [`property::Bounded::require`]: each property on the run.
 //!
-//! Timing is the closed loop's (see [`crate::smv::closed_loop`]): at step `t` the machine reads
+//! Timing is the closed loop's (see [`crate::smv::composition`]): at step `t` the machine reads
 //! the plant's values of step `t`, its new outputs appear at `t + 1`, and the plant's step from
 //! `t` to `t + 1` reads the outputs of step `t`.
 
-pub mod gates;
-pub mod machine;
-pub mod plant;
-pub mod property;
+pub(crate) mod gates;
+pub(crate) mod machine;
+pub(crate) mod plant;
+pub(crate) mod property;
 
 use self::gates::{Fd, Gates, B};
 use self::machine::MachineState;
@@ -43,53 +43,46 @@ use varisat::ExtendFormula;
 
 /// How machine, plant and properties fit together, checked by the caller.
 #[derive(Debug, Clone)]
-pub struct Spec {
+pub(crate) struct Spec {
     /// The plant as a finite-state model (the SMV subset the plants use).
-    pub plant: Arc<Model>,
+    pub(crate) plant: Arc<Model>,
     /// Per machine input (scenario order): the plant variable or define it reads.
-    pub inputs: Vec<Name>,
+    pub(crate) inputs: Vec<Name>,
     /// Per plant parameter: the machine output (index) it reads.
-    pub params: Vec<usize>,
+    pub(crate) params: Vec<usize>,
     /// Machine output names, as properties use them.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
     /// The properties encoded: future-only, every name resolved.
-    pub properties: Vec<Ltl>,
+    pub(crate) properties: Vec<Ltl>,
     /// Steps unrolled after the environment's end: within them eventualities must be
     /// fulfilled, and safety properties are required on them too.
-    pub response_bound: usize,
+    pub(crate) response_bound: usize,
     /// The machine's output values before its first step (scenario order).
-    pub initial_outputs: Vec<bool>,
+    pub(crate) initial_outputs: Vec<bool>,
 }
 
 /// What the plant's free variables did along one run: the full plant state of each step (only
 /// the free parts and the nondeterministic choices are read), as a lasso.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Environment {
+pub(crate) struct Environment {
     /// Per step, the value of every plant variable ([`crate::plant::VarId`] order).
-    pub states: Vec<Vec<Value>>,
+    pub(crate) states: Vec<Vec<Value>>,
     /// The run continues `states[loop_start..]` forever.
-    pub loop_start: usize,
+    pub(crate) loop_start: usize,
 }
 
 impl Environment {
     /// The plant state of step `t` of the infinite run.
-    pub fn at(&self, t: usize) -> &[Value] {
+    pub(crate) fn at(&self, t: usize) -> &[Value] {
         let (n, l) = (self.states.len(), self.loop_start);
         let p = if t < n { t } else { l + (t - l) % (n - l) };
         &self.states[p]
     }
 }
 
-/// Figures of one encoded environment.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Unrolled {
-    /// Positions unrolled: the environment's steps plus [`Spec::response_bound`].
-    pub steps: usize,
-}
-
 /// The names a property may read, for checking before anything is encoded: every machine
 /// output and every plant variable and define.
-pub fn resolves(spec: &Spec, name: &str) -> bool {
+pub(crate) fn resolves(spec: &Spec, name: &str) -> bool {
     spec.outputs.iter().any(|o| o == name)
         || matches!(
             spec.plant.lookup(name),
@@ -100,7 +93,7 @@ pub fn resolves(spec: &Spec, name: &str) -> bool {
 
 /// The plant's free variables: `IVAR`s and `VAR`s without `init` and `next`, whose values are
 /// the environment's alone.
-pub fn environment_names(model: &Model) -> Vec<String> {
+pub(crate) fn environment_names(model: &Model) -> Vec<String> {
     model
         .vars
         .iter()
@@ -110,13 +103,13 @@ pub fn environment_names(model: &Model) -> Vec<String> {
 }
 
 /// Adds the closed loop along `env` with every property of `spec` required on it.
-pub fn encode(
+pub(crate) fn encode(
     f: &mut impl ExtendFormula,
     vars: &Vars,
     cv: &CubeVars,
     spec: &Spec,
     env: &Environment,
-) -> Unrolled {
+) {
     let model = &*spec.plant;
     let mut g = Gates { f };
     let n = env.states.len();
@@ -201,7 +194,6 @@ pub fn encode(
     for p in &spec.properties {
         bounded.require(&mut g, p);
     }
-    Unrolled { steps: last + 1 }
 }
 
 #[cfg(test)]

@@ -12,13 +12,13 @@ use varisat::ExtendFormula;
 
 /// One step's view for evaluation: the state, the controller outputs the plant reads (per
 /// parameter), and the defines evaluated so far.
-pub struct Frame<'s> {
+pub(crate) struct Frame<'s> {
     /// The plant state: one value per plant variable ([`crate::plant::VarId`] order).
-    pub state: &'s [Fd],
+    pub(crate) state: &'s [Fd],
     /// Per plant parameter: the controller output it reads ([`super::Spec::params`]).
-    pub params: &'s [B],
+    pub(crate) params: &'s [B],
     /// `defines[d]`: define `d` once evaluated on this frame (memo; `None` until read).
-    pub defines: Vec<Option<Fd>>,
+    pub(crate) defines: Vec<Option<Fd>>,
     /// While the next state is computed: the environment's next values and the next values
     /// found so far (a `next` assignment may read another variable's next value; the parser
     /// refuses cycles).
@@ -27,7 +27,7 @@ pub struct Frame<'s> {
 
 impl<'s> Frame<'s> {
     /// A frame on `state` and `params` with no define evaluated yet, before the next state.
-    pub fn new(model: &Model, state: &'s [Fd], params: &'s [B]) -> Frame<'s> {
+    pub(crate) fn new(model: &Model, state: &'s [Fd], params: &'s [B]) -> Frame<'s> {
         Frame {
             state,
             params,
@@ -38,7 +38,7 @@ impl<'s> Frame<'s> {
 }
 
 /// Evaluates `e` on `frame`; a set takes `choice` when it holds it.
-pub fn eval<F: ExtendFormula>(
+pub(crate) fn eval<F: ExtendFormula>(
     g: &mut Gates<'_, F>,
     model: &Model,
     e: &Expr,
@@ -122,7 +122,7 @@ pub fn eval<F: ExtendFormula>(
 }
 
 /// Evaluates a Boolean expression.
-pub fn boolean<F: ExtendFormula>(
+pub(crate) fn boolean<F: ExtendFormula>(
     g: &mut Gates<'_, F>,
     model: &Model,
     e: &Expr,
@@ -178,7 +178,7 @@ fn binary<F: ExtendFormula>(
 }
 
 /// `v op w` on constants; `None` where NuSMV would report an error (division by zero).
-pub fn apply(op: BinOp, v: Value, w: Value) -> Option<Value> {
+pub(crate) fn apply(op: BinOp, v: Value, w: Value) -> Option<Value> {
     use BinOp::*;
     let b = Value::Bool;
     Some(match (op, v, w) {
@@ -201,7 +201,7 @@ pub fn apply(op: BinOp, v: Value, w: Value) -> Option<Value> {
 /// Whether the plant is in the part of the subset this encoding covers: no `INIT`, `INVAR`,
 /// `TRANS` or `FAIRNESS` (their effect on a fixed environment is not a function of the
 /// controller). `Err` names the first construct that is not covered.
-pub fn encodable(model: &Model) -> Result<(), String> {
+pub(crate) fn encodable(model: &Model) -> Result<(), String> {
     let sections = [
         ("INIT", &model.init),
         ("INVAR", &model.invar),
@@ -219,7 +219,7 @@ pub fn encodable(model: &Model) -> Result<(), String> {
 /// The plant state after the frame's state, with the frame's controller outputs and
 /// the environment's values `env_next` of the next step (every variable's value in the
 /// recorded run).
-pub fn next_state<'s, F: ExtendFormula>(
+pub(crate) fn next_state<'s, F: ExtendFormula>(
     g: &mut Gates<'_, F>,
     model: &Model,
     frame: &mut Frame<'s>,

@@ -28,20 +28,20 @@ use std::collections::HashMap;
 use varisat::ExtendFormula;
 
 /// What the positions of the run hold.
-pub struct Run<'a> {
+pub(crate) struct Run<'a> {
     /// Per position `0..=L`: the value of every name the properties read.
-    pub atoms: &'a [HashMap<String, Fd>],
+    pub(crate) atoms: &'a [HashMap<String, Fd>],
     /// Per position: the value of every environment name (free plant variable).
-    pub env: &'a [HashMap<String, Value>],
+    pub(crate) env: &'a [HashMap<String, Value>],
     /// The environment's lasso: position `t` of the run is environment position `lasso(t)`.
-    pub env_len: usize,
+    pub(crate) env_len: usize,
     /// Where the environment's loop starts: environment position `p >= env_len` is
     /// `env_loop + (p - env_loop) % (env_len - env_loop)`.
-    pub env_loop: usize,
+    pub(crate) env_loop: usize,
     /// Symbolic constants of the plant, for comparisons such as `mode = idle`.
-    pub symbol: &'a dyn Fn(&str) -> Option<Value>,
+    pub(crate) symbol: &'a dyn Fn(&str) -> Option<Value>,
     /// Last position with strong eventualities.
-    pub deadline: usize,
+    pub(crate) deadline: usize,
 }
 
 impl Run<'_> {
@@ -57,7 +57,7 @@ impl Run<'_> {
 /// Whether the formula is a safety property once its environment-only subformulas are read
 /// as constants: in negation normal form no `F` or `U` (an eventuality) outside them. Only
 /// such properties are encoded by default.
-pub fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
+pub(crate) fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
     fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> bool {
         use Ltl::*;
         if f.is_future_only() && f.names().iter().all(|n| env(n)) {
@@ -84,13 +84,13 @@ pub fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
 }
 
 /// Whether the encoding covers the formula: no past operators.
-pub fn covered(f: &Ltl) -> bool {
+pub(crate) fn covered(f: &Ltl) -> bool {
     f.is_future_only()
 }
 
 /// The bounded encoding of one run; subformula literals are shared between the properties
 /// encoded on it.
-pub struct Bounded<'r> {
+pub(crate) struct Bounded<'r> {
     run: &'r Run<'r>,
     memo: HashMap<(usize, usize, bool), B>,
     chains: HashMap<ChainKey, B>,
@@ -115,7 +115,7 @@ struct ChainKey {
 
 impl<'r> Bounded<'r> {
     /// An encoding of `run` with nothing required yet.
-    pub fn new(run: &'r Run<'r>) -> Bounded<'r> {
+    pub(crate) fn new(run: &'r Run<'r>) -> Bounded<'r> {
         Bounded {
             run,
             memo: HashMap::new(),
@@ -125,7 +125,7 @@ impl<'r> Bounded<'r> {
     }
 
     /// Forces `φ` at position 0.
-    pub fn require<F: ExtendFormula>(&mut self, g: &mut Gates<'_, F>, f: &Ltl) {
+    pub(crate) fn require<F: ExtendFormula>(&mut self, g: &mut Gates<'_, F>, f: &Ltl) {
         let b = self.at(g, f, 0, true);
         g.clause(&[b]);
     }
@@ -367,7 +367,7 @@ impl<'r> Bounded<'r> {
 }
 
 /// `v op w` on constants.
-pub fn cmp(op: CmpOp, v: Value, w: Value) -> bool {
+pub(crate) fn cmp(op: CmpOp, v: Value, w: Value) -> bool {
     match (op, v, w) {
         (CmpOp::Eq, _, _) => v == w,
         (CmpOp::Ne, _, _) => v != w,

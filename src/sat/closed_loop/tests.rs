@@ -86,7 +86,7 @@ fn one_press() -> Environment {
 
 fn options() -> Options {
     Options {
-        cube_slots: Some(2),
+        max_out_degree: Some(2),
         max_states: 3,
         ..Options::default()
     }

@@ -20,7 +20,7 @@ use varisat::{ExtendFormula, Lit};
 
 /// θ: every output belongs to exactly one module; pinned outputs to their module
 /// (`pins[m]` lists the outputs pinned to module `m`).
-pub fn output_owner(f: &mut impl ExtendFormula, v: &ModVars, pins: &[Vec<OutputId>]) {
+pub(crate) fn output_owner(f: &mut impl ExtendFormula, v: &ModVars, pins: &[Vec<OutputId>]) {
     for z in 0..v.d.outputs {
         let lits: Vec<Lit> = (0..v.d.modules).map(|m| v.theta(m, z)).collect();
         f.add_clause(&lits);
@@ -36,7 +36,7 @@ pub fn output_owner(f: &mut impl ExtendFormula, v: &ModVars, pins: &[Vec<OutputI
 /// Interchangeable modules are ordered by their smallest output: module `m >= 1` owns `z` only
 /// if module `m - 1` owns a smaller output, `θ[m,z] -> OR_{z'<z} θ[m-1,z']`. Sound because any
 /// decomposition can be renumbered so; used only when nothing is pinned.
-pub fn module_order(f: &mut impl ExtendFormula, v: &ModVars) {
+pub(crate) fn module_order(f: &mut impl ExtendFormula, v: &ModVars) {
     for m in 1..v.d.modules {
         for z in 0..v.d.outputs {
             let mut clause = vec![!v.theta(m, z)];
@@ -49,13 +49,13 @@ pub fn module_order(f: &mut impl ExtendFormula, v: &ModVars) {
 /// Transition slots: `en[k+1] -> en[k]`, `en -> uc[q]`, `en <-> exactly one tgt[·]`,
 /// `tgt[q'] -> uc[q']`, guards are consistent cubes over the module's inputs:
 /// `¬(pos & neg)`, `pos|neg -> en`, `pos|neg -> α[m,x]`.
-pub fn slots(f: &mut impl ExtendFormula, v: &ModVars) {
+pub(crate) fn slots(f: &mut impl ExtendFormula, v: &ModVars) {
     let (d, cv) = (v.d, &v.cubes);
     for m in 0..d.modules {
         for q in 0..d.c_max {
-            for k in 0..d.slots {
+            for k in 0..d.max_out_degree {
                 let en = cv.en(m, q, k);
-                if k + 1 < d.slots {
+                if k + 1 < d.max_out_degree {
                     f.add_clause(&[!cv.en(m, q, k + 1), en]);
                 }
                 f.add_clause(&[!en, v.used(m, q)]);
@@ -84,12 +84,12 @@ pub fn slots(f: &mut impl ExtendFormula, v: &ModVars) {
 /// Firing on input vector `g` with bits `bits` (the paper's `f` and `nf`), per module:
 /// `nf[m,g,q,0]` and [`cubes::slot_fires`] for every slot. The first slot that fires is the one
 /// with `nf[k] & f[k]` (the paper's `ff`); nothing fires iff `nf[K]`.
-pub fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool]) {
+pub(crate) fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool]) {
     let cv = &v.cubes;
     for m in 0..v.d.modules {
         for q in 0..v.d.c_max {
             f.add_clause(&[cv.nf(m, g, q, 0)]);
-            for k in 0..v.d.slots {
+            for k in 0..v.d.max_out_degree {
                 cubes::slot_fires(f, cv, (m, g, q, k), bits);
             }
         }
@@ -102,17 +102,17 @@ pub fn firing(f: &mut impl ExtendFormula, v: &ModVars, g: InputVec, bits: &[bool
 /// - `c[m,p,q] & nf[m,g,q,K] -> c[m,w,q]` (no transition: the colour is kept);
 /// - `θ[m,z] -> fired[m,w]` for every output `z` that changes on the edge;
 /// - `OR_m fired[m,w]`: some module fires, so the composite emits `CNF`.
-pub fn active_edges(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree) {
+pub(crate) fn active_edges(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree) {
     let (d, cv) = (v.d, &v.cubes);
     for (p, g, w) in tree_edges(tree) {
         for m in 0..d.modules {
             let fired = v.fired(m, w);
             for q in 0..d.c_max {
-                let (cp, none) = (v.color(m, p, q), cv.nf(m, g, q, d.slots));
+                let (cp, none) = (v.color(m, p, q), cv.nf(m, g, q, d.max_out_degree));
                 f.add_clause(&[!cp, !none, !fired]);
                 f.add_clause(&[!cp, none, fired]);
                 f.add_clause(&[!cp, !none, v.color(m, w, q)]);
-                for k in 0..d.slots {
+                for k in 0..d.max_out_degree {
                     let (nf, fire) = (cv.nf(m, g, q, k), cv.fire(m, g, q, k));
                     for t in 0..d.c_max {
                         f.add_clause(&[!cp, !nf, !fire, !cv.tgt(m, q, k, t), v.color(m, w, t)]);
@@ -134,7 +134,7 @@ pub fn active_edges(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree
 /// Consecutive: every module owns every output (`θ[m,z]`), and every module fires on every
 /// active edge, since each module's `CNF` is the next one's `REQ` and the composite's `CNF` is
 /// the last module's (`fired[m,w]`).
-pub fn chain_fires(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree) {
+pub(crate) fn chain_fires(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree) {
     for m in 0..v.d.modules {
         for z in 0..v.d.outputs {
             f.add_clause(&[v.theta(m, z)]);
@@ -152,7 +152,7 @@ pub fn chain_fires(f: &mut impl ExtendFormula, v: &ModVars, tree: &ScenarioTree)
 /// - the last module's values are the recorded ones: `val[M-1,w,z] = z_w`.
 ///
 /// Per state: tri algorithms forbid "flip", `a0 -> a1`; unused states' entries are 0.
-pub fn chain_values(
+pub(crate) fn chain_values(
     f: &mut impl ExtendFormula,
     v: &ModVars,
     tree: &ScenarioTree,
@@ -205,7 +205,7 @@ pub fn chain_values(
 }
 
 /// A fixed interface: module `m` reads no input outside `reads[m]`, `¬α[m,x]`.
-pub fn allowed_reads(f: &mut impl ExtendFormula, v: &ModVars, reads: &[Vec<InputId>]) {
+pub(crate) fn allowed_reads(f: &mut impl ExtendFormula, v: &ModVars, reads: &[Vec<InputId>]) {
     for (m, allowed) in reads.iter().enumerate() {
         for x in 0..v.d.bits {
             if !allowed.contains(&InputId(x)) {
@@ -217,7 +217,7 @@ pub fn allowed_reads(f: &mut impl ExtendFormula, v: &ModVars, reads: &[Vec<Input
 
 /// A network's module never reads its own output: with the outputs before the step as inputs
 /// `external..`, `¬α[m,external+z] ∨ ¬θ[m,z]`.
-pub fn no_self_reads(f: &mut impl ExtendFormula, v: &ModVars, external: usize) {
+pub(crate) fn no_self_reads(f: &mut impl ExtendFormula, v: &ModVars, external: usize) {
     for m in 0..v.d.modules {
         for z in 0..v.d.outputs.min(v.d.bits.saturating_sub(external)) {
             f.add_clause(&[!v.alpha(m, external + z), !v.theta(m, z)]);
@@ -226,14 +226,14 @@ pub fn no_self_reads(f: &mut impl ExtendFormula, v: &ModVars, external: usize) {
 }
 
 /// The transition relation of each module: `tr[m,q,q'] <-> OR_k tgt[m,q,k,q']`.
-pub fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
+pub(crate) fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
     let d = v.d;
     for m in 0..d.modules {
         for q in 0..d.c_max {
             for t in 0..d.c_max {
                 let tr = v.tr(m, q, t);
                 let mut clause = vec![!tr];
-                for k in 0..d.slots {
+                for k in 0..d.max_out_degree {
                     let y = v.cubes.tgt(m, q, k, t);
                     f.add_clause(&[!y, tr]);
                     clause.push(y);
@@ -247,7 +247,7 @@ pub fn transition_relation(f: &mut impl ExtendFormula, v: &ModVars) {
 /// Every family. `pins[m]`: outputs pinned to module `m` (parallel modules are ordered by
 /// [`module_order`] only when nothing is pinned; a chain's modules are not interchangeable and
 /// own every output).
-pub fn all(
+pub(crate) fn all(
     f: &mut impl ExtendFormula,
     v: &ModVars,
     tree: &ScenarioTree,
@@ -276,7 +276,7 @@ pub fn all(
         firing(f, v, InputVec(g), bits);
     }
     active_edges(f, v, tree);
-    let none = |m: usize, q: usize, g: InputVec| v.cubes.nf(m, g, q, v.d.slots);
+    let none = |m: usize, q: usize, g: InputVec| v.cubes.nf(m, g, q, v.d.max_out_degree);
     if chain {
         // Only module 1 gets the passive step's REQ.
         shared::passive_marks(f, tree, &modules[..1], none);

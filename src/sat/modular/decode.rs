@@ -14,7 +14,7 @@ use crate::scenario::ScenarioSet;
 use std::collections::HashSet;
 
 /// Reads the controller out of `model`.
-pub fn decode(
+pub(crate) fn decode(
     model: &Model,
     v: &ModVars,
     set: &ScenarioSet,
@@ -43,7 +43,7 @@ pub fn decode(
             let n = (0..d.c_max).filter(|&q| model.value(v.used(m, q))).count();
             let states = (0..n)
                 .map(|q| {
-                    let transitions = (0..d.slots)
+                    let transitions = (0..d.max_out_degree)
                         .take_while(|&k| model.value(v.cubes.en(m, q, k)))
                         .map(|k| cube_transition(model, &v.cubes, m, q, k, local))
                         .collect();
@@ -86,7 +86,7 @@ pub fn decode(
 
 /// Removes every transition no scenario fires. What the scenarios see is unchanged: a slot
 /// that never fires first on a step where its module gets `REQ` decides nothing there.
-pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
+pub(crate) fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
     let mut fired: Vec<HashSet<(StateId, usize)>> = vec![HashSet::new(); modular.modules.len()];
     for sc in &set.scenarios {
         let mut run = ModularRun::new(modular);
@@ -111,7 +111,7 @@ pub fn prune_unfired(modular: &mut Modular, set: &ScenarioSet) {
 /// Drops guard literals one at a time, greedily, while the composite still replays every
 /// scenario: the solver only bounds the inputs a module reads, not the literals it writes, so
 /// a guard may test more than the scenarios need.
-pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
+pub(crate) fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
     for m in 0..modular.modules.len() {
         for q in 0..modular.modules[m].ecc.states.len() {
             for k in 0..modular.modules[m].ecc.states[q].transitions.len() {
@@ -144,7 +144,7 @@ pub fn prune_literals(modular: &mut Modular, set: &ScenarioSet) {
 /// a state without transitions gets an unconditional loop. What the scenarios see is
 /// unchanged: such a module gets `REQ` only on active steps, where it fires anyway, and a state
 /// without transitions never gets one.
-pub fn complete_chain(modular: &mut Modular) {
+pub(crate) fn complete_chain(modular: &mut Modular) {
     for module in modular.modules.iter_mut().skip(1) {
         for (q, state) in module.ecc.states.iter_mut().enumerate() {
             match state.transitions.last_mut() {

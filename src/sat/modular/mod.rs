@@ -22,16 +22,16 @@
 //! each owning some outputs, form a modular controller with `C` states per module and `D` slots.
 //! So while `K < D`, a largest module above `C` is never needed: when every size up to `C` is
 //! refuted, the slots are too few and `K` grows by one (the ascent starts over, since more slots
-//! may allow fewer states). With `widen_slots` off, `K` stays as given.
+//! may allow fewer states). With `widen_max_out_degree` off, `K` stays as given.
 //!
 //! The decoded controller is pruned of transitions the scenarios never fire (they cannot change
 //! what the scenarios see) and of guard literals the scenarios do not need (greedily, so `N`
 //! is not minimal), and replayed on every scenario before it is returned; a mismatch is
 //! reported as [`ModularError::Bug`].
 
-pub mod constraints;
-pub mod decode;
-pub mod vars;
+pub(crate) mod constraints;
+pub(crate) mod decode;
+pub(crate) mod vars;
 
 use super::card::Totalizer;
 use super::solver::{Model, Solver};
@@ -49,16 +49,17 @@ use vars::ModVars;
 pub struct ModularOptions {
     /// Number of modules `M` (at least 1).
     pub modules: usize,
-    /// Transition slots per state `K` (guards are conjunctions, so a disjunction needs slots).
-    pub slots: usize,
+    /// The largest out-degree `K`: transition slots per state (guards are conjunctions, so a
+    /// disjunction needs several).
+    pub max_out_degree: usize,
     /// Give up above this many states in one module.
     pub max_states: usize,
     /// The algorithm form of every module's states (`Tri` or fbSAT's `Binary`).
     pub algorithms: AlgorithmKind,
     /// `pins[m]`: outputs that must belong to module `m` (0-based; may be shorter than `M`).
     pub pins: Vec<Vec<OutputId>>,
-    /// Widen `slots` one at a time when they are too few ([`synthesize_modular`]).
-    pub widen_slots: bool,
+    /// Widen `max_out_degree` one at a time when it is too small ([`synthesize_modular`]).
+    pub widen_max_out_degree: bool,
     /// How the modules are wired.
     pub topology: Topology,
     /// `reads[m]`: the only inputs module `m` may read (a distributed controller's interface);
@@ -72,17 +73,17 @@ pub struct ModularOptions {
 }
 
 /// The transition slots per state a run starts with when none are given.
-pub const DEFAULT_SLOTS: usize = 3;
+pub const DEFAULT_MAX_OUT_DEGREE: usize = 3;
 
 impl Default for ModularOptions {
     fn default() -> Self {
         ModularOptions {
             modules: 2,
-            slots: DEFAULT_SLOTS,
+            max_out_degree: DEFAULT_MAX_OUT_DEGREE,
             max_states: 16,
             algorithms: AlgorithmKind::Tri,
             pins: Vec::new(),
-            widen_slots: true,
+            widen_max_out_degree: true,
             topology: Topology::Parallel,
             reads: None,
             feedback: None,
@@ -106,7 +107,7 @@ pub struct ModularSynthesis {
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct ModularStats {
     /// Nodes of the scenario tree, root included.
-    pub tree_nodes: usize,
+    pub(crate) tree_nodes: usize,
     /// Variables of the encoding as built, summed over every window of states tried.
     pub variables: usize,
     /// Clauses of the encoding as built, summed like `variables`.
@@ -114,9 +115,10 @@ pub struct ModularStats {
     /// SAT calls made.
     pub solver_calls: usize,
     /// Wall-clock seconds of the minimization (before decoding and pruning).
-    pub sat_seconds: f64,
-    /// Transition slots per state of the result (more than asked when widened).
-    pub slots: usize,
+    pub(crate) sat_seconds: f64,
+    /// The largest out-degree `K` of the result: slots per state (more than asked when widened).
+    #[serde(rename = "slots")]
+    pub max_out_degree: usize,
 }
 
 /// Why modular synthesis produced no controller.
@@ -124,14 +126,14 @@ pub struct ModularStats {
 pub enum ModularError {
     /// Every module size up to `max_states` is UNSAT with this many modules and slots (and
     /// widening the slots, when on, did not help).
-    #[error("no modular controller with {modules} modules of at most {max_states} states and {slots} transitions per state reproduces the scenarios (raise --max-states or --slots)")]
+    #[error("no modular controller with {modules} modules of at most {max_states} states and {max_out_degree} transitions per state reproduces the scenarios (raise --max-states or --slots)")]
     NoController {
         /// The number of modules `M` asked for.
         modules: usize,
         /// The `--max-states` limit per module that was exhausted.
         max_states: usize,
-        /// Transition slots per state `K` at the end (after any widening).
-        slots: usize,
+        /// The largest out-degree `K` at the end (after any widening).
+        max_out_degree: usize,
     },
     /// The deadline of the run passed ([`crate::deadline`]): the search stopped unfinished.
     #[error("stopped at the time limit")]
@@ -191,7 +193,7 @@ pub enum PinError {
 
 /// Parses `--pin` arguments `MODULE=OUTPUT,OUTPUT` (modules numbered from 1) against the output
 /// names; returns the pinned outputs per module (0-based, `modules` entries).
-pub fn parse_pins(
+pub(crate) fn parse_pins(
     args: &[String],
     outputs: &[String],
     modules: usize,
@@ -261,7 +263,14 @@ impl Encoding {
         let mut solver = Solver::until(opts.deadline);
         let sink = &mut solver;
         let chain = opts.topology == Topology::Consecutive;
-        let vars = ModVars::new(sink, tree, opts.modules, c_max, opts.slots.max(1), chain);
+        let vars = ModVars::new(
+            sink,
+            tree,
+            opts.modules,
+            c_max,
+            opts.max_out_degree.max(1),
+            chain,
+        );
         constraints::all(
             sink,
             &vars,
@@ -322,19 +331,19 @@ pub fn synthesize_modular(
     };
     // The ceiling's copies of the single machine read every input: not when reads are fixed or
     // a module may not read its own outputs.
-    let ceiling = if opts.widen_slots && opts.reads.is_none() && opts.feedback.is_none() {
+    let ceiling = if opts.widen_max_out_degree && opts.reads.is_none() && opts.feedback.is_none() {
         single_machine_ceiling(set, tree, opts)
     } else {
         None
     };
     let mut opts = opts.clone();
-    opts.slots = opts.slots.max(1);
+    opts.max_out_degree = opts.max_out_degree.max(1);
     let (mut enc, n, model) = largest_module(tree, &mut opts, ceiling, &mut stats, progress)?;
     progress(Step::LargestModule { states: n });
     let model = enc.least_sums(enc.vars.size_at_most(n), model, progress);
     stats.solver_calls += enc.solver.stats().calls;
     stats.sat_seconds = t0.elapsed().as_secs_f64();
-    stats.slots = opts.slots;
+    stats.max_out_degree = opts.max_out_degree;
     let modular = decoded(&model, &enc.vars, set, &opts)?;
     Ok(ModularSynthesis {
         size: modular.size(),
@@ -356,12 +365,12 @@ fn largest_module(
     progress: Progress<'_>,
 ) -> Result<(Encoding, usize, Model), ModularError> {
     let max_states = opts.max_states;
-    let limit = |slots: usize| match ceiling {
-        Some((c, cubes)) if slots < cubes => c.min(max_states),
+    let limit = |max_out_degree: usize| match ceiling {
+        Some((c, cubes)) if max_out_degree < cubes => c.min(max_states),
         _ => max_states,
     };
     let mut lo = 1;
-    let mut c_max = max_states.clamp(1, 4).min(limit(opts.slots));
+    let mut c_max = max_states.clamp(1, 4).min(limit(opts.max_out_degree));
     loop {
         if opts.deadline.passed() {
             return Err(ModularError::Stopped);
@@ -383,28 +392,30 @@ fn largest_module(
         );
         match found {
             Some((n, m)) => return Ok((enc, n, m)),
-            None if c_max >= limit(opts.slots) && limit(opts.slots) < max_states => {
+            None if c_max >= limit(opts.max_out_degree)
+                && limit(opts.max_out_degree) < max_states =>
+            {
                 stats.solver_calls += enc.solver.stats().calls;
-                progress(Step::WideningSlots {
-                    slots: opts.slots + 1,
+                progress(Step::WideningOutDegree {
+                    max_out_degree: opts.max_out_degree + 1,
                     states: c_max,
                 });
-                opts.slots += 1;
+                opts.max_out_degree += 1;
                 lo = 1;
-                c_max = max_states.clamp(1, 4).min(limit(opts.slots));
+                c_max = max_states.clamp(1, 4).min(limit(opts.max_out_degree));
             }
             None if c_max >= max_states => {
                 return Err(ModularError::NoController {
                     modules: opts.modules,
                     max_states,
-                    slots: opts.slots,
+                    max_out_degree: opts.max_out_degree,
                 })
             }
             None => {
                 // Every size inside the window is unsatisfiable.
                 lo = c_max + 1;
                 stats.solver_calls += enc.solver.stats().calls;
-                c_max = (c_max * 2).min(limit(opts.slots));
+                c_max = (c_max * 2).min(limit(opts.max_out_degree));
                 progress(Step::Reencoding {
                     states: c_max,
                     per_module: true,
@@ -526,7 +537,7 @@ fn single_machine_ceiling(
 
 /// Whether a modular controller whose modules have at most `n` states each reproduces the tree
 /// (the building block of the first minimization, exposed for tests of known minima).
-pub fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
+pub(crate) fn satisfiable_modular(tree: &ScenarioTree, opts: &ModularOptions, n: usize) -> bool {
     if n == 0 || check_options(opts).is_err() {
         return false;
     }

@@ -72,7 +72,7 @@ fn toggle_runs() -> Vec<Vec<Vec<bool>>> {
 fn opts(modules: usize) -> ModularOptions {
     ModularOptions {
         modules,
-        slots: 3,
+        max_out_degree: 3,
         max_states: 8,
         ..ModularOptions::default()
     }

@@ -14,28 +14,28 @@ use varisat::{ExtendFormula, Lit};
 
 /// Dimensions of the encoding.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Dims {
+pub(crate) struct Dims {
     /// Modules `M`.
-    pub modules: usize,
+    pub(crate) modules: usize,
     /// States per module at most (`N` of the paper, the encoding window).
-    pub c_max: usize,
-    /// Transition slots per state (`K`).
-    pub slots: usize,
+    pub(crate) c_max: usize,
+    /// The largest out-degree `K`: transition slots per state.
+    pub(crate) max_out_degree: usize,
     /// Input variables `X`.
-    pub bits: usize,
+    pub(crate) bits: usize,
     /// Output variables `Z`.
-    pub outputs: usize,
+    pub(crate) outputs: usize,
     /// Tree nodes.
-    pub nodes: usize,
+    pub(crate) nodes: usize,
     /// Distinct input vectors of the tree (`G`).
-    pub vectors: usize,
+    pub(crate) vectors: usize,
 }
 
 /// All variables of the modular encoding; per module `m` every block is contiguous.
 #[derive(Debug, Clone)]
-pub struct ModVars {
+pub(crate) struct ModVars {
     /// The encoding's dimensions, from which every index below is computed.
-    pub d: Dims,
+    pub(crate) d: Dims,
     /// `uc[m][q]`: module `m` uses state `q`; used states form a prefix.
     used: Vec<Lit>,
     /// `c[m][v][q]`: tree node `v` is coloured with state `q` of module `m`.
@@ -46,7 +46,7 @@ pub struct ModVars {
     alpha: Vec<Lit>,
     /// Slots (`en`, the target `tgt` is the paper's `y`, the guard `pos/neg` the paper's β with
     /// α) and firing (`f`, `nf`) of every module.
-    pub cubes: CubeVars,
+    pub(crate) cubes: CubeVars,
     /// `d0/d1[m][q][z]`: the algorithm of `q` sets `z` to 1 when it was 0 / 1.
     a0: Vec<Lit>,
     a1: Vec<Lit>,
@@ -65,18 +65,18 @@ impl ModVars {
     /// Allocates every variable for `modules` modules of at most `c_max` states and `slots`
     /// transition slots per state over `tree`, including the cube variables of the tree's input
     /// vectors, and with `chain` the values passed along a consecutive composite.
-    pub fn new(
+    pub(crate) fn new(
         f: &mut impl ExtendFormula,
         tree: &ScenarioTree,
         modules: usize,
         c_max: usize,
-        slots: usize,
+        max_out_degree: usize,
         chain: bool,
     ) -> ModVars {
         let d = Dims {
             modules,
             c_max,
-            slots,
+            max_out_degree,
             bits: tree.input_vectors.first().map_or(0, Vec::len),
             outputs: tree.nodes[0].outputs.len(),
             nodes: tree.nodes.len(),
@@ -87,7 +87,7 @@ impl ModVars {
         let color = alloc(f, m * d.nodes * n);
         let theta = alloc(f, m * d.outputs);
         let alpha = alloc(f, m * d.bits);
-        let mut cubes = CubeVars::new(f, m, n, slots, d.bits);
+        let mut cubes = CubeVars::new(f, m, n, max_out_degree, d.bits);
         let a0 = alloc(f, m * n * d.outputs);
         let a1 = alloc(f, m * n * d.outputs);
         cubes.add_inputs(f, d.vectors);
@@ -112,7 +112,7 @@ impl ModVars {
     }
 
     /// Module `m`'s colouring, for the shared constraint families.
-    pub fn module(&self, m: usize) -> Coloring<'_> {
+    pub(crate) fn module(&self, m: usize) -> Coloring<'_> {
         let d = &self.d;
         let (n, per_state) = (d.c_max, d.c_max * d.outputs);
         Coloring {
@@ -126,56 +126,55 @@ impl ModVars {
             parent: &self.parent[m * n * n..(m + 1) * n * n],
             scope: Scope::Module {
                 owns: &self.theta[m * d.outputs..(m + 1) * d.outputs],
-                reads: &self.alpha[m * d.bits..(m + 1) * d.bits],
                 fires: &self.fired[m * d.nodes..(m + 1) * d.nodes],
             },
         }
     }
 
     /// Every module's colouring, in order.
-    pub fn modules(&self) -> Vec<Coloring<'_>> {
+    pub(crate) fn modules(&self) -> Vec<Coloring<'_>> {
         (0..self.d.modules).map(|m| self.module(m)).collect()
     }
 
     /// `uc[m][q]`: module `m` uses state `q`.
-    pub fn used(&self, m: usize, q: usize) -> Lit {
+    pub(crate) fn used(&self, m: usize, q: usize) -> Lit {
         self.used[m * self.d.c_max + q]
     }
     /// `c[m][v][q]`: tree node `v` is coloured with state `q` of module `m`.
-    pub fn color(&self, m: usize, v: NodeId, q: usize) -> Lit {
+    pub(crate) fn color(&self, m: usize, v: NodeId, q: usize) -> Lit {
         self.color[(m * self.d.nodes + v.0) * self.d.c_max + q]
     }
     /// `θ[m][z]`: output `z` belongs to module `m`.
-    pub fn theta(&self, m: usize, z: usize) -> Lit {
+    pub(crate) fn theta(&self, m: usize, z: usize) -> Lit {
         self.theta[m * self.d.outputs + z]
     }
     /// `α[m][x]`: module `m` reads input variable `x`.
-    pub fn alpha(&self, m: usize, x: usize) -> Lit {
+    pub(crate) fn alpha(&self, m: usize, x: usize) -> Lit {
         self.alpha[m * self.d.bits + x]
     }
     /// `d0[m][q][z]`: the algorithm of state `q` of module `m` sets output `z` to 1 when it was 0.
-    pub fn a0(&self, m: usize, q: usize, z: usize) -> Lit {
+    pub(crate) fn a0(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a0[(m * self.d.c_max + q) * self.d.outputs + z]
     }
     /// `d1[m][q][z]`: the algorithm of state `q` of module `m` sets output `z` to 1 when it was 1.
-    pub fn a1(&self, m: usize, q: usize, z: usize) -> Lit {
+    pub(crate) fn a1(&self, m: usize, q: usize, z: usize) -> Lit {
         self.a1[(m * self.d.c_max + q) * self.d.outputs + z]
     }
     /// `fired[m][v]`: module `m` makes a transition on the tree edge into `v`.
-    pub fn fired(&self, m: usize, v: NodeId) -> Lit {
+    pub(crate) fn fired(&self, m: usize, v: NodeId) -> Lit {
         self.fired[m * self.d.nodes + v.0]
     }
     /// `val[m][v][z]`: output `z` after module `m` of a consecutive composite on the edge into
     /// `v`.
-    pub fn value(&self, m: usize, v: NodeId, z: usize) -> Lit {
+    pub(crate) fn value(&self, m: usize, v: NodeId, z: usize) -> Lit {
         self.values[(m * self.d.nodes + v.0) * self.d.outputs + z]
     }
     /// `tr[m][q][t]`: some slot of state `q` of module `m` leads to state `t`.
-    pub fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
+    pub(crate) fn tr(&self, m: usize, q: usize, t: usize) -> Lit {
         self.tr[(m * self.d.c_max + q) * self.d.c_max + t]
     }
     /// Assumptions "no module has more than `n` states" (empty when the window is `n`).
-    pub fn size_at_most(&self, n: usize) -> Vec<Lit> {
+    pub(crate) fn size_at_most(&self, n: usize) -> Vec<Lit> {
         if n >= self.d.c_max {
             return Vec::new();
         }
@@ -183,11 +182,11 @@ impl ModVars {
     }
 
     /// Every `α`, for counting the inputs used (`A`).
-    pub fn all_alpha(&self) -> &[Lit] {
+    pub(crate) fn all_alpha(&self) -> &[Lit] {
         &self.alpha
     }
     /// Every `uc`, for counting the states used (`N'`).
-    pub fn all_used(&self) -> &[Lit] {
+    pub(crate) fn all_used(&self) -> &[Lit] {
         &self.used
     }
 }

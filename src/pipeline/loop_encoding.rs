@@ -3,12 +3,12 @@
 //! ([`crate::sat::closed_loop`]).
 //!
 //! In: a [`Problem`] with a plant model the tool can run, the scenario set (the controller's
-//! interface). Out: a [`ClosedLoop`]: the encoding's [`Spec`] and, per property, whether it is
+//! interface). Out: a [`LoopEncoding`]: the encoding's [`Spec`] and, per property, whether it is
 //! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
 //! counterexamples still come back as negative scenarios.
 
 use crate::ecc::ident::{parse_smv_value, SmvValue};
-use crate::ltl::{property_name, Ltl};
+use crate::ltl::Ltl;
 use crate::plant::{Model, Value};
 use crate::sat::closed_loop::{self, Environment, Spec};
 use crate::scenario::negative::NegativeScenario;
@@ -18,32 +18,32 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Steps within which the encoding requires eventualities to be fulfilled when none is given.
-pub const DEFAULT_RESPONSE_BOUND: usize = 32;
+pub(crate) const DEFAULT_RESPONSE_BOUND: usize = 32;
 
 /// The encoding's view of a problem.
 #[derive(Debug, Clone)]
-pub struct ClosedLoop {
+pub(crate) struct LoopEncoding {
     /// How plant, machine and the encoded properties fit together in the SAT encoding.
-    pub spec: Arc<Spec>,
+    pub(crate) spec: Arc<Spec>,
     /// Per property (spec order): `Ok(())` if encoded, else why not.
-    pub coverage: Vec<Result<(), String>>,
+    pub(crate) coverage: Vec<Result<(), String>>,
     /// The wiring for the in-process checker ([`crate::check`]).
-    pub coupling: crate::check::Coupling,
+    pub(crate) coupling: crate::check::Wiring,
 }
 
-impl ClosedLoop {
+impl LoopEncoding {
     /// The encoding's view of `problem` for a controller over `set`'s interface; `Err` says
     /// why no property can be encoded (the plant is outside the subset, ...).
-    pub fn new(
+    pub(crate) fn new(
         problem: &Problem,
         set: &ScenarioSet,
         response_bound: usize,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<LoopEncoding, String> {
         let model = problem.model.clone()?;
         closed_loop::plant::encodable(&model)
             .map_err(|c| format!("the plant uses {c}, which the encoding does not cover"))?;
         let coupling =
-            crate::check::Coupling::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
+            crate::check::Wiring::new(&model, &problem.coupling).map_err(|e| e.to_string())?;
         let mut spec = Spec {
             plant: model,
             inputs: coupling.inputs.clone(),
@@ -104,7 +104,7 @@ impl ClosedLoop {
                 .max()
                 .unwrap_or(0);
         }
-        Ok(ClosedLoop {
+        Ok(LoopEncoding {
             spec: Arc::new(spec),
             coverage,
             coupling,
@@ -112,28 +112,13 @@ impl ClosedLoop {
     }
 
     /// Whether the property at `index` (spec order) is encoded.
-    pub fn encodes(&self, index: usize) -> bool {
+    pub(crate) fn encodes(&self, index: usize) -> bool {
         self.coverage.get(index).is_some_and(|c| c.is_ok())
-    }
-
-    /// Names of the properties that are not encoded, with the reason.
-    pub fn not_encoded(&self, problem: &Problem) -> Vec<String> {
-        problem
-            .props
-            .iter()
-            .enumerate()
-            .zip(&self.coverage)
-            .filter_map(|((k, p), c)| {
-                c.as_ref()
-                    .err()
-                    .map(|why| format!("{} ({why})", property_name(k, p)))
-            })
-            .collect()
     }
 
     /// The environment of a NuSMV counterexample: the plant's state at every step, read from
     /// the trace (`plant.x` or the alias `x`). `None` if the trace lacks a variable.
-    pub fn environment(&self, cx: &Counterexample) -> Option<Environment> {
+    pub(crate) fn environment(&self, cx: &Counterexample) -> Option<Environment> {
         let model = &self.spec.plant;
         let end = match cx.violation_at {
             Some(k) => k + 1,
@@ -155,9 +140,9 @@ impl ClosedLoop {
 }
 
 /// The controller's side of an in-process counterexample to `property` (see
-/// [`crate::check::Coupling::negative`]). For properties the encoding does not carry.
-pub fn negative_of(
-    closed: &ClosedLoop,
+/// [`crate::check::Wiring::negative`]). For properties the encoding does not carry.
+pub(crate) fn negative_of(
+    closed: &LoopEncoding,
     lasso: &crate::check::Lasso,
     property: &str,
 ) -> Result<NegativeScenario, crate::check::CheckError> {
@@ -167,7 +152,7 @@ pub fn negative_of(
 }
 
 /// The environment of an in-process counterexample.
-pub fn environment_of(lasso: &crate::check::Lasso) -> Environment {
+pub(crate) fn environment_of(lasso: &crate::check::Lasso) -> Environment {
     Environment {
         states: lasso.states.iter().map(|s| s.plant.clone()).collect(),
         loop_start: lasso.loop_start,
@@ -182,7 +167,7 @@ fn plant_state(model: &Model, s: &BTreeMap<String, String>) -> Option<Vec<Value>
             let text = s
                 .get(&format!(
                     "{}.{}",
-                    crate::smv::closed_loop::PLANT_INSTANCE,
+                    crate::smv::composition::PLANT_INSTANCE,
                     v.name
                 ))
                 .or_else(|| s.get(&v.name))?;

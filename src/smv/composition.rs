@@ -34,9 +34,9 @@ use std::path::{Path, PathBuf};
 pub use crate::ecc::ident::CONTROLLER_MODULE;
 
 /// Instance names in `main`.
-pub const CONTROLLER_INSTANCE: &str = "ctrl";
+pub(crate) const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
-pub const PLANT_INSTANCE: &str = "plant";
+pub(crate) const PLANT_INSTANCE: &str = "plant";
 
 /// The names the closed loop gives its own modules and instances.
 const RESERVED: &[&str] = &[
@@ -81,19 +81,19 @@ pub enum Binding {
 
 /// The checked coupling: every bare name and what it resolves to, and which controller output
 /// drives each plant parameter. Checked once ([`check_coupling`]); the NuSMV model
-/// ([`compose`]) and the in-process checker ([`crate::check::Coupling::new`]) are both built
+/// ([`compose`]) and the in-process checker ([`crate::check::Wiring::new`]) are both built
 /// from it.
 #[derive(Debug, Clone)]
 pub struct Coupling {
     /// Bare name -> what it is, sorted by name.
     pub names: BTreeMap<String, Binding>,
     /// The controller's inputs in interface order: each is a name the plant declares.
-    pub inputs: Vec<String>,
+    pub(crate) inputs: Vec<String>,
     /// The controller's outputs in interface order.
-    pub outputs: Vec<String>,
+    pub(crate) outputs: Vec<String>,
     /// Per parameter of `MODULE plant`, in order: the index in [`Coupling::outputs`] of the
     /// controller output it is.
-    pub params: Vec<usize>,
+    pub(crate) params: Vec<usize>,
 }
 
 /// Checks the coupling convention between a controller interface, a plant and properties.
@@ -213,7 +213,7 @@ pub fn check_coupling(
 
 /// Where a line of the composed model came from.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Source {
+pub(crate) enum Source {
     /// A line of the user's plant file.
     Plant(usize),
     /// The property defined on this line of the spec file.
@@ -224,7 +224,7 @@ pub enum Source {
 
 /// A composed closed-loop model.
 #[derive(Debug, Clone)]
-pub struct ClosedLoop {
+pub struct ComposedModel {
     /// The whole NuSMV model: controller module, plant file verbatim, `main`, `LTLSPEC`s.
     pub text: String,
     /// First model line (1-based) holding plant line 1.
@@ -234,9 +234,9 @@ pub struct ClosedLoop {
     spec_lines: Vec<(usize, usize, String)>,
 }
 
-impl ClosedLoop {
+impl ComposedModel {
     /// Where a line of the composed model came from.
-    pub fn source(&self, model_line: usize) -> Source {
+    pub(crate) fn source(&self, model_line: usize) -> Source {
         if model_line >= self.plant_first && model_line < self.plant_first + self.plant_lines {
             return Source::Plant(model_line - self.plant_first + 1);
         }
@@ -248,24 +248,19 @@ impl ClosedLoop {
 
     /// Whether `model_line` is one of the two generated lines right after the plant (a blank
     /// line and `MODULE main`).
-    pub fn follows_plant(&self, model_line: usize) -> bool {
+    pub(crate) fn follows_plant(&self, model_line: usize) -> bool {
         let end = self.plant_first + self.plant_lines;
         (end..end + 2).contains(&model_line)
-    }
-
-    /// Property names in order.
-    pub fn property_names(&self) -> Vec<String> {
-        self.spec_lines.iter().map(|(_, _, n)| n.clone()).collect()
     }
 }
 
 /// Composes the closed loop of `ecc` and `plant` with `props` (checked by [`check_coupling`]).
-pub fn compose(
+pub(crate) fn compose(
     ecc: &Ecc,
     plant: &Plant,
     coupling: &Coupling,
     props: &[Property],
-) -> Result<ClosedLoop, SmvError> {
+) -> Result<ComposedModel, SmvError> {
     let mut out: Vec<u8> = Vec::new();
     write_ecc_module(ecc, CONTROLLER_MODULE, &mut out)?;
     let text = String::from_utf8(out).expect("emitter writes UTF-8");
@@ -287,7 +282,7 @@ pub fn compose_controller(
     plant: &Plant,
     coupling: &Coupling,
     props: &[Property],
-) -> ClosedLoop {
+) -> ComposedModel {
     let mut text = controller;
     if !text.ends_with('\n') {
         text.push('\n');
@@ -338,7 +333,7 @@ pub fn compose_controller(
         ));
         spec_lines.push((line, p.line, name));
     }
-    ClosedLoop {
+    ComposedModel {
         text,
         plant_first,
         plant_lines,
