@@ -6,10 +6,14 @@
 //! for every violated property with a trace, a [`Counterexample`]: the lasso as NuSMV printed
 //! it, with a loop point that really violates the property, and as a [`NegativeScenario`].
 //!
-//! Every "holds" in a report comes from NuSMV; nothing here decides a verdict itself. The
-//! lasso evaluation only picks *which* of NuSMV's `-- Loop starts here` markers to use: NuSMV
-//! marks every earlier state equal to the last one, and some of those loop points satisfy the
-//! property (its tableau variables are not printed).
+//! Every "holds" in a report comes from NuSMV; nothing here decides a verdict itself. Each
+//! verdict is NuSMV's answer to the question about that very property, asked by the name the
+//! model gives it ([`crate::smv::closed_loop::smv_property_name`]), never matched by the text
+//! NuSMV reprints. The lasso evaluation only picks *which* of NuSMV's `-- Loop starts here`
+//! markers to use: NuSMV marks every earlier state equal to the last one, and some of those
+//! loop points satisfy the property (its tableau variables are not printed). A counterexample
+//! without a loop marker, or without the values of a name its property reads, was cut short:
+//! it is an error ([`VerifyError::Incomplete`]), never shown as a run.
 
 use crate::ecc::Ecc;
 use crate::export::waveform::Waveform;

@@ -1,13 +1,17 @@
 //! Running NuSMV processes.
 //!
-//! In: the path of a NuSMV binary and SMV model files. Out: parsed [`PropertyResult`]s, or a
-//! [`NusmvError`] saying why there are none.
+//! In: the path of a NuSMV binary, SMV model files and, for a [`Session`], the properties to
+//! ask about by name ([`Query`]). Out: parsed [`PropertyResult`]s, or a [`NusmvError`] saying
+//! why there are none.
 //!
 //! Two ways to run it:
 //! - [`Nusmv::check_file`]: one batch process per model (`NuSMV -dynamic model.smv`); simple,
 //!   and what a user would run by hand.
 //! - [`Session`]: one `NuSMV -int` process fed model after model on stdin; it saves the
 //!   process start and, with the `EL_fwd` emptiness algorithm, most of the checking time.
+//!
+//! Output is read with a bound ([`MAX_ANSWER_BYTES`] per answer, [`MAX_BATCH_BYTES`] per
+//! batch run, whatever the length of its lines): past it NuSMV is killed and the check fails.
 //!
 //! Every child is kept in a process-wide registry until it has been reaped, so that Ctrl-C
 //! (or [`kill_all_children`]) can kill them all: NuSMV in `-int` mode catches SIGINT itself
@@ -194,7 +198,7 @@ fn one_verdict(query: &Query, answer: &Answer) -> Result<PropertyResult, NusmvEr
 /// What a [`Session`] computes for each model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CheckMode {
-    /// Verdicts of every property, no traces (fast `EL_fwd` emptiness check).
+    /// Verdicts of every property asked, no traces (fast `EL_fwd` emptiness check).
     VerdictsOnly,
     /// Verdicts as with `VerdictsOnly`, plus the trace of the first violated property
     /// (re-checked with `EL_bwd`, the algorithm that can print traces).
@@ -205,9 +209,11 @@ pub enum CheckMode {
 
 /// A long-lived `NuSMV -int` process checking one model after another.
 ///
-/// Per model it sends `reset`, `read_model -i F`, `go`, the checks, and an `echo` marker on
-/// stdout and on stderr, and cuts both streams at the markers. Errors in one model leave the
-/// session usable for the next; a timeout or crash kills the process and the next
+/// Per model it sends `reset`, `read_model -i F`, `go`, then `check_ltlspec -P name` for each
+/// property asked, every command followed by an `echo` marker on stdout and on stderr, and
+/// cuts both streams at the markers: what comes between two markers is the answer to one
+/// command, and what is kept of it is bounded ([`MAX_ANSWER_BYTES`]). Errors in one model
+/// leave the session usable for the next; a timeout or crash kills the process and the next
 /// [`Session::check`] starts a new one. The process is also restarted every
 /// [`Session::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
 pub struct Session {
@@ -220,7 +226,7 @@ pub struct Session {
     warnings: Vec<String>,
 }
 
-/// Text NuSMV echoes after a model's commands; a number follows, then `==`.
+/// Text NuSMV echoes after each command; a number follows, then `==`.
 const MARKER: &str = "==fbsynth-end-";
 
 impl Session {

@@ -12,23 +12,24 @@
 //!       plant : plant(ctrl.c1Extend, ...);                  -- in the plant's parameter order
 //!   DEFINE c1Extend := ctrl.c1Extend; ...                   -- every controller output
 //!          c1Home := plant.c1Home; ... vp1 := plant.vp1;    -- every name module plant declares
-//!   LTLSPEC NAME _p1 := ...;  -- label: as written           -- the properties, over bare names
+//!   LTLSPEC NAME _p1 := ...;  -- label: text                -- the properties, over bare names
 //!   ```
 //!   so a bare name in a property is a controller output or a name of the plant. Anything else
 //!   is an error before NuSMV runs. The names `ctrl`, `plant`, `main` and `ECC` are reserved.
 //! - Each property is named `_p<k>` after its position `k` (1-based) in the spec file
-//!   ([`smv_property_name`]): a name no label can take (labels do not start with `_`), so the
-//!   verdicts asked for by name belong to the property meant, whatever the labels.
+//!   ([`smv_property_name`]), whatever its label: NuSMV is asked for verdicts by these names,
+//!   so no label ever has to be one (and names starting with `_` are reserved for generated
+//!   identifiers, so no label looks like one either).
+//! - Timing: at step `t` the controller reads the plant's values of step `t`; its outputs change
+//!   at `t + 1`. The plant reads the controller outputs of step `t`.
 //!
 //! # What reaches the model
 //! The plant file verbatim (it is the user's model); names that passed
-//! [`check_identifier`](super::check_identifier) (controller inputs and outputs, the plant's
+//! [`check_identifier`] (controller inputs and outputs, the plant's
 //! names); formulas printed from their syntax tree ([`crate::ltl::Ltl::to_smv`]), never from
 //! the user's text; generated names. Anything else the user wrote (the plant's path, a
 //! property's text and label) appears only in comments, through [`comment`], which lets no
 //! line break or other control character through.
-//! - Timing: at step `t` the controller reads the plant's values of step `t`; its outputs change
-//!   at `t + 1`. The plant reads the controller outputs of step `t`.
 //!
 //! The composed text keeps the plant file verbatim, so NuSMV's error lines inside it map back
 //! to the user's file by a fixed offset; lines of properties map back to the spec file.
@@ -261,7 +262,7 @@ struct SpecLine {
 }
 
 /// The name in the model of the property at 0-based position `index` of its spec file:
-/// `_p{index+1}`. No label starts with `_`, so these names are the model's own.
+/// `_p{index+1}`, whatever its label (see the module header).
 pub fn smv_property_name(index: usize) -> String {
     format!("_p{}", index + 1)
 }
