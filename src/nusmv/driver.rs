@@ -508,7 +508,7 @@ impl Session {
                     stream: Stream::Err,
                     text,
                     ..
-                }) => process.stderr_text.push_str(&text),
+                }) => process.keep_stderr(&text),
                 Ok(Event::Closed { stream, rest }) => process.closed(stream, rest),
                 Ok(_) => {}
                 Err(_) => break,
@@ -564,9 +564,22 @@ impl SessionProcess {
         })
     }
 
+    /// Adds `text` to the stderr kept for a crash report, of which only the end is shown: at
+    /// most [`MAX_ANSWER_BYTES`] of the end are kept.
+    fn keep_stderr(&mut self, text: &str) {
+        self.stderr_text.push_str(text);
+        let excess = self.stderr_text.len().saturating_sub(MAX_ANSWER_BYTES);
+        if excess > 0 {
+            let cut = (excess..=self.stderr_text.len())
+                .find(|&i| self.stderr_text.is_char_boundary(i))
+                .unwrap_or(self.stderr_text.len());
+            self.stderr_text.drain(..cut);
+        }
+    }
+
     fn closed(&mut self, stream: Stream, rest: String) {
         if stream == Stream::Err {
-            self.stderr_text.push_str(&rest);
+            self.keep_stderr(&rest);
             self.stderr_closed = true;
         }
     }
