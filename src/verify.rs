@@ -6,15 +6,19 @@
 //! for every violated property with a trace, a [`Counterexample`]: the lasso as NuSMV printed
 //! it, with a loop point that really violates the property, and as a [`NegativeScenario`].
 //!
-//! Every "holds" in a report comes from NuSMV; nothing here decides a verdict itself. The
-//! lasso evaluation only picks *which* of NuSMV's `-- Loop starts here` markers to use: NuSMV
-//! marks every earlier state equal to the last one, and some of those loop points satisfy the
-//! property (its tableau variables are not printed).
+//! Every "holds" in a report comes from NuSMV; nothing here decides a verdict itself. Each
+//! verdict is NuSMV's answer to the question about that very property, asked by the name the
+//! model gives it ([`crate::smv::closed_loop::smv_property_name`]), never matched by the text
+//! NuSMV reprints. The lasso evaluation only picks *which* of NuSMV's `-- Loop starts here`
+//! markers to use: NuSMV marks every earlier state equal to the last one, and some of those
+//! loop points satisfy the property (its tableau variables are not printed). A counterexample
+//! without a loop marker, or without the values of a name its property reads, was cut short:
+//! it is an error ([`VerifyError::Incomplete`]), never shown as a run.
 
 use crate::ecc::Ecc;
 use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
-use crate::nusmv::{CheckMode, ModelError, NusmvError, PropertyResult, Session, Trace, Verdict};
+use crate::nusmv::{CheckMode, ModelError, NusmvError, Query, Session, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::composition::{
     compose, compose_controller, ComposedModel, Coupling, Source, CONTROLLER_INSTANCE,
@@ -108,6 +112,8 @@ pub struct Counterexample {
     /// For a safety property `G p` (`p` without temporal operators): the first state where `p`
     /// is false. The prefix up to it is a violation on its own, whatever follows.
     pub(crate) violation_at: Option<usize>,
+    /// Whether the lasso evaluation confirmed that this loop point violates the property.
+    pub(crate) confirmed: bool,
     /// Controller state names (`s0`, ...) along the lasso, when the trace shows them.
     pub(crate) controller_states: Vec<Option<String>>,
 }
@@ -202,9 +208,45 @@ pub enum VerifyError {
         /// The number of verdicts NuSMV printed.
         got: usize,
     },
-    /// A verdict's formula (carried, as NuSMV reprinted it) equals no remaining property's.
-    #[error("NuSMV reported a verdict on `{0}`, which matches none of the properties")]
-    Unmatched(String),
+    /// NuSMV's counterexample of a violated property lacks what a lasso needs: it was cut
+    /// short, so it shows no run and proves nothing about one.
+    #[error(
+        "NuSMV's counterexample of {} is incomplete: {gap}",
+        crate::quote::backquote(property)
+    )]
+    Incomplete {
+        /// The property's name (as in [`PropertyReport::name`]).
+        property: String,
+        /// What is missing.
+        gap: TraceGap,
+    },
+}
+
+/// What a counterexample lacks ([`VerifyError::Incomplete`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TraceGap {
+    /// Fewer than two states: no loop can be closed.
+    #[error(
+        "{0} state(s), where a lasso needs at least its loop state and the state that repeats it"
+    )]
+    States(usize),
+    /// No `-- Loop starts here` before the last state.
+    #[error("no loop marker (`-- Loop starts here`) before its last state")]
+    NoLoop,
+    /// A name the property reads has no value in a state.
+    #[error(
+        "no value for {} in state {state} (0-based)",
+        crate::quote::backquote(name)
+    )]
+    Value {
+        /// The name, as the property reads it.
+        name: String,
+        /// 0-based index of the state.
+        state: usize,
+    },
+    /// The property cannot be evaluated on the lasso (a value of the wrong type).
+    #[error("the property cannot be evaluated on it: {0}")]
+    Eval(Box<crate::ltl::EvalError>),
 }
 
 /// A NuSMV error mapped back to the user's file.
@@ -470,8 +512,14 @@ fn check_model(
 ) -> Result<VerificationResult, VerifyError> {
     let path = workdir.join("closed_loop.smv");
     std::fs::write(&path, &model.text)?;
+    let queries: Vec<Query> = (model.smv_properties())
+        .map(|(name, formula)| Query {
+            name: name.to_string(),
+            formula: formula.to_string(),
+        })
+        .collect();
     let t = Instant::now();
-    let results = match session.check(&path, mode) {
+    let results = match session.check(&path, &queries, mode) {
         Ok(r) => r,
         Err(NusmvError::Model(errors)) => {
             return Err(VerifyError::Model(locate_errors(
@@ -500,7 +548,6 @@ fn check_model(
             got: results.len(),
         });
     }
-    let results = match_results(&problem.props, results)?;
     let mut properties = Vec::new();
     let mut counterexamples = Vec::new();
     for (k, (p, r)) in problem.props.iter().zip(&results).enumerate() {
@@ -509,7 +556,7 @@ fn check_model(
             Verdict::Holds => (true, None),
             Verdict::Violated(t) => (false, t.as_ref()),
         };
-        let cx = trace.map(|t| counterexample_of(&name, p, t));
+        let cx = trace.map(|t| counterexample_of(&name, p, t)).transpose()?;
         properties.push(PropertyReport {
             name,
             text: p.text.clone(),
@@ -529,39 +576,6 @@ fn check_model(
         counterexamples,
         model,
     })
-}
-
-/// The formula text with whitespace and parentheses removed: NuSMV reprints formulas with its
-/// own spacing and parentheses, so this is what stays comparable.
-fn normalized(text: &str) -> String {
-    text.chars()
-        .filter(|c| !c.is_whitespace() && *c != '(' && *c != ')')
-        .collect()
-}
-
-/// Puts NuSMV's results in spec order. NuSMV does not always report properties in the order
-/// of the `LTLSPEC`s, so each result is matched to the property whose formula it reprints
-/// (among equal texts, in order).
-fn match_results(
-    props: &[Property],
-    results: Vec<PropertyResult>,
-) -> Result<Vec<PropertyResult>, VerifyError> {
-    let keys: Vec<String> = props
-        .iter()
-        .map(|p| normalized(&p.formula.to_smv(&|n: &str| n.to_string())))
-        .collect();
-    let mut slots: Vec<Option<PropertyResult>> = vec![None; props.len()];
-    for r in results {
-        let key = normalized(&r.formula);
-        let Some(k) = (0..props.len()).find(|&k| slots[k].is_none() && keys[k] == key) else {
-            return Err(VerifyError::Unmatched(r.formula));
-        };
-        slots[k] = Some(r);
-    }
-    Ok(slots
-        .into_iter()
-        .map(|s| s.expect("counts are equal"))
-        .collect())
 }
 
 fn locate_errors(
@@ -612,9 +626,17 @@ fn locate_errors(
 }
 
 /// Picks the loop point: the first NuSMV marker whose lasso really violates the property.
-fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
+/// A trace cut short (no loop, a value of the property missing) is an error, not a run.
+fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Result<Counterexample, VerifyError> {
+    let incomplete = |gap| VerifyError::Incomplete {
+        property: name.to_string(),
+        gap,
+    };
+    if t.states.len() < 2 {
+        return Err(incomplete(TraceGap::States(t.states.len())));
+    }
     // NuSMV's last printed state repeats the loop start: drop it.
-    let n = t.states.len().saturating_sub(1).max(1);
+    let n = t.states.len() - 1;
     // The inputs NuSMV prints before state `i + 1` (IVARs, and defines over them) are those of
     // the step from state `i`: what the controller reads at step `i`.
     let states: Vec<BTreeMap<String, String>> = t.states[..n.min(t.states.len())]
@@ -631,11 +653,29 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
         })
         .collect();
     let candidates: Vec<usize> = t.loop_starts.iter().copied().filter(|&l| l < n).collect();
-    let violating = candidates
-        .iter()
-        .copied()
-        .find(|&l| p.formula.holds_on_lasso(&states, l) == Ok(false));
-    let loop_start = violating.unwrap_or_else(|| candidates.last().copied().unwrap_or(n - 1));
+    let Some(&last_candidate) = candidates.last() else {
+        return Err(incomplete(TraceGap::NoLoop));
+    };
+    for name in p.formula.names() {
+        if let Some(state) = states.iter().position(|s| !s.contains_key(&name)) {
+            return Err(incomplete(TraceGap::Value { name, state }));
+        }
+    }
+    let mut violating = None;
+    for &l in &candidates {
+        match p.formula.holds_on_lasso(&states, l) {
+            Ok(false) => {
+                violating = Some(l);
+                break;
+            }
+            Ok(true) => {}
+            Err(e) => return Err(incomplete(TraceGap::Eval(Box::new(e)))),
+        }
+    }
+    let (loop_start, confirmed) = match violating {
+        Some(l) => (l, true),
+        None => (last_candidate, false),
+    };
     let key = format!("{CONTROLLER_INSTANCE}._state");
     let controller_states = states.iter().map(|s| s.get(&key).cloned()).collect();
     let violation_at = match &p.formula {
@@ -644,13 +684,14 @@ fn counterexample_of(name: &str, p: &Property, t: &Trace) -> Counterexample {
             .position(|s| inner.holds_on_lasso(std::slice::from_ref(s), 0) == Ok(false)),
         _ => None,
     };
-    Counterexample {
+    Ok(Counterexample {
         property: name.to_string(),
         states,
         loop_start,
         violation_at,
+        confirmed,
         controller_states,
-    }
+    })
 }
 
 /// No temporal operator: the formula's value depends on one state only.
@@ -746,5 +787,155 @@ mod workdir_tests {
         let v = Verifier::new(std::sync::Arc::new(problem), &nusmv).unwrap();
         let mode = std::fs::metadata(v.workdir()).unwrap().permissions().mode();
         assert_eq!(mode & 0o777, 0o700);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nusmv::{nusmv_for_tests, parse_output, PropertyResult};
+    use std::sync::Arc;
+
+    fn repo(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+    }
+
+    fn property(text: &str) -> Property {
+        crate::ltl::parse_spec(Path::new("t.ltl"), text)
+            .unwrap()
+            .remove(0)
+    }
+
+    /// Lines `from..=to` (1-based) of a real NuSMV output, without those `drop` names.
+    fn lines_of(fixture: &str, from: usize, to: usize, drop: &str) -> String {
+        let text = std::fs::read_to_string(repo("tests/data/nusmv").join(fixture)).unwrap();
+        (text.lines().skip(from - 1).take(to + 1 - from))
+            .filter(|l| drop.is_empty() || !l.starts_with(drop))
+            .map(|l| format!("{l}\n"))
+            .collect()
+    }
+
+    /// The counterexample of `G (ctrl = out -> F pos = extended)` in cylinder.batch.stdout
+    /// (its lines 52 to 84), taken whole, cut short, or with a variable's lines dropped.
+    fn cylinder_trace(to: usize, drop: &str) -> Trace {
+        let results = parse_output(&lines_of("cylinder.batch.stdout", 52, to, drop)).unwrap();
+        match &results[..] {
+            [PropertyResult {
+                verdict: Verdict::Violated(Some(t)),
+                ..
+            }] => t.clone(),
+            other => panic!("one violated property with a trace expected: {other:?}"),
+        }
+    }
+
+    fn gap(to: usize, drop: &str) -> Option<TraceGap> {
+        let p = property("G (ctrl = out -> F pos = extended)");
+        match counterexample_of("out_reaches_end", &p, &cylinder_trace(to, drop)) {
+            Ok(_) => None,
+            Err(VerifyError::Incomplete { gap, property }) => {
+                assert_eq!(property, "out_reaches_end");
+                Some(gap)
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn a_whole_counterexample_is_a_confirmed_lasso() {
+        let p = property("G (ctrl = out -> F pos = extended)");
+        let cx = counterexample_of("out_reaches_end", &p, &cylinder_trace(84, "")).unwrap();
+        assert!(cx.confirmed);
+        assert_eq!(cx.states.len(), 5);
+        assert_eq!(cx.loop_start, 2);
+    }
+
+    /// NuSMV's output cut short (a killed process, a closed pipe) gives a trace without its
+    /// loop, or without the values of a variable: an error saying what is missing, not a run
+    /// whose last state repeats forever, nor a run with unknown values.
+    #[test]
+    fn a_counterexample_cut_short_is_an_error_naming_what_is_missing() {
+        // Cut after state 2.2: no `-- Loop starts here` yet.
+        assert_eq!(gap(67, ""), Some(TraceGap::NoLoop));
+        // Cut after state 2.1: one state only.
+        assert_eq!(gap(61, ""), Some(TraceGap::States(1)));
+        // Every `pos` line gone: the property reads it.
+        assert_eq!(
+            gap(84, "  pos = "),
+            Some(TraceGap::Value {
+                name: "pos".into(),
+                state: 0
+            })
+        );
+        // A name the property does not read may be missing.
+        assert_eq!(gap(84, "  alarm = "), None);
+        let message = VerifyError::Incomplete {
+            property: "out_reaches_end".into(),
+            gap: TraceGap::NoLoop,
+        }
+        .to_string();
+        assert_eq!(
+            message,
+            "NuSMV's counterexample of `out_reaches_end` is incomplete: no loop marker (`-- Loop starts here`) before its last state"
+        );
+    }
+
+    /// Every LTL operator NuSMV 2.5.4 accepts (it has no bounded ones) goes from the spec file
+    /// to NuSMV and back: each property's verdict is NuSMV's on that very property (NuSMV
+    /// reprints `a V b` as `!(!a U !b)`, `Z a` as `!Y !a`, ...), and each counterexample is a
+    /// lasso on which the property evaluates to false in process.
+    #[test]
+    fn every_operator_gets_its_own_verdict_and_a_confirmed_counterexample() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let dir = repo("tests/data/closed_loop");
+        let ecc = crate::pipeline::recordings::read_ecc(&dir.join("lamp_two_state.json")).unwrap();
+        let problem = Problem::load(
+            &dir.join("lamp_operators.ltl"),
+            &dir.join("lamp_plant.smv"),
+            &ecc.inputs,
+            &ecc.outputs,
+        )
+        .unwrap();
+        let texts: Vec<String> = problem.props.iter().map(|p| p.text.clone()).collect();
+        for op in [
+            "X", "F", "G", "U", "V", "Y", "Z", "H", "O", "S", "T", "xor", "xnor", "<->", "->", "!",
+            "&", "|",
+        ] {
+            assert!(
+                texts
+                    .iter()
+                    .any(|t| t.split([' ', '(', ')']).any(|w| w == op)
+                        || (op == "!" && t.contains('!'))),
+                "no property uses {op}"
+            );
+        }
+        let mut verifier = Verifier::new(Arc::new(problem), &nusmv).unwrap();
+        let v = verifier.verify(&ecc).unwrap();
+        assert_eq!(v.report.properties.len(), texts.len());
+        for p in &v.report.properties {
+            assert_eq!(
+                p.holds,
+                p.name.ends_with("_holds"),
+                "{}: {} ({})",
+                p.name,
+                p.text,
+                p.verdict_line
+            );
+        }
+        let failing = v.report.failing();
+        let shown: Vec<&str> = v
+            .counterexamples
+            .iter()
+            .map(|c| c.property.as_str())
+            .collect();
+        assert_eq!(shown, failing);
+        for cx in &v.counterexamples {
+            assert!(
+                cx.confirmed,
+                "{}: no marker gives a violating lasso",
+                cx.property
+            );
+        }
     }
 }

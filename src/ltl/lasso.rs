@@ -32,7 +32,7 @@ use std::collections::BTreeMap;
 /// Why a formula could not be evaluated on a lasso. State indices are 0-based positions in the
 /// given state slice.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub(crate) enum EvalError {
+pub enum EvalError {
     /// The state slice is empty.
     #[error("the lasso has no state")]
     Empty,

@@ -42,6 +42,7 @@ mod lasso;
 mod parse;
 
 pub(crate) use finite::{NotEvaluable, Truth};
+pub use lasso::EvalError;
 #[cfg(test)]
 pub(crate) use parse::parse_spec;
 pub use parse::LtlErrorKind;

@@ -1,13 +1,17 @@
 //! Running NuSMV processes.
 //!
-//! In: the path of a NuSMV binary and SMV model files. Out: parsed [`PropertyResult`]s, or a
-//! [`NusmvError`] saying why there are none.
+//! In: the path of a NuSMV binary, SMV model files and, for a [`Session`], the properties to
+//! ask about by name ([`Query`]). Out: parsed [`PropertyResult`]s, or a [`NusmvError`] saying
+//! why there are none.
 //!
 //! Two ways to run it:
 //! - [`Nusmv::check_file`]: one batch process per model (`NuSMV -dynamic model.smv`); simple,
 //!   and what a user would run by hand.
 //! - [`Session`]: one `NuSMV -int` process fed model after model on stdin; it saves the
 //!   process start and, with the `EL_fwd` emptiness algorithm, most of the checking time.
+//!
+//! Output is read with a bound ([`MAX_ANSWER_BYTES`] per answer, [`MAX_BATCH_BYTES`] per
+//! batch run, whatever the length of its lines): past it NuSMV is killed and the check fails.
 //!
 //! Every child is kept in a process-wide registry until it has been reaped, so that Ctrl-C
 //! (or [`kill_all_children`]) can kill them all: NuSMV in `-int` mode catches SIGINT itself
@@ -68,14 +72,22 @@ impl Nusmv {
         let (tx, rx) = mpsc::channel();
         let stdout = child.stdout.take().expect("stdout is piped");
         let stderr = child.stderr.take().expect("stderr is piped");
-        read_all_on_thread(Stream::Out, stdout, tx.clone());
-        read_all_on_thread(Stream::Err, stderr, tx);
+        read_all_on_thread(Stream::Out, stdout, tx.clone(), MAX_BATCH_BYTES);
+        read_all_on_thread(Stream::Err, stderr, tx, MAX_BATCH_BYTES);
         let mut out = None;
         let mut err = None;
         while out.is_none() || err.is_none() {
             match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
-                Ok((Stream::Out, text)) => out = Some(text),
-                Ok((Stream::Err, text)) => err = Some(text),
+                Ok((Stream::Out, Some(text))) => out = Some(text),
+                Ok((Stream::Err, Some(text))) => err = Some(text),
+                Ok((stream, None)) => {
+                    let _ = child.kill_and_reap();
+                    return Err(NusmvError::OutputTooLarge {
+                        limit: MAX_BATCH_BYTES,
+                        stream: stream.name(),
+                        model: model.to_path_buf(),
+                    });
+                }
                 Err(RecvTimeoutError::Timeout) => {
                     let _ = child.kill_and_reap();
                     return Err(self.timed_out(model));
@@ -114,10 +126,79 @@ impl Nusmv {
     }
 }
 
+/// Bytes NuSMV may print on one stream in answer to one command of a [`Session`] (one
+/// property's verdict and counterexample, or reading a model). Past it the process is killed
+/// and the check fails with [`NusmvError::OutputTooLarge`]: a NuSMV printing without end must
+/// not take the memory of this program with it.
+pub const MAX_ANSWER_BYTES: usize = 16 << 20;
+
+/// Bytes a batch run ([`Nusmv::check_file`]) may print on one stream, for all its properties.
+pub const MAX_BATCH_BYTES: usize = 64 << 20;
+
+/// A property of a model, as a [`Session`] asks NuSMV about it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Query {
+    /// The property's name in the model (`LTLSPEC NAME name := ...`): a letter or `_`, then
+    /// letters, digits and `_`. Its verdict is asked for with `check_ltlspec -P name`.
+    pub name: String,
+    /// The formula as SMV text over the names of module `main`, for the re-check that prints
+    /// a violated property's counterexample (`check_ltlspec -p "..."`).
+    pub formula: String,
+}
+
+impl Query {
+    /// Refuses a name or formula NuSMV's command shell would not read as one argument.
+    fn check(&self) -> Result<(), NusmvError> {
+        let mut chars = self.name.chars();
+        let name_ok = chars
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
+        let formula_ok = !self.formula.trim().is_empty()
+            && !(self.formula.chars()).any(|c| matches!(c, '"' | '\\') || c.is_control());
+        let reason = match (name_ok, formula_ok) {
+            (true, true) => return Ok(()),
+            (false, _) => "its name is not a letter or `_` followed by letters, digits and `_`",
+            (true, false) => {
+                "its formula is empty or holds a quote, a backslash or a control character"
+            }
+        };
+        Err(self.refused(reason))
+    }
+
+    fn refused(&self, reason: &'static str) -> NusmvError {
+        NusmvError::UnsafeQuery {
+            property: self.name.clone(),
+            reason,
+        }
+    }
+}
+
+/// What NuSMV printed between two markers of a [`Session`]: its answer to one command.
+struct Answer {
+    out: String,
+    err: String,
+}
+
+/// The verdict on `query`: the one verdict its answer holds, under the query's name.
+fn one_verdict(query: &Query, answer: &Answer) -> Result<PropertyResult, NusmvError> {
+    let mut verdicts = parse_output(&answer.out)?;
+    if verdicts.len() != 1 {
+        return Err(NusmvError::Answer {
+            property: query.name.clone(),
+            verdicts: verdicts.len(),
+            stderr_tail: tail(&answer.err),
+        });
+    }
+    let mut result = verdicts.remove(0);
+    result.name = Some(query.name.clone());
+    Ok(result)
+}
+
 /// What a [`Session`] computes for each model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CheckMode {
-    /// Verdicts of every property, no traces (fast `EL_fwd` emptiness check).
+    /// Verdicts of every property asked, no traces (fast `EL_fwd` emptiness check).
     VerdictsOnly,
     /// Verdicts as with `VerdictsOnly`, plus the trace of the first violated property
     /// (re-checked with `EL_bwd`, the algorithm that can print traces).
@@ -128,9 +209,11 @@ pub enum CheckMode {
 
 /// A long-lived `NuSMV -int` process checking one model after another.
 ///
-/// Per model it sends `reset`, `read_model -i F`, `go`, the checks, and an `echo` marker on
-/// stdout and on stderr, and cuts both streams at the markers. Errors in one model leave the
-/// session usable for the next; a timeout or crash kills the process and the next
+/// Per model it sends `reset`, `read_model -i F`, `go`, then `check_ltlspec -P name` for each
+/// property asked, every command followed by an `echo` marker on stdout and on stderr, and
+/// cuts both streams at the markers: what comes between two markers is the answer to one
+/// command, and what is kept of it is bounded ([`MAX_ANSWER_BYTES`]). Errors in one model
+/// leave the session usable for the next; a timeout or crash kills the process and the next
 /// [`Session::check`] starts a new one. The process is also restarted every
 /// [`Session::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
 pub(crate) struct Session {
@@ -143,7 +226,7 @@ pub(crate) struct Session {
     warnings: Vec<String>,
 }
 
-/// Text NuSMV echoes after a model's commands; a number follows, then `==`.
+/// Text NuSMV echoes after each command; a number follows, then `==`.
 const MARKER: &str = "==fbsynth-end-";
 
 impl Session {
@@ -179,15 +262,26 @@ impl Session {
         self.process.as_ref().map(|p| p.child.id)
     }
 
-    /// Checks the LTL properties of `model`. Results come in file order; see [`CheckMode`]
-    /// for which carry traces.
+    /// Checks the properties `queries` of `model`, each asked for by its name: one result per
+    /// query, in the order of `queries`; see [`CheckMode`] for which carry traces.
+    ///
+    /// NuSMV's verdict line prints its own reprint of the formula, never the name, so no
+    /// verdict is matched by its text: each `check_ltlspec -P name` is followed by an `echo`
+    /// marker, and the answer between two markers is the verdict on the property asked.
     pub(crate) fn check(
         &mut self,
         model: &Path,
+        queries: &[Query],
         mode: CheckMode,
     ) -> Result<Vec<PropertyResult>, NusmvError> {
         model_exists(model)?;
         let quoted = shell_quoted(model)?;
+        for (k, q) in queries.iter().enumerate() {
+            q.check()?;
+            if queries[..k].iter().any(|earlier| earlier.name == q.name) {
+                return Err(q.refused("it is asked twice, and NuSMV answers once per model"));
+            }
+        }
         if self.nusmv.deadline.passed() {
             return Err(NusmvError::Stopped);
         }
@@ -199,35 +293,29 @@ impl Session {
         self.models_in_process += 1;
         self.warnings.clear();
         let deadline = self.nusmv.deadline.cap(Instant::now() + self.nusmv.timeout);
-        let (out, err) = self.run(
-            &format!(
-                "reset\nread_model -i {quoted}\ngo\n\
-                 set oreg_justice_emptiness_bdd_algorithm EL_fwd\ncheck_ltlspec\n"
-            ),
-            deadline,
-            model,
-        )?;
+        let mut commands = vec![format!(
+            "reset\nread_model -i {quoted}\ngo\nset oreg_justice_emptiness_bdd_algorithm EL_fwd\n"
+        )];
+        commands.extend((queries.iter()).map(|q| format!("check_ltlspec -P {}\n", q.name)));
+        let answers = self.run(&commands, deadline, model)?;
+        let out: String = answers.iter().map(|a| a.out.as_str()).collect();
+        let err: String = answers.iter().map(|a| a.err.as_str()).collect();
         let errors = parse_errors(&err);
         if !errors.is_empty() {
             return Err(NusmvError::Model(errors));
         }
-        let mut results = parse_output(&out)?;
-        if results.is_empty() && !err.trim().is_empty() {
-            // Nothing positioned, yet NuSMV complained and checked nothing.
-            return Err(NusmvError::Crashed {
-                status: "no verdicts from the NuSMV session".to_string(),
-                stderr_tail: tail(&err),
-            });
-        }
+        let mut results = (queries.iter().zip(&answers[1..]))
+            .map(|(q, answer)| one_verdict(q, answer))
+            .collect::<Result<Vec<_>, _>>()?;
         self.check_not_vacuous(&format!("{out}\n{err}"), deadline, model)?;
         self.warnings = unexplained(&err);
         match mode {
             CheckMode::VerdictsOnly => {}
             CheckMode::FirstCounterexample => {
-                self.add_traces(&mut results, deadline, model, false)?
+                self.add_traces(&mut results, queries, deadline, model, false)?
             }
             CheckMode::AllCounterexamples => {
-                self.add_traces(&mut results, deadline, model, true)?
+                self.add_traces(&mut results, queries, deadline, model, true)?
             }
         }
         Ok(results)
@@ -242,14 +330,15 @@ impl Session {
         deadline: Instant,
         model: &Path,
     ) -> Result<(), NusmvError> {
-        let (out, err) = self.run("check_ltlspec -p \"FALSE\"\n", deadline, model)?;
-        let verdicts = parse_output(&out)?;
+        let command = "check_ltlspec -p \"FALSE\"\n".to_string();
+        let answer = self.run(&[command], deadline, model)?.remove(0);
+        let verdicts = parse_output(&answer.out)?;
         let holds = match &verdicts[..] {
             [one] => one.verdict == Verdict::Holds,
             _ => {
                 return Err(NusmvError::Crashed {
                     status: format!("{} verdicts on the emptiness check", verdicts.len()),
-                    stderr_tail: tail(&err),
+                    stderr_tail: tail(&answer.err),
                 })
             }
         };
@@ -276,45 +365,34 @@ impl Session {
     /// Re-checks violated properties in order with `EL_bwd` until one yields a trace (or, with
     /// `all`, every one of them).
     ///
-    /// NuSMV skips properties whose status is already known, so the property is checked
-    /// again as a new one, given by NuSMV's own reprint of it (`check_ltlspec -p`).
+    /// NuSMV skips a named property whose status it knows already, so the property is checked
+    /// again as a new one, given by its formula (`check_ltlspec -p`); the answer is the one
+    /// between this command's markers, whatever NuSMV reprints in it.
     fn add_traces(
         &mut self,
         results: &mut [PropertyResult],
+        queries: &[Query],
         deadline: Instant,
         model: &Path,
         all: bool,
     ) -> Result<(), NusmvError> {
-        for result in results.iter_mut() {
-            if result.verdict != Verdict::Violated(None) || result.formula.contains('"') {
+        for (result, query) in results.iter_mut().zip(queries) {
+            if result.verdict != Verdict::Violated(None) {
                 continue;
             }
-            let (out, err) = self.run(
-                &format!(
-                    "set oreg_justice_emptiness_bdd_algorithm EL_bwd\n\
-                     check_ltlspec -p \"{}\"\n",
-                    result.formula
-                ),
-                deadline,
-                model,
-            )?;
-            let errors = parse_errors(&err);
+            let command = format!(
+                "set oreg_justice_emptiness_bdd_algorithm EL_bwd\n\
+                 check_ltlspec -p \"{}\"\n",
+                query.formula
+            );
+            let answer = self.run(&[command], deadline, model)?.remove(0);
+            let errors = parse_errors(&answer.err);
             if !errors.is_empty() {
                 return Err(NusmvError::Model(errors));
             }
-            let again = parse_output(&out)?;
-            let [recheck] = &again[..] else {
-                return Err(NusmvError::Crashed {
-                    status: format!(
-                        "{} verdicts when re-checking `{}`",
-                        again.len(),
-                        result.formula
-                    ),
-                    stderr_tail: tail(&err),
-                });
-            };
+            let recheck = one_verdict(query, &answer)?;
             // EL_bwd is NuSMV's reference algorithm: its verdict replaces EL_fwd's.
-            result.verdict = recheck.verdict.clone();
+            result.verdict = recheck.verdict;
             if !all && matches!(result.verdict, Verdict::Violated(Some(_))) {
                 break;
             }
@@ -322,19 +400,26 @@ impl Session {
         Ok(())
     }
 
-    /// Sends `commands` followed by the markers and returns the stdout and stderr text
-    /// printed before them.
+    /// Sends each command followed by its markers and returns, per command, the stdout and
+    /// stderr text printed between the markers before it and its own.
     fn run(
         &mut self,
-        commands: &str,
+        commands: &[String],
         deadline: Instant,
         model: &Path,
-    ) -> Result<(String, String), NusmvError> {
+    ) -> Result<Vec<Answer>, NusmvError> {
         self.ensure_process()?;
-        self.next_marker += 1;
-        let marker = self.next_marker;
+        let first = self.next_marker + 1;
+        self.next_marker += commands.len() as u64;
+        let mut script = String::new();
+        for (k, command) in commands.iter().enumerate() {
+            let marker = first + k as u64;
+            script.push_str(command);
+            script.push_str(&format!(
+                "echo {MARKER}{marker}==\necho -2 {MARKER}{marker}==\n"
+            ));
+        }
         let process = self.process.as_mut().expect("started above");
-        let script = format!("{commands}echo {MARKER}{marker}==\necho -2 {MARKER}{marker}==\n");
         let sent = process
             .stdin
             .write_all(script.as_bytes())
@@ -342,9 +427,10 @@ impl Session {
         if sent.is_err() {
             return Err(self.crashed());
         }
-        let mut out = None;
-        let mut err = None;
-        while out.is_none() || err.is_none() {
+        let mut out: Vec<Option<String>> = vec![None; commands.len()];
+        let mut err: Vec<Option<String>> = vec![None; commands.len()];
+        let mut missing = 2 * commands.len();
+        while missing > 0 {
             let process = self.process.as_mut().expect("set until a failure returns");
             match process
                 .events
@@ -352,15 +438,29 @@ impl Session {
             {
                 Ok(Event::Chunk {
                     stream,
-                    marker: m,
+                    marker,
                     text,
-                }) if m == marker => match stream {
-                    Stream::Out => out = Some(text),
-                    Stream::Err => err = Some(text),
-                },
+                }) if marker >= first && marker - first < commands.len() as u64 => {
+                    let slots = match stream {
+                        Stream::Out => &mut out,
+                        Stream::Err => &mut err,
+                    };
+                    let slot = &mut slots[(marker - first) as usize];
+                    missing -= usize::from(slot.is_none());
+                    *slot = Some(text);
+                }
                 // A leftover of an earlier model cannot happen (each failure replaces the
                 // process), but it would be harmless to skip.
                 Ok(Event::Chunk { .. }) => {}
+                Ok(Event::Overflow { stream }) => {
+                    // Dropping the process kills it: nothing more of its output is read.
+                    self.process = None;
+                    return Err(NusmvError::OutputTooLarge {
+                        limit: MAX_ANSWER_BYTES,
+                        stream: stream.name(),
+                        model: model.to_path_buf(),
+                    });
+                }
                 Ok(Event::Closed { stream, rest }) => {
                     process.closed(stream, rest);
                     return Err(self.crashed());
@@ -373,7 +473,12 @@ impl Session {
                 Err(RecvTimeoutError::Disconnected) => return Err(self.crashed()),
             }
         }
-        Ok((out.unwrap_or_default(), err.unwrap_or_default()))
+        Ok((out.into_iter().zip(err))
+            .map(|(out, err)| Answer {
+                out: out.unwrap_or_default(),
+                err: err.unwrap_or_default(),
+            })
+            .collect())
     }
 
     fn ensure_process(&mut self) -> Result<(), NusmvError> {
@@ -403,7 +508,7 @@ impl Session {
                     stream: Stream::Err,
                     text,
                     ..
-                }) => process.stderr_text.push_str(&text),
+                }) => process.keep_stderr(&text),
                 Ok(Event::Closed { stream, rest }) => process.closed(stream, rest),
                 Ok(_) => {}
                 Err(_) => break,
@@ -442,8 +547,14 @@ impl SessionProcess {
         let mut child = Tracked::spawn(command)?;
         let stdin = child.stdin.take().expect("stdin is piped");
         let (tx, events) = mpsc::channel();
-        read_chunks_on_thread(Stream::Out, child.stdout.take().expect("piped"), tx.clone());
-        read_chunks_on_thread(Stream::Err, child.stderr.take().expect("piped"), tx);
+        let (out, err) = (child.stdout.take(), child.stderr.take());
+        read_chunks_on_thread(
+            Stream::Out,
+            out.expect("piped"),
+            tx.clone(),
+            MAX_ANSWER_BYTES,
+        );
+        read_chunks_on_thread(Stream::Err, err.expect("piped"), tx, MAX_ANSWER_BYTES);
         Ok(SessionProcess {
             child,
             stdin,
@@ -453,9 +564,22 @@ impl SessionProcess {
         })
     }
 
+    /// Adds `text` to the stderr kept for a crash report, of which only the end is shown: at
+    /// most [`MAX_ANSWER_BYTES`] of the end are kept.
+    fn keep_stderr(&mut self, text: &str) {
+        self.stderr_text.push_str(text);
+        let excess = self.stderr_text.len().saturating_sub(MAX_ANSWER_BYTES);
+        if excess > 0 {
+            let cut = (excess..=self.stderr_text.len())
+                .find(|&i| self.stderr_text.is_char_boundary(i))
+                .unwrap_or(self.stderr_text.len());
+            self.stderr_text.drain(..cut);
+        }
+    }
+
     fn closed(&mut self, stream: Stream, rest: String) {
         if stream == Stream::Err {
-            self.stderr_text.push_str(&rest);
+            self.keep_stderr(&rest);
             self.stderr_closed = true;
         }
     }
@@ -467,6 +591,15 @@ enum Stream {
     Err,
 }
 
+impl Stream {
+    fn name(self) -> &'static str {
+        match self {
+            Stream::Out => "stdout",
+            Stream::Err => "stderr",
+        }
+    }
+}
+
 /// What a session's reader thread reports.
 enum Event {
     /// The text before the marker numbered `marker` (since the previous marker).
@@ -475,36 +608,57 @@ enum Event {
         marker: u64,
         text: String,
     },
+    /// The text since the last marker passed [`MAX_ANSWER_BYTES`]; the reader keeps nothing
+    /// more, and the process is to be killed.
+    Overflow { stream: Stream },
     /// End of the stream; `rest` is what came after the last marker.
     Closed { stream: Stream, rest: String },
 }
 
-/// Reads a whole stream on a thread and sends it once, at its end.
+/// Reads a whole stream on a thread and sends it once, at its end; `None` as soon as it
+/// passes `limit` bytes (the rest is not read: the caller kills the process).
 fn read_all_on_thread(
     stream: Stream,
-    mut pipe: impl Read + Send + 'static,
-    tx: Sender<(Stream, String)>,
+    pipe: impl Read + Send + 'static,
+    tx: Sender<(Stream, Option<String>)>,
+    limit: usize,
 ) {
     thread::spawn(move || {
         let mut bytes = Vec::new();
         // A read error ends the output early; the caller then sees a truncated text and
         // the exit status, which says more than the read error would.
-        let _ = pipe.read_to_end(&mut bytes);
-        let _ = tx.send((stream, String::from_utf8_lossy(&bytes).into_owned()));
+        let _ = pipe.take(limit as u64 + 1).read_to_end(&mut bytes);
+        let text = (bytes.len() <= limit).then(|| String::from_utf8_lossy(&bytes).into_owned());
+        let _ = tx.send((stream, text));
     });
 }
 
-/// Reads a session stream line by line on a thread, sending the text between markers.
-fn read_chunks_on_thread(stream: Stream, pipe: impl Read + Send + 'static, tx: Sender<Event>) {
+/// Reads a session stream line by line on a thread, sending the text between markers; at
+/// most `limit` bytes of it are kept (see [`Event::Overflow`]).
+fn read_chunks_on_thread(
+    stream: Stream,
+    pipe: impl Read + Send + 'static,
+    tx: Sender<Event>,
+    limit: usize,
+) {
     thread::spawn(move || {
         let mut reader = BufReader::new(pipe);
         let mut text = String::new();
         let mut line = Vec::new();
         loop {
             line.clear();
-            match reader.read_until(b'\n', &mut line) {
-                Ok(0) | Err(_) => break,
-                Ok(_) => {}
+            match read_line_within(&mut reader, &mut line, limit - text.len()) {
+                Ok(Line::End) | Err(_) => break,
+                Ok(Line::Whole) => {}
+                Ok(Line::TooLong) => {
+                    if tx.send(Event::Overflow { stream }).is_err() {
+                        return;
+                    }
+                    // Drained, not kept, until the process is killed: a full pipe would
+                    // block it before it sees the signal, and nothing here waits for it.
+                    let _ = io::copy(&mut reader, &mut io::sink());
+                    return;
+                }
             }
             let line = String::from_utf8_lossy(&line);
             match marker_in(&line) {
@@ -527,6 +681,53 @@ fn read_chunks_on_thread(stream: Stream, pipe: impl Read + Send + 'static, tx: S
         }
         let _ = tx.send(Event::Closed { stream, rest: text });
     });
+}
+
+/// How [`read_line_within`] ended.
+#[derive(Debug, PartialEq, Eq)]
+enum Line {
+    /// A line, with its line break unless the stream ended after it.
+    Whole,
+    /// The stream ended before any byte.
+    End,
+    /// The line is longer than the room left; what was read of it is dropped.
+    TooLong,
+}
+
+/// Reads one line into `line` (empty on entry), keeping at most `room` bytes: a line without
+/// end must not grow without bound.
+fn read_line_within(
+    reader: &mut impl BufRead,
+    line: &mut Vec<u8>,
+    room: usize,
+) -> io::Result<Line> {
+    loop {
+        let buf = match reader.fill_buf() {
+            Ok(buf) => buf,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if buf.is_empty() {
+            return Ok(if line.is_empty() {
+                Line::End
+            } else {
+                Line::Whole
+            });
+        }
+        let (take, ends) = match buf.iter().position(|&b| b == b'\n') {
+            Some(i) => (i + 1, true),
+            None => (buf.len(), false),
+        };
+        if line.len() + take > room {
+            line.clear();
+            return Ok(Line::TooLong);
+        }
+        line.extend_from_slice(&buf[..take]);
+        reader.consume(take);
+        if ends {
+            return Ok(Line::Whole);
+        }
+    }
 }
 
 /// Finds `==fbsynth-end-N==` in a line: the text before it (prompts) and `N`.
@@ -791,6 +992,56 @@ mod tests {
             .join(name)
     }
 
+    /// One query per `LTLSPEC NAME name := formula` of the model file (none if it cannot be
+    /// read).
+    fn queries(model: &Path) -> Vec<Query> {
+        let text = std::fs::read_to_string(model).unwrap_or_default();
+        (text.lines())
+            .filter_map(|l| l.strip_prefix("LTLSPEC NAME ")?.split_once(" := "))
+            .map(|(name, formula)| Query {
+                name: name.to_string(),
+                formula: formula.to_string(),
+            })
+            .collect()
+    }
+
+    /// A copy of the fixture `model` in `dir` in which every unnamed property is named
+    /// `unnamed_<k>` (`k` its 0-based position): a session asks for properties by name.
+    fn named_copy(model: &str, dir: &Path) -> PathBuf {
+        let text = std::fs::read_to_string(data(model)).unwrap();
+        let mut named = String::new();
+        let mut k = 0;
+        for line in text.lines() {
+            match line.strip_prefix("LTLSPEC ") {
+                Some(rest) if !rest.starts_with("NAME ") => {
+                    named.push_str(&format!("LTLSPEC NAME unnamed_{k} := {rest}\n"));
+                    k += 1;
+                }
+                Some(_) => {
+                    named.push_str(line);
+                    named.push('\n');
+                    k += 1;
+                }
+                None => {
+                    named.push_str(line);
+                    named.push('\n');
+                }
+            }
+        }
+        let copy = dir.join(model);
+        std::fs::write(&copy, named).unwrap();
+        copy
+    }
+
+    /// Checks every named property of `model` in `session`.
+    fn ask(
+        session: &mut Session,
+        model: &Path,
+        mode: CheckMode,
+    ) -> Result<Vec<PropertyResult>, NusmvError> {
+        session.check(model, &queries(model), mode)
+    }
+
     fn holds(results: &[PropertyResult]) -> Vec<(String, bool)> {
         results
             .iter()
@@ -846,14 +1097,12 @@ mod tests {
             return;
         };
         let mut session = nusmv.session();
+        let dir = tempfile::tempdir().unwrap();
         for model in ["cylinder.smv", "light.smv"] {
             let batch = nusmv.check_file(&data(model)).unwrap();
-            let fast = session
-                .check(&data(model), CheckMode::VerdictsOnly)
-                .unwrap();
-            let traced = session
-                .check(&data(model), CheckMode::FirstCounterexample)
-                .unwrap();
+            let named = named_copy(model, dir.path());
+            let fast = ask(&mut session, &named, CheckMode::VerdictsOnly).unwrap();
+            let traced = ask(&mut session, &named, CheckMode::FirstCounterexample).unwrap();
             assert_eq!(holds(&batch), holds(&fast), "{model}");
             assert_eq!(holds(&batch), holds(&traced), "{model}");
             assert!(fast
@@ -873,6 +1122,170 @@ mod tests {
                 assert_eq!(has_trace, i == first, "{model} property {i}");
             }
         }
+    }
+
+    /// Each answer is the verdict on the property asked, in the order asked: here the reverse
+    /// of the file's, with properties whose verdicts differ.
+    #[test]
+    fn verdicts_come_in_the_order_asked() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let model = data("light.smv");
+        let mut asked = queries(&model);
+        asked.reverse();
+        let mut session = nusmv.session();
+        let results = session
+            .check(&model, &asked, CheckMode::AllCounterexamples)
+            .unwrap();
+        let got: Vec<(&str, bool)> = (results.iter())
+            .map(|r| (r.name.as_deref().unwrap(), r.verdict == Verdict::Holds))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("green_again", false),
+                ("req_served", false),
+                ("always_red", false),
+                ("red_not_to_yellow", true),
+            ]
+        );
+        assert_eq!(results[2].formula, "G light = red");
+        let two = [asked[3].clone(), asked[2].clone()];
+        let results = session
+            .check(&model, &two, CheckMode::VerdictsOnly)
+            .unwrap();
+        let holds: Vec<bool> = results
+            .iter()
+            .map(|r| r.verdict == Verdict::Holds)
+            .collect();
+        assert_eq!(holds, [true, false]);
+        // NuSMV prints nothing when asked about a property a second time: refused.
+        let twice = [asked[3].clone(), asked[2].clone(), asked[3].clone()];
+        let result = session.check(&model, &twice, CheckMode::VerdictsOnly);
+        assert!(
+            matches!(&result, Err(NusmvError::UnsafeQuery { property, .. }) if property == "red_not_to_yellow"),
+            "{result:?}"
+        );
+    }
+
+    #[test]
+    fn a_property_nusmv_does_not_know_is_an_error_naming_it() {
+        let Some(nusmv) = nusmv_for_tests() else {
+            return;
+        };
+        let unknown = Query {
+            name: "no_such_property".into(),
+            formula: "TRUE".into(),
+        };
+        let result = nusmv
+            .session()
+            .check(&data("light.smv"), &[unknown], CheckMode::VerdictsOnly);
+        let Err(e) = result else { panic!("{result:?}") };
+        assert!(e.to_string().contains("no_such_property"), "{e}");
+    }
+
+    #[test]
+    fn queries_the_shell_would_misread_are_refused() {
+        let query = |name: &str, formula: &str| Query {
+            name: name.into(),
+            formula: formula.into(),
+        };
+        assert!(query("_p1", "G !(a & b$c#-d) -> F x.y = 3").check().is_ok());
+        for (name, formula) in [
+            ("p 1", "TRUE"),
+            ("1p", "TRUE"),
+            ("p-1", "TRUE"),
+            ("", "TRUE"),
+            ("p", ""),
+            ("p", "G \"a\""),
+            ("p", "G a\\"),
+            ("p", "G a\ncheck_ltlspec"),
+        ] {
+            assert!(
+                matches!(
+                    query(name, formula).check(),
+                    Err(NusmvError::UnsafeQuery { .. })
+                ),
+                "{name:?} {formula:?}"
+            );
+        }
+    }
+
+    /// A fake NuSMV at `dir/NuSMV` running the shell `script`.
+    #[cfg(unix)]
+    fn fake_nusmv(dir: &Path, script: &str) -> Nusmv {
+        use std::os::unix::fs::PermissionsExt;
+        let path = dir.join("NuSMV");
+        std::fs::write(&path, format!("#!/bin/sh\n{script}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        Nusmv::new(path)
+    }
+
+    /// A NuSMV that prints without end, in lines or in one line, is killed once one answer
+    /// passes the bound, and the error names the bound; the batch run likewise.
+    #[cfg(unix)]
+    #[test]
+    fn output_without_end_is_cut_at_the_bound() {
+        let dir = tempfile::tempdir().unwrap();
+        let model = data("light.smv");
+        for script in [
+            "exec yes 'NuSMV > -- specification  G x  is true'",
+            "yes | tr -d '\\n'",
+        ] {
+            let nusmv = fake_nusmv(dir.path(), script);
+            let result = nusmv
+                .session()
+                .check(&model, &queries(&model), CheckMode::VerdictsOnly);
+            match result {
+                Err(NusmvError::OutputTooLarge { limit, stream, .. }) => {
+                    assert_eq!((limit, stream), (MAX_ANSWER_BYTES, "stdout"), "{script}")
+                }
+                other => panic!("{script}: {other:?}"),
+            }
+            match nusmv.check_file(&model) {
+                Err(e @ NusmvError::OutputTooLarge { .. }) => assert!(
+                    e.to_string()
+                        .contains(&format!("more than {MAX_BATCH_BYTES} bytes on stdout")),
+                    "{e}"
+                ),
+                other => panic!("{script}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn lines_are_read_within_the_room_left() {
+        let mut reader = BufReader::with_capacity(4, &b"abc\ndefghij\nk"[..]);
+        let mut line = Vec::new();
+        assert_eq!(
+            read_line_within(&mut reader, &mut line, 10).unwrap(),
+            Line::Whole
+        );
+        assert_eq!(line, b"abc\n");
+        line.clear();
+        assert_eq!(
+            read_line_within(&mut reader, &mut line, 5).unwrap(),
+            Line::TooLong
+        );
+        assert!(line.is_empty());
+        let mut reader = BufReader::with_capacity(4, &b"defghij\nk"[..]);
+        assert_eq!(
+            read_line_within(&mut reader, &mut line, 8).unwrap(),
+            Line::Whole
+        );
+        assert_eq!(line, b"defghij\n");
+        line.clear();
+        assert_eq!(
+            read_line_within(&mut reader, &mut line, 8).unwrap(),
+            Line::Whole
+        );
+        assert_eq!(line, b"k");
+        line.clear();
+        assert_eq!(
+            read_line_within(&mut reader, &mut line, 8).unwrap(),
+            Line::End
+        );
     }
 
     #[test]
@@ -895,16 +1308,14 @@ mod tests {
             return;
         };
         let mut session = nusmv.session();
-        let first = session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        let first = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         let pid = session.pid();
         for (model, line) in [
             ("err_syntax.smv", 5),
             ("err_undefined.smv", 8),
             ("err_assign.smv", 7),
         ] {
-            match session.check(&data(model), CheckMode::FirstCounterexample) {
+            match ask(&mut session, &data(model), CheckMode::FirstCounterexample) {
                 Err(NusmvError::Model(errors)) => {
                     assert!(errors[0].file.ends_with(model), "{errors:?}");
                     assert_eq!(errors[0].line, line, "{model}");
@@ -912,9 +1323,7 @@ mod tests {
                 other => panic!("{model}: expected a model error, got {other:?}"),
             }
         }
-        let again = session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        let again = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         assert_eq!(holds(&first), holds(&again));
         assert_eq!(session.pid(), pid, "errors must not restart the process");
     }
@@ -929,9 +1338,12 @@ mod tests {
         let mut pids = Vec::new();
         for _ in 0..3 {
             // Each model takes two rounds with the process; it must not be replaced between.
-            let results = session
-                .check(&data("light.smv"), CheckMode::FirstCounterexample)
-                .unwrap();
+            let results = ask(
+                &mut session,
+                &data("light.smv"),
+                CheckMode::FirstCounterexample,
+            )
+            .unwrap();
             assert!(matches!(results[1].verdict, Verdict::Violated(Some(_))));
             pids.push(session.pid().unwrap());
         }
@@ -948,7 +1360,7 @@ mod tests {
         assert!(matches!(nusmv.check_file(&missing), Err(NusmvError::Io(_))));
         let mut session = nusmv.session();
         assert!(matches!(
-            session.check(&missing, CheckMode::VerdictsOnly),
+            session.check(&missing, &[], CheckMode::VerdictsOnly),
             Err(NusmvError::Io(_))
         ));
     }
@@ -963,13 +1375,15 @@ mod tests {
         }
         let nusmv = nusmv_for_tests().expect("the parent test found NuSMV");
         let mut session = nusmv.session();
-        session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         println!("nusmv-pid {}", session.pid().unwrap());
         // Keep NuSMV busy: were it left alive, it would go on for minutes instead of
         // stopping at the end of its stdin.
-        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        let result = ask(
+            &mut session,
+            &data("long_counter.smv"),
+            CheckMode::VerdictsOnly,
+        );
         panic!("no Ctrl-C came: {result:?}");
     }
 
@@ -1028,11 +1442,13 @@ mod tests {
         };
         nusmv.timeout = Duration::from_millis(500);
         let mut session = nusmv.session();
-        session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         let pid = session.pid().unwrap();
-        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        let result = ask(
+            &mut session,
+            &data("long_counter.smv"),
+            CheckMode::VerdictsOnly,
+        );
         assert!(
             matches!(result, Err(NusmvError::Timeout { .. })),
             "{result:?}"
@@ -1042,9 +1458,7 @@ mod tests {
             !process_exists(pid),
             "NuSMV {pid} is still in the process table"
         );
-        let after = session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        let after = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         assert_eq!(after.len(), 4);
     }
 
@@ -1057,18 +1471,20 @@ mod tests {
         };
         nusmv.deadline = Deadline::after(Duration::from_secs(2));
         let mut session = nusmv.session();
-        session
-            .check(&data("light.smv"), CheckMode::VerdictsOnly)
-            .unwrap();
+        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         let pid = session.pid().unwrap();
-        let result = session.check(&data("long_counter.smv"), CheckMode::VerdictsOnly);
+        let result = ask(
+            &mut session,
+            &data("long_counter.smv"),
+            CheckMode::VerdictsOnly,
+        );
         assert!(matches!(result, Err(NusmvError::Stopped)), "{result:?}");
         assert_eq!(session.pid(), None);
         assert!(
             !process_exists(pid),
             "NuSMV {pid} is still in the process table"
         );
-        let after = session.check(&data("light.smv"), CheckMode::VerdictsOnly);
+        let after = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly);
         assert!(matches!(after, Err(NusmvError::Stopped)), "{after:?}");
         assert_eq!(session.pid(), None);
         let batch = nusmv.check_file(&data("light.smv"));
@@ -1134,6 +1550,8 @@ mod tests {
         };
         const RUNS: usize = 41;
         let model = data("cylinder.smv");
+        let dir = tempfile::tempdir().unwrap();
+        let named = named_copy("cylinder.smv", dir.path());
         let median = |mut ms: Vec<f64>| {
             ms.sort_by(f64::total_cmp);
             ms[ms.len() / 2]
@@ -1147,10 +1565,10 @@ mod tests {
             .map(|_| time(&mut || drop(nusmv.check_file(&model).unwrap())))
             .collect();
         let mut session = nusmv.session();
-        session.check(&model, CheckMode::VerdictsOnly).unwrap();
+        ask(&mut session, &named, CheckMode::VerdictsOnly).unwrap();
         let mut per_mode = |mode| -> Vec<f64> {
             (0..RUNS)
-                .map(|_| time(&mut || drop(session.check(&model, mode).unwrap())))
+                .map(|_| time(&mut || drop(ask(&mut session, &named, mode).unwrap())))
                 .collect()
         };
         let fast = per_mode(CheckMode::VerdictsOnly);

@@ -1,9 +1,12 @@
 //! Running the NuSMV model checker and reading what it prints.
 //!
-//! In: an SMV file on disk (written by the `smv` layer or by hand). Out: one
-//! [`PropertyResult`] per LTL property, in the order NuSMV checked them (the order of the
-//! `LTLSPEC`s in the file), each [`Verdict::Violated`] carrying the counterexample
-//! [`Trace`] when NuSMV printed one.
+//! In: an SMV file on disk (written by the `smv` layer or by hand) and, for a [`Session`], the
+//! names of its properties ([`Query`]). Out: one [`PropertyResult`] per property asked, in the
+//! order asked (a batch run: in the order of the `LTLSPEC`s in the file), each
+//! [`Verdict::Violated`] carrying the counterexample [`Trace`] when NuSMV printed one.
+//!
+//! What NuSMV prints is read with a bound ([`driver::MAX_ANSWER_BYTES`] per answer): a NuSMV
+//! printing without end is killed, not followed into the memory of this program.
 //!
 //! - [`locate()`] finds the binary (`--nusmv`, `$NUSMV`, `PATH`, the install script's cache);
 //! - [`driver`] runs it: one process per model ([`Nusmv::check_file`]) or one long-lived
@@ -18,7 +21,7 @@ pub(crate) mod driver;
 pub(crate) mod locate;
 pub(crate) mod output;
 
-pub(crate) use driver::{kill_all_children, Session};
+pub(crate) use driver::{kill_all_children, Query, Session};
 pub use driver::{CheckMode, Nusmv};
 pub use locate::locate;
 pub use output::{parse_errors, parse_output, Verdict};
@@ -65,6 +68,45 @@ pub enum NusmvError {
     /// expansion, `#` starts a comment, `"` ends the quoting).
     #[error("model path `{}` contains a character NuSMV's shell cannot take (one of ! % # \" \\ or a control character)", .0.display())]
     UnsafePath(PathBuf),
+    /// A property a [`Session`] cannot ask about: a name or formula NuSMV's command shell
+    /// would not take as one argument (a name is a letter or `_`, then letters, digits and
+    /// `_`; a formula holds no `"`, `\` or control character), or a name asked twice (NuSMV
+    /// answers about a property once per model).
+    #[error(
+        "property {} cannot be asked of NuSMV: {reason}",
+        crate::quote::backquote(property)
+    )]
+    UnsafeQuery {
+        /// The property's name, as given.
+        property: String,
+        /// Why it cannot be asked.
+        reason: &'static str,
+    },
+    /// NuSMV's answer to the check of one named property held not exactly one verdict.
+    #[error(
+        "NuSMV answered the check of property {} with {verdicts} verdicts, not one{}",
+        crate::quote::backquote(property),
+        stderr_suffix(stderr_tail)
+    )]
+    Answer {
+        /// The name the property was asked for by.
+        property: String,
+        /// How many verdicts the answer held.
+        verdicts: usize,
+        /// The last lines NuSMV printed on stderr meanwhile.
+        stderr_tail: String,
+    },
+    /// NuSMV printed more than `limit` bytes on `stream` in answer to one command (one
+    /// property, or reading the model): it was killed, and nothing it printed is used.
+    #[error("NuSMV printed more than {limit} bytes on {stream} in one answer while checking `{}` (the bound on what is read of one answer); it was killed and its output is not used", model.display())]
+    OutputTooLarge {
+        /// The bound, in bytes ([`driver::MAX_ANSWER_BYTES`] or [`driver::MAX_BATCH_BYTES`]).
+        limit: usize,
+        /// `stdout` or `stderr`.
+        stream: &'static str,
+        /// The SMV file being checked.
+        model: PathBuf,
+    },
     /// Starting NuSMV, talking to it, or reading the model file failed.
     #[error("running NuSMV: {0}")]
     Io(#[from] std::io::Error),
@@ -90,6 +132,14 @@ fn describe_model_errors(errors: &[ModelError]) -> String {
         [] => "no error line".to_string(),
         [one] => one.to_string(),
         [first, rest @ ..] => format!("{first} (and {} more)", rest.len()),
+    }
+}
+
+/// `: ` and NuSMV's last words on stderr, if it printed any.
+fn stderr_suffix(tail: &str) -> String {
+    match tail.trim() {
+        "" => String::new(),
+        t => format!(": {t}"),
     }
 }
 

@@ -25,8 +25,9 @@ use parser::{OutputGrammar, Rule};
 /// The verdict on one property, as NuSMV printed it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PropertyResult {
-    /// The property's name, when the verdict line printed it (`set prop_print_method name`
-    /// prints `'name'`); `None` under the default print method, which prints the formula.
+    /// The property's name: the name a [`Session`](super::Session) asked for it by, or the
+    /// one its verdict line printed (`set prop_print_method name` prints `'name'`); `None`
+    /// otherwise (the default print method prints the formula).
     pub name: Option<String>,
     /// What NuSMV printed in place of the property: its reprint of the formula (not the text
     /// of the model file), or `'name'` / `[index]` under the `name` / `index` print methods.
@@ -155,8 +156,14 @@ fn property(pair: Pair<'_, Rule>) -> Result<PropertyResult, OutputParseError> {
     })
 }
 
+/// Values (states and inputs, times the variables in each) a [`Trace`] may hold. NuSMV prints
+/// only what changes, so a few megabytes of output could otherwise expand, carried forward,
+/// into gigabytes.
+pub const MAX_TRACE_VALUES: usize = 1_000_000;
+
 fn trace(pair: Pair<'_, Rule>) -> Result<Trace, OutputParseError> {
     let mut trace = Trace::default();
+    let mut values = 0usize;
     let mut state: BTreeMap<String, String> = BTreeMap::new();
     let mut input: BTreeMap<String, String> = BTreeMap::new();
     // The input section printed since the last state, waiting for its state.
@@ -184,6 +191,13 @@ fn trace(pair: Pair<'_, Rule>) -> Result<Trace, OutputParseError> {
                     }
                 }
                 apply_assignments(&mut state, step);
+                values += state.len() + input.len();
+                if values > MAX_TRACE_VALUES {
+                    let message = format!(
+                        "a counterexample of more than {MAX_TRACE_VALUES} values (states times variables), too large to keep"
+                    );
+                    return Err(error_at(&pos, &message));
+                }
                 trace.states.push(state.clone());
                 trace.inputs.push(input_for_next.take().unwrap_or_default());
                 pending_input = None;

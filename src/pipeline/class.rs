@@ -118,7 +118,7 @@ impl Classed for VerifyError {
             | VerifyError::Io(_)
             | VerifyError::Timeout { .. }
             | VerifyError::Count { .. }
-            | VerifyError::Unmatched(_) => Class::Input,
+            | VerifyError::Incomplete { .. } => Class::Input,
         }
     }
 }
@@ -136,7 +136,10 @@ impl Classed for NusmvError {
             | NusmvError::Crashed { .. }
             | NusmvError::UnsafePath(_)
             | NusmvError::Io(_)
-            | NusmvError::Output(_) => Class::Input,
+            | NusmvError::Output(_)
+            | NusmvError::UnsafeQuery { .. }
+            | NusmvError::Answer { .. }
+            | NusmvError::OutputTooLarge { .. } => Class::Input,
         }
     }
 }

@@ -12,12 +12,24 @@
 //!       plant : plant(ctrl.c1Extend, ...);                  -- in the plant's parameter order
 //!   DEFINE c1Extend := ctrl.c1Extend; ...                   -- every controller output
 //!          c1Home := plant.c1Home; ... vp1 := plant.vp1;    -- every name module plant declares
-//!   LTLSPEC NAME p1 := ...;                                 -- the properties, over bare names
+//!   LTLSPEC NAME _p1 := ...;  -- label: text                -- the properties, over bare names
 //!   ```
 //!   so a bare name in a property is a controller output or a name of the plant. Anything else
 //!   is an error before NuSMV runs. The names `ctrl`, `plant`, `main` and `ECC` are reserved.
+//! - Each property is named `_p<k>` after its position `k` (1-based) in the spec file
+//!   ([`smv_property_name`]), whatever its label: NuSMV is asked for verdicts by these names,
+//!   so no label ever has to be one (and names starting with `_` are reserved for generated
+//!   identifiers, so no label looks like one either).
 //! - Timing: at step `t` the controller reads the plant's values of step `t`; its outputs change
 //!   at `t + 1`. The plant reads the controller outputs of step `t`.
+//!
+//! # What reaches the model
+//! The plant file verbatim (it is the user's model); names that passed
+//! [`check_identifier`] (controller inputs and outputs, the plant's
+//! names); formulas printed from their syntax tree ([`crate::ltl::Ltl::to_smv`]), never from
+//! the user's text; generated names. Anything else the user wrote (the plant's path, a
+//! property's text and label) appears only in comments, through [`comment`], which lets no
+//! line break or other control character through.
 //!
 //! The composed text keeps the plant file verbatim, so NuSMV's error lines inside it map back
 //! to the user's file by a fixed offset; lines of properties map back to the spec file.
@@ -230,8 +242,45 @@ pub struct ComposedModel {
     /// First model line (1-based) holding plant line 1.
     plant_first: usize,
     plant_lines: usize,
-    /// Model line of each property's `LTLSPEC`, with its spec line and name.
-    spec_lines: Vec<(usize, usize, String)>,
+    /// Each property's `LTLSPEC`, in spec order.
+    specs: Vec<SpecLine>,
+}
+
+/// One `LTLSPEC` of a composed model.
+#[derive(Debug, Clone)]
+struct SpecLine {
+    /// 1-based line in the model.
+    model_line: usize,
+    /// 1-based line in the spec file.
+    spec_line: usize,
+    /// The property's name for the user ([`property_name`]).
+    name: String,
+    /// Its name in the model ([`smv_property_name`]).
+    smv_name: String,
+    /// The formula as written into the model.
+    formula: String,
+}
+
+/// The name in the model of the property at 0-based position `index` of its spec file:
+/// `_p{index+1}`, whatever its label (see the module header).
+pub fn smv_property_name(index: usize) -> String {
+    format!("_p{}", index + 1)
+}
+
+/// `text` made safe for an SMV comment (`-- ...` up to the end of the line): every control
+/// character (line breaks above all, which would end the comment and let the rest become
+/// model text) and every Unicode line or paragraph separator is written as its Rust escape
+/// (`\n`, `\u{2028}`). The one way user text reaches a model outside checked identifiers.
+pub fn comment(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 impl ComposedModel {
@@ -240,8 +289,8 @@ impl ComposedModel {
         if model_line >= self.plant_first && model_line < self.plant_first + self.plant_lines {
             return Source::Plant(model_line - self.plant_first + 1);
         }
-        match self.spec_lines.iter().find(|(m, _, _)| *m == model_line) {
-            Some((_, s, _)) => Source::Spec(*s),
+        match self.specs.iter().find(|s| s.model_line == model_line) {
+            Some(s) => Source::Spec(s.spec_line),
             None => Source::Generated,
         }
     }
@@ -251,6 +300,17 @@ impl ComposedModel {
     pub(crate) fn follows_plant(&self, model_line: usize) -> bool {
         let end = self.plant_first + self.plant_lines;
         (end..end + 2).contains(&model_line)
+    }
+
+    /// Property names in order.
+    pub fn property_names(&self) -> Vec<String> {
+        self.specs.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// Each property's name in the model and its formula as written there, in spec order:
+    /// what NuSMV is asked about.
+    pub fn smv_properties(&self) -> impl Iterator<Item = (&str, &str)> + '_ {
+        (self.specs.iter()).map(|s| (s.smv_name.as_str(), s.formula.as_str()))
     }
 }
 
@@ -287,7 +347,10 @@ pub fn compose_controller(
     if !text.ends_with('\n') {
         text.push('\n');
     }
-    text.push_str(&format!("-- plant: {}\n", plant.file.display()));
+    text.push_str(&format!(
+        "-- plant: {}\n",
+        comment(&plant.file.display().to_string())
+    ));
     let plant_first = text.lines().count() + 1;
     text.push_str(&plant.text);
     if !plant.text.ends_with('\n') {
@@ -322,22 +385,30 @@ pub fn compose_controller(
         main.push_str(&format!("  {name} := {inst}.{name};\n"));
     }
     text.push_str(&main);
-    let mut spec_lines = Vec::new();
+    let mut specs = Vec::new();
+    // One line per property: its formula is printed from the tree, the rest is a comment.
+    let first = text.lines().count() + 1;
     for (k, p) in props.iter().enumerate() {
-        let name = property_name(k, p);
-        let line = text.lines().count() + 1;
+        let spec = SpecLine {
+            model_line: first + k,
+            spec_line: p.line,
+            name: property_name(k, p),
+            smv_name: smv_property_name(k),
+            formula: p.formula.to_smv(&|n: &str| n.to_string()),
+        };
         text.push_str(&format!(
-            "LTLSPEC NAME {name} := {};  -- {}\n",
-            p.formula.to_smv(&|n: &str| n.to_string()),
-            p.text.replace('\n', " ")
+            "LTLSPEC NAME {} := {};  -- {}\n",
+            spec.smv_name,
+            spec.formula,
+            comment(&format!("{}: {}", spec.name, p.text))
         ));
-        spec_lines.push((line, p.line, name));
+        specs.push(spec);
     }
     ComposedModel {
         text,
         plant_first,
         plant_lines,
-        spec_lines,
+        specs,
     }
 }
 
@@ -345,6 +416,69 @@ pub fn compose_controller(
 mod tests {
     use super::*;
     use crate::ecc::ident::{check_block_name, CLOSED_LOOP_MODULES};
+
+    #[test]
+    fn comments_let_no_line_break_or_control_character_through() {
+        assert_eq!(
+            comment("a\nINVAR !lamp\r\n--\t\u{2028}\u{85}\u{1b}[2J é"),
+            "a\\nINVAR !lamp\\r\\n--\\t\\u{2028}\\u{85}\\u{1b}[2J é"
+        );
+    }
+
+    /// A plant path holding line breaks stays inside its comment: the model's lines are the
+    /// plant's, the generated ones and the properties, named `_p<k>`, printed from their tree.
+    #[test]
+    fn user_text_reaches_the_model_only_inside_comments() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/closed_loop");
+        let mut plant = super::super::plant::read_plant(&root.join("lamp_plant.smv")).unwrap();
+        plant.file = PathBuf::from("/tmp/p\nINVAR !lamp\n--.smv");
+        let json = std::fs::read_to_string(root.join("lamp_two_state.json")).unwrap();
+        let ecc = crate::export::json::read_json(&json, Path::new("m.json")).unwrap();
+        let spec = "never_lit: G ( !lamp )  -- a comment\nG (lamp -> F !lamp)\n";
+        let props = crate::ltl::parse_spec(Path::new("s.ltl"), spec).unwrap();
+        let coupling = check_coupling(
+            &ecc.inputs,
+            &ecc.outputs,
+            &plant,
+            Path::new("s.ltl"),
+            &props,
+        )
+        .unwrap();
+        let model = compose(&ecc, &plant, &coupling, &props).unwrap();
+        assert!(
+            !model
+                .text
+                .lines()
+                .any(|l| l.trim_start().starts_with("INVAR")),
+            "{}",
+            model.text
+        );
+        assert!(model
+            .text
+            .contains("\n-- plant: /tmp/p\\nINVAR !lamp\\n--.smv\n"));
+        let specs: Vec<&str> = (model.text.lines())
+            .filter(|l| l.starts_with("LTLSPEC"))
+            .collect();
+        assert_eq!(
+            specs,
+            [
+                "LTLSPEC NAME _p1 := G !lamp;  -- never_lit: G ( !lamp )",
+                "LTLSPEC NAME _p2 := G (lamp -> F !lamp);  -- p2: G (lamp -> F !lamp)",
+            ]
+        );
+        let asked: Vec<(&str, &str)> = model.smv_properties().collect();
+        assert_eq!(asked, [("_p1", "G !lamp"), ("_p2", "G (lamp -> F !lamp)")]);
+        assert_eq!(model.property_names(), ["never_lit", "p2"]);
+        let line = |prefix: &str| {
+            1 + model
+                .text
+                .lines()
+                .position(|l| l.starts_with(prefix))
+                .unwrap()
+        };
+        assert_eq!(model.source(line("LTLSPEC NAME _p2")), Source::Spec(2));
+        assert_eq!(model.source(line("MODULE plant")), Source::Plant(2));
+    }
 
     #[test]
     fn no_block_takes_the_name_of_a_closed_loop_module() {

@@ -14,6 +14,7 @@ mod logs;
 mod modes;
 mod modular;
 mod noisy;
+mod nusmv_answers;
 mod pipeline;
 mod robustness;
 mod schemas;
