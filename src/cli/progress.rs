@@ -141,6 +141,9 @@ pub fn describe(e: &Event<'_>) -> String {
             if lower == upper { ": proven" } else { "" }
         ),
         Event::Guide(stage) => stage.to_string(),
+        Event::InProcessStopped { why } => format!(
+            "the in-process checker stops: {why}; NuSMV alone judges the candidates from here"
+        ),
         Event::MainJob(step) => main_job_step(step),
         Event::Lazy {
             round,

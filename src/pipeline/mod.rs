@@ -118,6 +118,12 @@ pub enum Event<'a> {
     },
     /// One candidate of the exact loop, verified by NuSMV.
     Candidate(&'a cegis::Iteration),
+    /// The in-process checker stopped at one of its bounds ([`crate::check::Limits`]): NuSMV
+    /// alone judges the exact loop's candidates from here.
+    InProcessStopped {
+        /// The bound, and how far the closed loop goes past it.
+        why: String,
+    },
     /// The search's start machine, found by SAT for the scenarios alone.
     SatStart {
         /// The start machine's figures (C, K, T, N).
