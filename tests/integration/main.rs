@@ -17,5 +17,6 @@ mod noisy;
 mod pipeline;
 mod robustness;
 mod schemas;
+mod semantics;
 mod synthesis;
 mod tank;
