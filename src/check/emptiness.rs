@@ -33,7 +33,14 @@ pub(crate) trait Graph {
     fn successors(&mut self, n: u32, out: &mut Vec<u32>) -> Result<(), Self::Error>;
     /// The acceptance sets `n` belongs to.
     fn marks(&self, n: u32) -> u64;
+    /// The error of a search that would hold more than `bytes` bytes.
+    fn too_large(&self, bytes: usize) -> Self::Error;
 }
+
+/// Estimated bytes the search holds per node it has seen: its number in a table, its place
+/// among the live nodes and, while it is on the stack, its frame and component root. Its
+/// successors on the stack cost four bytes each more.
+const NODE_BYTES: usize = 64;
 
 /// An accepting lasso: `prefix` then `cycle` repeated forever.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -61,6 +68,10 @@ struct Search {
     /// Live nodes in visiting order (the components not yet completed).
     live: Vec<u32>,
     stack: Vec<Frame>,
+    /// Estimated bytes held: [`NODE_BYTES`] per node seen, four per successor on the stack.
+    held: usize,
+    /// The most bytes the search may hold.
+    budget: usize,
 }
 
 impl Search {
@@ -71,6 +82,10 @@ impl Search {
         self.live.push(n);
         let mut succ = Vec::new();
         g.successors(n, &mut succ)?;
+        self.held += NODE_BYTES + 4 * succ.len();
+        if self.held > self.budget {
+            return Err(g.too_large(self.budget));
+        }
         self.stack.push(Frame {
             node: n,
             succ,
@@ -93,7 +108,9 @@ impl Search {
 
     /// `n` is done: if it is a root, its component is complete and dies.
     fn pop(&mut self, n: u32) {
-        self.stack.pop();
+        if let Some(f) = self.stack.pop() {
+            self.held -= 4 * f.succ.len();
+        }
         let k = self.number[&n];
         if self.roots.last().map(|r| r.0) == Some(k) {
             self.roots.pop();
@@ -108,14 +125,21 @@ impl Search {
     }
 }
 
-/// Searches for an accepting lasso; `all` is the mask of every acceptance set.
-pub(crate) fn find_lasso<G: Graph>(g: &mut G, all: u64) -> Result<Option<NodeLasso>, G::Error> {
+/// Searches for an accepting lasso; `all` is the mask of every acceptance set. The search
+/// holds at most `budget` bytes (estimated): beyond, it stops with [`Graph::too_large`].
+pub(crate) fn find_lasso<G: Graph>(
+    g: &mut G,
+    all: u64,
+    budget: usize,
+) -> Result<Option<NodeLasso>, G::Error> {
     let mut s = Search {
         number: HashMap::new(),
         count: 0,
         roots: Vec::new(),
         live: Vec::new(),
         stack: Vec::new(),
+        held: 0,
+        budget,
     };
     for init in g.initial()? {
         if s.number.contains_key(&init) {
@@ -156,7 +180,8 @@ fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLas
     let start = stack[root_pos].node;
     // The depth-first stack reaches the component by some path; the shortest one makes a
     // counterexample a reader (and a synthesis loop) can use: fewer steps to replay.
-    let prefix = match shortest_from_initial(g, start)? {
+    let spare = s.budget.saturating_sub(s.held);
+    let prefix = match shortest_from_initial(g, start, spare / NODE_BYTES)? {
         Some(p) => p,
         None => stack[..root_pos].iter().map(|f| f.node).collect(),
     };
@@ -186,8 +211,13 @@ fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLas
 }
 
 /// The nodes of a shortest path from an initial node up to, not including, `target`
-/// (empty if `target` is initial); `None` if the search finds no path (it always should).
-fn shortest_from_initial<G: Graph>(g: &mut G, target: u32) -> Result<Option<Vec<u32>>, G::Error> {
+/// (empty if `target` is initial); `None` if the search finds no path (it always should) or
+/// would see more than `max_nodes` nodes.
+fn shortest_from_initial<G: Graph>(
+    g: &mut G,
+    target: u32,
+    max_nodes: usize,
+) -> Result<Option<Vec<u32>>, G::Error> {
     let inits = g.initial()?;
     if inits.contains(&target) {
         return Ok(Some(Vec::new()));
@@ -201,6 +231,9 @@ fn shortest_from_initial<G: Graph>(g: &mut G, target: u32) -> Result<Option<Vec<
         for &w in &succ {
             if parent.contains_key(&w) {
                 continue;
+            }
+            if parent.len() >= max_nodes {
+                return Ok(None);
             }
             parent.insert(w, Some(v));
             if w == target {

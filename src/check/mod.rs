@@ -227,17 +227,26 @@ pub(crate) struct LoopState {
     pub(crate) outputs: Vec<bool>,
 }
 
-/// Bounds on the exploration.
+/// Bounds on the exploration. Every structure the checker builds is bounded by them, and a
+/// check that would pass one stops with an error that names it ([`CheckError::is_bound`]):
+/// the caller then leaves the verdict to NuSMV.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Limits {
     /// Most closed-loop states (or plant states, for [`behaviour`]) explored.
     pub(crate) max_states: usize,
+    /// Most transitions of the closed loop (successor entries stored).
+    pub(crate) max_transitions: usize,
+    /// Most bytes the checker's structures are estimated to take: the closed loop, what a
+    /// [`PlantMemo`] keeps, and the search of a property's counterexample.
+    pub(crate) max_bytes: usize,
 }
 
 impl Default for Limits {
     fn default() -> Limits {
         Limits {
             max_states: 1_000_000,
+            max_transitions: 8_000_000,
+            max_bytes: 512 << 20,
         }
     }
 }
@@ -267,6 +276,23 @@ pub enum CheckError {
         /// The limit that was exceeded.
         limit: usize,
     },
+    /// The closed loop has more transitions than [`Limits::max_transitions`] (found while
+    /// exploring, or predicted before: `why` says how).
+    #[error("more than {limit} transitions of the closed loop{why}: raise the limit or check with NuSMV")]
+    TooManyTransitions {
+        /// The limit that was exceeded.
+        limit: usize,
+        /// Empty, or how the count was predicted (with a leading blank).
+        why: String,
+    },
+    /// The checker's structures would take more than [`Limits::max_bytes`].
+    #[error("more than {} estimated for {what}: raise the limit or check with NuSMV", show_bytes(*limit))]
+    TooMuchMemory {
+        /// The limit that was exceeded, in bytes.
+        limit: usize,
+        /// Which structure (`the closed loop`, `the search of a property`, ...).
+        what: &'static str,
+    },
     /// No initial state, or no infinite path that is fair to every `FAIRNESS` condition: every
     /// property would hold vacuously.
     #[error("the {scope} has no {what}: every property would hold vacuously; check the plant's INIT, INVAR, TRANS and FAIRNESS constraints")]
@@ -292,6 +318,28 @@ pub enum CheckError {
     Bug(String),
 }
 
+/// `bytes` in MB when it is at least one, else in bytes.
+fn show_bytes(bytes: usize) -> String {
+    if bytes >= 1 << 20 {
+        format!("{} MB", bytes >> 20)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+impl CheckError {
+    /// Whether the check stopped at a bound of [`Limits`] (states, transitions, memory): the
+    /// closed loop is too large for this checker, and NuSMV alone can judge it.
+    pub(crate) fn is_bound(&self) -> bool {
+        matches!(
+            self,
+            CheckError::TooManyStates { .. }
+                | CheckError::TooManyTransitions { .. }
+                | CheckError::TooMuchMemory { .. }
+        )
+    }
+}
+
 /// The properties' negations as Büchi automata, built once for many [`check_with`] calls (a
 /// search checks thousands of machines against the same properties).
 #[derive(Debug, Clone)]
@@ -312,11 +360,25 @@ impl Automata {
 /// The plant's side of closed-loop states, which does not depend on the controller: kept
 /// across the checks of many machines against one plant and coupling (a search's), where it
 /// was most of the work of building each closed loop. Use one memo per plant and coupling.
+///
+/// Plant states are interned once and referred to by number, so that a state with thousands
+/// of successors (a plant with many free inputs) costs four bytes per successor. The memo is a
+/// cache: [`check_with`] empties it when it holds more than half of [`Limits::max_bytes`].
 #[derive(Debug, Default)]
-pub(crate) struct PlantMemo(HashMap<Box<[Value]>, PlantState>);
+pub(crate) struct PlantMemo {
+    /// Plant states, by number.
+    states: Vec<Arc<[Value]>>,
+    /// The number of each plant state.
+    ids: HashMap<Arc<[Value]>, u32>,
+    /// Per plant state number: what is known about it.
+    info: Vec<PlantState>,
+    /// Bytes the memo is estimated to hold.
+    bytes: usize,
+}
 
-/// Plant successor states, shared between the memo and a closed loop's build.
-type Successors = Arc<[Box<[Value]>]>;
+/// Plant successor states (numbers in a [`PlantMemo`]), shared between the memo and a closed
+/// loop's build.
+type Successors = Arc<[u32]>;
 
 /// What is known about one plant state, by the controller's outputs (bits).
 #[derive(Debug, Default)]
@@ -327,53 +389,76 @@ struct PlantState {
     successors: HashMap<(u64, u64), Successors>,
 }
 
+/// Estimated bytes of a plant state in a [`PlantMemo`] besides its values: the two handles,
+/// the table entry and the empty tables of [`PlantState`].
+const PLANT_STATE_BYTES: usize = 160;
+/// Estimated bytes of a table entry of [`PlantState`] besides the list it holds.
+const MEMO_ENTRY_BYTES: usize = 64;
+
 impl PlantMemo {
-    // Looked up by the borrowed plant state: a closed loop's build asks twice per state, and
-    // cloning the key for each lookup was an allocation on that path.
-    fn entry(&mut self, plant: &[Value]) -> &mut PlantState {
-        if !self.0.contains_key(plant) {
-            self.0.insert(plant.into(), PlantState::default());
+    /// The number of plant state `plant`, interned if new.
+    fn intern(&mut self, plant: &[Value]) -> u32 {
+        if let Some(&i) = self.ids.get(plant) {
+            return i;
         }
-        self.0.get_mut(plant).expect("inserted above")
+        let i = self.states.len() as u32;
+        let s: Arc<[Value]> = plant.into();
+        self.bytes += PLANT_STATE_BYTES + std::mem::size_of_val(plant);
+        self.ids.insert(s.clone(), i);
+        self.states.push(s);
+        self.info.push(PlantState::default());
+        i
     }
 
-    /// The controller's inputs on `key` and the fairness conditions that hold there.
+    /// The controller's inputs on plant state `plant` under outputs `outputs`, and the
+    /// fairness conditions that hold there.
     fn at(
         &mut self,
         sem: &Semantics,
         coupling: &Wiring,
-        key: &Key,
+        plant: u32,
+        outputs: u64,
     ) -> Result<(Arc<[bool]>, u64), CheckError> {
-        let e = self.entry(&key.plant);
-        if let Some(a) = e.at.get(&key.outputs) {
+        let p = plant as usize;
+        if let Some(a) = self.info[p].at.get(&outputs) {
             return Ok(a.clone());
         }
-        let params = coupling.params(key.outputs);
-        let inputs: Arc<[bool]> = coupling.read_inputs(sem, &key.plant, &params)?.into();
-        let a = (inputs, sem.fairness(&key.plant, &params)?);
-        e.at.insert(key.outputs, a.clone());
+        let params = coupling.params(outputs);
+        let values = &self.states[p];
+        let inputs: Arc<[bool]> = coupling.read_inputs(sem, values, &params)?.into();
+        let a = (inputs, sem.fairness(values, &params)?);
+        self.bytes += MEMO_ENTRY_BYTES + a.0.len();
+        self.info[p].at.insert(outputs, a.clone());
         Ok(a)
     }
 
+    /// The successors of plant state `plant` under outputs `outputs` now and `next_outputs`
+    /// next.
     fn successors(
         &mut self,
         sem: &Semantics,
         coupling: &Wiring,
-        key: &Key,
+        plant: u32,
+        outputs: u64,
         next_outputs: u64,
     ) -> Result<Successors, CheckError> {
-        let e = self.entry(&key.plant);
-        if let Some(s) = e.successors.get(&(key.outputs, next_outputs)) {
+        let p = plant as usize;
+        if let Some(s) = self.info[p].successors.get(&(outputs, next_outputs)) {
             return Ok(s.clone());
         }
-        let params = coupling.params(key.outputs);
+        let params = coupling.params(outputs);
         let next_params = coupling.params(next_outputs);
-        let s: Successors = sem
-            .successors(&key.plant, &params, &next_params)?
-            .into_iter()
-            .map(Vec::into_boxed_slice)
-            .collect();
-        e.successors.insert((key.outputs, next_outputs), s.clone());
+        let values = self.states[p].clone();
+        let mut ids = Vec::new();
+        sem.for_each_successor(&values, &params, &next_params, &mut |t| {
+            ids.push(self.intern(t));
+            Ok::<(), CheckError>(())
+        })?;
+        let s: Successors = ids.into();
+        self.bytes += MEMO_ENTRY_BYTES + 4 * s.len();
+        self.info[p]
+            .successors
+            .insert((outputs, next_outputs), s.clone());
         Ok(s)
     }
 }
@@ -413,6 +498,11 @@ pub(crate) fn check_with(
             "its interface is not the one the coupling was made for".into(),
         ));
     }
+    // The memo is a cache: one that has grown over many checks is dropped rather than let
+    // crowd out the closed loop.
+    if memo.bytes > limits.max_bytes / 2 {
+        *memo = PlantMemo::default();
+    }
     let closed = ExplicitLoop::build(model, coupling, ecc, limits, memo)?;
     let fairness = model.fairness.len();
     let all_fair = mask(fairness);
@@ -422,7 +512,8 @@ pub(crate) fn check_with(
             what: "initial state",
         });
     }
-    if find_lasso(&mut Plain(&closed), all_fair)?.is_none() {
+    let budget = limits.max_bytes.saturating_sub(closed.bytes);
+    if find_lasso(&mut Plain(&closed), all_fair, budget)?.is_none() {
         return Err(CheckError::NoBehaviour {
             scope: "closed loop",
             what: "fair infinite path",
@@ -479,7 +570,7 @@ pub(crate) fn check_with(
             labels: &labels,
         };
         let all = mask(gba.sets) | all_fair << gba.sets;
-        verdicts.push(match find_lasso(&mut product, all)? {
+        verdicts.push(match find_lasso(&mut product, all, budget)? {
             None => ExplicitVerdict::Holds,
             Some(l) => {
                 let nodes = nodes as u32;
@@ -510,7 +601,8 @@ pub(crate) fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError
             what: "initial state",
         });
     }
-    match find_lasso(&mut free, mask(model.fairness.len()))? {
+    // The states take at most half of the bytes allowed, the search the other half.
+    match find_lasso(&mut free, mask(model.fairness.len()), limits.max_bytes / 2)? {
         Some(_) => Ok(()),
         None => Err(CheckError::NoBehaviour {
             scope: "plant",
@@ -527,10 +619,10 @@ fn mask(n: usize) -> u64 {
     }
 }
 
-/// A closed-loop state, compactly.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+/// A closed-loop state, compactly: the plant state by its number in the [`PlantMemo`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Key {
-    plant: Box<[Value]>,
+    plant: u32,
     ctrl: u32,
     outputs: u64,
 }
@@ -579,7 +671,17 @@ struct ExplicitLoop<'a> {
     initial: Vec<u32>,
     /// Per state: the fairness conditions it satisfies.
     fair: Vec<u64>,
+    /// The plant states, by their number in the memo the loop was built with.
+    plants: Vec<Arc<[Value]>>,
+    /// Transitions stored (entries of `succ`).
+    transitions: usize,
+    /// Bytes the closed loop and the memo are estimated to hold.
+    bytes: usize,
 }
+
+/// Estimated bytes of a closed-loop state: its key, its table entry, its successor list's
+/// header, its fairness and label words.
+const CLOSED_STATE_BYTES: usize = 96;
 
 impl<'a> ExplicitLoop<'a> {
     fn build(
@@ -589,7 +691,6 @@ impl<'a> ExplicitLoop<'a> {
         limits: &Limits,
         memo: &mut PlantMemo,
     ) -> Result<ExplicitLoop<'a>, CheckError> {
-        let sem = Semantics::new(model);
         let effects: Vec<OutputEffect> = ecc
             .states
             .iter()
@@ -601,12 +702,15 @@ impl<'a> ExplicitLoop<'a> {
             .enumerate()
             .fold(0u64, |o, (z, &v)| o | (v as u64) << z);
         let mut c = ExplicitLoop {
-            sem,
+            sem: Semantics::new(model),
             coupling,
             keys: Vec::new(),
             succ: Vec::new(),
             initial: Vec::new(),
             fair: Vec::new(),
+            plants: Vec::new(),
+            transitions: 0,
+            bytes: 0,
         };
         let mut index: HashMap<Key, u32> = HashMap::new();
         let mut intern = |c: &mut ExplicitLoop, key: Key| -> Result<u32, CheckError> {
@@ -619,23 +723,24 @@ impl<'a> ExplicitLoop<'a> {
                 });
             }
             let i = c.keys.len() as u32;
-            index.insert(key.clone(), i);
+            index.insert(key, i);
             c.keys.push(key);
             Ok(i)
         };
         for s in c.sem.initial_states(&coupling.params(o0))? {
             let key = Key {
-                plant: s.into(),
+                plant: memo.intern(&s),
                 ctrl: 0,
                 outputs: o0,
             };
             let i = intern(&mut c, key)?;
             c.initial.push(i);
         }
+        c.predict(limits)?;
         let mut next = 0;
         while next < c.keys.len() {
-            let key = c.keys[next].clone();
-            let (inputs, fair) = memo.at(&c.sem, coupling, &key)?;
+            let key = c.keys[next];
+            let (inputs, fair) = memo.at(&c.sem, coupling, key.plant, key.outputs)?;
             let (q, o) = match ecc.states[key.ctrl as usize]
                 .transitions
                 .iter()
@@ -644,24 +749,73 @@ impl<'a> ExplicitLoop<'a> {
                 Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
                 None => (key.ctrl, key.outputs),
             };
-            let successors = memo.successors(&c.sem, coupling, &key, o)?;
+            let successors = memo.successors(&c.sem, coupling, key.plant, key.outputs, o)?;
+            c.within(limits, successors.len(), memo)?;
             let mut out = Vec::with_capacity(successors.len());
-            for s in successors.iter() {
-                let i = intern(
+            for &plant in successors.iter() {
+                out.push(intern(
                     &mut c,
                     Key {
-                        plant: s.clone(),
+                        plant,
                         ctrl: q,
                         outputs: o,
                     },
-                )?;
-                out.push(i);
+                )?);
             }
             c.succ.push(out);
             c.fair.push(fair);
             next += 1;
         }
+        c.plants = memo.states.clone();
         Ok(c)
+    }
+
+    /// Refuses, before exploring, a closed loop whose transitions can be told to exceed the
+    /// limit: without `TRANS` and `INVAR` every successor of a state takes every combination
+    /// of the plant's free inputs (`IVAR`s, `VAR`s without `init` and `next`), so from a
+    /// non-empty set of initial states at least that many states are reached, each with at
+    /// least that many successors.
+    fn predict(&self, limits: &Limits) -> Result<(), CheckError> {
+        let model = self.sem.model();
+        if self.initial.is_empty() || !model.trans.is_empty() || !model.invar.is_empty() {
+            return Ok(());
+        }
+        let f = self.sem.free_combinations();
+        if f.saturating_mul(f) > limits.max_transitions as u128 {
+            return Err(CheckError::TooManyTransitions {
+                limit: limits.max_transitions,
+                why: format!(
+                    " (at least {f} × {f}: the plant's free inputs take {f} combinations of \
+                     values, and every state has that many successors)"
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// Counts a new state with `successors` transitions against the limits, with what `memo`
+    /// holds.
+    fn within(
+        &mut self,
+        limits: &Limits,
+        successors: usize,
+        memo: &PlantMemo,
+    ) -> Result<(), CheckError> {
+        self.transitions += successors;
+        if self.transitions > limits.max_transitions {
+            return Err(CheckError::TooManyTransitions {
+                limit: limits.max_transitions,
+                why: String::new(),
+            });
+        }
+        self.bytes = memo.bytes + self.keys.len() * CLOSED_STATE_BYTES + 4 * self.transitions;
+        if self.bytes > limits.max_bytes {
+            return Err(CheckError::TooMuchMemory {
+                limit: limits.max_bytes,
+                what: "the closed loop",
+            });
+        }
+        Ok(())
     }
 
     /// The atoms' values on a state, bit `i` for atom `i`.
@@ -679,7 +833,7 @@ impl<'a> ExplicitLoop<'a> {
     fn loop_state(&self, i: u32) -> LoopState {
         let k = &self.keys[i as usize];
         LoopState {
-            plant: k.plant.to_vec(),
+            plant: self.plants[k.plant as usize].to_vec(),
             ctrl: StateId(k.ctrl as usize),
             outputs: (0..self.coupling.outputs.len())
                 .map(|z| k.outputs >> z & 1 == 1)
@@ -764,6 +918,12 @@ impl Graph for Plain<'_, '_> {
     fn marks(&self, n: u32) -> u64 {
         self.0.fair[n as usize]
     }
+    fn too_large(&self, bytes: usize) -> CheckError {
+        CheckError::TooMuchMemory {
+            limit: bytes,
+            what: "the search for a fair path of the closed loop",
+        }
+    }
 }
 
 /// The product of the closed loop with the automaton of a negated property: node
@@ -809,6 +969,12 @@ impl Graph for Product<'_, '_> {
         let (s, q) = (n / self.nodes(), n % self.nodes());
         self.gba.accepting[q as usize] | self.closed.fair[s as usize] << self.gba.sets
     }
+    fn too_large(&self, bytes: usize) -> CheckError {
+        CheckError::TooMuchMemory {
+            limit: bytes,
+            what: "the search for a counterexample to a property",
+        }
+    }
 }
 
 /// The plant alone with free parameters, explored on demand. A node is a plant state, with
@@ -819,7 +985,9 @@ struct FreePlant<'a> {
     keys: Vec<(Box<[Value]>, u64)>,
     index: HashMap<(Box<[Value]>, u64), u32>,
     fair: Vec<u64>,
-    limit: usize,
+    limits: Limits,
+    /// Bytes the states are estimated to hold.
+    bytes: usize,
 }
 
 impl<'a> FreePlant<'a> {
@@ -835,7 +1003,8 @@ impl<'a> FreePlant<'a> {
             keys: Vec::new(),
             index: HashMap::new(),
             fair: Vec::new(),
-            limit: limits.max_states,
+            limits: *limits,
+            bytes: 0,
         }
     }
 
@@ -851,8 +1020,18 @@ impl<'a> FreePlant<'a> {
         if let Some(&i) = self.index.get(&key) {
             return Ok(i);
         }
-        if self.keys.len() >= self.limit {
-            return Err(CheckError::TooManyStates { limit: self.limit });
+        if self.keys.len() >= self.limits.max_states {
+            return Err(CheckError::TooManyStates {
+                limit: self.limits.max_states,
+            });
+        }
+        // Two copies of the key (list and table) and the table entry.
+        self.bytes += 2 * std::mem::size_of_val(&*key.0) + CLOSED_STATE_BYTES;
+        if self.bytes > self.limits.max_bytes / 2 {
+            return Err(CheckError::TooMuchMemory {
+                limit: self.limits.max_bytes / 2,
+                what: "the plant's states",
+            });
         }
         let n = self.sem.model().params.len();
         let fair = self
@@ -898,10 +1077,11 @@ impl Graph for FreePlant<'_> {
             let params = explicit::params_from_bits(p, n);
             for &q in &next {
                 let next_params = explicit::params_from_bits(q, n);
-                for t in self.sem.successors(&s, &params, &next_params)? {
-                    let i = self.intern(t, q)?;
-                    out.push(i);
-                }
+                let sem = self.sem.clone();
+                sem.for_each_successor(&s, &params, &next_params, &mut |t| {
+                    out.push(self.intern(t.to_vec(), q)?);
+                    Ok::<(), CheckError>(())
+                })?;
             }
         }
         out.sort_unstable();
@@ -910,6 +1090,12 @@ impl Graph for FreePlant<'_> {
     }
     fn marks(&self, n: u32) -> u64 {
         self.fair[n as usize]
+    }
+    fn too_large(&self, bytes: usize) -> CheckError {
+        CheckError::TooMuchMemory {
+            limit: bytes,
+            what: "the search for a fair path of the plant",
+        }
     }
 }
 
@@ -998,7 +1184,7 @@ impl Atom {
     }
 
     fn holds(&self, c: &ExplicitLoop, k: &Key, params: &[bool]) -> Result<bool, AtomError> {
-        self.holds_on(&c.sem, &k.plant, k.outputs, params)
+        self.holds_on(&c.sem, &c.plants[k.plant as usize], k.outputs, params)
     }
 
     /// The atom on plant state `plant` with controller outputs `outputs` (bits) and the plant

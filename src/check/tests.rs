@@ -147,7 +147,10 @@ fn the_state_limit_is_an_error() {
         &coupling,
         &e,
         &[prop("G TRUE")],
-        &Limits { max_states: 3 },
+        &Limits {
+            max_states: 3,
+            ..Limits::default()
+        },
     )
     .unwrap_err();
     assert_eq!(
@@ -159,9 +162,128 @@ fn the_state_limit_is_an_error() {
         &coupling,
         &e,
         &[prop("G TRUE")],
-        &Limits { max_states: 8 }
+        &Limits {
+            max_states: 8,
+            ..Limits::default()
+        }
     )
     .is_ok());
+}
+
+/// Integers are NuSMV's C `int`s: 32 bits that wrap around, C's `/` and `%` (the values are
+/// NuSMV 2.5.4's own). A lamp lit only while `2147483647 + 1 > 0` is never lit, as NuSMV
+/// finds.
+#[test]
+fn integer_arithmetic_wraps_around_as_in_nusmv() {
+    use crate::plant::explicit::{eval, Site};
+    let m = lamp();
+    let state = [Value::Bool(false), Value::Bool(false)];
+    let value = |e: Expr| eval(&m, &e, Site::Init(VarId(0)), &state, &[false], None).unwrap();
+    let add = |a, b| bin(BinOp::Add, a, b);
+    let cases = [
+        (
+            bin(BinOp::Gt, add(int(2147483647), int(1)), int(0)),
+            Value::Bool(false),
+        ),
+        (bin(BinOp::Mul, int(65536), int(65536)), Value::Int(0)),
+        (
+            bin(BinOp::Sub, int(-2147483647), int(2)),
+            Value::Int(2147483647),
+        ),
+        (bin(BinOp::Div, int(-7), int(2)), Value::Int(-3)),
+        (bin(BinOp::Mod, int(-7), int(2)), Value::Int(-1)),
+        (bin(BinOp::Mod, int(7), int(-2)), Value::Int(1)),
+        (
+            Expr::Neg(Box::new(bin(BinOp::Sub, int(-2147483647), int(1)))),
+            Value::Int(-2147483648),
+        ),
+    ];
+    for (e, want) in cases {
+        assert_eq!(value(e.clone()), vec![want], "{e:?}");
+    }
+    let mut b = Builder::new(&["on"]);
+    let lamp = b.var("lamp", Type::Bool);
+    b.init(&lamp, bool(false));
+    let on = b.param("on");
+    let never = bin(BinOp::Gt, add(int(2147483647), int(1)), int(0));
+    b.next(&lamp, and(vec![on, never]));
+    b.var("button", Type::Bool);
+    let always_on = Ecc {
+        states: vec![State {
+            name: "s".into(),
+            algorithm: Algorithm::Tri(vec![Tri::One]),
+            transitions: vec![],
+        }],
+        initial_outputs: vec![true],
+        ..toggle()
+    };
+    assert_eq!(
+        verdicts(&b.m, &always_on, &["G !lamp"]),
+        vec![ExplicitVerdict::Holds]
+    );
+}
+
+/// Every structure is bounded: twelve free inputs make at least 4096 × 4096 transitions,
+/// which the checker refuses before exploring, naming the bound; the same plant with a
+/// `TRANS` that fixes the inputs is explored.
+#[test]
+fn too_many_transitions_are_refused_before_exploring() {
+    let plant = |fixed: bool| {
+        let mut b = Builder::new(&["on"]);
+        let inputs: Vec<Expr> = (0..12)
+            .map(|k| b.var(&format!("x{k}"), Type::Bool))
+            .collect();
+        b.define("button", inputs[0].clone());
+        if fixed {
+            for x in &inputs {
+                b.trans(not(next_of(x)));
+            }
+        }
+        b.m
+    };
+    let ecc = toggle();
+    let m = plant(false);
+    let coupling = Wiring::of_model(&m, &ecc.inputs, &ecc.outputs).unwrap();
+    let e = check(&m, &coupling, &ecc, &[prop("G TRUE")], &Limits::default()).unwrap_err();
+    assert!(e.is_bound(), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "more than 8000000 transitions of the closed loop (at least 4096 × 4096: the plant's \
+         free inputs take 4096 combinations of values, and every state has that many \
+         successors): raise the limit or check with NuSMV"
+    );
+    let m = plant(true);
+    let coupling = Wiring::of_model(&m, &ecc.inputs, &ecc.outputs).unwrap();
+    let v = check(
+        &m,
+        &coupling,
+        &ecc,
+        &[prop("G !button")],
+        &Limits::default(),
+    );
+    assert!(
+        matches!(v.as_deref(), Ok([ExplicitVerdict::Violated(_)])),
+        "{v:?}"
+    );
+    // A bound on transitions or memory found while exploring is named too.
+    let tight = Limits {
+        max_transitions: 100,
+        ..Limits::default()
+    };
+    let e = check(&m, &coupling, &ecc, &[prop("G TRUE")], &tight).unwrap_err();
+    assert!(
+        e.is_bound() && e.to_string().starts_with("more than 100 transitions"),
+        "{e}"
+    );
+    let tight = Limits {
+        max_bytes: 1 << 10,
+        ..Limits::default()
+    };
+    let e = check(&m, &coupling, &ecc, &[prop("G TRUE")], &tight).unwrap_err();
+    assert!(
+        e.is_bound() && e.to_string().starts_with("more than 1024 bytes"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -58,6 +58,12 @@ pub(crate) enum GameError {
     Stopped,
 }
 
+impl From<crate::plant::explicit::EvalError> for GameError {
+    fn from(e: crate::plant::explicit::EvalError) -> GameError {
+        GameError::Check(CheckError::Eval(e))
+    }
+}
+
 /// What the game says.
 pub(crate) enum Outcome {
     /// The controller wins: a strategy.
@@ -119,6 +125,10 @@ struct Arena<'a> {
 
 /// Successor entries allowed per position of the limit (1 GB of them at a million positions).
 const ENTRIES_PER_POSITION: usize = 256;
+
+/// What an entry of the plant's successor cache costs, in successor entries (the key, the
+/// list's header, the table's own).
+const CACHE_ENTRY: usize = 12;
 
 fn bits(v: &[bool]) -> u64 {
     v.iter()
@@ -311,15 +321,19 @@ impl<'a> Arena<'a> {
                 Some(s) => s.clone(),
                 None => {
                     let mut ids = Vec::new();
-                    for s in (self.sem.successors(&fulls[c], &params, &params))
-                        .map_err(CheckError::Eval)?
-                    {
-                        let p = self.plant(s)?;
+                    // One candidate successor at a time: with free inputs there are as many as
+                    // their combinations, all of which the plant's state forgets.
+                    let sem = self.sem.clone();
+                    sem.for_each_successor(&fulls[c], &params, &params, &mut |s| {
+                        let p = self.plant(s.to_vec())?;
                         if !ids.contains(&p) {
                             ids.push(p);
                         }
-                    }
+                        Ok::<(), GameError>(())
+                    })?;
                     let ids: std::rc::Rc<[u32]> = ids.into();
+                    // The cache counts against the same bound as the moves.
+                    self.entries += ids.len() + CACHE_ENTRY;
                     self.successors.insert(key, ids.clone());
                     ids
                 }

@@ -508,7 +508,10 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             &check::Limits::default(),
         ) {
             Ok(verdicts) => verdicts,
-            Err(_) => {
+            Err(e) => {
+                if e.is_bound() {
+                    (self.events)(Event::InProcessStopped { why: e.to_string() });
+                }
                 self.in_process = false;
                 return Ok(InProcess::Unrefuted(Vec::new()));
             }

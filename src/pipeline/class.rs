@@ -199,6 +199,8 @@ impl Classed for crate::check::CheckError {
             | CheckError::Ecc(_)
             | CheckError::Eval(_)
             | CheckError::TooManyStates { .. }
+            | CheckError::TooManyTransitions { .. }
+            | CheckError::TooMuchMemory { .. }
             | CheckError::Property { .. } => Class::Input,
         }
     }

@@ -29,6 +29,12 @@ pub enum Event<'a> {
     },
     /// One candidate of the exact loop, verified by NuSMV.
     Candidate(&'a cegis::Iteration),
+    /// The in-process checker stopped at one of its bounds ([`crate::check::Limits`]): NuSMV
+    /// alone judges the exact loop's candidates from here.
+    InProcessStopped {
+        /// The bound, and how far the closed loop goes past it.
+        why: String,
+    },
     /// The search's start machine, found by SAT for the scenarios alone.
     SatStart {
         /// The start machine's figures (C, K, T, N).
@@ -199,6 +205,10 @@ impl fmt::Display for Event<'_> {
                 "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
             ),
             Event::Candidate(it) => candidate(f, it),
+            Event::InProcessStopped { why } => write!(
+                f,
+                "the in-process checker stops: {why}; NuSMV alone judges the candidates from here"
+            ),
             Event::SatStart { size, seconds } => {
                 write!(f, "SAT start: {size} for the scenarios alone in {seconds:.2} s")
             }

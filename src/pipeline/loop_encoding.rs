@@ -53,7 +53,6 @@ impl LoopEncoding {
             response_bound,
             initial_outputs: set.initial_outputs.clone(),
         };
-        let env: Vec<String> = closed_loop::environment_names(&spec.plant);
         let coverage: Vec<Result<(), String>> = problem
             .props
             .iter()
@@ -69,7 +68,9 @@ impl LoopEncoding {
                 {
                     return Err(format!("'{n}' is not a name of the closed loop"));
                 }
-                if !closed_loop::property::is_safety(&p.formula, &|n| env.iter().any(|e| e == n)) {
+                if !closed_loop::property::is_safety(&p.formula, &|n| {
+                    closed_loop::is_environment(&spec, n)
+                }) {
                     // Bounded eventualities unrolled along every environment make the
                     // encoding too large to solve in seconds on plants like Pick-and-Place;
                     // NuSMV's lassos come back as negative scenarios instead.
@@ -92,11 +93,9 @@ impl LoopEncoding {
         // as their deepest `X`, for the step a counterexample violates to be read. Every step
         // more is a copy of machine and plant in the solver (with the response bound's steps
         // the Pick-and-Place loop from four scenarios takes far longer).
-        if spec
-            .properties
-            .iter()
-            .all(|p| closed_loop::property::is_safety(p, &|n| env.iter().any(|e| e == n)))
-        {
+        if spec.properties.iter().all(|p| {
+            closed_loop::property::is_safety(p, &|n| closed_loop::is_environment(&spec, n))
+        }) {
             spec.response_bound = spec
                 .properties
                 .iter()

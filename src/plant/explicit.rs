@@ -259,11 +259,7 @@ impl<'a> Env<'a> {
             Expr::Define(d) => self.define(*d)?,
             Expr::Param(p) => Value::Bool(self.params[p.0]),
             Expr::Not(a) => Value::Bool(!self.boolean(a, site)?),
-            Expr::Neg(a) => Value::Int(
-                self.integer(a, site)?
-                    .checked_neg()
-                    .ok_or_else(|| self.type_error(site, "integer overflow".into()))?,
-            ),
+            Expr::Neg(a) => Value::Int(super::arith::negate(self.integer(a, site)?)),
             Expr::Case(branches) => {
                 for (c, v) in branches {
                     if self.boolean(c, site)? {
@@ -328,20 +324,16 @@ impl<'a> Env<'a> {
             _ => {}
         }
         let (x, y) = (self.integer(a, site)?, self.integer(b, site)?);
-        let overflow = || self.type_error(site, "integer overflow".into());
         Ok(match op {
             Lt => Value::Bool(x < y),
             Le => Value::Bool(x <= y),
             Gt => Value::Bool(x > y),
             Ge => Value::Bool(x >= y),
-            Add => Value::Int(x.checked_add(y).ok_or_else(overflow)?),
-            Sub => Value::Int(x.checked_sub(y).ok_or_else(overflow)?),
-            Mul => Value::Int(x.checked_mul(y).ok_or_else(overflow)?),
-            // NuSMV 2.5's default `/` and `mod` are ANSI C's (truncating), like Rust's.
-            Div | Mod if y == 0 => return Err(self.error(site, EvalErrorKind::DivisionByZero)),
-            Div => Value::Int(x.checked_div(y).ok_or_else(overflow)?),
-            Mod => Value::Int(x.checked_rem(y).ok_or_else(overflow)?),
-            And | Or | Implies | Xor | Xnor | Iff | Eq | Ne => unreachable!("handled above"),
+            // NuSMV's 32-bit arithmetic, wrapping around, C's `/` and `%` (see `arith`).
+            _ => match super::arith::arithmetic(op, x, y) {
+                Some(r) => Value::Int(r),
+                None => return Err(self.error(site, EvalErrorKind::DivisionByZero)),
+            },
         })
     }
 }
@@ -398,11 +390,12 @@ impl<'m> Semantics<'m> {
             });
         }
         let mut out = Vec::new();
-        for s in product(m, &choices)? {
-            if self.initial_ok(&s, params)? {
-                out.push(s);
+        for_each_combination(m, &choices, &mut |s| {
+            if self.initial_ok(s, params)? {
+                out.push(s.to_vec());
             }
-        }
+            Ok::<(), EvalError>(())
+        })?;
         Ok(out)
     }
 
@@ -436,13 +429,32 @@ impl<'m> Semantics<'m> {
     /// The successors of `state` when the plant reads `params`: every `next` assignment and
     /// `TRANS` hold on `state`, `params` and the successor, and `INVAR` holds on the successor
     /// with `next_params` (the parameters of the next step: in the closed loop, the
-    /// controller's outputs change together with the plant).
+    /// controller's outputs change together with the plant). Sorted, without repetition.
     pub(crate) fn successors(
         &self,
         state: &[Value],
         params: &[bool],
         next_params: &[bool],
     ) -> Result<Vec<State>, EvalError> {
+        let mut out = Vec::new();
+        self.for_each_successor(state, params, next_params, &mut |s| {
+            out.push(s.to_vec());
+            Ok::<(), EvalError>(())
+        })?;
+        Ok(out)
+    }
+
+    /// Calls `f` on each successor of [`Self::successors`], in the same order, without
+    /// collecting them: the candidates (every combination of the values the assignments allow,
+    /// free variables ranging over their domains) are made one at a time, so that a plant with
+    /// many free inputs costs time per state, not memory.
+    pub fn for_each_successor<E: From<EvalError>>(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        next_params: &[bool],
+        f: &mut impl FnMut(&[Value]) -> Result<(), E>,
+    ) -> Result<(), E> {
         let m = self.model;
         let mut env = Env::new(m, state, params, None);
         let mut choices = Vec::with_capacity(m.vars.len());
@@ -450,7 +462,7 @@ impl<'m> Semantics<'m> {
         // successor instead (NuSMV allows `next(fills) := ... next(level) ...`).
         let mut later = Vec::new();
         for (i, var) in m.vars.iter().enumerate() {
-            choices.push(match (&var.next, var.kind) {
+            let mut vs = match (&var.next, var.kind) {
                 (Some(e), VarKind::State) if reads_next(m, e) => {
                     later.push((i, e));
                     var.domain.clone()
@@ -459,35 +471,45 @@ impl<'m> Semantics<'m> {
                     let site = Site::Next(VarId(i));
                     let vs = env.values(e, site)?;
                     if let Some(bad) = vs.iter().find(|v| !in_domain(var, **v)) {
-                        return Err(out_of_domain(m, VarId(i), site, *bad));
+                        return Err(out_of_domain(m, VarId(i), site, *bad).into());
                     }
                     vs
                 }
                 _ => var.domain.clone(),
-            });
+            };
+            // Sorted choices make the combinations come sorted and distinct.
+            vs.sort();
+            vs.dedup();
+            choices.push(vs);
         }
-        let mut out = Vec::new();
-        'candidates: for s in product(m, &choices)? {
+        for_each_combination(m, &choices, &mut |s| {
             if !later.is_empty() {
-                let mut env = Env::new(m, state, params, Some(&s));
+                let mut env = Env::new(m, state, params, Some(s));
                 for &(i, e) in &later {
                     let site = Site::Next(VarId(i));
                     let vs = env.values(e, site)?;
                     if let Some(bad) = vs.iter().find(|v| !in_domain(&m.vars[i], **v)) {
-                        return Err(out_of_domain(m, VarId(i), site, *bad));
+                        return Err(out_of_domain(m, VarId(i), site, *bad).into());
                     }
                     if !vs.contains(&s[i]) {
-                        continue 'candidates;
+                        return Ok(());
                     }
                 }
             }
-            if self.transition_ok(state, params, &s, next_params)? {
-                out.push(s);
+            if self.transition_ok(state, params, s, next_params)? {
+                f(s)?;
             }
-        }
-        out.sort();
-        out.dedup();
-        Ok(out)
+            Ok(())
+        })
+    }
+
+    /// How many combinations of values the plant's free variables (`IVAR`s, `VAR`s without
+    /// `init` and `next`) take: a lower bound on the successors of every state when no
+    /// `TRANS` or `INVAR` constrains them (saturating).
+    pub fn free_combinations(&self) -> u128 {
+        (self.model.vars.iter())
+            .filter(|v| v.kind == VarKind::Input || (v.init.is_none() && v.next.is_none()))
+            .fold(1u128, |n, v| n.saturating_mul(v.domain.len() as u128))
     }
 
     fn transition_ok(
@@ -603,9 +625,14 @@ fn reads(m: &Model, e: &Expr, hit: &dyn Fn(&Expr) -> bool) -> bool {
     }
 }
 
-/// Every combination of one value per variable, in lexicographic order; an error when there
-/// are more than [`MAX_CANDIDATES`].
-fn product(m: &Model, choices: &[Vec<Value>]) -> Result<Vec<State>, EvalError> {
+/// Calls `f` on every combination of one value per variable, in lexicographic order of the
+/// choices (the last variable changing fastest), one at a time; an error when there are more
+/// than [`MAX_CANDIDATES`].
+fn for_each_combination<E: From<EvalError>>(
+    m: &Model,
+    choices: &[Vec<Value>],
+    f: &mut impl FnMut(&[Value]) -> Result<(), E>,
+) -> Result<(), E> {
     let total = choices
         .iter()
         .fold(1u128, |n, c| n.saturating_mul(c.len() as u128));
@@ -615,24 +642,30 @@ fn product(m: &Model, choices: &[Vec<Value>]) -> Result<Vec<State>, EvalError> {
             line: 0,
             construct: "the variables without init/next".into(),
             kind: EvalErrorKind::TooManyChoices(total),
-        });
+        }
+        .into());
     }
-    let mut out: Vec<State> = Vec::with_capacity(total as usize);
-    let mut current: State = Vec::with_capacity(choices.len());
-    fn go(choices: &[Vec<Value>], current: &mut State, out: &mut Vec<State>) {
-        match choices.split_first() {
-            None => out.push(current.clone()),
-            Some((first, rest)) => {
-                for v in first {
-                    current.push(*v);
-                    go(rest, current, out);
-                    current.pop();
-                }
-            }
+    if total == 0 {
+        return Ok(());
+    }
+    let mut digits = vec![0; choices.len()];
+    let mut current: State = choices.iter().map(|c| c[0]).collect();
+    loop {
+        f(&current)?;
+        // An odometer: the last digit that can still advance does, those after it restart.
+        let Some(k) = (0..choices.len())
+            .rev()
+            .find(|&k| digits[k] + 1 < choices[k].len())
+        else {
+            return Ok(());
+        };
+        digits[k] += 1;
+        current[k] = choices[k][digits[k]];
+        for j in k + 1..choices.len() {
+            digits[j] = 0;
+            current[j] = choices[j][0];
         }
     }
-    go(choices, &mut current, &mut out);
-    Ok(out)
 }
 
 /// A parameter vector from bits: bit `p` is parameter `p`.

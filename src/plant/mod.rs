@@ -35,8 +35,9 @@
 //! successor; `INVAR` holds on the successor; a `VAR` without `next` is free. A value outside a
 //! variable's domain, a division by zero or a case without a true branch is an evaluation
 //! error, as NuSMV reports it. An `IVAR` is chosen freely at every step, like a `VAR` without
-//! `init` and `next`.
+//! `init` and `next`. Integers are NuSMV's C `int`s: 32 bits, wrapping around (module `arith`).
 
+pub(crate) mod arith;
 #[cfg(test)]
 pub(crate) mod build;
 pub(crate) mod explicit;

@@ -195,7 +195,8 @@ impl InProcess {
         );
         let verdicts = match r {
             Ok(v) => v,
-            Err(CheckError::TooManyStates { .. }) => return Ok(None),
+            // Past a bound of the checker (states, transitions, memory), NuSMV judges.
+            Err(e) if e.is_bound() => return Ok(None),
             Err(e) => return Err(e.into()),
         };
         let mut out = Verdicts {

@@ -18,5 +18,6 @@ mod nusmv_answers;
 mod pipeline;
 mod robustness;
 mod schemas;
+mod semantics;
 mod synthesis;
 mod tank;

@@ -10,7 +10,7 @@
 //! values, or a condition cannot be evaluated (division by zero, a case without a true
 //! branch), nothing is concluded and nothing is refused.
 
-use crate::plant::{BinOp, Define, Expr, Value, Var};
+use crate::plant::{arith, BinOp, Define, Expr, Value, Var};
 use std::collections::BTreeSet;
 
 /// The most combinations of values the search tries.
@@ -109,9 +109,8 @@ pub(super) fn can_be_taken(
     }
 }
 
-/// The value of an expression, or `None` where it cannot be told (an evaluation error, a set,
-/// integer division or remainder of negative numbers, whose rounding this search does not
-/// commit to).
+/// The value of an expression, or `None` where it cannot be told (an evaluation error, a
+/// set). Integers are NuSMV's (32 bits, wrapping around, C's `/` and `%`: module `arith`).
 fn eval(e: &Expr, env: &Env) -> Option<Value> {
     let int = |e: &Expr| match eval(e, env)? {
         Value::Int(i) => Some(i),
@@ -128,11 +127,11 @@ fn eval(e: &Expr, env: &Env) -> Option<Value> {
         Expr::Param(p) => env.params[p.0],
         Expr::Define(d) => env.defines[d.0],
         Expr::Not(x) => Some(Value::Bool(!boolean(x)?)),
-        Expr::Neg(x) => int(x)?.checked_neg().map(Value::Int),
+        Expr::Neg(x) => Some(Value::Int(arith::negate(int(x)?))),
         Expr::Bin(op, a, b) => {
             let logic = |f: fn(bool, bool) -> bool| Some(Value::Bool(f(boolean(a)?, boolean(b)?)));
             let compare = |f: fn(i64, i64) -> bool| Some(Value::Bool(f(int(a)?, int(b)?)));
-            let arith = |f: fn(i64, i64) -> Option<i64>| f(int(a)?, int(b)?).map(Value::Int);
+            let compute = || arith::arithmetic(*op, int(a)?, int(b)?).map(Value::Int);
             match op {
                 BinOp::And => logic(|x, y| x & y),
                 BinOp::Or => logic(|x, y| x | y),
@@ -145,11 +144,7 @@ fn eval(e: &Expr, env: &Env) -> Option<Value> {
                 BinOp::Le => compare(|x, y| x <= y),
                 BinOp::Gt => compare(|x, y| x > y),
                 BinOp::Ge => compare(|x, y| x >= y),
-                BinOp::Add => arith(i64::checked_add),
-                BinOp::Sub => arith(i64::checked_sub),
-                BinOp::Mul => arith(i64::checked_mul),
-                BinOp::Div => arith(|x, y| (x >= 0 && y > 0).then(|| x / y)),
-                BinOp::Mod => arith(|x, y| (x >= 0 && y > 0).then(|| x % y)),
+                BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod => compute(),
             }
         }
         Expr::Case(branches) => {

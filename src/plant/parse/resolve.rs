@@ -678,7 +678,10 @@ impl Resolver<'_> {
                     )
                 })?;
                 Ok(match e {
-                    Expr::Const(Value::Int(i)) => (Expr::Const(Value::Int(-i)), Ty::Int),
+                    Expr::Const(Value::Int(i)) => (
+                        Expr::Const(Value::Int(crate::plant::arith::negate(i))),
+                        Ty::Int,
+                    ),
                     e => (Expr::Neg(Box::new(e)), Ty::Int),
                 })
             }

@@ -97,9 +97,25 @@ pub(crate) fn environment_names(model: &Model) -> Vec<String> {
     model
         .vars
         .iter()
-        .filter(|v| v.kind == VarKind::Input || (v.next.is_none() && v.init.is_none()))
+        .filter(|v| is_free(v))
         .map(|v| v.name.clone())
         .collect()
+}
+
+fn is_free(v: &crate::plant::Var) -> bool {
+    v.kind == VarKind::Input || (v.next.is_none() && v.init.is_none())
+}
+
+/// Whether `name`, read by a property, is the environment's alone: a free variable of the
+/// plant ([`environment_names`]) or a symbolic constant that names nothing else of the closed
+/// loop. A subformula over such names only is a constant on a given environment.
+pub fn is_environment(spec: &Spec, name: &str) -> bool {
+    let model = &*spec.plant;
+    match model.lookup(name) {
+        Some(Name::Var(v)) => is_free(model.var(v)),
+        Some(_) => false,
+        None => !spec.outputs.iter().any(|o| o == name) && model.symbol(name).is_some(),
+    }
 }
 
 /// Adds the closed loop along `env` with every property of `spec` required on it.
@@ -115,12 +131,12 @@ pub(crate) fn encode(
     let n = env.states.len();
     let deadline = n.saturating_sub(1);
     let last = deadline + spec.response_bound;
-    let names: Vec<String> = {
-        let mut all: Vec<String> = spec.properties.iter().flat_map(|p| p.names()).collect();
-        all.sort();
-        all.dedup();
-        all
-    };
+    // Both operands of a comparison: `on_for != k` reads the define `k` as well.
+    let names: std::collections::BTreeSet<String> = spec
+        .properties
+        .iter()
+        .flat_map(property::operand_names)
+        .collect();
     let env_vars: Vec<(String, usize)> = environment_names(model)
         .into_iter()
         .filter_map(|n| match model.lookup(&n) {

@@ -71,7 +71,7 @@ pub(crate) fn eval<F: ExtendFormula>(
             let pairs =
                 a.0.into_iter()
                     .map(|(v, b)| match v {
-                        Value::Int(i) => (Value::Int(-i), b),
+                        Value::Int(i) => (Value::Int(crate::plant::arith::negate(i)), b),
                         other => (other, b),
                     })
                     .collect();
@@ -188,12 +188,10 @@ pub(crate) fn apply(op: BinOp, v: Value, w: Value) -> Option<Value> {
         (Le, Value::Int(x), Value::Int(y)) => b(x <= y),
         (Gt, Value::Int(x), Value::Int(y)) => b(x > y),
         (Ge, Value::Int(x), Value::Int(y)) => b(x >= y),
-        (Add, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_add(y)?),
-        (Sub, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_sub(y)?),
-        (Mul, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_mul(y)?),
-        // NuSMV 2.5 truncates towards zero, like Rust.
-        (Div, Value::Int(x), Value::Int(y)) if y != 0 => Value::Int(x / y),
-        (Mod, Value::Int(x), Value::Int(y)) if y != 0 => Value::Int(x % y),
+        // NuSMV's 32-bit arithmetic, wrapping around, C's `/` and `%` (`plant::arith`).
+        (Add | Sub | Mul | Div | Mod, Value::Int(x), Value::Int(y)) => {
+            Value::Int(crate::plant::arith::arithmetic(op, x, y)?)
+        }
         _ => return None,
     })
 }

@@ -24,7 +24,7 @@
 use super::gates::{Fd, Gates, B};
 use crate::ltl::{CmpOp, Ltl};
 use crate::plant::Value;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use varisat::ExtendFormula;
 
 /// What the positions of the run hold.
@@ -49,18 +49,59 @@ impl Run<'_> {
         self.atoms.len() - 1
     }
 
+    /// Whether `name` is the environment's alone: a free variable of the plant, or a symbolic
+    /// constant that names nothing of the closed loop.
     fn is_env(&self, name: &str) -> bool {
         self.env.first().is_some_and(|m| m.contains_key(name))
+            || (!self.atoms[0].contains_key(name) && (self.symbol)(name).is_some())
     }
+}
+
+/// Every name a formula reads: its atoms and both operands of its comparisons. A name there
+/// may be a machine output, a plant variable or define, or a symbolic constant
+/// ([`Ltl::names`] keeps one operand of a comparison only, the one it takes for the variable:
+/// in `on_for != k` the define `k` is read too).
+pub fn operand_names(f: &Ltl) -> BTreeSet<String> {
+    fn walk(f: &Ltl, out: &mut BTreeSet<String>) {
+        use Ltl::*;
+        match f {
+            True | False | Int(_) => {}
+            Atom(n) => {
+                out.insert(n.clone());
+            }
+            Cmp(_, a, b) => {
+                walk(a, out);
+                walk(b, out);
+            }
+            Not(a) | X(a) | F(a) | G(a) | Y(a) | Z(a) | H(a) | O(a) => walk(a, out),
+            And(a, b)
+            | Or(a, b)
+            | Xor(a, b)
+            | Xnor(a, b)
+            | Implies(a, b)
+            | Iff(a, b)
+            | U(a, b)
+            | V(a, b)
+            | S(a, b)
+            | T(a, b) => {
+                walk(a, out);
+                walk(b, out);
+            }
+        }
+    }
+    let mut out = BTreeSet::new();
+    walk(f, &mut out);
+    out
 }
 
 /// Whether the formula is a safety property once its environment-only subformulas are read
 /// as constants: in negation normal form no `F` or `U` (an eventuality) outside them. Only
-/// such properties are encoded by default.
+/// such properties are encoded by default. `env(n)`: name `n` is the environment's alone, a
+/// free variable of the plant or a symbolic constant ([`super::is_environment`]).
 pub(crate) fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
     fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> bool {
         use Ltl::*;
-        if f.is_future_only() && f.names().iter().all(|n| env(n)) {
+        if f.is_future_only() && operand_names(f).iter().all(|n| env(n)) {
             return true;
         }
         match f {
@@ -321,9 +362,12 @@ impl<'r> Bounded<'r> {
                 CmpOp::Eq,
             ),
         };
+        // Every name a property reads is in `atoms` (outputs, plant variables and defines,
+        // both operands of a comparison) or a symbolic constant; the coupling check resolved
+        // them before anything was encoded. Should one not resolve, nothing is ruled out: the
+        // literal is free, and NuSMV judges the property.
         let (Some(x), Some(y)) = (x, y) else {
-            // The coupling check resolves every name before anything is encoded.
-            unreachable!("unresolved name in an encoded property")
+            return B::L(g.fresh());
         };
         let mut hits = Vec::new();
         for &(v, bv) in &x.0 {
@@ -350,7 +394,7 @@ impl<'r> Bounded<'r> {
     }
 
     fn env_only(&self, f: &Ltl) -> bool {
-        f.is_future_only() && f.names().iter().all(|n| self.run.is_env(n))
+        f.is_future_only() && operand_names(f).iter().all(|n| self.run.is_env(n))
     }
 
     /// Exact value of an environment-only formula at run position `t`.

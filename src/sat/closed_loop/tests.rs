@@ -188,3 +188,57 @@ fn the_encoding_alone_excludes_machines_that_miss_the_press() {
     ]);
     assert!(!s.solve().unwrap(), "keep machine allowed");
 }
+
+/// `spec(formulas)` over the lamp with the defines `(name, expression)` added.
+fn spec_with_defines(formulas: &str, defines: &[(&str, Expr)]) -> Arc<Spec> {
+    let mut s = (*spec(formulas)).clone();
+    let mut plant = lamp();
+    for (name, expr) in defines {
+        plant.defines.push(crate::plant::Define {
+            name: name.to_string(),
+            line: 1,
+            expr: expr.clone(),
+        });
+    }
+    s.plant = Arc::new(plant);
+    Arc::new(s)
+}
+
+/// A define on the right of a comparison is read like any other name: with `k := lamp`,
+/// `lamp != k` is false at every step, so no machine satisfies `G (lamp != k)`, while
+/// `G (lamp = k)` rules nothing out.
+#[test]
+fn a_define_compared_with_a_variable_is_read() {
+    let k = [("k", Expr::Var(VarId(1)))];
+    let set = idle_recording();
+    let tree = ScenarioTree::build(&set).unwrap();
+    let mut synth = Synthesizer::new(&set, &tree, &options());
+    synth
+        .add_environment(&spec_with_defines("G (lamp != k)", &k), one_press())
+        .unwrap();
+    assert!(matches!(
+        synth.minimize(&mut |_| {}),
+        Err(SatError::TooManyStates { .. })
+    ));
+    let mut synth = Synthesizer::new(&set, &tree, &options());
+    let spec = spec_with_defines("G (lamp = k)\nG (button -> X X lamp)", &k);
+    synth.add_environment(&spec, one_press()).unwrap();
+    let s = synth.minimize(&mut |_| {}).unwrap();
+    let lamp = lamp_run(&s.ecc, &[false, true, false, false]);
+    assert_eq!(lamp, vec![false, false, false, true], "{:?}", s.ecc);
+}
+
+/// A comparison of a free input with a define is not the environment's alone, even when the
+/// define only renames the input: `button = pressed` holds at every step, so `G (button =
+/// pressed)` leaves the recording's machine.
+#[test]
+fn a_define_of_a_free_input_is_no_constant_of_the_environment() {
+    let pressed = [("pressed", Expr::Var(VarId(0)))];
+    let set = idle_recording();
+    let tree = ScenarioTree::build(&set).unwrap();
+    let mut synth = Synthesizer::new(&set, &tree, &options());
+    let spec = spec_with_defines("G (button = pressed)", &pressed);
+    synth.add_environment(&spec, one_press()).unwrap();
+    let s = synth.minimize(&mut |_| {}).unwrap();
+    assert_eq!(s.size.t, 0, "{:?}", s.ecc);
+}
