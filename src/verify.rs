@@ -1,7 +1,7 @@
 //! Closed-loop verification of one ECC: compose, run NuSMV, report, and turn a counterexample
 //! into a negative scenario.
 //!
-//! In: an [`Ecc`], a [`Plant`], checked [`Coupling`], properties, and a NuSMV [`Session`].
+//! In: an [`Ecc`], a [`Plant`], checked [`Coupling`], properties, and a NuSMV [`Dialogue`].
 //! Out: a [`Report`] with one [`PropertyReport`] per property (NuSMV's verdict line kept), and
 //! for every violated property with a trace, a [`Counterexample`]: the lasso as NuSMV printed
 //! it, with a loop point that really violates the property, and as a [`NegativeScenario`].
@@ -18,7 +18,7 @@
 use crate::ecc::Ecc;
 use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
-use crate::nusmv::{CheckMode, ModelError, NusmvError, Query, Session, Trace, Verdict};
+use crate::nusmv::{CheckMode, ModelError, NusmvError, Query, Dialogue, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::composition::{
     compose, compose_controller, ComposedModel, Coupling, Source, CONTROLLER_INSTANCE,
@@ -54,7 +54,7 @@ pub struct Report {
     pub properties: Vec<PropertyReport>,
     /// Wall-clock time NuSMV took to check the closed loop, in seconds.
     pub(crate) nusmv_seconds: f64,
-    /// What NuSMV printed on stderr that no verdict accounts for ([`Session::warnings`]).
+    /// What NuSMV printed on stderr that no verdict accounts for ([`Dialogue::warnings`]).
     pub(crate) nusmv_warnings: Vec<String>,
 }
 
@@ -393,16 +393,16 @@ impl Problem {
     }
 }
 
-/// The one verifier: a NuSMV session and a private folder for the closed-loop model, over a
+/// The one verifier: a NuSMV dialogue and a private folder for the closed-loop model, over a
 /// shared [`Problem`].
 pub struct Verifier {
     problem: std::sync::Arc<Problem>,
-    session: Session,
+    dialogue: Dialogue,
     workdir: tempfile::TempDir,
 }
 
 impl Verifier {
-    /// Opens a session of `nusmv` for `problem`.
+    /// Opens a dialogue of `nusmv` for `problem`.
     pub(crate) fn new(
         problem: std::sync::Arc<Problem>,
         nusmv: &crate::nusmv::Nusmv,
@@ -417,7 +417,7 @@ impl Verifier {
         }
         Ok(Verifier {
             problem,
-            session: nusmv.session(),
+            dialogue: nusmv.dialogue(),
             workdir,
         })
     }
@@ -446,7 +446,7 @@ impl Verifier {
         verify(
             ecc,
             &self.problem,
-            &mut self.session,
+            &mut self.dialogue,
             self.workdir.path(),
             mode,
         )
@@ -462,7 +462,7 @@ impl Verifier {
     ) -> Result<VerificationResult, VerifyError> {
         let p = &self.problem;
         let model = compose_controller(controller, inputs, &p.plant, &p.coupling, &p.props);
-        check_model(model, p, &mut self.session, self.workdir.path(), mode)
+        check_model(model, p, &mut self.dialogue, self.workdir.path(), mode)
     }
 
     /// The closed-loop model of the last check, if one was written (kept for the user when
@@ -494,19 +494,19 @@ impl Drop for Verifier {
 pub(crate) fn verify(
     ecc: &Ecc,
     problem: &Problem,
-    session: &mut Session,
+    dialogue: &mut Dialogue,
     workdir: &Path,
     mode: CheckMode,
 ) -> Result<VerificationResult, VerifyError> {
     let model = compose(ecc, &problem.plant, &problem.coupling, &problem.props)?;
-    check_model(model, problem, session, workdir, mode)
+    check_model(model, problem, dialogue, workdir, mode)
 }
 
 /// Writes the composed closed loop into `workdir` and has NuSMV check it.
 fn check_model(
     model: ComposedModel,
     problem: &Problem,
-    session: &mut Session,
+    dialogue: &mut Dialogue,
     workdir: &Path,
     mode: CheckMode,
 ) -> Result<VerificationResult, VerifyError> {
@@ -519,7 +519,7 @@ fn check_model(
         })
         .collect();
     let t = Instant::now();
-    let results = match session.check(&path, &queries, mode) {
+    let results = match dialogue.check(&path, &queries, mode) {
         Ok(r) => r,
         Err(NusmvError::Model(errors)) => {
             return Err(VerifyError::Model(locate_errors(
@@ -571,7 +571,7 @@ fn check_model(
         report: Report {
             properties,
             nusmv_seconds,
-            nusmv_warnings: session.warnings().to_vec(),
+            nusmv_warnings: dialogue.warnings().to_vec(),
         },
         counterexamples,
         model,

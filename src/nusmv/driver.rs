@@ -1,13 +1,13 @@
 //! Running NuSMV processes.
 //!
-//! In: the path of a NuSMV binary, SMV model files and, for a [`Session`], the properties to
+//! In: the path of a NuSMV binary, SMV model files and, for a [`Dialogue`], the properties to
 //! ask about by name ([`Query`]). Out: parsed [`PropertyResult`]s, or a [`NusmvError`] saying
 //! why there are none.
 //!
 //! Two ways to run it:
 //! - [`Nusmv::check_file`]: one batch process per model (`NuSMV -dynamic model.smv`); simple,
 //!   and what a user would run by hand.
-//! - [`Session`]: one `NuSMV -int` process fed model after model on stdin; it saves the
+//! - [`Dialogue`]: one `NuSMV -int` process fed model after model on stdin; it saves the
 //!   process start and, with the `EL_fwd` emptiness algorithm, most of the checking time.
 //!
 //! Output is read with a bound ([`MAX_ANSWER_BYTES`] per answer, [`MAX_BATCH_BYTES`] per
@@ -112,9 +112,9 @@ impl Nusmv {
         Ok(parse_output(&out)?)
     }
 
-    /// A [`Session`] running this binary with this timeout.
-    pub(crate) fn session(&self) -> Session {
-        Session::new(self.clone())
+    /// A [`Dialogue`] running this binary with this timeout.
+    pub(crate) fn dialogue(&self) -> Dialogue {
+        Dialogue::new(self.clone())
     }
 
     /// Why a check that ran out of time ended: the run's deadline or the model's timeout.
@@ -126,7 +126,7 @@ impl Nusmv {
     }
 }
 
-/// Bytes NuSMV may print on one stream in answer to one command of a [`Session`] (one
+/// Bytes NuSMV may print on one stream in answer to one command of a [`Dialogue`] (one
 /// property's verdict and counterexample, or reading a model). Past it the process is killed
 /// and the check fails with [`NusmvError::OutputTooLarge`]: a NuSMV printing without end must
 /// not take the memory of this program with it.
@@ -135,7 +135,7 @@ pub const MAX_ANSWER_BYTES: usize = 16 << 20;
 /// Bytes a batch run ([`Nusmv::check_file`]) may print on one stream, for all its properties.
 pub const MAX_BATCH_BYTES: usize = 64 << 20;
 
-/// A property of a model, as a [`Session`] asks NuSMV about it.
+/// A property of a model, as a [`Dialogue`] asks NuSMV about it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Query {
     /// The property's name in the model (`LTLSPEC NAME name := ...`): a letter or `_`, then
@@ -174,7 +174,7 @@ impl Query {
     }
 }
 
-/// What NuSMV printed between two markers of a [`Session`]: its answer to one command.
+/// What NuSMV printed between two markers of a [`Dialogue`]: its answer to one command.
 struct Answer {
     out: String,
     err: String,
@@ -195,7 +195,7 @@ fn one_verdict(query: &Query, answer: &Answer) -> Result<PropertyResult, NusmvEr
     Ok(result)
 }
 
-/// What a [`Session`] computes for each model.
+/// What a [`Dialogue`] computes for each model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CheckMode {
     /// Verdicts of every property asked, no traces (fast `EL_fwd` emptiness check).
@@ -213,29 +213,29 @@ pub enum CheckMode {
 /// property asked, every command followed by an `echo` marker on stdout and on stderr, and
 /// cuts both streams at the markers: what comes between two markers is the answer to one
 /// command, and what is kept of it is bounded ([`MAX_ANSWER_BYTES`]). Errors in one model
-/// leave the session usable for the next; a timeout or crash kills the process and the next
-/// [`Session::check`] starts a new one. The process is also restarted every
-/// [`Session::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
-pub(crate) struct Session {
+/// leave the dialogue usable for the next; a timeout or crash kills the process and the next
+/// [`Dialogue::check`] starts a new one. The process is also restarted every
+/// [`Dialogue::DEFAULT_RESTART_EVERY`] models, because NuSMV's memory grows with each model.
+pub(crate) struct Dialogue {
     nusmv: Nusmv,
-    process: Option<SessionProcess>,
+    process: Option<DialogueProcess>,
     models_in_process: usize,
     restart_every: usize,
     next_marker: u64,
-    /// See [`Session::warnings`].
+    /// See [`Dialogue::warnings`].
     warnings: Vec<String>,
 }
 
 /// Text NuSMV echoes after each command; a number follows, then `==`.
 const MARKER: &str = "==fbsynth-end-";
 
-impl Session {
+impl Dialogue {
     /// Models checked by one process before it is replaced by a fresh one.
     pub(crate) const DEFAULT_RESTART_EVERY: usize = 2000;
 
-    /// A session; the process starts with the first [`Session::check`].
-    pub(crate) fn new(nusmv: Nusmv) -> Session {
-        Session {
+    /// A dialogue; the process starts with the first [`Dialogue::check`].
+    pub(crate) fn new(nusmv: Nusmv) -> Dialogue {
+        Dialogue {
             nusmv,
             process: None,
             models_in_process: 0,
@@ -483,7 +483,7 @@ impl Session {
 
     fn ensure_process(&mut self) -> Result<(), NusmvError> {
         if self.process.is_none() {
-            self.process = Some(SessionProcess::start(&self.nusmv.path)?);
+            self.process = Some(DialogueProcess::start(&self.nusmv.path)?);
             self.models_in_process = 0;
         }
         Ok(())
@@ -530,8 +530,8 @@ impl Session {
     }
 }
 
-/// The running `NuSMV -int` of a [`Session`]. Dropping it kills and reaps the process.
-struct SessionProcess {
+/// The running `NuSMV -int` of a [`Dialogue`]. Dropping it kills and reaps the process.
+struct DialogueProcess {
     child: Tracked,
     stdin: ChildStdin,
     events: Receiver<Event>,
@@ -540,8 +540,8 @@ struct SessionProcess {
     stderr_closed: bool,
 }
 
-impl SessionProcess {
-    fn start(binary: &Path) -> Result<SessionProcess, NusmvError> {
+impl DialogueProcess {
+    fn start(binary: &Path) -> Result<DialogueProcess, NusmvError> {
         let mut command = Command::new(binary);
         command.arg("-int");
         let mut child = Tracked::spawn(command)?;
@@ -555,7 +555,7 @@ impl SessionProcess {
             MAX_ANSWER_BYTES,
         );
         read_chunks_on_thread(Stream::Err, err.expect("piped"), tx, MAX_ANSWER_BYTES);
-        Ok(SessionProcess {
+        Ok(DialogueProcess {
             child,
             stdin,
             events,
@@ -600,7 +600,7 @@ impl Stream {
     }
 }
 
-/// What a session's reader thread reports.
+/// What a dialogue's reader thread reports.
 enum Event {
     /// The text before the marker numbered `marker` (since the previous marker).
     Chunk {
@@ -633,7 +633,7 @@ fn read_all_on_thread(
     });
 }
 
-/// Reads a session stream line by line on a thread, sending the text between markers; at
+/// Reads a dialogue stream line by line on a thread, sending the text between markers; at
 /// most `limit` bytes of it are kept (see [`Event::Overflow`]).
 fn read_chunks_on_thread(
     stream: Stream,
@@ -1006,7 +1006,7 @@ mod tests {
     }
 
     /// A copy of the fixture `model` in `dir` in which every unnamed property is named
-    /// `unnamed_<k>` (`k` its 0-based position): a session asks for properties by name.
+    /// `unnamed_<k>` (`k` its 0-based position): a dialogue asks for properties by name.
     fn named_copy(model: &str, dir: &Path) -> PathBuf {
         let text = std::fs::read_to_string(data(model)).unwrap();
         let mut named = String::new();
@@ -1033,13 +1033,13 @@ mod tests {
         copy
     }
 
-    /// Checks every named property of `model` in `session`.
+    /// Checks every named property of `model` in `dialogue`.
     fn ask(
-        session: &mut Session,
+        dialogue: &mut Dialogue,
         model: &Path,
         mode: CheckMode,
     ) -> Result<Vec<PropertyResult>, NusmvError> {
-        session.check(model, &queries(model), mode)
+        dialogue.check(model, &queries(model), mode)
     }
 
     fn holds(results: &[PropertyResult]) -> Vec<(String, bool)> {
@@ -1092,17 +1092,17 @@ mod tests {
     }
 
     #[test]
-    fn batch_and_session_verdicts_agree() {
+    fn batch_and_dialogue_verdicts_agree() {
         let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
-        let mut session = nusmv.session();
+        let mut dialogue = nusmv.dialogue();
         let dir = tempfile::tempdir().unwrap();
         for model in ["cylinder.smv", "light.smv"] {
             let batch = nusmv.check_file(&data(model)).unwrap();
             let named = named_copy(model, dir.path());
-            let fast = ask(&mut session, &named, CheckMode::VerdictsOnly).unwrap();
-            let traced = ask(&mut session, &named, CheckMode::FirstCounterexample).unwrap();
+            let fast = ask(&mut dialogue, &named, CheckMode::VerdictsOnly).unwrap();
+            let traced = ask(&mut dialogue, &named, CheckMode::FirstCounterexample).unwrap();
             assert_eq!(holds(&batch), holds(&fast), "{model}");
             assert_eq!(holds(&batch), holds(&traced), "{model}");
             assert!(fast
@@ -1134,8 +1134,8 @@ mod tests {
         let model = data("light.smv");
         let mut asked = queries(&model);
         asked.reverse();
-        let mut session = nusmv.session();
-        let results = session
+        let mut dialogue = nusmv.dialogue();
+        let results = dialogue
             .check(&model, &asked, CheckMode::AllCounterexamples)
             .unwrap();
         let got: Vec<(&str, bool)> = (results.iter())
@@ -1152,7 +1152,7 @@ mod tests {
         );
         assert_eq!(results[2].formula, "G light = red");
         let two = [asked[3].clone(), asked[2].clone()];
-        let results = session
+        let results = dialogue
             .check(&model, &two, CheckMode::VerdictsOnly)
             .unwrap();
         let holds: Vec<bool> = results
@@ -1162,7 +1162,7 @@ mod tests {
         assert_eq!(holds, [true, false]);
         // NuSMV prints nothing when asked about a property a second time: refused.
         let twice = [asked[3].clone(), asked[2].clone(), asked[3].clone()];
-        let result = session.check(&model, &twice, CheckMode::VerdictsOnly);
+        let result = dialogue.check(&model, &twice, CheckMode::VerdictsOnly);
         assert!(
             matches!(&result, Err(NusmvError::UnsafeQuery { property, .. }) if property == "red_not_to_yellow"),
             "{result:?}"
@@ -1179,7 +1179,7 @@ mod tests {
             formula: "TRUE".into(),
         };
         let result = nusmv
-            .session()
+            .dialogue()
             .check(&data("light.smv"), &[unknown], CheckMode::VerdictsOnly);
         let Err(e) = result else { panic!("{result:?}") };
         assert!(e.to_string().contains("no_such_property"), "{e}");
@@ -1235,7 +1235,7 @@ mod tests {
         ] {
             let nusmv = fake_nusmv(dir.path(), script);
             let result = nusmv
-                .session()
+                .dialogue()
                 .check(&model, &queries(&model), CheckMode::VerdictsOnly);
             match result {
                 Err(NusmvError::OutputTooLarge { limit, stream, .. }) => {
@@ -1303,19 +1303,19 @@ mod tests {
     }
 
     #[test]
-    fn session_survives_a_model_error() {
+    fn dialogue_survives_a_model_error() {
         let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
-        let mut session = nusmv.session();
-        let first = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
-        let pid = session.pid();
+        let mut dialogue = nusmv.dialogue();
+        let first = ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        let pid = dialogue.pid();
         for (model, line) in [
             ("err_syntax.smv", 5),
             ("err_undefined.smv", 8),
             ("err_assign.smv", 7),
         ] {
-            match ask(&mut session, &data(model), CheckMode::FirstCounterexample) {
+            match ask(&mut dialogue, &data(model), CheckMode::FirstCounterexample) {
                 Err(NusmvError::Model(errors)) => {
                     assert!(errors[0].file.ends_with(model), "{errors:?}");
                     assert_eq!(errors[0].line, line, "{model}");
@@ -1323,29 +1323,29 @@ mod tests {
                 other => panic!("{model}: expected a model error, got {other:?}"),
             }
         }
-        let again = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        let again = ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         assert_eq!(holds(&first), holds(&again));
-        assert_eq!(session.pid(), pid, "errors must not restart the process");
+        assert_eq!(dialogue.pid(), pid, "errors must not restart the process");
     }
 
     #[test]
-    fn session_restarts_after_the_configured_number_of_models() {
+    fn dialogue_restarts_after_the_configured_number_of_models() {
         let Some(nusmv) = nusmv_for_tests() else {
             return;
         };
-        let mut session = nusmv.session();
-        session.set_restart_every(2);
+        let mut dialogue = nusmv.dialogue();
+        dialogue.set_restart_every(2);
         let mut pids = Vec::new();
         for _ in 0..3 {
             // Each model takes two rounds with the process; it must not be replaced between.
             let results = ask(
-                &mut session,
+                &mut dialogue,
                 &data("light.smv"),
                 CheckMode::FirstCounterexample,
             )
             .unwrap();
             assert!(matches!(results[1].verdict, Verdict::Violated(Some(_))));
-            pids.push(session.pid().unwrap());
+            pids.push(dialogue.pid().unwrap());
         }
         assert_eq!(pids[0], pids[1]);
         assert_ne!(pids[1], pids[2]);
@@ -1358,14 +1358,14 @@ mod tests {
         };
         let missing = data("no_such_model.smv");
         assert!(matches!(nusmv.check_file(&missing), Err(NusmvError::Io(_))));
-        let mut session = nusmv.session();
+        let mut dialogue = nusmv.dialogue();
         assert!(matches!(
-            session.check(&missing, &[], CheckMode::VerdictsOnly),
+            dialogue.check(&missing, &[], CheckMode::VerdictsOnly),
             Err(NusmvError::Io(_))
         ));
     }
 
-    /// Run in a child test process by `ctrl_c_kills_nusmv_and_exits_130`: starts a session,
+    /// Run in a child test process by `ctrl_c_kills_nusmv_and_exits_130`: starts a dialogue,
     /// prints its NuSMV's pid and keeps it checking a long model until the signal comes.
     /// Does nothing in a normal test run.
     #[test]
@@ -1374,13 +1374,13 @@ mod tests {
             return;
         }
         let nusmv = nusmv_for_tests().expect("the parent test found NuSMV");
-        let mut session = nusmv.session();
-        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
-        println!("nusmv-pid {}", session.pid().unwrap());
+        let mut dialogue = nusmv.dialogue();
+        ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        println!("nusmv-pid {}", dialogue.pid().unwrap());
         // Keep NuSMV busy: were it left alive, it would go on for minutes instead of
         // stopping at the end of its stdin.
         let result = ask(
-            &mut session,
+            &mut dialogue,
             &data("long_counter.smv"),
             CheckMode::VerdictsOnly,
         );
@@ -1436,16 +1436,16 @@ mod tests {
 
     #[cfg(target_os = "linux")]
     #[test]
-    fn session_timeout_kills_the_process_and_recovers() {
+    fn dialogue_timeout_kills_the_process_and_recovers() {
         let Some(mut nusmv) = nusmv_for_tests() else {
             return;
         };
         nusmv.timeout = Duration::from_millis(500);
-        let mut session = nusmv.session();
-        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
-        let pid = session.pid().unwrap();
+        let mut dialogue = nusmv.dialogue();
+        ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        let pid = dialogue.pid().unwrap();
         let result = ask(
-            &mut session,
+            &mut dialogue,
             &data("long_counter.smv"),
             CheckMode::VerdictsOnly,
         );
@@ -1453,40 +1453,40 @@ mod tests {
             matches!(result, Err(NusmvError::Timeout { .. })),
             "{result:?}"
         );
-        assert_eq!(session.pid(), None);
+        assert_eq!(dialogue.pid(), None);
         assert!(
             !process_exists(pid),
             "NuSMV {pid} is still in the process table"
         );
-        let after = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        let after = ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
         assert_eq!(after.len(), 4);
     }
 
     /// The run's deadline kills a check under way and refuses the next: no NuSMV outlives it.
     #[cfg(target_os = "linux")]
     #[test]
-    fn the_deadline_kills_a_session_and_starts_no_other() {
+    fn the_deadline_kills_a_dialogue_and_starts_no_other() {
         let Some(mut nusmv) = nusmv_for_tests() else {
             return;
         };
         nusmv.deadline = Deadline::after(Duration::from_secs(2));
-        let mut session = nusmv.session();
-        ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
-        let pid = session.pid().unwrap();
+        let mut dialogue = nusmv.dialogue();
+        ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly).unwrap();
+        let pid = dialogue.pid().unwrap();
         let result = ask(
-            &mut session,
+            &mut dialogue,
             &data("long_counter.smv"),
             CheckMode::VerdictsOnly,
         );
         assert!(matches!(result, Err(NusmvError::Stopped)), "{result:?}");
-        assert_eq!(session.pid(), None);
+        assert_eq!(dialogue.pid(), None);
         assert!(
             !process_exists(pid),
             "NuSMV {pid} is still in the process table"
         );
-        let after = ask(&mut session, &data("light.smv"), CheckMode::VerdictsOnly);
+        let after = ask(&mut dialogue, &data("light.smv"), CheckMode::VerdictsOnly);
         assert!(matches!(after, Err(NusmvError::Stopped)), "{after:?}");
-        assert_eq!(session.pid(), None);
+        assert_eq!(dialogue.pid(), None);
         let batch = nusmv.check_file(&data("light.smv"));
         assert!(matches!(batch, Err(NusmvError::Stopped)), "{batch:?}");
     }
@@ -1564,18 +1564,18 @@ mod tests {
         let batch: Vec<f64> = (0..RUNS)
             .map(|_| time(&mut || drop(nusmv.check_file(&model).unwrap())))
             .collect();
-        let mut session = nusmv.session();
-        ask(&mut session, &named, CheckMode::VerdictsOnly).unwrap();
+        let mut dialogue = nusmv.dialogue();
+        ask(&mut dialogue, &named, CheckMode::VerdictsOnly).unwrap();
         let mut per_mode = |mode| -> Vec<f64> {
             (0..RUNS)
-                .map(|_| time(&mut || drop(ask(&mut session, &named, mode).unwrap())))
+                .map(|_| time(&mut || drop(ask(&mut dialogue, &named, mode).unwrap())))
                 .collect()
         };
         let fast = per_mode(CheckMode::VerdictsOnly);
         let traced = per_mode(CheckMode::FirstCounterexample);
         println!("cylinder.smv, median of {RUNS} runs:");
         println!("  batch (-dynamic), all traces:   {:.1} ms", median(batch));
-        println!("  session, VerdictsOnly:          {:.1} ms", median(fast));
-        println!("  session, FirstCounterexample:   {:.1} ms", median(traced));
+        println!("  dialogue, VerdictsOnly:          {:.1} ms", median(fast));
+        println!("  dialogue, FirstCounterexample:   {:.1} ms", median(traced));
     }
 }

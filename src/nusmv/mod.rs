@@ -1,6 +1,6 @@
 //! Running the NuSMV model checker and reading what it prints.
 //!
-//! In: an SMV file on disk (written by the `smv` layer or by hand) and, for a [`Session`], the
+//! In: an SMV file on disk (written by the `smv` layer or by hand) and, for a [`Dialogue`], the
 //! names of its properties ([`Query`]). Out: one [`PropertyResult`] per property asked, in the
 //! order asked (a batch run: in the order of the `LTLSPEC`s in the file), each
 //! [`Verdict::Violated`] carrying the counterexample [`Trace`] when NuSMV printed one.
@@ -10,7 +10,7 @@
 //!
 //! - [`locate()`] finds the binary (`--nusmv`, `$NUSMV`, `PATH`, the install script's cache);
 //! - [`driver`] runs it: one process per model ([`Nusmv::check_file`]) or one long-lived
-//!   `NuSMV -int` process fed many models ([`Session`]), with timeouts and a Ctrl-C handler
+//!   `NuSMV -int` process fed many models ([`Dialogue`]), with timeouts and a Ctrl-C handler
 //!   that kills every child;
 //! - [`output`] parses stdout (verdicts and traces) and stderr (errors with file and line).
 //!
@@ -21,7 +21,7 @@ pub(crate) mod driver;
 pub(crate) mod locate;
 pub(crate) mod output;
 
-pub(crate) use driver::{kill_all_children, Query, Session};
+pub(crate) use driver::{kill_all_children, Query, Dialogue};
 pub use driver::{CheckMode, Nusmv};
 pub use locate::locate;
 pub use output::{parse_errors, parse_output, Verdict};
@@ -68,7 +68,7 @@ pub enum NusmvError {
     /// expansion, `#` starts a comment, `"` ends the quoting).
     #[error("model path `{}` contains a character NuSMV's shell cannot take (one of ! % # \" \\ or a control character)", .0.display())]
     UnsafePath(PathBuf),
-    /// A property a [`Session`] cannot ask about: a name or formula NuSMV's command shell
+    /// A property a [`Dialogue`] cannot ask about: a name or formula NuSMV's command shell
     /// would not take as one argument (a name is a letter or `_`, then letters, digits and
     /// `_`; a formula holds no `"`, `\` or control character), or a name asked twice (NuSMV
     /// answers about a property once per model).

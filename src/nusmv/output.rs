@@ -1,7 +1,7 @@
 //! Parsing what NuSMV prints.
 //!
 //! In: NuSMV 2.5.4's stdout after LTL checks (a batch run, or one model's part of an `-int`
-//! session) and its stderr. Out: [`PropertyResult`]s with full-state [`Trace`]s, and
+//! dialogue) and its stderr. Out: [`PropertyResult`]s with full-state [`Trace`]s, and
 //! [`ModelError`]s with file and line. The grammar is `grammar/nusmv_output.pest`; no pest type
 //! leaves this module.
 //!
@@ -25,7 +25,7 @@ use parser::{OutputGrammar, Rule};
 /// The verdict on one property, as NuSMV printed it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PropertyResult {
-    /// The property's name: the name a [`Session`](super::Session) asked for it by, or the
+    /// The property's name: the name a [`Dialogue`](super::Dialogue) asked for it by, or the
     /// one its verdict line printed (`set prop_print_method name` prints `'name'`); `None`
     /// otherwise (the default print method prints the formula).
     pub name: Option<String>,
@@ -317,8 +317,8 @@ mod tests {
         pairs.join(" ")
     }
 
-    /// The parts of the session transcript between its `echo` markers.
-    fn session_chunks(text: &str) -> Vec<String> {
+    /// The parts of the dialogue transcript between its `echo` markers.
+    fn dialogue_chunks(text: &str) -> Vec<String> {
         let mut chunks = vec![String::new()];
         for line in text.split_inclusive('\n') {
             match line.find("==model-") {
@@ -384,8 +384,8 @@ mod tests {
     }
 
     #[test]
-    fn session_transcript_parses_model_by_model() {
-        let chunks = session_chunks(&fixture("session.stdout"));
+    fn dialogue_transcript_parses_model_by_model() {
+        let chunks = dialogue_chunks(&fixture("dialogue.stdout"));
         assert_eq!(
             chunks.len(),
             5,
@@ -397,12 +397,12 @@ mod tests {
             writeln!(rendered, "=== chunk {i}").unwrap();
             rendered.push_str(&render(&results));
         }
-        insta::assert_snapshot!("session", rendered);
+        insta::assert_snapshot!("dialogue", rendered);
     }
 
     #[test]
     fn name_print_method_gives_names() {
-        let chunks = session_chunks(&fixture("session.stdout"));
+        let chunks = dialogue_chunks(&fixture("dialogue.stdout"));
         let results = parse_output(&chunks[3]).unwrap();
         let names: Vec<_> = results.iter().map(|r| r.name.as_deref()).collect();
         assert_eq!(
@@ -529,8 +529,8 @@ mod tests {
     }
 
     #[test]
-    fn session_stderr_repeats_are_dropped() {
-        let errors = parse_errors(&fixture("session.stderr"));
+    fn dialogue_stderr_repeats_are_dropped() {
+        let errors = parse_errors(&fixture("dialogue.stderr"));
         let positions: Vec<_> = errors.iter().map(|e| (e.file.as_str(), e.line)).collect();
         assert_eq!(positions, [("err_syntax.smv", 5), ("err_undefined.smv", 8)]);
     }

@@ -10,7 +10,7 @@
 //! and `summary.json`.
 //!
 //! Parallel over PLCs with rayon: each reconstruction is one SAT solver (and one NuSMV
-//! session), so `threads` PLCs run at once. Scaling beyond one machine is left to the engines
+//! dialogue), so `threads` PLCs run at once. Scaling beyond one machine is left to the engines
 //! built for it: a Spark or DataFusion job writes one Parquet partition per
 //! PLC, and an array job of `synth batch` runs over partitions.
 

@@ -1,6 +1,6 @@
 //! Counterexample-guided inductive synthesis: SAT proposes, NuSMV disposes.
 //!
-//! In: scenarios, a plant, properties, SAT options, a NuSMV session. Out: the smallest ECC
+//! In: scenarios, a plant, properties, SAT options, a NuSMV dialogue. Out: the smallest ECC
 //! (least C, then T, then N) that reproduces every scenario and leaves every counterexample
 //! found on the way, together with NuSMV's report saying every property holds.
 //!

@@ -26,7 +26,7 @@
 //! machine on *every* input vector, not only on the recorded ones, which the loop needs:
 //! counterexamples run on inputs nobody recorded. The loop starts at the tree-exact minimum,
 //! a proven lower bound on C and T in this model. Each
-//! candidate is composed with the plant and checked by one long-lived `NuSMV -int` session
+//! candidate is composed with the plant and checked by one long-lived `NuSMV -int` dialogue
 //! ([`crate::verify::Verifier`]). A violated safety property `G p` yields the finite prefix up
 //! to the first state where `p` fails; any other property yields a lasso, whose loop point is
 //! chosen by evaluating the property on each of NuSMV's `-- Loop starts here` markers. Each

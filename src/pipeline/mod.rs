@@ -102,7 +102,7 @@ impl Check {
         }
     }
 
-    /// A fresh verifier (own NuSMV session and work folder).
+    /// A fresh verifier (own NuSMV dialogue and work folder).
     pub fn verifier(&self) -> Result<crate::verify::Verifier, Error> {
         Ok(crate::verify::Verifier::new(
             self.problem.clone(),

@@ -3,12 +3,12 @@
 //! Function Block Logic using Metaheuristic Algorithm: Initial Explorations") and against
 //! NuSMV's verdicts with counterexample-weighted mutation (the function-block reconstruction
 //! augmented with closed-loop NuSMV verification over a hand-made surrogate plant model); the
-//! machine found is checked once more by NuSMV in a fresh session.
+//! machine found is checked once more by NuSMV in a fresh dialogue.
 //!
 //! In: a [`ScenarioSet`], [`Options`] (seed, threads, time limit, states, colonies, where to
 //! [`Start`], the verification probability) and a [`Check`]. Out: a [`Searched`]: the machine
 //! as an [`Ecc`] (so it goes through the same exporters, simulator and verifier as a SAT
-//! result), the search figures and the verification of that fresh NuSMV session, which is
+//! result), the search figures and the verification of that fresh NuSMV dialogue, which is
 //! where the "verified" line comes from. The main job runs it with `--method search`;
 //! `synth experiment table1` repeats it per seed and configuration.
 //!
@@ -44,7 +44,7 @@
 //!   counterexample visit; a roulette wheel picks the transition whose target changes).
 //! - Verdicts ([`crate::search::oracle`]): by default the in-process checker
 //!   ([`Judge::InProcess`], about 6 ms a machine on Table I's case, NuSMV where it cannot
-//!   decide), else NuSMV through the verifier, one session per colony ([`Judge::Nusmv`]);
+//!   decide), else NuSMV through the verifier, one dialogue per colony ([`Judge::Nusmv`]);
 //!   cached by machine. Either way NuSMV alone judges the machine a run ends with.
 //! - Algorithm ([`crate::search::algorithm`]): pMuACO-style parallel search: 4 colonies, each a
 //!   (1+8) evolution strategy with neutral moves, 25 generations per round, sharing their best
@@ -176,7 +176,7 @@ impl Default for Options {
 pub struct Searched {
     /// What the search ended with.
     pub outcome: Outcome,
-    /// NuSMV's check of the machine in a fresh session, on every property.
+    /// NuSMV's check of the machine in a fresh dialogue, on every property.
     pub verification: VerificationResult,
     /// Candidates verified by running NuSMV during the search.
     pub(crate) nusmv_runs: u64,
@@ -336,7 +336,7 @@ pub fn run(
         in_process_checks,
         cache_hits,
     });
-    // The claim rests on this check alone: a fresh session, every property.
+    // The claim rests on this check alone: a fresh dialogue, every property.
     let verification = check.verifier()?.verify(&outcome.ecc)?;
     let reachable_states = reachable_states(&outcome.ecc);
     Ok(Searched {

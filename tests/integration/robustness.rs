@@ -679,7 +679,7 @@ fn targets() -> Vec<Target> {
             file: "nusmv.err",
             seeds: || {
                 vec![
-                    repo_file("tests/data/nusmv/session.stderr"),
+                    repo_file("tests/data/nusmv/dialogue.stderr"),
                     repo_file("tests/data/nusmv/err_undefined.batch.stderr"),
                     repo_file("tests/data/nusmv/err_syntax.batch.stderr"),
                 ]

@@ -27,8 +27,8 @@
 //! candidate tried (without recordings every one-state machine and random ones, with them the
 //! recordings' machine).
 //!
-//! NuSMV runs as the driver runs it: `-int` sessions fed many models each, two side by side;
-//! after a model NuSMV refuses, the session is restarted. The closed loops are composed by the
+//! NuSMV runs as the driver runs it: `-int` dialogues fed many models each, two side by side;
+//! after a model NuSMV refuses, the dialogue is restarted. The closed loops are composed by the
 //! production composition ([`crate::smv::composition::compose`]).
 
 use super::super::*;
@@ -615,18 +615,18 @@ fn write_free_plant(file: &Path, model: &Model) {
 /// NuSMV's verdicts on a model, by property name (`true`: holds), or its error.
 type Verdicts = Result<BTreeMap<String, bool>, String>;
 
-/// NuSMV's verdicts on every model of `models`, in order: two `-int` sessions side by side,
+/// NuSMV's verdicts on every model of `models`, in order: two `-int` dialogues side by side,
 /// each fed half of the models.
 fn nusmv_batch(nusmv: &Path, models: &[PathBuf]) -> Vec<Verdicts> {
     let half = models.len().div_ceil(2).max(1);
     std::thread::scope(|scope| {
-        let sessions: Vec<_> = models
+        let dialogues: Vec<_> = models
             .chunks(half)
-            .map(|chunk| scope.spawn(move || session(nusmv, chunk)))
+            .map(|chunk| scope.spawn(move || dialogue(nusmv, chunk)))
             .collect();
-        sessions
+        dialogues
             .into_iter()
-            .flat_map(|s| s.join().expect("a NuSMV session"))
+            .flat_map(|s| s.join().expect("a NuSMV dialogue"))
             .collect()
     })
 }
@@ -638,10 +638,10 @@ pub(super) fn nusmv_verdicts(nusmv: &Path, model: &Path) -> BTreeMap<String, boo
         .unwrap_or_else(|e| panic!("NuSMV rejects {}: {e}", model.display()))
 }
 
-/// One `-int` session per run of models NuSMV accepts: a model it refuses ends the session
+/// One `-int` dialogue per run of models NuSMV accepts: a model it refuses ends the dialogue
 /// (what a failed `read_model` or `go` leaves behind is not trusted), and the next one starts
 /// with the model after it.
-fn session(nusmv: &Path, models: &[PathBuf]) -> Vec<Verdicts> {
+fn dialogue(nusmv: &Path, models: &[PathBuf]) -> Vec<Verdicts> {
     let mut out = Vec::with_capacity(models.len());
     while out.len() < models.len() {
         out.extend(one_process(nusmv, &models[out.len()..]));
