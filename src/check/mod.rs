@@ -978,7 +978,9 @@ impl Graph for Product<'_, '_> {
 }
 
 /// The plant alone with free parameters, explored on demand. A node is a plant state, with
-/// the parameter bits when a constraint the next step checks (`INVAR`, `FAIRNESS`) reads them.
+/// the parameter bits when a constraint the next step checks (`INVAR`, `FAIRNESS`) reads them,
+/// or when the initial state depends on them (`INIT`, `init(v)`): a parameter is a variable,
+/// so the value the initial state was chosen under is the value the first step reads.
 struct FreePlant<'a> {
     sem: Semantics<'a>,
     params_in_state: bool,
@@ -992,11 +994,12 @@ struct FreePlant<'a> {
 
 impl<'a> FreePlant<'a> {
     fn new(model: &'a Model, limits: &Limits) -> FreePlant<'a> {
-        let params_in_state = model
-            .invar
-            .iter()
+        let params_in_state = (model.invar.iter())
             .chain(&model.fairness)
-            .any(|c| explicit::reads_params(model, &c.expr));
+            .chain(&model.init)
+            .map(|c| &c.expr)
+            .chain(model.vars.iter().filter_map(|v| v.init.as_ref()))
+            .any(|e| explicit::reads_params(model, e));
         FreePlant {
             sem: Semantics::new(model),
             params_in_state,

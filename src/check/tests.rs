@@ -623,7 +623,16 @@ fn pnp_verdicts_agree_with_nusmv_on_the_shipped_plant() {
             &props,
         )
         .unwrap();
-        let closed = crate::smv::composition::compose(ecc, &plant, &smv_coupling, &props).unwrap();
+        // The harness asks for a verdict on `alive` (FALSE) to know that NuSMV read the model.
+        let mut with_alive = props.clone();
+        with_alive.push(crate::ltl::Property {
+            label: Some(differential::ALIVE.into()),
+            formula: crate::ltl::Ltl::False,
+            line: props.len() + 1,
+            text: "FALSE".into(),
+        });
+        let closed =
+            crate::smv::composition::compose(ecc, &plant, &smv_coupling, &with_alive).unwrap();
         let file = dir.path().join(format!("pnp{k}.smv"));
         std::fs::write(&file, closed.text).unwrap();
         let theirs = differential::nusmv_verdicts(&nusmv.path, &file);
