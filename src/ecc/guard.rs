@@ -143,18 +143,22 @@ impl Guard {
             Guard::False => Some(false),
             Guard::Var(i) => x[i.0],
             Guard::Not(g) => g.eval_partial(x).map(|v| !v),
-            Guard::And(gs) => gs.iter().try_fold(true, |all, g| match g.eval_partial(x) {
-                Some(false) => Err(()),
-                Some(true) => Ok(all),
-                None => Ok(false),
-            })
-            .map_or(Some(false), |all| all.then_some(true)),
-            Guard::Or(gs) => gs.iter().try_fold(false, |open, g| match g.eval_partial(x) {
-                Some(true) => Err(()),
-                Some(false) => Ok(open),
-                None => Ok(true),
-            })
-            .map_or(Some(true), |open| (!open).then_some(false)),
+            Guard::And(gs) => gs
+                .iter()
+                .try_fold(true, |all, g| match g.eval_partial(x) {
+                    Some(false) => Err(()),
+                    Some(true) => Ok(all),
+                    None => Ok(false),
+                })
+                .map_or(Some(false), |all| all.then_some(true)),
+            Guard::Or(gs) => gs
+                .iter()
+                .try_fold(false, |open, g| match g.eval_partial(x) {
+                    Some(true) => Err(()),
+                    Some(false) => Ok(open),
+                    None => Ok(true),
+                })
+                .map_or(Some(true), |open| (!open).then_some(false)),
         }
     }
 
@@ -335,7 +339,10 @@ mod tests {
                 "a AND b OR c",
             ),
             (
-                Guard::And(vec![not(not(Guard::Or(vec![a(), Guard::Var(InputId(2))]))), a()]),
+                Guard::And(vec![
+                    not(not(Guard::Or(vec![a(), Guard::Var(InputId(2))]))),
+                    a(),
+                ]),
                 "(a OR c) AND a",
             ),
         ] {

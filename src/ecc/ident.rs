@@ -327,7 +327,9 @@ fn conversion_function(upper: &str) -> bool {
         return typed(from) && typed(to);
     }
     // Type names contain `_` (`DATE_AND_TIME`, `TIME_OF_DAY`) but never `_TO_`.
-    upper.split_once("_TO_").is_some_and(|(from, to)| either(from) && either(to))
+    upper
+        .split_once("_TO_")
+        .is_some_and(|(from, to)| either(from) && either(to))
 }
 
 /// The reserved word `name` is, if any (ignoring case), spelt as the standard spells it.
@@ -355,10 +357,7 @@ pub(crate) fn check_iec(name: &str) -> Result<(), String> {
         return Err("IEC 61131-3 allows neither `__` nor a trailing `_` in a name".into());
     }
     match iec_reserved(name) {
-        Some((word, kind)) => Err(format!(
-            "`{word}` is an IEC 61131-3 keyword{}",
-            kind.what()
-        )),
+        Some((word, kind)) => Err(format!("`{word}` is an IEC 61131-3 keyword{}", kind.what())),
         None => Ok(()),
     }
 }
@@ -493,32 +492,101 @@ mod tests {
     fn iec_reserved_words_are_refused_naming_the_word_in_every_category() {
         for (name, message) in [
             ("elsif", "`ELSIF` is an IEC 61131-3 keyword"),
-            ("Ton", "`TON` is an IEC 61131-3 keyword: a standard function block"),
-            ("r_trig", "`R_TRIG` is an IEC 61131-3 keyword: a standard function block"),
-            ("CTUD", "`CTUD` is an IEC 61131-3 keyword: a standard function block"),
-            ("RTC", "`RTC` is an IEC 61131-3 keyword: a standard function block"),
-            ("sr", "`SR` is an IEC 61131-3 keyword: a standard function block"),
-            ("Add", "`ADD` is an IEC 61131-3 keyword: a standard function"),
-            ("sqrt", "`SQRT` is an IEC 61131-3 keyword: a standard function"),
-            ("SHL", "`SHL` is an IEC 61131-3 keyword: a standard function"),
-            ("Sel", "`SEL` is an IEC 61131-3 keyword: a standard function"),
-            ("max", "`MAX` is an IEC 61131-3 keyword: a standard function"),
+            (
+                "Ton",
+                "`TON` is an IEC 61131-3 keyword: a standard function block",
+            ),
+            (
+                "r_trig",
+                "`R_TRIG` is an IEC 61131-3 keyword: a standard function block",
+            ),
+            (
+                "CTUD",
+                "`CTUD` is an IEC 61131-3 keyword: a standard function block",
+            ),
+            (
+                "RTC",
+                "`RTC` is an IEC 61131-3 keyword: a standard function block",
+            ),
+            (
+                "sr",
+                "`SR` is an IEC 61131-3 keyword: a standard function block",
+            ),
+            (
+                "Add",
+                "`ADD` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "sqrt",
+                "`SQRT` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "SHL",
+                "`SHL` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "Sel",
+                "`SEL` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "max",
+                "`MAX` is an IEC 61131-3 keyword: a standard function",
+            ),
             ("GT", "`GT` is an IEC 61131-3 keyword: a standard function"),
-            ("Left", "`LEFT` is an IEC 61131-3 keyword: a standard function"),
-            ("move", "`MOVE` is an IEC 61131-3 keyword: a standard function"),
-            ("xor", "`XOR` is an IEC 61131-3 keyword: a standard function"),
-            ("add_tod_time", "`ADD_TOD_TIME` is an IEC 61131-3 keyword: a standard function"),
-            ("int_to_real", "`INT_TO_REAL` is an IEC 61131-3 keyword: a standard function"),
-            ("BCD_TO_INT", "`BCD_TO_INT` is an IEC 61131-3 keyword: a standard function"),
-            ("Word_To_Bcd", "`WORD_TO_BCD` is an IEC 61131-3 keyword: a standard function"),
+            (
+                "Left",
+                "`LEFT` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "move",
+                "`MOVE` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "xor",
+                "`XOR` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "add_tod_time",
+                "`ADD_TOD_TIME` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "int_to_real",
+                "`INT_TO_REAL` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "BCD_TO_INT",
+                "`BCD_TO_INT` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "Word_To_Bcd",
+                "`WORD_TO_BCD` is an IEC 61131-3 keyword: a standard function",
+            ),
             ("DATE_AND_TIME_TO_TIME_OF_DAY", "a standard function"),
-            ("trunc", "`TRUNC` is an IEC 61131-3 keyword: a standard function"),
-            ("TO_INT", "`TO_INT` is an IEC 61131-3 keyword: a standard function"),
+            (
+                "trunc",
+                "`TRUNC` is an IEC 61131-3 keyword: a standard function",
+            ),
+            (
+                "TO_INT",
+                "`TO_INT` is an IEC 61131-3 keyword: a standard function",
+            ),
             ("REAL_TRUNC_DINT", "a standard function"),
-            ("any_bit", "`ANY_BIT` is an IEC 61131-3 keyword: a generic data type"),
-            ("ANY_MAGNITUDE", "`ANY_MAGNITUDE` is an IEC 61131-3 keyword: a generic data type"),
-            ("Lreal", "`LREAL` is an IEC 61131-3 keyword: an elementary data type"),
-            ("ltime", "`LTIME` is an IEC 61131-3 keyword: an elementary data type"),
+            (
+                "any_bit",
+                "`ANY_BIT` is an IEC 61131-3 keyword: a generic data type",
+            ),
+            (
+                "ANY_MAGNITUDE",
+                "`ANY_MAGNITUDE` is an IEC 61131-3 keyword: a generic data type",
+            ),
+            (
+                "Lreal",
+                "`LREAL` is an IEC 61131-3 keyword: an elementary data type",
+            ),
+            (
+                "ltime",
+                "`LTIME` is an IEC 61131-3 keyword: an elementary data type",
+            ),
         ] {
             let e = check_iec(name).unwrap_err();
             assert!(e.contains(message), "{name}: {e}");
@@ -527,8 +595,16 @@ mod tests {
         }
         // Words that only look like a conversion or a standard name stay usable.
         for ok in [
-            "HOME_TO_END", "INT_TO", "TO_HOME", "tone", "TONx", "ctu1", "leftLimit", "Move2",
-            "INT_TO_INT_TO", "trunc_x",
+            "HOME_TO_END",
+            "INT_TO",
+            "TO_HOME",
+            "tone",
+            "TONx",
+            "ctu1",
+            "leftLimit",
+            "Move2",
+            "INT_TO_INT_TO",
+            "trunc_x",
         ] {
             assert_eq!(check_iec(ok), Ok(()), "{ok}");
         }

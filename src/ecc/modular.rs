@@ -559,7 +559,11 @@ pub(crate) mod tests {
         let flat = chain.flatten(100).unwrap();
         let names = &flat.inputs;
         let guards: Vec<String> = (flat.states.iter())
-            .flat_map(|s| s.transitions.iter().map(|t| t.guard.display(names).to_string()))
+            .flat_map(|s| {
+                s.transitions
+                    .iter()
+                    .map(|t| t.guard.display(names).to_string())
+            })
             .collect();
         // From (p, u): `a` then `!a` and `!a` then `a` can never hold; `!!a` is `a`, and
         // `a & a` is `a`.
@@ -568,7 +572,10 @@ pub(crate) mod tests {
             .map(|t| t.guard.display(names).to_string())
             .collect();
         assert_eq!(first, ["a", "!a"]);
-        for (g, t) in guards.iter().zip(flat.states.iter().flat_map(|s| &s.transitions)) {
+        for (g, t) in guards
+            .iter()
+            .zip(flat.states.iter().flat_map(|s| &s.transitions))
+        {
             assert!(t.guard.satisfiable(), "{g}");
             assert!(!g.contains("!!"), "{g}");
         }

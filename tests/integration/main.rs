@@ -9,6 +9,7 @@ mod cli;
 mod closed_loop;
 mod common;
 mod events;
+mod iec;
 mod limits;
 mod logs;
 mod modes;
