@@ -144,6 +144,28 @@ fn no_export_doubles_a_negation_modular_chains_included() {
     for file in &written {
         assert_eq!(double_nots(file), 0, "{}", file.display());
     }
+    // The Structured Text files against the standard's grammar.
+    let st: Vec<&PathBuf> = (written.iter())
+        .filter(|f| f.extension().is_some_and(|e| e == "st"))
+        .collect();
+    assert!(st.len() >= 9, "{} .st files", st.len());
+    for file in st {
+        let text = std::fs::read_to_string(file).unwrap();
+        crate::st_grammar::check(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    }
+}
+
+/// The Structured Text of 20 random machines (up to 8 states, 6 inputs, 4 outputs) follows
+/// the standard's grammar.
+#[test]
+fn the_st_of_random_machines_follows_the_grammar() {
+    for seed in 0..20u64 {
+        let c = 1 + seed as usize % 8;
+        let ecc = crate::common::random_ecc(seed, c, 1 + seed as usize % 6, 1 + seed as usize % 4);
+        let text = fbsynth::export::text(&ecc, "Random", fbsynth::export::Format::St).unwrap();
+        assert!(text.contains("END_FUNCTION_BLOCK"), "{text}");
+        crate::st_grammar::check(&text).unwrap_or_else(|e| panic!("seed {seed}: {e}\n{text}"));
+    }
 }
 
 /// A standard function block's name as `--name`, as an input and as an output, and a type

@@ -20,5 +20,6 @@ mod pipeline;
 mod robustness;
 mod schemas;
 mod semantics;
+mod st_grammar;
 mod synthesis;
 mod tank;
