@@ -34,7 +34,27 @@ pub struct ManArgs {
 fn page(cmd: clap::Command, title: &str) -> Result<Vec<u8>, Error> {
     let mut buf = Vec::new();
     clap_mangen::Man::new(cmd).title(title).render(&mut buf)?;
-    Ok(buf)
+    let text = String::from_utf8(buf).expect("clap_mangen writes UTF-8");
+    // `.TH title section date source manual`: clap_mangen writes an empty date as nothing, so
+    // the source (`synth 0.1.0`) would be read as the date. The line is written here with
+    // every field in its place: no date (the page is the same whenever it is generated),
+    // the program and its version as the source.
+    let th = title_line(title);
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        out.push_str(if line.starts_with(".TH ") { &th } else { line });
+        out.push('\n');
+    }
+    Ok(out.into_bytes())
+}
+
+/// The `.TH` line of the page `title`: section 1, an empty date, `synth VERSION` as the
+/// source and the manual's name.
+fn title_line(title: &str) -> String {
+    format!(
+        ".TH {title} 1 \"\" \"synth {}\" \"User Commands\"",
+        env!("CARGO_PKG_VERSION")
+    )
 }
 
 /// `synth man`: the manual page (roff), on stdout or as files.
@@ -84,4 +104,54 @@ pub fn schema(args: &SchemaArgs) -> Result<(), Error> {
     out!("wrote {}", path.display());
     super::note_written(std::slice::from_ref(path));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The arguments of a roff request line, as troff reads them: separated by spaces, a
+    /// double-quoted argument may hold spaces or be empty.
+    fn roff_args(line: &str) -> Vec<String> {
+        let mut args = Vec::new();
+        let mut rest = line.trim_start();
+        while !rest.is_empty() {
+            if let Some(quoted) = rest.strip_prefix('"') {
+                let end = quoted.find('"').unwrap_or(quoted.len());
+                args.push(quoted[..end].to_string());
+                rest = quoted.get(end + 1..).unwrap_or("");
+            } else {
+                let end = rest.find(' ').unwrap_or(rest.len());
+                args.push(rest[..end].to_string());
+                rest = &rest[end..];
+            }
+            rest = rest.trim_start();
+        }
+        args
+    }
+
+    #[test]
+    fn the_title_line_has_the_date_and_the_version_in_their_places() {
+        let cmd = Cli::command().name("synth");
+        let mut pages = vec![("synth".to_string(), cmd.clone())];
+        for sub in cmd.get_subcommands() {
+            pages.push((format!("synth-{}", sub.get_name()), sub.clone()));
+        }
+        for (title, cmd) in pages {
+            let text = String::from_utf8(page(cmd, &title).unwrap()).unwrap();
+            let th: Vec<&str> = text.lines().filter(|l| l.starts_with(".TH ")).collect();
+            assert_eq!(th.len(), 1, "{title}: {text}");
+            let args = roff_args(th[0].strip_prefix(".TH").unwrap());
+            let source = format!("synth {}", env!("CARGO_PKG_VERSION"));
+            assert_eq!(
+                args,
+                [title.as_str(), "1", "", &source, "User Commands"],
+                "{}",
+                th[0]
+            );
+            // The rest of the page is clap_mangen's.
+            assert!(text.contains(".SH NAME"), "{title}");
+        }
+        assert_eq!(roff_args(r#"a 1 "" "b c""#), ["a", "1", "", "b c"]);
+    }
 }

@@ -3,7 +3,7 @@
 
 use super::{lenient_hint, refuse_overwrite};
 use crate::events::{self, EventsError, ResetActivity};
-use crate::export::pnml::{write_pnml_labelled, Dialect, Labels};
+use crate::export::pnml::{write_pnml_labelled, Dialect, Labels, NetSize};
 use crate::files::same_file;
 use crate::ingest::{IngestError, Mapping};
 use crate::pipeline::recordings::read_ecc;
@@ -37,8 +37,8 @@ pub(crate) struct Done {
     pub reset: ResetActivity,
     /// The XES and CSV files.
     pub logs: [PathBuf; 2],
-    /// The Petri net written: its file, the machine's and its number of places.
-    pub net: Option<(PathBuf, PathBuf, usize)>,
+    /// The Petri net written: its file, the machine's and the net's size.
+    pub net: Option<(PathBuf, PathBuf, NetSize)>,
 }
 
 impl fmt::Display for Done {
@@ -58,11 +58,13 @@ impl fmt::Display for Done {
             self.logs[1].display()
         )?;
         match &self.net {
-            Some((pnml, ecc, places)) => write!(
+            Some((pnml, ecc, size)) => write!(
                 f,
-                "\nwrote {} (Petri net of {}: {places} places)",
+                "\nwrote {} (Petri net of {}: {} places, {} transitions)",
                 pnml.display(),
-                ecc.display()
+                ecc.display(),
+                size.places,
+                size.transitions
             ),
             None => Ok(()),
         }
@@ -106,9 +108,9 @@ pub(crate) fn run(r: &Request) -> Result<Done, Error> {
             lenient_hint(e.into(), row)
         })?;
     let net = match net {
-        Some(((bytes, places), ecc, pnml)) => {
+        Some(((bytes, size), ecc, pnml)) => {
             crate::files::write_atomic(pnml, &bytes)?;
-            Some((pnml.clone(), ecc.clone(), places))
+            Some((pnml.clone(), ecc.clone(), size))
         }
         None => None,
     };
@@ -145,8 +147,12 @@ fn refuse_clashes(r: &Request, csv: &Path) -> Result<(), Error> {
 }
 
 /// The PNML text of the Petri net of the machine in `ecc_file`, labelled with the mapping's
-/// addresses, and its number of places.
-fn net_of(ecc_file: &Path, mapping: &Mapping, dialect: Dialect) -> Result<(Vec<u8>, usize), Error> {
+/// addresses, and the net's size.
+fn net_of(
+    ecc_file: &Path,
+    mapping: &Mapping,
+    dialect: Dialect,
+) -> Result<(Vec<u8>, NetSize), Error> {
     let ecc = read_ecc(ecc_file)?;
     let address = |name: &String| -> Result<String, Error> {
         let slot = mapping.slot(name.as_bytes());
@@ -171,6 +177,6 @@ fn net_of(ecc_file: &Path, mapping: &Mapping, dialect: Dialect) -> Result<(Vec<u
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let mut buf = Vec::new();
-    write_pnml_labelled(&ecc, &labels, &name, dialect, &mut buf)?;
-    Ok((buf, ecc.states.len()))
+    let size = write_pnml_labelled(&ecc, &labels, &name, dialect, &mut buf)?;
+    Ok((buf, size))
 }

@@ -102,6 +102,76 @@ impl Guard {
         }
     }
 
+    /// The negation of `g` without a double negation: `!!h` is `h`, `!TRUE` is `FALSE` and
+    /// `!FALSE` is `TRUE`.
+    pub(crate) fn negate(g: Guard) -> Guard {
+        match g {
+            Guard::True => Guard::False,
+            Guard::False => Guard::True,
+            Guard::Not(h) => *h,
+            other => Guard::Not(Box::new(other)),
+        }
+    }
+
+    /// Whether some input vector makes the guard true: a search over the inputs it reads that
+    /// fixes one at a time and stops a branch as soon as the guard's value is known.
+    pub(crate) fn satisfiable(&self) -> bool {
+        let width = self.max_var().map_or(0, |v| v.0 + 1);
+        self.satisfiable_under(&mut vec![None; width])
+    }
+
+    fn satisfiable_under(&self, x: &mut [Option<bool>]) -> bool {
+        if let Some(value) = self.eval_partial(x) {
+            return value;
+        }
+        let Some(free) = self.unassigned_var(x) else {
+            return false;
+        };
+        [true, false].into_iter().any(|v| {
+            x[free] = Some(v);
+            let sat = self.satisfiable_under(x);
+            x[free] = None;
+            sat
+        })
+    }
+
+    /// The guard's value when the assigned inputs decide it, `None` when it depends on the
+    /// others.
+    fn eval_partial(&self, x: &[Option<bool>]) -> Option<bool> {
+        match self {
+            Guard::True => Some(true),
+            Guard::False => Some(false),
+            Guard::Var(i) => x[i.0],
+            Guard::Not(g) => g.eval_partial(x).map(|v| !v),
+            Guard::And(gs) => gs
+                .iter()
+                .try_fold(true, |all, g| match g.eval_partial(x) {
+                    Some(false) => Err(()),
+                    Some(true) => Ok(all),
+                    None => Ok(false),
+                })
+                .map_or(Some(false), |all| all.then_some(true)),
+            Guard::Or(gs) => gs
+                .iter()
+                .try_fold(false, |open, g| match g.eval_partial(x) {
+                    Some(true) => Err(()),
+                    Some(false) => Ok(open),
+                    None => Ok(true),
+                })
+                .map_or(Some(true), |open| (!open).then_some(false)),
+        }
+    }
+
+    /// The first input the guard reads that `x` leaves open.
+    fn unassigned_var(&self, x: &[Option<bool>]) -> Option<usize> {
+        match self {
+            Guard::True | Guard::False => None,
+            Guard::Var(i) => x[i.0].is_none().then_some(i.0),
+            Guard::Not(g) => g.unassigned_var(x),
+            Guard::And(gs) | Guard::Or(gs) => gs.iter().find_map(|g| g.unassigned_var(x)),
+        }
+    }
+
     /// Number of variable occurrences (the guard size N of the papers).
     pub(crate) fn literal_count(&self) -> usize {
         match self {
@@ -144,7 +214,8 @@ impl Guard {
         }
     }
 
-    /// Display in IEC 61131-3 Structured Text syntax (`NOT`, `AND`, `OR`).
+    /// Display in IEC 61131-3 Structured Text syntax (`NOT`, `AND`, `OR`), where a run of
+    /// negations is written by its parity: never `NOT NOT`.
     pub(crate) fn display_st<'a>(&'a self, names: &'a [String]) -> GuardDisplay<'a> {
         GuardDisplay {
             guard: self,
@@ -171,7 +242,17 @@ pub(crate) struct GuardDisplay<'a> {
 
 impl GuardDisplay<'_> {
     // Precedence: Or = 1, And = 2, Not/atoms = 3. Parentheses only where needed.
-    fn write(&self, g: &Guard, parent: u8, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    fn write(&self, mut g: &Guard, parent: u8, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // IEC 61131-3 allows one unary operator before a primary (`NOT NOT a` is no
+        // expression), so Structured Text writes a run of negations by its parity.
+        if let Syntax::St = self.syntax {
+            while let Guard::Not(inner) = g {
+                match inner.as_ref() {
+                    Guard::Not(h) => g = h,
+                    _ => break,
+                }
+            }
+        }
         let (not, and, or) = match self.syntax {
             Syntax::C => ("!", " & ", " | "),
             Syntax::St => ("NOT ", " AND ", " OR "),
@@ -238,6 +319,62 @@ mod tests {
             Guard::Var(InputId(1)),
         ])));
         assert_eq!(h.display(&names()).to_string(), "!(a & b)");
+    }
+
+    fn not(g: Guard) -> Guard {
+        Guard::Not(Box::new(g))
+    }
+
+    #[test]
+    fn structured_text_never_doubles_a_negation() {
+        let a = || Guard::Var(InputId(0));
+        let ab = || Guard::And(vec![a(), Guard::Var(InputId(1))]);
+        for (g, st) in [
+            (not(not(a())), "a"),
+            (not(not(not(a()))), "NOT a"),
+            (not(not(ab())), "a AND b"),
+            (not(not(not(ab()))), "NOT (a AND b)"),
+            (
+                Guard::Or(vec![not(not(ab())), Guard::Var(InputId(2))]),
+                "a AND b OR c",
+            ),
+            (
+                Guard::And(vec![
+                    not(not(Guard::Or(vec![a(), Guard::Var(InputId(2))]))),
+                    a(),
+                ]),
+                "(a OR c) AND a",
+            ),
+        ] {
+            let text = g.display_st(&names()).to_string();
+            assert_eq!(text, st);
+            assert!(!text.contains("NOT NOT"), "{text}");
+        }
+        // The project's own syntax writes the tree as it is: its parser reads `!!a` back.
+        assert_eq!(not(not(a())).display(&names()).to_string(), "!!a");
+    }
+
+    #[test]
+    fn negate_removes_a_double_negation() {
+        let a = Guard::Var(InputId(0));
+        assert_eq!(Guard::negate(not(a.clone())), a);
+        assert_eq!(Guard::negate(a.clone()), not(a.clone()));
+        assert_eq!(Guard::negate(Guard::True), Guard::False);
+        assert_eq!(Guard::negate(Guard::False), Guard::True);
+    }
+
+    #[test]
+    fn satisfiable_finds_a_model_or_a_contradiction() {
+        let v = |i| Guard::Var(InputId(i));
+        assert!(!Guard::And(vec![v(0), v(1), not(v(0))]).satisfiable());
+        assert!(!Guard::And(vec![not(not(v(0))), not(v(0))]).satisfiable());
+        assert!(!Guard::False.satisfiable());
+        assert!(!Guard::And(vec![Guard::Or(vec![v(0), v(1)]), not(v(0)), not(v(1))]).satisfiable());
+        assert!(Guard::True.satisfiable());
+        assert!(Guard::And(vec![Guard::Or(vec![v(0), v(1)]), not(v(0))]).satisfiable());
+        assert!(not(Guard::And(vec![v(3), v(7)])).satisfiable());
+        assert!(Guard::And(vec![]).satisfiable());
+        assert!(!Guard::Or(vec![]).satisfiable());
     }
 
     #[test]

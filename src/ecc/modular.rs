@@ -203,8 +203,9 @@ impl Modular {
     /// A consecutive composite as one ECC over the composite's interface: its states are the
     /// tuples of module states reachable from the initial one (named `s0_s1...` after the
     /// modules' states), entered when the whole chain fires; a transition's guard is "module
-    /// `m` takes its `k_m`-th transition" for every `m`, and a state's algorithm is the modules'
-    /// algorithms composed. Fails on a parallel composite or past `limit` states.
+    /// `m` takes its `k_m`-th transition" for every `m` (a conjunction without double
+    /// negations; choices no input vector makes are left out), and a state's algorithm is the
+    /// modules' algorithms composed. Fails on a parallel composite or past `limit` states.
     pub(crate) fn flatten(&self, limit: usize) -> Result<Ecc, String> {
         if self.topology != Topology::Consecutive {
             return Err("only a consecutive composite is flattened".into());
@@ -227,11 +228,25 @@ impl Modular {
                 let mut target = Vec::new();
                 for ((module, q), &k) in self.modules.iter().zip(&tuple).zip(&ks) {
                     let ts = &module.ecc.states[q.0].transitions;
-                    parts.extend(
-                        (ts[..k].iter()).map(|t| Guard::Not(Box::new(widen(module, &t.guard)))),
-                    );
-                    parts.push(widen(module, &ts[k].guard));
+                    parts.extend((ts[..k].iter()).map(|t| Guard::negate(widen(module, &t.guard))));
+                    match widen(module, &ts[k].guard) {
+                        Guard::And(hs) => parts.extend(hs),
+                        g => parts.push(g),
+                    }
                     target.push(ts[k].target);
+                }
+                let mut seen = std::collections::HashSet::new();
+                parts.retain(|g| !unconditional(g) && seen.insert(g.clone()));
+                let guard = match parts.len() {
+                    0 => Guard::True,
+                    1 => parts.pop().expect("one part"),
+                    _ => Guard::And(parts),
+                };
+                // A choice no input vector makes (module 1 passing a transition that module 2's
+                // earlier one implies, say) never fires: it is left out, which changes nothing.
+                if !guard.satisfiable() {
+                    choice = odometer(ks, &counts);
+                    continue;
                 }
                 let next = index.len();
                 let id = *index.entry(target.clone()).or_insert(next);
@@ -241,14 +256,9 @@ impl Modular {
                     }
                     tuples.push(target);
                 }
-                parts.retain(|g| !unconditional(g));
                 transitions.push(Transition {
                     target: StateId(id),
-                    guard: match parts.len() {
-                        0 => Guard::True,
-                        1 => parts.pop().expect("one part"),
-                        _ => Guard::And(parts),
-                    },
+                    guard,
                 });
                 choice = odometer(ks, &counts);
             }
@@ -498,6 +508,86 @@ pub(crate) mod tests {
         ];
         let e = crate::ecc::replay(&m, steps).unwrap_err();
         assert_eq!((e.step, e.actual), (1, None));
+    }
+
+    /// A chain over one input `a` where module 2 reads the input module 1 just tested: half of
+    /// the choices of one transition per module contradict themselves.
+    fn contradicting_chain() -> Modular {
+        let a = Guard::Var(InputId(0));
+        let not_a = Guard::Not(Box::new(a.clone()));
+        let state = |name: &str, z: Tri, transitions: Vec<(Guard, usize)>| State {
+            name: name.into(),
+            algorithm: Algorithm::Tri(vec![z]),
+            transitions: (transitions.into_iter())
+                .map(|(guard, t)| Transition {
+                    target: StateId(t),
+                    guard,
+                })
+                .collect(),
+        };
+        let ecc = |states| Ecc {
+            inputs: vec!["a".into()],
+            outputs: vec!["z".into()],
+            initial_outputs: vec![false],
+            states,
+        };
+        let module = |ecc| Module {
+            inputs: vec![InputId(0)],
+            outputs: vec![OutputId(0)],
+            ecc,
+        };
+        let first = ecc(vec![
+            state("p", Tri::One, vec![(a.clone(), 1), (Guard::True, 0)]),
+            state("q", Tri::Zero, vec![(not_a.clone(), 0)]),
+        ]);
+        let second = ecc(vec![
+            state("u", Tri::Keep, vec![(not_a, 1), (Guard::True, 0)]),
+            state("v", Tri::Keep, vec![(Guard::And(vec![]), 0)]),
+        ]);
+        Modular {
+            inputs: vec!["a".into()],
+            outputs: vec!["z".into()],
+            initial_outputs: vec![false],
+            modules: vec![module(first), module(second)],
+            topology: Topology::Consecutive,
+        }
+    }
+
+    #[test]
+    fn flattening_leaves_out_impossible_choices_and_double_negations() {
+        let chain = contradicting_chain();
+        let flat = chain.flatten(100).unwrap();
+        let names = &flat.inputs;
+        let guards: Vec<String> = (flat.states.iter())
+            .flat_map(|s| {
+                s.transitions
+                    .iter()
+                    .map(|t| t.guard.display(names).to_string())
+            })
+            .collect();
+        // From (p, u): `a` then `!a` and `!a` then `a` can never hold; `!!a` is `a`, and
+        // `a & a` is `a`.
+        assert_eq!(flat.states[0].name, "p_u");
+        let first: Vec<String> = (flat.states[0].transitions.iter())
+            .map(|t| t.guard.display(names).to_string())
+            .collect();
+        assert_eq!(first, ["a", "!a"]);
+        for (g, t) in guards
+            .iter()
+            .zip(flat.states.iter().flat_map(|s| &s.transitions))
+        {
+            assert!(t.guard.satisfiable(), "{g}");
+            assert!(!g.contains("!!"), "{g}");
+        }
+        // The same behaviour as the chain on every input sequence of 8 steps.
+        for bits in 0u32..256 {
+            let (mut c, mut f) = (chain.start(), flat.start());
+            for k in 0..8 {
+                let x = [bits >> k & 1 == 1];
+                let (c_out, f_out) = (c.react(&x).map(<[bool]>::to_vec), f.react(&x));
+                assert_eq!(c_out.as_deref(), f_out, "inputs {bits:08b}, step {k}");
+            }
+        }
     }
 
     #[test]

@@ -143,7 +143,7 @@ const MAX_VECTORS: usize = 64;
 
 /// Writes the ISO net of `ecc` labelled by its own signal names.
 pub(crate) fn write_pnml(ecc: &Ecc, w: &mut impl Write) -> io::Result<()> {
-    write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", Dialect::Iso, w)
+    write_pnml_labelled(ecc, &Labels::names(ecc), "SynthesizedFB", Dialect::Iso, w).map(|_| ())
 }
 
 /// Inputs up to which input events are analysed exactly (2^n vectors per state).
@@ -172,15 +172,24 @@ fn event_outcomes(ecc: &Ecc, state: usize, input: usize, value: bool) -> BTreeSe
     out
 }
 
+/// How many places and transitions a net has, as written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct NetSize {
+    /// Its places (`start`, one per state, one per ECC transition).
+    pub places: usize,
+    /// Its transitions, silent ones included.
+    pub transitions: usize,
+}
+
 /// Writes the net of `ecc` in `dialect` with activities built from `labels`; `name` names the
-/// net (its `<name>`: any text; the net's `id` is `net`).
+/// net (its `<name>`: any text; the net's `id` is `net`). Returns the net's size.
 pub(crate) fn write_pnml_labelled(
     ecc: &Ecc,
     labels: &Labels,
     name: &str,
     dialect: Dialect,
     w: &mut impl Write,
-) -> io::Result<()> {
+) -> io::Result<NetSize> {
     let entry = entry_outputs(ecc);
     let mut net = Net {
         x: XmlWriter::new(w),
@@ -188,6 +197,7 @@ pub(crate) fn write_pnml_labelled(
         labels,
         dialect,
         arcs: Vec::new(),
+        size: NetSize::default(),
     };
     net.header(name)?;
     net.places()?;
@@ -198,7 +208,8 @@ pub(crate) fn write_pnml_labelled(
         net.output_events(i, entry)?;
     }
     net.arcs()?;
-    net.final_marking()
+    net.final_marking()?;
+    Ok(net.size)
 }
 
 /// A net being written: the page's nodes as they come, its arcs (source, target) collected
@@ -209,6 +220,7 @@ struct Net<'a, W: Write> {
     labels: &'a Labels,
     dialect: Dialect,
     arcs: Vec<(String, String)>,
+    size: NetSize,
 }
 
 impl<W: Write> Net<'_, W> {
@@ -220,6 +232,11 @@ impl<W: Write> Net<'_, W> {
         label: &str,
         more: impl FnOnce(&mut XmlWriter<W>) -> io::Result<()>,
     ) -> io::Result<()> {
+        match kind {
+            "place" => self.size.places += 1,
+            "transition" => self.size.transitions += 1,
+            _ => {}
+        }
         let x = &mut self.x;
         x.indent(3)?;
         x.start(kind, &[("id", id)])?;
@@ -514,8 +531,12 @@ mod tests {
             outputs: vec!["%QX0.0".into(), "%QX0.1".into()],
         };
         let mut buf = Vec::new();
-        write_pnml_labelled(&ecc, &labels, "tank", Dialect::Iso, &mut buf).unwrap();
+        let size = write_pnml_labelled(&ecc, &labels, "tank", Dialect::Iso, &mut buf).unwrap();
         let xml = String::from_utf8(buf).unwrap();
+        // The size returned is the net's, not the machine's (2 states).
+        assert_eq!(size.places, xml.matches("<place id=").count());
+        assert_eq!(size.transitions, xml.matches("<transition id=").count());
+        assert!(size.places > ecc.states.len(), "{size:?}");
         assert!(xml.contains("<text>&lt;&amp;&gt; true</text>"));
         // Drain -> Fill from the initial outputs (00) opens the inlet only; from Drain's own
         // outputs (01) it also closes the outlet: two outcomes, two net transitions.

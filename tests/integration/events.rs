@@ -245,3 +245,49 @@ fn the_xes_validates_against_the_ieee_1849_schema() {
         assert!(messages.contains("not a valid value"), "{messages}");
     }
 }
+
+/// The summary line of `--pnml` gives the net's places and transitions, counted in the file
+/// written: for the tank machines (2 and more states) many more than the machine's states.
+#[test]
+fn the_net_summary_counts_the_nets_places_and_transitions() {
+    let dir = Dir::new();
+    let programs = [
+        crate::cases::tank::Program::FillDrain,
+        crate::cases::tank::Program::Cycles,
+    ];
+    for (k, program) in programs.into_iter().enumerate() {
+        let ecc = program.reference();
+        let json = dir.path().join(format!("M{k}.json"));
+        std::fs::write(&json, fbsynth::export::json::to_string(&ecc)).unwrap();
+        let pnml = dir.path().join(format!("M{k}.pnml"));
+        let o = synth_in(
+            crate::common::root(),
+            &[
+                "events",
+                "--log",
+                "specs/tank/scenario1.csv",
+                "--map",
+                "specs/tank/tank.map",
+                "--reset",
+                crate::cases::tank::RESET,
+                "--out",
+                dir.path().join(format!("M{k}.xes")).to_str().unwrap(),
+                "--ecc",
+                json.to_str().unwrap(),
+                "--pnml",
+                pnml.to_str().unwrap(),
+            ],
+        );
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let net = std::fs::read_to_string(&pnml).unwrap();
+        let places = net.matches("<place id=").count();
+        let transitions = net.matches("<transition id=").count();
+        assert!(places > ecc.states.len(), "{places} places");
+        let line = format!(
+            "(Petri net of {}: {places} places, {transitions} transitions)",
+            json.display()
+        );
+        let stdout = text(&o.stdout);
+        assert!(stdout.contains(&line), "{line} in {stdout}");
+    }
+}

@@ -31,7 +31,7 @@ fn schema_of(file: &Path) -> Option<&'static str> {
 
 /// Machines that reach every branch of the emitters: the shipped ones, the benchmark cases'
 /// reference controllers, and the corner cases (no inputs, no transitions, keep and flip).
-fn machines(dir: &Path) -> Vec<PathBuf> {
+pub(crate) fn machines(dir: &Path) -> Vec<PathBuf> {
     let mut files = vec![
         root().join("tests/data/export/cylinder.json"),
         root().join("specs/distribution_reference.json"),
