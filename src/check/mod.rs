@@ -87,6 +87,12 @@ impl Wiring {
                 }
             }
         }
+        if let Some(e) = (model.params.iter()).find(|p| !coupling.outputs.contains(p)) {
+            return Err(bad(format!(
+                "the plant reads {} as a parameter, which is no controller output (the in-process checker gives the plant controller outputs only)",
+                crate::quote::quote(e)
+            )));
+        }
         let same_params = model.params.len() == coupling.params.len()
             && (model.params.iter().zip(&coupling.params)).all(|(p, &z)| coupling.outputs[z] == *p);
         if !same_params {

@@ -50,6 +50,10 @@ pub(crate) const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
 pub(crate) const PLANT_INSTANCE: &str = "plant";
 
+/// The controller's events a plant may read as parameters: its output event, and its input
+/// event (TRUE at every step of the closed loop).
+const EVENTS: &[&str] = &["CNF", "REQ"];
+
 /// The names the closed loop gives its own modules and instances.
 const RESERVED: &[&str] = &[
     CONTROLLER_INSTANCE,
@@ -103,8 +107,8 @@ pub struct Coupling {
     pub(crate) inputs: Vec<String>,
     /// The controller's outputs in interface order.
     pub(crate) outputs: Vec<String>,
-    /// Per parameter of `MODULE plant`, in order: the index in [`Coupling::outputs`] of the
-    /// controller output it is.
+    /// Per parameter of `MODULE plant` that is a controller output, in order: the index in
+    /// [`Coupling::outputs`] of that output (parameters `CNF` and `REQ` have none).
     pub(crate) params: Vec<usize>,
 }
 
@@ -142,12 +146,16 @@ pub fn check_coupling(
     for p in &plant.params {
         match outputs.iter().position(|o| *o == p.name) {
             Some(z) => params.push(z),
+            // The controller's events: NuSMV reads them (`ctrl.CNF`, `REQ` is TRUE at every
+            // step); the in-process engines, whose plant parameters are outputs only, refuse
+            // such a plant by name ([`crate::check::Wiring::new`]).
+            None if EVENTS.contains(&p.name.as_str()) => {}
             None => {
                 return Err(at(
                     pf,
                     p.line,
                     format!(
-                        "plant parameter {} is not a controller output (outputs: {})",
+                        "plant parameter {} is not a controller output (outputs: {}; or the event CNF or REQ)",
                         quote(&p.name),
                         cut(&outputs.join(" "))
                     ),
@@ -159,7 +167,8 @@ pub fn check_coupling(
     for o in outputs {
         names.insert(o.clone(), Binding::ControllerOutput);
     }
-    for d in &plant.names {
+    // An instance of a submodule is no value: the plant's defines reach into it.
+    for d in (plant.names.iter()).filter(|d| !plant.instances.contains(&d.name)) {
         if RESERVED.contains(&d.name.as_str()) {
             return Err(at(
                 pf,
@@ -370,7 +379,10 @@ pub fn compose_controller(
     let commands: Vec<String> = plant
         .params
         .iter()
-        .map(|p| format!("{CONTROLLER_INSTANCE}.{}", p.name))
+        .map(|p| match p.name.as_str() {
+            "REQ" => "TRUE".to_string(),
+            name => format!("{CONTROLLER_INSTANCE}.{name}"),
+        })
         .collect();
     main.push_str(&format!(
         "  {PLANT_INSTANCE} : plant({});\n",
