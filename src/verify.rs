@@ -339,11 +339,24 @@ impl Problem {
         inputs: &[String],
         outputs: &[String],
     ) -> Result<Problem, ProblemError> {
+        Problem::load_by(spec_file, plant_file, inputs, outputs, &[])
+    }
+
+    /// [`Problem::load`] where plant and controller name signals differently: `couple` says
+    /// which plant signal is which controller input or output.
+    pub fn load_by(
+        spec_file: &Path,
+        plant_file: &Path,
+        inputs: &[String],
+        outputs: &[String],
+        couple: &[crate::smv::composition::Couple],
+    ) -> Result<Problem, ProblemError> {
         let props = crate::ltl::parse_spec_file(spec_file)?;
         // The file is read once: the scan for the coupling and the full parse share its text.
         let plant = crate::smv::plant::read_plant(plant_file)?;
-        let coupling =
-            crate::smv::composition::check_coupling(inputs, outputs, &plant, spec_file, &props)?;
+        let coupling = crate::smv::composition::check_coupling_by(
+            inputs, outputs, &plant, spec_file, &props, couple,
+        )?;
         let model = crate::plant::parse::parse_str(&plant.text, plant_file)
             .map(std::sync::Arc::new)
             .map_err(|e| e.to_string());
@@ -381,6 +394,34 @@ impl Problem {
             })
             .collect::<Result<_, _>>()?;
         Ok(self)
+    }
+
+    /// The properties no controller can affect, each with the reason: every name it reads is
+    /// a signal of the plant that no controller output influences (in the plant model the
+    /// tool reads; none are found in a plant outside it), so its verdict is the plant's alone.
+    pub(crate) fn unaffected(&self) -> Vec<(String, String)> {
+        let Ok(model) = self.model.as_ref() else {
+            return Vec::new();
+        };
+        let free = model.uncontrolled();
+        let mut found = Vec::new();
+        for (k, p) in self.props.iter().enumerate() {
+            let names = p.formula.names();
+            if !names.iter().all(|n| free.contains(&n.as_str())) {
+                continue;
+            }
+            let why = match names.is_empty() {
+                true => "it reads no signal".to_string(),
+                false => format!(
+                    "it reads only {}, which no controller output influences",
+                    (names.iter().map(|n| crate::quote::quote(n).to_string()))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
+            found.push((property_name(k, p), why));
+        }
+        found
     }
 
     /// The properties' names, in spec order.

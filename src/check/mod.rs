@@ -69,7 +69,7 @@ impl Wiring {
             message,
         };
         let mut wired = Vec::with_capacity(coupling.inputs.len());
-        for i in &coupling.inputs {
+        for i in &coupling.sensors {
             match model.lookup(i) {
                 Some(Name::Var(v)) if model.var(v).ty != Type::Bool => {
                     return Err(bad(format!(
@@ -87,8 +87,14 @@ impl Wiring {
                 }
             }
         }
-        let same_params = model.params.len() == coupling.params.len()
-            && (model.params.iter().zip(&coupling.params)).all(|(p, &z)| coupling.outputs[z] == *p);
+        if let Some(e) = (model.params.iter()).find(|p| !coupling.param_names.contains(p)) {
+            return Err(bad(format!(
+                "the plant reads {} as a parameter, which is no controller output (the in-process checker gives the plant controller outputs only)",
+                crate::quote::quote(e)
+            )));
+        }
+        let same_params =
+            model.params.len() == coupling.params.len() && model.params == coupling.param_names;
         if !same_params {
             return Err(bad(format!(
                 "the plant's parameters ({}) are not those the coupling was checked with",

@@ -65,6 +65,11 @@ pub struct NusmvArgs {
     /// Seconds NuSMV may spend on one closed-loop model before it is killed.
     #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
     pub timeout: f64,
+    /// Couples a plant signal with a controller signal of another name: `plant.SIGNAL=NAME`,
+    /// SIGNAL a parameter of MODULE plant (NAME an output) or a name it declares (NAME an
+    /// input). Repeatable.
+    #[arg(long, value_name = "plant.SIGNAL=NAME")]
+    pub couple: Vec<crate::smv::composition::Couple>,
 }
 
 impl NusmvArgs {
@@ -87,6 +92,7 @@ impl NusmvArgs {
             ltl: ltl.clone()?,
             plant: plant.clone()?,
             nusmv: self.tool(),
+            couple: self.couple.clone(),
         })
     }
 }

@@ -180,6 +180,10 @@ fn read_problem(
         spec: &r.spec.ltl,
         plant: &r.spec.plant,
     }));
+    let unaffected = problem.unaffected();
+    if !unaffected.is_empty() {
+        events(Event::Note(Note::Unaffected(&unaffected)));
+    }
     let found = explain::refuse_violations(&set, &problem.props, &r.spec.ltl)?;
     events(Event::Note(Note::Explained {
         explanation: &found,

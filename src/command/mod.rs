@@ -57,12 +57,20 @@ pub(crate) struct Spec {
     pub plant: PathBuf,
     /// NuSMV.
     pub nusmv: Tool,
+    /// Plant signals coupled with controller signals of other names (`--couple`).
+    pub couple: Vec<crate::smv::composition::Couple>,
 }
 
 impl Spec {
     /// The problem over the interface `inputs`, `outputs`.
     pub fn problem(&self, inputs: &[String], outputs: &[String]) -> Result<Problem, Error> {
-        Ok(Problem::load(&self.ltl, &self.plant, inputs, outputs)?)
+        Ok(Problem::load_by(
+            &self.ltl,
+            &self.plant,
+            inputs,
+            outputs,
+            &self.couple,
+        )?)
     }
 
     /// The problem over the interface of `set`, and the NuSMV that checks it.

@@ -511,6 +511,8 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             Err(e) => {
                 if e.is_bound() {
                     (self.events)(Event::InProcessStopped { why: e.to_string() });
+                } else {
+                    (self.events)(Event::InProcessRefused { why: e.to_string() });
                 }
                 self.in_process = false;
                 return Ok(InProcess::Unrefuted(Vec::new()));

@@ -35,6 +35,12 @@ pub enum Event<'a> {
         /// The bound, and how far the closed loop goes past it.
         why: String,
     },
+    /// The in-process engines (checker, SAT encoding of the properties) do not read this
+    /// closed loop: NuSMV alone judges every candidate of the exact loop.
+    InProcessRefused {
+        /// The construct and where it is (file, line), or what else stands in the way.
+        why: String,
+    },
     /// The search's start machine, found by SAT for the scenarios alone.
     SatStart {
         /// The start machine's figures (C, K, T, N).
@@ -137,6 +143,9 @@ pub enum Note<'a> {
         /// The plant model file.
         plant: &'a Path,
     },
+    /// Properties no controller can affect (they read only plant signals no controller
+    /// output influences), each with the reason; before any candidate.
+    Unaffected(&'a [(String, String)]),
     /// The recordings were checked against the properties before any synthesis.
     Explained {
         /// What they say about the properties.
@@ -208,6 +217,10 @@ impl fmt::Display for Event<'_> {
             Event::InProcessStopped { why } => write!(
                 f,
                 "the in-process checker stops: {why}; NuSMV alone judges the candidates from here"
+            ),
+            Event::InProcessRefused { why } => write!(
+                f,
+                "the in-process checker does not read this closed loop: {why}; NuSMV judges every candidate"
             ),
             Event::SatStart { size, seconds } => {
                 write!(f, "SAT start: {size} for the scenarios alone in {seconds:.2} s")
@@ -385,6 +398,14 @@ impl fmt::Display for Note<'_> {
             Some(line) => write!(f, "{}\n{line}", explanation.checked_line(*properties)),
             None => write!(f, "{}", explanation.checked_line(*properties)),
         },
+        Note::Unaffected(found) => {
+            let lines: Vec<String> = (found.iter())
+                .map(|(name, why)| {
+                    format!("warning: no controller can affect property {name}: {why}; its verdict is the plant's alone")
+                })
+                .collect();
+            write!(f, "{}", lines.join("\n"))
+        }
         Note::Negatives { count, file } => write!(
             f,
             "read {} from {}",

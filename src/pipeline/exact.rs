@@ -179,12 +179,17 @@ pub fn run(
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
     };
-    let closed = super::loop_encoding::LoopEncoding::new(
+    let closed = match super::loop_encoding::LoopEncoding::new(
         &check.problem,
         set,
         super::loop_encoding::DEFAULT_RESPONSE_BOUND,
-    )
-    .ok();
+    ) {
+        Ok(closed) => Some(closed),
+        Err(why) => {
+            events(Event::InProcessRefused { why });
+            None
+        }
+    };
     match cegis::run(set, &tree, &mut verifier, closed.as_ref(), &config, events) {
         Ok(v) => Ok(Exact {
             synthesis: v.synthesis,

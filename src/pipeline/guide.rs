@@ -219,8 +219,9 @@ impl Guide<'_, '_> {
     fn game(&mut self, check: &Check) -> Result<OrWhy<(ScenarioTree, Box<game::Strategy>)>, Error> {
         let set = self.set;
         let problem = &check.problem;
-        let Ok(model) = problem.model.as_ref() else {
-            return Ok(Err("the game does not read this plant".into()));
+        let model = match problem.model.as_ref() {
+            Ok(model) => model,
+            Err(why) => return Ok(Err(format!("the game does not read this plant: {why}"))),
         };
         let coupling = match crate::check::Wiring::new(model, &problem.coupling) {
             Ok(c) => c,

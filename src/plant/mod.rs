@@ -338,3 +338,58 @@ impl fmt::Display for Value {
         }
     }
 }
+
+impl Model {
+    /// The variables and defines whose values no parameter (controller output or event) can
+    /// influence: none of them is assigned, constrained or defined, directly or through other
+    /// names, from a parameter. A fairness constraint that a parameter influences changes
+    /// which runs count at all, so then no name is free of the controller.
+    pub(crate) fn uncontrolled(&self) -> Vec<&str> {
+        let mut var = vec![false; self.vars.len()];
+        let mut def = vec![false; self.defines.len()];
+        let reads = |e: &Expr, var: &[bool], def: &[bool]| {
+            let mut hit = false;
+            e.walk(&mut |x| match x {
+                Expr::Param(_) => hit = true,
+                Expr::Var(v) | Expr::Next(v) => hit |= var[v.0],
+                Expr::Define(d) => hit |= def[d.0],
+                _ => {}
+            });
+            hit
+        };
+        let constraints = || self.init.iter().chain(&self.invar).chain(&self.trans);
+        loop {
+            let before = (var.clone(), def.clone());
+            // Defines refer only to earlier ones: one pass in order settles them.
+            for d in 0..self.defines.len() {
+                def[d] = def[d] || reads(&self.defines[d].expr, &var, &def);
+            }
+            for v in 0..self.vars.len() {
+                let x = &self.vars[v];
+                let assigned = x.init.iter().chain(&x.next);
+                var[v] = var[v] || assigned.into_iter().any(|e| reads(e, &var, &def));
+            }
+            // A constraint couples every variable it reads with the controller.
+            for c in constraints() {
+                if reads(&c.expr, &var, &def) {
+                    c.expr.walk(&mut |x| {
+                        if let Expr::Var(v) | Expr::Next(v) = x {
+                            var[v.0] = true;
+                        }
+                    });
+                }
+            }
+            if (var.clone(), def.clone()) == before {
+                break;
+            }
+        }
+        if self.fairness.iter().any(|c| reads(&c.expr, &var, &def)) {
+            return Vec::new();
+        }
+        let vars = (self.vars.iter().zip(&var)).filter(|(_, c)| !**c);
+        let defines = (self.defines.iter().zip(&def)).filter(|(_, c)| !**c);
+        (vars.map(|(v, _)| v.name.as_str()))
+            .chain(defines.map(|(d, _)| d.name.as_str()))
+            .collect()
+    }
+}

@@ -50,6 +50,10 @@ pub(crate) const CONTROLLER_INSTANCE: &str = "ctrl";
 /// Instance name of the plant module in `main` (the plant's names are `plant.x` there).
 pub(crate) const PLANT_INSTANCE: &str = "plant";
 
+/// The controller's events a plant may read as parameters: its output event, and its input
+/// event (TRUE at every step of the closed loop).
+const EVENTS: &[&str] = &["CNF", "REQ"];
+
 /// The names the closed loop gives its own modules and instances.
 const RESERVED: &[&str] = &[
     CONTROLLER_INSTANCE,
@@ -76,6 +80,17 @@ pub enum CouplingError {
     /// from the plant file) cannot be used in the closed loop.
     #[error("{0}")]
     ControllerName(String),
+    /// A pair of `--couple plant.SIGNAL=NAME` that names no plant signal or no controller
+    /// input or output, or one a second time.
+    #[error("--couple plant.{plant}={controller}: {message}")]
+    Couple {
+        /// The plant's side of the pair.
+        plant: String,
+        /// The controller's side of the pair.
+        controller: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The controller cannot be emitted as SMV (e.g. an unusable identifier).
     #[error("{0}")]
     Smv(#[from] SmvError),
@@ -99,12 +114,18 @@ pub enum Binding {
 pub struct Coupling {
     /// Bare name -> what it is, sorted by name.
     pub names: BTreeMap<String, Binding>,
-    /// The controller's inputs in interface order: each is a name the plant declares.
+    /// The controller's inputs in interface order.
     pub(crate) inputs: Vec<String>,
+    /// Per controller input, in interface order: the name the plant declares for it (the
+    /// input's own name unless a pair of `--couple` says otherwise).
+    pub(crate) sensors: Vec<String>,
+    /// Per parameter of `MODULE plant` that is a controller output, in order: its name in the
+    /// plant (the output's own name unless a pair of `--couple` says otherwise).
+    pub(crate) param_names: Vec<String>,
     /// The controller's outputs in interface order.
     pub(crate) outputs: Vec<String>,
-    /// Per parameter of `MODULE plant`, in order: the index in [`Coupling::outputs`] of the
-    /// controller output it is.
+    /// Per parameter of `MODULE plant` that is a controller output, in order: the index in
+    /// [`Coupling::outputs`] of that output (parameters `CNF` and `REQ` have none).
     pub(crate) params: Vec<usize>,
 }
 
@@ -118,6 +139,55 @@ pub fn check_coupling(
     spec_file: &Path,
     props: &[Property],
 ) -> Result<Coupling, CouplingError> {
+    check_coupling_by(inputs, outputs, plant, spec_file, props, &[])
+}
+
+/// A pair of `--couple plant.SIGNAL=NAME`: the plant's signal (a parameter of `MODULE plant`,
+/// or a name it declares) that is the controller's output or input `NAME`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Couple {
+    /// The plant's name.
+    pub plant: String,
+    /// The controller's name.
+    pub controller: String,
+}
+
+impl std::str::FromStr for Couple {
+    type Err = String;
+
+    /// Reads `plant.SIGNAL=NAME`.
+    fn from_str(s: &str) -> Result<Couple, String> {
+        let (left, right) = (s.split_once('='))
+            .ok_or_else(|| format!("{}: expected plant.SIGNAL=NAME", quote(s)))?;
+        let plant = (left.trim().strip_prefix("plant.")).ok_or_else(|| {
+            format!(
+                "{}: the left side names a plant signal, plant.SIGNAL",
+                quote(s)
+            )
+        })?;
+        let (plant, controller) = (plant.trim().to_string(), right.trim().to_string());
+        if plant.is_empty() || controller.is_empty() {
+            return Err(format!("{}: expected plant.SIGNAL=NAME", quote(s)));
+        }
+        Ok(Couple { plant, controller })
+    }
+}
+
+/// [`check_coupling`] where the plant's names differ from the controller's: each pair of
+/// `couple` says which plant signal is which controller input or output.
+pub fn check_coupling_by(
+    inputs: &[String],
+    outputs: &[String],
+    plant: &Plant,
+    spec_file: &Path,
+    props: &[Property],
+    couple: &[Couple],
+) -> Result<Coupling, CouplingError> {
+    check_pairs(inputs, outputs, plant, couple)?;
+    // The plant's name of a controller signal.
+    let plant_name = |n: &String| {
+        (couple.iter().find(|c| c.controller == *n)).map_or(n.clone(), |c| c.plant.clone())
+    };
     let at = |file: &Path, line: usize, message: String| CouplingError::At {
         file: file.to_path_buf(),
         line,
@@ -139,15 +209,23 @@ pub fn check_coupling(
         }
     }
     let mut params = Vec::with_capacity(plant.params.len());
+    let mut param_names = Vec::with_capacity(plant.params.len());
     for p in &plant.params {
-        match outputs.iter().position(|o| *o == p.name) {
-            Some(z) => params.push(z),
+        match outputs.iter().position(|o| plant_name(o) == p.name) {
+            Some(z) => {
+                params.push(z);
+                param_names.push(p.name.clone());
+            }
+            // The controller's events: NuSMV reads them (`ctrl.CNF`, `REQ` is TRUE at every
+            // step); the in-process engines, whose plant parameters are outputs only, refuse
+            // such a plant by name ([`crate::check::Wiring::new`]).
+            None if EVENTS.contains(&p.name.as_str()) => {}
             None => {
                 return Err(at(
                     pf,
                     p.line,
                     format!(
-                        "plant parameter {} is not a controller output (outputs: {})",
+                        "plant parameter {} is not a controller output (outputs: {}; or the event CNF or REQ)",
                         quote(&p.name),
                         cut(&outputs.join(" "))
                     ),
@@ -159,7 +237,8 @@ pub fn check_coupling(
     for o in outputs {
         names.insert(o.clone(), Binding::ControllerOutput);
     }
-    for d in &plant.names {
+    // An instance of a submodule is no value: the plant's defines reach into it.
+    for d in (plant.names.iter()).filter(|d| !plant.instances.contains(&d.name)) {
         if RESERVED.contains(&d.name.as_str()) {
             return Err(at(
                 pf,
@@ -181,7 +260,8 @@ pub fn check_coupling(
             .map_err(|m| at(pf, d.line, format!("{}: {m}", quote(&d.name))))?;
         names.insert(d.name.clone(), Binding::Plant);
     }
-    for i in inputs {
+    let sensors: Vec<String> = inputs.iter().map(plant_name).collect();
+    for i in &sensors {
         if names.get(i) != Some(&Binding::Plant) {
             return Err(at(
                 pf,
@@ -218,9 +298,55 @@ pub fn check_coupling(
     Ok(Coupling {
         names,
         inputs: inputs.to_vec(),
+        sensors,
+        param_names,
         outputs: outputs.to_vec(),
         params,
     })
+}
+
+/// Each pair of `couple` names a controller input with a name the plant declares, or a
+/// controller output with a parameter of `MODULE plant`; no side twice.
+fn check_pairs(
+    inputs: &[String],
+    outputs: &[String],
+    plant: &Plant,
+    couple: &[Couple],
+) -> Result<(), CouplingError> {
+    for (k, c) in couple.iter().enumerate() {
+        let bad = |message: String| CouplingError::Couple {
+            plant: c.plant.clone(),
+            controller: c.controller.clone(),
+            message,
+        };
+        let declared = |n: &str| plant.names.iter().any(|d| d.name == n);
+        let param = |n: &str| plant.params.iter().any(|d| d.name == n);
+        if inputs.contains(&c.controller) {
+            if !declared(&c.plant) || plant.instances.contains(&c.plant) {
+                return Err(bad(format!(
+                    "module plant declares no variable or define {}",
+                    quote(&c.plant)
+                )));
+            }
+        } else if outputs.contains(&c.controller) {
+            if !param(&c.plant) {
+                return Err(bad(format!(
+                    "{} is no parameter of MODULE plant",
+                    quote(&c.plant)
+                )));
+            }
+        } else {
+            return Err(bad(format!(
+                "{} is neither a controller input nor a controller output",
+                quote(&c.controller)
+            )));
+        }
+        let earlier = &couple[..k];
+        if (earlier.iter()).any(|e| e.plant == c.plant || e.controller == c.controller) {
+            return Err(bad("a side of this pair is coupled twice".into()));
+        }
+    }
+    Ok(())
 }
 
 /// Where a line of the composed model came from.
@@ -360,7 +486,11 @@ pub fn compose_controller(
     let mut main = String::from("\nMODULE main\nVAR\n");
     let sensors: Vec<String> = inputs
         .iter()
-        .map(|i| format!("{PLANT_INSTANCE}.{i}"))
+        .map(|i| {
+            let k = coupling.inputs.iter().position(|c| c == i);
+            let name = k.map_or(i, |k| &coupling.sensors[k]);
+            format!("{PLANT_INSTANCE}.{name}")
+        })
         .collect();
     main.push_str(&format!(
         "  {CONTROLLER_INSTANCE} : {CONTROLLER_MODULE}(TRUE{}{});\n",
@@ -370,7 +500,16 @@ pub fn compose_controller(
     let commands: Vec<String> = plant
         .params
         .iter()
-        .map(|p| format!("{CONTROLLER_INSTANCE}.{}", p.name))
+        .map(|p| match p.name.as_str() {
+            "REQ" => "TRUE".to_string(),
+            name => match coupling.param_names.iter().position(|n| n == name) {
+                Some(k) => format!(
+                    "{CONTROLLER_INSTANCE}.{}",
+                    coupling.outputs[coupling.params[k]]
+                ),
+                None => format!("{CONTROLLER_INSTANCE}.{name}"),
+            },
+        })
         .collect();
     main.push_str(&format!(
         "  {PLANT_INSTANCE} : plant({});\n",

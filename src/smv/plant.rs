@@ -30,6 +30,10 @@ pub struct Plant {
     pub params: Vec<Declared>,
     /// Variables and defines of module `plant`.
     pub names: Vec<Declared>,
+    /// The names among [`Plant::names`] that are instances of other modules of the file
+    /// (`aux : helper(vs);`): the closed loop reaches into them through the plant's defines,
+    /// never by a bare name.
+    pub instances: Vec<String>,
 }
 
 /// A plant file that does not follow the coupling convention.
@@ -254,11 +258,30 @@ impl Scanner<'_> {
             return;
         };
         if *next == want {
+            let instance = want == ":" && self.is_instance(self.k + 2);
             let p = self.plant.as_mut().expect("in_plant implies plant");
+            if instance {
+                p.instances.push(w.clone());
+            }
             p.names.push(Declared {
                 name: w.clone(),
                 line,
             });
+        }
+    }
+
+    /// Whether the type starting at token `k` of a `VAR` declaration names a module: an
+    /// identifier that is no type keyword, followed by its arguments or the end of the
+    /// declaration (a range such as `lo..hi` over defined constants is followed by `.`).
+    fn is_instance(&self, k: usize) -> bool {
+        const TYPES: &[&str] = &[
+            "boolean", "integer", "real", "word", "unsigned", "signed", "array", "process",
+        ];
+        match (self.toks.get(k), self.toks.get(k + 1)) {
+            (Some((Tok::Ident(w), _)), Some((Tok::Sym("(" | ";"), _))) => {
+                !TYPES.contains(&w.as_str())
+            }
+            _ => false,
         }
     }
 
@@ -291,6 +314,7 @@ impl Scanner<'_> {
             module_line: line,
             params,
             names: Vec::new(),
+            instances: Vec::new(),
         });
         Ok(())
     }
@@ -364,6 +388,18 @@ ASSIGN
         assert_eq!(params, vec!["open", "close"]);
         assert_eq!(p.module_line, 4);
         assert_eq!(p.names[3].line, 11);
+        assert_eq!(p.instances, vec!["m"]);
+    }
+
+    #[test]
+    fn module_instances_are_told_from_typed_variables() {
+        let text = "MODULE h(x)\nVAR s : boolean;\nMODULE g\nVAR t : boolean;\n\
+            MODULE plant(a)\nVAR\n  b : boolean;\n  r : lo..hi;\n  w : word[2];\n  \
+            h1 : h(a);\n  g1 : g;\nDEFINE lo := 0; hi := 2; s := h1.s;\n";
+        let p = parse_plant(Path::new("p.smv"), text).unwrap();
+        assert_eq!(p.instances, vec!["h1", "g1"]);
+        let names: Vec<&str> = p.names.iter().map(|d| d.name.as_str()).collect();
+        assert_eq!(names, vec!["b", "r", "w", "h1", "g1", "lo", "hi", "s"]);
     }
 
     #[test]

@@ -18,6 +18,7 @@ mod modular;
 mod noisy;
 mod nusmv_answers;
 mod pipeline;
+mod plants;
 mod robustness;
 mod schemas;
 mod semantics;

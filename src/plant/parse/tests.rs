@@ -766,3 +766,22 @@ fn giant_tokens_are_cut_in_messages() {
         assert!(e.starts_with("plant.smv:3:"), "{e}");
     }
 }
+
+/// Names no controller output reaches: free inputs, what is assigned or defined from them
+/// alone, and nothing a constraint couples with a parameter.
+#[test]
+fn names_no_parameter_influences_are_found() {
+    let text = "MODULE plant(lamp)\nVAR\n  button : boolean;\n  seen : boolean;\n  \
+        on_for : 0..2;\n  door : boolean;\n  bell : boolean;\nIVAR\n  noise : boolean;\n\
+        ASSIGN\n  init(seen) := FALSE;\n  next(seen) := seen | button;\n  \
+        next(on_for) := lamp ? 1 : 0;\nDEFINE\n  pressed := button & !seen;\n  \
+        lit := on_for > 0;\nTRANS next(door) -> lit\nTRANS next(bell) -> noise\n";
+    let m = parse_str(text, Path::new("p.smv")).unwrap();
+    assert_eq!(
+        m.uncontrolled(),
+        ["button", "seen", "bell", "noise", "pressed"]
+    );
+    let fair = format!("{text}FAIRNESS lit\n");
+    let m = parse_str(&fair, Path::new("p.smv")).unwrap();
+    assert!(m.uncontrolled().is_empty());
+}
