@@ -84,9 +84,10 @@ pub enum NusmvError {
     },
     /// NuSMV's answer to the check of one named property held not exactly one verdict.
     #[error(
-        "NuSMV answered the check of property {} with {verdicts} verdicts, not one{}",
+        "NuSMV answered the check of property {} with {verdicts} verdicts, not one{}{}",
         crate::quote::backquote(property),
-        stderr_suffix(stderr_tail)
+        stderr_suffix(stderr_tail),
+        out_of_memory(stderr_tail)
     )]
     Answer {
         /// The name the property was asked for by.
