@@ -1178,9 +1178,10 @@ mod tests {
             name: "no_such_property".into(),
             formula: "TRUE".into(),
         };
-        let result = nusmv
-            .dialogue()
-            .check(&data("light.smv"), &[unknown], CheckMode::VerdictsOnly);
+        let result =
+            nusmv
+                .dialogue()
+                .check(&data("light.smv"), &[unknown], CheckMode::VerdictsOnly);
         let Err(e) = result else { panic!("{result:?}") };
         assert!(e.to_string().contains("no_such_property"), "{e}");
     }
@@ -1576,6 +1577,9 @@ mod tests {
         println!("cylinder.smv, median of {RUNS} runs:");
         println!("  batch (-dynamic), all traces:   {:.1} ms", median(batch));
         println!("  dialogue, VerdictsOnly:          {:.1} ms", median(fast));
-        println!("  dialogue, FirstCounterexample:   {:.1} ms", median(traced));
+        println!(
+            "  dialogue, FirstCounterexample:   {:.1} ms",
+            median(traced)
+        );
     }
 }

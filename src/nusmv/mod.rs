@@ -21,7 +21,7 @@ pub(crate) mod driver;
 pub(crate) mod locate;
 pub(crate) mod output;
 
-pub(crate) use driver::{kill_all_children, Query, Dialogue};
+pub(crate) use driver::{kill_all_children, Dialogue, Query};
 pub use driver::{CheckMode, Nusmv};
 pub use locate::locate;
 pub use output::{parse_errors, parse_output, Verdict};

@@ -15,6 +15,7 @@ mod modes;
 mod modular;
 mod noisy;
 mod nusmv_answers;
+mod outputs;
 mod pipeline;
 mod robustness;
 mod schemas;
