@@ -11,7 +11,8 @@ pub(crate) mod output_rule;
 pub(crate) mod result_set;
 pub(crate) mod xml;
 
-pub use output_rule::{allow_replacing, RuleError};
+pub(crate) use output_rule::allow_replacing;
+pub use output_rule::RuleError;
 pub(crate) use result_set::ResultSet;
 pub use result_set::ResultSetError;
 

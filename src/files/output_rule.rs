@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 static FORCE: AtomicBool = AtomicBool::new(false);
 
 /// Sets `--force` for this process (the command line, once, after parsing).
-pub fn allow_replacing(force: bool) {
+pub(crate) fn allow_replacing(force: bool) {
     FORCE.store(force, Ordering::Relaxed);
 }
 

@@ -682,7 +682,7 @@ fn one_process(nusmv: &Path, models: &[PathBuf]) -> Vec<Verdicts> {
     let stderr = String::from_utf8_lossy(&out.stderr);
     let (outs, errs) = (split(&stdout), split(&stderr));
     let mut verdicts = Vec::new();
-    for k in 0..models.len() {
+    for (k, model) in models.iter().enumerate() {
         let errors: Vec<&str> = errs
             .get(k)
             .into_iter()
@@ -700,7 +700,7 @@ fn one_process(nusmv: &Path, models: &[PathBuf]) -> Vec<Verdicts> {
             _ if !errors.is_empty() => Err(errors.join("\n")),
             None => Err(format!(
                 "NuSMV ended before the end of {} ({})",
-                models[k].display(),
+                model.display(),
                 out.status
             )),
             Some(text) => {
