@@ -7,9 +7,12 @@
 //! XML written in [`xml`].
 
 pub(crate) mod csv;
+pub(crate) mod output_rule;
 pub(crate) mod result_set;
 pub(crate) mod xml;
 
+pub(crate) use output_rule::allow_replacing;
+pub use output_rule::RuleError;
 pub(crate) use result_set::ResultSet;
 pub use result_set::ResultSetError;
 
@@ -571,7 +574,9 @@ impl AtomicFile {
             source,
         };
         let target = follow_links(path);
-        let special = std::fs::metadata(&target).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        // Asked of `path` itself: the kernel follows links that no path spells out, as
+        // `/dev/stdout` -> `/proc/self/fd/1` -> `pipe:[...]` on a pipe.
+        let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
         let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
@@ -584,7 +589,7 @@ impl AtomicFile {
             Target::Special(
                 std::fs::OpenOptions::new()
                     .write(true)
-                    .open(&target)
+                    .open(path)
                     .map_err(err)?,
             )
         } else {

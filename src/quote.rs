@@ -105,6 +105,21 @@ impl fmt::Display for Quoted<'_> {
     }
 }
 
+/// A path as a line of output shows it: whole, with every control character escaped, line
+/// breaks and tabs included (a name holding a line break would otherwise print as two
+/// lines, the second one of its choosing).
+pub(crate) fn path(path: &std::path::Path) -> String {
+    let text = path.to_string_lossy();
+    let mut shown = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c.is_control() {
+            true => shown.extend(c.escape_default()),
+            false => shown.push(c),
+        }
+    }
+    shown
+}
+
 /// A line as an error message shows it under the place it points to: the whole line when it
 /// has at most 2 × [`WHOLE`] characters, otherwise [`WHOLE`] characters on each side of the
 /// 1-based character `column`, with `…` where the line goes on. Returns the text and the

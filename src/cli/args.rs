@@ -143,7 +143,7 @@ pub struct AmbiguityArgs {
     #[arg(long, value_name = "STEPS", value_parser = depth())]
     pub ambiguity_depth: Option<usize>,
     /// Seconds for each rival's search; past it the verdict is "unknown".
-    #[arg(long, default_value_t = 20.0, value_name = "SECONDS")]
+    #[arg(long, default_value_t = 20.0, value_name = "SECONDS", value_parser = seconds)]
     pub ambiguity_budget: f64,
     /// Distinguishing sequences over every input vector (at most 10 inputs), not only the
     /// input combinations the recordings show.
@@ -181,6 +181,29 @@ pub fn modules() -> clap::builder::RangedU64ValueParser<usize> {
 /// `--threads`, `--colonies`: 1 to 1024.
 pub fn workers() -> clap::builder::RangedU64ValueParser<usize> {
     clap::builder::RangedU64ValueParser::new().range(1..=1024)
+}
+
+/// A number of seconds, 0 to a year, refused when parsed (not after the work it limits).
+pub fn seconds(text: &str) -> Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    crate::pipeline::seconds("the option", value, false).map_err(|e| e.to_string())?;
+    Ok(value)
+}
+
+/// `--verify-probability`: a probability, 0 to 1.
+pub fn probability(text: &str) -> Result<f64, String> {
+    let value: f64 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    match (0.0..=1.0).contains(&value) {
+        true => Ok(value),
+        false => Err(format!(
+            "a probability is a number from 0 to 1, not {value}"
+        )),
+    }
+}
+
+/// Repetitions of a benchmark or an experiment: 0 to 10,000.
+pub fn repetitions() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(0..=10_000)
 }
 
 /// `--name`: a block name every export can use ([`crate::ecc::ident::check_block_name`]),

@@ -55,6 +55,10 @@ pub fn conform(args: &ConformArgs) -> Result<(), Error> {
         },
         spec: args.nusmv.spec(&args.ltl, &args.plant),
         out: args.out.clone(),
+        reads: [args.ecc.clone()]
+            .into_iter()
+            .chain(args.traces.recordings().paths())
+            .collect(),
     };
     let progress = Progress::new(false);
     let done = refine(&request, &ecc, &set, &mut |e| progress.event(e))?;

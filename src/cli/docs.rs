@@ -63,7 +63,10 @@ pub fn man(args: &ManArgs) -> Result<(), Error> {
     let Some(dir) = &args.out else {
         return super::write_data(&page(cmd, "synth")?);
     };
-    std::fs::create_dir_all(dir)?;
+    std::fs::create_dir_all(dir).map_err(|source| crate::files::WriteError {
+        path: dir.clone(),
+        source,
+    })?;
     let mut written = vec![(dir.join("synth.1"), page(cmd.clone(), "synth")?)];
     for sub in cmd.get_subcommands() {
         let name = format!("synth-{}", sub.get_name());
@@ -71,7 +74,7 @@ pub fn man(args: &ManArgs) -> Result<(), Error> {
     }
     for (path, bytes) in &written {
         crate::files::write_atomic(path, bytes)?;
-        out!("wrote {}", path.display());
+        out!("wrote {}", crate::quote::path(path));
     }
     super::note_written(&written.into_iter().map(|(p, _)| p).collect::<Vec<_>>());
     Ok(())
@@ -101,7 +104,7 @@ pub fn schema(args: &SchemaArgs) -> Result<(), Error> {
         return super::write_data(text.as_bytes());
     };
     crate::files::write_atomic(path, text.as_bytes())?;
-    out!("wrote {}", path.display());
+    out!("wrote {}", crate::quote::path(path));
     super::note_written(std::slice::from_ref(path));
     Ok(())
 }

@@ -56,7 +56,7 @@ pub fn events(args: &EventsArgs) -> Result<(), Error> {
             .map(|(ecc, pnml)| (ecc, pnml, args.pnml_dialect)),
     })?;
     if let Some(note) = done.note() {
-        eprintln!("{note}");
+        super::err_line(format_args!("{note}"));
     }
     out!("{done}");
     super::note_written(&done.files());

@@ -185,7 +185,7 @@ pub fn infer(args: &InferArgs) -> Result<(), Error> {
         if !done.files.is_empty() {
             print_written(&done.files);
         }
-        out!("results in {}", done.out.display());
+        out!("results in {}", crate::quote::path(&done.out));
         return done.failure.map_or(Ok(()), Err);
     }
     if args.distributed.is_some() || args.topology == TopologyArg::Arbitrary {

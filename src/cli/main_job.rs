@@ -114,7 +114,7 @@ pub struct SearchArgs {
     /// Probability of verifying a candidate whose scenario fitness is below 99% of the maximum
     /// (above it every candidate is verified). Default: 0.01 with --judge in-process, 0.001
     /// with --judge nusmv.
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", value_parser = super::args::probability)]
     pub verify_probability: Option<f64>,
     /// Who judges the candidates during the search; NuSMV checks the machine it ends with.
     #[arg(long, value_enum, default_value_t = Judge::InProcess)]

@@ -47,6 +47,13 @@ macro_rules! out_raw {
     }};
 }
 
+/// One line on stderr, best effort: a closed or full stderr (`2>&1 | head -1`, `2>/dev/full`)
+/// loses the line, never the run, its files or its exit code.
+pub fn err_line(line: std::fmt::Arguments<'_>) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
 /// Set when a command writes its result on stdout: every other line goes to stderr then.
 static STDOUT_IS_DATA: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -115,6 +122,10 @@ pub struct OutputArgs {
     /// without a summary of their own write `{"command", "exit", "files", "output", "error"}`.
     #[arg(long, global = true)]
     pub json: bool,
+    /// Replace files the run reads, or a result another command wrote, in the output (the
+    /// output rule refuses that otherwise).
+    #[arg(long, global = true)]
+    pub force: bool,
 }
 
 /// Writes a `--json` summary on stdout (pretty, one value, its keys sorted, a final newline).
@@ -214,9 +225,11 @@ Exit codes:
   2   command-line usage error
   3   no machine exists within the given limits (--max-states, --max-iterations,
       --time-limit)
-  4   bad input (file, line and step are named) or a failed tool (NuSMV missing, crashed
-      or out of time)
-  70  internal error: a bug in synth, please report it";
+  4   bad input (file, line and step are named), an output that would replace an input or
+      another command's result (--force allows it), a busy output folder, or a failed tool
+      (NuSMV missing, crashed or out of time)
+  70  internal error: a bug in synth, please report it
+  130 ended by SIGINT, SIGTERM or SIGHUP";
 
 const ABOUT: &str =
     "Rebuild the lost control logic of a legacy PLC as a minimal IEC 61499 basic function block.";
@@ -405,6 +418,9 @@ pub fn start(o: &OutputArgs) {
     QUIET.store(o.quiet, std::sync::atomic::Ordering::Relaxed);
     VERBOSE.store(o.verbose, std::sync::atomic::Ordering::Relaxed);
     JSON.store(o.json, std::sync::atomic::Ordering::Relaxed);
+    crate::files::allow_replacing(o.force);
+    // Before any work: a signal ends every phase alike (exit 130), reading included.
+    crate::signals::install();
     if o.json {
         data_on_stdout();
     }
@@ -417,7 +433,7 @@ pub fn finish(command: &str, result: Result<(), Error>) -> i32 {
         Ok(()) => (exit::OK, None),
         Err(e) => {
             let message = message(e);
-            eprintln!("error: {message}");
+            err_line(format_args!("error: {message}"));
             (code(e.class()), Some(message))
         }
     };

@@ -21,7 +21,8 @@ impl Progress {
     /// One progress line on stderr, with the seconds since the start.
     pub fn line(&self, msg: &str) {
         if !self.quiet {
-            eprintln!("[{:7.2}s] {msg}", self.start.elapsed().as_secs_f64());
+            let seconds = self.start.elapsed().as_secs_f64();
+            super::err_line(format_args!("[{seconds:7.2}s] {msg}"));
         }
     }
 

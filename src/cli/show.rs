@@ -8,15 +8,15 @@ pub fn print_written(files: &[PathBuf]) {
     super::note_written(files);
     out!("wrote:");
     for f in files {
-        out!("  {}", f.display());
+        out!("  {}", crate::quote::path(f));
     }
 }
 
 /// The closing lines of a verified run: where the results are.
 pub fn print_files(out: &Path, files: &[PathBuf]) {
     super::note_written(files);
-    out!("results in {}:", out.display());
+    out!("results in {}:", crate::quote::path(out));
     for f in files {
-        out!("  {}", f.display());
+        out!("  {}", crate::quote::path(f));
     }
 }

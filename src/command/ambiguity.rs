@@ -5,6 +5,7 @@
 use super::{out_dir, publish};
 use crate::ecc::Ecc;
 use crate::export;
+use crate::files::output_rule::Claim;
 use crate::files::{write_atomic, ResultSet};
 use crate::pipeline::ambiguity::{self, Ambiguity, Uniqueness};
 use crate::pipeline::summary::AmbiguitySummary;
@@ -171,7 +172,8 @@ impl fmt::Display for Plan {
 pub(crate) fn next_recording(r: &Request, events: Events<'_>) -> Result<Plan, Error> {
     let set = r.recordings.load()?;
     let out = out_dir(&r.out, &format!("{}-next", r.recordings.stem()));
-    let results = ResultSet::open(&out)?;
+    let reads = r.recordings.paths().into_iter().chain(r.ecc.clone());
+    let results = ResultSet::open(&out, Claim::new("next-recording", reads))?;
     let machine = match &r.ecc {
         Some(file) => {
             let (ecc, set2) = recordings::machine_and_scenarios(file, &r.recordings)?;

@@ -3,6 +3,7 @@
 
 use super::{out_dir, Spec};
 use crate::export::Format;
+use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::ingest::Mapping;
 use crate::pipeline::batch::{self, Outcome, VerificationSetup};
@@ -103,7 +104,12 @@ pub(crate) fn run(
         None => None,
     };
     let out = out_dir(&r.out, &recordings::stem(&r.logs));
-    let results = ResultSet::open(&out)?;
+    let reads = [r.logs.clone()]
+        .into_iter()
+        .chain(r.map.clone())
+        .chain(r.spec.iter().flat_map(super::Spec::paths))
+        .chain(plcs.iter().map(|p| p.source.clone()));
+    let results = ResultSet::open(&out, Claim::new("batch", reads).writing(&r.name))?;
     let threads = r.threads.unwrap_or_else(rayon::current_num_threads);
     events(Event::Note(Note::BatchStarted {
         plcs: plcs.len(),

@@ -5,6 +5,7 @@
 use super::{publish, Spec};
 use crate::ecc::Ecc;
 use crate::export::Format;
+use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::pipeline::{exact, refine, Error, Events, Recordings};
 use crate::scenario::ScenarioSet;
@@ -82,6 +83,8 @@ pub(crate) struct Request {
     pub spec: Option<Spec>,
     /// Output folder (default `out/refined`).
     pub out: Option<PathBuf>,
+    /// The machine in service and the new recordings: read, never replaced.
+    pub reads: Vec<PathBuf>,
 }
 
 /// The refined machine, published.
@@ -103,7 +106,7 @@ impl fmt::Display for Done {
             "refining: {} training scenarios + {} divergent traces -> {}",
             r.training_scenarios,
             r.divergent.len(),
-            self.traces_file.display()
+            crate::quote::path(&self.traces_file)
         )?;
         if let Some(cert) = &r.exact.certificate {
             let holds = cert.report.properties.len();
@@ -141,7 +144,11 @@ pub(crate) fn refine(
         Format::St,
     ];
     // One result in the folder, published whole at the end, as `infer` does.
-    let results = ResultSet::open(&out)?;
+    let reads = (r.training.paths().into_iter())
+        .chain(r.spec.iter().flat_map(Spec::paths))
+        .chain(r.reads.iter().cloned());
+    let claim = Claim::new("conform", reads).writing("SynthesizedFB");
+    let results = ResultSet::open(&out, claim)?;
     let opts = refine::Options {
         out: results.staging(),
         formats: &formats,

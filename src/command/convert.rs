@@ -31,7 +31,7 @@ impl Converted {
             "wrote {} scenarios ({} steps) to {}",
             self.set.scenarios.len(),
             self.set.step_count(),
-            output.display()
+            crate::quote::path(output)
         )
     }
 }

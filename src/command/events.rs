@@ -54,15 +54,15 @@ impl fmt::Display for Done {
             s.traces,
             s.resets,
             self.reset,
-            self.logs[0].display(),
-            self.logs[1].display()
+            crate::quote::path(&self.logs[0]),
+            crate::quote::path(&self.logs[1])
         )?;
         match &self.net {
             Some((pnml, ecc, size)) => write!(
                 f,
                 "\nwrote {} (Petri net of {}: {} places, {} transitions)",
-                pnml.display(),
-                ecc.display(),
+                crate::quote::path(pnml),
+                crate::quote::path(ecc),
                 size.places,
                 size.transitions
             ),

@@ -3,6 +3,7 @@
 
 use super::{out_dir, publish};
 use crate::export::{self, Format};
+use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::pipeline::recordings::read_ecc;
 use crate::pipeline::Error;
@@ -80,20 +81,8 @@ pub(crate) fn run(
     let stem =
         (ecc_file.file_stem()).map_or("machine".into(), |s| s.to_string_lossy().into_owned());
     let out = out_dir(out, &stem);
-    // A result folder holds one result: publishing into the folder the machine is read from
-    // would replace or remove the input. Looking for the input's file among the folder's
-    // (same device and inode) also finds it through a symbolic or hard link.
-    let holds_input = std::fs::read_dir(&out).is_ok_and(|entries| {
-        (entries.flatten()).any(|e| crate::files::same_file(&e.path(), ecc_file))
-    });
-    if holds_input {
-        return Err(Error::Usage(format!(
-            "--out {} is the folder {} is read from: choose another output folder",
-            out.display(),
-            ecc_file.display()
-        )));
-    }
-    let results = ResultSet::open(&out)?;
+    let claim = Claim::new("export", [ecc_file]).writing(name);
+    let results = ResultSet::open(&out, claim)?;
     let staged = export::write_all(&ecc, results.staging(), name, formats)?;
     Ok(Exported::Files {
         ecc: ecc_file.to_path_buf(),

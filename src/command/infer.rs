@@ -6,6 +6,7 @@
 use super::ambiguity::{self, Report};
 use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::{self, Format};
+use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::pipeline::event::NOISY_HINT;
 use crate::pipeline::explain::{self, Explanation};
@@ -60,7 +61,15 @@ impl Request {
     /// The output folder, taken for this run before the search, so that a second run into it
     /// stops at once.
     pub fn open(&self) -> Result<ResultSet, Error> {
-        Ok(ResultSet::open(&self.folder())?)
+        Ok(ResultSet::open(&self.folder(), self.claim("infer"))?)
+    }
+
+    /// What the run reads, for the output rule.
+    fn claim(&self, command: &'static str) -> Claim {
+        let reads = (self.recordings.paths().into_iter())
+            .chain(self.spec.iter().flat_map(Spec::paths))
+            .chain(self.negatives.iter().cloned());
+        Claim::new(command, reads).writing(&self.name)
     }
 
     /// The output folder's path.
@@ -306,7 +315,7 @@ fn least(
         });
     };
     let dumped = match &r.dump_cnf {
-        Some(dir) => dump_cnf(&set, &opts.sat, &result, dir)?,
+        Some(dir) => dump_cnf(&set, &opts.sat, &result, dir, r.claim("infer --dump-cnf"))?,
         None => Vec::new(),
     };
     let mut staged = export::write_all(&result.ecc, results.staging(), &r.name, &r.formats)?;
@@ -394,8 +403,9 @@ fn dump_cnf(
     sat: &exact::SatOptions,
     result: &Synthesis,
     dir: &std::path::Path,
+    claim: Claim,
 ) -> Result<Vec<PathBuf>, Error> {
-    let results = ResultSet::open(dir)?;
+    let results = ResultSet::open(dir, claim)?;
     let staged = write_size_questions(results.staging(), set, sat, &result.size)?;
     publish(results, &staged)
 }

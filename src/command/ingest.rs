@@ -33,9 +33,9 @@ impl fmt::Display for Done {
         write!(
             f,
             "wrote {}, {}, {}",
-            scenarios.display(),
-            inputs.display(),
-            outputs.display()
+            crate::quote::path(scenarios),
+            crate::quote::path(inputs),
+            crate::quote::path(outputs)
         )
     }
 }

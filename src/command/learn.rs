@@ -9,7 +9,7 @@ use crate::pipeline::ambiguity::Uniqueness;
 use crate::pipeline::summary::{LearnSummary, PassiveSummary, RoundSummary, LEARN};
 use crate::pipeline::{recordings, Error, Events, Recordings};
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// What `synth learn` is asked.
 pub(crate) struct Request {
@@ -84,7 +84,7 @@ impl fmt::Display for Done {
             )?;
         }
         match &self.written {
-            Some(out) => write!(f, "\nwrote {}", out.display()),
+            Some(out) => write!(f, "\nwrote {}", crate::quote::path(out)),
             None => Ok(()),
         }
     }
@@ -152,7 +152,11 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         )));
     }
     if let Some(out) = &r.out {
-        refuse_overwrite(&[out], &r.recordings.traces)?;
+        // The oracle is a file unless it names a shipped case.
+        let oracle = Path::new(&r.oracle);
+        let reads = (r.recordings.paths().into_iter())
+            .chain(oracle.is_file().then(|| oracle.to_path_buf()));
+        refuse_overwrite(&[out], &reads.collect::<Vec<_>>())?;
     }
     let learned = active::learn(&initial, &oracle, &r.options, events)?;
     let comparison = Comparison::new(&initial, &oracle, &learned, &r.options)?;

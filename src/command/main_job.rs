@@ -6,6 +6,7 @@
 use super::ambiguity::{report_verified, Report};
 use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::Format;
+use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::pipeline::explain::{self, Explanation};
 use crate::pipeline::limit::Limit;
@@ -116,7 +117,10 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     check_exportable(&set, &r.name, &r.formats, &recordings)?;
     let out = out_dir(&r.out, &stem(&r.spec.ltl));
     // Taken before the search: a second run into the same folder stops now, not at the end.
-    let results = ResultSet::open(&out)?;
+    let reads = (recordings.paths().into_iter())
+        .chain(r.spec.paths())
+        .chain(r.negatives.iter().cloned());
+    let results = ResultSet::open(&out, Claim::new("main", reads).writing(&r.name))?;
     let check = Check::new(problem, r.spec.nusmv.locate()?);
     let opts = main_job::Options {
         method: r.method.clone(),

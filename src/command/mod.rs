@@ -79,6 +79,11 @@ impl Spec {
         Ok(Check::new(problem, self.nusmv.locate()?))
     }
 
+    /// The files the properties are read from.
+    pub fn paths(&self) -> [PathBuf; 2] {
+        [self.ltl.clone(), self.plant.clone()]
+    }
+
     /// Who made a verified machine, for its `verification.txt`.
     pub fn provenance<'a>(&'a self, name: &'a str) -> pipeline::output::Provenance<'a> {
         pipeline::output::Provenance {
@@ -102,9 +107,9 @@ pub(crate) fn publish(results: ResultSet, staged: &[PathBuf]) -> Result<Vec<Path
     Ok(files)
 }
 
-/// Refuses to run when an output path names one of the input files (the atomic rename
-/// would replace the input with the result), or a folder (found only when the first files
-/// of the result were already written).
+/// Refuses to run when an output path names a folder (found only when the first files of
+/// the result were already written), or one of the input files (the output rule,
+/// [`crate::files::output_rule`]).
 pub(crate) fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
     outputs: &[P],
     inputs: &[Q],
@@ -116,18 +121,8 @@ pub(crate) fn refuse_overwrite<P: AsRef<Path>, Q: AsRef<Path>>(
                 out.display()
             )));
         }
-        if let Some(input) = inputs
-            .iter()
-            .find(|i| crate::files::same_file(out, i.as_ref()))
-        {
-            return Err(Error::Input(format!(
-                "the output {} would overwrite the input {}; choose another output path",
-                out.display(),
-                input.as_ref().display()
-            )));
-        }
     }
-    Ok(())
+    crate::files::output_rule::refuse_inputs(outputs, inputs).map_err(|e| Error::Folder(e.into()))
 }
 
 /// The negative scenarios in `files`, read over the interface of `set` (an event each).

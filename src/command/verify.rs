@@ -4,6 +4,7 @@
 
 use super::{publish, Spec};
 use crate::export::waveform::{self, Waveform};
+use crate::files::output_rule::Claim;
 use crate::files::{write_atomic, ResultSet};
 use crate::pipeline::recordings::read_ecc;
 use crate::pipeline::summary::{VerifySummary, VERIFY};
@@ -66,7 +67,9 @@ pub(crate) fn run(ecc_file: &Path, spec: &Spec, out: Option<&Path>) -> Result<Ch
     let problem = spec.problem(&ecc.inputs, &ecc.outputs)?;
     let check = Check::new(problem, spec.nusmv.locate()?);
     // Taken first: a second run into the same folder stops before NuSMV runs.
-    let results = out.map(ResultSet::open).transpose()?;
+    let reads = [ecc_file.to_path_buf()].into_iter().chain(spec.paths());
+    let claim = Claim::new("verify", reads);
+    let results = out.map(|o| ResultSet::open(o, claim)).transpose()?;
     let verification = pipeline::verify(&ecc, &check)?;
     let waveforms: Vec<Waveform> = (verification.counterexamples.iter())
         .map(|cx| cx.waveform(&ecc.inputs, &ecc.outputs))

@@ -181,6 +181,12 @@ pub(crate) const BLOCK_MEMBERS: [&str; 3] = ["REQ", "CNF", "state"];
 /// Text function block and the IEC 61499 type: it must pass [`check_smv`] and [`check_iec`],
 /// and be none of [`CLOSED_LOOP_MODULES`] and [`BLOCK_MEMBERS`].
 pub(crate) fn check_block_name(name: &str) -> Result<(), String> {
+    if name.len() > MAX_BLOCK_NAME {
+        return Err(format!(
+            "it is {} bytes long; a block name is at most {MAX_BLOCK_NAME} (it names the exported files)",
+            name.len()
+        ));
+    }
     check_smv(name)?;
     check_iec(name)?;
     if name == "main" {
@@ -194,6 +200,10 @@ pub(crate) fn check_block_name(name: &str) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The longest block name: it names the exported files (`<name>.fbt`, ...), and a file name
+/// is at most 255 bytes on the usual file systems, the extension included.
+pub(crate) const MAX_BLOCK_NAME: usize = 200;
 
 /// What a reserved word of IEC 61131-3 is, for the message that refuses it as a name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,16 +8,24 @@
 //! each (all on the same file system, after every file was written in full). Files that the
 //! previous run published there (listed in `.synth-files`) and this one did not write are
 //! removed, so the folder never holds files of two different results. A run that fails, or
-//! is interrupted by a signal, leaves the folder as it was.
+//! is interrupted by a signal, leaves the folder as it was; what a run killed outright left
+//! (its staging folder) goes when the next run takes the folder. The output rule
+//! ([`super::output_rule`]) is checked when the folder is taken and again when publishing.
 
+use super::output_rule::{Claim, RuleError};
 use super::{write_atomic, WriteError};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// The lock file inside an output folder.
 pub(crate) const LOCK: &str = ".synth.lock";
-/// The list of files the last run published into an output folder.
+/// The list of files the last run published into an output folder, after a first line that
+/// names its command ([`HEADER`]).
 pub(crate) const MANIFEST: &str = ".synth-files";
+/// How the list of files names the command that wrote it: `#command infer`.
+const HEADER: &str = "#command ";
+/// The prefix of staging folders.
+const STAGING: &str = ".synth-staging-";
 
 /// An output folder taken by this run.
 pub(crate) struct ResultSet {
@@ -30,6 +38,7 @@ pub(crate) struct ResultSet {
     staging: tempfile::TempDir,
     // Held for the whole run, released in `drop`.
     lock: std::fs::File,
+    claim: Claim,
 }
 
 /// Why an output folder cannot be used.
@@ -44,11 +53,15 @@ pub enum ResultSetError {
     /// The folder or its staging area cannot be made.
     #[error(transparent)]
     Write(#[from] WriteError),
+    /// The output rule refuses the folder.
+    #[error(transparent)]
+    Rule(#[from] RuleError),
 }
 
 impl ResultSet {
-    /// Creates `out` if needed, locks it for this run and makes the staging folder.
-    pub(crate) fn open(out: &Path) -> Result<ResultSet, ResultSetError> {
+    /// Creates `out` if needed, locks it for this run and makes the staging folder, once the
+    /// output rule allows the run its `claim`.
+    pub(crate) fn open(out: &Path, claim: Claim) -> Result<ResultSet, ResultSetError> {
         let err = |path: &Path| {
             let path = path.to_path_buf();
             move |source| WriteError { path, source }
@@ -61,6 +74,8 @@ impl ResultSet {
                 ),
             }));
         }
+        let (previous, listed) = read_manifest(out);
+        claim.check_folder(out, previous.as_deref(), &listed)?;
         let created = !out.exists();
         std::fs::create_dir_all(out).map_err(err(out))?;
         if created {
@@ -78,8 +93,9 @@ impl ResultSet {
         if lock_created {
             super::remove_on_signal(&lock_path);
         }
+        remove_dead_staging(out);
         let staging = tempfile::Builder::new()
-            .prefix(".synth-staging-")
+            .prefix(STAGING)
             .tempdir_in(out)
             .map_err(err(out))?;
         super::remove_on_signal(staging.path());
@@ -90,6 +106,7 @@ impl ResultSet {
             published: false,
             staging,
             lock,
+            claim,
         })
     }
 
@@ -109,8 +126,16 @@ impl ResultSet {
     /// Moves every staged file into the output folder, removes what the previous run
     /// published and this one did not, and records the new list. Returns the files published
     /// (relative to the output folder, sorted).
-    pub(crate) fn publish(mut self) -> Result<Vec<PathBuf>, WriteError> {
+    pub(crate) fn publish(mut self) -> Result<Vec<PathBuf>, ResultSetError> {
+        // A signal waits for the moves: the folder holds one result or the other.
+        let hold = crate::signals::hold();
+        let files = self.publish_held()?;
         self.published = true;
+        hold.published();
+        Ok(files)
+    }
+
+    fn publish_held(&mut self) -> Result<Vec<PathBuf>, ResultSetError> {
         let mut files = Vec::new();
         walk(self.staging.path(), Path::new(""), &mut files).map_err(|source| WriteError {
             path: self.staging.path().to_path_buf(),
@@ -133,14 +158,19 @@ impl ResultSet {
                     .map(|a| (a.to_path_buf(), "a file"))
             };
             if let Some((at, what)) = clash {
-                return Err(WriteError {
+                return Err(ResultSetError::Write(WriteError {
                     path: to,
                     source: std::io::Error::other(format!(
                         "{} is {what}; move it away or give another output folder",
                         at.display()
                     )),
-                });
+                }));
             }
+        }
+        let (_, listed) = read_manifest(&self.out);
+        let gone = listed.iter().filter(|rel| !files.contains(rel));
+        for rel in files.iter().chain(gone) {
+            self.claim.check_target(&self.out.join(rel))?;
         }
         // The files replaced are kept aside in the staging folder until every new one is in
         // place, and put back if a move still fails: the folder holds one result or the other.
@@ -157,30 +187,20 @@ impl ResultSet {
                             let _ = std::fs::rename(saved, &to);
                         }
                     }
-                    return Err(WriteError { path: to, source });
+                    return Err(WriteError { path: to, source }.into());
                 }
             }
         }
-        let manifest = self.out.join(MANIFEST);
         let now: BTreeSet<&PathBuf> = files.iter().collect();
-        if let Ok(before) = std::fs::read_to_string(&manifest) {
-            for line in before.lines() {
-                let rel = PathBuf::from(line);
-                // Only plain relative names inside the folder: the manifest is ours, but it is
-                // a file in a user's folder.
-                let inside = rel
-                    .components()
-                    .all(|c| matches!(c, std::path::Component::Normal(_)));
-                if inside && !now.contains(&rel) {
-                    let old = self.out.join(&rel);
-                    if std::fs::symlink_metadata(&old).is_ok_and(|m| m.is_file()) {
-                        let _ = std::fs::remove_file(&old);
-                    }
-                }
+        for rel in listed.iter().filter(|rel| !now.contains(rel)) {
+            let old = self.out.join(rel);
+            if std::fs::symlink_metadata(&old).is_ok_and(|m| m.is_file()) {
+                let _ = std::fs::remove_file(&old);
             }
         }
         let list: String = files.iter().map(|f| format!("{}\n", f.display())).collect();
-        write_atomic(&manifest, list.as_bytes())?;
+        let text = format!("{HEADER}{}\n{list}", self.claim.command);
+        write_atomic(&self.out.join(MANIFEST), text.as_bytes())?;
         Ok(files)
     }
 
@@ -212,6 +232,9 @@ impl ResultSet {
 impl Drop for ResultSet {
     fn drop(&mut self) {
         self.leave();
+        // Gone while the lock is still held: the next run takes any staging folder it finds
+        // for a dead run's.
+        let _ = std::fs::remove_dir_all(self.staging.path());
         // Last, once the lock file is gone if this run made it: released before that, another
         // run could lock the file this one is about to remove.
         unlock(&self.lock);
@@ -235,6 +258,43 @@ impl ResultSet {
         if self.created {
             let _ = std::fs::remove_dir_all(self.staging.path());
             let _ = std::fs::remove_dir(&self.out);
+        }
+    }
+}
+
+/// The command that wrote the folder's list of files (none before lists named it), and the
+/// files listed: plain relative names only (the list is ours, but it is a file in a user's
+/// folder).
+fn read_manifest(out: &Path) -> (Option<String>, Vec<PathBuf>) {
+    let Ok(text) = std::fs::read_to_string(out.join(MANIFEST)) else {
+        return (None, Vec::new());
+    };
+    let mut command = None;
+    let mut files = Vec::new();
+    for line in text.lines() {
+        if let Some(c) = line.strip_prefix(HEADER) {
+            command = Some(c.to_string());
+            continue;
+        }
+        let rel = PathBuf::from(line);
+        let plain = (rel.components()).all(|c| matches!(c, std::path::Component::Normal(_)));
+        if plain && !line.is_empty() {
+            files.push(rel);
+        }
+    }
+    (command, files)
+}
+
+/// Removes the staging folders of runs that died in the folder (killed outright): the caller
+/// holds the lock, so no live run stages there.
+fn remove_dead_staging(out: &Path) {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let dir = e.file_type().is_ok_and(|t| t.is_dir());
+        if dir && e.file_name().to_string_lossy().starts_with(STAGING) {
+            let _ = std::fs::remove_dir_all(e.path());
         }
     }
 }
@@ -298,7 +358,7 @@ mod tests {
     fn nothing_appears_before_publish_and_stale_files_go() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
-        let set = ResultSet::open(&out).unwrap();
+        let set = ResultSet::open(&out, Claim::default()).unwrap();
         write_atomic(&set.staging().join("a.json"), b"1").unwrap();
         write_atomic(&set.staging().join("b.fbt"), b"2").unwrap();
         assert!(!out.join("a.json").exists());
@@ -311,7 +371,7 @@ mod tests {
         assert_eq!(std::fs::read(out.join("b.fbt")).unwrap(), b"2");
         // A user's own file stays; the previous run's b.fbt goes with a run that lacks it.
         std::fs::write(out.join("notes.txt"), "mine").unwrap();
-        let set = ResultSet::open(&out).unwrap();
+        let set = ResultSet::open(&out, Claim::default()).unwrap();
         write_atomic(&set.staging().join("a.json"), b"3").unwrap();
         set.publish().unwrap();
         assert_eq!(std::fs::read(out.join("a.json")).unwrap(), b"3");
@@ -331,7 +391,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("a.json"), "old").unwrap();
         std::fs::create_dir(dir.path().join("b.st")).unwrap();
-        let set = ResultSet::open(dir.path()).unwrap();
+        let set = ResultSet::open(dir.path(), Claim::default()).unwrap();
         write_atomic(&set.staging().join("a.json"), b"new").unwrap();
         write_atomic(&set.staging().join("b.st"), b"new").unwrap();
         let e = set.publish().unwrap_err();
@@ -347,7 +407,7 @@ mod tests {
     fn a_failed_run_removes_the_folder_it_made() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("new");
-        let set = ResultSet::open(&out).unwrap();
+        let set = ResultSet::open(&out, Claim::default()).unwrap();
         write_atomic(&set.staging().join("a.json"), b"1").unwrap();
         drop(set);
         assert!(!out.exists());
@@ -356,14 +416,14 @@ mod tests {
     #[test]
     fn a_second_run_into_a_taken_folder_stops() {
         let dir = tempfile::tempdir().unwrap();
-        let first = ResultSet::open(dir.path()).unwrap();
-        let second = ResultSet::open(dir.path());
+        let first = ResultSet::open(dir.path(), Claim::default()).unwrap();
+        let second = ResultSet::open(dir.path(), Claim::default());
         assert!(
             matches!(second, Err(ResultSetError::Busy { .. })),
             "the folder is taken"
         );
         drop(first);
-        assert!(ResultSet::open(dir.path()).is_ok());
+        assert!(ResultSet::open(dir.path(), Claim::default()).is_ok());
     }
 
     #[test]
@@ -393,11 +453,11 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let busy = (0..100)
             .filter(|_| {
-                let first = ResultSet::open(dir.path()).unwrap();
+                let first = ResultSet::open(dir.path(), Claim::default()).unwrap();
                 std::thread::sleep(std::time::Duration::from_millis(1));
                 // Published, so the lock file stays for the next run.
                 first.publish().unwrap();
-                ResultSet::open(dir.path()).is_err()
+                ResultSet::open(dir.path(), Claim::default()).is_err()
             })
             .count();
         stop.store(true, std::sync::atomic::Ordering::Relaxed);
@@ -412,7 +472,7 @@ mod tests {
     fn a_dropped_set_leaves_the_folder_as_it_was() {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("a.json"), "old").unwrap();
-        let set = ResultSet::open(dir.path()).unwrap();
+        let set = ResultSet::open(dir.path(), Claim::default()).unwrap();
         write_atomic(&set.staging().join("a.json"), b"new").unwrap();
         drop(set);
         assert_eq!(
@@ -428,5 +488,110 @@ mod tests {
             names.iter().all(|n| !n.starts_with(".synth-staging")),
             "{names:?}"
         );
+    }
+
+    #[test]
+    fn a_dead_runs_staging_folder_goes_with_the_next_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let dead = dir.path().join(".synth-staging-dead");
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::write(dead.join("a.json"), "half").unwrap();
+        let set = ResultSet::open(dir.path(), Claim::default()).unwrap();
+        assert!(!dead.exists());
+        drop(set);
+    }
+
+    #[test]
+    fn inputs_and_other_commands_results_are_never_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let set = ResultSet::open(&out, Claim::new("infer", [] as [&Path; 0])).unwrap();
+        write_atomic(&set.staging().join("m.json"), b"1").unwrap();
+        write_atomic(&set.staging().join("data.txt"), b"1").unwrap();
+        set.publish().unwrap();
+        let manifest = std::fs::read_to_string(out.join(MANIFEST)).unwrap();
+        assert!(manifest.starts_with("#command infer\n"), "{manifest}");
+        // Another command: refused before anything is made.
+        let e = ResultSet::open(&out, Claim::new("verify", [] as [&Path; 0])).err();
+        assert!(
+            matches!(e, Some(ResultSetError::Rule(RuleError::Other { .. }))),
+            "{e:?}"
+        );
+        // An input the previous result listed (publishing would remove it).
+        let input = out.join("m.json");
+        let e = ResultSet::open(&out, Claim::new("infer", [&input])).err();
+        assert!(
+            matches!(e, Some(ResultSetError::Rule(RuleError::Input { .. }))),
+            "{e:?}"
+        );
+        // An input under a name no rule knows in advance, found when publishing over it (a
+        // hard link is the same file): nothing moves.
+        let linked = dir.path().join("linked.txt");
+        std::fs::hard_link(out.join("data.txt"), &linked).unwrap();
+        std::fs::write(out.join("data.txt"), "mine").unwrap();
+        std::fs::remove_file(out.join(MANIFEST)).unwrap();
+        let set = ResultSet::open(&out, Claim::new("infer", [&linked])).unwrap();
+        write_atomic(&set.staging().join("data.txt"), b"2").unwrap();
+        let e = set.publish().unwrap_err();
+        assert!(e.to_string().contains("linked.txt"), "{e}");
+        assert_eq!(std::fs::read_to_string(&linked).unwrap(), "mine");
+    }
+
+    /// Run in a child test process by `a_signal_while_publishing_waits_for_the_result`:
+    /// publishes many files and sends itself SIGTERM once the publish holds signals; exits
+    /// with 7, the run's own outcome, if the signal did not end it. Does nothing in a normal
+    /// test run.
+    #[test]
+    fn publish_signal_helper() {
+        let Some(out) = std::env::var_os(SIGNAL_HELPER) else {
+            return;
+        };
+        let out = PathBuf::from(out);
+        let set = ResultSet::open(&out, Claim::default()).unwrap();
+        // Plain writes (no sync each): the test is about the moves.
+        for k in 0..5000 {
+            std::fs::write(set.staging().join(format!("f{k}.txt")), b"x").unwrap();
+        }
+        let signaller = std::thread::spawn(|| {
+            while !crate::signals::held() {
+                std::hint::spin_loop();
+            }
+            // SAFETY: a signal to this very process.
+            unsafe { libc::kill(libc::getpid(), libc::SIGTERM) };
+        });
+        set.publish().unwrap();
+        signaller.join().unwrap();
+        std::process::exit(7);
+    }
+
+    const SIGNAL_HELPER: &str = "FBSYNTH_PUBLISH_SIGNAL_HELPER";
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_signal_while_publishing_waits_for_the_result() {
+        let dir = tempfile::tempdir().unwrap();
+        let status = std::process::Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "files::result_set::tests::publish_signal_helper",
+                "--test-threads",
+                "1",
+            ])
+            .env(SIGNAL_HELPER, dir.path())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert_eq!(status.code(), Some(7));
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(
+            names.iter().all(|n| !n.starts_with(STAGING)),
+            "staging left"
+        );
+        assert_eq!(names.iter().filter(|n| n.ends_with(".txt")).count(), 5000);
     }
 }

@@ -369,6 +369,21 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             self.last_failing = failing.join(", ");
             self.refine(&v, &failing, &synthesis.ecc)?;
         }
+        // Out of iterations with a machine NuSMV passed: it is the result, verified, only
+        // not proven the least in transitions and guards (the final pass did not end).
+        if let Some(passed) = self.passed.take() {
+            let synthesis = Synthesis {
+                transitions_exact: false,
+                guards_exact: false,
+                ..passed.synthesis
+            };
+            return Ok(Verified {
+                synthesis,
+                report: passed.report,
+                iterations: std::mem::take(&mut self.iterations),
+                model_text: passed.model_text,
+            });
+        }
         Err(CegisError::Iterations {
             iterations: self.config.max_iterations,
             failing: self.last_failing,
@@ -443,7 +458,8 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// After the final pass's search: a machine no smaller than the one NuSMV passed is not
     /// worth another check. The verified one stands, with what the final pass proved about
-    /// its size (same C, T and N, so the same bounds). Drops the passed machine either way.
+    /// its size (same C, T and N, so the same bounds). A smaller one is checked next; the
+    /// passed machine stays the result should the iterations run out first.
     fn keep_passed(
         &mut self,
         number: usize,
@@ -452,6 +468,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     ) -> Option<Verified> {
         let passed = self.passed.take()?;
         if !self.in_final_pass || synthesis.size.is_smaller_than(&passed.synthesis.size) {
+            self.passed = Some(passed);
             return None;
         }
         let before = passed.synthesis;

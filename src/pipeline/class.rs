@@ -305,7 +305,9 @@ impl Classed for crate::files::ResultSetError {
     fn class(&self) -> Class {
         use crate::files::ResultSetError;
         match self {
-            ResultSetError::Busy { .. } | ResultSetError::Write(_) => Class::Input,
+            ResultSetError::Busy { .. } | ResultSetError::Write(_) | ResultSetError::Rule(_) => {
+                Class::Input
+            }
         }
     }
 }

@@ -66,7 +66,7 @@ pub mod table1;
 pub use crate::check::CheckError;
 pub use crate::deadline::Deadline;
 pub use crate::ecc::diff::DiffError;
-pub use crate::files::ResultSetError;
+pub use crate::files::{ResultSetError, RuleError};
 pub(crate) use crate::nusmv::Nusmv;
 pub use crate::verify::{
     Counterexample, LocatedError, Problem, ProblemError, PropertyReport, Report,

@@ -36,6 +36,15 @@ impl Recordings {
         }
     }
 
+    /// Every file these recordings read: the traces and the names files.
+    pub(crate) fn paths(&self) -> Vec<PathBuf> {
+        let (inputs, outputs) = self.names_files();
+        (self.traces.iter().cloned())
+            .chain(inputs)
+            .chain(outputs)
+            .collect()
+    }
+
     /// The names files read: those given, else the defaults beside the first trace file.
     fn names_files(&self) -> (Option<PathBuf>, Option<PathBuf>) {
         let defaults = self

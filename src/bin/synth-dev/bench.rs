@@ -22,7 +22,7 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// Runs per case; the table shows min / median / max.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = crate::cli::args::repetitions())]
     pub runs: usize,
     /// Folder with fbSAT's public scenario sets (tests-N.gz and pnp/input-names,
     /// pnp/output-names; not shipped). Without it, or for files missing there, those cases are
@@ -34,7 +34,7 @@ pub struct BenchArgs {
     pub pnp: PathBuf,
     /// Runs of the main job (CEGIS with NuSMV on specs/pnp.ltl and smv/pnp_surrogate.smv);
     /// 0 skips it.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::cli::args::repetitions())]
     pub cegis_runs: usize,
     /// The NuSMV binary for the main-job benchmark (default: as the main job finds it).
     #[arg(long, value_name = "PATH")]
@@ -203,7 +203,7 @@ pub struct BenchModularArgs {
     #[arg(long, default_value_t = modular::DEFAULT_MAX_OUT_DEGREE, value_name = "K")]
     pub slots: usize,
     /// Runs per M; the table shows min / median / max.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::cli::args::repetitions())]
     pub runs: usize,
 }
 
@@ -256,7 +256,7 @@ pub fn bench_modular(args: &BenchModularArgs) -> Result<(), Error> {
             time.max
         );
         for line in r.modular.describe() {
-            eprintln!("    M={modules} {line}");
+            fbsynth::cli::err_line(format_args!("    M={modules} {line}"));
         }
     }
     Ok(())
@@ -268,13 +268,13 @@ pub struct BenchSearchArgs {
     #[arg(long, default_value = "specs/pnp.traces", value_name = "FILE")]
     pub traces: PathBuf,
     /// Seconds per measurement.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, value_parser = crate::cli::args::seconds)]
     pub seconds: f64,
     /// States of the evaluated machines.
     #[arg(long, default_value_t = 8)]
     pub states: usize,
     /// Threads of the parallel measurement (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::args::workers())]
     pub threads: Option<usize>,
 }
 
@@ -340,7 +340,7 @@ pub fn bench_search(args: &BenchSearchArgs) -> Result<(), Error> {
 #[derive(Debug, Args)]
 pub struct BenchAmbiguityArgs {
     /// Runs per case; the table shows min / median / max.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::cli::args::repetitions())]
     pub runs: usize,
 }
 

@@ -19,7 +19,7 @@ pub struct ExperimentArgs {
     #[arg(value_parser = ["table1"])]
     pub name: String,
     /// Runs per configuration (seeds SEED, SEED+1, ...).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = crate::cli::args::repetitions())]
     pub runs: usize,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -57,7 +57,7 @@ pub struct ExperimentArgs {
     pub configs: Vec<usize>,
     /// Probability of verifying a candidate below the scenario threshold. Default: 0.01 with
     /// --judge in-process, 0.001 with --judge nusmv.
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", value_parser = crate::cli::args::probability)]
     pub verify_probability: Option<f64>,
     /// Who judges the candidates during the search; NuSMV checks the machine each run ends with.
     #[arg(long, value_enum, default_value_t = Judge::InProcess)]
