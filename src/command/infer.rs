@@ -86,6 +86,9 @@ impl Request {
             return Ok(None);
         };
         let check = spec.check(set)?;
+        // The recordings' verdicts speak of the closed loop only where the plant can produce
+        // them.
+        crate::pipeline::plant_check::check_plant(set, &check)?;
         let props = &check.problem.props;
         let found = explain::refuse_violations(set, props, &spec.ltl)?;
         events(Event::Note(Note::Explained {

@@ -64,6 +64,7 @@ impl Error {
             Error::Events(e) => e.class(),
             Error::Diff(e) => e.class(),
             Error::Folder(e) => e.class(),
+            Error::PlantCheck(e) => e.class(),
             Error::RecordingsViolate(_)
             | Error::NegativeRecorded(_)
             | Error::Name(_)
@@ -78,6 +79,17 @@ impl Error {
             Error::Negative(_) => Class::Negative,
             Error::Bug(_) => Class::Bug,
             Error::Noted { error, .. } => error.class(),
+        }
+    }
+}
+
+impl Classed for super::plant_check::PlantCheckError {
+    fn class(&self) -> Class {
+        use super::plant_check::PlantCheckError;
+        match self {
+            PlantCheckError::NotReceptive { .. } | PlantCheckError::Unproducible { .. } => {
+                Class::Input
+            }
         }
     }
 }
@@ -126,7 +138,7 @@ impl Classed for VerifyError {
 impl Classed for NusmvError {
     fn class(&self) -> Class {
         match self {
-            NusmvError::Vacuous { .. } => Class::Vacuous,
+            NusmvError::Vacuous { .. } | NusmvError::Deadlock { .. } => Class::Vacuous,
             // Only after the deadline passed, where the pipelines report the time limit.
             NusmvError::Stopped => Class::NoMachine,
             NusmvError::NotFound { .. }
