@@ -18,7 +18,7 @@
 use crate::ecc::Ecc;
 use crate::export::waveform::Waveform;
 use crate::ltl::{property_name, Ltl, Property};
-use crate::nusmv::{CheckMode, ModelError, NusmvError, Query, Dialogue, Trace, Verdict};
+use crate::nusmv::{CheckMode, Dialogue, ModelError, NusmvError, Query, Trace, Verdict};
 use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::composition::{
     compose, compose_controller, ComposedModel, Coupling, Source, CONTROLLER_INSTANCE,

@@ -8,7 +8,7 @@ use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::{self, Format};
 use crate::files::ResultSet;
 use crate::pipeline::event::NOISY_HINT;
-use crate::pipeline::explain::{self, Explanation};
+use crate::pipeline::explain::Explanation;
 use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, Summary, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_size_questions, write_verified};
@@ -90,7 +90,7 @@ impl Request {
         // them.
         crate::pipeline::plant_check::check_plant(set, &check)?;
         let props = &check.problem.props;
-        let found = explain::refuse_violations(set, props, &spec.ltl)?;
+        let found = crate::pipeline::plant_check::refuse_violations(set, &check, &spec.ltl)?;
         events(Event::Note(Note::Explained {
             explanation: &found,
             properties: props.len(),

@@ -7,13 +7,14 @@ use super::ambiguity::{report_verified, Report};
 use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::Format;
 use crate::files::ResultSet;
-use crate::pipeline::explain;
 use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_verified};
 use crate::pipeline::recordings::stem;
 use crate::pipeline::summary::MainSummary;
-use crate::pipeline::{ambiguity, exact, plant_check, Check, Error, Event, Events, Note, Recordings};
+use crate::pipeline::{
+    ambiguity, exact, plant_check, Check, Error, Event, Events, Note, Recordings,
+};
 use crate::scenario::ScenarioSet;
 use std::fmt;
 use std::path::PathBuf;
@@ -120,11 +121,10 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let check = Check::new(problem, r.spec.nusmv.locate()?);
     // The recordings' verdicts speak of the closed loop only where the plant can produce them.
     plant_check::check_plant(&set, &check)?;
-    let props = &check.problem.props;
-    let found = explain::refuse_violations(&set, props, &r.spec.ltl)?;
+    let found = plant_check::refuse_violations(&set, &check, &r.spec.ltl)?;
     events(Event::Note(Note::Explained {
         explanation: &found,
-        properties: props.len(),
+        properties: check.problem.props.len(),
     }));
     let opts = main_job::Options {
         method: r.method.clone(),

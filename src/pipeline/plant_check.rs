@@ -1,9 +1,12 @@
 //! The plant put to the test before synthesis, by NuSMV: it must accept every output the
-//! controller can give at every reachable state (it is *receptive*), and it must be able to
-//! produce every recorded step's inputs under the recorded outputs.
+//! controller can give at every reachable state (it is *receptive*), and some reachable state
+//! of it must show each recorded step's inputs under the outputs in force then.
 //!
 //! In: the recordings and a [`Check`]. Out: nothing, or a [`PlantCheckError`] naming the
 //! plant state and the outputs it refuses, or the first recorded step it cannot produce.
+//! Where the recordings violate a property, [`refuse_violations`] also asks whether the
+//! plant produces the recorded runs step by step as recorded (its reactions at the recorded
+//! steps): only then does "no controller that reproduces them can satisfy it" follow.
 //!
 //! Why: NuSMV's LTL checking ignores runs that end, so a plant that blocks the controller
 //! (an `INVAR` or `TRANS` that reads its outputs) can discard exactly the runs that violate a
@@ -16,9 +19,11 @@
 //! NuSMV rejects passes on to the closed-loop check, which names the line. The models are
 //! built by [`crate::smv::plant_checks`].
 
+use super::explain::{self, Explanation};
 use super::{Check, Error};
 use crate::nusmv::{show_state, Dialogue, NusmvError};
 use crate::scenario::ScenarioSet;
+use crate::smv::composition::PLANT_INSTANCE;
 use crate::smv::plant_checks::{self, Replayed};
 use crate::verify::VerifyError;
 use std::path::{Path, PathBuf};
@@ -39,7 +44,7 @@ pub enum PlantCheckError {
         refused: String,
     },
     /// The plant cannot produce a recorded step's inputs under the recorded outputs.
-    #[error("{place}: the plant {} cannot produce this recorded step: its inputs {inputs} under the outputs {outputs}, after the steps before it; a machine verified with this plant would be verified for a plant the recordings do not come from (the inputs are declared at {declared})", plant.display())]
+    #[error("{place}: the plant {} cannot produce this recorded step: no reachable state of it shows the inputs {inputs} under the outputs {outputs}; a machine verified with this plant would be verified for a plant the recordings do not come from (the inputs are declared at {declared})", plant.display())]
     Unproducible {
         /// The plant file.
         plant: PathBuf,
@@ -58,16 +63,37 @@ pub enum PlantCheckError {
 pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
     let dir = tempfile::tempdir()?;
     let mut dialogue = check.nusmv.dialogue();
-    receptive(check, &mut dialogue, dir.path())?;
-    replays(set, check, &mut dialogue, dir.path())
+    let p = &check.problem;
+    let path = dir.path().join("receptiveness.smv");
+    std::fs::write(&path, plant_checks::receptiveness(&p.plant, &p.coupling))?;
+    receptive(check, &mut dialogue, &path)?;
+    recorded_steps(set, check, &mut dialogue, &path)
 }
 
-/// Refuses a plant that is not receptive (see the module header).
-fn receptive(check: &Check, dialogue: &mut Dialogue, dir: &Path) -> Result<(), Error> {
+/// The recordings' verdicts on the properties ([`explain::refuse_violations`]); where they
+/// violate one, whether the plant produces the recorded runs as recorded, which the claim
+/// that no controller reproducing them satisfies the property rests on.
+pub(crate) fn refuse_violations(
+    set: &ScenarioSet,
+    check: &Check,
+    spec_file: &Path,
+) -> Result<Explanation, Error> {
+    match explain::refuse_violations(set, &check.problem.props, spec_file) {
+        Ok(found) => Ok(found),
+        Err(mut violate) => {
+            let dir = tempfile::tempdir()?;
+            let mut dialogue = check.nusmv.dialogue();
+            violate.unreplayed = first_unreplayed(set, check, &mut dialogue, dir.path())?;
+            Err(violate.into())
+        }
+    }
+}
+
+/// Refuses a plant that is not receptive (see the module header); `path` holds the model of
+/// [`plant_checks::receptiveness`].
+fn receptive(check: &Check, dialogue: &mut Dialogue, path: &Path) -> Result<(), Error> {
     let p = &check.problem;
-    let path = dir.join("receptiveness.smv");
-    std::fs::write(&path, plant_checks::receptiveness(&p.plant, &p.coupling))?;
-    let state = match dialogue.deadlock_of(&path) {
+    let state = match dialogue.deadlock_of(path) {
         Ok(None) => return Ok(()),
         Ok(Some(state)) => state,
         Err(e) => return nusmv_failed(e, check),
@@ -134,13 +160,58 @@ fn recorded_runs(set: &ScenarioSet) -> Replayed {
     Replayed { runs }
 }
 
-/// Refuses a plant that cannot produce a recorded run, naming its first step it cannot.
-fn replays(
+/// Refuses a plant none of whose reachable states shows a recorded step's inputs under the
+/// outputs in force, naming the first such step; `path` holds the model of
+/// [`plant_checks::receptiveness`], where every reachable plant state comes with every value
+/// of the outputs it reads.
+fn recorded_steps(
+    set: &ScenarioSet,
+    check: &Check,
+    dialogue: &mut Dialogue,
+    path: &Path,
+) -> Result<(), Error> {
+    let c = &check.problem.coupling;
+    let runs = recorded_runs(set);
+    // Each valuation once, at its first step.
+    let mut firsts: Vec<(usize, usize, String)> = Vec::new();
+    for (j, run) in runs.runs.iter().enumerate() {
+        for (i, (outputs, inputs)) in run.iter().enumerate() {
+            let Some(inputs) = inputs else { continue };
+            let literal = |name: String, v: bool| match v {
+                true => name,
+                false => format!("!{name}"),
+            };
+            let mut all: Vec<String> = (c.inputs.iter().zip(inputs))
+                .map(|(x, &v)| literal(format!("{PLANT_INSTANCE}.{x}"), v))
+                .collect();
+            all.extend(
+                (c.params.iter()).map(|&z| literal(format!("_o_{}", c.outputs[z]), outputs[z])),
+            );
+            let formula = format!("!({})", all.join(" & "));
+            if !firsts.iter().any(|(_, _, f)| *f == formula) {
+                firsts.push((j, i, formula));
+            }
+        }
+    }
+    let formulas: Vec<String> = firsts.iter().map(|(_, _, f)| f.clone()).collect();
+    let holds = match dialogue.invariants(path, &formulas) {
+        Ok(h) => h,
+        Err(e) => return nusmv_failed(e, check),
+    };
+    match holds.iter().position(|&h| h) {
+        None => Ok(()),
+        Some(k) => Err(unproducible(set, check, &runs, firsts[k].0, firsts[k].1).into()),
+    }
+}
+
+/// The first recorded step (its place) the plant cannot take after the steps before it as
+/// recorded, or `None` when it produces every recorded run (see [`plant_checks::replay`]).
+fn first_unreplayed(
     set: &ScenarioSet,
     check: &Check,
     dialogue: &mut Dialogue,
     dir: &Path,
-) -> Result<(), Error> {
+) -> Result<Option<String>, Error> {
     let p = &check.problem;
     let runs = recorded_runs(set);
     let path = dir.join("replay.smv");
@@ -150,12 +221,9 @@ fn replays(
         let formulas: Vec<String> = gs.iter().map(|g| format!("_g != {g}")).collect();
         dialogue.invariants(&path, &formulas)
     };
-    let holds = match unreachable(dialogue, &lasts) {
-        Ok(h) => h,
-        Err(e) => return nusmv_failed(e, check),
-    };
+    let holds = unreachable(dialogue, &lasts)?;
     let Some(j) = holds.iter().position(|&h| h) else {
-        return Ok(());
+        return Ok(None);
     };
     // The last reachable state of run `j`: its transitions are the step it cannot take.
     let first = lasts[j] + 1 - runs.runs[j].len();
@@ -172,7 +240,7 @@ fn replays(
         false => Some(lo),
     };
     let state = reached.map_or(0, |g| g - first);
-    Err(unproducible(set, check, &runs, j, state).into())
+    Ok(Some(set.scenarios[j].origin.step(state + 1)))
 }
 
 /// The error for state `state` (0-based) of run `j`: its step `state + 1`.

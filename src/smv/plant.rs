@@ -419,8 +419,8 @@ impl Plant {
         (statements.iter())
             .filter(|s| ["FAIRNESS", "JUSTICE", "COMPASSION"].contains(&s.section))
             .filter_map(|s| {
-                let output = (s.idents.iter())
-                    .find_map(|n| reads(n, &params, &defines, &mut Vec::new()))?;
+                let output =
+                    (s.idents.iter()).find_map(|n| reads(n, &params, &defines, &mut Vec::new()))?;
                 Some(UnfairToController {
                     keyword: s.section,
                     line: s.line,
@@ -478,7 +478,8 @@ ASSIGN
     /// is found with its line; one over the plant's own variables is not.
     #[test]
     fn fairness_that_reads_an_output_is_found_with_its_line() {
-        let text = "MODULE plant(lamp, fan)\nVAR b : boolean;\nDEFINE\n  lit := on;\n  on := lamp & b;\n\
+        let text =
+            "MODULE plant(lamp, fan)\nVAR b : boolean;\nDEFINE\n  lit := on;\n  on := lamp & b;\n\
                     FAIRNESS b\nJUSTICE !lit\nFAIRNESS case fan : b; TRUE : !b; esac;\n";
         let plant = parse_plant(Path::new("p.smv"), text).unwrap();
         let found = plant.fairness_reading_outputs();

@@ -24,15 +24,17 @@
 //! that is not the last of its run requires the plant's values to be the recorded inputs. The
 //! last state of run `j` is reachable exactly when the plant can produce run `j`.
 
+use super::bool_literal;
 use super::composition::{Coupling, PLANT_INSTANCE};
 use super::plant::Plant;
-use super::bool_literal;
 use std::fmt::Write;
 
 /// The receptiveness model of `plant` (see the module header).
 pub(crate) fn receptiveness(plant: &Plant, coupling: &Coupling) -> String {
     let mut text = plant_text(plant);
-    text.push_str("\n-- every output the controller can give, now (_o_) and next (_p_)\nMODULE main\nVAR\n");
+    text.push_str(
+        "\n-- every output the controller can give, now (_o_) and next (_p_)\nMODULE main\nVAR\n",
+    );
     let params: Vec<&str> = (coupling.params.iter())
         .map(|&z| coupling.outputs[z].as_str())
         .collect();
@@ -89,7 +91,12 @@ pub(crate) fn replay(plant: &Plant, coupling: &Coupling, runs: &Replayed) -> Str
     let _ = writeln!(text, "DEFINE\n  _last := {};", any_of("_g", &lasts));
     for &z in &coupling.params {
         let column: Vec<bool> = states.iter().map(|(o, _)| o[z]).collect();
-        let _ = writeln!(text, "  _o_{} := {};", coupling.outputs[z], steps_of(&column));
+        let _ = writeln!(
+            text,
+            "  _o_{} := {};",
+            coupling.outputs[z],
+            steps_of(&column)
+        );
     }
     let mut matches = Vec::new();
     for (x, name) in coupling.inputs.iter().enumerate() {
