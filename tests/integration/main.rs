@@ -16,6 +16,7 @@ mod modular;
 mod noisy;
 mod nusmv_answers;
 mod pipeline;
+mod plant_rules;
 mod robustness;
 mod schemas;
 mod semantics;
