@@ -24,7 +24,8 @@ pub enum Class {
     /// Bad input (file, line, step named) or a failed tool.
     Input,
     /// The check came out negative without a verdict to show: the plant allows no behaviour,
-    /// so every property would hold vacuously and nothing is verified.
+    /// or the closed loop deadlocks, so properties would hold vacuously and nothing is
+    /// verified.
     Vacuous,
     /// The check asked for came out negative: a violated property, a difference between two
     /// machines, a step a machine does not reproduce.
