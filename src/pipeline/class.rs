@@ -88,9 +88,9 @@ impl Classed for super::plant_check::PlantCheckError {
     fn class(&self) -> Class {
         use super::plant_check::PlantCheckError;
         match self {
-            PlantCheckError::NotReceptive { .. } | PlantCheckError::Unproducible { .. } => {
-                Class::Input
-            }
+            PlantCheckError::NotReceptive { .. }
+            | PlantCheckError::Unfair { .. }
+            | PlantCheckError::Unproducible { .. } => Class::Input,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The plant put to the test before synthesis, by NuSMV: it must accept every output the
-//! controller can give at every reachable state (it is *receptive*), and some reachable state
-//! of it must show each recorded step's inputs under the outputs in force then.
+//! controller can give at every reachable state (it is *receptive*), no fairness constraint
+//! of it may read a controller output, and some reachable state of it must show each
+//! recorded step's inputs under the outputs in force then.
 //!
 //! In: the recordings and a [`Check`]. Out: nothing, or a [`PlantCheckError`] naming the
 //! plant state and the outputs it refuses, or the first recorded step it cannot produce.
@@ -43,6 +44,18 @@ pub enum PlantCheckError {
         /// The outputs it has no successor for.
         refused: String,
     },
+    /// A fairness constraint reads a controller output.
+    #[error("{}:{line}: this {keyword} constraint reads the controller output {}: NuSMV's LTL verdicts ignore the runs it calls unfair, so it could discard exactly the runs where the controller violates a property, and \"verified\" would be vacuous; fairness may read the plant's own variables only", plant.display(), crate::quote::quote(output))]
+    Unfair {
+        /// The plant file.
+        plant: PathBuf,
+        /// 1-based line of the constraint.
+        line: usize,
+        /// `FAIRNESS`, `JUSTICE` or `COMPASSION`.
+        keyword: &'static str,
+        /// The controller output it reads.
+        output: String,
+    },
     /// The plant cannot produce a recorded step's inputs under the recorded outputs.
     #[error("{place}: the plant {} cannot produce this recorded step: no reachable state of it shows the inputs {inputs} under the outputs {outputs}; a machine verified with this plant would be verified for a plant the recordings do not come from (the inputs are declared at {declared})", plant.display())]
     Unproducible {
@@ -61,9 +74,18 @@ pub enum PlantCheckError {
 
 /// Both checks of the module header, with one NuSMV dialogue.
 pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
+    let p = &check.problem;
+    if let Some(u) = p.plant.fairness_reading_outputs().into_iter().next() {
+        return Err(PlantCheckError::Unfair {
+            plant: p.plant.file.clone(),
+            line: u.line,
+            keyword: u.keyword,
+            output: u.output,
+        }
+        .into());
+    }
     let dir = tempfile::tempdir()?;
     let mut dialogue = check.nusmv.dialogue();
-    let p = &check.problem;
     let path = dir.path().join("receptiveness.smv");
     std::fs::write(&path, plant_checks::receptiveness(&p.plant, &p.coupling))?;
     receptive(check, &mut dialogue, &path)?;

@@ -181,17 +181,6 @@ pub fn check_coupling(
             .map_err(|m| at(pf, d.line, format!("{}: {m}", quote(&d.name))))?;
         names.insert(d.name.clone(), Binding::Plant);
     }
-    if let Some(u) = plant.fairness_reading_outputs().first() {
-        return Err(at(
-            pf,
-            u.line,
-            format!(
-                "this {} constraint reads the controller output {}: NuSMV's LTL verdicts ignore the runs it calls unfair, so it could discard exactly the runs where the controller violates a property, and \"verified\" would be vacuous; fairness may read the plant's own variables only",
-                u.keyword,
-                quote(&u.output)
-            ),
-        ));
-    }
     for i in inputs {
         if names.get(i) != Some(&Binding::Plant) {
             return Err(at(
