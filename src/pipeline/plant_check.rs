@@ -72,7 +72,7 @@ pub enum PlantCheckError {
     },
 }
 
-/// Both checks of the module header, with one NuSMV dialogue.
+/// The checks of the module header before synthesis, with one NuSMV dialogue.
 pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
     let p = &check.problem;
     if let Some(u) = p.plant.fairness_reading_outputs().into_iter().next() {

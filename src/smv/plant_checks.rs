@@ -52,12 +52,16 @@ pub(crate) fn receptiveness(plant: &Plant, coupling: &Coupling) -> String {
     text
 }
 
+/// One state of a recorded run: the outputs in force (interface order) and the inputs
+/// recorded (interface order; `None` for a run's last state).
+pub(crate) type RecordedState = (Vec<bool>, Option<Vec<bool>>);
+
 /// The recorded runs as the replay model reads them: per run, its states (see the module
 /// header), each with the controller outputs in force and the inputs recorded (`None` for
 /// the last state, whose inputs nobody recorded).
 pub(crate) struct Replayed {
     /// Per run, per state: the outputs (interface order) and the inputs (interface order).
-    pub(crate) runs: Vec<Vec<(Vec<bool>, Option<Vec<bool>>)>>,
+    pub(crate) runs: Vec<Vec<RecordedState>>,
 }
 
 impl Replayed {
@@ -75,7 +79,7 @@ impl Replayed {
 
 /// The replay model of `plant` over `runs` (see the module header).
 pub(crate) fn replay(plant: &Plant, coupling: &Coupling, runs: &Replayed) -> String {
-    let states: Vec<&(Vec<bool>, Option<Vec<bool>>)> = runs.runs.iter().flatten().collect();
+    let states: Vec<&RecordedState> = runs.runs.iter().flatten().collect();
     let lasts = runs.last_states();
     let firsts: Vec<usize> = std::iter::once(0)
         .chain(lasts.iter().map(|l| l + 1))
