@@ -204,7 +204,8 @@ pub mod exit {
     pub const OK: i32 = 0;
     /// The check asked for came out negative: `verify` found a violated property, `diff` a
     /// difference, `replay` or `conform` a step the machine does not reproduce; the main job
-    /// and `verify` were given a plant that allows no behaviour (nothing can be verified).
+    /// and `verify` were given a plant that allows no behaviour, or a closed loop deadlocks
+    /// (nothing can be verified).
     pub const FAILED: i32 = 1;
     /// Command-line usage error (clap).
     pub const USAGE: i32 = 2;

@@ -9,7 +9,7 @@ use crate::export::{self, Format};
 use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::pipeline::event::NOISY_HINT;
-use crate::pipeline::explain::{self, Explanation};
+use crate::pipeline::explain::Explanation;
 use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, Summary, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_size_questions, write_verified};
@@ -95,8 +95,11 @@ impl Request {
             return Ok(None);
         };
         let check = spec.check(set)?;
+        // The recordings' verdicts speak of the closed loop only where the plant can produce
+        // them.
+        crate::pipeline::plant_check::check_plant(set, &check)?;
         let props = &check.problem.props;
-        let found = explain::refuse_violations(set, props, &spec.ltl)?;
+        let found = crate::pipeline::plant_check::refuse_violations(set, &check, &spec.ltl)?;
         events(Event::Note(Note::Explained {
             explanation: &found,
             properties: props.len(),

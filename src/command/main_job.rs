@@ -8,13 +8,14 @@ use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::Format;
 use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
-use crate::pipeline::explain::{self, Explanation};
 use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_verified};
 use crate::pipeline::recordings::stem;
 use crate::pipeline::summary::MainSummary;
-use crate::pipeline::{ambiguity, exact, Check, Error, Event, Events, Note, Recordings};
+use crate::pipeline::{
+    ambiguity, exact, plant_check, Check, Error, Event, Events, Note, Recordings,
+};
 use crate::scenario::ScenarioSet;
 use std::fmt;
 use std::path::PathBuf;
@@ -107,7 +108,7 @@ fn recordings(r: &Request) -> Result<Recordings, Error> {
 /// The main job: the verified machine, written and published.
 pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let recordings = recordings(r)?;
-    let (set, problem, found) = read_problem(r, &recordings, events)?;
+    let (set, problem) = read_problem(r, &recordings, events)?;
     let negatives = read_negatives(&r.negatives, &set, events)?;
     if !negatives.is_empty() && !matches!(r.method, main_job::Method::Sat) {
         return Err(Error::Usage(
@@ -122,6 +123,13 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         .chain(r.negatives.iter().cloned());
     let results = ResultSet::open(&out, Claim::new("main", reads).writing(&r.name))?;
     let check = Check::new(problem, r.spec.nusmv.locate()?);
+    // The recordings' verdicts speak of the closed loop only where the plant can produce them.
+    plant_check::check_plant(&set, &check)?;
+    let found = plant_check::refuse_violations(&set, &check, &r.spec.ltl)?;
+    events(Event::Note(Note::Explained {
+        explanation: &found,
+        properties: check.problem.props.len(),
+    }));
     let opts = main_job::Options {
         method: r.method.clone(),
         exact: exact::Options {
@@ -164,14 +172,14 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     })
 }
 
-/// The recordings, the problem and what the recordings say about its properties, each with
-/// its event. Recordings that violate a property leave no machine to find: refused before
-/// any synthesis.
+/// The recordings and the problem, each with its event. (Recordings that violate a property
+/// leave no machine to find: [`run`] refuses them before any synthesis, once the plant is
+/// known to produce them.)
 fn read_problem(
     r: &Request,
     recordings: &Recordings,
     events: Events<'_>,
-) -> Result<(ScenarioSet, crate::verify::Problem, Explanation), Error> {
+) -> Result<(ScenarioSet, crate::verify::Problem), Error> {
     let set = recordings.load()?;
     events(Event::Note(Note::Recordings {
         scenarios: set.scenarios.len(),
@@ -188,10 +196,5 @@ fn read_problem(
     if !unaffected.is_empty() {
         events(Event::Note(Note::Unaffected(&unaffected)));
     }
-    let found = explain::refuse_violations(&set, &problem.props, &r.spec.ltl)?;
-    events(Event::Note(Note::Explained {
-        explanation: &found,
-        properties: problem.props.len(),
-    }));
-    Ok((set, problem, found))
+    Ok((set, problem))
 }

@@ -226,6 +226,25 @@ pub(crate) struct Dialogue {
     warnings: Vec<String>,
 }
 
+/// NuSMV's answer to `check_fsm` (see [`Dialogue::deadlock_of`]): `Some(None)` when no
+/// reachable state lacks a successor, `Some(Some(state))` for the deadlock state it printed,
+/// `None` for an answer that says neither.
+fn parse_check_fsm(out: &str) -> Option<Option<Vec<(String, String)>>> {
+    if let Some(k) = out.find("A deadlock state is:") {
+        let state = out[k..]
+            .lines()
+            .skip(1)
+            .take_while(|l| !l.starts_with("####"))
+            .filter_map(|l| l.split_once(" = "))
+            .map(|(n, v)| (n.trim().to_string(), v.trim().to_string()))
+            .collect();
+        return Some(Some(state));
+    }
+    let free = out.contains("The transition relation is total")
+        || out.contains("so the machine is deadlock-free");
+    free.then_some(None)
+}
+
 /// Text NuSMV echoes after each command; a number follows, then `==`.
 const MARKER: &str = "==fbsynth-end-";
 
@@ -308,6 +327,12 @@ impl Dialogue {
             .map(|(q, answer)| one_verdict(q, answer))
             .collect::<Result<Vec<_>, _>>()?;
         self.check_not_vacuous(&format!("{out}\n{err}"), deadline, model)?;
+        if let Some(state) = self.deadlock(deadline, model)? {
+            return Err(NusmvError::Deadlock {
+                model: model.to_path_buf(),
+                state,
+            });
+        }
         self.warnings = unexplained(&err);
         match mode {
             CheckMode::VerdictsOnly => {}
@@ -319,6 +344,94 @@ impl Dialogue {
             }
         }
         Ok(results)
+    }
+
+    /// A reachable state of `model` without successor (NuSMV's `check_fsm`), as `name =
+    /// value` pairs, or `None` when every reachable state has one. Fails as
+    /// [`Dialogue::check`] does on a model NuSMV rejects or that has no fair infinite path.
+    pub(crate) fn deadlock_of(
+        &mut self,
+        model: &Path,
+    ) -> Result<Option<Vec<(String, String)>>, NusmvError> {
+        model_exists(model)?;
+        let quoted = shell_quoted(model)?;
+        if self.nusmv.deadline.passed() {
+            return Err(NusmvError::Stopped);
+        }
+        // A fresh process: the check is asked once per run, beside the dialogue's models.
+        self.process = None;
+        self.ensure_process()?;
+        self.models_in_process += 1;
+        let deadline = self.nusmv.deadline.cap(Instant::now() + self.nusmv.timeout);
+        let command = format!("reset\nread_model -i {quoted}\ngo\n");
+        let answer = self.run(&[command], deadline, model)?.remove(0);
+        let errors = parse_errors(&answer.err);
+        if !errors.is_empty() {
+            return Err(NusmvError::Model(errors));
+        }
+        let printed = format!("{}\n{}", answer.out, answer.err);
+        self.check_not_vacuous(&printed, deadline, model)?;
+        self.deadlock(deadline, model)
+    }
+
+    /// Whether each invariant of `formulas` holds in `model` (NuSMV's `check_invar`, without
+    /// counterexamples), in order. The formulas are generated, never a user's text.
+    pub(crate) fn invariants(
+        &mut self,
+        model: &Path,
+        formulas: &[String],
+    ) -> Result<Vec<bool>, NusmvError> {
+        model_exists(model)?;
+        let quoted = shell_quoted(model)?;
+        if self.nusmv.deadline.passed() {
+            return Err(NusmvError::Stopped);
+        }
+        self.ensure_process()?;
+        self.models_in_process += 1;
+        let deadline = self.nusmv.deadline.cap(Instant::now() + self.nusmv.timeout);
+        let mut commands = vec![format!(
+            "reset\nset counter_examples 0\nread_model -i {quoted}\ngo\ncompute_reachable\n"
+        )];
+        commands.extend(formulas.iter().map(|f| format!("check_invar -p \"{f}\"\n")));
+        let answers = self.run(&commands, deadline, model)?;
+        // The next model gets a process that prints counterexamples again.
+        self.process = None;
+        let err: String = answers.iter().map(|a| a.err.as_str()).collect();
+        let errors = parse_errors(&err);
+        if !errors.is_empty() {
+            return Err(NusmvError::Model(errors));
+        }
+        (answers[1..=formulas.len()].iter())
+            .map(|a| {
+                let verdict = a.out.lines().find(|l| l.contains("-- invariant "));
+                match verdict.map(str::trim_end) {
+                    Some(l) if l.ends_with("is true") => Ok(true),
+                    Some(l) if l.ends_with("is false") => Ok(false),
+                    _ => Err(NusmvError::Crashed {
+                        status: "an answer to check_invar without a verdict".into(),
+                        stderr_tail: tail(&format!("{}\n{}", a.out, a.err)),
+                    }),
+                }
+            })
+            .collect()
+    }
+
+    /// Asks `check_fsm` of the model read last: a reachable state without successor, or
+    /// `None`. NuSMV prints "The transition relation is total" or, when only unreachable
+    /// states lack a successor, "... so the machine is deadlock-free"; otherwise "A deadlock
+    /// state is:" and the state, one `name = value` a line.
+    fn deadlock(
+        &mut self,
+        deadline: Instant,
+        model: &Path,
+    ) -> Result<Option<Vec<(String, String)>>, NusmvError> {
+        let answer = self
+            .run(&["check_fsm\n".to_string()], deadline, model)?
+            .remove(0);
+        parse_check_fsm(&answer.out).ok_or_else(|| NusmvError::Crashed {
+            status: "an answer to check_fsm that says neither total nor deadlock".into(),
+            stderr_tail: tail(&format!("{}\n{}", answer.out, answer.err)),
+        })
     }
 
     /// Fails when the model has no fair infinite path from an initial state. Then every LTL
@@ -984,6 +1097,26 @@ impl Drop for Tracked {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `check_fsm`'s three answers: total, states without successor that are unreachable
+    /// (deadlock-free), and a reachable deadlock state, read as its `name = value` pairs.
+    #[test]
+    fn check_fsm_answers_are_read() {
+        let total = "####\nThe transition relation is total: No deadlock state exists\n####\n";
+        assert_eq!(parse_check_fsm(total), Some(None));
+        let unreachable = "The transition relation is not total. A state without\nsuccessors is:\nx = 3\n\
+                           However, all the states without successors are\nnon-reachable, so the machine is deadlock-free.\n";
+        assert_eq!(parse_check_fsm(unreachable), Some(None));
+        let dead = "The transition relation is not total. A state without\nsuccessors is:\nx = 3\n\
+                    The transition relation is not deadlock-free.\nA deadlock state is:\n\
+                    _o_lamp = FALSE\nplant.dead = TRUE\n####\n";
+        let state = vec![
+            ("_o_lamp".to_string(), "FALSE".to_string()),
+            ("plant.dead".to_string(), "TRUE".to_string()),
+        ];
+        assert_eq!(parse_check_fsm(dead), Some(Some(state)));
+        assert_eq!(parse_check_fsm("NuSMV > "), None);
+    }
     use crate::nusmv::nusmv_for_tests;
 
     fn data(name: &str) -> PathBuf {

@@ -126,6 +126,22 @@ pub enum NusmvError {
         /// NuSMV's warning that a set of the finite state machine is empty, if it printed one.
         warning: Option<String>,
     },
+    /// A reachable state of the model has no successor (NuSMV's `check_fsm`). NuSMV's LTL
+    /// checking ignores runs that end, so a property violated only by runs through such a
+    /// state would be reported as holding: no verdict on the model counts.
+    #[error("the model `{}` deadlocks: the reachable state {} has no successor, and NuSMV's LTL verdicts ignore the runs that end there, so nothing is verified; the plant must accept every output the controller gives (check its INVAR and TRANS constraints)", model.display(), show_state(state))]
+    Deadlock {
+        /// The SMV file being checked.
+        model: PathBuf,
+        /// The state NuSMV printed, as `name = value` pairs.
+        state: Vec<(String, String)>,
+    },
+}
+
+/// `a = 1, b = TRUE`: a state as NuSMV printed it.
+pub(crate) fn show_state(state: &[(String, String)]) -> String {
+    let pairs: Vec<String> = state.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+    pairs.join(", ")
 }
 
 fn describe_model_errors(errors: &[ModelError]) -> String {

@@ -24,7 +24,8 @@ pub enum Class {
     /// Bad input (file, line, step named) or a failed tool.
     Input,
     /// The check came out negative without a verdict to show: the plant allows no behaviour,
-    /// so every property would hold vacuously and nothing is verified.
+    /// or the closed loop deadlocks, so properties would hold vacuously and nothing is
+    /// verified.
     Vacuous,
     /// The check asked for came out negative: a violated property, a difference between two
     /// machines, a step a machine does not reproduce.
@@ -64,6 +65,7 @@ impl Error {
             Error::Events(e) => e.class(),
             Error::Diff(e) => e.class(),
             Error::Folder(e) => e.class(),
+            Error::PlantCheck(e) => e.class(),
             Error::RecordingsViolate(_)
             | Error::NegativeRecorded(_)
             | Error::Name(_)
@@ -78,6 +80,17 @@ impl Error {
             Error::Negative(_) => Class::Negative,
             Error::Bug(_) => Class::Bug,
             Error::Noted { error, .. } => error.class(),
+        }
+    }
+}
+
+impl Classed for super::plant_check::PlantCheckError {
+    fn class(&self) -> Class {
+        use super::plant_check::PlantCheckError;
+        match self {
+            PlantCheckError::NotReceptive { .. }
+            | PlantCheckError::Unfair { .. }
+            | PlantCheckError::Unproducible { .. } => Class::Input,
         }
     }
 }
@@ -126,7 +139,7 @@ impl Classed for VerifyError {
 impl Classed for NusmvError {
     fn class(&self) -> Class {
         match self {
-            NusmvError::Vacuous { .. } => Class::Vacuous,
+            NusmvError::Vacuous { .. } | NusmvError::Deadlock { .. } => Class::Vacuous,
             // Only after the deadline passed, where the pipelines report the time limit.
             NusmvError::Stopped => Class::NoMachine,
             NusmvError::NotFound { .. }

@@ -207,6 +207,10 @@ pub struct RecordingsViolate {
     pub spec_file: PathBuf,
     /// Every property violated, in spec order.
     pub(crate) violations: Vec<RecordedViolation>,
+    /// The first recorded step the plant cannot take after the steps before it as recorded
+    /// (its place), if any: then the closed loop never runs through the recorded states, and
+    /// nothing follows for controllers; `None` when the plant produces every recorded run.
+    pub(crate) unreplayed: Option<String>,
 }
 
 impl fmt::Display for RecordingsViolate {
@@ -221,17 +225,27 @@ impl fmt::Display for RecordingsViolate {
                 v.extent
             )
         };
+        let consequence = |them: &str| {
+            match &self.unreplayed {
+            None => format!("no controller that reproduces them can satisfy {them}"),
+            Some(place) => format!(
+                "the plant cannot produce the recorded runs as recorded (first at {place}), so this says nothing of controllers in closed loop with it, but the recordings themselves break {them}: check the property, and the plant's timing against the recordings"
+            ),
+        }
+        };
         match &self.violations[..] {
             [v] => write!(
                 f,
-                "the recordings violate property {}; no controller that reproduces them can satisfy it",
-                one(v)
+                "the recordings violate property {}; {}",
+                one(v),
+                consequence("it")
             ),
             all => {
                 write!(
                     f,
-                    "the recordings violate {} properties; no controller that reproduces them can satisfy them:",
-                    all.len()
+                    "the recordings violate {} properties; {}:",
+                    all.len(),
+                    consequence("them")
                 )?;
                 for v in all {
                     write!(f, "\n  {}", one(v))?;
@@ -317,6 +331,7 @@ pub fn refuse_violations(
         Err(RecordingsViolate {
             spec_file: spec_file.to_path_buf(),
             violations: e.violations,
+            unreplayed: None,
         })
     }
 }

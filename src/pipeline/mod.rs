@@ -57,6 +57,7 @@ pub mod main_job;
 pub mod modular;
 pub mod noisy;
 pub(crate) mod output;
+pub(crate) mod plant_check;
 pub(crate) mod recordings;
 pub mod refine;
 pub mod search;
@@ -160,6 +161,9 @@ pub enum Error {
     /// The counterexample-guided loop ended without a verified controller.
     #[error(transparent)]
     Cegis(#[from] cegis::CegisError),
+    /// The plant blocks some output of the controller, or cannot produce the recordings.
+    #[error(transparent)]
+    PlantCheck(#[from] plant_check::PlantCheckError),
     /// The recordings themselves violate properties, so no machine can satisfy them.
     #[error(transparent)]
     RecordingsViolate(#[from] explain::RecordingsViolate),

@@ -8,6 +8,7 @@
 pub mod composition;
 pub(crate) mod ecc_module;
 pub mod plant;
+pub(crate) mod plant_checks;
 
 pub use ecc_module::SmvError;
 

@@ -347,6 +347,114 @@ impl Scanner<'_> {
     }
 }
 
+/// A fairness constraint of `MODULE plant` that reads a controller output.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct UnfairToController {
+    /// `FAIRNESS`, `JUSTICE` or `COMPASSION`.
+    pub(crate) keyword: &'static str,
+    /// 1-based line of the constraint.
+    pub(crate) line: usize,
+    /// The parameter (controller output) it reads, directly or through defines.
+    pub(crate) output: String,
+}
+
+/// One statement of a section of `MODULE plant`: its section, first line and the identifiers
+/// it holds, in order.
+struct Statement {
+    section: &'static str,
+    line: usize,
+    idents: Vec<String>,
+}
+
+/// The statements of `MODULE plant` (a `;` at depth 0, a section keyword or a `MODULE` ends
+/// one).
+fn plant_statements(text: &str) -> Vec<Statement> {
+    let toks = tokens(text);
+    let (mut out, mut cur, mut section) = (Vec::new(), None::<Statement>, "");
+    let (mut in_plant, mut depth) = (false, 0i32);
+    for (k, (tok, line)) in toks.iter().enumerate() {
+        match tok {
+            Tok::Ident(w) if w == "MODULE" && depth == 0 => {
+                out.extend(cur.take());
+                in_plant = matches!(toks.get(k + 1), Some((Tok::Ident(n), _)) if n == "plant");
+                section = "";
+                continue;
+            }
+            Tok::Ident(w) if depth == 0 && SECTIONS.contains(&w.as_str()) => {
+                out.extend(cur.take());
+                section = SECTIONS[SECTIONS.iter().position(|s| s == w).expect("member")];
+                continue;
+            }
+            Tok::Sym(";") if depth == 0 => {
+                out.extend(cur.take());
+                continue;
+            }
+            Tok::Ident(w) if w == "case" => depth += 1,
+            Tok::Ident(w) if w == "esac" => depth -= 1,
+            Tok::Sym("(") | Tok::Sym("{") | Tok::Sym("[") => depth += 1,
+            Tok::Sym(")") | Tok::Sym("}") | Tok::Sym("]") => depth -= 1,
+            _ => {}
+        }
+        if !in_plant || section.is_empty() {
+            continue;
+        }
+        let stmt = cur.get_or_insert_with(|| Statement {
+            section,
+            line: *line,
+            idents: Vec::new(),
+        });
+        if let Tok::Ident(w) = tok {
+            stmt.idents.push(w.clone());
+        }
+    }
+    out.extend(cur);
+    out
+}
+
+impl Plant {
+    /// The fairness constraints (`FAIRNESS`, `JUSTICE`, `COMPASSION`) of `MODULE plant` that
+    /// read a parameter, a controller output, directly or through its defines. NuSMV's LTL
+    /// checking ignores unfair runs, so such a constraint can discard the runs where the
+    /// controller gives some output, and with them the runs that violate a property.
+    pub(crate) fn fairness_reading_outputs(&self) -> Vec<UnfairToController> {
+        let statements = plant_statements(&self.text);
+        let defines: Vec<(&str, &[String])> = (statements.iter())
+            .filter(|s| s.section == "DEFINE")
+            .filter_map(|s| Some((s.idents.first()?.as_str(), s.idents.get(1..)?)))
+            .collect();
+        let params: Vec<&str> = self.params.iter().map(|p| p.name.as_str()).collect();
+        // The output a name reads, through defines (`seen` cuts a cycle NuSMV refuses anyway).
+        fn reads<'a>(
+            name: &str,
+            params: &[&'a str],
+            defines: &[(&str, &'a [String])],
+            seen: &mut Vec<String>,
+        ) -> Option<String> {
+            if params.contains(&name) {
+                return Some(name.to_string());
+            }
+            if seen.iter().any(|s| s == name) {
+                return None;
+            }
+            seen.push(name.to_string());
+            let (_, body) = defines.iter().find(|(d, _)| *d == name)?;
+            body.iter().find_map(|n| reads(n, params, defines, seen))
+        }
+        (statements.iter())
+            .filter(|s| ["FAIRNESS", "JUSTICE", "COMPASSION"].contains(&s.section))
+            .filter_map(|s| {
+                let output =
+                    (s.idents.iter()).find_map(|n| reads(n, &params, &defines, &mut Vec::new()))?;
+                Some(UnfairToController {
+                    keyword: s.section,
+                    line: s.line,
+                    output,
+                })
+            })
+            .collect()
+    }
+}
+
 /// Reads and scans a plant file.
 pub fn read_plant(file: &Path) -> Result<Plant, PlantError> {
     let text = crate::files::read_text(file, Some(crate::files::MAX_LINE_BYTES))?;
@@ -400,6 +508,21 @@ ASSIGN
         assert_eq!(p.instances, vec!["h1", "g1"]);
         let names: Vec<&str> = p.names.iter().map(|d| d.name.as_str()).collect();
         assert_eq!(names, vec!["b", "r", "w", "h1", "g1", "lo", "hi", "s"]);
+    }
+
+    /// A fairness constraint that reads a parameter, directly or through a chain of defines,
+    /// is found with its line; one over the plant's own variables is not.
+    #[test]
+    fn fairness_that_reads_an_output_is_found_with_its_line() {
+        let text =
+            "MODULE plant(lamp, fan)\nVAR b : boolean;\nDEFINE\n  lit := on;\n  on := lamp & b;\n\
+                    FAIRNESS b\nJUSTICE !lit\nFAIRNESS case fan : b; TRUE : !b; esac;\n";
+        let plant = parse_plant(Path::new("p.smv"), text).unwrap();
+        let found = plant.fairness_reading_outputs();
+        let at: Vec<(&str, usize, &str)> = (found.iter())
+            .map(|u| (u.keyword, u.line, u.output.as_str()))
+            .collect();
+        assert_eq!(at, vec![("JUSTICE", 7, "lamp"), ("FAIRNESS", 8, "fan")]);
     }
 
     #[test]

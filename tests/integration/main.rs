@@ -20,6 +20,7 @@ mod nusmv_answers;
 mod outputs;
 mod pipeline;
 mod plants;
+mod plant_rules;
 mod robustness;
 mod schemas;
 mod semantics;
