@@ -8,6 +8,7 @@ use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::Format;
 use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
+use crate::pipeline::explain;
 use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_verified};
@@ -122,7 +123,20 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         .chain(r.spec.paths())
         .chain(r.negatives.iter().cloned());
     let results = ResultSet::open(&out, Claim::new("main", reads).writing(&r.name))?;
-    let check = Check::new(problem, r.spec.nusmv.locate()?);
+    // Recordings that violate a property are refused even where NuSMV cannot be run; only the
+    // claim about controllers waits for NuSMV's replay of the recordings on the plant.
+    let nusmv = match (
+        r.spec.nusmv.locate(),
+        explain::refuse_violations(&set, &problem.props, &r.spec.ltl),
+    ) {
+        (Ok(nusmv), _) => nusmv,
+        (Err(e), Err(mut violate)) => {
+            violate.unreplayed = Some(format!("a step NuSMV could not check: {e}"));
+            return Err(violate.into());
+        }
+        (Err(e), Ok(_)) => return Err(e),
+    };
+    let check = Check::new(problem, nusmv);
     // The recordings' verdicts speak of the closed loop only where the plant can produce them.
     plant_check::check_plant(&set, &check)?;
     let found = plant_check::refuse_violations(&set, &check, &r.spec.ltl)?;

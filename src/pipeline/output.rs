@@ -51,6 +51,7 @@ pub(crate) fn check_exportable(
 ) -> Result<(), Error> {
     let all: Vec<OutputId> = (0..set.outputs.len()).map(OutputId).collect();
     let dir = tempfile::tempdir()?;
+    crate::files::remove_on_signal(dir.path());
     match export::write_all(&probe(set, &all), dir.path(), name, formats) {
         Ok(_) => Ok(()),
         Err(e) => Err(locate_name_error(e, recordings)),

@@ -85,6 +85,7 @@ pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error>
         .into());
     }
     let dir = tempfile::tempdir()?;
+    crate::files::remove_on_signal(dir.path());
     let mut dialogue = check.nusmv.dialogue();
     let path = dir.path().join("receptiveness.smv");
     std::fs::write(&path, plant_checks::receptiveness(&p.plant, &p.coupling))?;
@@ -104,6 +105,7 @@ pub(crate) fn refuse_violations(
         Ok(found) => Ok(found),
         Err(mut violate) => {
             let dir = tempfile::tempdir()?;
+            crate::files::remove_on_signal(dir.path());
             let mut dialogue = check.nusmv.dialogue();
             // Without NuSMV's answer the claim about controllers is not made either.
             violate.unreplayed = first_unreplayed(set, check, &mut dialogue, dir.path())

@@ -519,14 +519,17 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
         format!(
             "error: the recordings violate property up_before_moving (specs/pnp.ltl:17): first at \
              {file}:3 step 5 (its inputs with the outputs after step 4); 2 of the 15 states the \
-             recordings show violate it; no controller that reproduces them can satisfy it\n"
+             recordings show violate it; "
         )
     };
+    // Without NuSMV the plant's replay of the recordings is unknown: the refusal stands, the
+    // claim about controllers is not made.
+    let no_claim = "so this says nothing of controllers in closed loop with it";
     let plain = format!("{dir}/diagonal.traces");
     let o = main(&plain);
     assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
-        text(&o.stderr).ends_with(&expected(&plain)),
+        text(&o.stderr).contains(&expected(&plain)) && text(&o.stderr).contains(no_claim),
         "{}",
         text(&o.stderr)
     );
@@ -540,7 +543,7 @@ fn recordings_that_violate_a_property_are_refused_before_synthesis() {
     let o = main(gz);
     assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
-        text(&o.stderr).ends_with(&expected(gz)),
+        text(&o.stderr).contains(&expected(gz)) && text(&o.stderr).contains(no_claim),
         "{}",
         text(&o.stderr)
     );
