@@ -31,6 +31,10 @@ pub(crate) fn remove_on_signal(path: &Path) {
         .unwrap_or_else(|e| e.into_inner())
         .push(path.to_path_buf());
     crate::signals::on_termination(remove_temporaries);
+    // Registered after the clean-up read the list: this thread removes it itself.
+    if crate::signals::terminating() {
+        remove_temporaries();
+    }
 }
 
 /// Forgets `path` for [`remove_on_signal`]: it is gone, or it is a result now.

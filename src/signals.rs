@@ -10,10 +10,15 @@
 //! folder holds one whole result. Once it is published the signal is dropped and the run ends
 //! with its own outcome; a publish that fails honours it.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, Once};
 
 static HOOKS: Mutex<Vec<fn()>> = Mutex::new(Vec::new());
 static INSTALL: Once = Once::new();
+
+/// Set once the clean-up began: what registers a clean-up later (another thread still at
+/// work) does it at once ([`terminating`]).
+static TERMINATING: AtomicBool = AtomicBool::new(false);
 
 /// Whether a publish holds signals, and whether one came meanwhile. The handler keeps the lock
 /// from its check to the exit, so a publish never starts once the clean-up began.
@@ -56,8 +61,14 @@ pub(crate) fn install() {
     });
 }
 
+/// Whether the clean-up of a termination signal began.
+pub(crate) fn terminating() -> bool {
+    TERMINATING.load(Ordering::SeqCst)
+}
+
 /// Runs every registered clean-up.
 pub(crate) fn run_hooks() {
+    TERMINATING.store(true, Ordering::SeqCst);
     let hooks: Vec<fn()> = HOOKS.lock().unwrap_or_else(|e| e.into_inner()).clone();
     for hook in hooks {
         hook();
