@@ -223,7 +223,7 @@ pub fn parse_formats(list: &[String]) -> Result<Vec<Format>, Error> {
 /// Where the colonies start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Start {
-    /// Random machines (the seeds' method).
+    /// Random machines, as in Chivilikhin et al.'s metaheuristic reconstruction.
     Random,
     /// The minimal machine SAT finds for the scenarios alone (verification left to the search).
     Sat,
