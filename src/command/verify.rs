@@ -66,6 +66,7 @@ pub(crate) fn run(ecc_file: &Path, spec: &Spec, out: Option<&Path>) -> Result<Ch
     let ecc = read_ecc(ecc_file)?;
     let problem = spec.problem(&ecc.inputs, &ecc.outputs)?;
     let check = Check::new(problem, spec.nusmv.locate()?);
+    crate::pipeline::plant_check::refuse_unfair(&check)?;
     // Taken first: a second run into the same folder stops before NuSMV runs.
     let reads = [ecc_file.to_path_buf()].into_iter().chain(spec.paths());
     let claim = Claim::new("verify", reads);

@@ -72,18 +72,27 @@ pub enum PlantCheckError {
     },
 }
 
-/// The checks of the module header before synthesis, with one NuSMV dialogue.
-pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
+/// Refuses a fairness constraint of the plant that reads a controller output: it could make
+/// NuSMV's verdicts vacuous by calling unfair exactly the runs where a property fails. Also
+/// checked by `verify`, which checks a given machine with no synthesis before.
+pub(crate) fn refuse_unfair(check: &Check) -> Result<(), Error> {
     let p = &check.problem;
-    if let Some(u) = p.plant.fairness_reading_outputs().into_iter().next() {
-        return Err(PlantCheckError::Unfair {
+    match p.plant.fairness_reading_outputs().into_iter().next() {
+        Some(u) => Err(PlantCheckError::Unfair {
             plant: p.plant.file.clone(),
             line: u.line,
             keyword: u.keyword,
             output: u.output,
         }
-        .into());
+        .into()),
+        None => Ok(()),
     }
+}
+
+/// The checks of the module header before synthesis, with one NuSMV dialogue.
+pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
+    let p = &check.problem;
+    refuse_unfair(check)?;
     let dir = tempfile::tempdir()?;
     crate::files::remove_on_signal(dir.path());
     let mut dialogue = check.nusmv.dialogue();

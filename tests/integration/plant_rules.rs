@@ -66,6 +66,30 @@ fn fairness_over_a_controller_output_is_refused_with_its_line() {
         "{err}"
     );
     assert!(!text(&o.stdout).contains("verified"));
+    // `verify`, with no synthesis before it, refuses the same plant the same way.
+    let o = TestCommand::new()
+        .args(["infer", "-q", "--traces", &format!("{DIR}/latch.traces")])
+        .args(["--input-names", &format!("{DIR}/lamp.inputs")])
+        .args(["--output-names", &format!("{DIR}/lamp.outputs")])
+        .args(["--out", out.path().join("m").to_str().unwrap()])
+        .output();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json = out.path().join("m/SynthesizedFB.json");
+    let o = TestCommand::new()
+        .nusmv(&n.path)
+        .args(["verify", "--ecc", json.to_str().unwrap()])
+        .args(["--ltl", &format!("{DIR}/lamp.ltl")])
+        .args(["--plant", &format!("{DIR}/{plant}")])
+        .output();
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(4), "{err}");
+    assert!(
+        err.contains(&format!(
+            "{DIR}/{plant}:16: this FAIRNESS constraint reads the controller output 'lamp'"
+        )),
+        "{err}"
+    );
+    assert!(!text(&o.stdout).contains("verified"));
 }
 
 /// `synth verify` checks a given machine with no synthesis before it: the machine that latches
