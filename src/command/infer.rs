@@ -99,7 +99,8 @@ impl Request {
         // them.
         crate::pipeline::plant_check::check_plant(set, &check)?;
         let props = &check.problem.props;
-        let found = crate::pipeline::plant_check::refuse_violations(set, &check, &spec.ltl)?;
+        let recorded = crate::pipeline::explain::refuse_violations(set, props, &spec.ltl);
+        let found = crate::pipeline::plant_check::refuse_violations(recorded, set, &check)?;
         events(Event::Note(Note::Explained {
             explanation: &found,
             properties: props.len(),

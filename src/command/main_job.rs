@@ -125,11 +125,9 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let results = ResultSet::open(&out, Claim::new("main", reads).writing(&r.name))?;
     // Recordings that violate a property are refused even where NuSMV cannot be run; only the
     // claim about controllers waits for NuSMV's replay of the recordings on the plant.
-    let nusmv = match (
-        r.spec.nusmv.locate(),
-        explain::refuse_violations(&set, &problem.props, &r.spec.ltl),
-    ) {
-        (Ok(nusmv), _) => nusmv,
+    let recorded = explain::refuse_violations(&set, &problem.props, &r.spec.ltl);
+    let (nusmv, recorded) = match (r.spec.nusmv.locate(), recorded) {
+        (Ok(nusmv), recorded) => (nusmv, recorded),
         (Err(e), Err(mut violate)) => {
             violate.unreplayed = Some(format!("a step NuSMV could not check: {e}"));
             return Err(violate.into());
@@ -139,7 +137,7 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let check = Check::new(problem, nusmv);
     // The recordings' verdicts speak of the closed loop only where the plant can produce them.
     plant_check::check_plant(&set, &check)?;
-    let found = plant_check::refuse_violations(&set, &check, &r.spec.ltl)?;
+    let found = plant_check::refuse_violations(recorded, &set, &check)?;
     events(Event::Note(Note::Explained {
         explanation: &found,
         properties: check.problem.props.len(),

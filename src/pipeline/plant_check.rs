@@ -102,15 +102,16 @@ pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error>
     recorded_steps(set, check, &mut dialogue, &path)
 }
 
-/// The recordings' verdicts on the properties ([`explain::refuse_violations`]); where they
-/// violate one, whether the plant produces the recorded runs as recorded, which the claim
-/// that no controller reproducing them satisfies the property rests on.
+/// The recordings' verdicts on the properties (`recorded`, from
+/// [`explain::refuse_violations`]); where they violate one, whether the plant produces the
+/// recorded runs as recorded, which the claim that no controller reproducing them satisfies
+/// the property rests on.
 pub(crate) fn refuse_violations(
+    recorded: Result<Explanation, explain::RecordingsViolate>,
     set: &ScenarioSet,
     check: &Check,
-    spec_file: &Path,
 ) -> Result<Explanation, Error> {
-    match explain::refuse_violations(set, &check.problem.props, spec_file) {
+    match recorded {
         Ok(found) => Ok(found),
         Err(mut violate) => {
             let dir = tempfile::tempdir()?;

@@ -21,6 +21,18 @@ fn main_job(nusmv: &Path, ltl: &str, plant: &str, traces: &str, out: &Path) -> O
         .output()
 }
 
+/// The machine that latches the lamp, inferred from `latch.traces` into `dir`: its JSON file.
+fn latch_machine(dir: &Path) -> std::path::PathBuf {
+    let o = TestCommand::new()
+        .args(["infer", "-q", "--traces", &format!("{DIR}/latch.traces")])
+        .args(["--input-names", &format!("{DIR}/lamp.inputs")])
+        .args(["--output-names", &format!("{DIR}/lamp.outputs")])
+        .args(["--out", dir.to_str().unwrap()])
+        .output();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    dir.join("SynthesizedFB.json")
+}
+
 /// A plant that blocks the runs where the lamp stays on (a TRANS or an INVAR over the
 /// controller's output) would make `G (lamp -> X !lamp)` hold for the machine that latches
 /// the lamp: it is refused before synthesis (exit 4), with the state and the outputs it
@@ -67,14 +79,7 @@ fn fairness_over_a_controller_output_is_refused_with_its_line() {
     );
     assert!(!text(&o.stdout).contains("verified"));
     // `verify`, with no synthesis before it, refuses the same plant the same way.
-    let o = TestCommand::new()
-        .args(["infer", "-q", "--traces", &format!("{DIR}/latch.traces")])
-        .args(["--input-names", &format!("{DIR}/lamp.inputs")])
-        .args(["--output-names", &format!("{DIR}/lamp.outputs")])
-        .args(["--out", out.path().join("m").to_str().unwrap()])
-        .output();
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let json = out.path().join("m/SynthesizedFB.json");
+    let json = latch_machine(&out.path().join("m"));
     let o = TestCommand::new()
         .nusmv(&n.path)
         .args(["verify", "--ecc", json.to_str().unwrap()])
@@ -99,14 +104,7 @@ fn fairness_over_a_controller_output_is_refused_with_its_line() {
 fn a_closed_loop_that_deadlocks_is_not_verified() {
     let Some(n) = nusmv_or_skip() else { return };
     let out = Dir::new();
-    let o = TestCommand::new()
-        .args(["infer", "-q", "--traces", &format!("{DIR}/latch.traces")])
-        .args(["--input-names", &format!("{DIR}/lamp.inputs")])
-        .args(["--output-names", &format!("{DIR}/lamp.outputs")])
-        .args(["--out", out.path().to_str().unwrap()])
-        .output();
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let json = out.path().join("SynthesizedFB.json");
+    let json = latch_machine(out.path());
     let o = TestCommand::new()
         .nusmv(&n.path)
         .args(["verify", "--ecc", json.to_str().unwrap()])
