@@ -57,7 +57,7 @@ pub enum PlantCheckError {
         output: String,
     },
     /// The plant cannot produce a recorded step's inputs under the recorded outputs.
-    #[error("{place}: the plant {} cannot produce this recorded step: no reachable state of it shows the inputs {inputs} under the outputs {outputs}; a machine verified with this plant would be verified for a plant the recordings do not come from (the inputs are declared at {declared})", plant.display())]
+    #[error("{place}: the plant {} cannot produce this recorded step: no reachable state of it shows the inputs {inputs} under the outputs {outputs}; a machine verified with this plant would be verified for a plant the recordings do not come from; {forbidding}", plant.display())]
     Unproducible {
         /// The plant file.
         plant: PathBuf,
@@ -67,8 +67,9 @@ pub enum PlantCheckError {
         inputs: String,
         /// The outputs in force, `name = value`.
         outputs: String,
-        /// Where the plant declares the inputs, `name (file:line)`.
-        declared: String,
+        /// The inputs the plant refuses and the plant lines that decide them,
+        /// `name (file:line: text)`.
+        forbidding: String,
     },
 }
 
@@ -198,37 +199,77 @@ fn recorded_steps(
     dialogue: &mut Dialogue,
     path: &Path,
 ) -> Result<(), Error> {
-    let c = &check.problem.coupling;
     let runs = recorded_runs(set);
     // Each valuation once, at its first step.
-    let mut firsts: Vec<(usize, usize, String)> = Vec::new();
+    let mut firsts: Vec<Valuation> = Vec::new();
     for (j, run) in runs.runs.iter().enumerate() {
         for (i, (outputs, inputs)) in run.iter().enumerate() {
             let Some(inputs) = inputs else { continue };
-            let literal = |name: String, v: bool| match v {
-                true => name,
-                false => format!("!{name}"),
-            };
-            let mut all: Vec<String> = (c.inputs.iter().zip(inputs))
-                .map(|(x, &v)| literal(format!("{PLANT_INSTANCE}.{x}"), v))
-                .collect();
-            all.extend(
-                (c.params.iter()).map(|&z| literal(format!("_o_{}", c.outputs[z]), outputs[z])),
-            );
-            let formula = format!("!({})", all.join(" & "));
-            if !firsts.iter().any(|(_, _, f)| *f == formula) {
-                firsts.push((j, i, formula));
+            let v = valuation(check, j, i, outputs, inputs);
+            if !firsts.iter().any(|f| f.formula(None) == v.formula(None)) {
+                firsts.push(v);
             }
         }
     }
-    let formulas: Vec<String> = firsts.iter().map(|(_, _, f)| f.clone()).collect();
+    let formulas: Vec<String> = firsts.iter().map(|f| f.formula(None)).collect();
     let holds = match dialogue.invariants(path, &formulas) {
         Ok(h) => h,
         Err(e) => return nusmv_failed(e, check),
     };
-    match holds.iter().position(|&h| h) {
-        None => Ok(()),
-        Some(k) => Err(unproducible(set, check, &runs, firsts[k].0, firsts[k].1).into()),
+    let Some(k) = holds.iter().position(|&h| h) else {
+        return Ok(());
+    };
+    let v = &firsts[k];
+    // The inputs no reachable state shows alone under these outputs; when each alone is
+    // shown, it is their combination the plant forbids.
+    let singles: Vec<String> = (0..v.inputs.len()).map(|x| v.formula(Some(x))).collect();
+    let alone = dialogue.invariants(path, &singles).unwrap_or_default();
+    let refused: Vec<usize> = (0..v.inputs.len())
+        .filter(|&x| alone.get(x) == Some(&true))
+        .collect();
+    Err(unproducible(set, check, &runs, (v.run, v.state), &refused).into())
+}
+
+/// A recorded state as NuSMV literals: the controller inputs the plant shows and the outputs
+/// in force that it reads.
+struct Valuation {
+    run: usize,
+    state: usize,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+}
+
+impl Valuation {
+    /// The invariant that no reachable state shows the valuation (or, with `Some(x)`, input
+    /// `x` alone under the outputs).
+    fn formula(&self, only: Option<usize>) -> String {
+        let inputs = match only {
+            Some(x) => &self.inputs[x..=x],
+            None => &self.inputs[..],
+        };
+        let all: Vec<&str> = (inputs.iter().chain(&self.outputs))
+            .map(String::as_str)
+            .collect();
+        format!("!({})", all.join(" & "))
+    }
+}
+
+/// State `i` of run `j` with these outputs and inputs, as a [`Valuation`].
+fn valuation(check: &Check, j: usize, i: usize, outputs: &[bool], inputs: &[bool]) -> Valuation {
+    let c = &check.problem.coupling;
+    let literal = |name: String, v: bool| match v {
+        true => name,
+        false => format!("!{name}"),
+    };
+    Valuation {
+        run: j,
+        state: i,
+        inputs: (c.sensors.iter().zip(inputs))
+            .map(|(x, &v)| literal(format!("{PLANT_INSTANCE}.{x}"), v))
+            .collect(),
+        outputs: (c.params.iter())
+            .map(|&z| literal(format!("_o_{}", c.outputs[z]), outputs[z]))
+            .collect(),
     }
 }
 
@@ -271,33 +312,64 @@ fn first_unreplayed(
     Ok(Some(set.scenarios[j].origin.step(state + 1)))
 }
 
-/// The error for state `state` (0-based) of run `j`: its step `state + 1`.
+/// The error for state `state` (0-based) of run `j` (its step `state + 1`), naming the
+/// inputs the plant refuses (indices into the recorded inputs; none when only their
+/// combination is refused) and the plant lines deciding them.
 fn unproducible(
     set: &ScenarioSet,
     check: &Check,
     runs: &Replayed,
-    j: usize,
-    state: usize,
+    (j, state): (usize, usize),
+    refused: &[usize],
 ) -> PlantCheckError {
     let plant = &check.problem.plant;
     let (outputs, inputs) = &runs.runs[j][state];
+    let inputs = inputs.as_deref().unwrap_or_default();
     let pairs = |names: &[String], values: &[bool]| {
         let all: Vec<String> = (names.iter().zip(values))
             .map(|(n, v)| format!("{n} = {}", crate::smv::bool_literal(*v)))
             .collect();
         all.join(", ")
     };
-    let declared: Vec<String> = (set.inputs.iter())
-        .filter_map(|x| {
-            let d = plant.names.iter().find(|d| &d.name == x)?;
-            Some(format!("{x} ({}:{})", plant.file.display(), d.line))
+    let text: Vec<&str> = plant.text.lines().collect();
+    let at = |x: &str, line: usize| {
+        let shown = text.get(line - 1).map_or("", |t| t.trim());
+        format!("{x} ({}:{line}: `{shown}`)", plant.file.display())
+    };
+    let combination = refused.is_empty();
+    let all: Vec<usize> = (0..inputs.len()).collect();
+    let refused = if combination { &all[..] } else { refused };
+    // The plant's own names for the inputs (they differ where `--couple` maps them).
+    let names = &check.problem.coupling.sensors;
+    let lines: Vec<String> = (refused.iter().map(|&x| &names[x]))
+        .flat_map(|x| {
+            let mut lines = plant.lines_constraining(x);
+            if lines.is_empty() {
+                lines.extend(plant.names.iter().filter(|d| &d.name == x).map(|d| d.line));
+            }
+            lines.into_iter().map(move |l| at(x, l))
         })
         .collect();
+    let named: Vec<String> = refused
+        .iter()
+        .map(|&x| pairs(&set.inputs[x..=x], &inputs[x..=x]))
+        .collect();
+    let forbidding = match combination {
+        true => format!(
+            "no input alone is refused, their combination is; the plant lines that decide them: {}",
+            lines.join(", ")
+        ),
+        false => format!(
+            "no reachable state shows {} under these outputs; the plant lines that decide it: {}",
+            named.join(", "),
+            lines.join(", ")
+        ),
+    };
     PlantCheckError::Unproducible {
         plant: plant.file.clone(),
         place: set.scenarios[j].origin.step(state + 1),
-        inputs: pairs(&set.inputs, inputs.as_deref().unwrap_or_default()),
+        inputs: pairs(&set.inputs, inputs),
         outputs: pairs(&set.outputs, outputs),
-        declared: declared.join(", "),
+        forbidding,
     }
 }

@@ -136,6 +136,32 @@ const SPECS: &[&str] = &[
     "COMPUTE",
 ];
 
+impl Plant {
+    /// The lines of `MODULE plant` that define, assign or constrain `name` (its `DEFINE`,
+    /// `ASSIGN`, `INIT`, `INVAR` and `TRANS` lines that mention it), for a message that points
+    /// at what decides its values. Declarations and fairness constraints are left out: they do
+    /// not decide which values a state shows.
+    pub(crate) fn lines_constraining(&self, name: &str) -> Vec<usize> {
+        let (mut in_plant, mut section) = (false, "");
+        let mut lines: Vec<usize> = Vec::new();
+        for (tok, line) in tokens(&self.text) {
+            let Tok::Ident(w) = tok else { continue };
+            if w == "MODULE" {
+                (in_plant, section) = (line == self.module_line, "");
+            } else if let Some(s) = SECTIONS.iter().find(|s| **s == w) {
+                section = s;
+            } else if in_plant
+                && w == name
+                && ["DEFINE", "ASSIGN", "INIT", "INVAR", "TRANS"].contains(&section)
+                && lines.last() != Some(&line)
+            {
+                lines.push(line);
+            }
+        }
+        lines
+    }
+}
+
 /// Scans a plant file.
 pub(crate) fn parse_plant(file: &Path, text: &str) -> Result<Plant, PlantError> {
     let mut scan = Scanner {
@@ -497,6 +523,16 @@ ASSIGN
         assert_eq!(p.module_line, 4);
         assert_eq!(p.names[3].line, 11);
         assert_eq!(p.instances, vec!["m"]);
+    }
+
+    #[test]
+    fn the_lines_deciding_a_name_are_its_definitions_and_constraints_in_module_plant() {
+        let text = format!("{PLANT}INVAR pos != 1 -> push\nFAIRNESS pos = 2\n");
+        let p = parse_plant(Path::new("p.smv"), &text).unwrap();
+        // Not the declarations (lines 3, 6), nor the fairness constraint (line 18).
+        assert_eq!(p.lines_constraining("pos"), vec![11, 13, 15, 16, 17]);
+        assert_eq!(p.lines_constraining("push"), vec![17]);
+        assert_eq!(p.lines_constraining("isOpen"), vec![11]);
     }
 
     #[test]

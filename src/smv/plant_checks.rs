@@ -109,7 +109,8 @@ pub(crate) fn replay(plant: &Plant, coupling: &Coupling, runs: &Replayed) -> Str
             .map(|(_, i)| i.as_ref().is_some_and(|i| i[x]))
             .collect();
         let _ = writeln!(text, "  _i_{name} := {};", steps_of(&column));
-        matches.push(format!("({PLANT_INSTANCE}.{name} <-> _i_{name})"));
+        let sensor = &coupling.sensors[x];
+        matches.push(format!("({PLANT_INSTANCE}.{sensor} <-> _i_{name})"));
     }
     let _ = writeln!(
         text,

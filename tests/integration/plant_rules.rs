@@ -146,6 +146,44 @@ fn a_plant_that_cannot_produce_the_recordings_is_refused_at_the_first_step() {
     }
 }
 
+/// A plant whose names differ from the recordings' (coupled by `--couple`) and whose `INVAR`
+/// holds the button released is refused at the recorded press, naming the input it refuses and
+/// the plant line that forbids it.
+#[test]
+fn the_plant_line_that_forbids_a_recorded_step_is_named_also_under_couple() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = Dir::new();
+    let plant = format!("{DIR}/released_renamed_plant.smv");
+    let o = TestCommand::new()
+        .nusmv(&n.path)
+        .args(["-q", "--ltl", &format!("{DIR}/lamp_renamed.ltl")])
+        .args(["--plant", &plant])
+        .args(["--traces", &format!("{DIR}/lamp.traces")])
+        .args([
+            "--couple",
+            "plant.light=lamp",
+            "--couple",
+            "plant.pushed=button",
+        ])
+        .args(["--out", out.path().to_str().unwrap()])
+        .output();
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(4), "{err}");
+    assert!(
+        err.contains(&format!(
+            "{DIR}/lamp.traces:2 step 2: the plant {plant} cannot produce this recorded step"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "no reachable state shows button = TRUE under these outputs; the plant lines that decide it: pushed ({plant}:17: `INVAR !pushed`)"
+        )),
+        "{err}"
+    );
+    assert!(!text(&o.stdout).contains("verified"));
+}
+
 /// Recordings that violate `G !lamp` leave no controller that reproduces them only where the
 /// plant produces them as recorded: with a button that alternates at every step (it shows
 /// each recorded value, but not two releases in a row), the refusal says so and names the
