@@ -4,6 +4,7 @@
 //! monitor), when to stop. Out: the file(s) written and what the commands print.
 
 use super::refuse_overwrite;
+use crate::ecc::bits_to_string;
 use crate::files::output_rule::Claim;
 use crate::files::ResultSet;
 use crate::live::client::{node_ids, Sampler};
@@ -12,7 +13,6 @@ use crate::live::record::{self, Ended};
 use crate::live::{Connection, Counters, Mapping, Until};
 use crate::pipeline::recordings::read_ecc;
 use crate::pipeline::Error;
-use crate::ecc::bits_to_string;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -38,7 +38,11 @@ impl fmt::Display for Recorded {
             plural(c.gaps),
             c.scenarios,
             plural(c.scenarios),
-            if self.stopped { ", stopped by a signal" } else { "" },
+            if self.stopped {
+                ", stopped by a signal"
+            } else {
+                ""
+            },
             crate::quote::path(&self.file)
         )
     }

@@ -149,10 +149,12 @@ impl Sampler {
             })
             .map_err(|_| connect_err("no answer to GetEndpoints".into()))?
             .map_err(|e| connect_err(e.to_string()))?;
-        let (policy, mode) = choose_endpoint(&endpoints, conn.security, secure_wanted)
-            .map_err(|message| LiveError::Endpoint {
-                url: url.clone(),
-                message,
+        let (policy, mode) =
+            choose_endpoint(&endpoints, conn.security, secure_wanted).map_err(|message| {
+                LiveError::Endpoint {
+                    url: url.clone(),
+                    message,
+                }
             })?;
         if policy != SecurityPolicy::None && conn.certs.is_none() {
             return Err(LiveError::Endpoint {
@@ -311,9 +313,7 @@ fn bit(value: &DataValue) -> Result<bool, String> {
         Some(Variant::UInt32(v)) => integer(*v as i128),
         Some(Variant::Int64(v)) => integer(*v as i128),
         Some(Variant::UInt64(v)) => integer(*v as i128),
-        Some(other) => Err(format!(
-            "value {other:?} is not a bit (Boolean, or 0 or 1)"
-        )),
+        Some(other) => Err(format!("value {other:?} is not a bit (Boolean, or 0 or 1)")),
         None => Err("no value".into()),
     }
 }
@@ -334,7 +334,10 @@ fn choose_endpoint(
         return Ok((SecurityPolicy::None, MessageSecurityMode::None));
     }
     if security != Security::None {
-        for mode in [MessageSecurityMode::SignAndEncrypt, MessageSecurityMode::Sign] {
+        for mode in [
+            MessageSecurityMode::SignAndEncrypt,
+            MessageSecurityMode::Sign,
+        ] {
             if offers(SecurityPolicy::Basic256Sha256, mode) {
                 return Ok((SecurityPolicy::Basic256Sha256, mode));
             }
@@ -365,7 +368,9 @@ mod tests {
         assert_eq!(bit(&dv(Variant::Boolean(true))), Ok(true));
         assert_eq!(bit(&dv(Variant::Byte(0))), Ok(false));
         assert_eq!(bit(&dv(Variant::Int32(1))), Ok(true));
-        assert!(bit(&dv(Variant::Int32(2))).unwrap_err().contains("not a bit"));
+        assert!(bit(&dv(Variant::Int32(2)))
+            .unwrap_err()
+            .contains("not a bit"));
         assert!(bit(&dv(Variant::Double(1.0))).is_err());
     }
 
@@ -374,7 +379,10 @@ mod tests {
         let path = Path::new("plc.map");
         let m = Mapping::parse(path, "ns=2;s=start in start\n\nbogus out motor\n").unwrap();
         let e = node_ids(&m, path).unwrap_err().to_string();
-        assert!(e.starts_with("plc.map:3: \"bogus\" is not an OPC UA node id"), "{e}");
+        assert!(
+            e.starts_with("plc.map:3: \"bogus\" is not an OPC UA node id"),
+            "{e}"
+        );
         let m = Mapping::parse(path, "ns=2;s=start in start\nns=3;i=1001 out motor\n").unwrap();
         assert_eq!(node_ids(&m, path).unwrap().len(), 2);
     }

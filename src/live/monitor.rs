@@ -62,10 +62,12 @@ impl Interface {
             let mut same = names.len() == mapped.len();
             let positions: Vec<usize> = names
                 .iter()
-                .map(|n| mapped.iter().position(|m| m == n).unwrap_or_else(|| {
-                    same = false;
-                    0
-                }))
+                .map(|n| {
+                    mapped.iter().position(|m| m == n).unwrap_or_else(|| {
+                        same = false;
+                        0
+                    })
+                })
                 .collect();
             match same {
                 true => Ok(positions),
@@ -182,8 +184,7 @@ pub(crate) fn monitor(
                 return Err(LiveError::Lost {
                     url: sampler.url().to_string(),
                     steps: watch.steps(),
-                }
-                )
+                })
             }
         }
     };
@@ -233,7 +234,7 @@ mod tests {
         assert_eq!(
             found,
             [Divergence {
-                step: 4,
+                step: 3,
                 time: 0.4,
                 inputs: vec![false],
                 plc: Some(vec![false]),

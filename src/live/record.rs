@@ -43,7 +43,12 @@ impl<W: Write> LogWriter<W> {
             self.scenario += 1;
         }
         let bit = |b: &bool| if *b { ",1" } else { ",0" };
-        let cells: String = sample.inputs.iter().chain(&sample.outputs).map(bit).collect();
+        let cells: String = sample
+            .inputs
+            .iter()
+            .chain(&sample.outputs)
+            .map(bit)
+            .collect();
         writeln!(self.out, "{time:.3},{}{cells}", self.scenario)?;
         self.counters.rows += 1;
         self.counters.scenarios = self.scenario;
@@ -126,7 +131,8 @@ mod tests {
 
     #[test]
     fn rows_after_a_gap_start_a_new_scenario_and_read_back() {
-        let mapping = Mapping::parse(Path::new("m.map"), "ns=2;s=a in a\nns=2;s=z out z\n").unwrap();
+        let mapping =
+            Mapping::parse(Path::new("m.map"), "ns=2;s=a in a\nns=2;s=z out z\n").unwrap();
         let mut log = LogWriter::new(Vec::new(), &mapping).unwrap();
         let s = |a: bool, z: bool| Sample {
             inputs: vec![a],

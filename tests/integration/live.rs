@@ -65,7 +65,14 @@ fn start_plc_with<'a>(
         .port();
     let mut cmd = Command::new(python);
     cmd.arg(root().join("tests/opcua/plc_server.py"))
-        .args(["--port", &port.to_string(), "--scan", SCAN, "--lifetime", "40"])
+        .args([
+            "--port",
+            &port.to_string(),
+            "--scan",
+            SCAN,
+            "--lifetime",
+            "40",
+        ])
         .arg("--replay")
         .arg(replay)
         .stdin(Stdio::null())
@@ -141,7 +148,15 @@ fn record_infer_and_monitor_a_live_plc() {
     let o = TestCommand::new()
         .umask(0o022)
         .args([
-            "record", "--opcua", &plc.url, "--map", s(&map), "--out", s(&log), "--duration", "10",
+            "record",
+            "--opcua",
+            &plc.url,
+            "--map",
+            s(&map),
+            "--out",
+            s(&log),
+            "--duration",
+            "10",
         ])
         .output();
     drop(plc);
@@ -153,36 +168,85 @@ fn record_infer_and_monitor_a_live_plc() {
     assert!(header.starts_with("time,scenario,in:"), "{header}");
     let rows: Vec<&str> = lines.collect();
     assert!(rows.len() >= 50, "{} rows", rows.len());
-    assert!(rows.iter().all(|r| r.split(',').nth(1) == Some("1")), "a gap in\n{csv}");
+    assert!(
+        rows.iter().all(|r| r.split(',').nth(1) == Some("1")),
+        "a gap in\n{csv}"
+    );
     use std::os::unix::fs::PermissionsExt;
     let mode = std::fs::metadata(&log).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o644);
 
     let m = dir.path().join("m");
-    let o = run(&["infer", "-q", "--traces", s(&log), "--no-ambiguity", "--out", s(&m)]);
+    let o = run(&[
+        "infer",
+        "-q",
+        "--traces",
+        s(&log),
+        "--no-ambiguity",
+        "--out",
+        s(&m),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let ecc = m.join("SynthesizedFB.json");
 
     let plc = start_plc(&python, &replay, None);
     let calm = dir.path().join("calm");
     let o = run(&[
-        "monitor", "--opcua", &plc.url, "--map", s(&map), "--ecc", s(&ecc), "--duration", "8",
-        "--out", s(&calm),
+        "monitor",
+        "--opcua",
+        &plc.url,
+        "--map",
+        s(&map),
+        "--ecc",
+        s(&ecc),
+        "--duration",
+        "8",
+        "--out",
+        s(&calm),
     ]);
     drop(plc);
-    assert_eq!(o.status.code(), Some(0), "{}{}", text(&o.stdout), stderr(&o));
-    assert!(text(&o.stdout).contains("no divergence"), "{}", text(&o.stdout));
-    assert!(stderr(&o).contains("monitoring: "), "no live counter: {}", stderr(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        stderr(&o)
+    );
+    assert!(
+        text(&o.stdout).contains("no divergence"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(
+        stderr(&o).contains("monitoring: "),
+        "no live counter: {}",
+        stderr(&o)
+    );
     assert!(!calm.join("divergences.csv").exists());
 
     let plc = start_plc(&python, &replay, Some("3"));
     let broken = dir.path().join("broken");
     let o = run(&[
-        "monitor", "--opcua", &plc.url, "--map", s(&map), "--ecc", s(&ecc), "--duration", "8",
-        "--out", s(&broken),
+        "monitor",
+        "--opcua",
+        &plc.url,
+        "--map",
+        s(&map),
+        "--ecc",
+        s(&ecc),
+        "--duration",
+        "8",
+        "--out",
+        s(&broken),
     ]);
     drop(plc);
-    assert_eq!(o.status.code(), Some(1), "{}{}", text(&o.stdout), stderr(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}{}",
+        text(&o.stdout),
+        stderr(&o)
+    );
     let out = text(&o.stdout);
     let step: u64 = out
         .split("DIVERGENCE at step ")
@@ -191,10 +255,19 @@ fn record_infer_and_monitor_a_live_plc() {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no step in:\n{out}"));
     assert!(step > 1, "{out}");
-    assert!(out.contains("PLC outputs") && out.contains("machine outputs"), "{out}");
+    assert!(
+        out.contains("PLC outputs") && out.contains("machine outputs"),
+        "{out}"
+    );
     let stretch = broken.join("divergences.csv");
     let o = run(&["conform", "--ecc", s(&ecc), "--traces", s(&stretch)]);
-    assert_eq!(o.status.code(), Some(1), "{}{}", text(&o.stdout), stderr(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}{}",
+        text(&o.stdout),
+        stderr(&o)
+    );
     assert!(
         text(&o.stdout).contains(&format!("DIVERGES: step {step}:")),
         "conform and monitor disagree on the step ({step}):\n{}",
@@ -246,7 +319,15 @@ fn a_secure_server_is_recorded_once_its_certificate_is_trusted() {
 
     let open_ended = dir.path().join("until-sigint.csv");
     let mut child = TestCommand::new()
-        .args(["record", "--opcua", &plc.url, "--map", s(&map), "--certs", s(&certs)])
+        .args([
+            "record",
+            "--opcua",
+            &plc.url,
+            "--map",
+            s(&map),
+            "--certs",
+            s(&certs),
+        ])
         .args(["--out", s(&open_ended)])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
