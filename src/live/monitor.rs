@@ -175,10 +175,10 @@ pub(crate) fn monitor(
             Reading::Sample { time, sample } => {
                 log.row(time, &sample).map_err(write_error)?;
                 let found = watch.push(time, interface.reorder(&sample));
-                progress(&counters(&log, &watch));
                 if found.is_some() {
                     break (found, Ended::Done);
                 }
+                progress(&counters(&log, &watch));
             }
             Reading::Gap => {
                 return Err(LiveError::Lost {
