@@ -63,6 +63,16 @@ fn start_plc_with<'a>(
         .local_addr()
         .unwrap()
         .port();
+    start_plc_on(python, replay, port, more)
+}
+
+/// [`start_plc_with`] on a given loopback port.
+fn start_plc_on<'a>(
+    python: &Path,
+    replay: &Path,
+    port: u16,
+    more: impl IntoIterator<Item = [&'a str; 2]>,
+) -> Plc {
     let mut cmd = Command::new(python);
     cmd.arg(root().join("tests/opcua/plc_server.py"))
         .args([
@@ -347,4 +357,88 @@ fn a_secure_server_is_recorded_once_its_certificate_is_trusted() {
     let cells = csv.lines().next().unwrap().split(',').count();
     assert!(csv.lines().all(|l| l.split(',').count() == cells), "{csv}");
     drop(plc);
+}
+
+/// A PLC that goes away and comes back on the same port: the recording goes on, and the rows
+/// after the gap form a second scenario; none is written for the time it was away.
+#[test]
+fn a_reconnect_starts_a_new_scenario() {
+    let Some(python) = asyncua_or_skip() else {
+        return;
+    };
+    let dir = Dir::new();
+    let replay = write_replay(dir.path());
+    let map = write_map(dir.path());
+    let log = dir.path().join("gap.csv");
+    let plc = start_plc_with(&python, &replay, []);
+    let port: u16 = plc
+        .url
+        .rsplit(':')
+        .next()
+        .unwrap()
+        .trim_end_matches("/plc")
+        .parse()
+        .unwrap();
+    let url = plc.url.clone();
+    let mut child = TestCommand::new()
+        .args([
+            "record",
+            "--opcua",
+            &url,
+            "--map",
+            s(&map),
+            "--out",
+            s(&log),
+        ])
+        .args(["--duration", "20"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn();
+    let mut progress = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    progress.read_line(&mut line).unwrap();
+    assert!(line.starts_with("recording: "), "{line}");
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    drop(plc);
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    let plc = start_plc_on(&python, &replay, port, []);
+    let mut rest = String::new();
+    progress.read_to_string(&mut rest).unwrap();
+    let status = child.wait().unwrap();
+    drop(plc);
+    let mut out = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    assert!(status.success(), "{rest}");
+    assert!(out.contains("1 gap (2 scenarios)"), "{out}");
+    let csv = std::fs::read_to_string(&log).unwrap();
+    let scenarios: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    let first_2 = scenarios
+        .iter()
+        .position(|c| *c == "2")
+        .expect("no second scenario");
+    assert!(
+        first_2 > 0 && scenarios[first_2..].iter().all(|c| *c == "2"),
+        "{csv}"
+    );
+    // No row stands for the time the PLC was away: the times jump over it.
+    let time = |k: usize| -> f64 {
+        csv.lines()
+            .nth(k + 1)
+            .unwrap()
+            .split(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(time(first_2) - time(first_2 - 1) > 0.5, "{csv}");
 }
