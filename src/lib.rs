@@ -46,6 +46,7 @@ pub mod export;
 pub mod files;
 pub(crate) mod game;
 pub mod ingest;
+pub mod live;
 pub mod ltl;
 pub mod nusmv;
 pub mod pipeline;

@@ -6,6 +6,9 @@
 //! Registrations are plain functions, so that this module depends on nothing and every other
 //! module may use it.
 //!
+//! While a live run records ([`stop_first`]) the first signal only asks it to stop: it
+//! finishes its file and ends with 130 itself ([`end_stopped`]); a second signal ends it at once.
+//!
 //! While a result is being published ([`hold`]) a signal waits: the moves finish, so the
 //! folder holds one whole result. Once it is published the signal is dropped and the run ends
 //! with its own outcome; a publish that fails honours it.
@@ -19,6 +22,10 @@ static INSTALL: Once = Once::new();
 /// Set once the clean-up began: what registers a clean-up later (another thread still at
 /// work) does it at once ([`terminating`]).
 static TERMINATING: AtomicBool = AtomicBool::new(false);
+
+/// Whether the first signal only asks the run to stop ([`stop_first`]), and whether it came.
+static STOP_FIRST: AtomicBool = AtomicBool::new(false);
+static STOP_ASKED: AtomicBool = AtomicBool::new(false);
 
 /// Whether a publish holds signals, and whether one came meanwhile. The handler keeps the lock
 /// from its check to the exit, so a publish never starts once the clean-up began.
@@ -55,10 +62,32 @@ pub(crate) fn install() {
                 state.pending = true;
                 return;
             }
+            if STOP_FIRST.load(Ordering::SeqCst) && !STOP_ASKED.swap(true, Ordering::SeqCst) {
+                return;
+            }
             run_hooks();
             std::process::exit(130);
         });
     });
+}
+
+/// From now on the first termination signal only sets [`stop_asked`]: a live run polls it,
+/// finishes its file and calls [`end_stopped`]. A second signal ends the program as usual.
+pub(crate) fn stop_first() {
+    STOP_FIRST.store(true, Ordering::SeqCst);
+    install();
+}
+
+/// Whether a signal asked the run to stop ([`stop_first`]).
+pub(crate) fn stop_asked() -> bool {
+    STOP_ASKED.load(Ordering::SeqCst)
+}
+
+/// Ends a run that a signal stopped, once its file is written: the clean-ups run and the
+/// program exits with 130, as for any signal.
+pub(crate) fn end_stopped() -> ! {
+    run_hooks();
+    std::process::exit(130);
 }
 
 /// Whether the clean-up of a termination signal began.

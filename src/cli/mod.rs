@@ -189,6 +189,7 @@ mod export;
 mod infer;
 mod ingest;
 mod learn;
+mod live;
 mod main_job;
 pub mod progress;
 pub mod show;
@@ -307,6 +308,11 @@ pub(crate) enum Command {
     /// Turn a raw PLC I/O data-flow log (long or wide CSV, plain or gzip) and an address
     /// mapping into one fbSAT scenario, streaming.
     Ingest(ingest::IngestArgs),
+    /// Record a running PLC's inputs and outputs over OPC UA as a CSV log (for infer).
+    Record(live::RecordArgs),
+    /// Run a machine beside a running PLC over OPC UA, scan by scan: the first divergence
+    /// (exit 1) and the stretch up to it as a recording (for conform --refine).
+    Monitor(live::MonitorArgs),
     /// One reconstruction per PLC over a folder of logs (CSV, Parquet, or raw logs with
     /// --map), on all cores; each machine in its folder, and a summary table (CSV, JSON).
     Batch(batch::BatchArgs),
@@ -407,6 +413,8 @@ pub fn run() -> i32 {
         Some(Command::Conform(a)) => conform::conform(&a),
         Some(Command::Ingest(a)) => ingest::ingest(&a),
         Some(Command::Batch(a)) => batch::batch(&a),
+        Some(Command::Record(a)) => live::record_cmd(&a),
+        Some(Command::Monitor(a)) => live::monitor_cmd(&a),
         Some(Command::Events(a)) => events::events(&a),
         Some(Command::Verify(a)) => verify::verify(&a),
         None => main_job::main_job(&cli.main),

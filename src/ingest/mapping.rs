@@ -25,6 +25,8 @@ pub struct Mapping {
     inputs: Vec<String>,
     outputs: Vec<String>,
     addresses: Vec<(String, Slot)>,
+    /// The mapping file's line of each address, in the order of `addresses`.
+    lines: Vec<usize>,
     /// Addresses and names, both resolving to their slot.
     lookup: HashMap<Box<[u8]>, Slot>,
 }
@@ -86,6 +88,7 @@ impl Mapping {
             inputs: Vec::new(),
             outputs: Vec::new(),
             addresses: Vec::new(),
+            lines: Vec::new(),
             lookup: HashMap::new(),
         };
         // Line of first use, for duplicate messages.
@@ -138,9 +141,11 @@ impl Mapping {
             ));
         }
         for (address, name) in ins {
+            m.lines.push(seen_addr[&address]);
             m.add(address, name, Slot::Input(InputId(m.inputs.len())));
         }
         for (address, name) in outs {
+            m.lines.push(seen_addr[&address]);
             m.add(address, name, Slot::Output(OutputId(m.outputs.len())));
         }
         // A name may not double as another signal's address: a column would be ambiguous.
@@ -181,6 +186,11 @@ impl Mapping {
     /// `(address, slot)` of every signal, inputs first, each side in file order.
     pub(crate) fn addresses(&self) -> &[(String, Slot)] {
         &self.addresses
+    }
+
+    /// The mapping file's line of the `k`-th address of [`Mapping::addresses`].
+    pub(crate) fn line(&self, k: usize) -> usize {
+        self.lines[k]
     }
 
     /// The slot of an address or a name.

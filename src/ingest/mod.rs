@@ -12,7 +12,9 @@
 //! %IX0.2     in    stop
 //! %QX0.0     out   motor
 //! ```
-//! One signal per line: `ADDRESS in|out NAME`, separated by whitespace. `#` starts a comment;
+//! One signal per line: `ADDRESS in|out NAME`, separated by whitespace. An address is any
+//! text without whitespace or `,`: a PLC address (`%IX0.1`) or an OPC UA node id
+//! (`ns=2;s=start`, `ns=3;i=1001`), which [`crate::live`] reads from a running PLC. `#` starts a comment;
 //! blank lines are ignored. Names follow [`is_identifier`](crate::ecc::ident::is_identifier).
 //! An address or a name used twice is an error naming both lines. The interface order is the
 //! file order of the `in` lines, then of the `out` lines.

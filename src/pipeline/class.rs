@@ -72,6 +72,7 @@ impl Error {
             | Error::Smv(_)
             | Error::Io(_)
             | Error::Write(_)
+            | Error::Live(_)
             | Error::Input(_) => Class::Input,
             Error::Pin(_) | Error::Usage(_) => Class::Usage,
             Error::NoMachine(_) | Error::TimeLimit { .. } | Error::Interrupted { .. } => {

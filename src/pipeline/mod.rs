@@ -194,6 +194,9 @@ pub enum Error {
     /// A raw PLC log or its address mapping could not be read.
     #[error(transparent)]
     Ingest(#[from] crate::ingest::IngestError),
+    /// A live run over OPC UA failed (connection, node, interface).
+    #[error(transparent)]
+    Live(#[from] crate::live::LiveError),
     /// An event log could not be made from a raw log.
     #[error(transparent)]
     Events(#[from] crate::events::EventsError),

@@ -17,7 +17,8 @@
 //!   listed name must have a column.
 //! - Optional columns: `time` or `timestamp` (kept for the user, ignored here), and `scenario`
 //!   (rows with the same value in a contiguous block form one scenario; without it the whole
-//!   file is one scenario).
+//!   file is one scenario). `synth record` counts it up after a lost connection, so a gap in
+//!   a live recording is a scenario break, never a step.
 //!
 //! # Conversion (the SAT reconstruction paper, implemented in [`super::steps`])
 //! 1. Consecutive identical rows collapse into one element.

@@ -12,6 +12,7 @@ mod events;
 mod iec;
 mod layering;
 mod limits;
+mod live;
 mod logs;
 mod modes;
 mod modular;
