@@ -3,7 +3,8 @@
 //! Two steps. Here, `grammar/smv.pest` parses the file and its tree becomes a private syntax
 //! tree whose nodes keep their byte offsets; pest types never leave this file. A parse failure
 //! is explained in words, and a NuSMV construct outside the subset (FROZENVAR, arrays, words,
-//! other modules, function calls, ...) is named where the parse stopped. Then `resolve`
+//! processes, function calls, ...) is named where the parse stopped. Then `flatten` makes one
+//! flat `MODULE plant` of the modules (NuSMV's `flatten_hierarchy`), and `resolve`
 //! turns the syntax tree into a [`Model`]: names become indices, types are checked, defines are
 //! ordered, and the rules of the subset that a grammar cannot express are enforced.
 //!

@@ -222,6 +222,11 @@ fn rename(node: &Node, local: &HashSet<&str>, scope: &Scope) -> Node {
                 .map_or((name.as_str(), None), |(h, t)| (h, Some(t)));
             if let Some(arg) = scope.args.get(head) {
                 return match (tail, &arg.kind) {
+                    // A name or constant stands where the parameter is written, so that a
+                    // message about it names the submodule's line.
+                    (None, NodeKind::Name(_) | NodeKind::Bool(_) | NodeKind::Int(_)) => {
+                        Node::leaf(node.pos, node.end, arg.kind.clone())
+                    }
                     (None, _) => arg.clone(),
                     // A parameter bound to an instance: a part of that instance.
                     (Some(tail), NodeKind::Name(bound)) => Node::leaf(
