@@ -5,10 +5,10 @@
 //! the loop grow with the number of free inputs, the size real plants have (every sensor the
 //! controller reads).
 //!
-//! In: the number of inputs (at least [`MIN_INPUTS`]) and a folder. Out: `plant.smv`, `free.ltl`,
-//! `free.traces`, `free.inputs`, `free.outputs` in the folder, read by
-//! `synth --plant plant.smv --ltl free.ltl --traces free.traces --inputs free.inputs --outputs
-//! free.outputs`.
+//! In: the number of inputs (at least [`MIN_INPUTS`]) and a folder. Out: `plant.smv`,
+//! `free.ltl`, `free.traces`, `free.inputs`, `free.outputs` in the folder, read by
+//! `synth --plant plant.smv --ltl free.ltl` (the recordings and names found beside the LTL
+//! file).
 
 use crate::files::{write_atomic, WriteError};
 use std::path::{Path, PathBuf};
@@ -68,7 +68,11 @@ pub fn traces(n: usize) -> String {
             .wrapping_add(1_442_695_040_888_963_407);
         seed >> 33 & 1 == 1
     };
-    let bits = |v: &[bool]| v.iter().map(|&b| if b { '1' } else { '0' }).collect::<String>();
+    let bits = |v: &[bool]| {
+        v.iter()
+            .map(|&b| if b { '1' } else { '0' })
+            .collect::<String>()
+    };
     let scenarios = STEPS.div_ceil(SCENARIO_STEPS);
     let mut text = format!("{scenarios}\n");
     for k in 0..scenarios {
@@ -93,12 +97,14 @@ pub fn traces(n: usize) -> String {
 /// The fewest free inputs: the reference controller reads 4.
 pub const MIN_INPUTS: usize = 4;
 
-/// Writes the case's files for `n` free inputs into `dir` (an existing folder); fewer than
+/// Writes the case's files for `n` free inputs into `dir` (created if missing); fewer than
 /// [`MIN_INPUTS`] are taken as [`MIN_INPUTS`].
 pub fn write_files(dir: &Path, n: usize) -> Result<Vec<PathBuf>, WriteError> {
     let n = n.max(MIN_INPUTS);
     let names = |prefix: char, count: usize| {
-        (1..=count).map(|i| format!("{prefix}{i}\n")).collect::<String>()
+        (1..=count)
+            .map(|i| format!("{prefix}{i}\n"))
+            .collect::<String>()
     };
     let files = [
         ("plant.smv", plant(n)),

@@ -238,3 +238,39 @@ fn couple_maps_plant_names_to_controller_names() {
         text(&v.stderr)
     );
 }
+
+/// A plant of 12 free sensors without dynamics, 7 outputs, 67 recorded steps: the in-process
+/// checker predicts its size before exploring and hands over to NuSMV, which verifies the
+/// machine; the property over the sensors alone is named.
+#[test]
+fn a_plant_of_twelve_free_inputs_gets_a_verified_answer() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    fbsynth::cases::free_inputs::write_files(dir.path(), 12).unwrap();
+    let file = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let out = file("out");
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "--ltl",
+            &file("free.ltl"),
+            "--plant",
+            &file("plant.smv"),
+            "--out",
+            &out,
+        ],
+    );
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        text(&o.stdout).contains("verified: all 2 properties hold (NuSMV), 3 scenarios reproduced"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(
+        err.contains("no controller can affect property tautology")
+            && err.contains("at least 4096 × 4096: the plant's free inputs take 4096 combinations")
+            && err.contains("NuSMV alone judges the candidates from here"),
+        "{err}"
+    );
+}

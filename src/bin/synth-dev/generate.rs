@@ -32,8 +32,7 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Error> {
             files
         }
         "free-inputs" => {
-            let files =
-                free_inputs::write_files(&args.out, args.inputs).map_err(Error::from)?;
+            let files = free_inputs::write_files(&args.out, args.inputs).map_err(Error::from)?;
             out!(
                 "wrote a plant of {} free inputs, {} outputs and {} recorded steps:",
                 args.inputs,

@@ -1298,7 +1298,11 @@ fn campaign(t: &mut Tally, nusmv: &Path, dir: &Path, seeds: std::ops::Range<u64>
 /// variable and define of `P` by a define (the controller reads them there); or `None` when the plant has input variables (a define over
 /// an input variable is not what the flat plant means in a property).
 fn nested(model: &Model) -> Option<String> {
-    if model.vars.iter().any(|v| v.kind == crate::plant::VarKind::Input) {
+    if model
+        .vars
+        .iter()
+        .any(|v| v.kind == crate::plant::VarKind::Input)
+    {
         return None;
     }
     let flat = crate::plant::print::to_smv(model);
@@ -1407,7 +1411,11 @@ fn verdicts_on_nested_plants_agree_with_nusmv() {
     nested_campaign(&mut tally, &nusmv.path, &dir, 0..NESTED_CASES);
     eprintln!("{}", tally.report(0.0));
     assert_no_disagreement(&tally);
-    assert!(tally.triples >= 200, "only {} triples compared", tally.triples);
+    assert!(
+        tally.triples >= 200,
+        "only {} triples compared",
+        tally.triples
+    );
 }
 
 /// Random cases tried one module down (those with input variables are left out).
