@@ -274,3 +274,64 @@ fn a_plant_of_twelve_free_inputs_gets_a_verified_answer() {
         "{err}"
     );
 }
+
+/// `--couple-file`: the pairs of `--couple` in a file, one per line with `--` comments; a bad
+/// line is named with the file and line.
+#[test]
+fn a_coupling_file_maps_plant_names_to_controller_names() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    let pairs = dir.path().join("lamp.couple");
+    std::fs::write(
+        &pairs,
+        "-- the renamed lamp\nplant.light=lamp   -- the output\n\nplant.pushed=button\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let plant = "tests/data/closed_loop/lamp_renamed_plant.smv";
+    let ltl = "tests/data/closed_loop/lamp_renamed.ltl";
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "-q",
+            "--ltl",
+            ltl,
+            "--plant",
+            plant,
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--couple-file",
+            pairs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
+    let json = out.join("SynthesizedFB.json");
+    let (json, pairs_arg) = (json.to_str().unwrap(), pairs.to_str().unwrap());
+    let verify = [
+        "verify",
+        "--ecc",
+        json,
+        "--ltl",
+        ltl,
+        "--plant",
+        plant,
+        "--couple-file",
+        pairs_arg,
+    ];
+    let v = with_nusmv(&n.path, &verify);
+    assert!(v.status.success(), "{}", text(&v.stderr));
+    assert!(text(&v.stdout).contains("verified: all 2 properties hold"));
+    std::fs::write(&pairs, "plant.light=lamp\nlight=lamp\n").unwrap();
+    let v = with_nusmv(&n.path, &verify);
+    assert!(!v.status.success());
+    assert!(
+        text(&v.stderr).contains(&format!(
+            "{pairs_arg}:2: 'light=lamp': the left side names a plant signal, plant.SIGNAL"
+        )),
+        "{}",
+        text(&v.stderr)
+    );
+}
