@@ -791,3 +791,43 @@ fn names_no_parameter_influences_are_found() {
     let m = parse_str(&fair, Path::new("p.smv")).unwrap();
     assert!(m.uncontrolled().is_empty());
 }
+
+/// Module instances are flattened as NuSMV flattens them: names `inst.x` at any depth, a
+/// parameter bound to an instance reads that instance's names, and an assignment to a
+/// parameter bound to a variable assigns the variable.
+#[test]
+fn module_instances_are_flattened_with_dotted_names() {
+    let m = model(
+        "MODULE cyl(cmd)\nVAR pos : 0..2;\nASSIGN init(pos) := 0; next(pos) := cmd ? 2 : 0;\n\
+         MODULE sensor(c)\nDEFINE home := c.pos = 0;\n\
+         MODULE setter(v)\nASSIGN next(v) := TRUE;\n\
+         MODULE plant(go)\nVAR c : cyl(go); s : sensor(c); x : boolean; t : setter(x);\n\
+         DEFINE home := s.home;",
+    );
+    let vars: Vec<&str> = m.vars.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(vars, ["x", "c.pos"]);
+    // `cmd` is the plant's parameter `go`; `c.pos` of the sensor is the cylinder's position.
+    assert_eq!(
+        m.vars[1].next,
+        Some(Expr::Case(vec![
+            (Expr::Param(ParamId(0)), Expr::Const(Value::Int(2))),
+            (Expr::Const(Value::Bool(true)), Expr::Const(Value::Int(0))),
+        ]))
+    );
+    let Some(Name::Define(d)) = m.lookup("s.home") else {
+        panic!("{:?}", m.defines)
+    };
+    assert_eq!(
+        m.defines[d.0].expr,
+        Expr::Bin(
+            BinOp::Eq,
+            Box::new(Expr::Var(VarId(1))),
+            Box::new(Expr::Const(Value::Int(0)))
+        )
+    );
+    assert!(matches!(m.lookup("home"), Some(Name::Define(_))));
+    // The setter assigns the plant's `x` through its parameter, on the setter's line.
+    assert_eq!(m.vars[0].next, Some(Expr::Const(Value::Bool(true))));
+    // Every declaration keeps the line of the module that writes it.
+    assert_eq!((m.vars[0].line, m.vars[1].line), (9, 2));
+}
