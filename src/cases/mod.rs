@@ -16,6 +16,8 @@ pub mod reference;
 #[cfg(feature = "cases")]
 pub mod distribution;
 #[cfg(feature = "cases")]
+pub mod free_inputs;
+#[cfg(feature = "cases")]
 pub mod pnp;
 #[cfg(feature = "cases")]
 mod simulate;

@@ -733,6 +733,11 @@ impl<'a> ExplicitLoop<'a> {
             c.keys.push(key);
             Ok(i)
         };
+        // Without INIT constraints an initial state exists (or evaluating one fails): the
+        // prediction holds before the free inputs' combinations are enumerated at all.
+        if model.init.is_empty() {
+            c.predict(limits, true)?;
+        }
         for s in c.sem.initial_states(&coupling.params(o0))? {
             let key = Key {
                 plant: memo.intern(&s),
@@ -742,7 +747,7 @@ impl<'a> ExplicitLoop<'a> {
             let i = intern(&mut c, key)?;
             c.initial.push(i);
         }
-        c.predict(limits)?;
+        c.predict(limits, !c.initial.is_empty())?;
         let mut next = 0;
         while next < c.keys.len() {
             let key = c.keys[next];
@@ -779,11 +784,11 @@ impl<'a> ExplicitLoop<'a> {
     /// Refuses, before exploring, a closed loop whose transitions can be told to exceed the
     /// limit: without `TRANS` and `INVAR` every successor of a state takes every combination
     /// of the plant's free inputs (`IVAR`s, `VAR`s without `init` and `next`), so from a
-    /// non-empty set of initial states at least that many states are reached, each with at
-    /// least that many successors.
-    fn predict(&self, limits: &Limits) -> Result<(), CheckError> {
+    /// non-empty set of initial states (`has_initial`) at least that many states are
+    /// reached, each with at least that many successors.
+    fn predict(&self, limits: &Limits, has_initial: bool) -> Result<(), CheckError> {
         let model = self.sem.model();
-        if self.initial.is_empty() || !model.trans.is_empty() || !model.invar.is_empty() {
+        if !has_initial || !model.trans.is_empty() || !model.invar.is_empty() {
             return Ok(());
         }
         let f = self.sem.free_combinations();

@@ -286,6 +286,28 @@ fn too_many_transitions_are_refused_before_exploring() {
     );
 }
 
+/// The prediction comes before a single state is enumerated: 24 free inputs take more
+/// combinations than one state's successors may enumerate, and the checker refuses them
+/// by the bound without trying.
+#[test]
+fn free_inputs_are_predicted_before_the_initial_states_are_enumerated() {
+    let mut b = Builder::new(&["on"]);
+    let inputs: Vec<Expr> = (0..24)
+        .map(|k| b.var(&format!("x{k}"), Type::Bool))
+        .collect();
+    b.define("button", inputs[0].clone());
+    let m = b.m;
+    let ecc = toggle();
+    let coupling = Wiring::of_model(&m, &ecc.inputs, &ecc.outputs).unwrap();
+    let e = check(&m, &coupling, &ecc, &[prop("G TRUE")], &Limits::default()).unwrap_err();
+    assert!(e.is_bound(), "{e}");
+    assert!(
+        e.to_string()
+            .contains("at least 16777216 × 16777216: the plant's free inputs"),
+        "{e}"
+    );
+}
+
 #[test]
 fn coupling_mistakes_are_reported() {
     let m = lamp();

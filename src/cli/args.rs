@@ -70,6 +70,20 @@ pub struct NusmvArgs {
     /// input). Repeatable.
     #[arg(long, value_name = "plant.SIGNAL=NAME")]
     pub couple: Vec<crate::smv::composition::Couple>,
+    /// A file of `--couple` pairs, one `plant.SIGNAL=NAME` per line (`--` comments); added to
+    /// those of `--couple`.
+    #[arg(long, value_name = "FILE", value_parser = couple_file)]
+    pub couple_file: Option<CoupleFile>,
+}
+
+/// The pairs read from a `--couple-file`.
+#[derive(Debug, Clone)]
+pub struct CoupleFile(pub Vec<crate::smv::composition::Couple>);
+
+/// Reads a `--couple-file` when the command line is parsed, so that a bad line is a usage
+/// error naming the file and line.
+fn couple_file(path: &str) -> Result<CoupleFile, String> {
+    crate::smv::composition::read_couples(std::path::Path::new(path)).map(CoupleFile)
 }
 
 impl NusmvArgs {
@@ -86,13 +100,19 @@ impl NusmvArgs {
         }
     }
 
+    /// The pairs of `--couple`, then those of `--couple-file`.
+    pub(crate) fn couples(&self) -> Vec<crate::smv::composition::Couple> {
+        let file = self.couple_file.iter().flat_map(|f| &f.0);
+        self.couple.iter().chain(file).cloned().collect()
+    }
+
     /// With both `--ltl` and `--plant`: the properties, the plant and this NuSMV.
     pub(crate) fn spec(&self, ltl: &Option<PathBuf>, plant: &Option<PathBuf>) -> Option<Spec> {
         Some(Spec {
             ltl: ltl.clone()?,
             plant: plant.clone()?,
             nusmv: self.tool(),
-            couple: self.couple.clone(),
+            couple: self.couples(),
         })
     }
 }

@@ -36,7 +36,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Error> {
         ltl: args.ltl.clone(),
         plant: args.plant.clone(),
         nusmv: args.nusmv.tool(),
-        couple: args.nusmv.couple.clone(),
+        couple: args.nusmv.couples(),
     };
     let checked = run(&args.ecc, &spec, args.out.as_deref())?;
     if super::json() {

@@ -2,7 +2,9 @@
 //! project's plants use, parsed with `grammar/smv.pest` ([`parse`]) and resolved into a
 //! [`Model`] whose every name is an index.
 //!
-//! In: the text of a plant file (`MODULE plant(params)` and nothing else). Out: a [`Model`],
+//! In: the text of a plant file (`MODULE plant(params)` and the modules it instantiates). Out:
+//! a [`Model`] of `MODULE plant` with its instances flattened as NuSMV flattens them (a name
+//! `x` of instance `inst` becomes `inst.x`, a module's parameters its arguments),
 //! or a [`ModelError`] naming the file, line and construct that is outside the subset.
 //! [`explicit`] runs a model (initial states, successors, evaluation errors with their line);
 //! [`print`](mod@print) writes it back as SMV text with the same meaning.
@@ -20,9 +22,10 @@
 //! - `INIT`, `INVAR`, `TRANS`, `FAIRNESS` / `JUSTICE` (the same thing for LTL);
 //! - NuSMV's static rules: strict types (Boolean and integer never mix), no `IVAR` in `INIT`,
 //!   `INVAR` or `init(v)`, no cycle between defines, between `init` or between `next`
-//!   assignments, no constant outside a variable's domain where an assignment can produce it.
+//!   assignments, no constant outside a variable's domain where an assignment can produce it;
+//! - module instances `inst : m(args);` under `VAR`, at any depth, and dotted names `inst.x`;
 //!
-//! Anything else (`FROZENVAR`, arrays, words, other modules, `COMPASSION`, CTL/LTL specs inside
+//! Anything else (`FROZENVAR`, arrays, words, processes, `COMPASSION`, CTL/LTL specs inside
 //! the plant, ...) is refused with its line.
 //!
 //! # Semantics (NuSMV's, for a module instantiated once by the closed loop)

@@ -3,13 +3,15 @@
 //! Two steps. Here, `grammar/smv.pest` parses the file and its tree becomes a private syntax
 //! tree whose nodes keep their byte offsets; pest types never leave this file. A parse failure
 //! is explained in words, and a NuSMV construct outside the subset (FROZENVAR, arrays, words,
-//! other modules, function calls, ...) is named where the parse stopped. Then `resolve`
+//! processes, function calls, ...) is named where the parse stopped. Then `flatten` makes one
+//! flat `MODULE plant` of the modules (NuSMV's `flatten_hierarchy`), and `resolve`
 //! turns the syntax tree into a [`Model`]: names become indices, types are checked, defines are
 //! ordered, and the rules of the subset that a grammar cannot express are enforced.
 //!
 //! Every error is a [`ModelError::At`] with the file, the 1-based line and the 1-based column
 //! (in characters) of the offending token.
 
+mod flatten;
 mod reach;
 mod resolve;
 mod syntax;
@@ -30,8 +32,8 @@ mod parser {
 }
 use parser::{Rule, SmvParser};
 use syntax::{
-    Assign, ConstraintDecl, DefineDecl, EnumItem, EnumLit, Ident, Node, NodeKind, Plant, Section,
-    Source, Target, TypeDecl, VarDecl,
+    Assign, ConstraintDecl, DefineDecl, EnumItem, EnumLit, Ident, Instance, Module, Node, NodeKind,
+    Plant, Section, Source, Target, TypeDecl, VarDecl,
 };
 
 /// Reads and parses a plant file.
@@ -50,7 +52,8 @@ pub fn parse_file(path: &Path) -> Result<Model, ModelError> {
 /// Parses the text of a plant file; `file` names it in the model and in error messages.
 pub(crate) fn parse_str(text: &str, file: &Path) -> Result<Model, ModelError> {
     let src = Source::new(text, file);
-    let plant = syntax(&src)?;
+    let modules = syntax(&src)?;
+    let plant = flatten::flatten(&src, modules)?;
     resolve::resolve(&src, plant)
 }
 
@@ -62,36 +65,54 @@ const MAX_NESTING: usize = 100;
 // ---------------------------------------------------------------------------------------------
 // From pest's tree to the syntax tree.
 
-fn syntax(src: &Source) -> Result<Plant, ModelError> {
+fn syntax(src: &Source) -> Result<Vec<Module>, ModelError> {
     let mut pairs = SmvParser::parse(Rule::file, src.text).map_err(|e| explain(src, &e))?;
     let file = pairs.next().expect("the file rule always yields one pair");
-    let mut plant = Plant {
-        params: Vec::new(),
-        vars: Vec::new(),
-        defines: Vec::new(),
-        assigns: Vec::new(),
-        constraints: Vec::new(),
-    };
+    let mut modules = Vec::new();
     for pair in file.into_inner() {
         match pair.as_rule() {
-            Rule::header => {
-                let params = pair.into_inner().find(|p| p.as_rule() == Rule::params);
-                plant.params = params
-                    .into_iter()
-                    .flat_map(Pair::into_inner)
-                    .filter(|p| p.as_rule() == Rule::name)
-                    .map(ident)
-                    .collect();
-            }
-            Rule::section => section(src, only_child(pair), &mut plant)?,
+            Rule::module => modules.push(module(src, pair)?),
             Rule::EOI => {}
-            r => unreachable!("a file holds a header and sections, not {r:?}"),
+            r => unreachable!("a file holds modules, not {r:?}"),
         }
     }
-    Ok(plant)
+    Ok(modules)
 }
 
-fn section(src: &Source, pair: Pair<Rule>, plant: &mut Plant) -> Result<(), ModelError> {
+fn module(src: &Source, pair: Pair<Rule>) -> Result<Module, ModelError> {
+    let mut inner = pair.into_inner();
+    let mut header = inner
+        .next()
+        .expect("a module starts with its header")
+        .into_inner();
+    let _keyword = header.next();
+    let name = ident(header.next().expect("a header names the module"));
+    let params = header
+        .next()
+        .into_iter()
+        .flat_map(Pair::into_inner)
+        .filter(|p| p.as_rule() == Rule::name)
+        .map(ident)
+        .collect();
+    let mut module = Module {
+        name,
+        body: Plant {
+            params,
+            vars: Vec::new(),
+            defines: Vec::new(),
+            assigns: Vec::new(),
+            constraints: Vec::new(),
+        },
+        instances: Vec::new(),
+    };
+    for pair in inner {
+        section(src, only_child(pair), &mut module)?;
+    }
+    Ok(module)
+}
+
+fn section(src: &Source, pair: Pair<Rule>, module: &mut Module) -> Result<(), ModelError> {
+    let plant = &mut module.body;
     let rule = pair.as_rule();
     let pos = pair.as_span().start();
     let mut inner = pair.into_inner();
@@ -107,7 +128,26 @@ fn section(src: &Source, pair: Pair<Rule>, plant: &mut Plant) -> Result<(), Mode
                 let mut parts = decl.into_inner();
                 let name = ident(parts.next().expect("a declaration has a name"));
                 let _colon = parts.next();
-                let ty = var_type(src, only_child(parts.next().expect("and a type")))?;
+                let ty = only_child(parts.next().expect("and a type"));
+                if ty.as_rule() == Rule::instance_type {
+                    let mut parts = ty.into_inner();
+                    let of = ident(parts.next().expect("an instance names its module"));
+                    let args = parts.filter(|p| p.as_rule() == Rule::expr);
+                    let args = args.map(|a| expr(src, a, 0)).collect::<Result<_, _>>()?;
+                    if kind == VarKind::Input {
+                        return Err(src.error(
+                            name.pos,
+                            format!("{} is a module instance under IVAR", quote(&name.name)),
+                        ));
+                    }
+                    module.instances.push(Instance {
+                        name,
+                        module: of,
+                        args,
+                    });
+                    continue;
+                }
+                let ty = var_type(src, ty)?;
                 plant.vars.push(VarDecl { name, kind, ty });
             }
         }
@@ -485,7 +525,7 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
 
     let refused =
         |what: String| src.error(pos, format!("{what} is outside the subset of plant files"));
-    if let Some(what) = refused_keyword(found, after) {
+    if let Some(what) = refused_keyword(found) {
         return refused(what);
     }
     if expects(&[Rule::var_type]) && is_word {
@@ -499,10 +539,7 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
             _ if is_keyword(found) => {
                 return src.error(pos, format!("'{found}' is a NuSMV keyword, not a type"))
             }
-            _ => format!(
-                "a module instance ({}; a plant file holds only MODULE plant)",
-                quote(found)
-            ),
+            _ => format!("the type {}", quote(found)),
         };
         return refused(what);
     }
@@ -586,11 +623,7 @@ const NAME_RULES: &[Rule] = &[
 /// What a rule stands for in a message, with its rank in the list of what was expected.
 fn describe(rule: Rule) -> (u8, &'static str) {
     match rule {
-        Rule::file | Rule::header | Rule::kw_module => (0, "'MODULE plant'"),
-        Rule::kw_plant => (
-            0,
-            "'plant' (a plant file holds one module, MODULE plant(outputs...))",
-        ),
+        Rule::file | Rule::module | Rule::header | Rule::kw_module => (0, "'MODULE'"),
         Rule::params | Rule::lparen => (1, "'('"),
         Rule::rparen => (2, "')'"),
         Rule::lbrace => (1, "'{'"),
@@ -608,7 +641,11 @@ fn describe(rule: Rule) -> (u8, &'static str) {
         | Rule::boolean_type
         | Rule::range_type
         | Rule::enum_type
-        | Rule::kw_boolean => (5, "a type (boolean, lo..hi or {a, b, ...})"),
+        | Rule::instance_type
+        | Rule::kw_boolean => (
+            5,
+            "a type (boolean, lo..hi, {a, b, ...} or a module instance m(args))",
+        ),
         Rule::var_decl => (5, "a declaration 'name : type;'"),
         Rule::define => (5, "a definition 'name := expression;'"),
         Rule::assignment | Rule::init_target | Rule::next_target | Rule::kw_init => {
@@ -674,18 +711,12 @@ fn describe(rule: Rule) -> (u8, &'static str) {
 }
 
 /// The NuSMV sections and declarations outside the subset, by their keyword.
-fn refused_keyword(found: &str, after: &str) -> Option<String> {
+fn refused_keyword(found: &str) -> Option<String> {
     Some(match found {
         "FROZENVAR" => "FROZENVAR (declare a VAR with next(v) := v)".to_string(),
         "COMPASSION" => "COMPASSION (strong fairness; FAIRNESS and JUSTICE are in)".to_string(),
         "SPEC" | "CTLSPEC" | "LTLSPEC" | "INVARSPEC" | "PSLSPEC" | "COMPUTE" => {
             format!("{found} (properties belong in the specification file, not in the plant)")
-        }
-        "MODULE" => {
-            format!(
-                "a second module ('MODULE {}'; a plant file holds only MODULE plant)",
-                cut(after)
-            )
         }
         "ISA" | "CONSTANTS" | "PRED" | "PREDICATES" | "MIRROR" | "MDEFINE" | "CONSTRAINT" => {
             found.to_string()

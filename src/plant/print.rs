@@ -4,7 +4,8 @@
 //! `DEFINE`, `ASSIGN` (`init` then `next`, per variable in declaration order), then `INIT`,
 //! `INVAR`, `TRANS`, `FAIRNESS`, each constraint in model order. Every compound expression is
 //! parenthesized, so NuSMV's precedences never matter. Comments and layout of a parsed file
-//! are not kept.
+//! are not kept. A model read from a file with module instances keeps their flattened names
+//! (`inst.x`), which the parser reads back but NuSMV does not take as declarations.
 
 use super::{BinOp, Expr, Model, Type, Value, VarKind};
 use std::fmt::{self, Write};

@@ -173,6 +173,25 @@ impl std::str::FromStr for Couple {
     }
 }
 
+/// The pairs of a coupling file: one `plant.SIGNAL=NAME` per line, as `--couple` takes them;
+/// blank lines and `--` comments are skipped. An error names the file and line.
+pub fn read_couples(path: &Path) -> Result<Vec<Couple>, String> {
+    let text = crate::files::read_text(path, Some(crate::files::MAX_LINE_BYTES))
+        .map_err(|e| e.to_string())?;
+    let mut pairs = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        let code = line.split("--").next().unwrap_or("").trim();
+        if code.is_empty() {
+            continue;
+        }
+        let pair = code
+            .parse()
+            .map_err(|e| format!("{}:{}: {e}", path.display(), k + 1))?;
+        pairs.push(pair);
+    }
+    Ok(pairs)
+}
+
 /// [`check_coupling`] where the plant's names differ from the controller's: each pair of
 /// `couple` says which plant signal is which controller input or output.
 pub fn check_coupling_by(

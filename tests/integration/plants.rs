@@ -65,12 +65,10 @@ fn the_surrogate_with_a_submodule_instance_works_in_the_main_job_and_in_verify()
         "{}",
         text(&o.stdout)
     );
-    // The in-process engines read one module only: they say which construct, on which line
-    // (the other module, line 1), and who judges instead.
+    // The in-process engines read the plant with its submodule flattened: they judge
+    // candidates (a counterexample found in process), NuSMV verifies the result.
     assert!(
-        err.contains(&format!(
-            "the in-process checker does not read this closed loop: {plant}:1:"
-        )) && err.contains("NuSMV judges every candidate"),
+        !err.contains("does not read this closed loop") && err.contains("in-process"),
         "{err}"
     );
     let model = std::fs::read_to_string(out.join("closed_loop.smv")).unwrap();
@@ -109,11 +107,13 @@ fn a_plant_wrapping_modules_that_read_cnf_and_next_outputs_works_in_the_main_job
         "{}",
         text(&o.stdout)
     );
-    // The first module is not `plant`: named with its line, and NuSMV takes over.
+    // The submodules are read; `next()` of a controller output is not: the construct is
+    // named with its line in the submodule, and NuSMV takes over.
     assert!(
         err.contains(&format!(
-            "the in-process checker does not read this closed loop: {WRAPPED}:5:"
-        )) && err.contains("NuSMV judges every candidate"),
+            "the in-process checker does not read this closed loop: {WRAPPED}:11:"
+        )) && err.contains("next(CNF)")
+            && err.contains("NuSMV judges every candidate"),
         "{err}"
     );
     let model = std::fs::read_to_string(out.path().join("closed_loop.smv")).unwrap();
@@ -234,6 +234,103 @@ fn couple_maps_plant_names_to_controller_names() {
         text(&v.stderr).contains(
             "--couple plant.pressed=button: module plant declares no variable or define 'pressed'"
         ),
+        "{}",
+        text(&v.stderr)
+    );
+}
+
+/// A plant of 12 free sensors without dynamics, 7 outputs, 67 recorded steps: the in-process
+/// checker predicts its size before exploring and hands over to NuSMV, which verifies the
+/// machine; the property over the sensors alone is named.
+#[test]
+fn a_plant_of_twelve_free_inputs_gets_a_verified_answer() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    fbsynth::cases::free_inputs::write_files(dir.path(), 12).unwrap();
+    let file = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let out = file("out");
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "--ltl",
+            &file("free.ltl"),
+            "--plant",
+            &file("plant.smv"),
+            "--out",
+            &out,
+        ],
+    );
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        text(&o.stdout).contains("verified: all 2 properties hold (NuSMV), 3 scenarios reproduced"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(
+        err.contains("no controller can affect property tautology")
+            && err.contains("at least 4096 × 4096: the plant's free inputs take 4096 combinations")
+            && err.contains("NuSMV alone judges the candidates from here"),
+        "{err}"
+    );
+}
+
+/// `--couple-file`: the pairs of `--couple` in a file, one per line with `--` comments; a bad
+/// line is named with the file and line.
+#[test]
+fn a_coupling_file_maps_plant_names_to_controller_names() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    let pairs = dir.path().join("lamp.couple");
+    std::fs::write(
+        &pairs,
+        "-- the renamed lamp\nplant.light=lamp   -- the output\n\nplant.pushed=button\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let plant = "tests/data/closed_loop/lamp_renamed_plant.smv";
+    let ltl = "tests/data/closed_loop/lamp_renamed.ltl";
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "-q",
+            "--ltl",
+            ltl,
+            "--plant",
+            plant,
+            "--traces",
+            "tests/data/closed_loop/lamp.traces",
+            "--couple-file",
+            pairs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("verified: all 2 properties hold"));
+    let json = out.join("SynthesizedFB.json");
+    let (json, pairs_arg) = (json.to_str().unwrap(), pairs.to_str().unwrap());
+    let verify = [
+        "verify",
+        "--ecc",
+        json,
+        "--ltl",
+        ltl,
+        "--plant",
+        plant,
+        "--couple-file",
+        pairs_arg,
+    ];
+    let v = with_nusmv(&n.path, &verify);
+    assert!(v.status.success(), "{}", text(&v.stderr));
+    assert!(text(&v.stdout).contains("verified: all 2 properties hold"));
+    std::fs::write(&pairs, "plant.light=lamp\nlight=lamp\n").unwrap();
+    let v = with_nusmv(&n.path, &verify);
+    assert!(!v.status.success());
+    assert!(
+        text(&v.stderr).contains(&format!(
+            "{pairs_arg}:2: 'light=lamp': the left side names a plant signal, plant.SIGNAL"
+        )),
         "{}",
         text(&v.stderr)
     );

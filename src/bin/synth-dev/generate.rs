@@ -1,17 +1,21 @@
 //! `synth-dev generate`: re-record a shipped case's files from its reference controller and
 //! plant simulation.
 
-use fbsynth::cases::{distribution, pnp, tank};
+use fbsynth::cases::{distribution, free_inputs, pnp, tank};
 use fbsynth::out;
 use fbsynth::pipeline::Error;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
 pub struct GenerateArgs {
-    /// The case: `pnp`, `tank` (the tank case: scenarios, raw logs, held-out runs) or
-    /// `distribution` (the Festo station: clean, noisy and held-out sampled logs).
-    #[arg(value_parser = ["pnp", "tank", "distribution"])]
+    /// The case: `pnp`, `tank` (the tank case: scenarios, raw logs, held-out runs),
+    /// `distribution` (the Festo station: clean, noisy and held-out sampled logs) or
+    /// `free-inputs` (a plant of `--inputs` free sensors, recordings and properties).
+    #[arg(value_parser = ["pnp", "tank", "distribution", "free-inputs"])]
     pub case: String,
+    /// The number of free sensors of `free-inputs`.
+    #[arg(long, default_value_t = 12, value_name = "N")]
+    pub inputs: usize,
     /// Folder to write the scenario and names files into.
     #[arg(long, default_value = "specs", value_name = "DIR")]
     pub out: PathBuf,
@@ -24,6 +28,16 @@ pub fn generate(args: &GenerateArgs) -> Result<(), Error> {
             let files = tank::write_files(&args.out).map_err(Error::from)?;
             out!(
                 "recorded the process-mining paper's tank scenarios and held-out runs from the reference programs:"
+            );
+            files
+        }
+        "free-inputs" => {
+            let files = free_inputs::write_files(&args.out, args.inputs).map_err(Error::from)?;
+            out!(
+                "wrote a plant of {} free inputs, {} outputs and {} recorded steps:",
+                args.inputs,
+                free_inputs::OUTPUTS,
+                free_inputs::STEPS
             );
             files
         }

@@ -577,8 +577,12 @@ pub(super) const ALIVE: &str = "alive";
 /// The closed loop of `ecc` and `model` with `props` (and [`ALIVE`]), as the production
 /// composition writes it, in `file`.
 fn write_closed_loop(file: &Path, model: &Model, ecc: &Ecc, props: &[Property]) {
-    let text = crate::plant::print::to_smv(model);
-    let plant = crate::smv::plant::parse_plant(file, &text).expect("the printed plant scans");
+    write_closed_loop_of(file, &crate::plant::print::to_smv(model), ecc, props);
+}
+
+/// [`write_closed_loop`] of the plant file `text`.
+fn write_closed_loop_of(file: &Path, text: &str, ecc: &Ecc, props: &[Property]) {
+    let plant = crate::smv::plant::parse_plant(file, text).expect("the printed plant scans");
     let coupling = crate::smv::composition::check_coupling(
         &ecc.inputs,
         &ecc.outputs,
@@ -602,7 +606,11 @@ fn write_closed_loop(file: &Path, model: &Model, ecc: &Ecc, props: &[Property]) 
 /// The plant alone, its parameters free, in `file`: NuSMV finds no behaviour iff
 /// [`behaviour`] does not.
 fn write_free_plant(file: &Path, model: &Model) {
-    let mut text = crate::plant::print::to_smv(model);
+    write_free_plant_of(file, crate::plant::print::to_smv(model), model);
+}
+
+/// [`write_free_plant`] of the plant file `text`, read as `model`.
+fn write_free_plant_of(file: &Path, mut text: String, model: &Model) {
     text.push_str("MODULE main\nVAR\n");
     for p in &model.params {
         text.push_str(&format!("  {p} : boolean;\n"));
@@ -893,8 +901,13 @@ struct Judged {
 
 fn judge(case: Case) -> Judged {
     let text = crate::plant::print::to_smv(&case.model);
+    judge_text(case, &text)
+}
+
+/// [`judge`] with the plant read from `text`.
+fn judge_text(case: Case, text: &str) -> Judged {
     let read =
-        crate::plant::parse::parse_str(&text, Path::new("case.smv")).map_err(|e| e.to_string());
+        crate::plant::parse::parse_str(text, Path::new("case.smv")).map_err(|e| e.to_string());
     let (ours, free) = match &read {
         Ok(model) => {
             let coupling = Wiring::of_model(model, &case.ecc.inputs, &case.ecc.outputs)
@@ -1280,6 +1293,57 @@ fn campaign(t: &mut Tally, nusmv: &Path, dir: &Path, seeds: std::ops::Range<u64>
     }
 }
 
+/// The plant of `model` one module down, as models written for other work often are: its
+/// body in `MODULE body(params)`, instantiated as `P` by a `MODULE plant` that names every
+/// variable and define of `P` by a define (the controller reads them there); or `None` when the plant has input variables (a define over
+/// an input variable is not what the flat plant means in a property).
+fn nested(model: &Model) -> Option<String> {
+    if model
+        .vars
+        .iter()
+        .any(|v| v.kind == crate::plant::VarKind::Input)
+    {
+        return None;
+    }
+    let flat = crate::plant::print::to_smv(model);
+    let (header, body) = flat.split_once('\n')?;
+    let params = header.strip_prefix("MODULE plant").unwrap_or("");
+    let mut text = format!("MODULE body{params}\n{body}\nMODULE plant{params}\nVAR\n");
+    let args = if params.is_empty() { "" } else { params };
+    text.push_str(&format!("  P : body{args};\nDEFINE\n"));
+    let names = (model.vars.iter().map(|v| &v.name)).chain(model.defines.iter().map(|d| &d.name));
+    for n in names {
+        text.push_str(&format!("  {n} := P.{n};\n"));
+    }
+    Some(text)
+}
+
+/// The cases `seeds` whose plant [`nested`] takes, judged on the nested plant in process and
+/// by NuSMV on the closed loop composed with the nested plant (the submodule kept).
+fn nested_campaign(t: &mut Tally, nusmv: &Path, dir: &Path, seeds: std::ops::Range<u64>) {
+    let mut judged = Vec::new();
+    let mut models = Vec::new();
+    for seed in seeds {
+        let case = random_case(seed);
+        let Some(text) = nested(&case.model) else {
+            continue;
+        };
+        let file = dir.join(format!("nested{seed}.smv"));
+        write_closed_loop_of(&file, &text, &case.ecc, &case.props);
+        let free = dir.join(format!("nested_free{seed}.smv"));
+        write_free_plant_of(&free, text.clone(), &case.model);
+        models.extend([file, free]);
+        judged.push(judge_text(case, &text));
+    }
+    let verdicts = nusmv_batch(nusmv, &models);
+    let mut at = verdicts.iter();
+    for j in &judged {
+        let (theirs, free) = (at.next().expect("a verdict"), at.next().expect("a verdict"));
+        compare(t, j, theirs, free);
+        t.cases += 1;
+    }
+}
+
 /// Where the models go: a temporary folder, or one inside `FBSYNTH_KEEP_MODELS` if set.
 fn model_dir() -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("temporary directory");
@@ -1334,6 +1398,28 @@ fn verdicts_agree_with_nusmv_on_random_triples() {
         tally.report(0.0)
     );
 }
+
+/// The plant's module hierarchy as the parser flattens it means what NuSMV's flattening
+/// means: the random plants one module down get NuSMV's verdicts.
+#[test]
+fn verdicts_on_nested_plants_agree_with_nusmv() {
+    let Some(nusmv) = crate::nusmv::nusmv_for_tests() else {
+        return;
+    };
+    let (_keep, dir) = model_dir();
+    let mut tally = Tally::default();
+    nested_campaign(&mut tally, &nusmv.path, &dir, 0..NESTED_CASES);
+    eprintln!("{}", tally.report(0.0));
+    assert_no_disagreement(&tally);
+    assert!(
+        tally.triples >= 200,
+        "only {} triples compared",
+        tally.triples
+    );
+}
+
+/// Random cases tried one module down (those with input variables are left out).
+const NESTED_CASES: u64 = 120;
 
 /// The long campaign: `FBSYNTH_DIFFERENTIAL_SECONDS` (600 unless set) of random cases after
 /// those of [`verdicts_agree_with_nusmv_on_random_triples`], reporting its figures:

@@ -59,7 +59,24 @@ impl<'a> Source<'a> {
     }
 }
 
-/// A plant file as written.
+/// A module of the plant file as written: its parameters, declarations and sections in
+/// [`Plant`], and the module instances it declares.
+pub(super) struct Module {
+    /// The module's name, where the header writes it.
+    pub(super) name: Ident,
+    pub(super) body: Plant,
+    pub(super) instances: Vec<Instance>,
+}
+
+/// `name : module(args);` in a `VAR` section.
+pub(super) struct Instance {
+    pub(super) name: Ident,
+    pub(super) module: Ident,
+    pub(super) args: Vec<Node>,
+}
+
+/// A module as written, or the flat `MODULE plant` that [`flatten`](super::flatten) makes of
+/// the file.
 pub(super) struct Plant {
     pub(super) params: Vec<Ident>,
     pub(super) vars: Vec<VarDecl>,
@@ -69,6 +86,7 @@ pub(super) struct Plant {
 }
 
 /// A name and the byte offset where it is written.
+#[derive(Clone)]
 pub(super) struct Ident {
     pub(super) name: String,
     pub(super) pos: usize,
@@ -80,17 +98,20 @@ pub(super) struct VarDecl {
     pub(super) ty: TypeDecl,
 }
 
+#[derive(Clone)]
 pub(super) enum TypeDecl {
     Bool,
     Range { lo: i64, hi: i64, pos: usize },
     Enum(Vec<EnumItem>),
 }
 
+#[derive(Clone)]
 pub(super) struct EnumItem {
     pub(super) pos: usize,
     pub(super) value: EnumLit,
 }
 
+#[derive(Clone)]
 pub(super) enum EnumLit {
     Int(i64),
     Bool(bool),
@@ -156,6 +177,7 @@ pub(super) struct ConstraintDecl {
 }
 
 /// An expression as written, spanning `pos..end` of the text.
+#[derive(Clone)]
 pub(super) struct Node {
     pub(super) pos: usize,
     pub(super) end: usize,
@@ -164,6 +186,7 @@ pub(super) struct Node {
     pub(super) kind: NodeKind,
 }
 
+#[derive(Clone)]
 pub(super) enum NodeKind {
     Bool(bool),
     Int(i64),
@@ -194,18 +217,7 @@ impl Node {
         op_pos: usize,
         kind: NodeKind,
     ) -> Result<Node, ModelError> {
-        let depth = 1 + match &kind {
-            NodeKind::Bool(_) | NodeKind::Int(_) | NodeKind::Name(_) => 0,
-            NodeKind::Next(x) | NodeKind::Not(x) | NodeKind::Neg(x) => x.depth,
-            NodeKind::Bin { left, right, .. } => left.depth.max(right.depth),
-            NodeKind::Case(branches) => branches
-                .iter()
-                .map(|(c, v)| c.depth.max(v.depth))
-                .max()
-                .unwrap_or(0),
-            NodeKind::Ite(c, a, b) => c.depth.max(a.depth).max(b.depth),
-            NodeKind::Set(items) => items.iter().map(|x| x.depth).max().unwrap_or(0),
-        };
+        let depth = Node::depth_of(&kind);
         if depth > MAX_DEPTH {
             return Err(src.error(
                 op_pos,
@@ -220,6 +232,22 @@ impl Node {
             depth,
             kind,
         })
+    }
+
+    /// Operators on the longest path from a node of this kind to a leaf.
+    pub(super) fn depth_of(kind: &NodeKind) -> usize {
+        1 + match kind {
+            NodeKind::Bool(_) | NodeKind::Int(_) | NodeKind::Name(_) => 0,
+            NodeKind::Next(x) | NodeKind::Not(x) | NodeKind::Neg(x) => x.depth,
+            NodeKind::Bin { left, right, .. } => left.depth.max(right.depth),
+            NodeKind::Case(branches) => branches
+                .iter()
+                .map(|(c, v)| c.depth.max(v.depth))
+                .max()
+                .unwrap_or(0),
+            NodeKind::Ite(c, a, b) => c.depth.max(a.depth).max(b.depth),
+            NodeKind::Set(items) => items.iter().map(|x| x.depth).max().unwrap_or(0),
+        }
     }
 
     pub(super) fn leaf(pos: usize, end: usize, kind: NodeKind) -> Node {

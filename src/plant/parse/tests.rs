@@ -624,8 +624,14 @@ const ERRORS: &[(&str, &str)] = &[
     ("SPEC", "MODULE plant\nVAR x : boolean;\nSPEC AG x"),
     ("CTLSPEC", "MODULE plant\nVAR x : boolean;\nCTLSPEC AG x"),
     ("INVARSPEC", "MODULE plant\nVAR x : boolean;\nINVARSPEC x"),
-    ("second module", "MODULE plant\nVAR x : boolean;\nMODULE main\nVAR p : plant;"),
-    ("module instance", "MODULE plant\nVAR p : cylinder(TRUE);"),
+    // Modules.
+    ("module declared twice", "MODULE m\nVAR x : boolean;\nMODULE plant\nMODULE m"),
+    ("module instance of no module", "MODULE plant\nVAR p : cylinder(TRUE);"),
+    ("recursive module", "MODULE m(x)\nVAR y : m(x);\nMODULE plant\nVAR a : m(TRUE);"),
+    ("wrong argument count", "MODULE m(x, y)\nMODULE plant\nVAR a : m(TRUE);"),
+    ("module instance under IVAR", "MODULE m\nMODULE plant\nIVAR a : m;"),
+    ("part of no instance", "MODULE m\nVAR x : boolean;\nMODULE plant\nVAR a : m;\nINIT a.y"),
+    ("error inside a submodule", "MODULE m(p)\nVAR x : 0..3;\nASSIGN next(x) := p;\nMODULE plant\nVAR a : m(TRUE);"),
     ("process", "MODULE plant\nVAR p : process cylinder;"),
     ("array type", "MODULE plant\nVAR a : array 0..3 of boolean;"),
     ("word type", "MODULE plant\nVAR w : unsigned word[8];"),
@@ -784,4 +790,44 @@ fn names_no_parameter_influences_are_found() {
     let fair = format!("{text}FAIRNESS lit\n");
     let m = parse_str(&fair, Path::new("p.smv")).unwrap();
     assert!(m.uncontrolled().is_empty());
+}
+
+/// Module instances are flattened as NuSMV flattens them: names `inst.x` at any depth, a
+/// parameter bound to an instance reads that instance's names, and an assignment to a
+/// parameter bound to a variable assigns the variable.
+#[test]
+fn module_instances_are_flattened_with_dotted_names() {
+    let m = model(
+        "MODULE cyl(cmd)\nVAR pos : 0..2;\nASSIGN init(pos) := 0; next(pos) := cmd ? 2 : 0;\n\
+         MODULE sensor(c)\nDEFINE home := c.pos = 0;\n\
+         MODULE setter(v)\nASSIGN next(v) := TRUE;\n\
+         MODULE plant(go)\nVAR c : cyl(go); s : sensor(c); x : boolean; t : setter(x);\n\
+         DEFINE home := s.home;",
+    );
+    let vars: Vec<&str> = m.vars.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(vars, ["x", "c.pos"]);
+    // `cmd` is the plant's parameter `go`; `c.pos` of the sensor is the cylinder's position.
+    assert_eq!(
+        m.vars[1].next,
+        Some(Expr::Case(vec![
+            (Expr::Param(ParamId(0)), Expr::Const(Value::Int(2))),
+            (Expr::Const(Value::Bool(true)), Expr::Const(Value::Int(0))),
+        ]))
+    );
+    let Some(Name::Define(d)) = m.lookup("s.home") else {
+        panic!("{:?}", m.defines)
+    };
+    assert_eq!(
+        m.defines[d.0].expr,
+        Expr::Bin(
+            BinOp::Eq,
+            Box::new(Expr::Var(VarId(1))),
+            Box::new(Expr::Const(Value::Int(0)))
+        )
+    );
+    assert!(matches!(m.lookup("home"), Some(Name::Define(_))));
+    // The setter assigns the plant's `x` through its parameter, on the setter's line.
+    assert_eq!(m.vars[0].next, Some(Expr::Const(Value::Bool(true))));
+    // Every declaration keeps the line of the module that writes it.
+    assert_eq!((m.vars[0].line, m.vars[1].line), (9, 2));
 }
