@@ -494,6 +494,16 @@ impl<'a> Synthesizer<'a> {
         }
     }
 
+    /// Starts the guard descent at a known lower bound: with `c` states and `t` transitions no
+    /// machine's cube guards have fewer than `n` literals. The caller vouches for it, e.g. with
+    /// [`least_literals`] of the tree-exact model at its least `c` and `t`.
+    pub(crate) fn assume_least_n(&mut self, c: usize, t: usize, n: usize) {
+        self.known.n_lo = match self.known.n_lo {
+            Some((c0, t0, n0)) if (c0, t0) == (c, t) && n0 > n => Some((c0, t0, n0)),
+            _ => Some((c, t, n)),
+        };
+    }
+
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
     pub(crate) fn add_negative(&mut self, neg: NegativeScenario) {
         let (v0, c0) = (self.enc.variables, self.enc.clauses);
@@ -1397,6 +1407,45 @@ pub(crate) fn formula(
         f.add_clause(&[a]);
     }
     f
+}
+
+/// The fewest guard literals of any tree-exact machine with `c` states and at most `t`
+/// transitions that reproduces the tree, over every such machine (each colouring of the tree
+/// enumerated, each state's guards minimized with its priority order), when proven within
+/// `budget`; `None` otherwise. `c` and `t` must be the least of the tree-exact model
+/// (`hint` the colouring of a machine there, tried first).
+///
+/// This bounds the cube model from below at the same `c` and `t`: a cube machine restricted
+/// to the recorded inputs is a tree-exact machine with the same colouring and no more edges;
+/// with `t` the least, each of its `t` transitions is the one edge of its source and target,
+/// and its cubes, in their priority order, are guards that structure admits (a cube is a
+/// one-term DNF). So the closed loop's machines with `c` states and `t` transitions, which
+/// reproduce the recordings too, need at least this many literals.
+pub(crate) fn least_literals(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    opts: &Options,
+    (c, t): (usize, usize),
+    hint: Vec<usize>,
+    budget: Duration,
+) -> Result<Option<usize>, SatError> {
+    let opts = Options {
+        max_out_degree: None,
+        minimize_k: false,
+        guard_budget: budget,
+        fixed: Fixed {
+            states: Some(c),
+            max_out_degree: None,
+            transitions: Some(t),
+        },
+        ..opts.clone()
+    };
+    let mut synth = Synthesizer::new(set, tree, &opts);
+    synth.assume_lower_bounds(c, t);
+    synth.hint(hint);
+    let least = synth.minimize(&mut |_| {})?;
+    let proven = least.guards_exact && (least.size.c, least.size.t) == (c, t);
+    Ok(proven.then_some(least.size.n))
 }
 
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.
