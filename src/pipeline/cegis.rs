@@ -211,17 +211,17 @@ impl<'scope> LowerBound<'scope> {
         let first_colors = first.colors.clone();
         let proof = scope.spawn(move || {
             // Usually the first machine's T is the least: one refutation proves it.
-            let (t, colors) = match t > 0
-                && !crate::sat::satisfiable(tree, &tree_exact, c, Some(t - 1))
-            {
-                true => (t, None),
-                false => {
-                    let least = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
-                    (least.size.t, Some(least.colors))
-                }
-            };
+            let (t, colors) =
+                match t > 0 && !crate::sat::satisfiable(tree, &tree_exact, c, Some(t - 1)) {
+                    true => (t, None),
+                    false => {
+                        let least = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
+                        (least.size.t, Some(least.colors))
+                    }
+                };
             let hint = colors.clone().unwrap_or(first_colors);
-            let n = crate::sat::least_literals(set, tree, &tree_exact, (c, t), hint, LEAST_N_BUDGET)?;
+            let n =
+                crate::sat::least_literals(set, tree, &tree_exact, (c, t), hint, LEAST_N_BUDGET)?;
             Ok(Least { t, colors, n })
         });
         Ok(LowerBound {
