@@ -207,22 +207,28 @@ impl<'scope> LowerBound<'scope> {
                         events(Event::Solver(m))
                     }
                 })?;
-        let (c, t) = (first.size.c, first.size.t);
+        let c = first.size.c;
         let first_colors = first.colors.clone();
         let proof = scope.spawn(move || {
-            // Usually the first machine's T is the least: one refutation proves it.
-            let (t, colors) =
-                match t > 0 && !crate::sat::satisfiable(tree, &tree_exact, c, Some(t - 1)) {
-                    true => (t, None),
-                    false => {
-                        let least = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
-                        (least.size.t, Some(least.colors))
-                    }
-                };
-            let hint = colors.clone().unwrap_or(first_colors);
-            let n =
-                crate::sat::least_literals(set, tree, &tree_exact, (c, t), hint, LEAST_N_BUDGET)?;
-            Ok(Least { t, colors, n })
+            // Usually the first machine's T is the least: one refutation proves it, on the
+            // solver that then enumerates the colourings for the least N.
+            let least = crate::sat::least_tree_exact(
+                set,
+                tree,
+                &tree_exact,
+                c,
+                first_colors.clone(),
+                LEAST_N_BUDGET,
+            )?;
+            // Cut short (the deadline): nothing proven beyond C.
+            let proven = least.transitions_exact && least.size.c == c;
+            let n = (proven && least.guards_exact).then_some(least.size.n);
+            let colors = (least.colors != first_colors).then_some(least.colors);
+            Ok(Least {
+                t: if proven { least.size.t } else { 0 },
+                colors,
+                n,
+            })
         });
         Ok(LowerBound {
             c,

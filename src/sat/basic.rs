@@ -1409,43 +1409,39 @@ pub(crate) fn formula(
     f
 }
 
-/// The fewest guard literals of any tree-exact machine with `c` states and at most `t`
-/// transitions that reproduces the tree, over every such machine (each colouring of the tree
-/// enumerated, each state's guards minimized with its priority order), when proven within
-/// `budget`; `None` otherwise. `c` and `t` must be the least of the tree-exact model
-/// (`hint` the colouring of a machine there, tried first).
+/// The least machine of the tree-exact model with `c` states (the least, proven by the
+/// caller): least `T` (proven), then guards with the fewest literals over every machine with
+/// `c` states and that `T` (each colouring of the tree enumerated, each state's guards
+/// minimized with its priority order; [`Synthesis::guards_exact`] when done within
+/// `budget`). `hint` is the colouring of a machine with `c` states, tried first.
 ///
-/// This bounds the cube model from below at the same `c` and `t`: a cube machine restricted
+/// Its `T` and `N` bound the cube model from below at the same `c`: a cube machine restricted
 /// to the recorded inputs is a tree-exact machine with the same colouring and no more edges;
-/// with `t` the least, each of its `t` transitions is the one edge of its source and target,
-/// and its cubes, in their priority order, are guards that structure admits (a cube is a
-/// one-term DNF). So the closed loop's machines with `c` states and `t` transitions, which
-/// reproduce the recordings too, need at least this many literals.
-pub(crate) fn least_literals(
+/// with as many transitions as this `T`, each of them is the one edge of its source and
+/// target, and its cubes, in their priority order, are guards that colouring admits (a cube
+/// is a one-term DNF). So the closed loop's machines with `c` states and this `T`, which
+/// reproduce the recordings too, need at least this `N` (when exact).
+pub(crate) fn least_tree_exact(
     set: &ScenarioSet,
     tree: &ScenarioTree,
     opts: &Options,
-    (c, t): (usize, usize),
+    c: usize,
     hint: Vec<usize>,
     budget: Duration,
-) -> Result<Option<usize>, SatError> {
+) -> Result<Synthesis, SatError> {
     let opts = Options {
         max_out_degree: None,
         minimize_k: false,
         guard_budget: budget,
         fixed: Fixed {
             states: Some(c),
-            max_out_degree: None,
-            transitions: Some(t),
+            ..opts.fixed
         },
         ..opts.clone()
     };
     let mut synth = Synthesizer::new(set, tree, &opts);
-    synth.assume_lower_bounds(c, t);
     synth.hint(hint);
-    let least = synth.minimize(&mut |_| {})?;
-    let proven = least.guards_exact && (least.size.c, least.size.t) == (c, t);
-    Ok(proven.then_some(least.size.n))
+    synth.minimize(&mut |_| {})
 }
 
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.

@@ -305,8 +305,10 @@ fn the_tree_exact_least_literals_bound_the_cube_model_at_its_least_size() {
     let exact = synthesize(&s, &tree, &o, &mut |_| {}).unwrap();
     let ct = (exact.size.c, exact.size.t);
     let budget = std::time::Duration::from_secs(30);
-    let n = least_literals(&s, &tree, &o, ct, exact.colors.clone(), budget).unwrap();
-    assert_eq!(n, Some(exact.size.n));
+    let least = least_tree_exact(&s, &tree, &o, ct.0, exact.colors.clone(), budget).unwrap();
+    assert!(least.transitions_exact && least.guards_exact);
+    assert_eq!(least.size, exact.size);
+    let n = Some(least.size.n);
     let cubes = Options {
         max_out_degree: Some(3),
         ..o
