@@ -484,6 +484,7 @@ impl fmt::Display for Step {
             Step::GuideStands { after } => {
                 write!(f, "the exact loop: {after}; the guide's machine stands")
             }
+            Step::Polished { line } => write!(f, "{line}"),
             Step::Realizability => write!(
                 f,
                 "no verified machine within the limits; solving the closed-loop game to tell whether any controller exists"
