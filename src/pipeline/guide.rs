@@ -140,8 +140,8 @@ pub(crate) struct Guided {
     pub(crate) size: Size,
     /// NuSMV's verdicts on it (all hold) and the model it checked.
     pub(crate) certificate: Certificate,
-    /// Whether it is the least machine for the recordings and the runs (else the repaired one,
-    /// or one made smaller).
+    /// Whether the guide's machine is the least machine for the recordings and the runs (else
+    /// the repaired one); [`Self::polished`] says whether it was made smaller since.
     pub(crate) least_for_runs: bool,
     /// Whether it was made smaller by local moves after the guide ([`super::polish`]).
     pub(crate) polished: bool,

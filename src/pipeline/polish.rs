@@ -24,12 +24,16 @@ use std::time::Instant;
 pub(crate) struct Shrunk {
     /// The machine.
     pub(crate) ecc: Ecc,
-    /// Whether no move helps any more (else the deadline ended the search).
+    /// Whether no move helps any more (else [`MAX_TRIES`] or the deadline ended the search).
     pub(crate) converged: bool,
 }
 
-/// The machine reached from `ecc` by the moves (module documentation) until none helps or
-/// `deadline`; `None` when no move helps or the in-process checker cannot judge this plant.
+/// Most moves judged by the in-process checker: a bound on the work that, unlike a time,
+/// gives the same machine on every run.
+const MAX_TRIES: usize = 3_000;
+
+/// The machine reached from `ecc` by the moves (module documentation) until none helps, after
+/// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move helps or the in-process checker cannot judge this plant.
 pub(crate) fn shrink(
     set: &ScenarioSet,
     check: &Check,
@@ -47,12 +51,17 @@ pub(crate) fn shrink(
     let mut best = ecc.clone();
     let mut improved = false;
     let mut converged = false;
+    let mut tries = 0;
     'pass: while Instant::now() < deadline {
         for candidate in moves(&best) {
-            if Instant::now() >= deadline {
+            if Instant::now() >= deadline || tries >= MAX_TRIES {
                 break 'pass;
             }
-            if candidate.size().is_smaller_than(&best.size()) && keeps(&candidate) {
+            if !candidate.size().is_smaller_than(&best.size()) {
+                continue;
+            }
+            tries += 1;
+            if keeps(&candidate) {
                 best = candidate;
                 improved = true;
                 continue 'pass;

@@ -207,8 +207,7 @@ fn below_guide(
     let spent = opts.limit.elapsed();
     let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
-    let polish_budget = (opts.limit.left()).min(POLISH_BUDGET.max(budget));
-    let g = polished(set, check, g, polish_budget, &mut stages, events)?;
+    let g = polished(set, check, g, opts.limit.left(), &mut stages, events)?;
     let budget = budget.min(opts.limit.left());
     let mut after = "not run: no time left".to_string();
     if !budget.is_zero() {
@@ -253,11 +252,8 @@ fn below_guide(
     Ok(guide_machine(g, stages, after, opts))
 }
 
-/// How long the guide's machine may be made smaller in process, at least.
-const POLISH_BUDGET: Duration = Duration::from_secs(10);
-
 /// The guide's machine `g` made smaller by local moves the in-process checker accepts
-/// ([`polish`]) within `budget`, when NuSMV verifies the result; else `g`. The outcome is
+/// ([`polish`]) within `budget` (the run's time left), when NuSMV verifies the result; else `g`. The outcome is
 /// added to `stages`.
 fn polished(
     set: &ScenarioSet,
@@ -267,7 +263,9 @@ fn polished(
     stages: &mut Vec<String>,
     events: Events<'_>,
 ) -> Result<guide::Guided, Error> {
-    let deadline = std::time::Instant::now() + budget;
+    let now = std::time::Instant::now();
+    // No time limit: a day is as good as none.
+    let deadline = (now.checked_add(budget)).unwrap_or(now + Duration::from_secs(86_400));
     let Some(polish::Shrunk {
         ecc: small,
         converged,
@@ -277,7 +275,7 @@ fn polished(
     };
     let ended = match converged {
         true => "no move makes it smaller still",
-        false => "stopped at its time",
+        false => "stopped at its bound on moves or at the time limit",
     };
     let mut verifier = check.verifier()?;
     let v = verifier.verify_with(&small, crate::nusmv::CheckMode::VerdictsOnly)?;
@@ -302,7 +300,6 @@ fn polished(
             report: v.report,
             model_text: v.model.text,
         };
-        g.least_for_runs = false;
         g.polished = true;
     }
     Ok(g)

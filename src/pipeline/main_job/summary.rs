@@ -78,8 +78,9 @@ pub struct GuideSummary {
     pub(crate) exact_loop_below_it: String,
     /// The machine's C, K, T and N.
     pub(crate) size: Size,
-    /// Whether it is least for the recordings and the guide's closed-loop runs (else it is
-    /// the repaired machine, not minimal).
+    /// Whether the guide's machine is least for the recordings and the guide's closed-loop
+    /// runs (else it is the repaired machine, not minimal); `made_smaller` says whether the
+    /// result is a smaller machine made from it.
     pub(crate) least_for_recordings_and_runs: bool,
     /// Whether the guide's machine was made smaller by merging states and dropping
     /// transitions and literals while the in-process checker found every property kept (then
