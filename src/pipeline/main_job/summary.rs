@@ -84,7 +84,9 @@ pub struct GuideSummary {
     pub(crate) least_for_recordings_and_runs: bool,
     /// Whether the guide's machine was made smaller by merging states and dropping
     /// transitions and literals while the in-process checker found every property kept (then
-    /// verified by NuSMV; not proven least).
+    /// verified by NuSMV; not proven least). In `summary.json` the `guide` line that says
+    /// so stands for it.
+    #[serde(skip)]
     pub(crate) made_smaller: bool,
     /// The guide's stages, one line each.
     pub(crate) guide: Vec<String>,
