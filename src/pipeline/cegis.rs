@@ -148,9 +148,22 @@ pub(crate) fn run(
 /// How long the tree-exact descent on the main thread may look for fewer transitions.
 const TREE_EXACT_BUDGET: std::time::Duration = std::time::Duration::from_millis(300);
 
-/// The least `T` of the tree-exact model at its least `C`, with the colouring of a machine
-/// there when it is not the first one's.
-type LeastT = Result<(usize, Option<Vec<usize>>), SatError>;
+/// How long the tree-exact model's guards may take to be proven least at its least `C` and
+/// `T` (every colouring there enumerated), on the second core.
+const LEAST_N_BUDGET: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// What the tree-exact model proves below the cube model, at its least `C`.
+struct Least {
+    /// The least `T`.
+    t: usize,
+    /// The colouring of a machine with `t` transitions, when it is not the first one's.
+    colors: Option<Vec<usize>>,
+    /// The least `N` at `C` and `t`, when proven within [`LEAST_N_BUDGET`].
+    n: Option<usize>,
+}
+
+/// The least `T` (and `N`) of the tree-exact model at its least `C`.
+type LeastT = Result<Least, SatError>;
 
 struct LowerBound<'scope> {
     c: usize,
@@ -194,14 +207,28 @@ impl<'scope> LowerBound<'scope> {
                         events(Event::Solver(m))
                     }
                 })?;
-        let (c, t) = (first.size.c, first.size.t);
+        let c = first.size.c;
+        let first_colors = first.colors.clone();
         let proof = scope.spawn(move || {
-            // Usually the first machine's T is the least: one refutation proves it.
-            if t > 0 && !crate::sat::satisfiable(tree, &tree_exact, c, Some(t - 1)) {
-                return Ok((t, None));
-            }
-            let least = crate::sat::synthesize(set, tree, &tree_exact, &mut |_| {})?;
-            Ok((least.size.t, Some(least.colors)))
+            // Usually the first machine's T is the least: one refutation proves it, on the
+            // solver that then enumerates the colourings for the least N.
+            let least = crate::sat::least_tree_exact(
+                set,
+                tree,
+                &tree_exact,
+                c,
+                first_colors.clone(),
+                LEAST_N_BUDGET,
+            )?;
+            // Cut short (the deadline): nothing proven beyond C.
+            let proven = least.transitions_exact && least.size.c == c;
+            let n = (proven && least.guards_exact).then_some(least.size.n);
+            let colors = (least.colors != first_colors).then_some(least.colors);
+            Ok(Least {
+                t: if proven { least.size.t } else { 0 },
+                colors,
+                n,
+            })
         });
         Ok(LowerBound {
             c,
@@ -233,16 +260,20 @@ impl<'scope> LowerBound<'scope> {
         let Some(proof) = self.proof.take() else {
             return Ok(());
         };
-        let (t, colors) = proof
+        let Least { t, colors, n } = proof
             .join()
             .map_err(|_| SatError::Bug("the lower-bound proof panicked".into()))??;
         synth.assume_lower_bounds(self.c, t);
+        if let Some(n) = n {
+            synth.assume_least_n(self.c, t, n);
+        }
         if let Some(colors) = colors {
             synth.hint(colors);
         }
         events(Event::LowerBounds {
             c: self.c,
             t,
+            n,
             seconds: self.started.elapsed().as_secs_f64(),
         });
         Ok(())

@@ -24,6 +24,9 @@ pub enum Event<'a> {
         c: usize,
         /// Lower bound on the number of transitions T.
         t: usize,
+        /// Lower bound on the guard literals N at C states and T transitions, when proven
+        /// (every machine with those C and T that reproduces the recordings needs as many).
+        n: Option<usize>,
         /// Wall-clock seconds since the loop started, when the bounds were proven.
         seconds: f64,
     },
@@ -209,10 +212,13 @@ impl fmt::Display for Event<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Event::Solver(step) => write!(f, "{step}"),
-            Event::LowerBounds { c, t, seconds } => write!(
-                f,
-                "lower bounds from the recorded inputs alone: C >= {c}, T >= {t} ({seconds:.2} s)"
-            ),
+            Event::LowerBounds { c, t, n, seconds } => {
+                write!(f, "lower bounds from the recorded inputs alone: C >= {c}, T >= {t}")?;
+                if let Some(n) = n {
+                    write!(f, ", N >= {n} at C = {c} and T = {t}")?;
+                }
+                write!(f, " ({seconds:.2} s)")
+            }
             Event::Candidate(it) => candidate(f, it),
             Event::InProcessStopped { why } => write!(
                 f,
@@ -478,6 +484,7 @@ impl fmt::Display for Step {
             Step::GuideStands { after } => {
                 write!(f, "the exact loop: {after}; the guide's machine stands")
             }
+            Step::Polished { line } => write!(f, "{line}"),
             Step::Realizability => write!(
                 f,
                 "no verified machine within the limits; solving the closed-loop game to tell whether any controller exists"

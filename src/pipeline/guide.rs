@@ -140,8 +140,11 @@ pub(crate) struct Guided {
     pub(crate) size: Size,
     /// NuSMV's verdicts on it (all hold) and the model it checked.
     pub(crate) certificate: Certificate,
-    /// Whether it is the least machine for the recordings and the runs (else the repaired one).
+    /// Whether the guide's machine is the least machine for the recordings and the runs (else
+    /// the repaired one); [`Self::polished`] says whether it was made smaller since.
     pub(crate) least_for_runs: bool,
+    /// Whether it was made smaller by local moves after the guide ([`super::polish`]).
+    pub(crate) polished: bool,
     /// Every stage, in order.
     pub(crate) stages: Vec<Stage>,
     /// NuSMV checks made.
@@ -374,6 +377,7 @@ impl Guide<'_, '_> {
                 model_text: certificate.model.text,
             },
             least_for_runs,
+            polished: false,
             stages: self.stages,
             nusmv_calls: self.nusmv_calls,
             nusmv_seconds: self.nusmv_seconds,

@@ -219,6 +219,7 @@ mod tests {
                 events(Event::LowerBounds {
                     c: 1,
                     t: 0,
+                    n: None,
                     seconds: 0.0,
                 });
                 Ok(7)
@@ -235,6 +236,7 @@ mod tests {
             events(Event::LowerBounds {
                 c: 1,
                 t: 0,
+                n: None,
                 seconds: 0.0,
             });
             Ok(())

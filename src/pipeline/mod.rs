@@ -58,6 +58,7 @@ pub mod modular;
 pub mod noisy;
 pub(crate) mod output;
 pub(crate) mod plant_check;
+pub(crate) mod polish;
 pub(crate) mod recordings;
 pub mod refine;
 pub mod search;

@@ -494,6 +494,16 @@ impl<'a> Synthesizer<'a> {
         }
     }
 
+    /// Starts the guard descent at a known lower bound: with `c` states and `t` transitions no
+    /// machine's cube guards have fewer than `n` literals. The caller vouches for it, e.g. with
+    /// [`least_literals`] of the tree-exact model at its least `c` and `t`.
+    pub(crate) fn assume_least_n(&mut self, c: usize, t: usize, n: usize) {
+        self.known.n_lo = match self.known.n_lo {
+            Some((c0, t0, n0)) if (c0, t0) == (c, t) && n0 > n => Some((c0, t0, n0)),
+            _ => Some((c, t, n)),
+        };
+    }
+
     /// Forbids the machine to follow `neg` forever. Applies to every later [`Self::minimize`].
     pub(crate) fn add_negative(&mut self, neg: NegativeScenario) {
         let (v0, c0) = (self.enc.variables, self.enc.clauses);
@@ -1397,6 +1407,41 @@ pub(crate) fn formula(
         f.add_clause(&[a]);
     }
     f
+}
+
+/// The least machine of the tree-exact model with `c` states (the least, proven by the
+/// caller): least `T` (proven), then guards with the fewest literals over every machine with
+/// `c` states and that `T` (each colouring of the tree enumerated, each state's guards
+/// minimized with its priority order; [`Synthesis::guards_exact`] when done within
+/// `budget`). `hint` is the colouring of a machine with `c` states, tried first.
+///
+/// Its `T` and `N` bound the cube model from below at the same `c`: a cube machine restricted
+/// to the recorded inputs is a tree-exact machine with the same colouring and no more edges;
+/// with as many transitions as this `T`, each of them is the one edge of its source and
+/// target, and its cubes, in their priority order, are guards that colouring admits (a cube
+/// is a one-term DNF). So the closed loop's machines with `c` states and this `T`, which
+/// reproduce the recordings too, need at least this `N` (when exact).
+pub(crate) fn least_tree_exact(
+    set: &ScenarioSet,
+    tree: &ScenarioTree,
+    opts: &Options,
+    c: usize,
+    hint: Vec<usize>,
+    budget: Duration,
+) -> Result<Synthesis, SatError> {
+    let opts = Options {
+        max_out_degree: None,
+        minimize_k: false,
+        guard_budget: budget,
+        fixed: Fixed {
+            states: Some(c),
+            ..opts.fixed
+        },
+        ..opts.clone()
+    };
+    let mut synth = Synthesizer::new(set, tree, &opts);
+    synth.hint(hint);
+    synth.minimize(&mut |_| {})
 }
 
 /// Whether an ECC with at most `c` states (and at most `t` transitions) reproduces the tree.

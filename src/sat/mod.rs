@@ -52,7 +52,7 @@ pub(crate) mod solver;
 pub(crate) mod step;
 pub(crate) mod vars;
 
-pub(crate) use basic::{satisfiable, Proofs, Synthesizer};
+pub(crate) use basic::{least_tree_exact, satisfiable, Proofs, Synthesizer};
 pub use basic::{synthesize, Options};
 pub use basic::{Fixed, Stats, Synthesis};
 pub use step::{Bound, Step};

@@ -294,3 +294,31 @@ fn a_disjunctive_guard_saves_the_transition_a_conjunction_needs() {
     s.check(&conj.ecc).unwrap();
     assert_eq!((conj.size.c, conj.size.t), (2, 3));
 }
+
+#[test]
+fn the_tree_exact_least_literals_bound_the_cube_model_at_its_least_size() {
+    // Two scenarios from the same state to different targets (as above).
+    let text = "2\nin=REQ[10]; out=CNF[10];\nin=REQ[01]; out=CNF[01]; in=REQ[10]; out=CNF[11];\n";
+    let s = set(text);
+    let tree = ScenarioTree::build(&s).unwrap();
+    let o = opts(AlgorithmKind::Tri);
+    let exact = synthesize(&s, &tree, &o, &mut |_| {}).unwrap();
+    let ct = (exact.size.c, exact.size.t);
+    let budget = std::time::Duration::from_secs(30);
+    let least = least_tree_exact(&s, &tree, &o, ct.0, exact.colors.clone(), budget).unwrap();
+    assert!(least.transitions_exact && least.guards_exact);
+    assert_eq!(least.size, exact.size);
+    let n = Some(least.size.n);
+    let cubes = Options {
+        max_out_degree: Some(3),
+        ..o
+    };
+    let cube = synthesize(&s, &tree, &cubes, &mut |_| {}).unwrap();
+    assert_eq!((cube.size.c, cube.size.t), ct);
+    assert!(cube.guards_exact);
+    assert_eq!(
+        Some(cube.size.n),
+        n,
+        "the bound is the cube model's least N here"
+    );
+}

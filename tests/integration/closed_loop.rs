@@ -434,7 +434,8 @@ fn missing_nusmv_says_how_to_install() {
 }
 
 /// The headline: the shipped Pick-and-Place scenarios, properties and surrogate plant give a
-/// controller that NuSMV verifies and that replays every scenario.
+/// controller that NuSMV verifies and that replays every scenario, proven least in C, T and N
+/// by default (no proof budget asked for): the summary says so, beside the size.
 #[test]
 fn pick_and_place_main_job_is_verified() {
     let Some(n) = nusmv_or_skip() else { return };
@@ -458,6 +459,13 @@ fn pick_and_place_main_job_is_verified() {
     let ecc = fbsynth::export::json::read_json(&json, Path::new("SynthesizedFB.json")).unwrap();
     let set = crate::cases::pnp::generate();
     set.check(&ecc).unwrap();
+    let summary = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    assert_eq!(summary["transitions_proven_minimal"], true, "{summary}");
+    assert_eq!(summary["guards_proven_minimal"], true, "{summary}");
+    let size = &summary["size"];
+    let ctn = [&size["c"], &size["t"], &size["n"]].map(|v| v.as_u64());
+    assert_eq!(ctn, [Some(8), Some(13), Some(18)], "{summary}");
 }
 
 /// A plant whose constraints no run satisfies makes every property hold vacuously: synth

@@ -38,7 +38,7 @@ pub use summary::{BelowGuideSummary, ExactSummary, GuideSummary, SearchSummary, 
 use super::exact::{self, Certificate, Exact};
 use super::explain::{self, Explanation};
 use super::limit::Limit;
-use super::{guide, search, Check, Class, Error, Event, Events};
+use super::{guide, polish, search, Check, Class, Error, Event, Events};
 use crate::ecc::{AlgorithmKind, Ecc, Size};
 use crate::scenario::ScenarioSet;
 use std::time::Duration;
@@ -86,6 +86,11 @@ pub enum Step {
     GuideStands {
         /// What the turn found (as in [`GuideSummary::exact_loop_below_it`]).
         after: String,
+    },
+    /// The guide's machine made smaller in process, and NuSMV's word on it (one line).
+    Polished {
+        /// What was found.
+        line: String,
     },
     /// The exact loop gave up: the closed-loop game tells whether any controller exists.
     Realizability,
@@ -201,7 +206,9 @@ fn below_guide(
 ) -> Result<VerifiedMachine, Error> {
     let spent = opts.limit.elapsed();
     let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
-    let stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
+    let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
+    let g = polished(set, check, g, opts.limit.left(), &mut stages, events)?;
+    let budget = budget.min(opts.limit.left());
     let mut after = "not run: no time left".to_string();
     if !budget.is_zero() {
         events(Event::MainJob(Step::BelowGuide {
@@ -245,6 +252,59 @@ fn below_guide(
     Ok(guide_machine(g, stages, after, opts))
 }
 
+/// The guide's machine `g` made smaller by local moves the in-process checker accepts
+/// ([`polish`]) within `budget` (the run's time left), when NuSMV verifies the result; else `g`. The outcome is
+/// added to `stages`.
+fn polished(
+    set: &ScenarioSet,
+    check: &Check,
+    mut g: guide::Guided,
+    budget: Duration,
+    stages: &mut Vec<String>,
+    events: Events<'_>,
+) -> Result<guide::Guided, Error> {
+    let now = std::time::Instant::now();
+    // No time limit: a day is as good as none.
+    let deadline = (now.checked_add(budget)).unwrap_or(now + Duration::from_secs(86_400));
+    let Some(polish::Shrunk {
+        ecc: small,
+        converged,
+    }) = polish::shrink(set, check, &g.ecc, deadline)
+    else {
+        return Ok(g);
+    };
+    let ended = match converged {
+        true => "no move makes it smaller still",
+        false => "stopped at its bound on moves or at the time limit",
+    };
+    let mut verifier = check.verifier()?;
+    let v = verifier.verify_with(&small, crate::nusmv::CheckMode::VerdictsOnly)?;
+    g.nusmv_calls += 1;
+    g.nusmv_seconds += v.report.nusmv_seconds;
+    let (from, to) = (g.size, small.size());
+    let line = match v.report.failing().is_empty() {
+        true => format!(
+            "guide: its machine made smaller by merging states and dropping transitions and literals while every property holds: {to} (from {from}; {ended}; NuSMV verified it)"
+        ),
+        false => format!(
+            "guide: its machine made smaller in process ({to}) fails {} in NuSMV; the guide's machine stays",
+            v.report.failing().join(", ")
+        ),
+    };
+    events(Event::MainJob(Step::Polished { line: line.clone() }));
+    stages.push(line);
+    if v.report.failing().is_empty() {
+        g.size = to;
+        g.ecc = small;
+        g.certificate = Certificate {
+            report: v.report,
+            model_text: v.model.text,
+        };
+        g.polished = true;
+    }
+    Ok(g)
+}
+
 /// The guide's machine `g` as the result.
 fn guide_machine(
     g: guide::Guided,
@@ -256,6 +316,7 @@ fn guide_machine(
         exact_loop_below_it: after,
         size: g.size,
         least_for_recordings_and_runs: g.least_for_runs,
+        made_smaller: g.polished,
         guide: stages,
         report: g.certificate.report.clone(),
         sat_seconds: g.sat_seconds,

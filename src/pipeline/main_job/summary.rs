@@ -78,9 +78,16 @@ pub struct GuideSummary {
     pub(crate) exact_loop_below_it: String,
     /// The machine's C, K, T and N.
     pub(crate) size: Size,
-    /// Whether it is least for the recordings and the guide's closed-loop runs (else it is
-    /// the repaired machine, not minimal).
+    /// Whether the guide's machine is least for the recordings and the guide's closed-loop
+    /// runs (else it is the repaired machine, not minimal); `made_smaller` says whether the
+    /// result is a smaller machine made from it.
     pub(crate) least_for_recordings_and_runs: bool,
+    /// Whether the guide's machine was made smaller by merging states and dropping
+    /// transitions and literals while the in-process checker found every property kept (then
+    /// verified by NuSMV; not proven least). In `summary.json` the `guide` line that says
+    /// so stands for it.
+    #[serde(skip)]
+    pub(crate) made_smaller: bool,
     /// The guide's stages, one line each.
     pub(crate) guide: Vec<String>,
     /// NuSMV's verdicts on the machine (all hold).
@@ -211,9 +218,10 @@ impl std::fmt::Display for Summary {
                 g.sat_seconds,
                 g.nusmv_seconds,
                 plural(g.nusmv_calls, "check"),
-                match g.least_for_recordings_and_runs {
-                    true => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
-                    false => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+                match (g.made_smaller, g.least_for_recordings_and_runs) {
+                    (true, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
+                    (false, true) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                    (false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
                 }
             ),
             Summary::Turn(Turn::Search(s)) => write!(

@@ -99,6 +99,7 @@ fn guide_summary() -> GuideSummary {
         exact_loop_below_it: "no smaller machine".into(),
         size: exact_summary().size,
         least_for_recordings_and_runs: true,
+        made_smaller: false,
         guide: vec!["guide: the closed-loop game is won".into()],
         report: report(),
         sat_seconds: 0.5,

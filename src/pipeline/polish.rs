@@ -1,0 +1,206 @@
+//! A verified machine made smaller by local moves that the in-process checker accepts: the
+//! guide's machine is least only for the recordings and the guide's own runs, and carries
+//! transitions and literals those runs ask for but the properties do not.
+//!
+//! In: the recordings, a [`Check`] and a machine that reproduces them and keeps every
+//! property. Out: the smallest machine the moves reach ([`shrink`]), which reproduces the
+//! recordings and which the in-process checker finds keeping every property; the caller has
+//! NuSMV judge it (an in-process verdict guides, never certifies).
+//!
+//! Moves, each kept when the machine still reproduces every recording and keeps every
+//! property, the first that helps taken and the search restarted from it until none helps:
+//! merging two states (the second's transitions appended to the first's, every transition
+//! into it redirected), dropping a transition (states no transition reaches any more
+//! dropped too), and dropping one literal of a guard. Each makes the machine smaller in
+//! (C, T, N); nothing proves the end least.
+
+use super::Check;
+use crate::check::{self, ExplicitVerdict};
+use crate::ecc::{Ecc, Guard, StateId};
+use crate::scenario::ScenarioSet;
+use std::time::Instant;
+
+/// A machine made smaller by the moves.
+pub(crate) struct Shrunk {
+    /// The machine.
+    pub(crate) ecc: Ecc,
+    /// Whether no move helps any more (else [`MAX_TRIES`] or the deadline ended the search).
+    pub(crate) converged: bool,
+}
+
+/// Most moves judged by the in-process checker: a bound on the work that, unlike a time,
+/// gives the same machine on every run.
+const MAX_TRIES: usize = 3_000;
+
+/// The machine reached from `ecc` by the moves (module documentation) until none helps, after
+/// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move helps or the in-process checker cannot judge this plant.
+pub(crate) fn shrink(
+    set: &ScenarioSet,
+    check: &Check,
+    ecc: &Ecc,
+    deadline: Instant,
+) -> Option<Shrunk> {
+    let problem = &check.problem;
+    let model = problem.model.as_ref().ok()?;
+    let wiring = check::Wiring::new(model, &problem.coupling).ok()?;
+    let keeps = |e: &Ecc| {
+        set.check(e).is_ok()
+            && check::check(model, &wiring, e, &problem.props, &check::Limits::default())
+                .is_ok_and(|v| v.iter().all(|v| matches!(v, ExplicitVerdict::Holds)))
+    };
+    let mut best = ecc.clone();
+    let mut improved = false;
+    let mut converged = false;
+    let mut tries = 0;
+    'pass: while Instant::now() < deadline {
+        for candidate in moves(&best) {
+            if Instant::now() >= deadline || tries >= MAX_TRIES {
+                break 'pass;
+            }
+            if !candidate.size().is_smaller_than(&best.size()) {
+                continue;
+            }
+            tries += 1;
+            if keeps(&candidate) {
+                best = candidate;
+                improved = true;
+                continue 'pass;
+            }
+        }
+        converged = true;
+        break;
+    }
+    improved.then_some(Shrunk {
+        ecc: best,
+        converged,
+    })
+}
+
+/// Every machine one move away from `ecc`: merges first (they save the most), then dropped
+/// transitions, then dropped literals.
+fn moves(ecc: &Ecc) -> Vec<Ecc> {
+    let c = ecc.states.len();
+    let mut all = Vec::new();
+    for b in 1..c {
+        for a in 0..b {
+            all.push(merged(ecc, a, b));
+        }
+    }
+    for (q, st) in ecc.states.iter().enumerate() {
+        for i in 0..st.transitions.len() {
+            let mut e = ecc.clone();
+            e.states[q].transitions.remove(i);
+            all.push(reachable(e));
+        }
+    }
+    for (q, st) in ecc.states.iter().enumerate() {
+        for (i, t) in st.transitions.iter().enumerate() {
+            let Some(terms) = t.guard.as_dnf() else {
+                continue;
+            };
+            for (j, term) in terms.iter().enumerate() {
+                for k in 0..term.len() {
+                    let mut fewer = terms.clone();
+                    fewer[j].remove(k);
+                    let mut e = ecc.clone();
+                    e.states[q].transitions[i].guard = Guard::dnf(&fewer);
+                    all.push(e);
+                }
+            }
+        }
+    }
+    all
+}
+
+/// `ecc` with state `b` merged into state `a < b`: `b`'s transitions after `a`'s, every
+/// transition into `b` going to `a`, the states after `b` renumbered.
+fn merged(ecc: &Ecc, a: usize, b: usize) -> Ecc {
+    let mut e = ecc.clone();
+    let moved = e.states.remove(b).transitions;
+    e.states[a].transitions.extend(moved);
+    let renumber = |q: usize| match q {
+        q if q == b => a,
+        q if q > b => q - 1,
+        q => q,
+    };
+    for st in &mut e.states {
+        for t in &mut st.transitions {
+            t.target = StateId(renumber(t.target.0));
+        }
+    }
+    reachable(e)
+}
+
+/// `ecc` without the states no transition path from the initial state reaches, the rest
+/// renumbered in order.
+fn reachable(mut ecc: Ecc) -> Ecc {
+    let mut seen = vec![false; ecc.states.len()];
+    let mut stack = vec![0];
+    seen[0] = true;
+    while let Some(q) = stack.pop() {
+        for t in &ecc.states[q].transitions {
+            if !seen[t.target.0] {
+                seen[t.target.0] = true;
+                stack.push(t.target.0);
+            }
+        }
+    }
+    let mut index = vec![0; seen.len()];
+    let mut next = 0;
+    for (q, &s) in seen.iter().enumerate() {
+        index[q] = next;
+        next += usize::from(s);
+    }
+    let mut q = 0;
+    ecc.states.retain(|_| {
+        q += 1;
+        seen[q - 1]
+    });
+    for st in &mut ecc.states {
+        for t in &mut st.transitions {
+            t.target = StateId(index[t.target.0]);
+        }
+    }
+    ecc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecc::{Algorithm, State, Transition};
+
+    fn state(transitions: Vec<(usize, Guard)>) -> State {
+        State {
+            name: String::new(),
+            algorithm: Algorithm::keep_all(crate::ecc::AlgorithmKind::Tri, 0),
+            transitions: (transitions.into_iter())
+                .map(|(q, guard)| Transition {
+                    target: StateId(q),
+                    guard,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn a_merge_redirects_and_renumbers_and_unreachable_states_go() {
+        let ecc = Ecc {
+            inputs: vec!["x".into()],
+            outputs: vec![],
+            initial_outputs: vec![],
+            states: vec![
+                state(vec![(1, Guard::True)]),
+                state(vec![(2, Guard::True)]),
+                state(vec![(0, Guard::True)]),
+                state(vec![(0, Guard::True)]),
+            ],
+        };
+        let m = merged(&ecc, 0, 1);
+        // State 3 was never reached; state 2 becomes 1, state 1's transition now 0's second.
+        assert_eq!(m.states.len(), 2);
+        let targets: Vec<Vec<usize>> = (m.states.iter())
+            .map(|s| s.transitions.iter().map(|t| t.target.0).collect())
+            .collect();
+        assert_eq!(targets, vec![vec![0, 1], vec![0]]);
+    }
+}
