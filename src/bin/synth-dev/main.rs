@@ -16,6 +16,7 @@
 //! | `bench-modular` | modular synthesis (`synth infer --modules M`) for M = 1..4 on `--traces` |
 //! | `bench-search` | the search's scenario-fitness evaluations per second, one thread and all |
 //! | `bench-ambiguity` | the ambiguity check of `synth infer` on each shipped case |
+//! | `bench-fbsat-pnp --fbsat DIR` | the main job on fbSAT's own Pick-and-Place plant (read from a checkout of fbSAT, inside a wrapper module) with its nine properties, for `tests-1`, `-10`, `-39`: size, time, and fbSAT's own model's verdict on each machine |
 //! | `bench-ingest` | ingestion throughput (M rows/s) and peak memory on a generated raw log |
 //! | `experiment table1` | Table I of the verification-in-the-loop paper with the search (scenarios; scenarios + LTL without `F_ce`; scenarios + LTL) |
 //! | `generate pnp\|tank\|distribution` | the case's scenario files and logs in `specs/`, as the tests check them |
@@ -32,6 +33,7 @@ use fbsynth::cli;
 
 mod bench;
 mod experiment;
+mod fbsat_pnp;
 mod generate;
 mod generated;
 mod stats;
@@ -59,6 +61,8 @@ enum Command {
     Generate(generate::GenerateArgs),
     /// Measure synthesis time on the project's and (when present) fbSAT's scenario sets.
     Bench(bench::BenchArgs),
+    /// Measure the main job on fbSAT's own Pick-and-Place model (read from a checkout of fbSAT).
+    BenchFbsatPnp(fbsat_pnp::BenchFbsatPnpArgs),
     /// Measure ingestion throughput and peak memory on a generated long-format log.
     BenchIngest(generated::BenchIngestArgs),
     /// Measure modular synthesis (infer --modules) for M = 1..4 on a scenario set.
@@ -81,6 +85,7 @@ impl Command {
         match self {
             Command::Generate(_) => "generate",
             Command::Bench(_) => "bench",
+            Command::BenchFbsatPnp(_) => "bench-fbsat-pnp",
             Command::BenchIngest(_) => "bench-ingest",
             Command::BenchModular(_) => "bench-modular",
             Command::Experiment(_) => "experiment",
@@ -102,6 +107,7 @@ fn main() {
     let result = match cli.command {
         Command::Generate(a) => generate::generate(&a),
         Command::Bench(a) => bench::bench(&a),
+        Command::BenchFbsatPnp(a) => fbsat_pnp::bench_fbsat_pnp(&a),
         Command::BenchIngest(a) => generated::bench_ingest(&a),
         Command::BenchModular(a) => bench::bench_modular(&a),
         Command::Experiment(a) => experiment::experiment(&a),
