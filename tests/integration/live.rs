@@ -199,22 +199,16 @@ fn record_infer_and_monitor_a_live_plc() {
     assert!(o.status.success(), "{}", stderr(&o));
     let ecc = m.join("SynthesizedFB.json");
 
-    let plc = start_plc(&python, &replay, None);
+    // Eight seconds of `monitor` beside a PLC of its own (one whose logic breaks after
+    // `break_after` seconds), the result in `out`.
+    let monitor = |break_after: Option<&str>, out: &Path| {
+        let plc = start_plc(&python, &replay, break_after);
+        let (url, map, ecc) = (plc.url.as_str(), s(&map), s(&ecc));
+        let args = ["monitor", "--opcua", url, "--map", map, "--ecc", ecc];
+        run(&[&args[..], &["--duration", "8", "--out", s(out)]].concat())
+    };
     let calm = dir.path().join("calm");
-    let o = run(&[
-        "monitor",
-        "--opcua",
-        &plc.url,
-        "--map",
-        s(&map),
-        "--ecc",
-        s(&ecc),
-        "--duration",
-        "8",
-        "--out",
-        s(&calm),
-    ]);
-    drop(plc);
+    let o = monitor(None, &calm);
     assert_eq!(
         o.status.code(),
         Some(0),
@@ -234,22 +228,8 @@ fn record_infer_and_monitor_a_live_plc() {
     );
     assert!(!calm.join("divergences.csv").exists());
 
-    let plc = start_plc(&python, &replay, Some("3"));
     let broken = dir.path().join("broken");
-    let o = run(&[
-        "monitor",
-        "--opcua",
-        &plc.url,
-        "--map",
-        s(&map),
-        "--ecc",
-        s(&ecc),
-        "--duration",
-        "8",
-        "--out",
-        s(&broken),
-    ]);
-    drop(plc);
+    let o = monitor(Some("3"), &broken);
     assert_eq!(
         o.status.code(),
         Some(1),
