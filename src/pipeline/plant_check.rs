@@ -202,11 +202,12 @@ fn recorded_steps(
     let runs = recorded_runs(set);
     // Each valuation once, at its first step.
     let mut firsts: Vec<Valuation> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     for (j, run) in runs.runs.iter().enumerate() {
         for (i, (outputs, inputs)) in run.iter().enumerate() {
             let Some(inputs) = inputs else { continue };
             let v = valuation(check, j, i, outputs, inputs);
-            if !firsts.iter().any(|f| f.formula(None) == v.formula(None)) {
+            if seen.insert((v.inputs.clone(), v.outputs.clone())) {
                 firsts.push(v);
             }
         }
