@@ -590,6 +590,27 @@ pub(crate) fn check_with(
     Ok(verdicts)
 }
 
+/// Every pair of controller state and input vector the closed loop of `model` and `ecc`
+/// reaches, each once, in order: where the machine's answers decide what the closed loop
+/// does. A machine that answers as `ecc` on every pair has the same closed loop, so the same
+/// verdicts.
+pub(crate) fn reached_inputs(
+    model: &Model,
+    coupling: &Wiring,
+    ecc: &Ecc,
+    limits: &Limits,
+) -> Result<Vec<(StateId, Vec<bool>)>, CheckError> {
+    ecc.validate().map_err(CheckError::Ecc)?;
+    let mut memo = PlantMemo::default();
+    let closed = ExplicitLoop::build(model, coupling, ecc, limits, &mut memo)?;
+    let mut pairs = std::collections::BTreeSet::new();
+    for k in &closed.keys {
+        let (inputs, _) = memo.at(&closed.sem, coupling, k.plant, k.outputs)?;
+        pairs.insert((k.ctrl as usize, inputs.to_vec()));
+    }
+    Ok(pairs.into_iter().map(|(q, x)| (StateId(q), x)).collect())
+}
+
 /// Checks that the plant alone, its parameters chosen freely at every step, has an initial
 /// state and a fair infinite path: [`CheckError::NoBehaviour`] otherwise.
 pub(crate) fn behaviour(model: &Model, limits: &Limits) -> Result<(), CheckError> {

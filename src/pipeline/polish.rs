@@ -11,14 +11,19 @@
 //! property, the first that helps taken and the search restarted from it until none helps:
 //! merging two states (the second's transitions appended to the first's, every transition
 //! into it redirected), dropping a transition (states no transition reaches any more
-//! dropped too), and dropping one literal of a guard. Each makes the machine smaller in
-//! (C, T, N); nothing proves the end least.
+//! dropped too), and dropping one literal of a guard. When none helps, every state's guards
+//! are written anew ([`reguarded`]): the fewest literals (SAT, [`crate::sat::guards`]) that
+//! answer as the machine does on every pair of state and inputs the recordings and the
+//! closed loop reach, other inputs being don't-cares. The closed loop stays the same, so
+//! the verdicts do; the local moves start again from the new guards. Each step makes the
+//! machine smaller in (C, T, N); nothing proves the end least.
 
 use super::Check;
 use crate::check::{self, ExplicitVerdict};
-use crate::ecc::{Ecc, Guard, StateId};
+use crate::ecc::{Ecc, Guard, Run, StateId};
+use crate::sat::guards::{minimize_state, GuardProblem};
 use crate::scenario::ScenarioSet;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// A machine made smaller by the moves.
 pub(crate) struct Shrunk {
@@ -67,6 +72,14 @@ pub(crate) fn shrink(
                 continue 'pass;
             }
         }
+        let guards_until = deadline.min(Instant::now() + GUARD_TIME);
+        if let Some(candidate) = reguarded(set, check, &best, guards_until) {
+            if candidate.size().is_smaller_than(&best.size()) && keeps(&candidate) {
+                best = candidate;
+                improved = true;
+                continue 'pass;
+            }
+        }
         converged = true;
         break;
     }
@@ -74,6 +87,73 @@ pub(crate) fn shrink(
         ecc: best,
         converged,
     })
+}
+
+/// The longest the guards of one machine are written anew ([`reguarded`]); past it each
+/// state keeps the fewest literals found so far.
+const GUARD_TIME: Duration = Duration::from_secs(2);
+
+/// `ecc` with every state's guards written anew: per state, the fewest literals that answer
+/// as `ecc` does (the same transition's target, or none) on every input vector the state
+/// sees in the recordings or in the closed loop with the plant; a state keeps its guards
+/// where the new ones are no fewer. `None` when the in-process checker cannot explore the
+/// closed loop.
+fn reguarded(set: &ScenarioSet, check: &Check, ecc: &Ecc, deadline: Instant) -> Option<Ecc> {
+    let problem = &check.problem;
+    let model = problem.model.as_ref().ok()?;
+    let wiring = check::Wiring::new(model, &problem.coupling).ok()?;
+    let mut seen = check::reached_inputs(model, &wiring, ecc, &check::Limits::default()).ok()?;
+    for sc in &set.scenarios {
+        let mut run = Run::new(ecc);
+        for step in &sc.steps {
+            seen.push((run.state, step.inputs.clone()));
+            run.step(&step.inputs);
+        }
+    }
+    let mut per_state = vec![Vec::new(); ecc.states.len()];
+    for (q, x) in seen {
+        if !per_state[q.0].contains(&x) {
+            per_state[q.0].push(x);
+        }
+    }
+    let mut e = ecc.clone();
+    for (q, xs) in per_state.iter().enumerate() {
+        let p = guard_problem(ecc, q, xs);
+        let fresh = minimize_state(&p, deadline).transitions;
+        let literals = |ts: &[crate::ecc::Transition]| -> (usize, usize) {
+            (ts.iter().map(|t| t.guard.literal_count()).sum(), ts.len())
+        };
+        if literals(&fresh) < literals(&e.states[q].transitions) {
+            e.states[q].transitions = fresh;
+        }
+    }
+    Some(reachable(e))
+}
+
+/// What state `q` of `ecc` answers on the input vectors `xs`, as a guard problem: per target
+/// the vectors on which a transition to it fires, and those on which none does.
+fn guard_problem(ecc: &Ecc, q: usize, xs: &[Vec<bool>]) -> GuardProblem {
+    let mut p = GuardProblem {
+        inputs: ecc.inputs.len(),
+        ..GuardProblem::default()
+    };
+    for x in xs {
+        let fired = (ecc.states[q].transitions.iter()).find(|t| t.guard.eval(x));
+        let Some(t) = fired else {
+            p.negative.push(x.clone());
+            continue;
+        };
+        let i = match p.targets.iter().position(|&d| d == t.target.0) {
+            Some(i) => i,
+            None => {
+                p.targets.push(t.target.0);
+                p.positive.push(Vec::new());
+                p.targets.len() - 1
+            }
+        };
+        p.positive[i].push(x.clone());
+    }
+    p
 }
 
 /// Every machine one move away from `ecc`: merges first (they save the most), then dropped
@@ -179,6 +259,35 @@ mod tests {
                     guard,
                 })
                 .collect(),
+        }
+    }
+
+    /// The guards written anew answer as the machine on every input vector the state saw (the
+    /// same target, or none) with the fewest literals: here one literal where the machine has
+    /// two, the unseen vectors being don't-cares.
+    #[test]
+    fn new_guards_answer_as_the_machine_where_the_state_was_seen() {
+        let x = |i: usize| Guard::Var(crate::ecc::InputId(i));
+        let ecc = Ecc {
+            inputs: vec!["a".into(), "b".into()],
+            outputs: vec![],
+            initial_outputs: vec![],
+            states: vec![
+                state(vec![(1, Guard::And(vec![x(0), x(1)]))]),
+                state(vec![(0, Guard::True)]),
+            ],
+        };
+        let seen = vec![vec![true, true], vec![false, false]];
+        let p = guard_problem(&ecc, 0, &seen);
+        assert_eq!(p.targets, vec![1]);
+        assert_eq!(p.positive, vec![vec![vec![true, true]]]);
+        assert_eq!(p.negative, vec![vec![false, false]]);
+        let fresh = minimize_state(&p, Instant::now() + Duration::from_secs(5)).transitions;
+        assert_eq!(fresh.len(), 1);
+        assert_eq!(fresh[0].guard.literal_count(), 1);
+        for x in &seen {
+            let before = ecc.states[0].transitions[0].guard.eval(x);
+            assert_eq!(fresh[0].guard.eval(x), before, "{x:?}");
         }
     }
 
