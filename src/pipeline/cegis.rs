@@ -35,6 +35,9 @@ pub(crate) struct Config {
     pub(crate) proof_budget: std::time::Duration,
     /// The user's negative scenarios, encoded before the first candidate.
     pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
+    /// Stop with [`CegisError::Stalled`] after this many refuted candidates in a row with the
+    /// same number of states, or after this long refuting candidates of one number of states.
+    pub(crate) stall: Option<(usize, std::time::Duration)>,
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -112,6 +115,17 @@ pub enum CegisError {
         counterexamples: usize,
         /// The properties the last candidate failed, comma-separated.
         failing: String,
+    },
+    /// Candidates kept being refuted without the loop moving on to more states or
+    /// transitions ([`Config::stall`]).
+    #[error("no progress: {rounds} candidates in a row with C = {c} in {seconds:.1} s, refuted one counterexample at a time")]
+    Stalled {
+        /// Refuted candidates in a row.
+        rounds: usize,
+        /// Their number of states.
+        c: usize,
+        /// Seconds since the first of them.
+        seconds: f64,
     },
     /// A property fails but NuSMV's trace lacks a controller input or output as a Boolean, so
     /// it cannot become a negative scenario.
@@ -327,6 +341,9 @@ struct Cegis<'a, 'l, 'e> {
     in_process: bool,
     /// The latest candidate NuSMV passed, during the final pass.
     passed: Option<Passed>,
+    /// C of the latest refuted candidate, how many in a row had it, and when the first of them
+    /// was refuted.
+    same: (usize, usize, Instant),
 }
 
 impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
@@ -368,6 +385,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             in_final_pass: closed.is_none(),
             in_process: closed.is_some(),
             passed: None,
+            same: (0, 0, Instant::now()),
         }
     }
 
@@ -387,7 +405,10 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
                 return Ok(verified);
             }
             let holds = match self.check_in_process(number, &synthesis, sat_seconds)? {
-                InProcess::Refuted => continue,
+                InProcess::Refuted => {
+                    self.stalled(&synthesis)?;
+                    continue;
+                }
                 InProcess::Unrefuted(holds) => holds,
             };
             let (v, failing) = self.verify(number, &synthesis, sat_seconds, &holds)?;
@@ -399,6 +420,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             }
             self.last_failing = failing.join(", ");
             self.refine(&v, &failing, &synthesis.ecc)?;
+            self.stalled(&synthesis)?;
         }
         // Out of iterations with a machine NuSMV passed: it is the result, verified, only
         // not proven the least in transitions and guards (the final pass did not end).
@@ -419,6 +441,29 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             iterations: self.config.max_iterations,
             failing: self.last_failing,
         })
+    }
+
+    /// Counts the refuted `candidate` against [`Config::stall`]: `Err` when that many in a row
+    /// had its number of states, or when they took that long.
+    fn stalled(&mut self, candidate: &Synthesis) -> Result<(), CegisError> {
+        let c = candidate.size.c;
+        self.same = match self.same {
+            (last, n, since) if last == c => (c, n + 1, since),
+            _ => (c, 1, Instant::now()),
+        };
+        let (_, n, since) = self.same;
+        match self.config.stall {
+            Some((rounds, time))
+                if self.passed.is_none() && (n >= rounds || n >= 3 && since.elapsed() >= time) =>
+            {
+                Err(CegisError::Stalled {
+                    rounds: n,
+                    c,
+                    seconds: since.elapsed().as_secs_f64(),
+                })
+            }
+            _ => Ok(()),
+        }
     }
 
     /// Counterexamples (negative scenarios and environments) added so far.

@@ -235,7 +235,9 @@ impl Classed for CegisError {
         match self {
             CegisError::Sat(e) => e.class(),
             CegisError::Verify(e) => e.class(),
-            CegisError::Iterations { .. } | CegisError::Exhausted { .. } => Class::NoMachine,
+            CegisError::Iterations { .. }
+            | CegisError::Exhausted { .. }
+            | CegisError::Stalled { .. } => Class::NoMachine,
             CegisError::Disagreement { .. } => Class::Bug,
             CegisError::NoCounterexample { .. } => Class::Input,
         }

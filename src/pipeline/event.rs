@@ -474,6 +474,9 @@ impl fmt::Display for Step {
                 f,
                 "solving the closed-loop game to guide the synthesis where nothing was recorded"
             ),
+            Step::Stalled { why } => {
+                write!(f, "the exact loop: {why}; the closed-loop game's guide takes over")
+            }
             Step::GuideDeclined { why } => {
                 write!(f, "guide: no machine ({why}); the exact loop goes on")
             }

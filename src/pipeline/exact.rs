@@ -79,6 +79,11 @@ pub struct Options {
     /// Behaviours the machine must not show (the user's `--negative` scenarios), beside those
     /// the loop learns from NuSMV.
     pub negatives: Vec<NegativeScenario>,
+    /// With a check: stop with [`super::CegisError::Stalled`] after this many refuted
+    /// candidates in a row with the same number of states, or (after at least 3) this long
+    /// refuting them (the loop learning one behaviour at a time: another engine's turn);
+    /// `None`: never.
+    pub stall: Option<(usize, std::time::Duration)>,
 }
 
 impl Default for Options {
@@ -90,6 +95,7 @@ impl Default for Options {
             keep_failed_model: None,
             proof_budget: DEFAULT_PROOF_BUDGET,
             negatives: Vec::new(),
+            stall: None,
         }
     }
 }
@@ -178,6 +184,7 @@ pub fn run(
         verbose: opts.verbose,
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
+        stall: opts.stall,
     };
     let closed = match super::loop_encoding::LoopEncoding::new(
         &check.problem,

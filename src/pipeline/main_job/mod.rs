@@ -13,12 +13,15 @@
 //! 1. Where the properties read inputs the recordings never vary, the closed-loop game's guide
 //!    ([`guide`]) runs first: the exact loop learns such behaviour one counterexample at a
 //!    time, the game answers for every behaviour of the plant at once. Its machine is least
-//!    only for the recordings and the guide's own runs, so the exact loop gets a turn below it
-//!    (at most its states; half the time the guide took, at least 2 s): a smaller verified
-//!    machine replaces it. Where the loop converges fast it wins; where it does not (the reason
-//!    the guide ran) the turn costs a fraction of the run.
-//! 2. Otherwise, or when the guide has no machine, the exact loop ([`exact`]); when it gives up
-//!    the error says what the recordings never show and what the game says of the problem.
+//!    only for the recordings and the guide's own runs; it is made smaller in process
+//!    ([`polish`]), and the exact loop gets a turn below it (at most its states; half the
+//!    time the guide took, at least 2 s): a smaller verified machine replaces it.
+//! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
+//!    every behaviour the properties need, it can refute candidates one behaviour at a time
+//!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
+//!    states, or [`STALL_TIME`] refuting them, it hands over to the guide, as in 1. When the guide has no machine, the exact
+//!    loop again for the time left; when it gives up the error says what the recordings never
+//!    show and what the game says of the problem.
 //! 3. With the search ([`Method::Search`]): its machine, made small along the closed loop
 //!    ([`search::shrink`]), bounds the exact loop (at most its states) for the time left, so the
 //!    answer is never larger than what SAT finds below it.
@@ -68,8 +71,14 @@ pub struct Options {
 /// A turn of the strategy, for progress.
 #[derive(Debug, Clone)]
 pub enum Step {
-    /// The guide starts: the recordings never show what some property reads.
+    /// The guide starts: the recordings never show what some property reads, or the exact
+    /// loop stalled.
     GuideStarted,
+    /// The exact loop stalled (why): the guide takes over.
+    Stalled {
+        /// Why.
+        why: String,
+    },
     /// The guide gave no machine (why); the exact loop goes on.
     GuideDeclined {
         /// Why.
@@ -136,21 +145,72 @@ pub fn run(
         }
     }
     match &opts.method {
+        Method::Sat if guide_said.is_none() && guide_states(opts) => {
+            handing_over(set, check, explained, opts, events)
+        }
         Method::Sat => exact_loop(set, check, explained, opts, guide_said, events),
         Method::Search(s) => searched(set, check, opts, s, events),
     }
 }
 
-/// Whether the guide runs: the exact method, properties that read what the recordings never
-/// vary, and a problem the guide's own synthesis states (the default algorithms, no start
-/// state, no negative scenarios).
+/// Whether the guide runs first: properties that read what the recordings never vary, on a
+/// problem the guide states ([`guide_states`]).
 fn guides(opts: &Options, explained: &Explanation) -> bool {
+    !explained.unrecorded.is_empty() && guide_states(opts)
+}
+
+/// Whether the guide can take a turn: the exact method and a problem the guide's own
+/// synthesis states (the default algorithms, no start state, no negative scenarios).
+fn guide_states(opts: &Options) -> bool {
     let sat = &opts.exact.sat;
     matches!(opts.method, Method::Sat)
-        && !explained.unrecorded.is_empty()
         && sat.algorithms == AlgorithmKind::Tri
         && !sat.start_state
         && opts.exact.negatives.is_empty()
+}
+
+/// Refuted candidates in a row with the same number of states after which the exact loop,
+/// where the recordings show every value the properties read, hands over to the guide: it
+/// then converges within a few candidates where the recordings show the behaviours the
+/// properties need too, and refutes candidates one behaviour at a time, for minutes, where
+/// they do not.
+pub(crate) const STALL_ROUNDS: usize = 15;
+
+/// The time after which the exact loop hands over to the guide when its candidates of one
+/// number of states keep being refuted (at least 3 of them): there each SAT call can grow to
+/// tens of seconds, so that few candidates take minutes.
+pub(crate) const STALL_TIME: Duration = Duration::from_secs(20);
+
+/// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
+/// guide has no machine, the exact loop again for the time left.
+fn handing_over(
+    set: &ScenarioSet,
+    check: &Check,
+    explained: &Explanation,
+    opts: &Options,
+    events: Events<'_>,
+) -> Result<VerifiedMachine, Error> {
+    let mut first = opts.exact.clone();
+    first.stall = Some((STALL_ROUNDS, STALL_TIME));
+    let stalled = match opts.limit.exact(set, check, &first, events) {
+        Ok(r) => {
+            let (ecc, certificate, exact) = exact_parts(r, opts)?;
+            return Ok(VerifiedMachine {
+                ecc,
+                certificate,
+                summary: Summary::Exact(exact),
+            });
+        }
+        Err(Error::Cegis(e @ super::CegisError::Stalled { .. })) => e,
+        Err(e) => return Err(why_none(set, check, explained, opts, None, e, events)),
+    };
+    events(Event::MainJob(Step::Stalled {
+        why: stalled.to_string(),
+    }));
+    match guided(set, check, explained, opts, events)? {
+        Guided::Machine(m) => Ok(*m),
+        Guided::Declined(why) => exact_loop(set, check, explained, opts, Some(why), events),
+    }
 }
 
 /// What the guide's turn gives.
