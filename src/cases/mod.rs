@@ -22,6 +22,8 @@ pub mod pnp;
 #[cfg(feature = "cases")]
 mod simulate;
 #[cfg(feature = "cases")]
+pub mod station;
+#[cfg(feature = "cases")]
 pub mod tank;
 
 #[cfg(feature = "cases")]

@@ -335,3 +335,52 @@ fn a_coupling_file_maps_plant_names_to_controller_names() {
         text(&v.stderr)
     );
 }
+
+/// Generated stations of cylinders and latching requests (seeds 1 to 4), each from one
+/// recorded run of its reference controller: the main job's machine is verified by NuSMV
+/// (every property holds) and is no larger than the reference (states, then transitions,
+/// then literals).
+#[test]
+fn generated_stations_get_a_verified_machine_no_larger_than_their_reference() {
+    let Some(n) = nusmv_or_skip() else { return };
+    for seed in 1..=4 {
+        let dir = Dir::new();
+        let (_, station) = fbsynth::cases::station::write_files(dir.path(), seed).unwrap();
+        let reference = station.reference().size();
+        let file = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+        let o = with_nusmv(
+            &n.path,
+            &[
+                "--json",
+                "--ltl",
+                &file("station.ltl"),
+                "--plant",
+                &file("plant.smv"),
+                "--out",
+                &file("out"),
+            ],
+        );
+        let err = text(&o.stderr);
+        assert!(o.status.success(), "seed {seed}: {err}");
+        let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let report = std::fs::read_to_string(dir.path().join("out/verification.txt")).unwrap();
+        let properties = station
+            .properties()
+            .lines()
+            .filter(|l| l.contains(':') && !l.starts_with("--"))
+            .count();
+        assert_eq!(
+            report.matches("\nHOLDS ").count(),
+            properties,
+            "seed {seed}: {report}"
+        );
+        let size = |key: &str| summary["size"][key].as_u64().unwrap() as usize;
+        // No larger in the one order of sizes: states, then transitions, then literals.
+        let found = (size("c"), size("t"), size("n"));
+        assert!(
+            found <= (reference.c, reference.t, reference.n),
+            "seed {seed}: {} against the reference's {reference}",
+            summary["size"]
+        );
+    }
+}
