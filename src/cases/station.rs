@@ -67,11 +67,12 @@ impl Station {
             })
             .collect::<Vec<_>>();
         // The first request is pressed at once, the others once each, later in the run.
-        let mut presses = vec![vec![false; requests.len()]; STEPS];
-        presses[1][0] = true;
-        for j in 1..requests.len() {
-            presses[4 + rng.below(STEPS - 8)][j] = true;
-        }
+        let pressed_at: Vec<usize> = std::iter::once(1)
+            .chain((1..requests.len()).map(|_| 4 + rng.below(STEPS - 8)))
+            .collect();
+        let presses = (0..STEPS)
+            .map(|t| pressed_at.iter().map(|&at| at == t).collect())
+            .collect();
         Station {
             cylinders,
             requests,
@@ -264,8 +265,8 @@ impl Station {
                     _ => {}
                 }
             }
-            for j in 0..m {
-                req[j] = press[j] || (req[j] && !before[c + j]);
+            for (j, r) in req.iter_mut().enumerate() {
+                *r = press[j] || (*r && !before[c + j]);
             }
         }
         format!("1\n{}\n", events.join(" "))
