@@ -19,7 +19,7 @@ pub struct LearnPlantArgs {
     pub observe: Option<PathBuf>,
     /// Scans a sensor change a command drives may come later than recorded (the model's scan
     /// need not be the recording PLC's).
-    #[arg(long, default_value_t = 1, value_name = "N")]
+    #[arg(long, default_value_t = 0, value_name = "N")]
     pub slack: usize,
     /// The plant file to write (`MODULE plant(<controller outputs>)`).
     #[arg(long, value_name = "FILE")]

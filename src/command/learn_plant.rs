@@ -39,9 +39,8 @@ impl Written {
 
 /// The observers in `file`, read.
 pub(crate) fn read_observers(file: &Path) -> Result<Observers, Error> {
-    let text = std::fs::read_to_string(file).map_err(|e| {
-        Error::Input(format!("cannot read the observers {}: {e}", file.display()))
-    })?;
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| Error::Input(format!("cannot read the observers {}: {e}", file.display())))?;
     Ok(Observers {
         file: file.to_path_buf(),
         text,

@@ -86,7 +86,10 @@ impl<'m> Replayer<'m> {
         (self.sensors.iter())
             .map(|&n| match self.sem.read(n, s, &params) {
                 Ok(Value::Bool(b)) => Ok(b),
-                Ok(v) => Err(format!("the sensor {} is not Boolean ({v})", self.sem.model().name_of(n))),
+                Ok(v) => Err(format!(
+                    "the sensor {} is not Boolean ({v})",
+                    self.sem.model().name_of(n)
+                )),
                 Err(e) => Err(e.to_string()),
             })
             .collect()
@@ -98,7 +101,9 @@ impl<'m> Replayer<'m> {
             return Ok(None);
         };
         let mut now = BTreeSet::new();
-        for s in (self.sem.initial_states(&self.params(&first.outputs))).map_err(|e| e.to_string())? {
+        for s in
+            (self.sem.initial_states(&self.params(&first.outputs))).map_err(|e| e.to_string())?
+        {
             if self.sensors(&s, &first.outputs)? == first.inputs {
                 now.insert(s);
             }

@@ -64,8 +64,8 @@ fn random_run(
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Scan>, String> {
     let mut machine = Run::new(ecc);
-    let starts = (maker.sem.initial_states(&maker.params(&machine.outputs)))
-        .map_err(|e| e.to_string())?;
+    let starts =
+        (maker.sem.initial_states(&maker.params(&machine.outputs))).map_err(|e| e.to_string())?;
     let mut state: State = pick(starts, rng).ok_or("the plant has no initial state")?;
     let mut out = Vec::with_capacity(scans);
     for _ in 0..scans {
@@ -76,7 +76,10 @@ fn random_run(
             inputs,
             outputs: machine.outputs.clone(),
         });
-        let succ = maker.sem.successors(&state, &p, &p).map_err(|e| e.to_string())?;
+        let succ = maker
+            .sem
+            .successors(&state, &p, &p)
+            .map_err(|e| e.to_string())?;
         match pick(succ, rng) {
             Some(s) => state = s,
             None => break,

@@ -41,8 +41,9 @@ pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
 fn half(runs: &Runs, x: usize, v: bool, slack: usize) -> Half {
     let depends = dependencies(runs, x, v);
     let counts = counts(runs, x, v, &depends);
-    let command_on =
-        |c: &[bool]| (depends.iter().zip(c)).any(|(&f, &on)| on && f >= runs.inputs.len());
+    // A command (on, or off as for a spring-return cylinder) drives the sensor in this half.
+    let driven = depends.iter().any(|&f| f >= runs.inputs.len());
+    let command_on = |_: &[bool]| driven;
     let mut rules: Vec<(Vec<bool>, Rule)> = (counts.iter())
         .map(|(c, &(stays, changes))| {
             let rule = match (stays, changes) {

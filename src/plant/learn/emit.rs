@@ -88,15 +88,24 @@ fn header(
         runs.inputs.len(),
         learned.starts.len()
     );
-    t.push_str("-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n");
+    t.push_str(
+        "-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n",
+    );
     t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*).\n");
     if let Some(o) = observers {
-        let _ = writeln!(t, "-- Observers (names no recording shows) from {}.", o.file.display());
+        let _ = writeln!(
+            t,
+            "-- Observers (names no recording shows) from {}.",
+            o.file.display()
+        );
     }
     t.push_str("-- Structure (each sensor's next value depends on):\n");
     for p in &learned.parts {
         let names = |h: &Half| -> String {
-            let n: Vec<&str> = h.depends[1..].iter().map(|&f| runs.signal_name(f)).collect();
+            let n: Vec<&str> = h.depends[1..]
+                .iter()
+                .map(|&f| runs.signal_name(f))
+                .collect();
             match n.is_empty() {
                 true => "nothing".into(),
                 false => n.join(", "),

@@ -21,12 +21,12 @@
 //! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there;
 //!   in a context never seen it keeps its value (a sensor does not change without a cause).
 //!   Every command is accepted in every state (the model is receptive by construction).
-//! - *Delays*: in an ambiguous context where a command is on, the sensor must change once it
+//! - *Delays*: in an ambiguous context of a sensor a command drives, the sensor must change once it
 //!   stayed longer than the longest stay recorded there (plus a slack), and may change once
 //!   it stayed a quarter of the shortest stay recorded before a change (a counter
 //!   per sensor and direction counts the scans), so that "a cylinder told to extend eventually reaches
-//!   its end" holds without any fairness. Contexts where no command is on (an operator's
-//!   button, a piece put on a track) stay free.
+//!   its end" holds without any fairness. A sensor no command drives (an operator's button, a
+//!   piece put on a track) stays free.
 //! - *Check* ([`admit`]): the text is read back by the plant parser and every recorded run
 //!   replayed on it, step by step; the first step it cannot produce is an error.
 
@@ -87,11 +87,8 @@ impl Runs {
 
     /// Every recorded transition: (the scan, the sensors of the next scan).
     pub(crate) fn transitions(&self) -> impl Iterator<Item = (&Scan, &[bool])> {
-        (self.runs.iter()).flat_map(|(_, scans)| {
-            scans
-                .windows(2)
-                .map(|w| (&w[0], w[1].inputs.as_slice()))
-        })
+        (self.runs.iter())
+            .flat_map(|(_, scans)| scans.windows(2).map(|w| (&w[0], w[1].inputs.as_slice())))
     }
 
     /// The value of signal `f` (a sensor index, or `inputs.len() + output index`) in `scan`.
