@@ -14,8 +14,6 @@ use std::path::{Path, PathBuf};
 pub(crate) struct Written {
     /// The plant.
     pub learned: Learned,
-    /// Sensor and output names.
-    pub inputs: Vec<String>,
     /// Where it was written.
     pub out: PathBuf,
 }
@@ -85,7 +83,6 @@ pub(crate) fn run(
     write_atomic(out, learned.text.as_bytes())?;
     Ok(Written {
         learned,
-        inputs: set.inputs,
         out: out.to_path_buf(),
     })
 }
