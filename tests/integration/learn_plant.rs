@@ -177,3 +177,29 @@ fn recordings_where_an_output_never_acts_are_refused_by_name_with_nothing_writte
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn an_assumption_the_recordings_violate_is_refused_with_the_step() {
+    let dir = Dir::new();
+    // "The upper sensor is never covered": the recordings cover it.
+    let observers = dir.path().join("never_full.observers");
+    std::fs::write(&observers, "INVAR !ul\n").unwrap();
+    let out = dir.path().join("plant.smv");
+    let o = synth(&[
+        "learn-plant",
+        "--traces",
+        "specs/tank2.traces",
+        "--observe",
+        observers.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("specs/tank2.traces:2 step")
+            && err.contains("cannot produce this recorded step"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
