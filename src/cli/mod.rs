@@ -189,6 +189,7 @@ mod export;
 mod infer;
 mod ingest;
 mod learn;
+mod learn_plant;
 mod live;
 mod main_job;
 pub mod progress;
@@ -287,6 +288,12 @@ pub(crate) enum Command {
     /// What to record next: input sequences (from the initial state or a recorded prefix) on
     /// which the machines that fit the recordings answer differently, as a plan.
     NextRecording(ambiguity::NextRecordingArgs),
+    /// Learn the surrogate plant from the recordings: a plant file for the main job and
+    /// verify, checked to produce every recorded step.
+    LearnPlant(learn_plant::LearnPlantArgs),
+    /// Compare two plants on random closed-loop runs of a machine: how many runs of each
+    /// the other admits.
+    ComparePlants(learn_plant::ComparePlantsArgs),
     /// Active learning against a machine that answers (JSON, or a case's reference): infer,
     /// find a rival, record the sequence that tells them apart, until unique; compared with
     /// random recordings of the same length.
@@ -403,6 +410,8 @@ pub fn run() -> i32 {
         Some(Command::Infer(a)) => infer::infer(&a),
         Some(Command::NextRecording(a)) => ambiguity::next_recording(&a),
         Some(Command::Learn(a)) => learn::learn(&a),
+        Some(Command::LearnPlant(a)) => learn_plant::learn_plant(&a),
+        Some(Command::ComparePlants(a)) => learn_plant::compare_plants(&a),
         Some(Command::Export(a)) => export::export(&a),
         Some(Command::Completions(a)) => docs::completions(&a),
         Some(Command::Man(a)) => docs::man(&a),

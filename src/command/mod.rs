@@ -20,6 +20,7 @@ pub(crate) mod export;
 pub(crate) mod infer;
 pub(crate) mod ingest;
 pub(crate) mod learn;
+pub(crate) mod learn_plant;
 pub(crate) mod live;
 pub(crate) mod main_job;
 pub(crate) mod modular;

@@ -44,6 +44,7 @@ pub(crate) mod arith;
 #[cfg(test)]
 pub(crate) mod build;
 pub(crate) mod explicit;
+pub(crate) mod learn;
 pub mod parse;
 pub(crate) mod print;
 

@@ -11,6 +11,7 @@ mod common;
 mod events;
 mod iec;
 mod layering;
+mod learn_plant;
 mod limits;
 mod live;
 mod logs;

@@ -1,0 +1,217 @@
+//! The learned plant as SMV text of the plant subset.
+//!
+//! In: the [`Learned`] parts and starts, the [`Runs`] (for names), where the recordings come
+//! from, and the observers. Out: the text of `MODULE plant(<controller outputs>)`: a header
+//! saying what it was learned from, its size and structure, then one Boolean `VAR` per sensor,
+//! one counter per delayed sensor, the start values as `init` (a sensor whose recorded starts
+//! differ starts free), a `next` assignment per
+//! sensor (contexts that keep the value are left to the default branch), and the observers.
+
+use super::{Half, Learned, Observers, Part, Rule, Runs};
+use std::collections::BTreeSet;
+use std::fmt::Write;
+
+/// The sensor valuations the recorded runs start with, over the sensors not free at start.
+pub(crate) fn starts(runs: &Runs, parts: &[Part]) -> Vec<Vec<bool>> {
+    let set: BTreeSet<Vec<bool>> = (runs.runs.iter())
+        .filter_map(|(_, scans)| scans.first())
+        .map(|s| {
+            (parts.iter())
+                .filter(|p| !p.free_start)
+                .map(|p| s.inputs[p.sensor])
+                .collect()
+        })
+        .collect();
+    set.into_iter().collect()
+}
+
+/// The text of the plant.
+pub(crate) fn text(
+    learned: &Learned,
+    runs: &Runs,
+    source: &str,
+    observers: Option<&Observers>,
+) -> String {
+    let mut t = String::new();
+    header(&mut t, learned, runs, source, observers);
+    let _ = writeln!(t, "MODULE plant({})", runs.outputs.join(", "));
+    t.push_str("VAR\n");
+    for name in &runs.inputs {
+        let _ = writeln!(t, "    {name} : boolean;");
+    }
+    for p in &learned.parts {
+        for (v, h) in [false, true].into_iter().zip(&p.halves) {
+            if h.wait_cap() > 0 {
+                let name = counter(&runs.inputs[p.sensor], v);
+                let _ = writeln!(t, "    {name} : 0..{};", h.wait_cap());
+            }
+        }
+    }
+    t.push_str("ASSIGN\n");
+    init(&mut t, learned, runs);
+    for p in &learned.parts {
+        next(&mut t, p, runs);
+    }
+    if let Some(o) = observers {
+        let _ = writeln!(t, "-- observers, from {}", o.file.display());
+        t.push_str(&o.text);
+        if !o.text.ends_with('\n') {
+            t.push('\n');
+        }
+    }
+    t
+}
+
+fn header(
+    t: &mut String,
+    learned: &Learned,
+    runs: &Runs,
+    source: &str,
+    observers: Option<&Observers>,
+) {
+    let counters = (learned.parts.iter())
+        .flat_map(|p| &p.halves)
+        .filter(|h| h.wait_cap() > 0)
+        .count();
+    let rules: usize = (learned.parts.iter())
+        .flat_map(|p| &p.halves)
+        .map(|h| h.rules.len())
+        .sum();
+    let _ = writeln!(
+        t,
+        "-- Surrogate plant learned by `synth learn-plant` from {source}: {} recorded scans in {} runs.",
+        learned.steps, learned.runs
+    );
+    let _ = writeln!(
+        t,
+        "-- Size: {} sensors, {counters} dwell counters, {rules} contexts seen, {} start valuations.",
+        runs.inputs.len(),
+        learned.starts.len()
+    );
+    t.push_str(
+        "-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n",
+    );
+    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*).\n");
+    if let Some(o) = observers {
+        let _ = writeln!(
+            t,
+            "-- Observers (names no recording shows) from {}.",
+            o.file.display()
+        );
+    }
+    t.push_str("-- Structure (each sensor's next value depends on):\n");
+    for p in &learned.parts {
+        let names = |h: &Half| -> String {
+            let n: Vec<&str> = h.depends[1..]
+                .iter()
+                .map(|&f| runs.signal_name(f))
+                .collect();
+            match n.is_empty() {
+                true => "nothing".into(),
+                false => n.join(", "),
+            }
+        };
+        let kind = match (p.free_start, p.wait_cap) {
+            (true, _) => " (free: no command moves it)",
+            (false, 0) => "",
+            (false, _) => " (delayed)",
+        };
+        let _ = writeln!(
+            t,
+            "--   {}: rises on {}; falls on {}{kind}",
+            runs.inputs[p.sensor],
+            names(&p.halves[0]),
+            names(&p.halves[1])
+        );
+    }
+}
+
+fn init(t: &mut String, learned: &Learned, runs: &Runs) {
+    // One `init` per sensor (not an `INIT` over all): the in-process checker reads these.
+    let fixed = (learned.parts.iter()).filter(|p| !p.free_start).enumerate();
+    for (k, p) in fixed {
+        let values: BTreeSet<bool> = learned.starts.iter().map(|v| v[k]).collect();
+        let value = match (values.contains(&false), values.contains(&true)) {
+            (true, false) => "FALSE",
+            (false, true) => "TRUE",
+            _ => continue,
+        };
+        let _ = writeln!(t, "    init({}) := {value};", runs.inputs[p.sensor]);
+    }
+}
+
+/// The name of the dwell counter of half `v` (rise: FALSE) of sensor `name`.
+fn counter(name: &str, v: bool) -> String {
+    match v {
+        false => format!("wait_up_{name}"),
+        true => format!("wait_down_{name}"),
+    }
+}
+
+fn next(t: &mut String, p: &Part, runs: &Runs) {
+    let name = &runs.inputs[p.sensor];
+    let _ = writeln!(t, "    next({name}) := case");
+    for (v, h) in [false, true].into_iter().zip(&p.halves) {
+        let wait = counter(name, v);
+        for (c, rule) in &h.rules {
+            let ctx = context(h, c, runs);
+            match *rule {
+                Rule::To(to) if to == v => {}
+                Rule::To(to) => {
+                    let _ = writeln!(t, "        {ctx} : {};", constant(to));
+                }
+                Rule::Free => {
+                    let _ = writeln!(t, "        {ctx} : {{FALSE, TRUE}};");
+                }
+                Rule::Within(least, most) => {
+                    if least > 0 {
+                        let _ = writeln!(t, "        {ctx} & {wait} < {least} : {};", constant(v));
+                    }
+                    let _ = writeln!(t, "        {ctx} & {wait} >= {most} : {};", constant(!v));
+                    let _ = writeln!(t, "        {ctx} : {{FALSE, TRUE}};");
+                }
+            }
+        }
+    }
+    let _ = writeln!(t, "        TRUE : {name};\n    esac;");
+    for (v, h) in [false, true].into_iter().zip(&p.halves) {
+        let cap = h.wait_cap();
+        if cap == 0 {
+            continue;
+        }
+        let wait = counter(name, v);
+        let delayed: Vec<String> = (h.rules.iter())
+            .filter(|(_, r)| matches!(r, Rule::Within(..)))
+            .map(|(c, _)| context(h, c, runs))
+            .collect();
+        let any = delayed.join(" | ");
+        // Counts the scans the sensor spent with this value in a delayed context; after a
+        // change the sensor has the other value, and the count restarts.
+        let _ = writeln!(t, "    init({wait}) := 0;");
+        let _ = writeln!(t, "    next({wait}) := case");
+        let _ = writeln!(t, "        ({any}) & {wait} < {cap} : {wait} + 1;");
+        let _ = writeln!(t, "        ({any}) : {cap};");
+        let _ = writeln!(t, "        TRUE : 0;\n    esac;");
+    }
+}
+
+fn context(h: &Half, c: &[bool], runs: &Runs) -> String {
+    let lits: Vec<String> = (h.depends.iter().zip(c))
+        .map(|(&f, &v)| literal(runs.signal_name(f), v))
+        .collect();
+    lits.join(" & ")
+}
+
+fn literal(name: &str, v: bool) -> String {
+    match v {
+        true => name.to_string(),
+        false => format!("!{name}"),
+    }
+}
+
+fn constant(v: bool) -> &'static str {
+    match v {
+        true => "TRUE",
+        false => "FALSE",
+    }
+}

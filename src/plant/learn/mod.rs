@@ -1,0 +1,278 @@
+//! A surrogate plant learned from the recordings: what the sensors (the controller's inputs)
+//! did after each scan under the commands (its outputs) in force, generalized into a
+//! `MODULE plant(<controller outputs>)` of the plant subset ([`super`]).
+//!
+//! In: a [`ScenarioSet`] (the recordings), where each scan `k` gives the sensors `s_k` the
+//! controller read and the outputs `o_k` it left in force, so that the plant moved from
+//! `s_k` under `o_k` to `s_{k+1}`; optionally observers (SMV declarations of the names the
+//! properties use that no recording shows, such as an overflow or a "piece placed" event).
+//! Out: a [`Learned`] plant: its SMV text, what it is made of ([`Part`]s), and the proof
+//! that it admits every recorded step; or a [`LearnError`] naming the file and step.
+//!
+//! # The method
+//! In the spirit of Buzhinsky and Vyatkin, "Automatic inference of finite-state plant models
+//! from traces and temporal properties" (IEEE TII 2017), the state is the sensors' valuation,
+//! plus one hidden dwell counter per sensor a command moves over several scans:
+//! - *Structure* ([`depend`]): for each sensor, the smallest set of sensors and outputs its
+//!   next value depends on, chosen greedily: starting from the sensor itself, the signal that
+//!   most reduces the recorded transitions whose context (the valuation of the set) saw both
+//!   next values, while it removes at least a tenth of them. What remains ambiguous is a
+//!   delay: a cylinder under way, a level between two sensors.
+//! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there;
+//!   in a context never seen it keeps its value (a sensor does not change without a cause).
+//!   Every command is accepted in every state (the model is receptive by construction).
+//! - *Delays*: in an ambiguous context of a sensor a command drives, the sensor must change once it
+//!   stayed longer than the longest stay recorded there (plus a slack), and may change once
+//!   it stayed a quarter of the shortest stay recorded before a change (a counter
+//!   per sensor and direction counts the scans), so that "a cylinder told to extend eventually reaches
+//!   its end" holds without any fairness. A sensor no command drives (an operator's button, a
+//!   piece put on a track) stays free.
+//! - *Check* ([`admit`]): the text is read back by the plant parser and every recorded run
+//!   replayed on it, step by step; the first step it cannot produce is an error.
+
+pub(crate) mod admit;
+pub(crate) mod compare;
+pub(crate) mod depend;
+pub(crate) mod emit;
+
+use crate::scenario::{Origin, ScenarioSet};
+use std::path::PathBuf;
+
+/// One recorded scan: the sensors read and the outputs in force after it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Scan {
+    /// The sensors (controller inputs), in interface order.
+    pub(crate) inputs: Vec<bool>,
+    /// The controller outputs after the scan, in interface order.
+    pub(crate) outputs: Vec<bool>,
+}
+
+/// The recordings as runs of scans, with where each run comes from.
+#[derive(Debug, Clone)]
+pub(crate) struct Runs {
+    /// Sensor names.
+    pub(crate) inputs: Vec<String>,
+    /// Controller output names.
+    pub(crate) outputs: Vec<String>,
+    /// Per run: its origin and its scans.
+    pub(crate) runs: Vec<(Origin, Vec<Scan>)>,
+}
+
+impl Runs {
+    /// The scans of `set`: each step's inputs with the outputs in force after it.
+    pub(crate) fn of(set: &ScenarioSet) -> Runs {
+        let runs = (set.scenarios.iter())
+            .map(|s| {
+                let mut outputs = set.initial_outputs.clone();
+                let scans = (s.steps.iter())
+                    .map(|step| {
+                        if let Some(o) = &step.outputs {
+                            outputs.clone_from(o);
+                        }
+                        Scan {
+                            inputs: step.inputs.clone(),
+                            outputs: outputs.clone(),
+                        }
+                    })
+                    .collect();
+                (s.origin.clone(), scans)
+            })
+            .collect();
+        Runs {
+            inputs: set.inputs.clone(),
+            outputs: set.outputs.clone(),
+            runs,
+        }
+    }
+
+    /// Every recorded transition: (the scan, the sensors of the next scan).
+    pub(crate) fn transitions(&self) -> impl Iterator<Item = (&Scan, &[bool])> {
+        (self.runs.iter())
+            .flat_map(|(_, scans)| scans.windows(2).map(|w| (&w[0], w[1].inputs.as_slice())))
+    }
+
+    /// The value of signal `f` (a sensor index, or `inputs.len() + output index`) in `scan`.
+    pub(crate) fn signal(&self, scan: &Scan, f: usize) -> bool {
+        match f.checked_sub(self.inputs.len()) {
+            None => scan.inputs[f],
+            Some(z) => scan.outputs[z],
+        }
+    }
+
+    /// The name of signal `f`.
+    pub(crate) fn signal_name(&self, f: usize) -> &str {
+        match f.checked_sub(self.inputs.len()) {
+            None => &self.inputs[f],
+            Some(z) => &self.outputs[z],
+        }
+    }
+}
+
+/// Observers: SMV declarations added verbatim to the learned module.
+#[derive(Debug, Clone)]
+pub(crate) struct Observers {
+    /// The file they come from.
+    pub(crate) file: PathBuf,
+    /// Its text.
+    pub(crate) text: String,
+}
+
+/// What a sensor's next value is learned to depend on, and how.
+#[derive(Debug, Clone)]
+pub(crate) struct Part {
+    /// The sensor (index into the inputs).
+    pub(crate) sensor: usize,
+    /// Its rise (from FALSE) and its fall (from TRUE).
+    pub(crate) halves: [Half; 2],
+    /// The largest dwell bound of a delayed rule (0: no counter).
+    pub(crate) wait_cap: usize,
+    /// Whether the sensor is free at the start (it is an operator's, never driven).
+    pub(crate) free_start: bool,
+}
+
+/// The next value of a sensor that has one value, by context.
+#[derive(Debug, Clone)]
+pub(crate) struct Half {
+    /// The signals its next value depends on (the sensor itself first).
+    pub(crate) depends: Vec<usize>,
+    /// Per context seen (values of `depends`, in order; the sensor's own value first): the
+    /// rule.
+    pub(crate) rules: Vec<(Vec<bool>, Rule)>,
+}
+
+impl Half {
+    /// The largest dwell bound of a delayed rule (0: no counter).
+    pub(crate) fn wait_cap(&self) -> usize {
+        (self.rules.iter())
+            .filter_map(|(_, r)| match r {
+                Rule::Within(_, n) => Some(*n),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// The next value of a sensor in one context.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Rule {
+    /// Always this value.
+    To(bool),
+    /// Either value, at every scan.
+    Free,
+    /// A command moves it: it keeps its value while it stayed fewer than the first count of
+    /// scans, may change from then on, and must once it stayed the second.
+    Within(usize, usize),
+}
+
+/// A learned plant.
+#[derive(Debug, Clone)]
+pub(crate) struct Learned {
+    /// One part per sensor.
+    pub(crate) parts: Vec<Part>,
+    /// The sensor valuations a run starts with (over the sensors not free at the start).
+    pub(crate) starts: Vec<Vec<bool>>,
+    /// The SMV text of the plant.
+    pub(crate) text: String,
+    /// Recorded scans (steps) and runs it was learned from.
+    pub(crate) steps: usize,
+    /// Number of recorded runs.
+    pub(crate) runs: usize,
+}
+
+/// Why no plant could be learned.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum LearnError {
+    /// No recorded transition at all.
+    #[error("{file}: the recordings hold no two consecutive scans: nothing to learn a plant from")]
+    NoTransition {
+        /// The first trace file.
+        file: String,
+    },
+    /// An output that is never on: nothing says what it does.
+    #[error("{file}: the recordings are too short to learn the plant from: the controller output {output} is never on in them, so nothing shows what it moves; record a run where it acts")]
+    NeverOn {
+        /// The first trace file.
+        file: String,
+        /// The output.
+        output: String,
+    },
+    /// A sensor that never changes.
+    #[error("{file}: the recordings are too short to learn the plant from: the sensor {sensor} never changes in them, so nothing shows what moves it; record a run where it does")]
+    NeverChanges {
+        /// The first trace file.
+        file: String,
+        /// The sensor.
+        sensor: String,
+    },
+    /// The learned text is not a model of the subset (observers that do not parse).
+    #[error("the learned plant does not read back (check the observers{observers}): {message}")]
+    Unreadable {
+        /// ` in FILE` when observers were given.
+        observers: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// A recorded step the learned plant cannot produce.
+    #[error("{place}: the learned plant cannot produce this recorded step: {why}")]
+    NotAdmitted {
+        /// File, line and step.
+        place: String,
+        /// What it refuses.
+        why: String,
+    },
+}
+
+/// Learns the plant of `set` (see the module header); `source` names the recordings in the
+/// header of the text; a change a command drives may come `slack` scans later than recorded.
+pub(crate) fn learn(
+    set: &ScenarioSet,
+    source: &str,
+    observers: Option<&Observers>,
+    slack: usize,
+) -> Result<Learned, LearnError> {
+    let runs = Runs::of(set);
+    refuse_too_short(&runs, set)?;
+    let parts: Vec<Part> = (0..runs.inputs.len())
+        .map(|x| depend::part(&runs, x, slack))
+        .collect();
+    let starts = emit::starts(&runs, &parts);
+    let mut learned = Learned {
+        parts,
+        starts,
+        text: String::new(),
+        steps: set.step_count(),
+        runs: runs.runs.len(),
+    };
+    learned.text = emit::text(&learned, &runs, source, observers);
+    admit::check(&learned, &runs, observers)?;
+    Ok(learned)
+}
+
+/// Refuses recordings that show no transition, an output never on or a sensor never
+/// changing.
+fn refuse_too_short(runs: &Runs, set: &ScenarioSet) -> Result<(), LearnError> {
+    let file = (set.scenarios.first())
+        .map(|s| s.origin.file.display().to_string())
+        .unwrap_or_else(|| "the recordings".into());
+    if runs.transitions().next().is_none() {
+        return Err(LearnError::NoTransition { file });
+    }
+    for (z, name) in runs.outputs.iter().enumerate() {
+        if !runs.transitions().any(|(s, _)| s.outputs[z]) {
+            return Err(LearnError::NeverOn {
+                file,
+                output: name.clone(),
+            });
+        }
+    }
+    for (x, name) in runs.inputs.iter().enumerate() {
+        if !runs.transitions().any(|(s, n)| s.inputs[x] != n[x]) {
+            return Err(LearnError::NeverChanges {
+                file,
+                sensor: name.clone(),
+            });
+        }
+    }
+    Ok(())
+}
