@@ -422,6 +422,41 @@ fn redirect_earlier(rng: &mut impl Rng, m: &mut Machine, site: &Site) -> bool {
     true
 }
 
+/// `m` without the entries no scenario step fires, and without groups left empty: the
+/// scenarios behave the same, and input vectors they never record no longer lead anywhere the
+/// search put them by chance.
+pub(crate) fn prune_unused(m: &Machine, data: &ScenarioData) -> Machine {
+    let mut used: Vec<Vec<Vec<bool>>> = (m.states.iter())
+        .map(|st| {
+            st.groups
+                .iter()
+                .map(|g| vec![false; g.table.len()])
+                .collect()
+        })
+        .collect();
+    for range in &data.bounds {
+        let mut s = 0usize;
+        for st in &data.steps[range.clone()] {
+            if let Some((g, e, t)) = m.fire(s, st.x) {
+                used[s][g][e] = true;
+                s = t.0;
+            }
+        }
+    }
+    let mut out = m.clone();
+    for (st, used) in out.states.iter_mut().zip(&used) {
+        for (g, used) in st.groups.iter_mut().zip(used) {
+            for (t, &u) in g.table.iter_mut().zip(used) {
+                if !u {
+                    *t = None;
+                }
+            }
+        }
+        st.groups.retain(|g| g.present() > 0);
+    }
+    out
+}
+
 /// `k` distinct random inputs of `inputs`.
 fn random_vars(rng: &mut impl Rng, inputs: usize, k: usize) -> Vec<InputId> {
     let mut all: Vec<usize> = (0..inputs).collect();
