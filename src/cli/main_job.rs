@@ -106,9 +106,11 @@ pub struct SearchArgs {
     /// Colonies ((1+λ) strategies sharing their best).
     #[arg(long, default_value_t = 4, value_parser = super::args::workers())]
     pub colonies: usize,
-    /// Where the colonies start. From random machines the search does not reproduce all ten
-    /// Pick-and-Place scenarios within minutes (the published search took hours), so the main
-    /// job starts from SAT's machine for the scenarios and leaves the properties to the search.
+    /// Where the colonies start. `random`: random machines; the search first reconstructs the
+    /// scenarios (seconds on Pick-and-Place, where the published search took hours), then
+    /// looks for the properties from that machine, which on Pick-and-Place leaves one of the
+    /// eight failing for minutes. `sat` (default): SAT's machine for the scenarios, leaving
+    /// only the properties to the search.
     #[arg(long, value_enum, default_value_t = Start::Sat)]
     pub start: Start,
     /// Probability of verifying a candidate whose scenario fitness is below 99% of the maximum

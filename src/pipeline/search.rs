@@ -105,7 +105,9 @@ use std::time::{Duration, Instant};
 /// Where the colonies start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Start {
-    /// Random machines (the method of the metaheuristic and verification-in-the-loop papers).
+    /// Random machines (the method of the metaheuristic and verification-in-the-loop papers):
+    /// [`run`] first reconstructs the scenarios from them ([`reconstruct`]), then searches for
+    /// the properties from that machine without the entries no scenario fires.
     Random,
     /// The minimal machine SAT finds for the scenarios alone (verification left to the search).
     Sat,
