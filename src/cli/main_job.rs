@@ -100,7 +100,8 @@ pub struct SearchArgs {
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, value_parser = super::args::workers())]
     pub threads: Option<usize>,
-    /// States of every candidate (default: 8, or the SAT machine's with --start sat).
+    /// States of every candidate (default: 10 with --start random, the SAT machine's with
+    /// --start sat).
     #[arg(long, value_name = "C", value_parser = super::args::states())]
     pub states: Option<usize>,
     /// Colonies ((1+λ) strategies sharing their best).
@@ -108,9 +109,8 @@ pub struct SearchArgs {
     pub colonies: usize,
     /// Where the colonies start. `random`: random machines; the search first reconstructs the
     /// scenarios (seconds on Pick-and-Place, where the published search took hours), then
-    /// looks for the properties from that machine, which on Pick-and-Place leaves one of the
-    /// eight failing for minutes. `sat` (default): SAT's machine for the scenarios, leaving
-    /// only the properties to the search.
+    /// looks for the properties from that machine. `sat` (default): SAT's machine for the
+    /// scenarios, leaving only the properties to the search.
     #[arg(long, value_enum, default_value_t = Start::Sat)]
     pub start: Start,
     /// Probability of verifying a candidate whose scenario fitness is below 99% of the maximum
