@@ -100,15 +100,17 @@ pub struct SearchArgs {
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, value_parser = super::args::workers())]
     pub threads: Option<usize>,
-    /// States of every candidate (default: 8, or the SAT machine's with --start sat).
+    /// States of every candidate (default: 10 with --start random, the SAT machine's with
+    /// --start sat).
     #[arg(long, value_name = "C", value_parser = super::args::states())]
     pub states: Option<usize>,
     /// Colonies ((1+λ) strategies sharing their best).
     #[arg(long, default_value_t = 4, value_parser = super::args::workers())]
     pub colonies: usize,
-    /// Where the colonies start. From random machines the search does not reproduce all ten
-    /// Pick-and-Place scenarios within minutes (the published search took hours), so the main
-    /// job starts from SAT's machine for the scenarios and leaves the properties to the search.
+    /// Where the colonies start. `random`: random machines; the search first reconstructs the
+    /// scenarios (seconds on Pick-and-Place, where the published search took hours), then
+    /// looks for the properties from that machine. `sat` (default): SAT's machine for the
+    /// scenarios, leaving only the properties to the search.
     #[arg(long, value_enum, default_value_t = Start::Sat)]
     pub start: Start,
     /// Probability of verifying a candidate whose scenario fitness is below 99% of the maximum

@@ -4,8 +4,11 @@
 //! In: [`ScenarioData`], a [`Config`], and (with properties) one [`Checker`] per colony.
 //! Out: an [`Outcome`] with the best machine as an [`Ecc`], its scores and run figures.
 //!
-//! One generation of a colony: `λ` children of the current machine, each made by one operator
-//! chosen uniformly (the verification-aware one only when the parent has counterexamples);
+//! One generation of a colony: `λ` children of the current machine. While the parent fails a
+//! scenario, a child is made with probability [`Config::repair_probability`] by the repair
+//! mutation at the first divergence of a failing scenario ([`operators::repair`]); otherwise
+//! by one operator chosen uniformly (the verification-aware one only when the parent has
+//! counterexamples);
 //! the best child replaces the parent when it is at least as fit (neutral moves let the search
 //! drift across plateaus). A child's verification terms are computed by NuSMV with
 //! probability `p`, always when its scenario part exceeds 99% of the maximum, and otherwise
@@ -19,7 +22,7 @@
 //! exactly, one stopped by the clock stops at a round that depends on the machine's speed.
 
 use super::data::ScenarioData;
-use super::fitness::{Evaluator, ScenarioScore, Verdicts, Weights};
+use super::fitness::{Divergence, Evaluator, ScenarioScore, Verdicts, Weights};
 use super::machine::{input_bits, Machine, SearchState};
 use super::operators::{self, Operator};
 use super::oracle::{Checker, OracleError};
@@ -62,6 +65,11 @@ pub(crate) struct Config {
     pub(crate) counterexample_weight: f64,
     /// Probability that "add or delete transitions" touches a state.
     pub(crate) add_delete_probability: f64,
+    /// Probability that a child of a parent failing a scenario is made by the repair
+    /// mutation at a first divergence ([`operators::repair`]) rather than by a random one.
+    pub(crate) repair_probability: f64,
+    /// Probability that a repair redirects an earlier step instead of the divergence itself.
+    pub(crate) repair_back_probability: f64,
     /// Skip NuSMV for a child that still follows a counterexample its colony has seen (its
     /// verdicts: those properties fail, the rest inherited), beyond the verification-in-the-loop paper.
     pub(crate) replay_counterexamples: bool,
@@ -94,6 +102,8 @@ impl Default for Config {
             verify_threshold: 0.99,
             counterexample_weight: 1.0,
             add_delete_probability: 0.2,
+            repair_probability: 0.5,
+            repair_back_probability: 0.3,
             replay_counterexamples: true,
             seed: 0,
             threads: 1,
@@ -190,10 +200,36 @@ pub struct Outcome {
     pub(crate) stats: Stats,
 }
 
+impl Outcome {
+    /// Every scenario reproduced and (with properties) every property held in the search.
+    pub fn perfect(&self) -> bool {
+        self.perfect
+    }
+
+    /// `(reproduced, scenarios)`: the scenarios the machine reproduces exactly, of all.
+    pub fn reproduced(&self) -> (usize, usize) {
+        (self.score.reproduced, self.score.scenarios)
+    }
+
+    /// Scenario fitness evaluations of the run, over all colonies.
+    pub fn evaluations(&self) -> u64 {
+        self.stats.evaluations
+    }
+
+    /// Wall-clock time of the run, in seconds.
+    pub fn seconds(&self) -> f64 {
+        self.stats.seconds
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Individual {
     machine: Machine,
     score: ScenarioScore,
+    /// The first divergence of every scenario it fails.
+    divergences: Vec<Divergence>,
+    /// Its labeled algorithms, `(set to 0, set to 1)` per state.
+    masks: Vec<(u32, u32)>,
     verdicts: Option<Arc<Verdicts>>,
     /// The verdicts were computed for this machine, not inherited.
     own: bool,
@@ -264,6 +300,8 @@ impl Colony<'_> {
         force: bool,
     ) -> Individual {
         let score = self.eval.evaluate(&machine);
+        let divergences = self.eval.divergences().to_vec();
+        let masks = self.eval.label_masks().to_vec();
         self.evaluations += 1;
         let w = &config.weights;
         let mut verdicts = parent.and_then(|p| p.verdicts.clone());
@@ -316,6 +354,8 @@ impl Colony<'_> {
         Individual {
             machine,
             score,
+            divergences,
+            masks,
             verdicts,
             own,
             fitness,
@@ -337,6 +377,23 @@ impl Colony<'_> {
             ops.push(Operator::WeightedChangeTarget);
         }
         let mut m = parent.machine.clone();
+        if !parent.divergences.is_empty() && self.rng.gen_bool(config.repair_probability) {
+            let at = parent.divergences[self.rng.gen_range(0..parent.divergences.len())];
+            let site = operators::Site {
+                data: self.eval.data(),
+                masks: &parent.masks,
+                at,
+            };
+            if operators::repair(
+                &mut self.rng,
+                &mut m,
+                &site,
+                config.max_vars,
+                config.repair_back_probability,
+            ) {
+                return m;
+            }
+        }
         // An operator with nothing to act on leaves the machine alone; another one is tried.
         for _ in 0..8 {
             let op = ops[self.rng.gen_range(0..ops.len())];
@@ -516,6 +573,8 @@ impl<'a> Colony<'a> {
                     reproduced: 0,
                     scenarios: 0,
                 },
+                divergences: Vec::new(),
+                masks: Vec::new(),
                 verdicts: None,
                 own: false,
                 fitness: f64::NEG_INFINITY,
@@ -637,6 +696,27 @@ mod tests {
         assert_eq!(a.stats.evaluations, b.stats.evaluations);
         let c = search(&data, &quick(6));
         assert_ne!(a.machine, c.machine, "another seed searches elsewhere");
+    }
+
+    /// The metaheuristic paper's experiment in small: from random machines, every one of the
+    /// ten Pick-and-Place scenarios reproduced within a fixed budget of evaluations.
+    #[test]
+    fn from_random_machines_the_search_reproduces_every_pnp_scenario() {
+        let set = pnp::generate();
+        assert_eq!(set.scenarios.len(), 10);
+        let data = ScenarioData::new(&set).unwrap();
+        let config = Config {
+            seed: 1,
+            states: 10,
+            threads: 2,
+            max_evaluations: Some(3_000_000),
+            stagnation_rounds: 100,
+            restart: Restart::Random,
+            ..Config::default()
+        };
+        let out = search(&data, &config);
+        assert!(out.perfect, "{:?} after {:?}", out.score, out.stats);
+        set.check(&out.ecc).unwrap();
     }
 
     #[test]

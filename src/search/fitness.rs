@@ -152,11 +152,25 @@ impl Weights {
     }
 }
 
+/// Where a scenario the machine fails first goes wrong: the step (index into
+/// [`ScenarioData`]'s steps) and the state the machine is in before it. The repair mutation
+/// ([`super::operators::repair`]) acts there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Divergence {
+    /// The scenario (index into [`ScenarioData`]'s bounds).
+    pub(crate) scenario: usize,
+    /// The first wrong step, as an index into all steps.
+    pub(crate) step: usize,
+    /// The state before that step.
+    pub(crate) state: usize,
+}
+
 /// Computes scenario scores; owns every buffer the hot loop needs.
 #[derive(Debug)]
 pub struct Evaluator<'a> {
     data: &'a ScenarioData,
     path: Vec<u32>,
+    divergences: Vec<Divergence>,
     counts: Vec<Counts>,
     /// Per state: (outputs set to 0, outputs set to 1).
     masks: Vec<(u32, u32)>,
@@ -170,6 +184,7 @@ impl<'a> Evaluator<'a> {
         Evaluator {
             data,
             path: Vec::with_capacity(data.steps.len()),
+            divergences: Vec::new(),
             counts: Vec::new(),
             masks: Vec::new(),
             produced: Vec::new(),
@@ -200,6 +215,7 @@ impl<'a> Evaluator<'a> {
             self.masks.push((zero, one));
         }
         let (mut ed, mut fe, mut reproduced, mut changes) = (0.0, 0.0, 0, 0usize);
+        self.divergences.clear();
         for (k, range) in data.bounds.iter().enumerate() {
             let steps = &data.steps[range.clone()];
             let path = &self.path[range.clone()];
@@ -231,6 +247,12 @@ impl<'a> Evaluator<'a> {
                     fe += 1.0;
                 }
                 Some(i) => {
+                    let state = path[..i].iter().rev().find(|&&p| p != u32::MAX);
+                    self.divergences.push(Divergence {
+                        scenario: k,
+                        step: range.start + i,
+                        state: state.map_or(0, |&p| p as usize),
+                    });
                     let d = if data.peq[k].is_empty() {
                         levenshtein(&self.produced[i..], &steps[i..], &mut self.row)
                     } else {
@@ -249,6 +271,18 @@ impl<'a> Evaluator<'a> {
             reproduced,
             scenarios: data.bounds.len(),
         }
+    }
+
+    /// The first divergence of every scenario the last evaluated machine fails, in scenario
+    /// order.
+    pub(crate) fn divergences(&self) -> &[Divergence] {
+        &self.divergences
+    }
+
+    /// Per state of the last evaluated machine: the outputs its labeled algorithm sets to 0
+    /// and those it sets to 1, as bit masks.
+    pub(crate) fn label_masks(&self) -> &[(u32, u32)] {
+        &self.masks
     }
 
     /// The labeled algorithms of the last evaluated machine, one `{0,1,x}` string per state.

@@ -8,6 +8,8 @@
 //! Every operator keeps the invariants of [`Machine::validate`]; none changes the number of
 //! states (the metaheuristic paper searches a fixed number of states).
 
+use super::data::{ScenarioData, PASSIVE};
+use super::fitness::Divergence;
 use super::machine::{Group, Machine, TransitionRef};
 use crate::ecc::{InputId, StateId};
 use rand::Rng;
@@ -300,6 +302,260 @@ pub(crate) fn weighted_change_target(
     retarget(rng, m, t)
 }
 
+/// What the repair of one divergence knows of the parent: the scenarios and its labels.
+pub(crate) struct Site<'a> {
+    /// The scenarios.
+    pub(crate) data: &'a ScenarioData,
+    /// The parent's labeled algorithms as `(set to 0, set to 1)` masks per state.
+    pub(crate) masks: &'a [(u32, u32)],
+    /// Where a failing scenario first goes wrong.
+    pub(crate) at: Divergence,
+}
+
+/// Beyond the papers, counterexample replay on the scenarios: a change at the first step where
+/// a failing scenario goes wrong, of the kind that step needs. The machine fired on a passive
+/// step: the entry that fired is deleted, or its group gains a significant input that tells
+/// the step apart from the steps the entry serves, and the step's half is deleted. It did not
+/// fire on a `CNF` step: an entry for the step's inputs is added, in an existing group or a
+/// new last one. It fired with the wrong outputs: the entry gets another target, or its group
+/// gains an input and the step's half gets another target. A new target is, with probability
+/// one half, a state whose labeled algorithm gives the recorded outputs, else any state
+/// (labels follow the structure, so any state may become right).
+///
+/// The step where a scenario goes wrong is often not where the machine went wrong: an earlier
+/// `CNF` step may have entered a state with the right outputs but the wrong future (a second
+/// "idle" state, say). So with probability `back`, one of the entries fired at the `CNF` steps
+/// before the divergence is sent to another state whose algorithm also gives that step's
+/// outputs.
+pub(crate) fn repair(
+    rng: &mut impl Rng,
+    m: &mut Machine,
+    site: &Site,
+    max_vars: usize,
+    back: f64,
+) -> bool {
+    if rng.gen_bool(back) && redirect_earlier(rng, m, site) {
+        return true;
+    }
+    let step = site.data.steps[site.at.step];
+    let s = site.at.state;
+    match (step.expected == PASSIVE, m.fire(s, step.x)) {
+        (true, Some((g, e, _))) => {
+            if rng.gen_bool(0.5) {
+                if let Some(e) = split(rng, m, site, (s, g, e), max_vars) {
+                    m.states[s].groups[g].table[e] = None;
+                    return true;
+                }
+            }
+            m.states[s].groups[g].table[e] = None;
+            true
+        }
+        (true, None) => false,
+        (false, None) => {
+            let t = fitting_target(rng, m, site);
+            let groups = m.states[s].groups.len();
+            if groups == 0 || rng.gen_bool(0.25) {
+                let k = rng.gen_range(0..=max_vars.min(m.inputs).min(2));
+                let vars = random_vars(rng, m.inputs, k);
+                let mut g = Group::empty(vars);
+                let e = g.index(step.x);
+                g.table[e] = Some(t);
+                m.states[s].groups.push(g);
+            } else {
+                let g = &mut m.states[s].groups[rng.gen_range(0..groups)];
+                let e = g.index(step.x);
+                g.table[e] = Some(t);
+            }
+            true
+        }
+        (false, Some((g, e, old))) => {
+            let e = if rng.gen_bool(0.25) {
+                split(rng, m, site, (s, g, e), max_vars).unwrap_or(e)
+            } else {
+                e
+            };
+            let mut t = fitting_target(rng, m, site);
+            if t == old {
+                match other_state(rng, m.states.len(), old) {
+                    Some(o) => t = o,
+                    None => return false,
+                }
+            }
+            m.states[s].groups[g].table[e] = Some(t);
+            true
+        }
+    }
+}
+
+/// Sends the entry fired at a uniformly chosen `CNF` step before the divergence to another
+/// state whose labeled algorithm gives that step's recorded outputs; `false` when there is
+/// no such step or state.
+fn redirect_earlier(rng: &mut impl Rng, m: &mut Machine, site: &Site) -> bool {
+    let data = site.data;
+    let range = data.bounds[site.at.scenario].clone();
+    let mut fired = Vec::new();
+    let mut s = 0usize;
+    for j in range.start..site.at.step {
+        let st = data.steps[j];
+        if let Some((g, e, t)) = m.fire(s, st.x) {
+            if st.expected != PASSIVE {
+                fired.push((j, s, g, e, t));
+            }
+            s = t.0;
+        }
+    }
+    if fired.is_empty() {
+        return false;
+    }
+    let (j, s, g, e, old) = fired[rng.gen_range(0..fired.len())];
+    let st = data.steps[j];
+    let fits: Vec<usize> = (0..m.states.len().min(site.masks.len()))
+        .filter(|&y| {
+            let (zero, one) = site.masks[y];
+            y != old.0 && (st.before & !zero) | one == st.expected
+        })
+        .collect();
+    if fits.is_empty() {
+        return false;
+    }
+    m.states[s].groups[g].table[e] = Some(StateId(fits[rng.gen_range(0..fits.len())]));
+    true
+}
+
+/// `m` without the entries no scenario step fires, and without groups left empty: the
+/// scenarios behave the same, and input vectors they never record no longer lead anywhere the
+/// search put them by chance.
+pub(crate) fn prune_unused(m: &Machine, data: &ScenarioData) -> Machine {
+    let mut used: Vec<Vec<Vec<bool>>> = (m.states.iter())
+        .map(|st| {
+            st.groups
+                .iter()
+                .map(|g| vec![false; g.table.len()])
+                .collect()
+        })
+        .collect();
+    for range in &data.bounds {
+        let mut s = 0usize;
+        for st in &data.steps[range.clone()] {
+            if let Some((g, e, t)) = m.fire(s, st.x) {
+                used[s][g][e] = true;
+                s = t.0;
+            }
+        }
+    }
+    let mut out = m.clone();
+    for (st, used) in out.states.iter_mut().zip(&used) {
+        for (g, used) in st.groups.iter_mut().zip(used) {
+            for (t, &u) in g.table.iter_mut().zip(used) {
+                if !u {
+                    *t = None;
+                }
+            }
+        }
+        st.groups.retain(|g| g.present() > 0);
+    }
+    out
+}
+
+/// `k` distinct random inputs of `inputs`.
+fn random_vars(rng: &mut impl Rng, inputs: usize, k: usize) -> Vec<InputId> {
+    let mut all: Vec<usize> = (0..inputs).collect();
+    (0..k.min(inputs))
+        .map(|_| InputId(all.swap_remove(rng.gen_range(0..all.len()))))
+        .collect()
+}
+
+/// A state whose labeled algorithm turns the outputs before the divergence into the recorded
+/// ones (with probability one half, when there is one), else a uniformly chosen state.
+fn fitting_target(rng: &mut impl Rng, m: &Machine, site: &Site) -> StateId {
+    let step = site.data.steps[site.at.step];
+    let n = m.states.len();
+    if rng.gen_bool(0.5) {
+        let fits: Vec<usize> = (0..n.min(site.masks.len()))
+            .filter(|&y| {
+                let (zero, one) = site.masks[y];
+                (step.before & !zero) | one == step.expected
+            })
+            .collect();
+        if !fits.is_empty() {
+            return StateId(fits[rng.gen_range(0..fits.len())]);
+        }
+    }
+    StateId(rng.gen_range(0..n))
+}
+
+/// Makes the group of entry `(state, group, entry)` significant in one more input, chosen to
+/// tell the divergence's inputs apart from the inputs of the `CNF` steps the entry serves
+/// (when such an input exists), every old entry copied to both halves. Returns the entry the
+/// divergence's inputs now select, or `None` when the group cannot grow.
+fn split(
+    rng: &mut impl Rng,
+    m: &mut Machine,
+    site: &Site,
+    (s, g, e): (usize, usize, usize),
+    max_vars: usize,
+) -> Option<usize> {
+    let x = site.data.steps[site.at.step].x;
+    let grp = &m.states[s].groups[g];
+    if grp.vars.len() >= max_vars.min(m.inputs) {
+        return None;
+    }
+    let served = entry_inputs(m, site.data, (s, g, e));
+    let free: Vec<InputId> = (0..m.inputs)
+        .map(InputId)
+        .filter(|&v| !grp.has_var(v))
+        .collect();
+    let bit = |y: u32, v: InputId| (y >> v.0) & 1;
+    let apart: Vec<InputId> = free
+        .iter()
+        .copied()
+        .filter(|&v| !served.is_empty() && served.iter().all(|&y| bit(y, v) != bit(x, v)))
+        .collect();
+    let pool = if apart.is_empty() { &free } else { &apart };
+    let v = pool[rng.gen_range(0..pool.len())];
+    let mut vars = grp.vars.clone();
+    vars.push(v);
+    vars.sort();
+    let mut ng = Group::empty(vars);
+    for (ne, slot) in ng.table.iter_mut().enumerate() {
+        let old = grp.vars.iter().fold(0usize, |acc, w| {
+            let pos = ng_pos(&grp.vars, *w, v);
+            (acc << 1) | ((ne >> pos) & 1)
+        });
+        *slot = grp.table[old];
+    }
+    let idx = ng.index(x);
+    m.states[s].groups[g] = ng;
+    Some(idx)
+}
+
+/// The bit position (from the low end) of input `w` in the entry index of a group over `old`
+/// plus `added`.
+fn ng_pos(old: &[InputId], w: InputId, added: InputId) -> usize {
+    let k = old.len() + 1;
+    let rank = old.iter().filter(|&&u| u < w).count() + usize::from(added < w);
+    k - 1 - rank
+}
+
+/// The input vectors of the `CNF` steps of the scenarios on which the entry fires.
+fn entry_inputs(m: &Machine, data: &ScenarioData, (s0, g0, e0): (usize, usize, usize)) -> Vec<u32> {
+    let mut out = Vec::new();
+    for range in &data.bounds {
+        let mut s = 0usize;
+        for st in &data.steps[range.clone()] {
+            if let Some((g, e, t)) = m.fire(s, st.x) {
+                if (s, g, e) == (s0, g0, e0) && st.expected != PASSIVE {
+                    out.push(st.x);
+                }
+                s = t.0;
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -528,5 +784,127 @@ mod tests {
         }
         let share = first as f64 / n as f64;
         assert!((share - 5.0 / 9.0).abs() < 0.02, "{share}");
+    }
+
+    /// One input `b`, one output `lamp`: `b` sets the lamp (CNF), then `!b` passes without
+    /// CNF, then `!b` clears it (CNF).
+    fn lamp_data() -> ScenarioData {
+        use crate::scenario::{Origin, Scenario, ScenarioSet, Step};
+        let step = |b: bool, out: Option<bool>| Step {
+            inputs: vec![b],
+            outputs: out.map(|o| vec![o]),
+        };
+        let set = ScenarioSet {
+            inputs: vec!["b".into()],
+            outputs: vec!["lamp".into()],
+            initial_outputs: vec![false],
+            scenarios: vec![Scenario {
+                origin: Origin {
+                    file: "t".into(),
+                    line: 1,
+                    rows: None,
+                },
+                steps: vec![
+                    step(true, Some(true)),
+                    step(false, None),
+                    step(false, Some(false)),
+                ],
+            }],
+        };
+        ScenarioData::new(&set).unwrap()
+    }
+
+    /// Three states; s0 goes to s1 on every input vector.
+    fn always_to_s1() -> Machine {
+        let mut g = Group::empty(vec![]);
+        g.table[0] = Some(StateId(1));
+        Machine {
+            inputs: 1,
+            states: vec![
+                SearchState { groups: vec![g] },
+                SearchState::default(),
+                SearchState::default(),
+            ],
+        }
+    }
+
+    fn site<'a>(data: &'a ScenarioData, masks: &'a [(u32, u32)], step: usize) -> Site<'a> {
+        Site {
+            data,
+            masks,
+            at: Divergence {
+                scenario: 0,
+                step,
+                state: 0,
+            },
+        }
+    }
+
+    #[test]
+    fn repair_stops_the_machine_firing_on_a_passive_step() {
+        let data = lamp_data();
+        let masks = [(0, 0); 3];
+        let mut r = rng();
+        for _ in 0..50 {
+            let mut m = always_to_s1();
+            assert!(repair(&mut r, &mut m, &site(&data, &masks, 1), 4, 0.0));
+            m.validate().unwrap();
+            assert_eq!(m.fire(0, 0), None, "still fires on !b: {m:?}");
+            // Split or deleted: where it still fires, it goes where it went.
+            assert!(m.fire(0, 1).is_none_or(|f| f.2 == StateId(1)));
+        }
+    }
+
+    #[test]
+    fn repair_makes_the_machine_fire_on_a_missed_cnf_step() {
+        let data = lamp_data();
+        let masks = [(0, 0); 3];
+        let mut r = rng();
+        for _ in 0..50 {
+            let mut m = always_to_s1();
+            m.states[0].groups.clear();
+            assert!(repair(&mut r, &mut m, &site(&data, &masks, 0), 4, 0.0));
+            m.validate().unwrap();
+            assert!(m.fire(0, 1).is_some());
+        }
+    }
+
+    #[test]
+    fn repair_sends_a_wrong_output_elsewhere_preferring_a_fitting_state() {
+        let data = lamp_data();
+        // s1 clears the lamp (wrong at step 0), s2 sets it (right).
+        let masks = [(0, 0), (1, 0), (0, 1)];
+        let mut r = rng();
+        let mut to_s2 = 0;
+        for _ in 0..200 {
+            let mut m = always_to_s1();
+            assert!(repair(&mut r, &mut m, &site(&data, &masks, 0), 4, 0.0));
+            m.validate().unwrap();
+            let t = m.fire(0, 1).expect("still fires").2;
+            assert_ne!(t, StateId(1));
+            to_s2 += usize::from(t == StateId(2));
+        }
+        // Half the time the fitting state, else one of the other two: about 3/4.
+        assert!((120..180).contains(&to_s2), "{to_s2}");
+    }
+
+    #[test]
+    fn repair_can_redirect_an_earlier_step_to_a_state_with_the_same_outputs() {
+        let data = lamp_data();
+        // The divergence is at step 2; step 0 entered s1, s2 gives the same outputs.
+        let masks = [(0, 0), (0, 1), (0, 1)];
+        let mut r = rng();
+        let mut m = always_to_s1();
+        let s = Site {
+            data: &data,
+            masks: &masks,
+            at: Divergence {
+                scenario: 0,
+                step: 2,
+                state: 1,
+            },
+        };
+        assert!(repair(&mut r, &mut m, &s, 4, 1.0));
+        assert_eq!(m.fire(0, 1).map(|f| f.2), Some(StateId(2)));
     }
 }
