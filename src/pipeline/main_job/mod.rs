@@ -19,9 +19,9 @@
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
-//!    states, or [`STALL_TIME`] refuting them, it hands over to the guide, as in 1. When the guide has no machine, the exact
-//!    loop again for the time left; when it gives up the error says what the recordings never
-//!    show and what the game says of the problem.
+//!    states, or [`STALL_TIME`] refuting them, it hands over to the guide, as in 1. When the
+//!    guide has no machine, the exact loop again for the time left; when it gives up the
+//!    error says what the recordings never show and what the game says of the problem.
 //! 3. With the search ([`Method::Search`]): its machine, made small along the closed loop
 //!    ([`search::shrink`]), bounds the exact loop (at most its states) for the time left, so the
 //!    answer is never larger than what SAT finds below it.
@@ -174,7 +174,7 @@ fn guide_states(opts: &Options) -> bool {
 /// then converges within a few candidates where the recordings show the behaviours the
 /// properties need too, and refutes candidates one behaviour at a time, for minutes, where
 /// they do not.
-pub(crate) const STALL_ROUNDS: usize = 15;
+pub(crate) const STALL_ROUNDS: usize = 30;
 
 /// The time after which the exact loop hands over to the guide when its candidates of one
 /// number of states keep being refuted (at least 3 of them): there each SAT call can grow to
