@@ -319,13 +319,7 @@ pub fn run(
         replay_counterexamples: opts.replay_counterexamples,
         ..restart
     };
-    events(Event::SearchStarted {
-        seed: config.seed,
-        states: config.states,
-        colonies: config.colonies,
-        threads: config.threads,
-        time_limit: opts.time_limit,
-    });
+    started(&config, opts.time_limit, events);
     let searches_properties = opts.weights.sat > 0.0 || opts.weights.ce > 0.0;
     let closed = match opts.judge {
         Judge::InProcess => Closed::new(&check.problem).map(Arc::new),
@@ -399,13 +393,7 @@ pub fn reconstruct(
         time_limit: Some(time_limit),
         ..restarts(&[])
     };
-    events(Event::SearchStarted {
-        seed: config.seed,
-        states: config.states,
-        colonies: config.colonies,
-        threads: config.threads,
-        time_limit: opts.time_limit,
-    });
+    started(&config, opts.time_limit, events);
     let mut last = Instant::now();
     let outcome = search::run(&data, &config, Vec::new(), &mut |p| {
         if opts.every_round || last.elapsed() >= Duration::from_secs(1) {
@@ -421,6 +409,17 @@ pub fn reconstruct(
 /// improvement. From random starts the shared best is a poor place to go back to (see
 /// [`search::Restart::Random`]); a colony needs many rounds to leave a start behind, so an
 /// early restart throws away tries that were about to succeed; and the verification count
+/// Says that a search with `config` starts.
+fn started(config: &search::Config, time_limit: f64, events: Events<'_>) {
+    events(Event::SearchStarted {
+        seed: config.seed,
+        states: config.states,
+        colonies: config.colonies,
+        threads: config.threads,
+        time_limit,
+    });
+}
+
 /// ends a try stuck on a plateau where every round verifies hundreds of children.
 fn restarts(initial: &[Machine]) -> search::Config {
     if initial.is_empty() {
