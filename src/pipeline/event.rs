@@ -64,6 +64,14 @@ pub enum Event<'a> {
         /// The search's time limit in seconds (`--time-limit`).
         time_limit: f64,
     },
+    /// A try of the search from random machines made no progress on the properties for
+    /// `rounds` rounds: the scenarios are reconstructed anew with `seed`.
+    SearchTriesAgain {
+        /// Rounds without progress.
+        rounds: usize,
+        /// The next try's seed.
+        seed: u64,
+    },
     /// A round of the search (emitted by the search at its own pace).
     SearchRound(&'a crate::search::Progress),
     /// The search ended.
@@ -240,6 +248,10 @@ impl fmt::Display for Event<'_> {
             } => write!(
                 f,
                 "search: seed {seed}, {states} states, {colonies} colonies on {threads} threads, limit {time_limit} s"
+            ),
+            Event::SearchTriesAgain { rounds, seed } => write!(
+                f,
+                "search: no progress on the properties in {rounds} rounds; the scenarios reconstructed anew (seed {seed})"
             ),
             Event::SearchRound(p) => {
                 let props = p
@@ -492,17 +504,24 @@ impl fmt::Display for Step {
                 f,
                 "no verified machine within the limits; solving the closed-loop game to tell whether any controller exists"
             ),
-            Step::Searched { size } => {
-                write!(f, "the search's machine: {size}; made small along the closed loop:")
-            }
-            Step::Shrunk { size } => write!(
+            Step::Searched { size } => write!(f, "the search's machine: {size}, verified"),
+            Step::BelowSearched { states, seconds } => write!(
                 f,
-                "shrunk to {size}; the exact loop looks for a smaller verified machine with at most {} states:",
-                size.c
+                "the exact loop looks for a smaller verified machine with at most {states} states (at most {seconds:.1} s):"
             ),
-            Step::ShrunkStands => write!(
+            Step::BelowSearchedStopped { why } => {
+                write!(f, "below the search's machine: {why}; making it small along the closed loop:")
+            }
+            Step::Shrunk {
+                size,
+                finished: true,
+            } => write!(f, "the search's machine made small along the closed loop: {size}"),
+            Step::Shrunk {
+                size,
+                finished: false,
+            } => write!(
                 f,
-                "the exact loop ran out of --time-limit; the shrunk machine stands"
+                "--time-limit reached while making the search's machine small: it stands ({size})"
             ),
         }
     }

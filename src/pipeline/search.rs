@@ -66,6 +66,11 @@
 //!   turn that showed only later). The paper's random mutations alone left every run from
 //!   random machines at 4 of the 10 Pick-and-Place scenarios; with the repair the ten are
 //!   reproduced in seconds (`synth-dev experiment reconstruction`, `BENCHMARKS.md`).
+//! - Reacting on a counterexample ([`crate::search::operators::react_on_counterexample`]): a
+//!   step of a counterexample on which the machine fires nothing gets an entry to another
+//!   state. Liveness counterexamples are mostly runs in which the controller waits while the
+//!   plant offers what it should answer, and the paper's weighted mutation only retargets
+//!   entries that fire.
 //! - Counterexample replay: every counterexample is kept by its colony as a negative scenario
 //!   (the 64 newest). A child that still follows one violates that property for sure and gets
 //!   that verdict without a model-checker run, which saves most of them. `--no-replay`
@@ -269,6 +274,16 @@ pub(crate) fn sat_start(
 /// Searches for a machine that reproduces `set` and satisfies `check`'s properties; NuSMV
 /// checks the best machine at the end whatever the search saw. `initial` overrides the start
 /// machines (for repeated runs from one SAT start); `None` follows `opts.start`.
+///
+/// From random machines the search goes in tries: the scenarios first ([`reconstruct`]), then
+/// the properties from the machine found, as from SAT's, without the entries no scenario
+/// fires (the random start's leftovers). With both at once, machines that satisfy more
+/// properties by doing less outrank those that reproduce more scenarios, and the run drifts
+/// away from the recordings. A try whose property search makes no progress for
+/// [`GIVE_UP_ROUNDS`] rounds ends, and the next reconstructs the scenarios anew (try `k`
+/// with seed `seed + k`): some reconstructed machines sit where no sequence of mutations
+/// that keeps the scenarios reaches the properties (Pick-and-Place, seed 7: 5 of 8 for 500
+/// rounds), while another reconstruction gets there in seconds.
 pub fn run(
     set: &ScenarioSet,
     check: &Check,
@@ -277,26 +292,101 @@ pub fn run(
     events: Events<'_>,
 ) -> Result<Searched, Error> {
     // Refuse a bad limit before any work.
-    let mut time_limit = super::seconds("--time-limit", opts.time_limit, false)?;
+    let time_limit = super::seconds("--time-limit", opts.time_limit, false)?;
     let data = ScenarioData::new(set)?;
-    let initial = match (initial, opts.start) {
-        (Some(i), _) => i,
-        (None, Start::Random) => {
-            // The scenarios first, from random machines (the metaheuristic paper), then the
-            // properties from the machine found, as from SAT's: with both at once, machines
-            // that satisfy more properties by doing less outrank those that reproduce more
-            // scenarios, and the run drifts away from the recordings.
-            // Entries no scenario uses are the random start's leftovers: dropped, so the
-            // properties start from what the recordings say, as SAT's machine does.
-            let found = reconstruct(set, opts, events)?;
-            time_limit = time_limit.saturating_sub(Duration::from_secs_f64(found.seconds()));
-            vec![crate::search::operators::prune_unused(
-                &found.machine,
-                &data,
-            )]
+    let start = Instant::now();
+    let left = || time_limit.saturating_sub(start.elapsed());
+    let run = match (initial, opts.start) {
+        (Some(i), _) => properties(&data, check, opts, i, left(), None, events)?,
+        (None, Start::Sat) => {
+            let i = vec![sat_start(set, opts.max_out_degree, events)?];
+            properties(&data, check, opts, i, left(), None, events)?
         }
-        (None, Start::Sat) => vec![sat_start(set, opts.max_out_degree, events)?],
+        (None, Start::Random) => {
+            let mut k = 0;
+            let mut earlier: Option<PropertyRun> = None;
+            loop {
+                let tried = Options {
+                    seed: opts.seed.wrapping_add(k),
+                    ..opts.clone()
+                };
+                let found = reconstruct_within(&data, &tried, left(), events)?;
+                let i = vec![crate::search::operators::prune_unused(
+                    &found.machine,
+                    &data,
+                )];
+                let give_up = Some(GIVE_UP_ROUNDS);
+                let mut run = properties(&data, check, &tried, i, left(), give_up, events)?;
+                if let Some(e) = &earlier {
+                    run.add(e);
+                }
+                if run.outcome.perfect || left().is_zero() {
+                    break run;
+                }
+                earlier = Some(run);
+                k += 1;
+                events(Event::SearchTriesAgain {
+                    rounds: GIVE_UP_ROUNDS,
+                    seed: opts.seed.wrapping_add(k),
+                });
+            }
+        }
     };
+    // The claim rests on this check alone: a fresh dialogue, every property.
+    let verification = check.verifier()?.verify(&run.outcome.ecc)?;
+    let reachable_states = reachable_states(&run.outcome.ecc);
+    Ok(Searched {
+        outcome: run.outcome,
+        verification,
+        nusmv_runs: run.nusmv_runs,
+        in_process_checks: run.in_process_checks,
+        cache_hits: run.cache_hits,
+        reachable_states,
+    })
+}
+
+/// Rounds without progress (no more scenarios reproduced, no more properties satisfied) after
+/// which a try of the search from random machines ends and the next reconstructs the
+/// scenarios anew ([`run`]). On Pick-and-Place a try that gets all properties does so within
+/// a few dozen rounds, and one that stalls stays at 5 or 6 of 8 for hundreds (and minutes:
+/// on such a plateau most children are judged), so a short try and a fresh reconstruction
+/// costs least.
+pub(crate) const GIVE_UP_ROUNDS: usize = 150;
+
+/// One property search: its outcome and counters (the final verification is [`run`]'s).
+struct PropertyRun {
+    outcome: Outcome,
+    nusmv_runs: u64,
+    in_process_checks: u64,
+    cache_hits: u64,
+}
+
+impl PropertyRun {
+    /// Counts `earlier`'s work in this run's figures (tries of one search).
+    fn add(&mut self, earlier: &PropertyRun) {
+        let (s, e) = (&mut self.outcome.stats, &earlier.outcome.stats);
+        s.evaluations += e.evaluations;
+        s.verifications += e.verifications;
+        s.replayed += e.replayed;
+        s.rounds += e.rounds;
+        s.seconds += e.seconds;
+        self.nusmv_runs += earlier.nusmv_runs;
+        self.in_process_checks += earlier.in_process_checks;
+        self.cache_hits += earlier.cache_hits;
+    }
+}
+
+/// The search for the properties from `initial` for at most `time_limit`, ending after
+/// `give_up` rounds without progress when given.
+fn properties(
+    data: &ScenarioData,
+    check: &Check,
+    opts: &Options,
+    initial: Vec<Machine>,
+    time_limit: Duration,
+    give_up: Option<usize>,
+    events: Events<'_>,
+) -> Result<PropertyRun, Error> {
     let states = opts
         .states
         .map(|s| s.max(initial.first().map_or(1, |m| m.states.len())))
@@ -311,6 +401,7 @@ pub fn run(
         seed: opts.seed,
         threads: threads(opts.threads),
         time_limit: Some(time_limit),
+        give_up_rounds: give_up,
         verify_probability: opts
             .verify_probability
             .unwrap_or(opts.judge.default_probability())
@@ -320,52 +411,56 @@ pub fn run(
         ..restart
     };
     started(&config, opts.time_limit, events);
-    let searches_properties = opts.weights.sat > 0.0 || opts.weights.ce > 0.0;
-    let closed = match opts.judge {
-        Judge::InProcess => Closed::new(&check.problem).map(Arc::new),
-        Judge::Nusmv => None,
-    };
-    let checkers: Vec<Box<dyn Checker>> = if searches_properties {
-        (0..config.colonies)
-            .map(|_| {
-                let nusmv = Oracle::new(check.verifier()?, shared.clone());
-                Ok(match &closed {
-                    Some(c) => Box::new(InProcess::new(c.clone(), nusmv)) as Box<dyn Checker>,
-                    None => Box::new(nusmv) as Box<dyn Checker>,
-                })
-            })
-            .collect::<Result<_, Error>>()?
-    } else {
-        Vec::new()
-    };
+    let checkers = checkers(check, opts, &config, &shared)?;
     let mut last = Instant::now();
-    let outcome = search::run(&data, &config, checkers, &mut |p| {
+    let outcome = search::run(data, &config, checkers, &mut |p| {
         if opts.every_round || last.elapsed() >= Duration::from_secs(1) {
             last = Instant::now();
             events(Event::SearchRound(p));
         }
     })?;
-    let nusmv_runs = shared.runs.load(Ordering::Relaxed);
-    let in_process_checks = shared.in_process.load(Ordering::Relaxed);
-    let cache_hits = shared.hits.load(Ordering::Relaxed);
-    events(Event::SearchEnded {
-        seconds: outcome.stats.seconds,
-        evaluations: outcome.stats.evaluations,
-        nusmv_runs,
-        in_process_checks,
-        cache_hits,
-    });
-    // The claim rests on this check alone: a fresh dialogue, every property.
-    let verification = check.verifier()?.verify(&outcome.ecc)?;
-    let reachable_states = reachable_states(&outcome.ecc);
-    Ok(Searched {
+    let run = PropertyRun {
         outcome,
-        verification,
-        nusmv_runs,
-        in_process_checks,
-        cache_hits,
-        reachable_states,
-    })
+        nusmv_runs: shared.runs.load(Ordering::Relaxed),
+        in_process_checks: shared.in_process.load(Ordering::Relaxed),
+        cache_hits: shared.hits.load(Ordering::Relaxed),
+    };
+    events(Event::SearchEnded {
+        seconds: run.outcome.stats.seconds,
+        evaluations: run.outcome.stats.evaluations,
+        nusmv_runs: run.nusmv_runs,
+        in_process_checks: run.in_process_checks,
+        cache_hits: run.cache_hits,
+    });
+    Ok(run)
+}
+
+/// One checker per colony when the weights search the properties (the in-process checker
+/// with NuSMV behind it where the plant is in its subset and the judge asks for it, else
+/// NuSMV); none otherwise.
+fn checkers(
+    check: &Check,
+    opts: &Options,
+    config: &search::Config,
+    shared: &Arc<Shared>,
+) -> Result<Vec<Box<dyn Checker>>, Error> {
+    let searches_properties = opts.weights.sat > 0.0 || opts.weights.ce > 0.0;
+    if !searches_properties {
+        return Ok(Vec::new());
+    }
+    let closed = match opts.judge {
+        Judge::InProcess => Closed::new(&check.problem).map(Arc::new),
+        Judge::Nusmv => None,
+    };
+    (0..config.colonies)
+        .map(|_| {
+            let nusmv = Oracle::new(check.verifier()?, shared.clone());
+            Ok(match &closed {
+                Some(c) => Box::new(InProcess::new(c.clone(), nusmv)) as Box<dyn Checker>,
+                None => Box::new(nusmv) as Box<dyn Checker>,
+            })
+        })
+        .collect()
 }
 
 /// States of random machines when not given: two more than the least machine for
@@ -385,6 +480,16 @@ pub fn reconstruct(
 ) -> Result<Outcome, Error> {
     let time_limit = super::seconds("--time-limit", opts.time_limit, false)?;
     let data = ScenarioData::new(set)?;
+    reconstruct_within(&data, opts, time_limit, events)
+}
+
+/// [`reconstruct`] on `data` for at most `time_limit` (a part of `opts.time_limit`).
+fn reconstruct_within(
+    data: &ScenarioData,
+    opts: &Options,
+    time_limit: Duration,
+    events: Events<'_>,
+) -> Result<Outcome, Error> {
     let config = search::Config {
         states: opts.states.unwrap_or(RANDOM_STATES).max(1),
         colonies: opts.colonies.max(1),
@@ -395,7 +500,7 @@ pub fn reconstruct(
     };
     started(&config, opts.time_limit, events);
     let mut last = Instant::now();
-    let outcome = search::run(&data, &config, Vec::new(), &mut |p| {
+    let outcome = search::run(data, &config, Vec::new(), &mut |p| {
         if opts.every_round || last.elapsed() >= Duration::from_secs(1) {
             last = Instant::now();
             events(Event::SearchRound(p));
@@ -409,17 +514,6 @@ pub fn reconstruct(
 /// improvement. From random starts the shared best is a poor place to go back to (see
 /// [`search::Restart::Random`]); a colony needs many rounds to leave a start behind, so an
 /// early restart throws away tries that were about to succeed; and the verification count
-/// Says that a search with `config` starts.
-fn started(config: &search::Config, time_limit: f64, events: Events<'_>) {
-    events(Event::SearchStarted {
-        seed: config.seed,
-        states: config.states,
-        colonies: config.colonies,
-        threads: config.threads,
-        time_limit,
-    });
-}
-
 /// ends a try stuck on a plateau where every round verifies hundreds of children.
 fn restarts(initial: &[Machine]) -> search::Config {
     if initial.is_empty() {
@@ -432,6 +526,17 @@ fn restarts(initial: &[Machine]) -> search::Config {
     } else {
         search::Config::default()
     }
+}
+
+/// Says that a search with `config` starts.
+fn started(config: &search::Config, time_limit: f64, events: Events<'_>) {
+    events(Event::SearchStarted {
+        seed: config.seed,
+        states: config.states,
+        colonies: config.colonies,
+        threads: config.threads,
+        time_limit,
+    });
 }
 
 /// States reachable from the initial state along transitions.
@@ -451,12 +556,14 @@ fn reachable_states(ecc: &Ecc) -> usize {
 }
 
 /// The search's verified machine made small: exact synthesis (cube guards, at most
-/// `max_out_degree` transitions per state; C, T and N proven minimal: with a time budget
-/// instead, the descents stopped at T 36-45 on Pick-and-Place) on the recordings, refined along NuSMV's counterexamples with the
-/// search machine's answers until NuSMV verifies it ([`super::follow`]). The search mutates
-/// freely and keeps what the properties need, with transitions and literals nobody needs; the
-/// least machine that behaves like it wherever the closed loop goes keeps the behaviour and
-/// drops the rest.
+/// `max_out_degree` transitions per state; C, T and N proven minimal, which is what makes
+/// the rounds converge on a small machine: within a time budget the descents end at T 36-45
+/// on Pick-and-Place, and for the colouring found alone the literal descents take minutes) on
+/// the recordings,
+/// refined along NuSMV's counterexamples with the search machine's answers until NuSMV
+/// verifies it ([`super::follow`]). The search mutates freely and keeps what the properties
+/// need, with transitions and literals nobody needs; the least machine that behaves like it
+/// wherever the closed loop goes keeps the behaviour and drops the rest.
 pub fn shrink(
     set: &ScenarioSet,
     searched: &Ecc,
@@ -464,9 +571,23 @@ pub fn shrink(
     max_out_degree: usize,
     events: Events<'_>,
 ) -> Result<(sat::Synthesis, super::follow::Followed), Error> {
+    let none = crate::deadline::Deadline::NONE;
+    shrink_until(set, searched, check, max_out_degree, none, events)
+}
+
+/// [`shrink`] with its SAT calls stopped at `deadline`.
+pub(crate) fn shrink_until(
+    set: &ScenarioSet,
+    searched: &Ecc,
+    check: &Check,
+    max_out_degree: usize,
+    deadline: crate::deadline::Deadline,
+    events: Events<'_>,
+) -> Result<(sat::Synthesis, super::follow::Followed), Error> {
     use crate::smv::composition::CONTROLLER_MODULE;
     let opts = sat::Options {
         max_out_degree: Some(max_out_degree),
+        deadline,
         ..sat::Options::default()
     };
     let mut last = None;

@@ -81,6 +81,9 @@ pub(crate) struct Config {
     pub(crate) time_limit: Option<Duration>,
     /// Stop after the round in which this many scenario evaluations were reached.
     pub(crate) max_evaluations: Option<u64>,
+    /// Stop after this many rounds in a row in which the elite reproduced no more scenarios and
+    /// satisfied no more properties (smaller fitness gains do not count); `None`: never.
+    pub(crate) give_up_rounds: Option<usize>,
     /// Starting machines (e.g. from SAT); colony `k` starts from `initial[k % len]`, padded
     /// to `states` states. Empty: random starts.
     pub(crate) initial: Vec<Machine>,
@@ -109,6 +112,7 @@ impl Default for Config {
             threads: 1,
             time_limit: None,
             max_evaluations: None,
+            give_up_rounds: None,
             initial: Vec::new(),
         }
     }
@@ -375,6 +379,7 @@ impl Colony<'_> {
         ];
         if !cxs.is_empty() {
             ops.push(Operator::WeightedChangeTarget);
+            ops.push(Operator::ReactOnCounterexample);
         }
         let mut m = parent.machine.clone();
         if !parent.divergences.is_empty() && self.rng.gen_bool(config.repair_probability) {
@@ -413,6 +418,9 @@ impl Colony<'_> {
                     cxs,
                     config.counterexample_weight,
                 ),
+                Operator::ReactOnCounterexample => {
+                    operators::react_on_counterexample(rng, &mut m, cxs, config.max_vars)
+                }
             };
             if done {
                 break;
@@ -481,6 +489,9 @@ pub(crate) fn run(
     // The best machine so far: colonies restart, the elite stays.
     let mut elite: Option<(usize, Individual)> = None;
     let mut round = 0;
+    // The round since which the elite has reproduced `progress.0` scenarios and satisfied
+    // `progress.1` properties.
+    let (mut progress_key, mut progress_since) = ((0, 0), 0);
     loop {
         round += 1;
         pool.install(|| {
@@ -501,6 +512,13 @@ pub(crate) fn run(
             elite = Some((best_k, candidate.current.clone()));
         }
         let (elite_k, best) = elite.clone().expect("set above");
+        let key = (
+            best.score.reproduced,
+            best.verdicts.as_ref().map_or(0, |v| v.satisfied),
+        );
+        if key > progress_key {
+            (progress_key, progress_since) = (key, round);
+        }
         let done = colonies[elite_k].perfect(&best);
         progress(&Progress {
             round,
@@ -511,7 +529,10 @@ pub(crate) fn run(
             seconds: start.elapsed().as_secs_f64(),
         });
         let out_of_budget = config.time_limit.is_some_and(|t| start.elapsed() >= t)
-            || config.max_evaluations.is_some_and(|m| evaluations >= m);
+            || config.max_evaluations.is_some_and(|m| evaluations >= m)
+            || config
+                .give_up_rounds
+                .is_some_and(|g| round - progress_since >= g);
         if done || out_of_budget {
             let stats = Stats {
                 evaluations,

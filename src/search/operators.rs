@@ -28,6 +28,9 @@ pub(crate) enum Operator {
     ResizeSignificance,
     /// The verification-in-the-loop paper: a transition chosen by counterexample-weighted roulette gets another target.
     WeightedChangeTarget,
+    /// Beyond the papers: a step of a counterexample on which the machine stays silent gets an
+    /// entry ([`react_on_counterexample`]).
+    ReactOnCounterexample,
 }
 
 /// A state other than `old`, uniformly (`None` with a single state).
@@ -353,19 +356,7 @@ pub(crate) fn repair(
         (true, None) => false,
         (false, None) => {
             let t = fitting_target(rng, m, site);
-            let groups = m.states[s].groups.len();
-            if groups == 0 || rng.gen_bool(0.25) {
-                let k = rng.gen_range(0..=max_vars.min(m.inputs).min(2));
-                let vars = random_vars(rng, m.inputs, k);
-                let mut g = Group::empty(vars);
-                let e = g.index(step.x);
-                g.table[e] = Some(t);
-                m.states[s].groups.push(g);
-            } else {
-                let g = &mut m.states[s].groups[rng.gen_range(0..groups)];
-                let e = g.index(step.x);
-                g.table[e] = Some(t);
-            }
+            add_entry(rng, m, (s, step.x), t, max_vars);
             true
         }
         (false, Some((g, e, old))) => {
@@ -385,6 +376,67 @@ pub(crate) fn repair(
             true
         }
     }
+}
+
+/// An entry for input vector `x` in state `s` to `t`: in a random existing group of `s`, or (one
+/// time in four, and always when `s` has none) in a new last group over at most two random
+/// inputs. `s` must fire nothing on `x`, so the entry is the one that fires.
+fn add_entry(
+    rng: &mut impl Rng,
+    m: &mut Machine,
+    (s, x): (usize, u32),
+    t: StateId,
+    max_vars: usize,
+) {
+    let groups = m.states[s].groups.len();
+    if groups == 0 || rng.gen_bool(0.25) {
+        let k = rng.gen_range(0..=max_vars.min(m.inputs).min(2));
+        let vars = random_vars(rng, m.inputs, k);
+        let mut g = Group::empty(vars);
+        let e = g.index(x);
+        g.table[e] = Some(t);
+        m.states[s].groups.push(g);
+    } else {
+        let g = &mut m.states[s].groups[rng.gen_range(0..groups)];
+        let e = g.index(x);
+        g.table[e] = Some(t);
+    }
+}
+
+/// Beyond the papers, for properties that ask the machine to act: along a counterexample
+/// picked at random, a step on which the machine fires nothing gets an entry to another
+/// state ([`add_entry`]). A liveness counterexample is often a run in which the controller
+/// waits while the plant offers what it should answer; the counterexample-weighted mutation
+/// only retargets entries that fire, so it cannot make such a step fire, and adding one
+/// entry at random seldom hits the state and inputs the run needs. `false` when the machine
+/// fires on every step of the counterexample (or there is none).
+pub(crate) fn react_on_counterexample(
+    rng: &mut impl Rng,
+    m: &mut Machine,
+    counterexamples: &[Vec<u32>],
+    max_vars: usize,
+) -> bool {
+    if counterexamples.is_empty() || m.states.len() < 2 {
+        return false;
+    }
+    let cx = &counterexamples[rng.gen_range(0..counterexamples.len())];
+    let mut s = 0usize;
+    let mut silent = Vec::new();
+    for &x in cx {
+        match m.fire(s, x) {
+            Some((_, _, t)) => s = t.0,
+            None => silent.push((s, x)),
+        }
+    }
+    if silent.is_empty() {
+        return false;
+    }
+    let (s, x) = silent[rng.gen_range(0..silent.len())];
+    let Some(t) = other_state(rng, m.states.len(), StateId(s)) else {
+        return false;
+    };
+    add_entry(rng, m, (s, x), t, max_vars);
+    true
 }
 
 /// Sends the entry fired at a uniformly chosen `CNF` step before the divergence to another
@@ -597,6 +649,61 @@ mod tests {
             .flat_map(|s| &s.groups)
             .map(|g| g.table.len())
             .sum()
+    }
+
+    /// The (state, input) pairs on which `m` fires nothing along `xs` from the initial state.
+    fn silent_steps(m: &Machine, xs: &[u32]) -> Vec<(usize, u32)> {
+        let mut s = 0;
+        let mut silent = Vec::new();
+        for &x in xs {
+            match m.fire(s, x) {
+                Some((_, _, t)) => s = t.0,
+                None => silent.push((s, x)),
+            }
+        }
+        silent
+    }
+
+    #[test]
+    fn reacting_on_a_counterexample_makes_a_silent_step_fire_and_changes_only_silent_steps() {
+        let mut r = rng();
+        let mut reacted = 0;
+        for m in machines() {
+            let cx: Vec<u32> = (0..12).map(|_| r.gen_range(0..1u32 << m.inputs)).collect();
+            let silent = silent_steps(&m, &cx);
+            let mut c = m.clone();
+            if !react_on_counterexample(&mut r, &mut c, std::slice::from_ref(&cx), 3) {
+                assert!(silent.is_empty());
+                assert_eq!(behaviour(&m), behaviour(&c));
+                continue;
+            }
+            reacted += 1;
+            c.validate().unwrap();
+            // Only steps that were silent changed, all of one state and now into one other
+            // state, and a silent step of the run is among them.
+            let per_state = 1usize << m.inputs;
+            let changed: Vec<(usize, u32)> = (behaviour(&m).iter().zip(&behaviour(&c)))
+                .enumerate()
+                .filter(|(_, (a, b))| a != b)
+                .map(|(k, _)| (k / per_state, (k % per_state) as u32))
+                .collect();
+            assert!(
+                changed.iter().any(|p| silent.contains(p)),
+                "{changed:?} {silent:?}"
+            );
+            let s = changed[0].0;
+            let t = c.fire(s, changed[0].1).expect("fires now").2;
+            assert_ne!(t.0, s);
+            for &(s1, x) in &changed {
+                assert_eq!(s1, s);
+                assert!(m.fire(s, x).is_none());
+                assert_eq!(c.fire(s, x).map(|f| f.2), Some(t));
+            }
+        }
+        assert!(reacted > 0);
+        // No counterexample: nothing to react on.
+        let mut m = machines().remove(0);
+        assert!(!react_on_counterexample(&mut r, &mut m, &[], 3));
     }
 
     #[test]

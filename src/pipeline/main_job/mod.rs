@@ -22,9 +22,10 @@
 //!    states, or [`STALL_TIME`] refuting them, it hands over to the guide, as in 1. When the
 //!    guide has no machine, the exact loop again for the time left; when it gives up the
 //!    error says what the recordings never show and what the game says of the problem.
-//! 3. With the search ([`Method::Search`]): its machine, made small along the closed loop
-//!    ([`search::shrink`]), bounds the exact loop (at most its states) for the time left, so the
-//!    answer is never larger than what SAT finds below it.
+//! 3. With the search ([`Method::Search`]): its verified machine bounds the exact loop (at
+//!    most its states, for as long as the search took, at least 30 s); when that finds no
+//!    smaller machine, the search's machine is made small along the closed loop
+//!    ([`search::shrink`]) for the time left.
 //!
 //! "Smaller" is one order everywhere: [`Size::is_smaller_than`] (C, then T, then N).
 //!
@@ -108,13 +109,27 @@ pub enum Step {
         /// Its size.
         size: Size,
     },
-    /// The shrunk machine: the exact loop looks below it.
+    /// The exact loop looks below the search's machine.
+    BelowSearched {
+        /// At most this many states (the search machine's).
+        states: usize,
+        /// For at most this many seconds.
+        seconds: f64,
+    },
+    /// The exact loop below the search's machine ended (why) without a smaller machine: the
+    /// search's machine is made small along the closed loop.
+    BelowSearchedStopped {
+        /// Why.
+        why: String,
+    },
+    /// The search's machine shrunk along the closed loop (its own size when the time ran out
+    /// first).
     Shrunk {
         /// Its size.
         size: Size,
+        /// Whether the shrinking ended before the time limit.
+        finished: bool,
     },
-    /// The exact loop below the shrunk machine ran out of time: the shrunk machine stands.
-    ShrunkStands,
 }
 
 /// The main job's machine, verified by NuSMV.
@@ -477,7 +492,8 @@ fn noted(error: Error, notes: Vec<String>) -> Error {
     }
 }
 
-/// The search, its machine shrunk along the closed loop, and the exact loop below it.
+/// The search, the exact loop below its machine and, when that finds no smaller machine, the
+/// search's machine shrunk along the closed loop.
 fn searched(
     set: &ScenarioSet,
     check: &Check,
@@ -488,26 +504,23 @@ fn searched(
     let r = search::run(set, check, s, None, events)?;
     let found = r.certified(set, s)?.clone();
     events(Event::MainJob(Step::Searched { size: found.size() }));
-    let (small, followed) = search::shrink(set, &found, check, s.max_out_degree, events)?;
-    events(Event::MainJob(Step::Shrunk { size: small.size }));
-    let below = below_shrunk(set, check, opts, small.size.c, events)?;
-    let below = below.filter(|b| b.synthesis.size.is_smaller_than(&small.size));
-    let polished = below.is_some();
-    let (ecc, certificate) = match below {
+    let below = below_searched(set, check, opts, &found, events)?;
+    let replaced_by_exact_loop = below.is_some();
+    let (ecc, certificate, shrunk) = match below {
         Some(b) => {
             let (ecc, certificate, _) = exact_parts(b, opts)?;
-            (ecc, certificate)
+            (ecc, certificate, None)
         }
-        None => (small.ecc, followed.certificate),
+        None => shrunk(set, check, opts, s, &r, &found, events)?,
     };
     let summary = SearchSummary {
         seed: s.seed,
         start: format!("{:?}", s.start).to_lowercase(),
         size: ecc.size(),
         searched_size: found.size(),
-        shrunk_size: small.size,
-        replaced_by_exact_loop: polished,
-        shrink_rounds: followed.rounds,
+        shrunk_size: shrunk.as_ref().map(|(size, _)| *size),
+        replaced_by_exact_loop,
+        shrink_rounds: shrunk.map(|(_, rounds)| rounds).unwrap_or_default(),
         fitness: r.outcome.fitness,
         search: r.outcome.stats.clone(),
         nusmv_runs: r.nusmv_runs,
@@ -523,23 +536,84 @@ fn searched(
     })
 }
 
-/// The exact loop with at most `states` states for the time left (`None`: no time, or it ran
-/// out).
-fn below_shrunk(
+/// The least time the exact loop gets below the search's machine before it is shrunk.
+const BELOW_SEARCHED_MIN: Duration = Duration::from_secs(30);
+
+/// The exact loop with at most the search machine's states, for as long as the search took
+/// (at least [`BELOW_SEARCHED_MIN`], at most the time left): its machine if it is smaller than
+/// `found`. Where the recordings show what the properties need, the exact loop alone converges
+/// within seconds; the search's machine bounds it and says a verified machine exists.
+fn below_searched(
     set: &ScenarioSet,
     check: &Check,
     opts: &Options,
-    states: usize,
+    found: &Ecc,
     events: Events<'_>,
 ) -> Result<Option<Exact>, Error> {
-    if opts.limit.left().is_zero() {
+    let spent = Duration::from_secs_f64(opts.limit.elapsed());
+    let budget = opts.limit.left().min(spent.max(BELOW_SEARCHED_MIN));
+    if budget.is_zero() {
         return Ok(None);
     }
-    match opts.limit.exact(set, check, &bounded(opts, states), events) {
-        Ok(r) => Ok(Some(r)),
-        Err(Error::TimeLimit { .. }) => {
-            events(Event::MainJob(Step::ShrunkStands));
-            Ok(None)
+    events(Event::MainJob(Step::BelowSearched {
+        states: found.states.len(),
+        seconds: budget.as_secs_f64(),
+    }));
+    let exact = bounded(opts, found.states.len());
+    let why = match Limit::from_now(budget).exact(set, check, &exact, events) {
+        Ok(r) if r.synthesis.size.is_smaller_than(&found.size()) => return Ok(Some(r)),
+        Ok(_) => "no smaller machine".to_string(),
+        Err(Error::TimeLimit { .. }) => format!(
+            "no smaller verified machine within {:.1} s",
+            budget.as_secs_f64()
+        ),
+        Err(e) if e.class() == Class::Bug => return Err(e),
+        Err(e) => e.to_string(),
+    };
+    events(Event::MainJob(Step::BelowSearchedStopped { why }));
+    Ok(None)
+}
+
+/// The search's machine `found` (verified in `r`) shrunk along the closed loop within the time
+/// left: the shrunk machine, its certificate, size and rounds; when the time runs out first,
+/// `found` itself with its certificate and no size.
+fn shrunk(
+    set: &ScenarioSet,
+    check: &Check,
+    opts: &Options,
+    s: &search::Options,
+    r: &search::Searched,
+    found: &Ecc,
+    events: Events<'_>,
+) -> Result<(Ecc, Certificate, Option<(Size, Vec<super::follow::Round>)>), Error> {
+    let shrunk = opts.limit.run(events, |deadline, events| {
+        search::shrink_until(set, found, check, s.max_out_degree, deadline, events)
+    });
+    match shrunk {
+        Ok((small, followed)) => {
+            events(Event::MainJob(Step::Shrunk {
+                size: small.size,
+                finished: true,
+            }));
+            let size = small.size;
+            Ok((
+                small.ecc,
+                followed.certificate,
+                Some((size, followed.rounds)),
+            ))
+        }
+        // Out of time: the search's machine, which NuSMV verified, stands.
+        Err(Error::Interrupted { .. }) => {
+            events(Event::MainJob(Step::Shrunk {
+                size: found.size(),
+                finished: false,
+            }));
+            let v = &r.verification;
+            let certificate = Certificate {
+                report: v.report.clone(),
+                model_text: v.model.text.clone(),
+            };
+            Ok((found.clone(), certificate, None))
         }
         Err(e) => Err(e),
     }

@@ -113,9 +113,10 @@ pub struct SearchSummary {
     pub(crate) size: Size,
     /// The search's machine's.
     pub(crate) searched_size: Size,
-    /// The shrunk machine's.
-    pub(crate) shrunk_size: Size,
-    /// Whether the exact loop below the shrunk machine found the result.
+    /// The shrunk machine's (`None`: not shrunk, the exact loop below the search's machine
+    /// found a smaller one or the time limit came first).
+    pub(crate) shrunk_size: Option<Size>,
+    /// Whether the exact loop below the search's machine found the result.
     pub(crate) replaced_by_exact_loop: bool,
     /// The rounds that shrank the search's machine.
     pub(crate) shrink_rounds: Vec<follow::Round>,
@@ -226,18 +227,20 @@ impl std::fmt::Display for Summary {
             ),
             Summary::Turn(Turn::Search(s)) => write!(
                 f,
-                "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) made small in {} ({}){}",
+                "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) {}",
                 s.seed,
                 s.total_seconds,
                 s.search.evaluations,
                 s.in_process_checks,
                 s.nusmv_runs,
                 s.searched_size,
-                plural(s.shrink_rounds.len(), "round"),
-                s.shrunk_size,
-                match s.replaced_by_exact_loop {
-                    true => "; the exact loop below it found this smaller one",
-                    false => "",
+                match (s.replaced_by_exact_loop, s.shrunk_size) {
+                    (true, _) => "bounded the exact loop, which found this smaller one".to_string(),
+                    (false, Some(size)) => format!(
+                        "made small along the closed loop in {} ({size})",
+                        plural(s.shrink_rounds.len(), "round")
+                    ),
+                    (false, None) => "stands: the time limit came before it was made small".into(),
                 }
             ),
         }

@@ -116,7 +116,7 @@ fn search_summary() -> SearchSummary {
         start: "sat".into(),
         size,
         searched_size: size,
-        shrunk_size: size,
+        shrunk_size: Some(size),
         replaced_by_exact_loop: false,
         shrink_rounds: Vec::new(),
         fitness: 1.0,
