@@ -27,8 +27,9 @@
 //! Steps 1 and 2 work with three-valued algorithms and no start state whatever the user asked:
 //! the repair's moves are three-valued, and a machine in fbSAT's conventions ([`Conventions`])
 //! has the runs of one without them. Step 3 asks the user's: a machine that answers as the
-//! repaired one on runs through every node of its closed loop answers as it does wherever those
-//! runs lead, so it usually wins too; NuSMV has the last word.
+//! repaired one along runs through every node of its closed loop may still answer otherwise
+//! where a node is reached along another path, so it is not sure to win; NuSMV judges it, and
+//! the repaired machine written in the user's conventions is there when it fails.
 //!
 //! Pick-and-Place (`specs/pnp.ltl`) from its first scenario alone gives C 8, K 3, T 17, N 40;
 //! from its first two, C 9, K 5, T 21, N 48. Times are in `BENCHMARKS.md`.

@@ -15,7 +15,8 @@
 //!    time, the game answers for every behaviour of the plant at once. Its machine is least
 //!    only for the recordings and the guide's own runs; it is made smaller in process
 //!    ([`polish`]), and the exact loop gets a turn below it (at most its states; half the
-//!    time the guide took, at least 2 s): a smaller verified machine replaces it.
+//!    time the guide took, at least 2 s): a smaller verified machine replaces it. The guide,
+//!    the polish and that turn keep the user's algorithm form and start state.
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
