@@ -44,6 +44,10 @@ pub struct MainArgs {
     /// Form of the state output algorithms.
     #[arg(long, value_enum, default_value_t = AlgorithmsArg::Tri)]
     pub algorithms: AlgorithmsArg,
+    /// Make state 0 a start state that no transition enters, as the fbSAT tool does
+    /// (its published minimal sizes count that state).
+    #[arg(long)]
+    pub start_state: bool,
     /// Give up when more states than this would be needed.
     #[arg(long, default_value_t = 32, value_name = "C", value_parser = super::args::states())]
     pub max_states: usize,
@@ -189,6 +193,7 @@ fn exact_options(args: &MainArgs) -> Result<exact::Options, Error> {
     Ok(exact::Options {
         sat: exact::SatOptions {
             algorithms: args.algorithms.into(),
+            start_state: args.start_state,
             max_states: args.max_states,
             max_out_degree: Some(args.max_out_degree),
             ..exact::SatOptions::default()

@@ -15,6 +15,7 @@
 //! Numbering: states, inputs and outputs are 0-based everywhere inside the crate. Exports name
 //! states `s0..s{C-1}` (the `.fbt` export calls state 0 `START`, as 4diac expects).
 
+pub(crate) mod conventions;
 pub(crate) mod diff;
 pub(crate) mod guard;
 pub(crate) mod ident;
@@ -23,6 +24,7 @@ pub(crate) mod network;
 pub mod random;
 pub(crate) mod sim;
 
+pub(crate) use conventions::Conventions;
 pub use guard::Guard;
 pub use network::{Network, NetworkRun};
 pub(crate) use sim::replay;

@@ -14,19 +14,29 @@
 //! 2. the least machine SAT finds for the recordings alone, repaired until it wins the game
 //!    ([`crate::game::repair`]): its answers to the recordings are kept;
 //! 3. that machine recorded along every node of its closed loop with the game, and the least
-//!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]);
-//! 4. NuSMV judges it; if it fails, the repaired machine itself, which the game says wins: if
-//!    NuSMV refutes that one too, one of the two checkers is wrong ([`Error::Bug`]).
+//!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]) in the
+//!    user's conventions ([`Conventions`]: binary algorithms, a start state);
+//! 4. NuSMV judges it; if it fails, the repaired machine itself, which the game says wins,
+//!    written in the user's conventions (the same runs, [`Conventions::written`]): if NuSMV
+//!    refutes that one too, one of the two checkers is wrong ([`Error::Bug`]).
 //!
-//! The result is least (C, then T, then N) for the recordings *and the runs*; a smaller
-//! machine that answers differently where nothing was recorded is not ruled out.
+//! The result is least (C, then T, then N) for the recordings *and the runs* among the
+//! machines in the user's conventions; a smaller machine that answers differently where
+//! nothing was recorded is not ruled out.
+//!
+//! Steps 1 and 2 work with three-valued algorithms and no start state whatever the user asked:
+//! the repair's moves are three-valued, and a machine in fbSAT's conventions ([`Conventions`])
+//! has the runs of one without them. Step 3 asks the user's: a machine that answers as the
+//! repaired one along runs through every node of its closed loop may still answer otherwise
+//! where a node is reached along another path, so it is not sure to win; NuSMV judges it, and
+//! the repaired machine written in the user's conventions is there when it fails.
 //!
 //! Pick-and-Place (`specs/pnp.ltl`) from its first scenario alone gives C 8, K 3, T 17, N 40;
 //! from its first two, C 9, K 5, T 21, N 48. Times are in `BENCHMARKS.md`.
 
 use super::exact::Certificate;
 use super::{Check, Error, Event, Events};
-use crate::ecc::{Ecc, Size};
+use crate::ecc::{Conventions, Ecc, Size};
 use crate::game::{self, repair};
 use crate::nusmv::CheckMode;
 use crate::sat;
@@ -61,6 +71,8 @@ pub enum Stage {
     /// The repaired machine recorded along its closed loop, and the least machine for the
     /// recordings and those runs.
     Small {
+        /// The form it was asked in (empty: the defaults), as in "binary algorithms".
+        conventions: String,
         /// Runs that pass every node of the closed loop.
         runs: usize,
         /// Their steps.
@@ -69,6 +81,14 @@ pub enum Stage {
         size: Option<Size>,
         /// SAT seconds.
         seconds: f64,
+    },
+    /// The repaired machine written in the user's conventions, with the same runs (only when
+    /// they are not the defaults and the least machine for the runs failed).
+    Written {
+        /// The conventions, as in "binary algorithms".
+        conventions: String,
+        /// Its size.
+        size: Size,
     },
     /// NuSMV's verdict on a machine.
     Verdict {
@@ -99,17 +119,26 @@ impl std::fmt::Display for Stage {
                 size.c
             ),
             Stage::Small {
+                conventions,
                 runs,
                 steps,
                 size,
                 seconds,
             } => write!(
                 f,
-                "guide: least machine for the recordings and {runs} closed-loop runs of it ({steps} steps): {} (SAT {seconds:.2} s)",
+                "guide: least machine{} for the recordings and {runs} closed-loop runs of it ({steps} steps): {} (SAT {seconds:.2} s)",
+                match conventions.is_empty() {
+                    true => String::new(),
+                    false => format!(" with {conventions}"),
+                },
                 match size {
                     Some(size) => size.to_string(),
                     None => "none within the state limit, the repaired machine is judged".into(),
                 }
+            ),
+            Stage::Written { conventions, size } => write!(
+                f,
+                "guide: the repaired machine written with {conventions}, the same runs: {size}"
             ),
             Stage::Verdict {
                 machine,
@@ -171,9 +200,14 @@ fn sat_options(check: &Check) -> sat::Options {
     }
 }
 
-/// The guide (module documentation) on `set` with `check`; its SAT calls and the game stop at
-/// the check's deadline ([`Check::deadline`]).
-pub(crate) fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Result<Outcome, Error> {
+/// The guide (module documentation) on `set` with `check`, its machine in `conventions`; its
+/// SAT calls and the game stop at the check's deadline ([`Check::deadline`]).
+pub(crate) fn run(
+    set: &ScenarioSet,
+    check: &Check,
+    conventions: Conventions,
+    events: Events<'_>,
+) -> Result<Outcome, Error> {
     let mut guide = Guide {
         set,
         events,
@@ -182,6 +216,7 @@ pub(crate) fn run(set: &ScenarioSet, check: &Check, events: Events<'_>) -> Resul
         nusmv_calls: 0,
         nusmv_seconds: 0.0,
         sat: sat_options(check),
+        conventions,
     };
     let (tree, strategy) = match guide.game(check)? {
         Ok(won) => won,
@@ -208,6 +243,8 @@ struct Guide<'a, 'e> {
     nusmv_seconds: f64,
     /// The options of every SAT synthesis: the defaults, stopped at the check's deadline.
     sat: sat::Options,
+    /// The form of the guide's machine (step 3 on).
+    conventions: Conventions,
 }
 
 impl Guide<'_, '_> {
@@ -317,7 +354,12 @@ impl Guide<'_, '_> {
         let mut guided = self.set.clone();
         guided.scenarios.extend(runs);
         let tree = ScenarioTree::build(&guided)?;
-        let small = match sat::synthesize(&guided, &tree, &self.sat, &mut |_| {}) {
+        let opts = sat::Options {
+            algorithms: self.conventions.algorithms,
+            start_state: self.conventions.start_state,
+            ..self.sat.clone()
+        };
+        let small = match sat::synthesize(&guided, &tree, &opts, &mut |_| {}) {
             Ok(small) => {
                 guided.check(&small.ecc).map_err(|d| {
                     Error::Bug(format!(
@@ -332,6 +374,7 @@ impl Guide<'_, '_> {
         let seconds = started.elapsed().as_secs_f64();
         self.sat_seconds += seconds;
         self.stage(Stage::Small {
+            conventions: self.conventions.to_string(),
             runs: n_runs,
             steps,
             size: small.as_ref().map(|s| s.size),
@@ -359,16 +402,25 @@ impl Guide<'_, '_> {
         };
         let (certificate, least_for_runs, ecc) = match verified_small {
             Some((v, ecc)) => (v, true, ecc),
-            None => match self.judge(&mut verifier, &repaired, "repaired")? {
-                (v, true) => (v, false, repaired),
-                (v, false) => {
-                    return Err(Error::Bug(format!(
-                        "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
-                        v.report.failing().join(", ")
-                    )))
+            None => {
+                let repaired = self.written(repaired)?;
+                match self.judge(&mut verifier, &repaired, "repaired")? {
+                    (v, true) => (v, false, repaired),
+                    (v, false) => {
+                        return Err(Error::Bug(format!(
+                            "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
+                            v.report.failing().join(", ")
+                        )))
+                    }
                 }
-            },
+            }
         };
+        if let Some(broken) = self.conventions.broken(&ecc) {
+            return Err(Error::Bug(format!(
+                "the guide's machine is not in the form asked ({}): {broken}",
+                self.conventions
+            )));
+        }
         Ok(Outcome::Verified(Box::new(Guided {
             size: ecc.size(),
             ecc,
@@ -383,6 +435,26 @@ impl Guide<'_, '_> {
             nusmv_seconds: self.nusmv_seconds,
             sat_seconds: self.sat_seconds,
         })))
+    }
+
+    /// The repaired machine written in the user's conventions ([`Conventions::written`]), and
+    /// replayed on the recordings.
+    fn written(&mut self, repaired: Ecc) -> Result<Ecc, Error> {
+        if self.conventions.is_default() {
+            return Ok(repaired);
+        }
+        let written = self.conventions.written(&repaired);
+        self.set.check(&written).map_err(|d| {
+            Error::Bug(format!(
+                "the repaired machine written with {} does not replay the recordings: {d}",
+                self.conventions
+            ))
+        })?;
+        self.stage(Stage::Written {
+            conventions: self.conventions.to_string(),
+            size: written.size(),
+        });
+        Ok(written)
     }
 
     /// NuSMV's verdicts on `ecc` (the `machine` of [`Stage::Verdict`]), and whether every

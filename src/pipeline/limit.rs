@@ -144,16 +144,17 @@ impl Limit {
         }
     }
 
-    /// The closed-loop game's guide ([`super::guide::run`]) with `check`, stopped at the
-    /// deadline with [`Error::Interrupted`].
+    /// The closed-loop game's guide ([`super::guide::run`]) with `check`, its machine in
+    /// `conventions`, stopped at the deadline with [`Error::Interrupted`].
     pub(crate) fn guide(
         &self,
         set: &ScenarioSet,
         check: &Check,
+        conventions: crate::ecc::Conventions,
         events: Events<'_>,
     ) -> Result<super::guide::Outcome, Error> {
         self.run(events, |deadline, events| {
-            super::guide::run(set, &check.until(deadline), events)
+            super::guide::run(set, &check.until(deadline), conventions, events)
         })
     }
 }

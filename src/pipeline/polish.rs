@@ -20,7 +20,7 @@
 
 use super::Check;
 use crate::check::{self, ExplicitVerdict};
-use crate::ecc::{Ecc, Guard, Run, StateId};
+use crate::ecc::{Conventions, Ecc, Guard, Run, StateId};
 use crate::sat::guards::{minimize_state, GuardProblem};
 use crate::scenario::ScenarioSet;
 use std::time::{Duration, Instant};
@@ -39,17 +39,20 @@ const MAX_TRIES: usize = 3_000;
 
 /// The machine reached from `ecc` by the moves (module documentation) until none helps, after
 /// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move helps or the in-process checker cannot judge this plant.
+/// Every machine it keeps is in `conventions` (a merge into a start state is refused).
 pub(crate) fn shrink(
     set: &ScenarioSet,
     check: &Check,
     ecc: &Ecc,
+    conventions: Conventions,
     deadline: Instant,
 ) -> Option<Shrunk> {
     let problem = &check.problem;
     let model = problem.model.as_ref().ok()?;
     let wiring = check::Wiring::new(model, &problem.coupling).ok()?;
     let keeps = |e: &Ecc| {
-        set.check(e).is_ok()
+        conventions.broken(e).is_none()
+            && set.check(e).is_ok()
             && check::check(model, &wiring, e, &problem.props, &check::Limits::default())
                 .is_ok_and(|v| v.iter().all(|v| matches!(v, ExplicitVerdict::Holds)))
     };

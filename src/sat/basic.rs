@@ -107,6 +107,16 @@ impl std::fmt::Display for Fixed {
     }
 }
 
+impl Options {
+    /// The form its machines take: algorithms and start state.
+    pub(crate) fn conventions(&self) -> crate::ecc::Conventions {
+        crate::ecc::Conventions {
+            algorithms: self.algorithms,
+            start_state: self.start_state,
+        }
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         Options {

@@ -634,6 +634,72 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     set.check(&machine).unwrap();
 }
 
+/// With fbSAT's conventions (binary algorithms, state 0 a start state no transition enters) the
+/// game guides the synthesis too: on Pick-and-Place's first scenario NuSMV verifies a machine
+/// that keeps both conventions and replays the recording.
+#[test]
+fn the_game_guides_the_synthesis_in_fbsats_conventions() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let out = Dir::new();
+    let dir = out.path().join("r");
+    let o = pnp_first1(
+        &n.path,
+        &dir,
+        &["--algorithms", "binary", "--start-state", "--json"],
+    );
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("guide: the closed-loop game is won"), "{err}");
+    assert!(
+        err.contains("guide: least machine with binary algorithms, a start state no transition enters for the recordings"),
+        "{err}"
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let method = summary["method"].as_str().unwrap();
+    assert!(
+        ["game guide", "exact loop after the game's guide"].contains(&method),
+        "{summary}"
+    );
+    let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
+    assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
+    let ecc = dir.join("SynthesizedFB.json");
+    let machine =
+        fbsynth::export::json::read_json(&std::fs::read_to_string(&ecc).unwrap(), &ecc).unwrap();
+    for s in &machine.states {
+        assert!(
+            matches!(s.algorithm, fbsynth::ecc::Algorithm::Binary { .. }),
+            "{}: {}",
+            s.name,
+            s.algorithm
+        );
+        assert!(
+            s.transitions.iter().all(|t| t.target.0 != 0),
+            "{} enters the start state",
+            s.name
+        );
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let set =
+        fbsynth::pipeline::Recordings::files(vec![root.join("specs/pnp_first/first1.traces")])
+            .load()
+            .unwrap();
+    set.check(&machine).unwrap();
+    // NuSMV judges the published machine again on its own.
+    let o = with_nusmv(
+        &n.path,
+        &[
+            "verify",
+            "--ecc",
+            ecc.to_str().unwrap(),
+            "--ltl",
+            "specs/pnp.ltl",
+            "--plant",
+            "smv/pnp_surrogate.smv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+}
+
 /// `synth infer --ltl` runs the main job's method: on Pick-and-Place's first scenario, where
 /// the closed-loop game guides the synthesis, both give the same machine.
 #[test]

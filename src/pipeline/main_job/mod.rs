@@ -15,7 +15,8 @@
 //!    time, the game answers for every behaviour of the plant at once. Its machine is least
 //!    only for the recordings and the guide's own runs; it is made smaller in process
 //!    ([`polish`]), and the exact loop gets a turn below it (at most its states; half the
-//!    time the guide took, at least 2 s): a smaller verified machine replaces it.
+//!    time the guide took, at least 2 s): a smaller verified machine replaces it. The guide,
+//!    the polish and that turn keep the user's algorithm form and start state.
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
@@ -43,7 +44,7 @@ use super::exact::{self, Certificate, Exact};
 use super::explain::{self, Explanation};
 use super::limit::Limit;
 use super::{guide, polish, search, Check, Class, Error, Event, Events};
-use crate::ecc::{AlgorithmKind, Ecc, Size};
+use crate::ecc::{Ecc, Size};
 use crate::scenario::ScenarioSet;
 use std::time::Duration;
 
@@ -175,13 +176,10 @@ fn guides(opts: &Options, explained: &Explanation) -> bool {
 }
 
 /// Whether the guide can take a turn: the exact method and a problem the guide's own
-/// synthesis states (the default algorithms, no start state, no negative scenarios).
+/// synthesis states (no negative scenarios; any algorithm form and start state, which its
+/// machine keeps).
 fn guide_states(opts: &Options) -> bool {
-    let sat = &opts.exact.sat;
-    matches!(opts.method, Method::Sat)
-        && sat.algorithms == AlgorithmKind::Tri
-        && !sat.start_state
-        && opts.exact.negatives.is_empty()
+    matches!(opts.method, Method::Sat) && opts.exact.negatives.is_empty()
 }
 
 /// Refuted candidates in a row with the same number of states after which the exact loop,
@@ -246,7 +244,8 @@ fn guided(
 ) -> Result<Guided, Error> {
     events(Event::MainJob(Step::GuideStarted));
     let max_states = opts.exact.sat.max_states;
-    let why = match opts.limit.guide(set, check, events) {
+    let conventions = opts.exact.sat.conventions();
+    let why = match opts.limit.guide(set, check, conventions, events) {
         Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
             let m = below_guide(set, check, *g, opts, events)?;
             return Ok(Guided::Machine(Box::new(m)));
@@ -282,7 +281,7 @@ fn below_guide(
     let spent = opts.limit.elapsed();
     let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
-    let g = polished(set, check, g, opts.limit.left(), &mut stages, events)?;
+    let g = polished(set, check, opts, g, opts.limit.left(), &mut stages, events)?;
     let budget = budget.min(opts.limit.left());
     let mut after = "not run: no time left".to_string();
     if !budget.is_zero() {
@@ -328,23 +327,25 @@ fn below_guide(
 }
 
 /// The guide's machine `g` made smaller by local moves the in-process checker accepts
-/// ([`polish`]) within `budget` (the run's time left), when NuSMV verifies the result; else `g`. The outcome is
-/// added to `stages`.
+/// ([`polish`]), in the form `opts` asks (algorithms, start state), within `budget` (the run's
+/// time left), when NuSMV verifies the result; else `g`. The outcome is added to `stages`.
 fn polished(
     set: &ScenarioSet,
     check: &Check,
+    opts: &Options,
     mut g: guide::Guided,
     budget: Duration,
     stages: &mut Vec<String>,
     events: Events<'_>,
 ) -> Result<guide::Guided, Error> {
+    let conventions = opts.exact.sat.conventions();
     let now = std::time::Instant::now();
     // No time limit: a day is as good as none.
     let deadline = (now.checked_add(budget)).unwrap_or(now + Duration::from_secs(86_400));
     let Some(polish::Shrunk {
         ecc: small,
         converged,
-    }) = polish::shrink(set, check, &g.ecc, deadline)
+    }) = polish::shrink(set, check, &g.ecc, conventions, deadline)
     else {
         return Ok(g);
     };
@@ -392,6 +393,7 @@ fn guide_machine(
         size: g.size,
         least_for_recordings_and_runs: g.least_for_runs,
         made_smaller: g.polished,
+        conventions: opts.exact.sat.conventions().to_string(),
         guide: stages,
         report: g.certificate.report.clone(),
         sat_seconds: g.sat_seconds,

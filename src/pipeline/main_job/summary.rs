@@ -88,6 +88,10 @@ pub struct GuideSummary {
     /// so stands for it.
     #[serde(skip)]
     pub(crate) made_smaller: bool,
+    /// The form it was asked in, as in "binary algorithms" (empty: the defaults); in
+    /// `summary.json` the `guide` lines say it.
+    #[serde(skip)]
+    pub(crate) conventions: String,
     /// The guide's stages, one line each.
     pub(crate) guide: Vec<String>,
     /// NuSMV's verdicts on the machine (all hold).
@@ -212,19 +216,29 @@ impl std::fmt::Display for Summary {
                 Summary::Exact(b.exact.clone()),
                 b.guide_size
             ),
-            Summary::Turn(Turn::Guide(g)) => write!(
-                f,
-                "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
-                g.total_seconds,
-                g.sat_seconds,
-                g.nusmv_seconds,
-                plural(g.nusmv_calls, "check"),
-                match (g.made_smaller, g.least_for_recordings_and_runs) {
-                    (true, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
-                    (false, true) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
-                    (false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+            Summary::Turn(Turn::Guide(g)) => {
+                write!(
+                    f,
+                    "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
+                    g.total_seconds,
+                    g.sat_seconds,
+                    g.nusmv_seconds,
+                    plural(g.nusmv_calls, "check"),
+                    match (g.made_smaller, g.least_for_recordings_and_runs) {
+                        (true, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
+                        (false, true) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                        (false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+                    }
+                )?;
+                if g.conventions.is_empty() {
+                    return Ok(());
                 }
-            ),
+                write!(f, "\nthe machine has {}, as asked", g.conventions)?;
+                match !g.made_smaller && g.least_for_recordings_and_runs {
+                    true => write!(f, "; it is least among the machines that have them"),
+                    false => Ok(()),
+                }
+            }
             Summary::Turn(Turn::Search(s)) => write!(
                 f,
                 "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) {}",

@@ -29,7 +29,8 @@ fn explanation(unrecorded: bool) -> Explanation {
 }
 
 /// The guide runs only for the exact method, where the recordings leave a property's input
-/// open, and on the problem its own synthesis states.
+/// open, and on the problem its own synthesis states: with fbSAT's conventions too, not with
+/// negative scenarios.
 #[test]
 fn the_guide_runs_only_where_the_recordings_leave_an_input_open() {
     let open = explanation(true);
@@ -39,12 +40,17 @@ fn the_guide_runs_only_where_the_recordings_leave_an_input_open() {
         &options(Method::Search(search::Options::default())),
         &open
     ));
-    let mut binary = options(Method::Sat);
-    binary.exact.sat.algorithms = AlgorithmKind::Binary;
-    assert!(!guides(&binary, &open));
-    let mut start = options(Method::Sat);
-    start.exact.sat.start_state = true;
-    assert!(!guides(&start, &open));
+    let mut fbsat = options(Method::Sat);
+    fbsat.exact.sat.algorithms = crate::ecc::AlgorithmKind::Binary;
+    fbsat.exact.sat.start_state = true;
+    assert!(guides(&fbsat, &open));
+    let mut negative = options(Method::Sat);
+    negative.exact.negatives = vec![crate::scenario::negative::NegativeScenario {
+        steps: Vec::new(),
+        loop_start: None,
+        label: "never".into(),
+    }];
+    assert!(!guides(&negative, &open));
 }
 
 /// Fewer states first, then fewer transitions, then fewer literals; K is not compared.
@@ -100,6 +106,7 @@ fn guide_summary() -> GuideSummary {
         size: exact_summary().size,
         least_for_recordings_and_runs: true,
         made_smaller: false,
+        conventions: String::new(),
         guide: vec!["guide: the closed-loop game is won".into()],
         report: report(),
         sat_seconds: 0.5,
