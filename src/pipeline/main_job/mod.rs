@@ -576,6 +576,9 @@ fn below_searched(
     Ok(None)
 }
 
+/// The size of a machine made small along the closed loop, and the rounds it took.
+type MadeSmall = (Size, Vec<super::follow::Round>);
+
 /// The search's machine `found` (verified in `r`) shrunk along the closed loop within the time
 /// left: the shrunk machine, its certificate, size and rounds; when the time runs out first,
 /// `found` itself with its certificate and no size.
@@ -587,7 +590,7 @@ fn shrunk(
     r: &search::Searched,
     found: &Ecc,
     events: Events<'_>,
-) -> Result<(Ecc, Certificate, Option<(Size, Vec<super::follow::Round>)>), Error> {
+) -> Result<(Ecc, Certificate, Option<MadeSmall>), Error> {
     let shrunk = opts.limit.run(events, |deadline, events| {
         search::shrink_until(set, found, check, s.max_out_degree, deadline, events)
     });
