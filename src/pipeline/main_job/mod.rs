@@ -20,9 +20,10 @@
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
-//!    states, or [`STALL_TIME`] refuting them, it hands over to the guide, as in 1. When the
-//!    guide has no machine, the exact loop again for the time left; when it gives up the
-//!    error says what the recordings never show and what the game says of the problem.
+//!    states, or [`STALL_TIME`] of its own CPU time refuting them, it hands over to the
+//!    guide, as in 1. When the guide has no machine, the exact loop again for the time left;
+//!    when it gives up the error says what the recordings never show and what the game says
+//!    of the problem.
 //! 3. With the search ([`Method::Search`]): its verified machine bounds the exact loop (at
 //!    most its states, for as long as the search took, at least 30 s); when that finds no
 //!    smaller machine, the search's machine is made small along the closed loop
@@ -189,10 +190,11 @@ fn guide_states(opts: &Options) -> bool {
 /// they do not.
 pub(crate) const STALL_ROUNDS: usize = 30;
 
-/// The time after which the exact loop hands over to the guide when its candidates of one
-/// number of states keep being refuted (at least 3 of them): there each SAT call can grow to
-/// tens of seconds, so that few candidates take minutes.
-pub(crate) const STALL_TIME: Duration = Duration::from_secs(20);
+/// The CPU time of the loop's own work (SAT, in-process checks) after which the exact loop hands
+/// over to the guide when its candidates of one number of states keep being refuted (at least
+/// 3 of them): there each SAT call can grow to tens of seconds, so that few candidates take
+/// minutes.
+pub(crate) const STALL_TIME: Duration = Duration::from_secs(30);
 
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
 /// guide has no machine, the exact loop again for the time left.
