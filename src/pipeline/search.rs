@@ -412,13 +412,7 @@ fn properties(
     };
     started(&config, opts.time_limit, events);
     let checkers = checkers(check, opts, &config, &shared)?;
-    let mut last = Instant::now();
-    let outcome = search::run(data, &config, checkers, &mut |p| {
-        if opts.every_round || last.elapsed() >= Duration::from_secs(1) {
-            last = Instant::now();
-            events(Event::SearchRound(p));
-        }
-    })?;
+    let outcome = search::run(data, &config, checkers, &mut rounds(opts, events))?;
     let run = PropertyRun {
         outcome,
         nusmv_runs: shared.runs.load(Ordering::Relaxed),
@@ -499,13 +493,7 @@ fn reconstruct_within(
         ..restarts(&[])
     };
     started(&config, opts.time_limit, events);
-    let mut last = Instant::now();
-    let outcome = search::run(data, &config, Vec::new(), &mut |p| {
-        if opts.every_round || last.elapsed() >= Duration::from_secs(1) {
-            last = Instant::now();
-            events(Event::SearchRound(p));
-        }
-    })?;
+    let outcome = search::run(data, &config, Vec::new(), &mut rounds(opts, events))?;
     Ok(outcome)
 }
 
@@ -525,6 +513,19 @@ fn restarts(initial: &[Machine]) -> search::Config {
         }
     } else {
         search::Config::default()
+    }
+}
+
+/// Reports a search's rounds as [`Event::SearchRound`]: every one with
+/// [`Options::every_round`], else at most one a second.
+fn rounds<'e>(opts: &Options, events: Events<'e>) -> impl FnMut(&search::Progress) + 'e {
+    let mut last = Instant::now();
+    let every = opts.every_round;
+    move |p| {
+        if every || last.elapsed() >= Duration::from_secs(1) {
+            last = Instant::now();
+            events(Event::SearchRound(p));
+        }
     }
 }
 

@@ -609,10 +609,15 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
     assert_eq!(summary["size"]["c"], 8, "{summary}");
     let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
     assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
-    // The published machine, judged again by NuSMV on its own, and replayed on the recording.
+    published_first1_machine(&n.path, &dir);
+}
+
+/// The machine published in `dir` for Pick-and-Place's first scenario: NuSMV (`synth verify`)
+/// judges it again on its own, and it replays the recording.
+fn published_first1_machine(nusmv: &Path, dir: &Path) -> fbsynth::ecc::Ecc {
     let ecc = dir.join("SynthesizedFB.json");
     let o = with_nusmv(
-        &n.path,
+        nusmv,
         &[
             "verify",
             "--ecc",
@@ -632,6 +637,7 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
             .load()
             .unwrap();
     set.check(&machine).unwrap();
+    machine
 }
 
 /// With fbSAT's conventions (binary algorithms, state 0 a start state no transition enters) the
@@ -662,9 +668,7 @@ fn the_game_guides_the_synthesis_in_fbsats_conventions() {
     );
     let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
     assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
-    let ecc = dir.join("SynthesizedFB.json");
-    let machine =
-        fbsynth::export::json::read_json(&std::fs::read_to_string(&ecc).unwrap(), &ecc).unwrap();
+    let machine = published_first1_machine(&n.path, &dir);
     for s in &machine.states {
         assert!(
             matches!(s.algorithm, fbsynth::ecc::Algorithm::Binary { .. }),
@@ -678,26 +682,6 @@ fn the_game_guides_the_synthesis_in_fbsats_conventions() {
             s.name
         );
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let set =
-        fbsynth::pipeline::Recordings::files(vec![root.join("specs/pnp_first/first1.traces")])
-            .load()
-            .unwrap();
-    set.check(&machine).unwrap();
-    // NuSMV judges the published machine again on its own.
-    let o = with_nusmv(
-        &n.path,
-        &[
-            "verify",
-            "--ecc",
-            ecc.to_str().unwrap(),
-            "--ltl",
-            "specs/pnp.ltl",
-            "--plant",
-            "smv/pnp_surrogate.smv",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
 }
 
 /// `synth infer --ltl` runs the main job's method: on Pick-and-Place's first scenario, where
