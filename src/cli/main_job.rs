@@ -133,6 +133,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
         super::data_on_stdout();
     }
     let progress = Progress::new(super::quiet());
+    refuse_search_conventions(args)?;
     let Some(spec) = args.nusmv.spec(&args.ltl, &args.plant) else {
         return Err(Error::Usage(
             "the main job needs --ltl FILE and --plant FILE (or use a subcommand: synth --help)"
@@ -165,6 +166,24 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
     match super::json() {
         true => super::write_json(&done.summary()),
         false => Ok(()),
+    }
+}
+
+/// The search builds three-valued machines without a start state: fbSAT's conventions are the
+/// exact method's, and asking the search for them is refused rather than ignored.
+fn refuse_search_conventions(args: &MainArgs) -> Result<(), Error> {
+    let asked = [
+        (
+            matches!(args.algorithms, AlgorithmsArg::Binary),
+            "--algorithms binary",
+        ),
+        (args.start_state, "--start-state"),
+    ];
+    match asked.iter().find(|(on, _)| *on && args.method == Method::Search) {
+        Some((_, flag)) => Err(Error::Usage(format!(
+            "{flag} works with the exact method only: the search (--method search) builds machines with three-valued algorithms and no start state"
+        ))),
+        None => Ok(()),
     }
 }
 

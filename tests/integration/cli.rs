@@ -491,6 +491,35 @@ fn sizes_that_would_exhaust_the_machine_are_usage_errors() {
     }
 }
 
+/// fbSAT's conventions belong to the exact method: the search is refused them by name, not
+/// left to ignore them.
+#[test]
+fn the_search_refuses_fbsats_conventions_by_name() {
+    for (flag, extra) in [
+        ("--algorithms binary", &["--algorithms", "binary"][..]),
+        ("--start-state", &["--start-state"]),
+    ] {
+        let mut args = vec![
+            "--ltl",
+            "tests/data/closed_loop/lamp.ltl",
+            "--plant",
+            "tests/data/closed_loop/lamp_plant.smv",
+            "--method",
+            "search",
+            "--out",
+            "/nonexistent/never-written",
+        ];
+        args.extend_from_slice(extra);
+        let o = synth(&args);
+        assert_eq!(o.status.code(), Some(2), "{flag}: {}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains(&format!("{flag} works with the exact method only")),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}
+
 /// Recordings that already violate a property end the main job before any synthesis, and
 /// before NuSMV is needed: the message names the property with its line, and the file, line
 /// and step of the first violating state, plain or gzipped (fbSAT's CRLF layout).
