@@ -1,5 +1,7 @@
 //! The main job (`synth --ltl SPEC --plant PLANT`, by exact SAT or by search): its
-//! arguments, the call to the library and what it prints.
+//! arguments, the call to the library and what it prints. With `--learn-plant [--observe
+//! FILE] [--slack N]` instead of `--plant`, the plant is learned from the same recordings, as
+//! `synth learn-plant` learns it, and published with the machine as `plant.smv`.
 
 use super::args::{parse_formats, time_limit, AlgorithmsArg, Judge, NusmvArgs, Start, TraceArgs};
 use super::progress::Progress;
