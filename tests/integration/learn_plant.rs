@@ -336,6 +336,7 @@ fn a_learned_plant_never_replaces_an_input_in_the_output_folder() {
     std::fs::create_dir(&out).unwrap();
     let observers = out.join("plant.smv");
     std::fs::copy("specs/tank2.observers", &observers).unwrap();
+    // Refused when the folder is taken, before any work: no NuSMV is needed to tell.
     let o = main_job_learning(&[
         "--traces",
         "specs/tank2.traces",
@@ -344,6 +345,7 @@ fn a_learned_plant_never_replaces_an_input_in_the_output_folder() {
         "--out",
         out.to_str().unwrap(),
     ])
+    .nusmv(Path::new("/nonexistent/NuSMV"))
     .output();
     assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
     assert!(
