@@ -354,10 +354,37 @@ impl Problem {
         let props = crate::ltl::parse_spec_file(spec_file)?;
         // The file is read once: the scan for the coupling and the full parse share its text.
         let plant = crate::smv::plant::read_plant(plant_file)?;
+        Problem::with_plant(spec_file, props, plant, inputs, outputs, couple)
+    }
+
+    /// [`Problem::load_by`] with a plant not read from its file: `text`, a plant learned on
+    /// the way, that will be `plant_file` (which messages name).
+    pub(crate) fn load_text(
+        spec_file: &Path,
+        plant_file: &Path,
+        text: &str,
+        inputs: &[String],
+        outputs: &[String],
+        couple: &[crate::smv::composition::Couple],
+    ) -> Result<Problem, ProblemError> {
+        let props = crate::ltl::parse_spec_file(spec_file)?;
+        let plant = crate::smv::plant::parse_plant(plant_file, text)?;
+        Problem::with_plant(spec_file, props, plant, inputs, outputs, couple)
+    }
+
+    /// The problem of `props`, read from `spec_file`, with `plant`.
+    fn with_plant(
+        spec_file: &Path,
+        props: Vec<Property>,
+        plant: crate::smv::plant::Plant,
+        inputs: &[String],
+        outputs: &[String],
+        couple: &[crate::smv::composition::Couple],
+    ) -> Result<Problem, ProblemError> {
         let coupling = crate::smv::composition::check_coupling_by(
             inputs, outputs, &plant, spec_file, &props, couple,
         )?;
-        let model = crate::plant::parse::parse_str(&plant.text, plant_file)
+        let model = crate::plant::parse::parse_str(&plant.text, &plant.file)
             .map(std::sync::Arc::new)
             .map_err(|e| e.to_string());
         Ok(Problem {

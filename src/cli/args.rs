@@ -113,6 +113,7 @@ impl NusmvArgs {
             plant: plant.clone()?,
             nusmv: self.tool(),
             couple: self.couples(),
+            learned: None,
         })
     }
 }

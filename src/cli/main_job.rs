@@ -1,15 +1,20 @@
 //! The main job (`synth --ltl SPEC --plant PLANT`, by exact SAT or by search): its
-//! arguments, the call to the library and what it prints.
+//! arguments, the call to the library and what it prints. With `--learn-plant [--observe
+//! FILE] [--slack N]` instead of `--plant`, the plant is learned from the same recordings, as
+//! `synth learn-plant` learns it, and published with the machine as `plant.smv`.
 
 use super::args::{parse_formats, time_limit, AlgorithmsArg, Judge, NusmvArgs, Start, TraceArgs};
 use super::progress::Progress;
 use super::show::print_files;
+use crate::command::learn_plant;
 use crate::command::main_job::{self as job, Request};
 use crate::pipeline::{self, exact, main_job, search, Error};
-use clap::{Args, ValueEnum};
+use clap::{ArgGroup, Args, ValueEnum};
 use std::path::PathBuf;
 /// Arguments of the main job (no subcommand).
 #[derive(Debug, Args, Clone)]
+// The plant is read (`--plant`) or learned (`--learn-plant`): exactly one of them.
+#[command(group(ArgGroup::new("plant_source").args(["plant", "learn_plant"]).required(true)))]
 pub struct MainArgs {
     /// LTL properties, one per line (NuSMV syntax over bare names; `--` comments; `name:`).
     #[arg(long, value_name = "FILE")]
@@ -17,6 +22,31 @@ pub struct MainArgs {
     /// Surrogate plant model: an SMV file defining `MODULE plant(<controller outputs>)`.
     #[arg(long, value_name = "FILE")]
     pub plant: Option<PathBuf>,
+    /// Learn the surrogate plant from the recordings instead (as `synth learn-plant` does;
+    /// recordings it cannot learn from are refused with their file and step), and keep it as
+    /// `plant.smv` in the output folder, its figures under `learned_plant` in `summary.json`.
+    #[arg(long)]
+    pub learn_plant: bool,
+    /// With --learn-plant: SMV declarations (VAR, DEFINE, ASSIGN) added to the learned
+    /// module: the names the properties use that no recording shows (an overflow, a "piece
+    /// placed" event), over the sensors and controller outputs.
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "learn_plant",
+        conflicts_with = "plant"
+    )]
+    pub observe: Option<PathBuf>,
+    /// With --learn-plant: scans a sensor change a command drives may come later than
+    /// recorded (the model's scan need not be the recording PLC's).
+    #[arg(
+        long,
+        default_value_t = 0,
+        value_name = "N",
+        requires = "learn_plant",
+        conflicts_with = "plant"
+    )]
+    pub slack: usize,
     /// Scenario files. Default: `<stem>.traces` beside the --ltl file (specs/pnp.ltl ->
     /// specs/pnp.traces), with names from `<stem>.inputs` / `<stem>.outputs`.
     #[arg(long = "traces", value_name = "FILE", num_args = 1..)]
@@ -134,14 +164,22 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
     }
     let progress = Progress::new(super::quiet());
     refuse_search_conventions(args)?;
-    let Some(spec) = args.nusmv.spec(&args.ltl, &args.plant) else {
+    // A learned plant is named after the file it is published as, in the output folder.
+    let plant = match args.learn_plant {
+        true => Some(PathBuf::from(job::LEARNED_PLANT)),
+        false => args.plant.clone(),
+    };
+    let Some(spec) = args.nusmv.spec(&args.ltl, &plant) else {
         return Err(Error::Usage(
-            "the main job needs --ltl FILE and --plant FILE (or use a subcommand: synth --help)"
-                .into(),
+            "the main job needs --ltl FILE (or use a subcommand: synth --help)".into(),
         ));
     };
     let request = Request {
         spec,
+        learn_plant: args.learn_plant.then(|| learn_plant::Options {
+            observe: args.observe.clone(),
+            slack: args.slack,
+        }),
         recordings: TraceArgs {
             traces: args.traces.clone(),
             input_names: args.input_names.clone(),

@@ -244,7 +244,8 @@ Main job:  synth --ltl specs/pnp.ltl --plant smv/pnp_surrogate.smv
   synthesizes the smallest controller that reproduces the recorded scenarios (by default
   specs/pnp.traces, found beside the --ltl file) and satisfies every LTL property in closed
   loop with the surrogate plant, as checked by the NuSMV model checker. Exit code 0 only
-  when NuSMV confirmed every property.
+  when NuSMV confirmed every property. With --learn-plant (and --observe FILE) instead of
+  --plant, the plant is learned from the recordings and kept as plant.smv with the result.
 
 Record the PLC's inputs and outputs while the machine runs (scenario files or CSV logs),
 and synth finds the smallest state machine (Execution Control Chart) that reproduces every

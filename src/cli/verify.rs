@@ -37,6 +37,7 @@ pub fn verify(args: &VerifyArgs) -> Result<(), Error> {
         plant: args.plant.clone(),
         nusmv: args.nusmv.tool(),
         couple: args.nusmv.couples(),
+        learned: None,
     };
     let checked = run(&args.ecc, &spec, args.out.as_deref())?;
     if super::json() {

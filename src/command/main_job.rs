@@ -2,8 +2,14 @@
 //! recordings, the problem and what the recordings say about it, the negative scenarios, the
 //! verified machine ([`crate::pipeline::main_job::run`]) in every format with NuSMV's report
 //! and `summary.json`, and the ambiguity report when asked.
+//!
+//! With `--learn-plant` the plant is not read but learned from the same recordings
+//! ([`crate::plant::learn`], as `synth learn-plant` does) before the problem is read; it is
+//! published with the result as [`LEARNED_PLANT`], its figures in `summary.json`. Recordings
+//! it cannot be learned from stop the job before the output folder is taken.
 
 use super::ambiguity::{report_verified, Report};
+use super::learn_plant::{self, learn_set, read_observers};
 use super::{out_dir, publish, read_negatives, verified_line, Spec};
 use crate::export::Format;
 use crate::files::output_rule::Claim;
@@ -13,18 +19,24 @@ use crate::pipeline::limit::Limit;
 use crate::pipeline::main_job::{self, VerifiedMachine};
 use crate::pipeline::output::{check_exportable, write_verified};
 use crate::pipeline::recordings::stem;
-use crate::pipeline::summary::MainSummary;
+use crate::pipeline::summary::{LearnedPlantSummary, MainSummary};
 use crate::pipeline::{
     ambiguity, exact, plant_check, Check, Error, Event, Events, Note, Recordings,
 };
 use crate::scenario::ScenarioSet;
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// The name of a learned plant in the output folder (`--learn-plant`).
+pub(crate) const LEARNED_PLANT: &str = "plant.smv";
 
 /// What the main job is asked.
 pub(crate) struct Request {
     /// The properties, the plant and NuSMV.
     pub spec: Spec,
+    /// Learn the plant from the recordings with these options instead of reading the
+    /// spec's (`--learn-plant`).
+    pub learn_plant: Option<learn_plant::Options>,
     /// The recordings; without trace files, `<stem>.traces` beside the `--ltl` file.
     pub recordings: Recordings,
     /// Files of negative scenarios.
@@ -57,18 +69,25 @@ pub(crate) struct Done {
     pub files: Vec<PathBuf>,
     /// The ambiguity report, when asked.
     pub ambiguity: Option<Report>,
+    /// The plant learned on the way, when asked.
+    pub learned_plant: Option<LearnedPlantSummary>,
 }
 
 impl Done {
     /// The `--json` summary.
     pub fn summary(&self) -> MainSummary {
         MainSummary::new(&self.verified.summary, Some(self.files.clone()))
+            .with_learned_plant(self.learned_plant.clone())
     }
 }
 
-/// The ambiguity report, then the verdict, the warnings, the size and how it was found.
+/// The learned plant, the ambiguity report, then the verdict, the warnings, the size and how
+/// it was found.
 impl fmt::Display for Done {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(p) = &self.learned_plant {
+            writeln!(f, "{}", learned_note(p))?;
+        }
         if let Some(a) = &self.ambiguity {
             write!(f, "{a}")?;
         }
@@ -109,7 +128,9 @@ fn recordings(r: &Request) -> Result<Recordings, Error> {
 /// The main job: the verified machine, written and published.
 pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let recordings = recordings(r)?;
-    let (set, problem) = read_problem(r, &recordings, events)?;
+    let out = out_dir(&r.out, &stem(&r.spec.ltl));
+    let read = read_problem(r, &recordings, &out, events)?;
+    let (set, problem, spec) = (read.set, read.problem, read.spec);
     let negatives = read_negatives(&r.negatives, &set, events)?;
     if !negatives.is_empty() && !matches!(r.method, main_job::Method::Sat) {
         return Err(Error::Usage(
@@ -117,16 +138,12 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         ));
     }
     check_exportable(&set, &r.name, &r.formats, &recordings)?;
-    let out = out_dir(&r.out, &stem(&r.spec.ltl));
     // Taken before the search: a second run into the same folder stops now, not at the end.
-    let reads = (recordings.paths().into_iter())
-        .chain(r.spec.paths())
-        .chain(r.negatives.iter().cloned());
-    let results = ResultSet::open(&out, Claim::new("main", reads).writing(&r.name))?;
+    let results = ResultSet::open(&out, claim(r, &recordings, &spec))?;
     // Recordings that violate a property are refused even where NuSMV cannot be run; only the
     // claim about controllers waits for NuSMV's replay of the recordings on the plant.
     let recorded = explain::refuse_violations(&set, &problem.props, &r.spec.ltl);
-    let (nusmv, recorded) = match (r.spec.nusmv.locate(), recorded) {
+    let (nusmv, recorded) = match (spec.nusmv.locate(), recorded) {
         (Ok(nusmv), recorded) => (nusmv, recorded),
         (Err(e), Err(mut violate)) => {
             violate.unreplayed = Some(format!("a step NuSMV could not check: {e}"));
@@ -152,8 +169,9 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         limit: r.limit,
     };
     let verified = main_job::run(&set, &check, &found, &opts, events)?;
-    let summary = MainSummary::new(&verified.summary, None);
-    let provenance = r.spec.provenance(&r.name);
+    let summary =
+        MainSummary::new(&verified.summary, None).with_learned_plant(read.learned_plant.clone());
+    let provenance = spec.provenance(&r.name);
     let (ecc, certificate) = (&verified.ecc, &verified.certificate);
     let mut staged = write_verified(
         results.staging(),
@@ -175,38 +193,126 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         None => None,
     };
     staged.extend(ambiguity.iter().flat_map(|a| a.files.clone()));
+    if let Some(text) = &spec.learned {
+        let file = results.staging().join(LEARNED_PLANT);
+        crate::files::write_atomic(&file, text.as_bytes())?;
+        staged.push(file);
+    }
     Ok(Done {
         files: publish(results, &staged)?,
         scenarios: set.scenarios.len(),
         verified,
         out,
         ambiguity,
+        learned_plant: read.learned_plant,
     })
 }
 
-/// The recordings and the problem, each with its event. (Recordings that violate a property
-/// leave no machine to find: [`run`] refuses them before any synthesis, once the plant is
-/// known to produce them.)
+/// What the main job claims of its output folder: it reads the recordings, the properties,
+/// the plant it does not learn, the observers and the negative scenarios, and writes the
+/// machine's files (and the learned plant).
+fn claim(r: &Request, recordings: &Recordings, spec: &Spec) -> Claim {
+    let observers = r.learn_plant.iter().flat_map(|l| l.observe.clone());
+    let reads = (recordings.paths().into_iter())
+        .chain(spec.paths())
+        .chain(observers)
+        .chain(r.negatives.iter().cloned());
+    let claim = Claim::new("main", reads).writing(&r.name);
+    match spec.learned {
+        Some(_) => claim.naming(LEARNED_PLANT),
+        None => claim,
+    }
+}
+
+/// What [`read_problem`] read.
+struct Read {
+    /// The recordings.
+    set: ScenarioSet,
+    /// The problem.
+    problem: crate::verify::Problem,
+    /// The spec, with the learned plant when one was learned.
+    spec: Spec,
+    /// The learned plant's figures, when one was learned.
+    learned_plant: Option<LearnedPlantSummary>,
+}
+
+/// The recordings, the plant learned from them when asked (to go into `out`), and the
+/// problem, each with its event. (Recordings that violate a property leave no machine to
+/// find: [`run`] refuses them before any synthesis, once the plant is known to produce them.)
 fn read_problem(
     r: &Request,
     recordings: &Recordings,
+    out: &Path,
     events: Events<'_>,
-) -> Result<(ScenarioSet, crate::verify::Problem), Error> {
+) -> Result<Read, Error> {
     let set = recordings.load()?;
     events(Event::Note(Note::Recordings {
         scenarios: set.scenarios.len(),
         steps: set.step_count(),
         from: &recordings.show(),
     }));
-    let problem = r.spec.problem(&set.inputs, &set.outputs)?;
+    let (spec, learned_plant) = match &r.learn_plant {
+        Some(options) => {
+            let (spec, summary) = learn_plant(r, &set, recordings, options, out)?;
+            events(Event::Note(learned_note(&summary)));
+            (spec, Some(summary))
+        }
+        None => (r.spec.clone(), None),
+    };
+    let problem = spec.problem(&set.inputs, &set.outputs)?;
     events(Event::Note(Note::Problem {
         properties: problem.props.len(),
-        spec: &r.spec.ltl,
-        plant: &r.spec.plant,
+        spec: &spec.ltl,
+        plant: &spec.plant,
     }));
     let unaffected = problem.unaffected();
     if !unaffected.is_empty() {
         events(Event::Note(Note::Unaffected(&unaffected)));
     }
-    Ok((set, problem))
+    Ok(Read {
+        set,
+        problem,
+        spec,
+        learned_plant,
+    })
+}
+
+/// The plant of `set` (read from `recordings`) learned with `options`: the spec with it, as
+/// the file it is published as in `out`, and its figures.
+fn learn_plant(
+    r: &Request,
+    set: &ScenarioSet,
+    recordings: &Recordings,
+    options: &learn_plant::Options,
+    out: &Path,
+) -> Result<(Spec, LearnedPlantSummary), Error> {
+    let observers = options.observe.as_deref().map(read_observers).transpose()?;
+    let learned = learn_set(set, recordings, observers.as_ref(), options.slack)?;
+    let file = out.join(LEARNED_PLANT);
+    let summary = LearnedPlantSummary {
+        file: file.clone(),
+        recordings: recordings.traces.clone(),
+        observers: options.observe.clone(),
+        slack: options.slack,
+        scans: learned.steps,
+        runs: learned.runs,
+        sensors: learned.parts.len(),
+        delayed: learned.parts.iter().filter(|p| p.wait_cap > 0).count(),
+    };
+    let spec = Spec {
+        plant: file,
+        learned: Some(learned.text),
+        ..r.spec.clone()
+    };
+    Ok((spec, summary))
+}
+
+/// The progress line of a learned plant (also the first line the job prints).
+fn learned_note(p: &LearnedPlantSummary) -> Note<'static> {
+    Note::LearnedPlant {
+        scans: p.scans,
+        runs: p.runs,
+        sensors: p.sensors,
+        delayed: p.delayed,
+    }
 }

@@ -61,18 +61,19 @@ pub(crate) struct Spec {
     pub nusmv: Tool,
     /// Plant signals coupled with controller signals of other names (`--couple`).
     pub couple: Vec<crate::smv::composition::Couple>,
+    /// The text of a plant learned on the way (the main job's `--learn-plant`): `plant` is
+    /// then the file it will be published as, named in messages and never read.
+    pub learned: Option<String>,
 }
 
 impl Spec {
     /// The problem over the interface `inputs`, `outputs`.
     pub fn problem(&self, inputs: &[String], outputs: &[String]) -> Result<Problem, Error> {
-        Ok(Problem::load_by(
-            &self.ltl,
-            &self.plant,
-            inputs,
-            outputs,
-            &self.couple,
-        )?)
+        let (ltl, plant, couple) = (&self.ltl, &self.plant, &self.couple);
+        Ok(match &self.learned {
+            Some(text) => Problem::load_text(ltl, plant, text, inputs, outputs, couple)?,
+            None => Problem::load_by(ltl, plant, inputs, outputs, couple)?,
+        })
     }
 
     /// The problem over the interface of `set`, and the NuSMV that checks it.
@@ -81,9 +82,10 @@ impl Spec {
         Ok(Check::new(problem, self.nusmv.locate()?))
     }
 
-    /// The files the properties are read from.
-    pub fn paths(&self) -> [PathBuf; 2] {
-        [self.ltl.clone(), self.plant.clone()]
+    /// The files the properties are read from (a learned plant is not read).
+    pub fn paths(&self) -> Vec<PathBuf> {
+        let plant = self.learned.is_none().then(|| self.plant.clone());
+        [self.ltl.clone()].into_iter().chain(plant).collect()
     }
 
     /// Who made a verified machine, for its `verification.txt`.

@@ -40,6 +40,9 @@ pub(crate) struct Claim {
     pub reads: Vec<PathBuf>,
     /// The names the run gives its machine files (`SynthesizedFB` for `SynthesizedFB.fbt`...).
     pub stems: Vec<String>,
+    /// Further result files the run writes under a fixed name (`plant.smv`, a plant learned
+    /// on the way).
+    pub names: Vec<String>,
 }
 
 impl Claim {
@@ -55,12 +58,19 @@ impl Claim {
                 .map(|p| p.as_ref().to_path_buf())
                 .collect(),
             stems: Vec::new(),
+            names: Vec::new(),
         }
     }
 
     /// The claim, writing machine files named `stem`.
     pub(crate) fn writing(mut self, stem: &str) -> Claim {
         self.stems.push(stem.to_string());
+        self
+    }
+
+    /// The claim, writing a result file named `name` too.
+    pub(crate) fn naming(mut self, name: &str) -> Claim {
+        self.names.push(name.to_string());
         self
     }
 
@@ -97,6 +107,7 @@ impl Claim {
             let stem = rel.file_stem().unwrap_or_default().to_string_lossy();
             let written = listed.contains(&rel)
                 || RESULT_NAMES.contains(&name.as_ref())
+                || self.names.iter().any(|n| *n == name)
                 || self.stems.iter().any(|s| *s == stem);
             if written {
                 return Err(RuleError::Input {

@@ -145,6 +145,18 @@ pub enum Note<'a> {
     },
     /// The recordings were read, with their interface.
     Loaded(&'a ScenarioSet),
+    /// A plant was learned from the recordings (the main job's `--learn-plant`); every
+    /// recorded scan is a step of it.
+    LearnedPlant {
+        /// Recorded scans.
+        scans: usize,
+        /// Recorded runs.
+        runs: usize,
+        /// Sensors.
+        sensors: usize,
+        /// Sensors a command moves over several scans.
+        delayed: usize,
+    },
     /// The verification problem was read.
     Problem {
         /// Properties read.
@@ -398,6 +410,17 @@ impl fmt::Display for Note<'_> {
             set.active_count(),
             set.inputs.len(),
             set.outputs.len()
+        ),
+        Note::LearnedPlant {
+            scans,
+            runs,
+            sensors,
+            delayed,
+        } => write!(
+            f,
+            "learned a plant from {scans} recorded scans in {}: {}, {delayed} delayed; every recorded step is a step of it",
+            plural(*runs, "run"),
+            plural(*sensors, "sensor")
         ),
         Note::Problem {
             properties,

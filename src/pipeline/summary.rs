@@ -57,6 +57,9 @@ pub(crate) struct MainSummary {
     /// With `--json`: the files written (not in `summary.json`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub files: Option<Vec<PathBuf>>,
+    /// The plant learned from the recordings, when the main job learned it (`--learn-plant`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub learned_plant: Option<LearnedPlantSummary>,
 }
 
 impl MainSummary {
@@ -66,8 +69,37 @@ impl MainSummary {
             format: MAIN,
             machine: machine.clone(),
             files,
+            learned_plant: None,
         }
     }
+
+    /// The summary, with the plant learned on the way.
+    pub fn with_learned_plant(mut self, plant: Option<LearnedPlantSummary>) -> MainSummary {
+        self.learned_plant = plant;
+        self
+    }
+}
+
+/// A plant the main job learned from the recordings (`--learn-plant`), as `synth
+/// learn-plant` reports it: every recorded scan is a step of it.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub(crate) struct LearnedPlantSummary {
+    /// The plant file, in the output folder.
+    pub file: PathBuf,
+    /// The recordings it was learned from.
+    pub recordings: Vec<PathBuf>,
+    /// The observers added to it (`--observe`).
+    pub observers: Option<PathBuf>,
+    /// Scans a sensor change a command drives may come later than recorded (`--slack`).
+    pub slack: usize,
+    /// Recorded scans, every one a step of the plant.
+    pub scans: usize,
+    /// Recorded runs.
+    pub runs: usize,
+    /// Sensors (controller inputs) it drives.
+    pub sensors: usize,
+    /// Sensors a command moves over several scans (each with a dwell counter).
+    pub delayed: usize,
 }
 
 /// `synth infer --json` without `--ltl`: the least machine for the recordings.

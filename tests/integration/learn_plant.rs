@@ -1,9 +1,10 @@
 //! `synth learn-plant` and `synth compare-plants` on the shipped cases: the learned plant
 //! admits every recording, the main job with it gives a machine NuSMV verifies against the
 //! hand-written surrogate too, and recordings too short to learn from are refused by name
-//! with nothing written.
+//! with nothing written. The main job's `--learn-plant` likewise: the plant learned on the way
+//! is published with the machine and named in the summaries.
 
-use crate::common::{nusmv_or_skip, synth, text, Dir};
+use crate::common::{nusmv_or_skip, synth, text, Dir, TestCommand};
 use std::path::{Path, PathBuf};
 
 /// `synth learn-plant` on `traces` with `observers`; the plant file written.
@@ -141,14 +142,13 @@ fn the_pnp_plant_learned_admits_every_recording() {
     ));
 }
 
-#[test]
-fn recordings_where_an_output_never_acts_are_refused_by_name_with_nothing_written() {
-    let dir = Dir::new();
-    // The first scans of the tank: the outlet is never opened.
+/// The first scans of the tank, where the outlet is never opened, as `short.traces` in `dir`
+/// with the tank's names files.
+fn short_tank(dir: &Path) -> PathBuf {
     let full = std::fs::read_to_string("specs/tank2.traces").unwrap();
     let first = full.lines().nth(1).unwrap();
     let short: Vec<&str> = first.split("; ").take(12).collect();
-    let traces = dir.path().join("short.traces");
+    let traces = dir.join("short.traces");
     std::fs::write(
         &traces,
         format!("1\n{};\n", short.join("; ").trim_end_matches(';')),
@@ -157,10 +157,17 @@ fn recordings_where_an_output_never_acts_are_refused_by_name_with_nothing_writte
     for names in ["inputs", "outputs"] {
         std::fs::copy(
             format!("specs/tank2.{names}"),
-            dir.path().join(format!("short.{names}")),
+            dir.join(format!("short.{names}")),
         )
         .unwrap();
     }
+    traces
+}
+
+#[test]
+fn recordings_where_an_output_never_acts_are_refused_by_name_with_nothing_written() {
+    let dir = Dir::new();
+    let traces = short_tank(dir.path());
     let out = dir.path().join("plant.smv");
     let o = synth(&[
         "learn-plant",
@@ -202,4 +209,154 @@ fn an_assumption_the_recordings_violate_is_refused_with_the_step() {
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// The main job on the tank with `--learn-plant`, with `args` after it.
+fn main_job_learning(args: &[&str]) -> TestCommand {
+    let mut cmd = TestCommand::new();
+    cmd.args(["--ltl", "specs/tank2.ltl", "--learn-plant"])
+        .args(args);
+    cmd
+}
+
+#[test]
+fn the_main_job_learns_the_tank_plant_on_the_way_and_publishes_it_with_the_machine() {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    let out = dir.path().join("t");
+    let o = main_job_learning(&[
+        "-q",
+        "--json",
+        "--traces",
+        "specs/tank2.traces",
+        "--observe",
+        "specs/tank2.observers",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .nusmv(&n.path)
+    .umask(0o022)
+    .output();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let plant = out.join("plant.smv");
+    let learned = &json["learned_plant"];
+    assert_eq!(learned["file"], plant.to_str().unwrap(), "{json:#}");
+    assert_eq!(learned["scans"], 1200, "{json:#}");
+    assert_eq!(learned["sensors"], 3, "{json:#}");
+    assert!(json["files"]
+        .as_array()
+        .unwrap()
+        .contains(&plant.to_str().unwrap().into()));
+    // The plant `synth learn-plant` writes, published with the machine, readable by all.
+    let alone = learn("specs/tank2.traces", "specs/tank2.observers", dir.path());
+    assert_eq!(
+        std::fs::read_to_string(&plant).unwrap(),
+        std::fs::read_to_string(alone).unwrap()
+    );
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&plant).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o644);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["learned_plant"], json["learned_plant"]);
+    let verification = std::fs::read_to_string(out.join("verification.txt")).unwrap();
+    assert!(
+        verification.contains(plant.to_str().unwrap()),
+        "{verification}"
+    );
+    // The --json summary validates against the schema `synth schema --summary` prints.
+    let schema = dir.path().join("summary.schema.json");
+    let o = synth(&["schema", "--summary", "-o", schema.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut schemas = boon::Schemas::new();
+    let index = boon::Compiler::new()
+        .compile(schema.to_str().unwrap(), &mut schemas)
+        .expect("the schema compiles");
+    let mut bad = json.clone();
+    assert!(schemas.validate(&json, index).is_ok(), "{json:#}");
+    bad["learned_plant"]["sensors"] = "three".into();
+    assert!(schemas.validate(&bad, index).is_err());
+    // The machine verified with the learned plant holds with the hand-written one too.
+    let ecc = out.join("SynthesizedFB.json");
+    let hand = Path::new("smv/tank_surrogate.smv");
+    assert!(verified(&n.path, &ecc, "specs/tank2.ltl", hand));
+}
+
+#[test]
+fn the_main_job_refuses_recordings_it_cannot_learn_a_plant_from_with_no_result_folder() {
+    let dir = Dir::new();
+    let traces = short_tank(dir.path());
+    let out = dir.path().join("t");
+    let o = main_job_learning(&[
+        "--traces",
+        traces.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .output();
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("short.traces") && err.contains("outlet is never on"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn the_main_job_takes_one_plant_read_or_learned_and_the_learners_options_with_learning() {
+    let dir = Dir::new();
+    let out = dir.path().join("t");
+    let main = |args: &[&str]| {
+        let head = ["--ltl", "specs/tank2.ltl", "--out", out.to_str().unwrap()];
+        synth(&[&head[..], args].concat())
+    };
+    let plant = ["--plant", "smv/tank_surrogate.smv"];
+    let both = main(&[&plant[..], &["--learn-plant"]].concat());
+    let observe = main(&[&plant[..], &["--observe", "specs/tank2.observers"]].concat());
+    let slack = main(&[&plant[..], &["--slack", "2"]].concat());
+    let neither = main(&[]);
+    for (o, says) in [
+        (both, "cannot be used with"),
+        (observe, "cannot be used with"),
+        (slack, "cannot be used with"),
+        (neither, "--learn-plant"),
+    ] {
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+        assert!(text(&o.stderr).contains(says), "{}", text(&o.stderr));
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_learned_plant_never_replaces_an_input_in_the_output_folder() {
+    let dir = Dir::new();
+    let out = dir.path().join("t");
+    std::fs::create_dir(&out).unwrap();
+    let observers = out.join("plant.smv");
+    std::fs::copy("specs/tank2.observers", &observers).unwrap();
+    // Refused when the folder is taken, before any work: no NuSMV is needed to tell.
+    let o = main_job_learning(&[
+        "--traces",
+        "specs/tank2.traces",
+        "--observe",
+        observers.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .nusmv(Path::new("/nonexistent/NuSMV"))
+    .output();
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("would replace or remove the input"),
+        "{}",
+        text(&o.stderr)
+    );
+    let left: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+    assert_eq!(
+        std::fs::read_to_string(&observers).unwrap(),
+        std::fs::read_to_string("specs/tank2.observers").unwrap()
+    );
 }
