@@ -21,6 +21,12 @@ pub struct LearnPlantArgs {
     /// need not be the recording PLC's).
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub slack: usize,
+    /// What is known of the plant beyond the recordings, as named LTL properties over the
+    /// sensors (the format of --ltl): the recordings are checked against them (one that breaks
+    /// an assumption is named with its step) and the plant's header lists them; the learned
+    /// model does not enforce them.
+    #[arg(long, value_name = "FILE")]
+    pub assume: Option<PathBuf>,
     /// The plant file to write (`MODULE plant(<controller outputs>)`).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
@@ -51,6 +57,7 @@ pub fn learn_plant(args: &LearnPlantArgs) -> Result<(), Error> {
     let options = Options {
         observe: args.observe.clone(),
         slack: args.slack,
+        assume: args.assume.clone(),
     };
     let written = run(&args.traces.recordings(), &options, &args.out)?;
     for line in written.lines() {

@@ -47,6 +47,17 @@ pub struct MainArgs {
         conflicts_with = "plant"
     )]
     pub slack: usize,
+    /// With --learn-plant: what is known of the plant beyond the recordings, as named LTL
+    /// properties over the sensors (the format of --ltl): the recordings are checked against
+    /// them (one that breaks an assumption is named with its step) and the plant's header
+    /// lists them; the learned model does not enforce them.
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "learn_plant",
+        conflicts_with = "plant"
+    )]
+    pub assume: Option<PathBuf>,
     /// Scenario files. Default: `<stem>.traces` beside the --ltl file (specs/pnp.ltl ->
     /// specs/pnp.traces), with names from `<stem>.inputs` / `<stem>.outputs`.
     #[arg(long = "traces", value_name = "FILE", num_args = 1..)]
@@ -179,6 +190,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
         learn_plant: args.learn_plant.then(|| learn_plant::Options {
             observe: args.observe.clone(),
             slack: args.slack,
+            assume: args.assume.clone(),
         }),
         recordings: TraceArgs {
             traces: args.traces.clone(),

@@ -52,19 +52,53 @@ pub(crate) struct Options {
     pub observe: Option<PathBuf>,
     /// Scans a change a command drives may come later than recorded (`--slack`).
     pub slack: usize,
+    /// The user's assumptions about the plant (`--assume`).
+    pub assume: Option<PathBuf>,
 }
 
-/// The plant learned from `set` (read from `recordings`), with `observers`.
+/// The plant learned from `set` (read from `recordings`), with `observers`, keeping the
+/// assumptions of `options` ([`assumed`]).
 pub(crate) fn learn_set(
     set: &ScenarioSet,
     recordings: &Recordings,
     observers: Option<&Observers>,
-    slack: usize,
+    options: &Options,
 ) -> Result<Learned, Error> {
+    let assumptions = options
+        .assume
+        .as_deref()
+        .map(|f| assumed(set, f))
+        .transpose()?;
     let source: Vec<String> = (recordings.traces.iter())
         .map(|t| t.display().to_string())
         .collect();
-    learn::learn(set, &source.join(", "), observers, slack).map_err(input)
+    let mut learned =
+        learn::learn(set, &source.join(", "), observers, options.slack).map_err(input)?;
+    if let Some(a) = assumptions {
+        learned.text.push_str(&a.text());
+    }
+    Ok(learned)
+}
+
+/// The assumptions in `file` over the interface of `set` ([`learn::assume`]), after
+/// the recordings are checked against them: a recorded run that breaks one is named with its
+/// first violating step.
+fn assumed(set: &ScenarioSet, file: &Path) -> Result<learn::assume::Assumptions, Error> {
+    let props = crate::ltl::parse_spec_file(file).map_err(|e| Error::Input(e.to_string()))?;
+    let assumptions = learn::assume::Assumptions::of(file, &props, &set.inputs, &set.outputs)
+        .map_err(|e| Error::Input(e.to_string()))?;
+    let explained = crate::pipeline::explain::explain(set, &props);
+    if let Some(v) = explained.violations.first() {
+        return Err(Error::Input(format!(
+            "the recordings contradict the assumption {} ({}:{}): first at {}; {}",
+            crate::quote::cut(&v.property),
+            file.display(),
+            v.line,
+            v.first,
+            v.extent
+        )));
+    }
+    Ok(assumptions)
 }
 
 /// `synth learn-plant`: learns the plant of `recordings` and writes it to `out` (whole or
@@ -76,10 +110,11 @@ pub(crate) fn run(
 ) -> Result<Written, Error> {
     let mut reads = recordings.paths();
     reads.extend(options.observe.iter().cloned());
+    reads.extend(options.assume.iter().cloned());
     refuse_overwrite(&[out], &reads)?;
     let set = recordings.load()?;
     let observers = options.observe.as_deref().map(read_observers).transpose()?;
-    let learned = learn_set(&set, recordings, observers.as_ref(), options.slack)?;
+    let learned = learn_set(&set, recordings, observers.as_ref(), options)?;
     write_atomic(out, learned.text.as_bytes())?;
     Ok(Written {
         learned,

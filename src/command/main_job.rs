@@ -287,7 +287,7 @@ fn learn_plant(
     out: &Path,
 ) -> Result<(Spec, LearnedPlantSummary), Error> {
     let observers = options.observe.as_deref().map(read_observers).transpose()?;
-    let learned = learn_set(set, recordings, observers.as_ref(), options.slack)?;
+    let learned = learn_set(set, recordings, observers.as_ref(), options)?;
     let file = out.join(LEARNED_PLANT);
     let summary = LearnedPlantSummary {
         file: file.clone(),

@@ -360,3 +360,57 @@ fn a_learned_plant_never_replaces_an_input_in_the_output_folder() {
         std::fs::read_to_string("specs/tank2.observers").unwrap()
     );
 }
+
+/// `--assume`: the recordings are checked against the user's assumptions about the plant; one
+/// they break is named with the file, line and first violating step, and nothing is written;
+/// assumptions they keep are listed in the plant's header; an assumption about a controller
+/// output is refused by line.
+#[test]
+fn assumptions_are_checked_on_the_recordings_and_named_in_the_header() {
+    let dir = Dir::new();
+    let learn_with = |assumptions: &str, out: &Path| {
+        let file = dir.path().join("tank.assume");
+        std::fs::write(&file, assumptions).unwrap();
+        synth(&[
+            "learn-plant",
+            "--traces",
+            "specs/tank2.traces",
+            "--assume",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let kept = dir.path().join("kept.smv");
+    let o = learn_with(
+        "-- a level covers every sensor below the highest it reaches\nordered: G ((ul -> ml) & (ml -> ll))\n",
+        &kept,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let smv = std::fs::read_to_string(&kept).unwrap();
+    assert!(
+        smv.contains("-- Assumed (from ") && smv.contains("tank.assume): ordered;"),
+        "{smv}"
+    );
+
+    let broken = dir.path().join("broken.smv");
+    let o = learn_with("dry: G !ul\n", &broken);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("the recordings contradict the assumption dry (")
+            && err.contains("tank.assume:1): first at specs/tank2.traces:"),
+        "{err}"
+    );
+    assert!(!broken.exists());
+
+    let o = learn_with("shut: G !(inlet & ul)\n", &broken);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr)
+            .contains("tank.assume:1: the assumption shut reads the controller output inlet"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!broken.exists());
+}

@@ -31,6 +31,7 @@
 //!   replayed on it, step by step; the first step it cannot produce is an error.
 
 pub(crate) mod admit;
+pub(crate) mod assume;
 pub(crate) mod compare;
 pub(crate) mod depend;
 pub(crate) mod emit;
