@@ -135,6 +135,9 @@ pub(crate) struct Part {
 pub(crate) struct Half {
     /// The signals its next value depends on (the sensor itself first).
     pub(crate) depends: Vec<usize>,
+    /// The command that drives it, as (output, value in force), if one does; otherwise the
+    /// environment moves it, free in the contexts where it was seen changing.
+    pub(crate) driver: Option<(usize, bool)>,
     /// Per context seen (values of `depends`, in order; the sensor's own value first): the
     /// rule.
     pub(crate) rules: Vec<(Vec<bool>, Rule)>,
