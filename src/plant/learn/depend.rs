@@ -1,8 +1,8 @@
 //! Which signals a sensor's next value depends on, and its rule in each context seen.
 //!
-//! In: the recorded [`Runs`] and a sensor. Out: its [`Part`]: the dependency set (greedy, see
-//! the header of [`super`]), the rule of every context the recordings show, and the dwell
-//! bounds of the delayed ones.
+//! In: the recorded [`Runs`] and a sensor. Out: its [`Part`]: per change, the command that
+//! drives it if one does, the dependency set (see the header of [`super`]), the rule of every
+//! context the recordings show, and the dwell bounds of the delayed ones.
 
 use super::{Half, Part, Rule, Runs};
 use std::collections::BTreeMap;
@@ -351,4 +351,98 @@ fn dwell_bounds(
         }
     }
     bounds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::learn::Scan;
+    use crate::scenario::Origin;
+
+    /// Runs of a cylinder (sensor `end`, command `push`: the end is reached two scans after
+    /// `push` comes on; the controller withdraws it once it reads the end, and the cylinder
+    /// springs back at the next scan) beside a button the operator presses for two scans at
+    /// `presses` (the controller lights `lamp` while it reads it), and a sensor `flaky` that
+    /// rises with `push` in force but only in the runs listed in `flaky_runs`, falling once
+    /// `push` is off.
+    fn runs(presses: &[usize], flaky_runs: &[usize]) -> Runs {
+        let runs = (0..3)
+            .map(|r| {
+                let (mut pos, mut push, mut flaky) = (0, false, false);
+                let scans = (0..40)
+                    .map(|k| {
+                        let end = pos >= 2;
+                        let button = presses
+                            .iter()
+                            .any(|&p| k == p + 13 * r || k == p + 13 * r + 1);
+                        push = match push {
+                            true => !end,
+                            false => k % 13 == 4,
+                        };
+                        let inputs = vec![end, button, flaky];
+                        pos = if push { pos + 1 } else { 0 };
+                        flaky = push && flaky_runs.contains(&r) && pos >= 1;
+                        Scan {
+                            inputs,
+                            outputs: vec![push, button],
+                        }
+                    })
+                    .collect();
+                let origin = Origin {
+                    file: "test.traces".into(),
+                    line: r + 1,
+                    rows: None,
+                };
+                (origin, scans)
+            })
+            .collect();
+        Runs {
+            inputs: vec!["end".into(), "button".into(), "flaky".into()],
+            outputs: vec!["push".into(), "lamp".into()],
+            runs,
+        }
+    }
+
+    #[test]
+    fn a_cylinder_is_driven_both_ways_and_its_start_is_recorded() {
+        let r = runs(&[1, 9], &[0, 1, 2]);
+        let p = part(&r, 0, 0);
+        assert_eq!(p.halves[0].driver, Some((0, true)));
+        assert_eq!(p.halves[1].driver, Some((0, false)));
+        assert!(!p.free_start);
+        assert!(p.halves[0].depends.contains(&3));
+    }
+
+    #[test]
+    fn a_button_a_lamp_answers_is_the_environments_and_free_everywhere() {
+        let r = runs(&[1, 9], &[0, 1, 2]);
+        let p = part(&r, 1, 0);
+        assert!(p.free_start);
+        assert!(p.halves.iter().all(|h| h.driver.is_none()));
+        // No output is a dependency, and the button is free wherever it changed.
+        assert!((p.halves.iter()).all(|h| h.depends.iter().all(|&f| f < 3)));
+        assert!((p.halves.iter())
+            .flat_map(|h| &h.rules)
+            .any(|(_, rule)| *rule == Rule::Free));
+    }
+
+    #[test]
+    fn a_command_that_once_failed_to_move_a_sensor_does_not_drive_it() {
+        let driven = runs(&[1, 9], &[0, 1, 2]);
+        assert!(reliable(&driven, 2, false, 0, true, true));
+        let flaky = runs(&[1, 9], &[0, 2]);
+        assert!(!reliable(&flaky, 2, false, 0, true, true));
+        assert!(part(&flaky, 2, 0).free_start);
+    }
+
+    #[test]
+    fn a_signal_splitting_off_no_change_does_not_pay_for_its_contexts() {
+        // 100 transitions, 4 changes: one context, or two that split the stays evenly.
+        let one = Counts::from([(vec![false], (96, 4))]);
+        let two = Counts::from([(vec![false, false], (48, 2)), (vec![false, true], (48, 2))]);
+        assert!(bic(&one) > bic(&two));
+        // Two contexts that separate the changes from most stays do pay.
+        let apart = Counts::from([(vec![false, false], (90, 0)), (vec![false, true], (6, 4))]);
+        assert!(bic(&apart) > bic(&one));
+    }
 }
