@@ -108,6 +108,41 @@ fn the_distribution_plant_learned_verifies_a_machine_and_refutes_the_recordings_
     let dir = Dir::new();
     let traces = "specs/distribution.csv";
     let plant = learn(traces, "specs/distribution.observers", dir.path());
+    // The operator's buttons and the magazine's stock are the environment's: no command is
+    // made to press them, and they start free; the cylinder and the arm are driven.
+    let smv = std::fs::read_to_string(&plant).unwrap();
+    for sensor in ["empty", "start", "stop", "auto_man", "emergency"] {
+        let line = format!("--   {sensor}: rises on nothing; falls on nothing (the environment's");
+        let mut found = smv
+            .lines()
+            .filter(|l| l.starts_with(&format!("--   {sensor}:")));
+        let found = found.next().unwrap_or_default();
+        assert!(
+            found.ends_with("(the environment's: free where seen changing)")
+                && (sensor == "empty" || found.starts_with(&line)),
+            "{found}"
+        );
+        assert!(
+            !smv.contains(&format!("init({sensor})")),
+            "{sensor} starts fixed"
+        );
+    }
+    for sensor in [
+        "retracted",
+        "extended",
+        "at_magazine",
+        "at_client",
+        "vac_on",
+    ] {
+        assert!(
+            !smv.contains(&format!("--   {sensor}: rises on nothing")),
+            "{smv}"
+        );
+        assert!(
+            smv.contains(&format!("init({sensor})")),
+            "{sensor} starts free"
+        );
+    }
     let ltl = "specs/distribution.ltl";
     let ecc = main_job(&n.path, ltl, &plant, traces, &dir.path().join("m"));
     let hand = Path::new("smv/distribution_surrogate.smv");
@@ -140,6 +175,18 @@ fn the_pnp_plant_learned_admits_every_recording() {
     assert!(smv.contains(
         "MODULE plant(c1Extend, c1Retract, c2Extend, c2Retract, vcExtend, vacuum_on, vacuum_off)"
     ));
+    // The pieces the operator puts on the tracks are the environment's: never forced to
+    // appear, and free at the start.
+    for piece in ["pp1", "pp2", "pp3"] {
+        let line = (smv.lines())
+            .find(|l| l.starts_with(&format!("--   {piece}:")))
+            .unwrap_or_default();
+        assert!(
+            line.ends_with("(the environment's: free where seen changing)"),
+            "{line}"
+        );
+        assert!(!smv.contains(&format!("wait_up_{piece}")), "{smv}");
+    }
 }
 
 /// The first scans of the tank, where the outlet is never opened, as `short.traces` in `dir`

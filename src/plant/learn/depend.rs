@@ -1,8 +1,8 @@
 //! Which signals a sensor's next value depends on, and its rule in each context seen.
 //!
-//! In: the recorded [`Runs`] and a sensor. Out: its [`Part`]: the dependency set (greedy, see
-//! the header of [`super`]), the rule of every context the recordings show, and the dwell
-//! bounds of the delayed ones.
+//! In: the recorded [`Runs`] and a sensor. Out: its [`Part`]: per change, the command that
+//! drives it if one does, the dependency set (see the header of [`super`]), the rule of every
+//! context the recordings show, and the dwell bounds of the delayed ones.
 
 use super::{Half, Part, Rule, Runs};
 use std::collections::BTreeMap;
@@ -22,36 +22,63 @@ type Counts = BTreeMap<Vec<bool>, (usize, usize)>;
 
 /// The part of sensor `x`: its rise (from FALSE) and its fall (from TRUE) learned apart, as
 /// a command that extends a cylinder is not the one that retracts it; each change a command
-/// drives may come up to `slack` scans later than recorded.
+/// drives may come up to `slack` scans later than recorded. A sensor is the controller's when
+/// a command drives each of its changes ([`driver`]); otherwise the environment moves it (an
+/// operator's button, which no command releases; a piece put on a track), and it is free in
+/// the contexts where it was seen changing, from the start on.
 pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
-    let halves = [false, true].map(|v| half(runs, x, v, slack));
+    let mut drivers = [false, true].map(|v| driver(runs, x, v));
+    for v in [false, true] {
+        let (this, other) = (usize::from(v), usize::from(!v));
+        if let (None, Some((z, b))) = (drivers[this], drivers[other]) {
+            drivers[this] = withdrawal(runs, x, v, z, !b);
+        }
+    }
+    let commanded = drivers.iter().all(Option::is_some);
+    let halves = [false, true].map(|v| match (commanded, drivers[usize::from(v)]) {
+        (true, Some(d)) => half(runs, x, v, Some(d), slack),
+        _ => half(runs, x, v, None, slack),
+    });
     let wait_cap = halves.iter().map(Half::wait_cap).max().unwrap_or(0);
-    let free_start = (halves.iter())
-        .flat_map(|h| &h.rules)
-        .all(|(_, r)| *r == Rule::Free);
     Part {
         sensor: x,
         halves,
         wait_cap,
-        free_start,
+        free_start: !commanded,
     }
 }
 
-/// The half of sensor `x`'s part that starts from value `v`.
-fn half(runs: &Runs, x: usize, v: bool, slack: usize) -> Half {
-    let depends = dependencies(runs, x, v);
+/// The half of sensor `x`'s part that starts from value `v`, driven by `driver` (output,
+/// value in force) or moved by the environment.
+fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: usize) -> Half {
+    let n = runs.inputs.len();
+    let depends = match driver {
+        Some((z, _)) => {
+            let mut depends = dependencies(runs, x, v);
+            if !depends.contains(&(n + z)) {
+                depends.push(n + z);
+            }
+            depends
+        }
+        // The environment's sensor never seen changing this way (a mode switch turned on
+        // and not back): what turned it one way may turn it back, anywhere.
+        None if changes(runs, x, v).next().is_none() => {
+            return Half {
+                depends: vec![x],
+                driver,
+                rules: vec![(vec![v], Rule::Free)],
+            }
+        }
+        None => gates(runs, x, v),
+    };
     let counts = counts(runs, x, v, &depends);
-    // A command (on, or off as for a spring-return cylinder) drives the sensor in this half.
-    let driven = depends.iter().any(|&f| f >= runs.inputs.len());
-    let command_on = |_: &[bool]| driven;
     let mut rules: Vec<(Vec<bool>, Rule)> = (counts.iter())
         .map(|(c, &(stays, changes))| {
             let rule = match (stays, changes) {
                 (_, 0) => Rule::To(v),
-                (0, _) if command_on(c) && slack > 0 => Rule::Within(0, 0),
-                (0, _) => Rule::To(!v),
-                _ if command_on(c) => Rule::Within(0, 0),
-                _ => Rule::Free,
+                _ if driver.is_none() => Rule::Free,
+                (0, _) if slack == 0 => Rule::To(!v),
+                _ => Rule::Within(0, 0),
             };
             (c.clone(), rule)
         })
@@ -64,58 +91,197 @@ fn half(runs: &Runs, x: usize, v: bool, slack: usize) -> Half {
             *most = longest.map_or(0, |w| w + 1) + slack;
         }
     }
-    Half { depends, rules }
+    Half {
+        depends,
+        driver,
+        rules,
+    }
 }
 
-/// The dependency set of sensor `x` when it is `v`: itself, then greedily the signal that
-/// most reduces the ambiguous transitions, while it removes at least a tenth of them (and
-/// at least two); on a tie, a controller output before a sensor, then the signal on at more
-/// of the recorded changes (a command that is on moves the sensor, not one that is off).
-fn dependencies(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
-    let signals = runs.inputs.len() + runs.outputs.len();
+/// The dependency set of a change the environment makes to sensor `x` from `v`: itself, then
+/// each other sensor that [`matters`] to it (at one value at every recorded change, and
+/// significantly never changing at the other). The operator or the stock does not read the
+/// controller's outputs, and a few chance coincidences (a stop button pressed mostly once
+/// the magazine ran empty) do not close a context to what the environment may do there.
+fn gates(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
     let mut depends = vec![x];
-    let mut now = ambiguous(&counts(runs, x, v, &depends));
-    while now > 0 && depends.len() < MAX_DEPENDS {
-        let best = (0..signals)
-            .filter(|f| !depends.contains(f))
-            .map(|f| {
-                let mut with = depends.clone();
-                with.push(f);
-                let output_first = usize::from(f < runs.inputs.len());
-                let off_at_changes = changes(runs, x, v).filter(|(s, _)| !runs.signal(s, f));
-                let key = (output_first, off_at_changes.count());
-                (ambiguous(&counts(runs, x, v, &with)), key, f)
-            })
-            .min();
-        match best {
-            Some((after, _, f)) if now - after >= (now / 10).max(2) => {
+    let tests = 2 * runs.inputs.len().saturating_sub(1);
+    for f in (0..runs.inputs.len()).filter(|&f| f != x) {
+        for b in [false, true] {
+            if depends.len() < MAX_DEPENDS && matters(runs, x, v, f, b, tests) {
                 depends.push(f);
-                now = after;
             }
-            _ => break,
         }
-    }
-    if let Some(z) = command_behind(runs, x, v, &depends) {
-        depends.push(z);
     }
     depends
 }
 
-/// When no controller output was chosen but the sensor changed: the output on at every
-/// recorded change (the one on least often otherwise), which then moves it. A command that
-/// was on all along separates nothing, yet it is what moves the sensor (an inlet filling an
-/// empty tank).
-fn command_behind(runs: &Runs, x: usize, v: bool, depends: &[usize]) -> Option<usize> {
-    let n = runs.inputs.len();
-    if depends.iter().any(|&f| f >= n) {
-        return None;
+/// The dependency set of sensor `x` when it is `v`: itself, then greedily the signal whose
+/// contexts explain the recorded changes best, while it raises the Bayesian information
+/// criterion of the half (the log-likelihood of the recorded next values, each context a
+/// Bernoulli trial at its recorded frequency, less half the log of the number of recorded
+/// transitions per context): a signal that splits a few chance changes apart does not pay
+/// for the contexts it adds. On a tie, a controller output before a sensor, then the signal
+/// on at more of the recorded changes (a command that is on moves the sensor, not one that
+/// is off).
+fn dependencies(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
+    let signals = runs.inputs.len() + runs.outputs.len();
+    let mut depends = vec![x];
+    let mut now = counts(runs, x, v, &depends);
+    while ambiguous(&now) > 0 && depends.len() < MAX_DEPENDS {
+        let mut best: Option<(f64, (usize, usize), usize, Counts)> = None;
+        for f in (0..signals).filter(|f| !depends.contains(f)) {
+            let mut with = depends.clone();
+            with.push(f);
+            let c = counts(runs, x, v, &with);
+            let score = bic(&c);
+            let output_first = usize::from(f < runs.inputs.len());
+            let off_at_changes = changes(runs, x, v).filter(|(s, _)| !runs.signal(s, f));
+            let key = (output_first, off_at_changes.count());
+            let better = match &best {
+                None => true,
+                Some((b, k, ..)) => score > b + EPSILON || (score > b - EPSILON && key < *k),
+            };
+            if better {
+                best = Some((score, key, f, c));
+            }
+        }
+        match best {
+            Some((score, _, f, c)) if score > bic(&now) + EPSILON => {
+                depends.push(f);
+                now = c;
+            }
+            _ => break,
+        }
     }
-    let half = || runs.transitions().filter(|(s, _)| s.inputs[x] == v);
+    depends
+}
+
+/// Scores closer than this are equal.
+const EPSILON: f64 = 1e-9;
+
+/// The Bayesian information criterion of `counts`: the log-likelihood of the recorded next
+/// values when each context changes at its recorded frequency, less half the log of the
+/// number of transitions per context (one parameter each).
+fn bic(counts: &Counts) -> f64 {
+    let n: usize = counts.values().map(|(s, c)| s + c).sum();
+    let term = |k: usize, of: usize| match k {
+        0 => 0.0,
+        _ => k as f64 * (k as f64 / of as f64).ln(),
+    };
+    let ll: f64 = (counts.values())
+        .map(|&(s, c)| term(s, s + c) + term(c, s + c))
+        .sum();
+    ll - counts.len() as f64 / 2.0 * (n.max(1) as f64).ln()
+}
+
+/// The command that drives the change of sensor `x` from `v`, as (output, value in force), if
+/// any: a value of an output in force at every recorded change, that [`matters`] to it and
+/// reliably produced it ([`reliable`]). Among several, the one in force least often while the
+/// sensor is `v` (an inlet open all along still fills an empty tank, but the one that is on
+/// only while the tank fills is what fills it).
+fn driver(runs: &Runs, x: usize, v: bool) -> Option<(usize, bool)> {
     changes(runs, x, v).next()?;
+    let in_force = |z: usize, b: bool| {
+        (runs.transitions())
+            .filter(|(s, _)| s.inputs[x] == v && s.outputs[z] == b)
+            .count()
+    };
     (0..runs.outputs.len())
-        .filter(|&z| changes(runs, x, v).all(|(s, _)| s.outputs[z]))
-        .min_by_key(|&z| half().filter(|(s, _)| s.outputs[z]).count())
-        .map(|z| n + z)
+        .flat_map(|z| [(z, true), (z, false)])
+        .filter(|&(z, b)| matters(runs, x, v, runs.inputs.len() + z, b, 2 * runs.outputs.len()))
+        .filter(|&(z, b)| reliable(runs, x, v, z, b, true))
+        .min_by_key(|&(z, b)| in_force(z, b))
+}
+
+/// Below this probability, no change in the scans without a signal is not chance (shared
+/// among the signals tried, as in Bonferroni's correction: with many signals, one of them
+/// separates a few changes by chance).
+const SIGNIFICANCE: f64 = 0.05;
+
+/// The withdrawal of the command that drives the other change of sensor `x`, output `z` at
+/// `b`, as the driver of its change from `v`: when `z` was `b` at every recorded change and
+/// reliably produced it. A spring returns a cylinder once the command that held it back is
+/// withdrawn; the recordings need not show the command held longer to tell.
+fn withdrawal(runs: &Runs, x: usize, v: bool, z: usize, b: bool) -> Option<(usize, bool)> {
+    let gates = changes(runs, x, v).all(|(s, _)| s.outputs[z] == b);
+    (gates && reliable(runs, x, v, z, b, false)).then_some((z, b))
+}
+
+/// Whether signal `f` (a sensor or an output, as in [`Runs::signal`]) at `b` matters to the
+/// change of sensor `x` from `v`: `f` was `b` at every recorded change, and had the sensor
+/// changed as often with `f` not `b` as it did with it (per scan), the recorded scans with
+/// `f` not `b` would show a change but for a chance below [`SIGNIFICANCE`] over the number of
+/// `tests` made. A button is
+/// released whatever the controller does: a command that happened to be in force at its few
+/// releases was seldom off while it was pressed.
+fn matters(runs: &Runs, x: usize, v: bool, f: usize, b: bool, tests: usize) -> bool {
+    if !changes(runs, x, v).all(|(s, _)| runs.signal(s, f) == b) {
+        return false;
+    }
+    let at_v = || runs.transitions().filter(|(s, _)| s.inputs[x] == v);
+    let with = at_v().filter(|(s, _)| runs.signal(s, f) == b).count();
+    let without = at_v().filter(|(s, _)| runs.signal(s, f) != b).count();
+    let rate = changes(runs, x, v).count() as f64 / with.max(1) as f64;
+    let unseen = (1.0 - rate)
+        .max(0.0)
+        .powi(i32::try_from(without).unwrap_or(i32::MAX));
+    unseen < SIGNIFICANCE / tests.max(1) as f64
+}
+
+/// Whether output `z` at `b` reliably moved sensor `x` from `v`. An episode is a maximal
+/// stretch of consecutive scans of a run with `x` at `v` and `z` at `b`; it is the command's
+/// when `z` came to `b` while `x` was already `v` (the controller acted, the plant answered).
+/// At least two of the command's episodes ended in the change, and no episode that lasted as
+/// long as the longest that did ended without it (the command withdrawn with the sensor
+/// unmoved; a run that ends first shows nothing). An operator presses a button when the
+/// recordings happen to show a lamp off since the run began, not because the lamp went off.
+/// Without `onset`, any two episodes that ended in the change do (a withdrawal, see
+/// [`withdrawal`], comes as the controller answers the change the command made).
+pub(crate) fn reliable(runs: &Runs, x: usize, v: bool, z: usize, b: bool, onset: bool) -> bool {
+    let episodes = episodes(runs, x, v, z, b);
+    let moved = || episodes.iter().filter(|e| e.changed);
+    let Some(longest) = moved().map(|e| e.scans).max() else {
+        return false;
+    };
+    moved().filter(|e| e.onset || !onset).count() >= 2
+        && (episodes.iter()).all(|e| e.changed || e.scans < longest)
+}
+
+/// A stretch of scans with a sensor at one value and an output at one value.
+#[derive(Debug, Clone, Copy)]
+struct Episode {
+    /// How many scans it lasted.
+    scans: usize,
+    /// Whether the sensor changed at its end (otherwise the output did).
+    changed: bool,
+    /// Whether the output came to its value while the sensor already had its own.
+    onset: bool,
+}
+
+/// The episodes of output `z` at `b` on sensor `x` at `v` that end within their run.
+fn episodes(runs: &Runs, x: usize, v: bool, z: usize, b: bool) -> Vec<Episode> {
+    let mut out = Vec::new();
+    for (_, scans) in &runs.runs {
+        let mut now: Option<Episode> = None;
+        for (k, w) in scans.windows(2).enumerate() {
+            if w[0].inputs[x] != v || w[0].outputs[z] != b {
+                out.extend(now.take());
+                continue;
+            }
+            let e = now.get_or_insert_with(|| Episode {
+                scans: 0,
+                changed: false,
+                onset: k > 0 && scans[k - 1].inputs[x] == v && scans[k - 1].outputs[z] != b,
+            });
+            e.scans += 1;
+            if w[1].inputs[x] != v {
+                e.changed = true;
+                out.extend(now.take());
+            }
+        }
+    }
+    out
 }
 
 /// The recorded transitions where sensor `x` changed from `v`.
@@ -185,4 +351,98 @@ fn dwell_bounds(
         }
     }
     bounds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::learn::Scan;
+    use crate::scenario::Origin;
+
+    /// Runs of a cylinder (sensor `end`, command `push`: the end is reached two scans after
+    /// `push` comes on; the controller withdraws it once it reads the end, and the cylinder
+    /// springs back at the next scan) beside a button the operator presses for two scans at
+    /// `presses` (the controller lights `lamp` while it reads it), and a sensor `flaky` that
+    /// rises with `push` in force but only in the runs listed in `flaky_runs`, falling once
+    /// `push` is off.
+    fn runs(presses: &[usize], flaky_runs: &[usize]) -> Runs {
+        let runs = (0..3)
+            .map(|r| {
+                let (mut pos, mut push, mut flaky) = (0, false, false);
+                let scans = (0..40)
+                    .map(|k| {
+                        let end = pos >= 2;
+                        let button = presses
+                            .iter()
+                            .any(|&p| k == p + 13 * r || k == p + 13 * r + 1);
+                        push = match push {
+                            true => !end,
+                            false => k % 13 == 4,
+                        };
+                        let inputs = vec![end, button, flaky];
+                        pos = if push { pos + 1 } else { 0 };
+                        flaky = push && flaky_runs.contains(&r) && pos >= 1;
+                        Scan {
+                            inputs,
+                            outputs: vec![push, button],
+                        }
+                    })
+                    .collect();
+                let origin = Origin {
+                    file: "test.traces".into(),
+                    line: r + 1,
+                    rows: None,
+                };
+                (origin, scans)
+            })
+            .collect();
+        Runs {
+            inputs: vec!["end".into(), "button".into(), "flaky".into()],
+            outputs: vec!["push".into(), "lamp".into()],
+            runs,
+        }
+    }
+
+    #[test]
+    fn a_cylinder_is_driven_both_ways_and_its_start_is_recorded() {
+        let r = runs(&[1, 9], &[0, 1, 2]);
+        let p = part(&r, 0, 0);
+        assert_eq!(p.halves[0].driver, Some((0, true)));
+        assert_eq!(p.halves[1].driver, Some((0, false)));
+        assert!(!p.free_start);
+        assert!(p.halves[0].depends.contains(&3));
+    }
+
+    #[test]
+    fn a_button_a_lamp_answers_is_the_environments_and_free_everywhere() {
+        let r = runs(&[1, 9], &[0, 1, 2]);
+        let p = part(&r, 1, 0);
+        assert!(p.free_start);
+        assert!(p.halves.iter().all(|h| h.driver.is_none()));
+        // No output is a dependency, and the button is free wherever it changed.
+        assert!((p.halves.iter()).all(|h| h.depends.iter().all(|&f| f < 3)));
+        assert!((p.halves.iter())
+            .flat_map(|h| &h.rules)
+            .any(|(_, rule)| *rule == Rule::Free));
+    }
+
+    #[test]
+    fn a_command_that_once_failed_to_move_a_sensor_does_not_drive_it() {
+        let driven = runs(&[1, 9], &[0, 1, 2]);
+        assert!(reliable(&driven, 2, false, 0, true, true));
+        let flaky = runs(&[1, 9], &[0, 2]);
+        assert!(!reliable(&flaky, 2, false, 0, true, true));
+        assert!(part(&flaky, 2, 0).free_start);
+    }
+
+    #[test]
+    fn a_signal_splitting_off_no_change_does_not_pay_for_its_contexts() {
+        // 100 transitions, 4 changes: one context, or two that split the stays evenly.
+        let one = Counts::from([(vec![false], (96, 4))]);
+        let two = Counts::from([(vec![false, false], (48, 2)), (vec![false, true], (48, 2))]);
+        assert!(bic(&one) > bic(&two));
+        // Two contexts that separate the changes from most stays do pay.
+        let apart = Counts::from([(vec![false, false], (90, 0)), (vec![false, true], (6, 4))]);
+        assert!(bic(&apart) > bic(&one));
+    }
 }

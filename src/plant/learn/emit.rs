@@ -91,7 +91,7 @@ fn header(
     t.push_str(
         "-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n",
     );
-    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*).\n");
+    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*); a sensor no command moves both ways is the environment's.\n");
     if let Some(o) = observers {
         let _ = writeln!(
             t,
@@ -112,7 +112,7 @@ fn header(
             }
         };
         let kind = match (p.free_start, p.wait_cap) {
-            (true, _) => " (free: no command moves it)",
+            (true, _) => " (the environment's: free where seen changing)",
             (false, 0) => "",
             (false, _) => " (delayed)",
         };

@@ -12,21 +12,39 @@
 //! # The method
 //! In the spirit of Buzhinsky and Vyatkin, "Automatic inference of finite-state plant models
 //! from traces and temporal properties" (IEEE TII 2017), the state is the sensors' valuation,
-//! plus one hidden dwell counter per sensor a command moves over several scans:
-//! - *Structure* ([`depend`]): for each sensor, the smallest set of sensors and outputs its
-//!   next value depends on, chosen greedily: starting from the sensor itself, the signal that
-//!   most reduces the recorded transitions whose context (the valuation of the set) saw both
-//!   next values, while it removes at least a tenth of them. What remains ambiguous is a
+//! plus one hidden dwell counter per sensor a command moves over several scans. Each sensor's
+//! rise (from FALSE) and fall (from TRUE) are learned apart ([`depend`]):
+//! - *Who moves it*: a change is driven by a command (an output at one value) when the
+//!   command was in force at every recorded change of it, it matters (had the sensor changed
+//!   as often without it, the recorded scans without it would show a change but for a chance
+//!   below 5%, shared among the outputs tried as in Bonferroni's correction), and it reliably
+//!   produced the change: in at least two episodes where it came into force with the sensor
+//!   unmoved, the change followed, and no episode with it in force as long as the longest
+//!   that did ended without the change. The other change of a sensor one command drives may
+//!   be driven by that command's withdrawal (a spring returns a cylinder) when it came at
+//!   each withdrawal recorded. A sensor is the controller's when both its changes are driven;
+//!   otherwise the environment moves it (an operator's button, no command releases; the stock
+//!   of a magazine; a piece put on a track), however well a lamp happens to predict a press.
+//! - *Structure of a driven change*: its command, and the signals chosen greedily, starting
+//!   from the sensor itself, by the Bayesian information criterion: the log-likelihood of
+//!   the recorded next values (each context a Bernoulli trial at its recorded frequency) less
+//!   half the log of the number of transitions per context; a signal that splits a few
+//!   chance changes apart does not pay for the contexts it adds. What remains ambiguous is a
 //!   delay: a cylinder under way, a level between two sensors.
-//! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there;
-//!   in a context never seen it keeps its value (a sensor does not change without a cause).
-//!   Every command is accepted in every state (the model is receptive by construction).
-//! - *Delays*: in an ambiguous context of a sensor a command drives, the sensor must change once it
+//! - *Structure of the environment's change*: only the other sensors (the environment does not
+//!   read the controller's outputs) that matter to it in the sense above, with the number of
+//!   sensors tried shared out; usually none, so that a button is free in every context. A
+//!   change of the environment's sensor never recorded (a switch turned on, not back) is free
+//!   everywhere, and the sensor starts free.
+//! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there
+//!   (free, for the environment's change); in a context never seen it keeps its value (a
+//!   sensor does not change without a cause). Every command is accepted in every state (the
+//!   model is receptive by construction).
+//! - *Delays*: in an ambiguous context of a driven change, the sensor must change once it
 //!   stayed longer than the longest stay recorded there (plus a slack), and may change once
-//!   it stayed a quarter of the shortest stay recorded before a change (a counter
-//!   per sensor and direction counts the scans), so that "a cylinder told to extend eventually reaches
-//!   its end" holds without any fairness. A sensor no command drives (an operator's button, a
-//!   piece put on a track) stays free.
+//!   it stayed a quarter of the shortest stay recorded before a change (a counter per sensor
+//!   and direction counts the scans), so that "a cylinder told to extend eventually reaches its
+//!   end" holds without any fairness.
 //! - *Check* ([`admit`]): the text is read back by the plant parser and every recorded run
 //!   replayed on it, step by step; the first step it cannot produce is an error.
 
@@ -127,7 +145,7 @@ pub(crate) struct Part {
     pub(crate) halves: [Half; 2],
     /// The largest dwell bound of a delayed rule (0: no counter).
     pub(crate) wait_cap: usize,
-    /// Whether the sensor is free at the start (it is an operator's, never driven).
+    /// Whether the sensor is free at the start (the environment's: not both changes driven).
     pub(crate) free_start: bool,
 }
 
@@ -136,6 +154,9 @@ pub(crate) struct Part {
 pub(crate) struct Half {
     /// The signals its next value depends on (the sensor itself first).
     pub(crate) depends: Vec<usize>,
+    /// The command that drives it, as (output, value in force), if one does; otherwise the
+    /// environment moves it, free in the contexts where it was seen changing.
+    pub(crate) driver: Option<(usize, bool)>,
     /// Per context seen (values of `depends`, in order; the sensor's own value first): the
     /// rule.
     pub(crate) rules: Vec<(Vec<bool>, Rule)>,
