@@ -35,21 +35,10 @@ pub(crate) struct Config {
     pub(crate) proof_budget: std::time::Duration,
     /// The user's negative scenarios, encoded before the first candidate.
     pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
-    /// What an earlier loop on the same problem learned, encoded before the first candidate.
-    pub(crate) learned: Learned,
     /// Stop with [`CegisError::Stalled`] after this many refuted candidates in a row with the
     /// same number of states, or after this much of the loop's CPU time refuting candidates of
     /// one number of states.
     pub(crate) stall: Option<(usize, std::time::Duration)>,
-}
-
-/// The counterexamples a loop learned: negative scenarios and environments of the properties
-/// inside the encoding. A loop that stalled hands them to the next one on the same problem, so
-/// that it does not propose the candidates they refuted again.
-#[derive(Debug, Clone, Default)]
-pub struct Learned {
-    pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
-    pub(crate) environments: Vec<crate::sat::closed_loop::Environment>,
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -138,8 +127,6 @@ pub enum CegisError {
         c: usize,
         /// Seconds since the first of them.
         seconds: f64,
-        /// Every counterexample the loop had learned.
-        learned: Box<Learned>,
     },
     /// A property fails but NuSMV's trace lacks a controller input or output as a Boolean, so
     /// it cannot become a negative scenario.
@@ -380,14 +367,8 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         };
         let mut synth = Synthesizer::with_proofs(set, tree, &config.sat, candidate_proofs);
         lower.seed(&mut synth);
-        for neg in config.negatives.iter().chain(&config.learned.negatives) {
+        for neg in &config.negatives {
             synth.add_negative(neg.clone());
-        }
-        if let Some(closed) = closed {
-            for env in &config.learned.environments {
-                // Each was added once to the loop that learned it: no duplicate to refuse.
-                let _ = synth.add_environment(&closed.spec, env.clone());
-            }
         }
         synth.set_minimize_n(true);
         Cegis {
@@ -485,10 +466,6 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
                     rounds: n,
                     c,
                     seconds: since.elapsed().as_secs_f64(),
-                    learned: Box::new(Learned {
-                        negatives: self.synth.negatives().to_vec(),
-                        environments: self.synth.environment_list().to_vec(),
-                    }),
                 })
             }
             _ => Ok(()),

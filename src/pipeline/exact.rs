@@ -79,9 +79,6 @@ pub struct Options {
     /// Behaviours the machine must not show (the user's `--negative` scenarios), beside those
     /// the loop learns from NuSMV.
     pub negatives: Vec<NegativeScenario>,
-    /// With a check: the counterexamples an earlier loop on the same problem learned (one
-    /// that stalled), encoded before the first candidate.
-    pub learned: super::cegis::Learned,
     /// With a check: stop with [`super::CegisError::Stalled`] after this many refuted
     /// candidates in a row with the same number of states, or (after at least 3) this long
     /// refuting them (the loop learning one behaviour at a time: another engine's turn);
@@ -98,7 +95,6 @@ impl Default for Options {
             keep_failed_model: None,
             proof_budget: DEFAULT_PROOF_BUDGET,
             negatives: Vec::new(),
-            learned: super::cegis::Learned::default(),
             stall: None,
         }
     }
@@ -188,7 +184,6 @@ pub fn run(
         verbose: opts.verbose,
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
-        learned: opts.learned.clone(),
         stall: opts.stall,
     };
     let closed = match super::loop_encoding::LoopEncoding::new(

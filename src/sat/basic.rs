@@ -588,11 +588,6 @@ impl<'a> Synthesizer<'a> {
         self.environments.len()
     }
 
-    /// The environments added so far ([`Self::add_environment`]), in order.
-    pub(crate) fn environment_list(&self) -> &[closed_loop::Environment] {
-        &self.environments
-    }
-
     /// The negative scenarios added so far ([`Self::add_negative`]), in order; the CEGIS loop
     /// reads them to count counterexamples and to skip one it already has.
     pub(crate) fn negatives(&self) -> &[NegativeScenario] {

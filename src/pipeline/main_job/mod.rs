@@ -21,8 +21,7 @@
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
 //!    states, or [`STALL_TIME`] of its own CPU time refuting them, it hands over to the
-//!    guide, as in 1. When the guide has no machine, the exact loop again for the time left,
-//!    with every counterexample the first turn learned;
+//!    guide, as in 1. When the guide has no machine, the exact loop again for the time left;
 //!    when it gives up the error says what the recordings never show and what the game says
 //!    of the problem.
 //! 3. With the search ([`Method::Search`]): its verified machine bounds the exact loop (at
@@ -198,8 +197,7 @@ pub(crate) const STALL_ROUNDS: usize = 30;
 pub(crate) const STALL_TIME: Duration = Duration::from_secs(30);
 
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
-/// guide has no machine, the exact loop again for the time left, with the counterexamples the
-/// first turn learned.
+/// guide has no machine, the exact loop again for the time left.
 fn handing_over(
     set: &ScenarioSet,
     check: &Check,
@@ -226,15 +224,7 @@ fn handing_over(
     }));
     match guided(set, check, explained, opts, events)? {
         Guided::Machine(m) => Ok(*m),
-        Guided::Declined(why) => {
-            // The loop goes on where it stalled: the candidates its counterexamples refuted
-            // are not proposed again.
-            let mut again = opts.clone();
-            if let super::CegisError::Stalled { learned, .. } = stalled {
-                again.exact.learned = *learned;
-            }
-            exact_loop(set, check, explained, &again, Some(why), events)
-        }
+        Guided::Declined(why) => exact_loop(set, check, explained, opts, Some(why), events),
     }
 }
 
