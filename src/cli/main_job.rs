@@ -14,7 +14,7 @@ use std::path::PathBuf;
 /// Arguments of the main job (no subcommand).
 #[derive(Debug, Args, Clone)]
 // The plant is read (`--plant`) or learned (`--learn-plant`): exactly one of them.
-#[command(group(ArgGroup::new("plant_source").args(["plant", "learn_plant"]).required(true)))]
+#[command(group(ArgGroup::new("plant_source").args(["plant", "learn_plant"])))]
 pub struct MainArgs {
     /// LTL properties, one per line (NuSMV syntax over bare names; `--` comments; `name:`).
     #[arg(long, value_name = "FILE")]
@@ -182,7 +182,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
     };
     let Some(spec) = args.nusmv.spec(&args.ltl, &plant) else {
         return Err(Error::Usage(
-            "the main job needs --ltl FILE (or use a subcommand: synth --help)".into(),
+            "the main job needs --ltl FILE and --plant FILE, or --learn-plant to learn the plant from the recordings (or use a subcommand: synth --help)".into(),
         ));
     };
     let request = Request {
