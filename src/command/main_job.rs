@@ -209,13 +209,13 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
 }
 
 /// What the main job claims of its output folder: it reads the recordings, the properties,
-/// the plant it does not learn, the observers and the negative scenarios, and writes the
+/// the plant it does not learn, the observers and assumptions and the negative scenarios, and writes the
 /// machine's files (and the learned plant).
 fn claim(r: &Request, recordings: &Recordings, spec: &Spec) -> Claim {
-    let observers = r.learn_plant.iter().flat_map(|l| l.observe.clone());
+    let learner = (r.learn_plant.iter()).flat_map(|l| [l.observe.clone(), l.assume.clone()]);
     let reads = (recordings.paths().into_iter())
         .chain(spec.paths())
-        .chain(observers)
+        .chain(learner.flatten())
         .chain(r.negatives.iter().cloned());
     let claim = Claim::new("main", reads).writing(&r.name);
     match spec.learned {

@@ -378,34 +378,41 @@ fn the_main_job_takes_one_plant_read_or_learned_and_the_learners_options_with_le
 
 #[test]
 fn a_learned_plant_never_replaces_an_input_in_the_output_folder() {
-    let dir = Dir::new();
-    let out = dir.path().join("t");
-    std::fs::create_dir(&out).unwrap();
-    let observers = out.join("plant.smv");
-    std::fs::copy("specs/tank2.observers", &observers).unwrap();
-    // Refused when the folder is taken, before any work: no NuSMV is needed to tell.
-    let o = main_job_learning(&[
-        "--traces",
-        "specs/tank2.traces",
-        "--observe",
-        observers.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ])
-    .nusmv(Path::new("/nonexistent/NuSMV"))
-    .output();
-    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
-    assert!(
-        text(&o.stderr).contains("would replace or remove the input"),
-        "{}",
-        text(&o.stderr)
-    );
-    let left: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
-    assert_eq!(left.len(), 1, "{left:?}");
-    assert_eq!(
-        std::fs::read_to_string(&observers).unwrap(),
-        std::fs::read_to_string("specs/tank2.observers").unwrap()
-    );
+    // The observers, or the assumptions, where the learned plant would go.
+    let observers = std::fs::read_to_string("specs/tank2.observers").unwrap();
+    for (flag, source) in [
+        ("--observe", observers.as_str()),
+        ("--assume", "ordered: G ((ul -> ml) & (ml -> ll))\n"),
+    ] {
+        let dir = Dir::new();
+        let out = dir.path().join("t");
+        std::fs::create_dir(&out).unwrap();
+        let input = out.join("plant.smv");
+        std::fs::write(&input, source).unwrap();
+        // Refused when the folder is taken, before any work: no NuSMV is needed to tell.
+        let mut args = vec![
+            "--traces",
+            "specs/tank2.traces",
+            flag,
+            input.to_str().unwrap(),
+        ];
+        if flag == "--assume" {
+            args.extend(["--observe", "specs/tank2.observers"]);
+        }
+        args.extend(["--out", out.to_str().unwrap()]);
+        let o = main_job_learning(&args)
+            .nusmv(Path::new("/nonexistent/NuSMV"))
+            .output();
+        assert_eq!(o.status.code(), Some(4), "{flag}: {}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("would replace or remove the input"),
+            "{flag}: {}",
+            text(&o.stderr)
+        );
+        let left: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+        assert_eq!(left.len(), 1, "{left:?}");
+        assert_eq!(std::fs::read_to_string(&input).unwrap(), source);
+    }
 }
 
 /// `--assume`: the recordings are checked against the user's assumptions about the plant; one
