@@ -223,13 +223,7 @@ fn recordings_where_an_output_never_acts_are_refused_by_name_with_nothing_writte
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
-    let err = text(&o.stderr);
-    assert!(
-        err.contains("short.traces") && err.contains("outlet is never on"),
-        "{err}"
-    );
-    assert!(!out.exists());
+    refused_as_too_short(&o, &out);
 }
 
 #[test]
@@ -342,13 +336,7 @@ fn the_main_job_refuses_recordings_it_cannot_learn_a_plant_from_with_no_result_f
         out.to_str().unwrap(),
     ])
     .output();
-    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
-    let err = text(&o.stderr);
-    assert!(
-        err.contains("short.traces") && err.contains("outlet is never on"),
-        "{err}"
-    );
-    assert!(!out.exists());
+    refused_as_too_short(&o, &out);
 }
 
 #[test]
@@ -467,4 +455,16 @@ fn assumptions_are_checked_on_the_recordings_and_named_in_the_header() {
         text(&o.stderr)
     );
     assert!(!broken.exists());
+}
+
+/// `o` refused the short tank recordings by name (the outlet never acts), and `out` was not
+/// written.
+fn refused_as_too_short(o: &std::process::Output, out: &Path) {
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("short.traces") && err.contains("outlet is never on"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }
