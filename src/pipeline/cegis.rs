@@ -14,7 +14,7 @@ use super::{Event, Events};
 use crate::check;
 use crate::nusmv::CheckMode;
 use crate::sat::basic::Proofs;
-use crate::sat::solver::Bounded;
+use crate::sat::solver::{Bounded, Effort};
 use crate::sat::{Options, SatError, Synthesis, Synthesizer};
 use crate::scenario::tree::ScenarioTree;
 use crate::scenario::ScenarioSet;
@@ -160,8 +160,10 @@ pub(crate) fn run(
 /// more edges. Its `C` (and a machine with its colouring, the first hint) takes a fraction of a
 /// second; proving its `T` minimal takes longer and runs on a second core while the loop
 /// looks for candidates, which do not need it. Only the final pass waits for it.
-/// How long the tree-exact descent on the main thread may look for fewer transitions.
-const TREE_EXACT_BUDGET: std::time::Duration = std::time::Duration::from_millis(300);
+/// How hard the tree-exact descent on the main thread may look for fewer transitions (about
+/// 300 ms of a release build), counted in the solver's work so that the first hint does not
+/// depend on the machine's load.
+const TREE_EXACT_BUDGET: Effort = Effort::Work(1_500_000);
 
 /// How long the tree-exact model's guards may take to be proven least at its least `C` and
 /// `T` (every colouring there enumerated), on the second core.
@@ -361,7 +363,10 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     ) -> Self {
         // Candidates need no proof of minimality; the final machine gets a budget for it.
         let (candidate_proofs, final_proofs) = if closed.is_some() {
-            (Proofs::Skip, Proofs::Budget(config.proof_budget))
+            (
+                Proofs::Skip,
+                Proofs::Budget(Effort::Time(config.proof_budget)),
+            )
         } else {
             (Proofs::Full, Proofs::Full)
         };

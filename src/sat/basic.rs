@@ -37,7 +37,7 @@
 use super::card::Totalizer;
 use super::closed_loop;
 use super::decode::{self, Structure};
-use super::solver::{Bounded, Model, Solver};
+use super::solver::{Bounded, Effort, Model, Solver};
 use super::vars::{GuardModel, Vars};
 use super::{constraints, guards, negative, SatError};
 use crate::ecc::{AlgorithmKind, Ecc, Size, State};
@@ -378,9 +378,12 @@ impl Encoding {
     }
 }
 
-/// How long a candidate ([`Proofs::Skip`]) may look for fewer transitions than its colouring
-/// gives, down to the proven bound: a refutation in closed loop can take minutes.
-const CANDIDATE_T_BUDGET: Duration = Duration::from_millis(1500);
+/// How hard a candidate ([`Proofs::Skip`]) may look for fewer transitions than its colouring
+/// gives, down to the proven bound: a refutation in closed loop can take minutes. Counted in
+/// the solver's work (about 1.5 s of a release build on one core), so that which `T` the loop
+/// goes on with does not depend on the machine's load: a descent that runs out is not tried
+/// again, and a loop stuck one transition too high can refute candidates for minutes.
+const CANDIDATE_T_BUDGET: Effort = Effort::Work(6_000_000);
 
 /// Hints kept by a [`Synthesizer`] (the colourings of its latest machines).
 const MAX_HINTS: usize = 6;
@@ -397,7 +400,7 @@ pub(crate) enum Proofs {
     Skip,
     /// As `Full`, but the refutation that ends the descent is tried on a fresh solver for this
     /// long; if it does not finish, `T` is reported as not proven minimal.
-    Budget(Duration),
+    Budget(Effort),
 }
 
 /// Exact synthesis, kept incremental across calls: negative scenarios can be added between
@@ -621,7 +624,7 @@ impl<'a> Synthesizer<'a> {
     /// at most `size.t` transitions and fewer than `size.n` guard literals. `Sat` carries no
     /// machine the caller can use directly (run [`Self::minimize`] for it); `Unknown` when the
     /// budget ran out or the encoding keeps no clauses for such proofs.
-    pub(crate) fn smaller_exists(&mut self, size: Size, budget: Duration) -> (Bounded, Bounded) {
+    pub(crate) fn smaller_exists(&mut self, size: Size, budget: Effort) -> (Bounded, Bounded) {
         let t_known = self.known.t_lo == Some((size.c, size.t));
         let n_known = self.known.n_lo == Some((size.c, size.t, size.n));
         let enc = &mut self.enc;
@@ -633,7 +636,7 @@ impl<'a> Synthesizer<'a> {
             Some(None) => Bounded::Unknown,
             Some(Some(b)) => {
                 let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-                enc.solver.solve_within(&assume, Instant::now() + budget)
+                enc.solver.solve_spending(&assume, &mut budget.start())
             }
         };
         let fewer_n = match (&enc.total_n, size.n.checked_sub(1)) {
@@ -648,7 +651,7 @@ impl<'a> Synthesizer<'a> {
                         .chain(enc.total_t.at_most(size.t))
                         .chain([bn])
                         .collect();
-                    enc.solver.solve_within(&assume, Instant::now() + budget)
+                    enc.solver.solve_spending(&assume, &mut budget.start())
                 }
                 None => Bounded::Unknown,
             },
@@ -1002,9 +1005,7 @@ impl Descent<'_> {
         let transitions_exact = match (t_lo, self.proofs) {
             (Some(lo), _) if lo == self.t => true,
             (t_lo, Proofs::Skip) => self.candidate_t(&base_t, t_lo),
-            (_, Proofs::Budget(budget)) => {
-                self.descend_t_within(&base_t, t_floor, Instant::now() + budget)
-            }
+            (_, Proofs::Budget(budget)) => self.descend_t_within(&base_t, t_floor, budget),
             (Some(lo), Proofs::Full) if lo < self.t && self.hint.is_none() => {
                 self.ascend_t(lo);
                 true
@@ -1060,7 +1061,7 @@ impl Descent<'_> {
                 self.enc.solver.solve(&assume)
             }
             None => {
-                match (self.enc.solver).solve_within(&assume, Instant::now() + CANDIDATE_T_BUDGET) {
+                match (self.enc.solver).solve_spending(&assume, &mut CANDIDATE_T_BUDGET.start()) {
                     Bounded::Sat(m) => Some(m),
                     _ => None,
                 }
@@ -1091,7 +1092,7 @@ impl Descent<'_> {
             Some((c1, b)) if c1 == self.c => lo.max(b + 1),
             _ => lo,
         };
-        let exact = self.descend_t_within(base_t, floor, Instant::now() + CANDIDATE_T_BUDGET);
+        let exact = self.descend_t_within(base_t, floor, CANDIDATE_T_BUDGET);
         if !exact {
             self.known.t_timed_out = Some((self.c, self.t - 1));
         }
@@ -1142,15 +1143,17 @@ impl Descent<'_> {
     }
 
     /// As [`Self::descend_t`] into `self.t`, each call on a fresh solver that gives up at
-    /// `deadline`; says whether the result is proven least (`false`: the deadline came first).
-    fn descend_t_within(&mut self, base: &[Lit], floor: usize, deadline: Instant) -> bool {
+    /// `budget` in all; says whether the result is proven least (`false`: the budget ran out
+    /// first).
+    fn descend_t_within(&mut self, base: &[Lit], floor: usize, budget: Effort) -> bool {
+        let mut allowance = budget.start();
         while self.t > floor {
             let Some(b) = self.enc.total_t.at_most(self.t - 1) else {
                 break;
             };
             self.trying(Bound::T, self.t - 1);
             let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-            match self.enc.solver.solve_within(&assume, deadline) {
+            match self.enc.solver.solve_spending(&assume, &mut allowance) {
                 Bounded::Sat(m) => {
                     self.read(&m);
                     self.t = self.structure.transition_count();
@@ -1264,8 +1267,8 @@ impl Descent<'_> {
     /// Fewer literals than `n` with any colouring (at the least `C` and `T`), each call on a
     /// fresh solver within `budget` in all. Returns `N` and whether it is proven least
     /// (`false`: the budget ran out first).
-    fn free_n_within(&mut self, mut n: usize, start: usize, budget: Duration) -> (usize, bool) {
-        let deadline = Instant::now() + budget;
+    fn free_n_within(&mut self, mut n: usize, start: usize, budget: Effort) -> (usize, bool) {
+        let mut allowance = budget.start();
         let mut free: Vec<Lit> = self.base_t();
         free.extend(self.enc.total_t.at_most(self.t));
         loop {
@@ -1277,7 +1280,7 @@ impl Descent<'_> {
             };
             self.trying(Bound::N, n - 1);
             let assume: Vec<Lit> = free.iter().copied().chain([b]).collect();
-            match self.enc.solver.solve_within(&assume, deadline) {
+            match self.enc.solver.solve_spending(&assume, &mut allowance) {
                 Bounded::Sat(m) => {
                     self.read(&m);
                     n = self.structure.literal_count();

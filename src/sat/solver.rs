@@ -20,6 +20,7 @@
 
 use crate::deadline::Deadline;
 use std::ops::RangeInclusive;
+use std::time::{Duration, Instant};
 use varisat::{ExtendFormula, Lit, Var};
 
 /// What a solver has been given and asked.
@@ -56,21 +57,69 @@ pub(crate) enum Bounded {
     Unknown,
 }
 
-/// Stops a solver at a deadline: varisat's solve loop has no interrupt, but it stops when a
-/// proof processor fails.
-struct Budget(std::time::Instant);
+/// How much a budgeted solve ([`Solver::solve_spending`]) may do before it answers `Unknown`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Effort {
+    /// Until this much time has passed: what a user sets in seconds.
+    Time(Duration),
+    /// Until the solver has written this many bytes of its proof (the clauses it learns and
+    /// deletes). Counted in the search's own steps, it gives the same answer on every machine
+    /// and under any load, so that the loop's own choices (how far a candidate's `T` may
+    /// descend) do not depend on the clock.
+    Work(u64),
+}
 
-impl varisat::checker::ProofProcessor for Budget {
-    fn process_step(
-        &mut self,
-        _step: &varisat::checker::CheckedProofStep,
-        _data: varisat::checker::CheckerData,
-    ) -> Result<(), anyhow::Error> {
-        if std::time::Instant::now() > self.0 {
-            Err(anyhow::anyhow!("time budget exhausted"))
-        } else {
-            Ok(())
+impl Effort {
+    /// The allowance for the calls this effort covers, starting now.
+    pub(crate) fn start(self) -> Allowance {
+        match self {
+            Effort::Time(d) => Allowance::until(Instant::now() + d),
+            Effort::Work(bytes) => Allowance {
+                until: None,
+                work: bytes,
+            },
         }
+    }
+}
+
+/// What is left of an [`Effort`] across the calls it covers.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Allowance {
+    until: Option<Instant>,
+    work: u64,
+}
+
+impl Allowance {
+    /// Every call stops at `at`.
+    pub(crate) fn until(at: Instant) -> Allowance {
+        Allowance {
+            until: Some(at),
+            work: u64::MAX,
+        }
+    }
+}
+
+/// The proof sink of a budgeted solve: it takes bytes until the allowance is spent or the
+/// time is up, then fails, which stops the solver's search.
+struct Meter<'a>(&'a mut Allowance);
+
+impl std::io::Write for Meter<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let spent = self.0.until.is_some_and(|at| Instant::now() >= at);
+        let len = buf.len() as u64;
+        if spent || len > self.0.work {
+            self.0.work = 0;
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::TimedOut,
+                "budget spent",
+            ));
+        }
+        self.0.work -= len;
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.write(&[]).map(|_| ())
     }
 }
 
@@ -141,10 +190,16 @@ impl Solver {
     /// Solves the clauses kept so far under `assumptions` on a fresh solver that gives up at
     /// `deadline` (`Unknown`), so that a proof that may take minutes can be tried for seconds.
     /// The incremental solver is untouched. `Unknown` without kept clauses.
-    pub(crate) fn solve_within(
+    pub(crate) fn solve_within(&mut self, assumptions: &[Lit], deadline: Instant) -> Bounded {
+        self.solve_spending(assumptions, &mut Allowance::until(deadline))
+    }
+
+    /// As [`Self::solve_within`], spending from `allowance` (what is left stays in it for the
+    /// next call); the solver's own deadline caps it.
+    pub(crate) fn solve_spending(
         &mut self,
         assumptions: &[Lit],
-        deadline: std::time::Instant,
+        allowance: &mut Allowance,
     ) -> Bounded {
         let Some(log) = &self.log else {
             return Bounded::Unknown;
@@ -153,9 +208,11 @@ impl Solver {
             return Bounded::Unknown;
         }
         self.stats.calls += 1;
-        let mut stop = Budget(self.deadline.cap(deadline));
+        if let Some(at) = self.deadline.instant() {
+            allowance.until = Some(allowance.until.map_or(at, |u| u.min(at)));
+        }
         let mut fresh = varisat::Solver::new();
-        fresh.add_proof_processor(&mut stop);
+        fresh.write_proof(Meter(allowance), varisat::ProofFormat::Varisat);
         fresh.add_formula(log);
         fresh.assume(assumptions);
         match fresh.solve() {
@@ -353,5 +410,26 @@ mod tests {
         assert!(s.solve(&[]).is_some_and(|m| m.value(x)));
         assert!(s.solve(&[!x]).is_none());
         assert!(!s.stopped());
+    }
+
+    #[test]
+    fn a_work_budget_ends_a_hard_call_and_spends_the_same_on_every_run() {
+        let spend = |holes: usize, work: u64| {
+            let mut s = Solver::new();
+            s.keep_clauses();
+            pigeons(&mut s, holes);
+            let mut allowance = Effort::Work(work).start();
+            let answer = s.solve_spending(&[], &mut allowance);
+            (answer, allowance.work)
+        };
+        // Eleven holes take minutes: the budget ends the call, and nothing is left of it.
+        let (answer, left) = spend(11, 200_000);
+        assert!(matches!(answer, Bounded::Unknown));
+        assert_eq!(left, 0);
+        // Four holes are refuted well within it, and two runs spend exactly the same.
+        let (answer, left) = spend(4, 10_000_000);
+        assert!(matches!(answer, Bounded::Unsat));
+        assert!(left < 10_000_000);
+        assert_eq!(spend(4, 10_000_000).1, left);
     }
 }

@@ -246,7 +246,7 @@ fn smaller_exists_refutes_below_the_minimum_and_finds_above_it() {
     assert!(least.transitions_exact && least.guards_exact);
     let mut synth = Synthesizer::with_proofs(&s, &tree, &o, basic::Proofs::Skip);
     synth.minimize(&mut |_| {}).unwrap();
-    let budget = std::time::Duration::from_secs(30);
+    let budget = solver::Effort::Time(std::time::Duration::from_secs(30));
     let (t, n) = synth.smaller_exists(least.size, budget);
     assert!(
         matches!(t, solver::Bounded::Unsat),

@@ -194,7 +194,7 @@ pub(crate) const STALL_ROUNDS: usize = 30;
 /// over to the guide when its candidates of one number of states keep being refuted (at least
 /// 3 of them): there each SAT call can grow to tens of seconds, so that few candidates take
 /// minutes.
-pub(crate) const STALL_TIME: Duration = Duration::from_secs(30);
+pub(crate) const STALL_TIME: Duration = Duration::from_secs(45);
 
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
 /// guide has no machine, the exact loop again for the time left.
