@@ -79,7 +79,7 @@ fn header(
         .sum();
     let _ = writeln!(
         t,
-        "-- Surrogate plant learned by `synth learn-plant` from {source}: {} recorded scans in {} runs.",
+        "-- Surrogate plant learned by fbsynth from {source}: {} recorded scans in {} runs.",
         learned.steps, learned.runs
     );
     let _ = writeln!(
