@@ -398,8 +398,8 @@ pub(crate) enum Proofs {
     Full,
     /// Fewest transitions with the colouring found (or hinted) only; nothing proven.
     Skip,
-    /// As `Full`, but the refutation that ends the descent is tried on a fresh solver for this
-    /// long; if it does not finish, `T` is reported as not proven minimal.
+    /// As `Full`, but the refutation that ends the descent is tried on a fresh solver within
+    /// this effort; if it does not finish, `T` is reported as not proven minimal.
     Budget(Effort),
 }
 
