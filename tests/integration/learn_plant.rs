@@ -169,9 +169,7 @@ fn the_pnp_plant_learned_admits_every_recording() {
     let dir = Dir::new();
     let plant = learn("specs/pnp.traces", "specs/pnp.observers", dir.path());
     let smv = std::fs::read_to_string(plant).unwrap();
-    assert!(
-        smv.starts_with("-- Surrogate plant learned by fbsynth from specs/pnp.traces")
-    );
+    assert!(smv.starts_with("-- Surrogate plant learned by fbsynth from specs/pnp.traces"));
     assert!(smv.contains(
         "MODULE plant(c1Extend, c1Retract, c2Extend, c2Retract, vcExtend, vacuum_on, vacuum_off)"
     ));
