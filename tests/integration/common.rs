@@ -177,6 +177,27 @@ pub fn synth_in(dir: &Path, args: &[&str]) -> Output {
 }
 
 /// Printed bytes as text.
+/// The JSON Schema `synth schema` prints with `args` (`--summary`: the summaries' schema),
+/// written into `dir` (`machine.schema.json`, `summary.schema.json`) and compiled by boon
+/// (draft 2020-12).
+pub fn printed_schema(dir: &Path, args: &[&str]) -> (boon::Schemas, boon::SchemaIndex) {
+    let name = if args.contains(&"--summary") {
+        "summary"
+    } else {
+        "machine"
+    };
+    let file = dir.join(format!("{name}.schema.json"));
+    let mut all = vec!["schema", "-o", file.to_str().unwrap()];
+    all.extend_from_slice(args);
+    let o = synth_in(dir, &all);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut schemas = boon::Schemas::new();
+    let index = boon::Compiler::new()
+        .compile(file.to_str().unwrap(), &mut schemas)
+        .expect("the schema compiles");
+    (schemas, index)
+}
+
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }

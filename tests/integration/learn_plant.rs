@@ -4,7 +4,7 @@
 //! with nothing written. The main job's `--learn-plant` likewise: the plant learned on the way
 //! is published with the machine and named in the summaries.
 
-use crate::common::{nusmv_or_skip, synth, text, Dir, TestCommand};
+use crate::common::{nusmv_or_skip, printed_schema, synth, text, Dir, TestCommand};
 use std::path::{Path, PathBuf};
 
 /// `synth learn-plant` on `traces` with `observers`; the plant file written.
@@ -305,13 +305,7 @@ fn the_main_job_learns_the_tank_plant_on_the_way_and_publishes_it_with_the_machi
         "{verification}"
     );
     // The --json summary validates against the schema `synth schema --summary` prints.
-    let schema = dir.path().join("summary.schema.json");
-    let o = synth(&["schema", "--summary", "-o", schema.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let mut schemas = boon::Schemas::new();
-    let index = boon::Compiler::new()
-        .compile(schema.to_str().unwrap(), &mut schemas)
-        .expect("the schema compiles");
+    let (schemas, index) = printed_schema(dir.path(), &["--summary"]);
     let mut bad = json.clone();
     assert!(schemas.validate(&json, index).is_ok(), "{json:#}");
     bad["learned_plant"]["sensors"] = "three".into();

@@ -11,7 +11,9 @@
 //! schema` prints: every machine against the machine contract, every summary (`summary.json`
 //! and `--json`) against the schema of the summaries.
 
-use crate::common::{nusmv_or_skip, root, synth, synth_in, text, tool_or_skip, xmllint, Dir};
+use crate::common::{
+    nusmv_or_skip, printed_schema, root, synth, synth_in, text, tool_or_skip, xmllint, Dir,
+};
 use std::path::{Path, PathBuf};
 
 const FBT: &str = "iec61499-library-element.dtd";
@@ -312,13 +314,7 @@ fn the_schemas_refuse_what_the_standards_refuse() {
 #[test]
 fn machines_validate_against_the_json_schema_synth_prints() {
     let dir = Dir::new();
-    let schema = dir.path().join("machine.schema.json");
-    let o = synth_in(dir.path(), &["schema", "-o", schema.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let mut schemas = boon::Schemas::new();
-    let index = boon::Compiler::new()
-        .compile(schema.to_str().unwrap(), &mut schemas)
-        .expect("the schema compiles");
+    let (schemas, index) = printed_schema(dir.path(), &[]);
     let validate = |file: &Path| {
         let value: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
@@ -585,13 +581,7 @@ fn verified_summaries(dir: &Path) -> Vec<(&'static str, serde_json::Value)> {
 #[test]
 fn every_summary_validates_against_the_schema_synth_prints() {
     let dir = Dir::new();
-    let schema = dir.path().join("summary.schema.json");
-    let o = synth(&["schema", "--summary", "-o", schema.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let mut schemas = boon::Schemas::new();
-    let index = boon::Compiler::new()
-        .compile(schema.to_str().unwrap(), &mut schemas)
-        .expect("the schema compiles");
+    let (schemas, index) = printed_schema(dir.path(), &["--summary"]);
     let all = summaries(dir.path());
     let mut seen = std::collections::BTreeSet::new();
     for (command, summary) in &all {
