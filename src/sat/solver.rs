@@ -99,42 +99,24 @@ impl Allowance {
     }
 }
 
-/// The proof sink of a budgeted solve: it takes bytes until the allowance is spent or the
-/// time is up, then fails, which stops the solver's search.
-struct Meter<'a>(&'a mut Allowance);
+/// The proof sink of a solver with a deadline or of a budgeted solve: it takes bytes until
+/// the allowance (its own, or one lent) is spent or the time is up, then fails, which stops
+/// the solver's search.
+struct Meter<A: std::borrow::BorrowMut<Allowance>>(A);
 
-impl std::io::Write for Meter<'_> {
+impl<A: std::borrow::BorrowMut<Allowance>> std::io::Write for Meter<A> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        let spent = self.0.until.is_some_and(|at| Instant::now() >= at);
+        let allowance = self.0.borrow_mut();
+        let spent = allowance.until.is_some_and(|at| Instant::now() >= at);
         let len = buf.len() as u64;
-        if spent || len > self.0.work {
-            self.0.work = 0;
+        if spent || len > allowance.work {
+            allowance.work = 0;
             return Err(std::io::Error::new(
                 std::io::ErrorKind::TimedOut,
                 "budget spent",
             ));
         }
-        self.0.work -= len;
-        Ok(buf.len())
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        self.write(&[]).map(|_| ())
-    }
-}
-
-/// The proof sink of a solver with a deadline: it takes every byte until the deadline, then
-/// fails, which stops the solver's search.
-struct StopAt(std::time::Instant);
-
-impl std::io::Write for StopAt {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if std::time::Instant::now() >= self.0 {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::TimedOut,
-                "deadline passed",
-            ));
-        }
+        allowance.work -= len;
         Ok(buf.len())
     }
 
@@ -159,7 +141,7 @@ impl Solver {
     pub(crate) fn until(deadline: Deadline) -> Solver {
         let mut inner = varisat::Solver::new();
         if let Some(at) = deadline.instant() {
-            inner.write_proof(StopAt(at), varisat::ProofFormat::Varisat);
+            inner.write_proof(Meter(Allowance::until(at)), varisat::ProofFormat::Varisat);
         }
         Solver {
             inner,
