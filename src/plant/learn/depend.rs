@@ -4,7 +4,7 @@
 //! drives it if one does, the dependency set (see the header of [`super`]), the rule of every
 //! context the recordings show, and the dwell bounds of the delayed ones.
 
-use super::{Half, Part, Rule, Runs};
+use super::{Half, Part, Rule, Runs, Valve};
 use std::collections::BTreeMap;
 
 /// At most this many signals per sensor: more would split the recordings into contexts seen
@@ -35,9 +35,12 @@ pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
         }
     }
     let commanded = drivers.iter().all(Option::is_some);
+    let valve = valve(runs, drivers);
+    let held = valve.map(|v| v.held(runs, x));
+    let seen = held.as_ref().unwrap_or(runs);
     let halves = [false, true].map(|v| match (commanded, drivers[usize::from(v)]) {
-        (true, Some(d)) => half(runs, x, v, Some(d), slack),
-        _ => half(runs, x, v, None, slack),
+        (true, Some(d)) => half(seen, x, v, Some(d), slack),
+        _ => half(seen, x, v, None, slack),
     });
     let wait_cap = halves.iter().map(Half::wait_cap).max().unwrap_or(0);
     Part {
@@ -45,7 +48,41 @@ pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
         halves,
         wait_cap,
         free_start: !commanded,
+        valve,
     }
+}
+
+/// The valve of a sensor whose rise and fall `drivers` are two different outputs that the
+/// recorded controller only ever switches on for single scans (pulses): the device keeps the
+/// last pulse (a bistable valve, a latching relay), and the sensor follows what it keeps, not
+/// the pulse. The recordings may always show the sensor answering the pulse at once; a
+/// sensor that answers later (a cup that grips once a piece arrives) still does under the
+/// valve, when `--slack` lets it.
+fn valve(runs: &Runs, drivers: [Option<(usize, bool)>; 2]) -> Option<Valve> {
+    match drivers {
+        [Some((open, true)), Some((close, true))]
+            if open != close && pulsed(runs, open) && pulsed(runs, close) =>
+        {
+            Some(Valve { open, close })
+        }
+        _ => None,
+    }
+}
+
+/// Whether output `z` is on for single scans only, at least twice, in the recordings.
+fn pulsed(runs: &Runs, z: usize) -> bool {
+    let mut pulses = 0;
+    for (_, scans) in &runs.runs {
+        let on: Vec<bool> = scans.iter().map(|s| s.outputs[z]).collect();
+        for (k, _) in on.iter().enumerate().filter(|(_, &b)| b) {
+            let alone = (k == 0 || !on[k - 1]) && on.get(k + 1) != Some(&true);
+            match alone {
+                true => pulses += 1,
+                false => return false,
+            }
+        }
+    }
+    pulses >= 2
 }
 
 /// The half of sensor `x`'s part that starts from value `v`, driven by `driver` (output,
@@ -433,6 +470,58 @@ mod tests {
         let flaky = runs(&[1, 9], &[0, 2]);
         assert!(!reliable(&flaky, 2, false, 0, true, true));
         assert!(part(&flaky, 2, 0).free_start);
+    }
+
+    /// Runs of a suction cup (sensor `held`) whose valve the controller opens with a pulse of
+    /// `on` and closes with a pulse of `off`; the cup grips at the scan after the pulse, and
+    /// lets go at the scan after the closing one. With `held_on`, `on` stays on until the
+    /// cup grips (no pulse).
+    fn cup(held_on: bool) -> Runs {
+        let runs = (0..3)
+            .map(|r| {
+                let mut held = false;
+                let scans = (0..30)
+                    .map(|k| {
+                        let on = k % 10 == 2 || (held_on && k % 10 == 3);
+                        let off = k % 10 == 7;
+                        let scan = Scan {
+                            inputs: vec![held],
+                            outputs: vec![on, off],
+                        };
+                        held = match (on, off) {
+                            (true, false) => held || !held_on || k % 10 == 3,
+                            (false, true) => false,
+                            _ => held,
+                        };
+                        scan
+                    })
+                    .collect();
+                let origin = Origin {
+                    file: "cup.traces".into(),
+                    line: r + 1,
+                    rows: None,
+                };
+                (origin, scans)
+            })
+            .collect();
+        Runs {
+            inputs: vec!["held".into()],
+            outputs: vec!["on".into(), "off".into()],
+            runs,
+        }
+    }
+
+    #[test]
+    fn a_sensor_two_pulsed_commands_drive_follows_a_valve_that_keeps_the_last_pulse() {
+        let p = part(&cup(false), 0, 1);
+        assert_eq!(p.valve, Some(Valve { open: 0, close: 1 }));
+        // Through the valve the grip may come a scan after the pulse ended (slack 1): the
+        // context "valve open, cup not holding" is a delayed one.
+        let rise = &p.halves[0];
+        let open = (rise.depends.iter()).position(|&f| f == 1).unwrap();
+        assert!((rise.rules.iter()).any(|(c, r)| c[open] && matches!(r, Rule::Within(0, 1))));
+        // A command held on over two scans is no pulse: no valve.
+        assert_eq!(part(&cup(true), 0, 1).valve, None);
     }
 
     #[test]

@@ -3,11 +3,12 @@
 //! In: the [`Learned`] parts and starts, the [`Runs`] (for names), where the recordings come
 //! from, and the observers. Out: the text of `MODULE plant(<controller outputs>)`: a header
 //! saying what it was learned from, its size and structure, then one Boolean `VAR` per sensor,
-//! one counter per delayed sensor, the start values as `init` (a sensor whose recorded starts
+//! one counter per delayed sensor, one Boolean per valve (with a `DEFINE` of whether it is
+//! open after the scan's commands), the start values as `init` (a sensor whose recorded starts
 //! differ starts free), a `next` assignment per
 //! sensor (contexts that keep the value are left to the default branch), and the observers.
 
-use super::{Half, Learned, Observers, Part, Rule, Runs};
+use super::{Half, Learned, Observers, Part, Rule, Runs, Valve};
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -39,6 +40,9 @@ pub(crate) fn text(
     for name in &runs.inputs {
         let _ = writeln!(t, "    {name} : boolean;");
     }
+    for p in (learned.parts.iter()).filter(|p| p.valve.is_some()) {
+        let _ = writeln!(t, "    {} : boolean;", valve(&runs.inputs[p.sensor]));
+    }
     for p in &learned.parts {
         for (v, h) in [false, true].into_iter().zip(&p.halves) {
             if h.wait_cap() > 0 {
@@ -47,6 +51,7 @@ pub(crate) fn text(
             }
         }
     }
+    valves(&mut t, learned, runs);
     t.push_str("ASSIGN\n");
     init(&mut t, learned, runs);
     for p in &learned.parts {
@@ -116,9 +121,18 @@ fn header(
             (false, 0) => "",
             (false, _) => " (delayed)",
         };
+        let held = match p.valve {
+            Some(v) => format!(
+                "; through {}, which the pulses of {} and {} open and close",
+                valve(&runs.inputs[p.sensor]),
+                runs.outputs[v.open],
+                runs.outputs[v.close]
+            ),
+            None => String::new(),
+        };
         let _ = writeln!(
             t,
-            "--   {}: rises on {}; falls on {}{kind}",
+            "--   {}: rises on {}; falls on {}{kind}{held}",
             runs.inputs[p.sensor],
             names(&p.halves[0]),
             names(&p.halves[1])
@@ -137,7 +151,47 @@ fn init(t: &mut String, learned: &Learned, runs: &Runs) {
             _ => continue,
         };
         let _ = writeln!(t, "    init({}) := {value};", runs.inputs[p.sensor]);
+        if p.valve.is_some() {
+            let _ = writeln!(t, "    init({}) := {value};", valve(&runs.inputs[p.sensor]));
+        }
     }
+}
+
+/// The valves' `DEFINE`s (whether each is open after this scan's commands) and their
+/// `next`: a valve keeps what it was at the last scan.
+fn valves(t: &mut String, learned: &Learned, runs: &Runs) {
+    let held: Vec<(&Part, Valve)> = (learned.parts.iter())
+        .filter_map(|p| p.valve.map(|v| (p, v)))
+        .collect();
+    if held.is_empty() {
+        return;
+    }
+    t.push_str("DEFINE\n");
+    for (p, v) in &held {
+        let name = &runs.inputs[p.sensor];
+        let (open, close) = (&runs.outputs[v.open], &runs.outputs[v.close]);
+        let _ = writeln!(
+            t,
+            "    {} := {open} & !{close} | {} & !({close} & !{open});",
+            opened(name),
+            valve(name)
+        );
+    }
+    t.push_str("ASSIGN\n");
+    for (p, _) in &held {
+        let name = &runs.inputs[p.sensor];
+        let _ = writeln!(t, "    next({}) := {};", valve(name), opened(name));
+    }
+}
+
+/// The name of the valve that sensor `name` follows.
+fn valve(name: &str) -> String {
+    format!("valve_{name}")
+}
+
+/// The name of "the valve of sensor `name` is open after this scan's commands".
+fn opened(name: &str) -> String {
+    format!("open_{name}")
 }
 
 /// The name of the dwell counter of half `v` (rise: FALSE) of sensor `name`.
@@ -154,7 +208,7 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
     for (v, h) in [false, true].into_iter().zip(&p.halves) {
         let wait = counter(name, v);
         for (c, rule) in &h.rules {
-            let ctx = context(h, c, runs);
+            let ctx = context(p, h, c, runs);
             match *rule {
                 Rule::To(to) if to == v => {}
                 Rule::To(to) => {
@@ -182,7 +236,7 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
         let wait = counter(name, v);
         let delayed: Vec<String> = (h.rules.iter())
             .filter(|(_, r)| matches!(r, Rule::Within(..)))
-            .map(|(c, _)| context(h, c, runs))
+            .map(|(c, _)| context(p, h, c, runs))
             .collect();
         let any = delayed.join(" | ");
         // Counts the scans the sensor spent with this value in a delayed context; after a
@@ -195,9 +249,20 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
     }
 }
 
-fn context(h: &Half, c: &[bool], runs: &Runs) -> String {
+/// The context `c` of half `h` of part `p` as a conjunction; a part behind a valve reads
+/// it where its halves read the commands that set it ([`Valve::held`]).
+fn context(p: &Part, h: &Half, c: &[bool], runs: &Runs) -> String {
+    let n = runs.inputs.len();
     let lits: Vec<String> = (h.depends.iter().zip(c))
-        .map(|(&f, &v)| literal(runs.signal_name(f), v))
+        .map(|(&f, &v)| match (p.valve, f.checked_sub(n)) {
+            (Some(valve), Some(z)) if z == valve.open => {
+                literal(&opened(&runs.inputs[p.sensor]), v)
+            }
+            (Some(valve), Some(z)) if z == valve.close => {
+                literal(&opened(&runs.inputs[p.sensor]), !v)
+            }
+            _ => literal(runs.signal_name(f), v),
+        })
         .collect();
     lits.join(" & ")
 }

@@ -25,6 +25,11 @@
 //!   each withdrawal recorded. A sensor is the controller's when both its changes are driven;
 //!   otherwise the environment moves it (an operator's button, no command releases; the stock
 //!   of a magazine; a piece put on a track), however well a lamp happens to predict a press.
+//! - *Valves*: a sensor whose rise and whose fall two different commands drive, each of
+//!   which the controller only ever switches on for single scans (pulses), follows a hidden
+//!   valve that keeps the last pulse ([`Valve`]: a bistable valve, a latching relay); its
+//!   changes read the valve where they would read the commands. A suction cup then may grip
+//!   after the pulse ended, when a change may come later than recorded (`--slack`).
 //! - *Structure of a driven change*: its command, and the signals chosen greedily, starting
 //!   from the sensor itself, by the Bayesian information criterion: the log-likelihood of
 //!   the recorded next values (each context a Bernoulli trial at its recorded frequency) less
@@ -147,6 +152,45 @@ pub(crate) struct Part {
     pub(crate) wait_cap: usize,
     /// Whether the sensor is free at the start (the environment's: not both changes driven).
     pub(crate) free_start: bool,
+    /// The valve that keeps the last of two pulsed commands, when the sensor follows one
+    /// ([`depend`]); its halves then read the valve where they read the commands.
+    pub(crate) valve: Option<Valve>,
+}
+
+/// A device that keeps the last of two commands the controller pulses: open after a pulse
+/// of one, closed after a pulse of the other (both at once change nothing).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Valve {
+    /// The output whose pulse opens it (the sensor's rise follows).
+    pub(crate) open: usize,
+    /// The output whose pulse closes it (the sensor's fall follows).
+    pub(crate) close: usize,
+}
+
+impl Valve {
+    /// Whether the valve is open after a scan with `outputs` in force, when it was `was`.
+    pub(crate) fn opened(self, was: bool, outputs: &[bool]) -> bool {
+        match (outputs[self.open], outputs[self.close]) {
+            (true, false) => true,
+            (false, true) => false,
+            _ => was,
+        }
+    }
+
+    /// `runs` as the sensor `x` sees them through the valve: the opening output reads "the
+    /// valve is open", the closing one "it is closed". The valve starts as the sensor does.
+    pub(crate) fn held(self, runs: &Runs, x: usize) -> Runs {
+        let mut held = runs.clone();
+        for (_, scans) in &mut held.runs {
+            let mut was = scans.first().is_some_and(|s| s.inputs[x]);
+            for s in scans.iter_mut() {
+                was = self.opened(was, &s.outputs);
+                s.outputs[self.open] = was;
+                s.outputs[self.close] = !was;
+            }
+        }
+        held
+    }
 }
 
 /// The next value of a sensor that has one value, by context.
