@@ -393,6 +393,7 @@ fn dwell_bounds(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plant::learn::tests::cup;
     use crate::plant::learn::Scan;
     use crate::scenario::Origin;
 
@@ -472,48 +473,9 @@ mod tests {
         assert!(part(&flaky, 2, 0).free_start);
     }
 
-    /// Runs of a suction cup (sensor `held`) whose valve the controller opens with a pulse of
-    /// `on` and closes with a pulse of `off`; the cup grips at the scan after the pulse, and
-    /// lets go at the scan after the closing one. With `held_on`, `on` stays on until the
-    /// cup grips (no pulse).
-    fn cup(held_on: bool) -> Runs {
-        let runs = (0..3)
-            .map(|r| {
-                let mut held = false;
-                let scans = (0..30)
-                    .map(|k| {
-                        let on = k % 10 == 2 || (held_on && k % 10 == 3);
-                        let off = k % 10 == 7;
-                        let scan = Scan {
-                            inputs: vec![held],
-                            outputs: vec![on, off],
-                        };
-                        held = match (on, off) {
-                            (true, false) => held || !held_on || k % 10 == 3,
-                            (false, true) => false,
-                            _ => held,
-                        };
-                        scan
-                    })
-                    .collect();
-                let origin = Origin {
-                    file: "cup.traces".into(),
-                    line: r + 1,
-                    rows: None,
-                };
-                (origin, scans)
-            })
-            .collect();
-        Runs {
-            inputs: vec!["held".into()],
-            outputs: vec!["on".into(), "off".into()],
-            runs,
-        }
-    }
-
     #[test]
     fn a_sensor_two_pulsed_commands_drive_follows_a_valve_that_keeps_the_last_pulse() {
-        let p = part(&cup(false), 0, 1);
+        let p = part(&Runs::of(&cup(false)), 0, 1);
         assert_eq!(p.valve, Some(Valve { open: 0, close: 1 }));
         // Through the valve the grip may come a scan after the pulse ended (slack 1): the
         // context "valve open, cup not holding" is a delayed one.
@@ -521,7 +483,7 @@ mod tests {
         let open = (rise.depends.iter()).position(|&f| f == 1).unwrap();
         assert!((rise.rules.iter()).any(|(c, r)| c[open] && matches!(r, Rule::Within(0, 1))));
         // A command held on over two scans is no pulse: no valve.
-        assert_eq!(part(&cup(true), 0, 1).valve, None);
+        assert_eq!(part(&Runs::of(&cup(true)), 0, 1).valve, None);
     }
 
     #[test]

@@ -157,8 +157,8 @@ fn init(t: &mut String, learned: &Learned, runs: &Runs) {
     }
 }
 
-/// The valves' `DEFINE`s (whether each is open after this scan's commands) and their
-/// `next`: a valve keeps what it was at the last scan.
+/// The valves' `DEFINE`s: whether each is open after this scan's commands (what it keeps
+/// for the next scan, [`next`]).
 fn valves(t: &mut String, learned: &Learned, runs: &Runs) {
     let held: Vec<(&Part, Valve)> = (learned.parts.iter())
         .filter_map(|p| p.valve.map(|v| (p, v)))
@@ -176,11 +176,6 @@ fn valves(t: &mut String, learned: &Learned, runs: &Runs) {
             opened(name),
             valve(name)
         );
-    }
-    t.push_str("ASSIGN\n");
-    for (p, _) in &held {
-        let name = &runs.inputs[p.sensor];
-        let _ = writeln!(t, "    next({}) := {};", valve(name), opened(name));
     }
 }
 
@@ -204,6 +199,9 @@ fn counter(name: &str, v: bool) -> String {
 
 fn next(t: &mut String, p: &Part, runs: &Runs) {
     let name = &runs.inputs[p.sensor];
+    if p.valve.is_some() {
+        let _ = writeln!(t, "    next({}) := {};", valve(name), opened(name));
+    }
     let _ = writeln!(t, "    next({name}) := case");
     for (v, h) in [false, true].into_iter().zip(&p.halves) {
         let wait = counter(name, v);

@@ -342,3 +342,54 @@ fn refuse_too_short(runs: &Runs, set: &ScenarioSet) -> Result<(), LearnError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{Scenario, Step};
+
+    /// Three recorded runs of a suction cup: the controller pulses `on` (the cup grips at the
+    /// next scan) and later `off` (it lets go at the next scan). With `held_on`, `on` stays on
+    /// for two scans and the cup grips after the second (no pulse).
+    pub(super) fn cup(held_on: bool) -> ScenarioSet {
+        let scenarios = (0..3)
+            .map(|r| {
+                let mut held = false;
+                let steps = (0..20)
+                    .map(|k| {
+                        let first = k % 10 == 2 + r;
+                        let second = held_on && k % 10 == 3 + r;
+                        let (on, off) = (first || second, k % 10 == 7);
+                        let step = Step {
+                            inputs: vec![held],
+                            outputs: Some(vec![on, off]),
+                        };
+                        held = (held || (on && (second || !held_on))) && !off;
+                        step
+                    })
+                    .collect();
+                Scenario {
+                    origin: Origin {
+                        file: "cup.traces".into(),
+                        line: r + 1,
+                        rows: None,
+                    },
+                    steps,
+                }
+            })
+            .collect();
+        ScenarioSet {
+            inputs: vec!["held".into()],
+            outputs: vec!["on".into(), "off".into()],
+            initial_outputs: vec![false, false],
+            scenarios,
+        }
+    }
+
+    #[test]
+    fn a_sensor_behind_a_valve_is_written_with_the_valve_and_admits_every_recorded_step() {
+        let learned = learn(&cup(false), "cup.traces", None, 1).unwrap();
+        assert_eq!(learned.parts[0].valve, Some(Valve { open: 0, close: 1 }));
+        insta::assert_snapshot!("valve", learned.text);
+    }
+}
