@@ -174,6 +174,9 @@ pub(crate) struct Guided {
     pub(crate) least_for_runs: bool,
     /// Whether it was made smaller by local moves after the guide ([`super::polish`]).
     pub(crate) polished: bool,
+    /// The fewest states of any machine in the user's conventions that reproduces the
+    /// recordings, when the guide proved it ([`Guide::least_states`]).
+    pub(crate) least_states: Option<usize>,
     /// Every stage, in order.
     pub(crate) stages: Vec<Stage>,
     /// NuSMV checks made.
@@ -217,6 +220,7 @@ pub(crate) fn run(
         nusmv_seconds: 0.0,
         sat: sat_options(check),
         conventions,
+        least_states: None,
     };
     let (tree, strategy) = match guide.game(check)? {
         Ok(won) => won,
@@ -245,6 +249,11 @@ struct Guide<'a, 'e> {
     sat: sat::Options,
     /// The form of the guide's machine (step 3 on).
     conventions: Conventions,
+    /// The least C of the recordings alone (step 2), a bound on every machine in the user's
+    /// conventions: SAT proved it for three-valued algorithms without a start state; a start
+    /// state only narrows the machines, binary algorithms widen them (a toggle needs one state
+    /// instead of two), so `None` with binary algorithms.
+    least_states: Option<usize>,
 }
 
 impl Guide<'_, '_> {
@@ -314,6 +323,8 @@ impl Guide<'_, '_> {
                 "the machine for the recordings does not replay them: {d}"
             ))
         })?;
+        self.least_states =
+            (self.conventions.algorithms == crate::ecc::AlgorithmKind::Tri).then_some(base.size.c);
         let repaired = match repair::repair(strategy, &base.ecc, MAX_ROUNDS) {
             Ok(r) => r,
             Err(e) => {
@@ -430,6 +441,7 @@ impl Guide<'_, '_> {
             },
             least_for_runs,
             polished: false,
+            least_states: self.least_states,
             stages: self.stages,
             nusmv_calls: self.nusmv_calls,
             nusmv_seconds: self.nusmv_seconds,

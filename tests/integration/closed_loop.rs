@@ -605,8 +605,10 @@ fn the_game_guides_the_synthesis_where_nothing_was_recorded() {
             .starts_with("no smaller verified machine within"),
         "{summary}"
     );
-    // 8 states (the recordings alone need 6; the tracks they never show need 2 more).
+    // 8 states (the recordings alone need 6; the tracks they never show need 2 more), and the
+    // bound the recordings prove is said.
     assert_eq!(summary["size"]["c"], 8, "{summary}");
+    assert_eq!(summary["states_at_least"], 6, "{summary}");
     let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
     assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
     published_first1_machine(&n.path, &dir);
@@ -666,6 +668,11 @@ fn the_game_guides_the_synthesis_in_fbsats_conventions() {
         ["game guide", "exact loop after the game's guide"].contains(&method),
         "{summary}"
     );
+    // Binary algorithms can need fewer states than the three-valued machine of the recordings
+    // (a toggle): no bound on C is claimed from it.
+    if method == "game guide" {
+        assert!(summary["states_at_least"].is_null(), "{summary}");
+    }
     let report = std::fs::read_to_string(dir.join("verification.txt")).unwrap();
     assert_eq!(report.matches("\nHOLDS ").count(), 8, "{report}");
     let machine = published_first1_machine(&n.path, &dir);

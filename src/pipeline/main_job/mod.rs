@@ -394,6 +394,7 @@ fn guide_machine(
         exact_loop_below_it: after,
         size: g.size,
         least_for_recordings_and_runs: g.least_for_runs,
+        states_at_least: g.least_states,
         made_smaller: g.polished,
         conventions: opts.exact.sat.conventions().to_string(),
         guide: stages,

@@ -82,6 +82,9 @@ pub struct GuideSummary {
     /// runs (else it is the repaired machine, not minimal); `made_smaller` says whether the
     /// result is a smaller machine made from it.
     pub(crate) least_for_recordings_and_runs: bool,
+    /// Proven: no machine in the asked form with fewer states reproduces the recordings
+    /// (`None`: not proven, with binary algorithms).
+    pub(crate) states_at_least: Option<usize>,
     /// Whether the guide's machine was made smaller by merging states and dropping
     /// transitions and literals while the in-process checker found every property kept (then
     /// verified by NuSMV; not proven least). In `summary.json` the `guide` line that says
@@ -230,6 +233,11 @@ impl std::fmt::Display for Summary {
                         (false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
                     }
                 )?;
+                match g.states_at_least {
+                    Some(c) if c == g.size.c => write!(f, "\nproven: C = {c} is least (no machine with fewer states reproduces the recordings)")?,
+                    Some(c) => write!(f, "\nproven: C >= {c} (no machine with fewer states reproduces the recordings); T and N are not bounded")?,
+                    None => {}
+                }
                 if g.conventions.is_empty() {
                     return Ok(());
                 }

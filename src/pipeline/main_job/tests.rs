@@ -105,6 +105,7 @@ fn guide_summary() -> GuideSummary {
         exact_loop_below_it: "no smaller machine".into(),
         size: exact_summary().size,
         least_for_recordings_and_runs: true,
+        states_at_least: Some(6),
         made_smaller: false,
         conventions: String::new(),
         guide: vec!["guide: the closed-loop game is won".into()],
@@ -184,6 +185,7 @@ fn each_summary_has_the_keys_of_its_method() {
             "report",
             "sat_seconds",
             "size",
+            "states_at_least",
             "total_seconds"
         ]
     );
@@ -244,4 +246,19 @@ fn every_summary_validates_against_its_schema() {
     let mut bad = Summary::Exact(exact_summary()).to_json();
     bad["size"]["c"] = "two".into();
     assert!(schemas.validate(&bad, index).is_err());
+}
+
+#[test]
+fn the_guides_summary_says_which_bound_on_the_states_is_proven() {
+    let said = |least: Option<usize>| {
+        let g = GuideSummary {
+            states_at_least: least,
+            ..guide_summary()
+        };
+        Summary::Turn(Turn::Guide(g)).to_string()
+    };
+    let c = guide_summary().size.c;
+    assert!(said(Some(c - 2)).contains(&format!("\nproven: C >= {} (no machine with fewer states reproduces the recordings); T and N are not bounded", c - 2)));
+    assert!(said(Some(c)).contains(&format!("\nproven: C = {c} is least")));
+    assert!(!said(None).contains("proven:"));
 }
