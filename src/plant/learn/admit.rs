@@ -13,14 +13,18 @@ use std::path::Path;
 
 /// Reads `text` as a plant model (named `learned plant` in messages).
 pub(crate) fn read(text: &str, observers: Option<&Observers>) -> Result<Model, LearnError> {
-    crate::plant::parse::parse_str(text, Path::new("learned plant")).map_err(|e| {
-        LearnError::Unreadable {
-            observers: observers
-                .map(|o| format!(" in {}", o.file.display()))
-                .unwrap_or_default(),
-            message: e.to_string(),
-        }
-    })
+    crate::plant::parse::parse_str(text, Path::new("learned plant"))
+        .map_err(|e| unreadable(observers, e.to_string()))
+}
+
+/// The learned text, with `observers` if any, does not read back as a plant: `message`.
+fn unreadable(observers: Option<&Observers>, message: String) -> LearnError {
+    LearnError::Unreadable {
+        observers: observers
+            .map(|o| format!(" (check the observers in {})", o.file.display()))
+            .unwrap_or_default(),
+        message,
+    }
 }
 
 /// The names of `model` that hold the sensors `names`, in order (a sensor it lacks is an
@@ -137,12 +141,7 @@ pub(crate) fn check(
     observers: Option<&Observers>,
 ) -> Result<(), LearnError> {
     let model = read(&learned.text, observers)?;
-    let unreadable = |message: String| LearnError::Unreadable {
-        observers: observers
-            .map(|o| format!(" in {}", o.file.display()))
-            .unwrap_or_default(),
-        message,
-    };
+    let unreadable = |message: String| unreadable(observers, message);
     let replayer = Replayer::new(&model, &runs.inputs, &runs.outputs).map_err(unreadable)?;
     for (origin, scans) in &runs.runs {
         if let Some(k) = replayer.first_refused(scans).map_err(unreadable)? {

@@ -41,12 +41,12 @@ pub(crate) fn text(
         let _ = writeln!(t, "    {name} : boolean;");
     }
     for p in (learned.parts.iter()).filter(|p| p.valve.is_some()) {
-        let _ = writeln!(t, "    {} : boolean;", valve(&runs.inputs[p.sensor]));
+        let _ = writeln!(t, "    {} : boolean;", valve(runs, p.sensor));
     }
     for p in &learned.parts {
         for (v, h) in [false, true].into_iter().zip(&p.halves) {
             if h.wait_cap() > 0 {
-                let name = counter(&runs.inputs[p.sensor], v);
+                let name = counter(runs, p.sensor, v);
                 let _ = writeln!(t, "    {name} : 0..{};", h.wait_cap());
             }
         }
@@ -124,7 +124,7 @@ fn header(
         let held = match p.valve {
             Some(v) => format!(
                 "; through {}, which the pulses of {} and {} open and close",
-                valve(&runs.inputs[p.sensor]),
+                valve(runs, p.sensor),
                 runs.outputs[v.open],
                 runs.outputs[v.close]
             ),
@@ -152,7 +152,7 @@ fn init(t: &mut String, learned: &Learned, runs: &Runs) {
         };
         let _ = writeln!(t, "    init({}) := {value};", runs.inputs[p.sensor]);
         if p.valve.is_some() {
-            let _ = writeln!(t, "    init({}) := {value};", valve(&runs.inputs[p.sensor]));
+            let _ = writeln!(t, "    init({}) := {value};", valve(runs, p.sensor));
         }
     }
 }
@@ -168,43 +168,56 @@ fn valves(t: &mut String, learned: &Learned, runs: &Runs) {
     }
     t.push_str("DEFINE\n");
     for (p, v) in &held {
-        let name = &runs.inputs[p.sensor];
         let (open, close) = (&runs.outputs[v.open], &runs.outputs[v.close]);
         let _ = writeln!(
             t,
             "    {} := {open} & !{close} | {} & !({close} & !{open});",
-            opened(name),
-            valve(name)
+            opened(runs, p.sensor),
+            valve(runs, p.sensor)
         );
     }
 }
 
-/// The name of the valve that sensor `name` follows.
-fn valve(name: &str) -> String {
-    format!("valve_{name}")
+/// The name of the valve that sensor `x` follows.
+fn valve(runs: &Runs, x: usize) -> String {
+    hidden(runs, format!("valve_{}", runs.inputs[x]))
 }
 
-/// The name of "the valve of sensor `name` is open after this scan's commands".
-fn opened(name: &str) -> String {
-    format!("open_{name}")
+/// The name of "the valve of sensor `x` is open after this scan's commands".
+fn opened(runs: &Runs, x: usize) -> String {
+    hidden(runs, format!("open_{}", runs.inputs[x]))
 }
 
-/// The name of the dwell counter of half `v` (rise: FALSE) of sensor `name`.
-fn counter(name: &str, v: bool) -> String {
-    match v {
-        false => format!("wait_up_{name}"),
-        true => format!("wait_down_{name}"),
+/// The name of the dwell counter of half `v` (rise: FALSE) of sensor `x`.
+fn counter(runs: &Runs, x: usize, v: bool) -> String {
+    let name = &runs.inputs[x];
+    hidden(
+        runs,
+        match v {
+            false => format!("wait_up_{name}"),
+            true => format!("wait_down_{name}"),
+        },
+    )
+}
+
+/// `name`, made unlike every sensor and controller output (an output called `valve_vac`
+/// would otherwise be declared twice).
+fn hidden(runs: &Runs, mut name: String) -> String {
+    while runs.inputs.contains(&name) || runs.outputs.contains(&name) {
+        name.push('_');
     }
+    name
 }
 
 fn next(t: &mut String, p: &Part, runs: &Runs) {
     let name = &runs.inputs[p.sensor];
     if p.valve.is_some() {
-        let _ = writeln!(t, "    next({}) := {};", valve(name), opened(name));
+        let (valve, opened) = (valve(runs, p.sensor), opened(runs, p.sensor));
+        let _ = writeln!(t, "    next({valve}) := {opened};");
     }
     let _ = writeln!(t, "    next({name}) := case");
     for (v, h) in [false, true].into_iter().zip(&p.halves) {
-        let wait = counter(name, v);
+        let wait = counter(runs, p.sensor, v);
         for (c, rule) in &h.rules {
             let ctx = context(p, h, c, runs);
             match *rule {
@@ -231,7 +244,7 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
         if cap == 0 {
             continue;
         }
-        let wait = counter(name, v);
+        let wait = counter(runs, p.sensor, v);
         let delayed: Vec<String> = (h.rules.iter())
             .filter(|(_, r)| matches!(r, Rule::Within(..)))
             .map(|(c, _)| context(p, h, c, runs))
@@ -253,12 +266,8 @@ fn context(p: &Part, h: &Half, c: &[bool], runs: &Runs) -> String {
     let n = runs.inputs.len();
     let lits: Vec<String> = (h.depends.iter().zip(c))
         .map(|(&f, &v)| match (p.valve, f.checked_sub(n)) {
-            (Some(valve), Some(z)) if z == valve.open => {
-                literal(&opened(&runs.inputs[p.sensor]), v)
-            }
-            (Some(valve), Some(z)) if z == valve.close => {
-                literal(&opened(&runs.inputs[p.sensor]), !v)
-            }
+            (Some(valve), Some(z)) if z == valve.open => literal(&opened(runs, p.sensor), v),
+            (Some(valve), Some(z)) if z == valve.close => literal(&opened(runs, p.sensor), !v),
             _ => literal(runs.signal_name(f), v),
         })
         .collect();

@@ -272,9 +272,9 @@ pub(crate) enum LearnError {
         sensor: String,
     },
     /// The learned text is not a model of the subset (observers that do not parse).
-    #[error("the learned plant does not read back (check the observers{observers}): {message}")]
+    #[error("the learned plant does not read back{observers}: {message}")]
     Unreadable {
-        /// ` in FILE` when observers were given.
+        /// ` (check the observers in FILE)` when observers were given.
         observers: String,
         /// The parser's message.
         message: String,
@@ -391,5 +391,15 @@ mod tests {
         let learned = learn(&cup(false), "cup.traces", None, 1).unwrap();
         assert_eq!(learned.parts[0].valve, Some(Valve { open: 0, close: 1 }));
         insta::assert_snapshot!("valve", learned.text);
+    }
+
+    #[test]
+    fn hidden_variables_take_names_no_signal_has() {
+        let mut set = cup(false);
+        set.outputs = vec!["wait_up_held".into(), "valve_held".into()];
+        let learned = learn(&set, "cup.traces", None, 1).unwrap();
+        for hidden in ["valve_held_ : boolean;", "wait_up_held_ : 0..1;"] {
+            assert!(learned.text.contains(hidden), "{}", learned.text);
+        }
     }
 }
