@@ -104,6 +104,7 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
                 depends: vec![x],
                 driver,
                 rules: vec![(vec![v], Rule::Free)],
+                early: Vec::new(),
             }
         }
         None => gates(runs, x, v),
@@ -113,8 +114,10 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
         .map(|(c, &(stays, changes))| {
             let rule = match (stays, changes) {
                 (_, 0) => Rule::To(v),
-                _ if driver.is_none() => Rule::Free,
-                (0, _) if slack == 0 => Rule::To(!v),
+                _ if driver.is_none() && !settled(runs, x, &depends, c) => Rule::Free,
+                // Slack delays what the commands drive; the environment's bound change, which
+                // may come a scan early ([`super::early`]), comes at the latest as recorded.
+                (0, _) if slack == 0 || driver.is_none() => Rule::To(!v),
                 _ => Rule::Within(0, 0),
             };
             (c.clone(), rule)
@@ -125,13 +128,14 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
         if let Rule::Within(least, most) = rule {
             let (shortest, longest) = waits.get(c).copied().unwrap_or((0, None));
             *least = shortest / SPEEDUP;
-            *most = longest.map_or(0, |w| w + 1) + slack;
+            *most = longest.map_or(0, |w| w + 1) + if driver.is_some() { slack } else { 0 };
         }
     }
     Half {
         depends,
         driver,
         rules,
+        early: Vec::new(),
     }
 }
 
@@ -142,12 +146,28 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
 /// the magazine ran empty) do not close a context to what the environment may do there.
 fn gates(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
     let mut depends = vec![x];
+    let mut within: Vec<(usize, bool)> = Vec::new();
     let tests = 2 * runs.inputs.len().saturating_sub(1);
+    let mut pass = Vec::new();
     for f in (0..runs.inputs.len()).filter(|&f| f != x) {
         for b in [false, true] {
-            if depends.len() < MAX_DEPENDS && matters(runs, x, v, f, b, tests) {
+            if depends.len() < MAX_DEPENDS && matters(runs, x, v, f, b, tests, &[]) {
                 depends.push(f);
+                pass.push((f, b));
             }
+        }
+    }
+    // Then among the scans where those gates hold: a sensor that parts the stays from the
+    // changes there (the cup holds a piece over the track, not over the slider).
+    while !pass.is_empty() && depends.len() < MAX_DEPENDS {
+        within.append(&mut pass);
+        let next = (0..runs.inputs.len())
+            .filter(|f| !depends.contains(f))
+            .flat_map(|f| [(f, false), (f, true)])
+            .find(|&(f, b)| matters(runs, x, v, f, b, tests, &within));
+        if let Some((f, b)) = next {
+            depends.push(f);
+            pass.push((f, b));
         }
     }
     depends
@@ -226,7 +246,10 @@ fn driver(runs: &Runs, x: usize, v: bool) -> Option<(usize, bool)> {
     };
     (0..runs.outputs.len())
         .flat_map(|z| [(z, true), (z, false)])
-        .filter(|&(z, b)| matters(runs, x, v, runs.inputs.len() + z, b, 2 * runs.outputs.len()))
+        .filter(|&(z, b)| {
+            let tests = 2 * runs.outputs.len();
+            matters(runs, x, v, runs.inputs.len() + z, b, tests, &[])
+        })
         .filter(|&(z, b)| reliable(runs, x, v, z, b, true))
         .min_by_key(|&(z, b)| in_force(z, b))
 }
@@ -235,6 +258,38 @@ fn driver(runs: &Runs, x: usize, v: bool) -> Option<(usize, bool)> {
 /// among the signals tried, as in Bonferroni's correction: with many signals, one of them
 /// separates a few changes by chance).
 const SIGNIFICANCE: f64 = 0.05;
+
+/// The changes of the environment's sensor recorded in a context, each ending a stay there,
+/// from which the change is taken as bound to come there ([`settled`]).
+const SETTLED: usize = 3;
+
+/// Whether the environment's change of sensor `x` is bound to come in context `c` (of
+/// `depends`): at least [`SETTLED`] stays in it ended with the change, and none with the
+/// context left while the sensor kept its value (a piece leaves its track once the cup holds
+/// it over the track). Otherwise the change is free there (an operator's button, pressed or
+/// not). A context of the sensor alone is never left while it stays, and a run that ends
+/// first shows nothing: neither is evidence of a bound.
+fn settled(runs: &Runs, x: usize, depends: &[usize], c: &[bool]) -> bool {
+    if depends.len() < 2 {
+        return false;
+    }
+    let context = |scan: &super::Scan| {
+        (depends.iter())
+            .map(|&f| runs.signal(scan, f))
+            .eq(c.iter().copied())
+    };
+    let mut ended = 0;
+    for (_, scans) in &runs.runs {
+        for w in scans.windows(2).filter(|w| context(&w[0])) {
+            match w[0].inputs[x] == w[1].inputs[x] {
+                false => ended += 1,
+                true if !context(&w[1]) => return false,
+                true => {}
+            }
+        }
+    }
+    ended >= SETTLED
+}
 
 /// The withdrawal of the command that drives the other change of sensor `x`, output `z` at
 /// `b`, as the driver of its change from `v`: when `z` was `b` at every recorded change and
@@ -252,11 +307,20 @@ fn withdrawal(runs: &Runs, x: usize, v: bool, z: usize, b: bool) -> Option<(usiz
 /// `tests` made. A button is
 /// released whatever the controller does: a command that happened to be in force at its few
 /// releases was seldom off while it was pressed.
-fn matters(runs: &Runs, x: usize, v: bool, f: usize, b: bool, tests: usize) -> bool {
+fn matters(
+    runs: &Runs,
+    x: usize,
+    v: bool,
+    f: usize,
+    b: bool,
+    tests: usize,
+    within: &[(usize, bool)],
+) -> bool {
+    let inside = |s: &super::Scan| within.iter().all(|&(g, c)| runs.signal(s, g) == c);
     if !changes(runs, x, v).all(|(s, _)| runs.signal(s, f) == b) {
         return false;
     }
-    let at_v = || runs.transitions().filter(|(s, _)| s.inputs[x] == v);
+    let at_v = || (runs.transitions()).filter(move |(s, _)| s.inputs[x] == v && inside(s));
     let with = at_v().filter(|(s, _)| runs.signal(s, f) == b).count();
     let without = at_v().filter(|(s, _)| runs.signal(s, f) != b).count();
     let rate = changes(runs, x, v).count() as f64 / with.max(1) as f64;
@@ -484,6 +548,80 @@ mod tests {
         assert!((rise.rules.iter()).any(|(c, r)| c[open] && matches!(r, Rule::Within(0, 1))));
         // A command held on over two scans is no pulse: no valve.
         assert_eq!(part(&Runs::of(&cup(true)), 0, 1).valve, None);
+    }
+
+    /// Runs of a track (sensors `piece`, `held`, `over`; commands `suck`, `away`): the
+    /// operator puts a piece on the track at scan 1 of every 12; the cup over the track
+    /// sucks from scan 3 (it holds from the next scan, and the piece leaves the scan after),
+    /// carries the piece away from scan 6 and lets it go from scan 9. In every other cycle the
+    /// operator puts the next piece while the cup is away holding the last one.
+    fn track() -> Runs {
+        let runs = (0..3)
+            .map(|r| {
+                let (mut piece, mut held, mut over) = (false, false, true);
+                let scans = (0..48)
+                    .map(|k| {
+                        let (suck, away) = (k % 12 >= 3 && k % 12 < 9, k % 12 >= 6 && k % 12 < 10);
+                        let scan = Scan {
+                            inputs: vec![piece, held, over],
+                            outputs: vec![suck, away],
+                        };
+                        let put = k % 12 == 1 || (k % 24 == 20 && !piece);
+                        piece = (piece || put) && !(held && over && piece);
+                        (held, over) = (suck, !away);
+                        scan
+                    })
+                    .collect();
+                let origin = Origin {
+                    file: "track.traces".into(),
+                    line: r + 1,
+                    rows: None,
+                };
+                (origin, scans)
+            })
+            .collect();
+        Runs {
+            inputs: vec!["piece".into(), "held".into(), "over".into()],
+            outputs: vec!["suck".into(), "away".into()],
+            runs,
+        }
+    }
+
+    #[test]
+    fn a_piece_leaves_the_track_the_cup_holds_it_over_and_the_operator_stays_free() {
+        let r = track();
+        let p = part(&r, 0, 0);
+        assert!(p.free_start);
+        let [put, taken] = &p.halves;
+        // The operator puts pieces whatever the machine does: free, never forced.
+        assert!((put.rules.iter()).all(|(_, rule)| matches!(rule, Rule::Free | Rule::To(false))));
+        // The piece leaves once the cup holds it over the track, and only there: the cup
+        // holding the last piece away from the track does not take the next one.
+        assert_eq!(taken.depends, vec![0, 1, 2]);
+        let rule = |c: [bool; 3]| {
+            (taken.rules.iter())
+                .find(|(k, _)| k[..] == c)
+                .map(|(_, r)| *r)
+        };
+        assert_eq!(rule([true, true, true]), Some(Rule::To(false)));
+        assert_eq!(rule([true, true, false]), Some(Rule::To(true)));
+    }
+
+    #[test]
+    fn with_slack_the_piece_may_leave_in_the_scan_the_cup_grips_and_leaves_by_the_next() {
+        let r = track();
+        let mut parts: Vec<Part> = (0..3).map(|x| part(&r, x, 1)).collect();
+        assert!(!parts[1].free_start && !parts[2].free_start);
+        crate::plant::learn::early(&mut parts);
+        // The cup and the hand are the controller's: the piece may leave as they arrive.
+        assert_eq!(parts[0].halves[1].early, vec![1, 2]);
+        // Slack delays what commands drive, not the environment's bound change.
+        let taken = &parts[0].halves[1];
+        assert!((taken.rules.iter()).any(|(c, r)| c[..] == [true; 3] && *r == Rule::To(false)));
+        // The controller's own sensors wait for nothing earlier.
+        assert!(parts[1..]
+            .iter()
+            .all(|p| p.halves.iter().all(|h| h.early.is_empty())));
     }
 
     #[test]

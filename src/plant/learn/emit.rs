@@ -96,7 +96,7 @@ fn header(
     t.push_str(
         "-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n",
     );
-    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*); a sensor no command moves both ways is the environment's.\n");
+    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*); a sensor no command moves both ways is the environment's:\n-- free where seen changing, but bound to change where every recorded stay ended so.\n");
     if let Some(o) = observers {
         let _ = writeln!(
             t,
@@ -116,7 +116,15 @@ fn header(
                 false => n.join(", "),
             }
         };
+        let bound = (p.halves.iter()).any(|h| {
+            (h.rules.iter()).any(|(c, r)| {
+                matches!(r, Rule::To(to) if *to != c[0]) || matches!(r, Rule::Within(..))
+            })
+        });
         let kind = match (p.free_start, p.wait_cap) {
+            (true, _) if bound => {
+                " (the environment's: free where seen changing, bound where it always came)"
+            }
             (true, _) => " (the environment's: free where seen changing)",
             (false, 0) => "",
             (false, _) => " (delayed)",
@@ -219,21 +227,26 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
     for (v, h) in [false, true].into_iter().zip(&p.halves) {
         let wait = counter(runs, p.sensor, v);
         for (c, rule) in &h.rules {
-            let ctx = context(p, h, c, runs);
+            let ctx = context(p, h, c, runs, false);
+            let early = context(p, h, c, runs, true);
             match *rule {
                 Rule::To(to) if to == v => {}
                 Rule::To(to) => {
                     let _ = writeln!(t, "        {ctx} : {};", constant(to));
+                    // In the same scan as the sensors it waits for, the change may come.
+                    if early != ctx {
+                        let _ = writeln!(t, "        {early} : {{FALSE, TRUE}};");
+                    }
                 }
                 Rule::Free => {
-                    let _ = writeln!(t, "        {ctx} : {{FALSE, TRUE}};");
+                    let _ = writeln!(t, "        {early} : {{FALSE, TRUE}};");
                 }
                 Rule::Within(least, most) => {
                     if least > 0 {
                         let _ = writeln!(t, "        {ctx} & {wait} < {least} : {};", constant(v));
                     }
                     let _ = writeln!(t, "        {ctx} & {wait} >= {most} : {};", constant(!v));
-                    let _ = writeln!(t, "        {ctx} : {{FALSE, TRUE}};");
+                    let _ = writeln!(t, "        {early} : {{FALSE, TRUE}};");
                 }
             }
         }
@@ -247,7 +260,7 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
         let wait = counter(runs, p.sensor, v);
         let delayed: Vec<String> = (h.rules.iter())
             .filter(|(_, r)| matches!(r, Rule::Within(..)))
-            .map(|(c, _)| context(p, h, c, runs))
+            .map(|(c, _)| context(p, h, c, runs, false))
             .collect();
         let any = delayed.join(" | ");
         // Counts the scans the sensor spent with this value in a delayed context; after a
@@ -261,13 +274,22 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
 }
 
 /// The context `c` of half `h` of part `p` as a conjunction; a part behind a valve reads
-/// it where its halves read the commands that set it ([`Valve::held`]).
-fn context(p: &Part, h: &Half, c: &[bool], runs: &Runs) -> String {
+/// it where its halves read the commands that set it ([`Valve::held`]). With `early`, a
+/// sensor of [`Half::early`] has its value in it now or in the next scan.
+fn context(p: &Part, h: &Half, c: &[bool], runs: &Runs, early: bool) -> String {
     let n = runs.inputs.len();
     let lits: Vec<String> = (h.depends.iter().zip(c))
         .map(|(&f, &v)| match (p.valve, f.checked_sub(n)) {
             (Some(valve), Some(z)) if z == valve.open => literal(&opened(runs, p.sensor), v),
             (Some(valve), Some(z)) if z == valve.close => literal(&opened(runs, p.sensor), !v),
+            _ if early && h.early.contains(&f) => {
+                let name = runs.signal_name(f);
+                format!(
+                    "({} | {})",
+                    literal(name, v),
+                    literal(&format!("next({name})"), v)
+                )
+            }
             _ => literal(runs.signal_name(f), v),
         })
         .collect();

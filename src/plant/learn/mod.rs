@@ -38,13 +38,21 @@
 //!   delay: a cylinder under way, a level between two sensors.
 //! - *Structure of the environment's change*: only the other sensors (the environment does not
 //!   read the controller's outputs) that matter to it in the sense above, with the number of
-//!   sensors tried shared out; usually none, so that a button is free in every context. A
-//!   change of the environment's sensor never recorded (a switch turned on, not back) is free
-//!   everywhere, and the sensor starts free.
-//! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there
-//!   (free, for the environment's change); in a context never seen it keeps its value (a
-//!   sensor does not change without a cause). Every command is accepted in every state (the
-//!   model is receptive by construction).
+//!   sensors tried shared out, then those that matter among the scans where the first hold
+//!   (the cup holds a piece: over the track it leaves, over the slider a new piece stays);
+//!   usually none, so that a button is free in every context. A change of the environment's
+//!   sensor never recorded (a switch turned on, not back) is free everywhere, and the sensor
+//!   starts free.
+//! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there;
+//!   the environment's change is free there, unless at least three recorded stays in the
+//!   context ended with it and none with the context left (a piece leaves the track the cup
+//!   holds it over): then it comes there at the latest as recorded. In a context never seen
+//!   the sensor keeps its value (a sensor does not change without a cause). Every command is
+//!   accepted in every state (the model is receptive by construction).
+//! - *Scans*: with `--slack`, where the model's scan need not be the recording PLC's, a
+//!   change a command drives may come that many scans later than recorded, and a change the
+//!   environment makes when a sensor of the controller's has a value may come in the scan that
+//!   sensor takes it (the piece leaves as the cup grips, `next(vac)`).
 //! - *Delays*: in an ambiguous context of a driven change, the sensor must change once it
 //!   stayed longer than the longest stay recorded there (plus a slack), and may change once
 //!   it stayed a quarter of the shortest stay recorded before a change (a counter per sensor
@@ -204,6 +212,9 @@ pub(crate) struct Half {
     /// Per context seen (values of `depends`, in order; the sensor's own value first): the
     /// rule.
     pub(crate) rules: Vec<(Vec<bool>, Rule)>,
+    /// The sensors among `depends` whose value in a context may also be the one they take
+    /// in the same scan ([`early`]).
+    pub(crate) early: Vec<usize>,
 }
 
 impl Half {
@@ -299,9 +310,12 @@ pub(crate) fn learn(
 ) -> Result<Learned, LearnError> {
     let runs = Runs::of(set);
     refuse_too_short(&runs, set)?;
-    let parts: Vec<Part> = (0..runs.inputs.len())
+    let mut parts: Vec<Part> = (0..runs.inputs.len())
         .map(|x| depend::part(&runs, x, slack))
         .collect();
+    if slack > 0 {
+        early(&mut parts);
+    }
     let starts = emit::starts(&runs, &parts);
     let mut learned = Learned {
         parts,
@@ -313,6 +327,23 @@ pub(crate) fn learn(
     learned.text = emit::text(&learned, &runs, source, observers);
     admit::check(&learned, &runs, observers)?;
     Ok(learned)
+}
+
+/// With `--slack`, the scan of the model need not be the recording PLC's: where the
+/// environment changes a sensor when a sensor of the controller's has a value (a piece leaves
+/// its track once the cup holds it), it may change in the same scan as that sensor takes the
+/// value (the piece leaves as the cup grips). Only the controller's sensors are read so: their
+/// next values read no other sensor's next value, so the model stays free of cycles.
+fn early(parts: &mut [Part]) {
+    let commanded: Vec<bool> = parts.iter().map(|p| !p.free_start).collect();
+    for p in parts.iter_mut().filter(|p| p.free_start) {
+        let x = p.sensor;
+        for h in p.halves.iter_mut().filter(|h| h.driver.is_none()) {
+            h.early = (h.depends.iter().copied())
+                .filter(|&f| f != x && commanded.get(f) == Some(&true))
+                .collect();
+        }
+    }
 }
 
 /// Refuses recordings that show no transition, an output never on or a sensor never
