@@ -18,7 +18,8 @@ pub struct LearnPlantArgs {
     #[arg(long, value_name = "FILE")]
     pub observe: Option<PathBuf>,
     /// Scans a sensor change a command drives may come later than recorded (the model's scan
-    /// need not be the recording PLC's).
+    /// need not be the recording PLC's); from 1 on, a change the environment makes when a
+    /// sensor has a value may also come in the scan that sensor takes it.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub slack: usize,
     /// What is known of the plant beyond the recordings, as named LTL properties over the

@@ -213,6 +213,33 @@ fn the_pnp_plant_learned_admits_every_recording() {
 }
 
 #[test]
+fn the_pnp_plant_learned_verifies_a_machine_the_hand_written_plant_verifies_and_refutes_the_recordings_own(
+) {
+    let Some(n) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    let traces = "specs/pnp.traces";
+    let plant = learn(traces, "specs/pnp.observers", &[], dir.path());
+    let ltl = "specs/pnp.ltl";
+    let ecc = main_job(&n.path, ltl, &plant, traces, &dir.path().join("m"));
+    let hand = Path::new("smv/pnp_surrogate.smv");
+    assert!(verified(&n.path, &ecc, ltl, hand));
+    // Not vacuous: the machine of the recordings alone is refuted by both plants.
+    let own = dir.path().join("own");
+    let o = synth(&[
+        "-q",
+        "infer",
+        "--traces",
+        traces,
+        "--out",
+        own.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let own = own.join("SynthesizedFB.json");
+    assert!(!verified(&n.path, &own, ltl, hand));
+    assert!(!verified(&n.path, &own, ltl, &plant));
+}
+
+#[test]
 fn the_pnp_plant_learned_with_slack_admits_most_runs_of_the_hand_written_closed_loop() {
     let Some(n) = nusmv_or_skip() else { return };
     let dir = Dir::new();
