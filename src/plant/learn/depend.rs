@@ -141,7 +141,8 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
 
 /// The dependency set of a change the environment makes to sensor `x` from `v`: itself, then
 /// each other sensor that [`matters`] to it (at one value at every recorded change, and
-/// significantly never changing at the other). The operator or the stock does not read the
+/// significantly never changing at the other), then one at a time those that matter among
+/// the scans where the ones before have their values. The operator or the stock does not read the
 /// controller's outputs, and a few chance coincidences (a stop button pressed mostly once
 /// the magazine ran empty) do not close a context to what the environment may do there.
 fn gates(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
@@ -304,9 +305,9 @@ fn withdrawal(runs: &Runs, x: usize, v: bool, z: usize, b: bool) -> Option<(usiz
 /// change of sensor `x` from `v`: `f` was `b` at every recorded change, and had the sensor
 /// changed as often with `f` not `b` as it did with it (per scan), the recorded scans with
 /// `f` not `b` would show a change but for a chance below [`SIGNIFICANCE`] over the number of
-/// `tests` made. A button is
-/// released whatever the controller does: a command that happened to be in force at its few
-/// releases was seldom off while it was pressed.
+/// `tests` made; the scans counted are those where every signal of `within` has its value. A
+/// button is released whatever the controller does: a command that happened to be in force
+/// at its few releases was seldom off while it was pressed.
 fn matters(
     runs: &Runs,
     x: usize,
