@@ -420,6 +420,17 @@ fn successors_enumerate_sets_free_variables_and_constraints() {
     );
     let succ = sem.successors(&s, &[true], &[true]).unwrap();
     assert_eq!(succ.len(), 4);
+    // With values known (as a replay knows the next sensors): the successors that show them.
+    for known in [
+        vec![(VarId(1), t)],
+        vec![(VarId(0), Value::Int(2)), (VarId(2), f)],
+        vec![(VarId(0), Value::Int(0))],
+    ] {
+        let shown = |v: &Vec<Value>| known.iter().all(|(k, x)| v[k.0] == *x);
+        let filtered: Vec<Vec<Value>> = succ.iter().filter(|v| shown(v)).cloned().collect();
+        let succ_known = sem.successors_where(&s, &[true], &[true], &known).unwrap();
+        assert_eq!(succ_known, filtered, "{known:?}");
+    }
 }
 
 /// The Pick-and-Place surrogate plant (`smv/pnp_surrogate.smv`), transcribed.

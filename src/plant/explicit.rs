@@ -455,6 +455,35 @@ impl<'m> Semantics<'m> {
         next_params: &[bool],
         f: &mut impl FnMut(&[Value]) -> Result<(), E>,
     ) -> Result<(), E> {
+        self.for_each_successor_where(state, params, next_params, &[], f)
+    }
+
+    /// The successors of `state` ([`Self::successors`]) in which each variable of `known`
+    /// has the value given: the candidates are made with those values only, so that a replay
+    /// that knows the next sensor values does not enumerate the others' combinations.
+    pub(crate) fn successors_where(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        next_params: &[bool],
+        known: &[(VarId, Value)],
+    ) -> Result<Vec<State>, EvalError> {
+        let mut out = Vec::new();
+        self.for_each_successor_where(state, params, next_params, known, &mut |s| {
+            out.push(s.to_vec());
+            Ok::<(), EvalError>(())
+        })?;
+        Ok(out)
+    }
+
+    fn for_each_successor_where<E: From<EvalError>>(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        next_params: &[bool],
+        known: &[(VarId, Value)],
+        f: &mut impl FnMut(&[Value]) -> Result<(), E>,
+    ) -> Result<(), E> {
         let m = self.model;
         let mut env = Env::new(m, state, params, None);
         let mut choices = Vec::with_capacity(m.vars.len());
@@ -477,6 +506,9 @@ impl<'m> Semantics<'m> {
                 }
                 _ => var.domain.clone(),
             };
+            if let Some(&(_, v)) = known.iter().find(|(k, _)| k.0 == i) {
+                vs.retain(|&x| x == v);
+            }
             // Sorted choices make the combinations come sorted and distinct.
             vs.sort();
             vs.dedup();

@@ -7,7 +7,7 @@
 
 use super::{LearnError, Learned, Observers, Runs, Scan};
 use crate::plant::explicit::{Semantics, State};
-use crate::plant::{Model, Name, Value};
+use crate::plant::{Model, Name, Value, VarId};
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -99,6 +99,17 @@ impl<'m> Replayer<'m> {
             .collect()
     }
 
+    /// The sensors that are variables of the model, with the values `inputs` gives them:
+    /// what a successor must show (sensors that are `DEFINE`s are checked on each successor).
+    fn known(&self, inputs: &[bool]) -> Vec<(VarId, Value)> {
+        (self.sensors.iter().zip(inputs))
+            .filter_map(|(n, &b)| match n {
+                Name::Var(v) => Some((*v, Value::Bool(b))),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// The index of the first scan of `scans` the model cannot produce, if any.
     pub(crate) fn first_refused(&self, scans: &[Scan]) -> Result<Option<usize>, String> {
         let Some(first) = scans.first() else {
@@ -117,9 +128,11 @@ impl<'m> Replayer<'m> {
         }
         for (k, w) in scans.windows(2).enumerate() {
             let (p, q) = (self.params(&w[0].outputs), self.params(&w[1].outputs));
+            let known = self.known(&w[1].inputs);
             let mut next: BTreeSet<State> = BTreeSet::new();
             for s in &now {
-                for t in self.sem.successors(s, &p, &q).map_err(|e| e.to_string())? {
+                let succ = self.sem.successors_where(s, &p, &q, &known);
+                for t in succ.map_err(|e| e.to_string())? {
                     if self.sensors(&t, &w[1].outputs)? == w[1].inputs {
                         next.insert(t);
                     }
