@@ -110,6 +110,31 @@ fn assert_runs_admitted(ecc: &Path, hand: &Path, plant: &Path, runs: usize, at_l
     assert!(admitted >= at_least, "{first}");
 }
 
+/// Not vacuous: the machine of the recordings alone (`synth infer`), which the hand-written
+/// plant `hand` refutes, is refuted by the learned `plant` too.
+fn assert_own_machine_refuted(
+    nusmv: &Path,
+    traces: &str,
+    ltl: &str,
+    hand: &Path,
+    plant: &Path,
+    dir: &Path,
+) {
+    let own = dir.join("own");
+    let o = synth(&[
+        "-q",
+        "infer",
+        "--traces",
+        traces,
+        "--out",
+        own.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let own = own.join("SynthesizedFB.json");
+    assert!(!verified(nusmv, &own, ltl, hand));
+    assert!(!verified(nusmv, &own, ltl, plant));
+}
+
 #[test]
 fn the_distribution_plant_learned_verifies_a_machine_and_refutes_the_recordings_own() {
     let Some(n) = nusmv_or_skip() else { return };
@@ -165,21 +190,7 @@ fn the_distribution_plant_learned_verifies_a_machine_and_refutes_the_recordings_
     let hand = Path::new("smv/distribution_surrogate.smv");
     assert!(verified(&n.path, &ecc, ltl, hand));
     assert_runs_admitted(&ecc, hand, &plant, 1000, 990);
-    // Not vacuous: the machine of the recordings alone, which the hand-written plant
-    // refutes, is refuted by the learned plant too.
-    let own = dir.path().join("own");
-    let o = synth(&[
-        "-q",
-        "infer",
-        "--traces",
-        traces,
-        "--out",
-        own.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let own = own.join("SynthesizedFB.json");
-    assert!(!verified(&n.path, &own, ltl, hand));
-    assert!(!verified(&n.path, &own, ltl, &plant));
+    assert_own_machine_refuted(&n.path, traces, ltl, hand, &plant, dir.path());
 }
 
 #[test]
@@ -223,20 +234,7 @@ fn the_pnp_plant_learned_verifies_a_machine_the_hand_written_plant_verifies_and_
     let ecc = main_job(&n.path, ltl, &plant, traces, &dir.path().join("m"));
     let hand = Path::new("smv/pnp_surrogate.smv");
     assert!(verified(&n.path, &ecc, ltl, hand));
-    // Not vacuous: the machine of the recordings alone is refuted by both plants.
-    let own = dir.path().join("own");
-    let o = synth(&[
-        "-q",
-        "infer",
-        "--traces",
-        traces,
-        "--out",
-        own.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let own = own.join("SynthesizedFB.json");
-    assert!(!verified(&n.path, &own, ltl, hand));
-    assert!(!verified(&n.path, &own, ltl, &plant));
+    assert_own_machine_refuted(&n.path, traces, ltl, hand, &plant, dir.path());
 }
 
 #[test]
