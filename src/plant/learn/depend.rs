@@ -88,6 +88,9 @@ fn pulsed(runs: &Runs, z: usize) -> bool {
 /// The half of sensor `x`'s part that starts from value `v`, driven by `driver` (output,
 /// value in force) or moved by the environment.
 fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: usize) -> Half {
+    // Slack delays what the commands drive; the environment's bound change, which may come a
+    // scan early ([`super::early`]), comes at the latest as recorded.
+    let slack = if driver.is_some() { slack } else { 0 };
     let n = runs.inputs.len();
     let depends = match driver {
         Some((z, _)) => {
@@ -115,9 +118,7 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
             let rule = match (stays, changes) {
                 (_, 0) => Rule::To(v),
                 _ if driver.is_none() && !settled(runs, x, &depends, c) => Rule::Free,
-                // Slack delays what the commands drive; the environment's bound change, which
-                // may come a scan early ([`super::early`]), comes at the latest as recorded.
-                (0, _) if slack == 0 || driver.is_none() => Rule::To(!v),
+                (0, _) if slack == 0 => Rule::To(!v),
                 _ => Rule::Within(0, 0),
             };
             (c.clone(), rule)
@@ -128,7 +129,7 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
         if let Rule::Within(least, most) = rule {
             let (shortest, longest) = waits.get(c).copied().unwrap_or((0, None));
             *least = shortest / SPEEDUP;
-            *most = longest.map_or(0, |w| w + 1) + if driver.is_some() { slack } else { 0 };
+            *most = longest.map_or(0, |w| w + 1) + slack;
         }
     }
     Half {
