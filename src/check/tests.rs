@@ -433,6 +433,46 @@ fn successors_enumerate_sets_free_variables_and_constraints() {
     }
 }
 
+#[test]
+fn assignments_reading_next_values_are_evaluated_in_the_order_they_read_each_other() {
+    // c reads next(b), which reads next(a): declared c, b, a, so the order of evaluation is
+    // not the order of declaration.
+    let mut b = Builder::new(&["go"]);
+    let c = b.var("c", Type::Range(0, 2));
+    let x = b.var("b", Type::Bool);
+    let a = b.var("a", Type::Bool);
+    let go = b.param("go");
+    b.next(&a, set(vec![bool(false), bool(true)]));
+    b.next(&x, or(vec![next_of(&a), a.clone()]));
+    b.next(
+        &c,
+        case(vec![
+            (and(vec![next_of(&x), go]), set(vec![int(1), int(2)])),
+            (bool(true), int(0)),
+        ]),
+    );
+    let m = b.m;
+    let sem = Semantics::new(&m);
+    let (f, t) = (Value::Bool(false), Value::Bool(true));
+    let s = vec![Value::Int(0), f, f];
+    let expect: Vec<Vec<Value>> = vec![
+        vec![Value::Int(0), f, f],
+        vec![Value::Int(1), t, t],
+        vec![Value::Int(2), t, t],
+    ];
+    assert_eq!(sem.successors(&s, &[true], &[true]).unwrap(), expect);
+    let without_go = sem.successors(&s, &[false], &[false]).unwrap();
+    assert_eq!(
+        without_go,
+        vec![vec![Value::Int(0), f, f], vec![Value::Int(0), t, t]]
+    );
+    // A value known of a reader, or of what it reads, keeps the successors that show it.
+    let known = sem.successors_where(&s, &[true], &[true], &[(VarId(0), Value::Int(2))]);
+    assert_eq!(known.unwrap(), expect[2..].to_vec());
+    let known = sem.successors_where(&s, &[true], &[true], &[(VarId(2), f)]);
+    assert_eq!(known.unwrap(), expect[..1].to_vec());
+}
+
 /// The Pick-and-Place surrogate plant (`smv/pnp_surrogate.smv`), transcribed.
 pub(super) fn pnp_plant() -> Model {
     let mut b = Builder::new(&crate::cases::pnp::OUTPUTS);

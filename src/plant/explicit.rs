@@ -514,6 +514,28 @@ impl<'m> Semantics<'m> {
             vs.dedup();
             choices.push(vs);
         }
+        if let Some(order) = next_order(m, &later) {
+            // Each assignment that reads next values is evaluated once the values it reads are
+            // chosen, instead of trying every value of its domain: a learned plant whose
+            // environment reads the sensors' next values, with observers of next values,
+            // would otherwise try 2^k candidates per successor.
+            for &(i, _) in &order {
+                choices[i].truncate(1);
+            }
+            let mut found = Vec::new();
+            for_each_combination(m, &choices, &mut |s| {
+                let mut s = s.to_vec();
+                self.assign_next_readers(state, params, &order, known, &mut s, &mut |t| {
+                    if self.transition_ok(state, params, t, next_params)? {
+                        found.push(t.to_vec());
+                    }
+                    Ok(())
+                })
+            })?;
+            // The same order as the enumeration below: sorted, without repetition.
+            found.sort();
+            return found.iter().try_for_each(|t| f(t));
+        }
         for_each_combination(m, &choices, &mut |s| {
             if !later.is_empty() {
                 let mut env = Env::new(m, state, params, Some(s));
@@ -533,6 +555,39 @@ impl<'m> Semantics<'m> {
             }
             Ok(())
         })
+    }
+
+    /// Calls `f` on `s` with the variables of `order` (from the first) set, in turn, to each
+    /// value their `next` assignment gives on `state`, `params` and `s` (restricted by
+    /// `known`).
+    fn assign_next_readers(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        order: &[(usize, &Expr)],
+        known: &[(VarId, Value)],
+        s: &mut Vec<Value>,
+        f: &mut impl FnMut(&[Value]) -> Result<(), EvalError>,
+    ) -> Result<(), EvalError> {
+        let Some((&(i, e), rest)) = order.split_first() else {
+            return f(s);
+        };
+        let m = self.model;
+        let site = Site::Next(VarId(i));
+        let mut vs = Env::new(m, state, params, Some(s)).values(e, site)?;
+        if let Some(bad) = vs.iter().find(|v| !in_domain(&m.vars[i], **v)) {
+            return Err(out_of_domain(m, VarId(i), site, *bad));
+        }
+        if let Some(&(_, v)) = known.iter().find(|(k, _)| k.0 == i) {
+            vs.retain(|&x| x == v);
+        }
+        vs.sort();
+        vs.dedup();
+        for v in vs {
+            s[i] = v;
+            self.assign_next_readers(state, params, rest, known, s, f)?;
+        }
+        Ok(())
     }
 
     /// How many combinations of values the plant's free variables (`IVAR`s, `VAR`s without
@@ -627,6 +682,47 @@ fn out_of_domain(m: &Model, v: VarId, site: Site, value: Value) -> EvalError {
             var: m.var(v).name.clone(),
             value: m.show(value),
         },
+    }
+}
+
+/// The assignments of `later` (variable, `next` expression) ordered so that each comes after
+/// those whose next values it reads; `None` when they read each other in a cycle (left to
+/// the candidates' check, as NuSMV refuses such a model).
+fn next_order<'e>(m: &Model, later: &[(usize, &'e Expr)]) -> Option<Vec<(usize, &'e Expr)>> {
+    let mut left: Vec<(usize, &Expr, Vec<usize>)> = (later.iter())
+        .map(|&(i, e)| {
+            let mut read = Vec::new();
+            next_reads(m, e, &mut read);
+            read.retain(|w| *w != i && later.iter().any(|(j, _)| j == w));
+            (i, e, read)
+        })
+        .collect();
+    let mut order = Vec::with_capacity(left.len());
+    while !left.is_empty() {
+        let k = (left.iter())
+            .position(|(_, _, read)| read.iter().all(|w| order.iter().any(|(j, _)| j == w)))?;
+        let (i, e, _) = left.remove(k);
+        order.push((i, e));
+    }
+    Some(order)
+}
+
+/// The variables whose next value `e` reads (directly or through a define).
+fn next_reads(m: &Model, e: &Expr, out: &mut Vec<usize>) {
+    match e {
+        Expr::Next(v) => out.push(v.0),
+        Expr::Const(_) | Expr::Var(_) | Expr::Param(_) => {}
+        Expr::Define(d) => next_reads(m, &m.defines[d.0].expr, out),
+        Expr::Not(a) | Expr::Neg(a) => next_reads(m, a, out),
+        Expr::Bin(_, a, b) => {
+            next_reads(m, a, out);
+            next_reads(m, b, out);
+        }
+        Expr::Case(bs) => bs.iter().for_each(|(c, v)| {
+            next_reads(m, c, out);
+            next_reads(m, v, out);
+        }),
+        Expr::Set(items) => items.iter().for_each(|i| next_reads(m, i, out)),
     }
 }
 
