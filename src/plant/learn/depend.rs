@@ -25,22 +25,18 @@ type Counts = BTreeMap<Vec<bool>, (usize, usize)>;
 /// drives may come up to `slack` scans later than recorded. A sensor is the controller's when
 /// a command drives each of its changes ([`driver`]); otherwise the environment moves it (an
 /// operator's button, which no command releases; a piece put on a track), and it is free in
-/// the contexts where it was seen changing, from the start on.
-pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
-    let mut drivers = [false, true].map(|v| driver(runs, x, v));
-    for v in [false, true] {
-        let (this, other) = (usize::from(v), usize::from(!v));
-        if let (None, Some((z, b))) = (drivers[this], drivers[other]) {
-            drivers[this] = withdrawal(runs, x, v, z, !b);
-        }
-    }
+/// the contexts where it was seen changing, from the start on. The chance that a sensor
+/// gates the environment's change by coincidence is shared among the `family` changes of the
+/// environment's the recordings show ([`environment_changes`]).
+pub(crate) fn part(runs: &Runs, x: usize, slack: usize, family: usize) -> Part {
+    let drivers = drivers(runs, x);
     let commanded = drivers.iter().all(Option::is_some);
     let valve = valve(runs, drivers);
     let held = valve.map(|v| v.held(runs, x));
     let seen = held.as_ref().unwrap_or(runs);
     let halves = [false, true].map(|v| match (commanded, drivers[usize::from(v)]) {
-        (true, Some(d)) => half(seen, x, v, Some(d), slack),
-        _ => half(seen, x, v, None, slack),
+        (true, Some(d)) => half(seen, x, v, Some(d), slack, family),
+        _ => half(seen, x, v, None, slack, family),
     });
     let wait_cap = halves.iter().map(Half::wait_cap).max().unwrap_or(0);
     Part {
@@ -50,6 +46,35 @@ pub(crate) fn part(runs: &Runs, x: usize, slack: usize) -> Part {
         free_start: !commanded,
         valve,
     }
+}
+
+/// The commands that drive the rise and the fall of sensor `x` ([`driver`]); the other
+/// change of a sensor one command drives may be driven by its withdrawal ([`withdrawal`]).
+fn drivers(runs: &Runs, x: usize) -> [Option<(usize, bool)>; 2] {
+    let mut drivers = [false, true].map(|v| driver(runs, x, v));
+    for v in [false, true] {
+        let (this, other) = (usize::from(v), usize::from(!v));
+        if let (None, Some((z, b))) = (drivers[this], drivers[other]) {
+            drivers[this] = withdrawal(runs, x, v, z, !b);
+        }
+    }
+    drivers
+}
+
+/// How many changes the recordings show the environment making: the rises and falls they
+/// show of the sensors no command drives both ways. Each is tested for gates against every
+/// other sensor; a model of many such changes would otherwise gate one of them by chance
+/// (an operator seen putting pieces on one track only while the cup was up).
+pub(crate) fn environment_changes(runs: &Runs) -> usize {
+    (0..runs.inputs.len())
+        .filter(|&x| !drivers(runs, x).iter().all(Option::is_some))
+        .map(|x| {
+            [false, true]
+                .into_iter()
+                .filter(|&v| changes(runs, x, v).next().is_some())
+                .count()
+        })
+        .sum()
 }
 
 /// The valve of a sensor whose rise and fall `drivers` are two different outputs that the
@@ -87,12 +112,19 @@ fn pulsed(runs: &Runs, z: usize) -> bool {
 
 /// The half of sensor `x`'s part that starts from value `v`, driven by `driver` (output,
 /// value in force) or moved by the environment.
-fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: usize) -> Half {
+fn half(
+    runs: &Runs,
+    x: usize,
+    v: bool,
+    driver: Option<(usize, bool)>,
+    slack: usize,
+    family: usize,
+) -> Half {
     // Slack delays what the commands drive; the environment's bound change, which may come a
     // scan early ([`super::early`]), comes at the latest as recorded.
     let slack = if driver.is_some() { slack } else { 0 };
     let n = runs.inputs.len();
-    let depends = match driver {
+    let mut depends = match driver {
         Some((z, _)) => {
             let mut depends = dependencies(runs, x, v);
             if !depends.contains(&(n + z)) {
@@ -108,22 +140,20 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
                 driver,
                 rules: vec![(vec![v], Rule::Free)],
                 early: Vec::new(),
+                scenes: Vec::new(),
             }
         }
-        None => gates(runs, x, v),
+        None => gates(runs, x, v, 1),
     };
-    let counts = counts(runs, x, v, &depends);
-    let mut rules: Vec<(Vec<bool>, Rule)> = (counts.iter())
-        .map(|(c, &(stays, changes))| {
-            let rule = match (stays, changes) {
-                (_, 0) => Rule::To(v),
-                _ if driver.is_none() && !settled(runs, x, &depends, c) => Rule::Free,
-                (0, _) if slack == 0 => Rule::To(!v),
-                _ => Rule::Within(0, 0),
-            };
-            (c.clone(), rule)
-        })
-        .collect();
+    let mut rules = rules(runs, x, v, driver, slack, &depends);
+    // A change bound nowhere (an operator's, free wherever it was seen) is only narrowed by
+    // its gates: a gate there by chance leaves out runs the plant makes, and the verdicts
+    // would speak of fewer runs than the plant has. Its gates must hold up against every
+    // change of the environment's tested, not only its own.
+    if driver.is_none() && !rules.iter().any(|(_, r)| r.forces(v)) && family > 1 {
+        depends = gates(runs, x, v, family);
+        rules = self::rules(runs, x, v, driver, slack, &depends);
+    }
     let waits = dwell_bounds(runs, x, &depends, &rules);
     for (c, rule) in &mut rules {
         if let Rule::Within(least, most) = rule {
@@ -137,7 +167,33 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
         driver,
         rules,
         early: Vec::new(),
+        scenes: Vec::new(),
     }
+}
+
+/// The rule of each context of `depends` seen in the recordings, where sensor `x` is `v`:
+/// kept where it never changed; the environment's change free where seen, unless it always
+/// came there ([`settled`]); a command's change at once, or within bounds set from the
+/// recorded stays.
+fn rules(
+    runs: &Runs,
+    x: usize,
+    v: bool,
+    driver: Option<(usize, bool)>,
+    slack: usize,
+    depends: &[usize],
+) -> Vec<(Vec<bool>, Rule)> {
+    (counts(runs, x, v, depends).into_iter())
+        .map(|(c, (stays, changes))| {
+            let rule = match (stays, changes) {
+                (_, 0) => Rule::To(v),
+                _ if driver.is_none() && !settled(runs, x, depends, &c) => Rule::Free,
+                (0, _) if slack == 0 => Rule::To(!v),
+                _ => Rule::Within(0, 0),
+            };
+            (c, rule)
+        })
+        .collect()
 }
 
 /// The dependency set of a change the environment makes to sensor `x` from `v`: itself, then
@@ -146,10 +202,10 @@ fn half(runs: &Runs, x: usize, v: bool, driver: Option<(usize, bool)>, slack: us
 /// the scans where the ones before have their values. The operator or the stock does not read the
 /// controller's outputs, and a few chance coincidences (a stop button pressed mostly once
 /// the magazine ran empty) do not close a context to what the environment may do there.
-fn gates(runs: &Runs, x: usize, v: bool) -> Vec<usize> {
+fn gates(runs: &Runs, x: usize, v: bool, family: usize) -> Vec<usize> {
     let mut depends = vec![x];
     let mut within: Vec<(usize, bool)> = Vec::new();
-    let tests = 2 * runs.inputs.len().saturating_sub(1);
+    let tests = 2 * runs.inputs.len().saturating_sub(1) * family.max(1);
     let mut pass = Vec::new();
     for f in (0..runs.inputs.len()).filter(|&f| f != x) {
         for b in [false, true] {
@@ -510,7 +566,7 @@ mod tests {
     #[test]
     fn a_cylinder_is_driven_both_ways_and_its_start_is_recorded() {
         let r = runs(&[1, 9], &[0, 1, 2]);
-        let p = part(&r, 0, 0);
+        let p = part(&r, 0, 0, 1);
         assert_eq!(p.halves[0].driver, Some((0, true)));
         assert_eq!(p.halves[1].driver, Some((0, false)));
         assert!(!p.free_start);
@@ -520,7 +576,7 @@ mod tests {
     #[test]
     fn a_button_a_lamp_answers_is_the_environments_and_free_everywhere() {
         let r = runs(&[1, 9], &[0, 1, 2]);
-        let p = part(&r, 1, 0);
+        let p = part(&r, 1, 0, 1);
         assert!(p.free_start);
         assert!(p.halves.iter().all(|h| h.driver.is_none()));
         // No output is a dependency, and the button is free wherever it changed.
@@ -536,12 +592,12 @@ mod tests {
         assert!(reliable(&driven, 2, false, 0, true, true));
         let flaky = runs(&[1, 9], &[0, 2]);
         assert!(!reliable(&flaky, 2, false, 0, true, true));
-        assert!(part(&flaky, 2, 0).free_start);
+        assert!(part(&flaky, 2, 0, 1).free_start);
     }
 
     #[test]
     fn a_sensor_two_pulsed_commands_drive_follows_a_valve_that_keeps_the_last_pulse() {
-        let p = part(&Runs::of(&cup(false)), 0, 1);
+        let p = part(&Runs::of(&cup(false)), 0, 1, 1);
         assert_eq!(p.valve, Some(Valve { open: 0, close: 1 }));
         // Through the valve the grip may come a scan after the pulse ended (slack 1): the
         // context "valve open, cup not holding" is a delayed one.
@@ -549,7 +605,7 @@ mod tests {
         let open = (rise.depends.iter()).position(|&f| f == 1).unwrap();
         assert!((rise.rules.iter()).any(|(c, r)| c[open] && matches!(r, Rule::Within(0, 1))));
         // A command held on over two scans is no pulse: no valve.
-        assert_eq!(part(&Runs::of(&cup(true)), 0, 1).valve, None);
+        assert_eq!(part(&Runs::of(&cup(true)), 0, 1, 1).valve, None);
     }
 
     /// Runs of a track (sensors `piece`, `held`, `over`; commands `suck`, `away`): the
@@ -592,7 +648,7 @@ mod tests {
     #[test]
     fn a_piece_leaves_the_track_the_cup_holds_it_over_and_the_operator_stays_free() {
         let r = track();
-        let p = part(&r, 0, 0);
+        let p = part(&r, 0, 0, 1);
         assert!(p.free_start);
         let [put, taken] = &p.halves;
         // The operator puts pieces whatever the machine does: free, never forced.
@@ -612,7 +668,7 @@ mod tests {
     #[test]
     fn with_slack_the_piece_may_leave_in_the_scan_the_cup_grips_and_leaves_by_the_next() {
         let r = track();
-        let mut parts: Vec<Part> = (0..3).map(|x| part(&r, x, 1)).collect();
+        let mut parts: Vec<Part> = (0..3).map(|x| part(&r, x, 1, 1)).collect();
         assert!(!parts[1].free_start && !parts[2].free_start);
         crate::plant::learn::early(&mut parts);
         // The cup and the hand are the controller's: the piece may leave as they arrive.
@@ -624,6 +680,73 @@ mod tests {
         assert!(parts[1..]
             .iter()
             .all(|p| p.halves.iter().all(|h| h.early.is_empty())));
+    }
+
+    /// One run of a door that opens and closes every five scans and a button pressed for two
+    /// scans at scans 2, 22 and 42, each time while the door happens to be open; the lamp
+    /// shows the button.
+    fn door() -> Runs {
+        let (mut door, mut button) = (true, false);
+        let scans = (0..60)
+            .map(|k| {
+                let scan = Scan {
+                    inputs: vec![button, door],
+                    outputs: vec![button],
+                };
+                button = [2, 3, 22, 23, 42, 43].contains(&k);
+                door = (k + 1) / 5 % 2 == 0;
+                scan
+            })
+            .collect();
+        let origin = Origin {
+            file: "door.traces".into(),
+            line: 1,
+            rows: None,
+        };
+        Runs {
+            inputs: vec!["button".into(), "door".into()],
+            outputs: vec!["lamp".into()],
+            runs: vec![(origin, scans)],
+        }
+    }
+
+    #[test]
+    fn a_free_change_is_gated_only_by_what_holds_up_against_every_change_of_the_environment() {
+        let r = door();
+        // Four changes of the environment's: the button's and the door's rises and falls.
+        assert_eq!(environment_changes(&r), 4);
+        // Tested alone, the presses seem to wait for the door (a chance of 2% that they came
+        // only while it was open)...
+        assert_eq!(part(&r, 0, 0, 1).halves[0].depends, vec![0, 1]);
+        // ... which does not hold up against the four: the button is free whatever the door.
+        let p = part(&r, 0, 0, environment_changes(&r));
+        assert_eq!(p.halves[0].depends, vec![0]);
+        assert!((p.halves[0].rules.iter()).all(|(_, rule)| *rule == Rule::Free));
+        // A bound change keeps the gates its own test gives: they say where it is forced.
+        let taken = &part(&track(), 0, 0, 1000).halves[1];
+        assert_eq!(taken.depends, vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn the_scene_of_a_bound_change_is_what_the_controllers_sensors_showed_at_every_scan_there() {
+        // The track with two more sensors of the controller's: a lamp on the hand, lit in
+        // the even cycles only, and a hood, down from scan 2 to 9 of each cycle.
+        let mut r = track();
+        r.inputs.extend(["lit".into(), "hood".into()]);
+        for (_, scans) in &mut r.runs {
+            for (k, scan) in scans.iter_mut().enumerate() {
+                scan.inputs
+                    .extend([k / 12 % 2 == 0, (2..10).contains(&(k % 12))]);
+            }
+        }
+        let commanded = [false, true, true, true, true];
+        // Wherever the cup held a piece over the track, the hood was down; the lamp was lit
+        // or not.
+        let scene = crate::plant::learn::scene(&r, &[0, 1, 2], &[true; 3], &commanded);
+        assert_eq!(scene, vec![(4, true)]);
+        // The environment's sensors are no part of the scene.
+        let scene = crate::plant::learn::scene(&r, &[0, 1, 2], &[true; 3], &[false; 5]);
+        assert!(scene.is_empty());
     }
 
     #[test]

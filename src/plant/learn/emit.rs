@@ -116,11 +116,7 @@ fn header(
                 false => n.join(", "),
             }
         };
-        let bound = (p.halves.iter()).any(|h| {
-            (h.rules.iter()).any(|(c, r)| {
-                matches!(r, Rule::To(to) if *to != c[0]) || matches!(r, Rule::Within(..))
-            })
-        });
+        let bound = (p.halves.iter()).any(|h| (h.rules.iter()).any(|(c, r)| r.forces(c[0])));
         let kind = match (p.free_start, p.wait_cap) {
             (true, _) if bound => {
                 " (the environment's: free where seen changing, bound where it always came)"
@@ -233,8 +229,12 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
                 Rule::To(to) if to == v => {}
                 Rule::To(to) => {
                     let _ = writeln!(t, "        {ctx} : {};", constant(to));
-                    // In the same scan as the sensors it waits for, the change may come.
+                    // In the same scan as the sensors it waits for, the change may come; where
+                    // they held, each in this scan or the next, but will not all hold in the
+                    // next (the cup gripped as it left), it comes now.
                     if early != ctx {
+                        let held = arrived(h, c, runs);
+                        let _ = writeln!(t, "        {early} & !({held}) : {};", constant(to));
                         let _ = writeln!(t, "        {early} : {{FALSE, TRUE}};");
                     }
                 }
@@ -273,13 +273,38 @@ fn next(t: &mut String, p: &Part, runs: &Runs) {
     }
 }
 
-/// The context `c` of half `h` of part `p` as a conjunction; a part behind a valve reads
-/// it where its halves read the commands that set it ([`Valve::held`]). With `early`, a
-/// sensor of [`Half::early`] has its value in it now or in the next scan.
+/// The literals of context `c` (with its scene) of half `h` read by the next scan: each
+/// sensor of [`Half::early`] at its value in `next(..)`.
+fn arrived(h: &Half, c: &[bool], runs: &Runs) -> String {
+    let lits: Vec<String> = (literals(h, c).into_iter())
+        .filter(|(f, _)| h.early.contains(f))
+        .map(|(f, v)| literal(&format!("next({})", runs.signal_name(f)), v))
+        .collect();
+    lits.join(" & ")
+}
+
+/// The scene of context `c` of half `h` ([`Half::scenes`]): none where the change is not
+/// bound.
+fn scene<'h>(h: &'h Half, c: &[bool]) -> &'h [(usize, bool)] {
+    (h.scenes.iter())
+        .find(|(k, _)| k == c)
+        .map_or(&[], |(_, s)| s.as_slice())
+}
+
+/// The literals of context `c` of half `h`, then of its scene.
+fn literals(h: &Half, c: &[bool]) -> Vec<(usize, bool)> {
+    let mut lits: Vec<(usize, bool)> = h.depends.iter().copied().zip(c.iter().copied()).collect();
+    lits.extend_from_slice(scene(h, c));
+    lits
+}
+
+/// The context `c` of half `h` of part `p` as a conjunction, with its scene; a part behind a
+/// valve reads it where its halves read the commands that set it ([`Valve::held`]). With
+/// `early`, a sensor of [`Half::early`] has its value in it now or in the next scan.
 fn context(p: &Part, h: &Half, c: &[bool], runs: &Runs, early: bool) -> String {
     let n = runs.inputs.len();
-    let lits: Vec<String> = (h.depends.iter().zip(c))
-        .map(|(&f, &v)| match (p.valve, f.checked_sub(n)) {
+    let lits: Vec<String> = (literals(h, c).into_iter())
+        .map(|(f, v)| match (p.valve, f.checked_sub(n)) {
             (Some(valve), Some(z)) if z == valve.open => literal(&opened(runs, p.sensor), v),
             (Some(valve), Some(z)) if z == valve.close => literal(&opened(runs, p.sensor), !v),
             _ if early && h.early.contains(&f) => {
@@ -307,5 +332,54 @@ fn constant(v: bool) -> &'static str {
     match v {
         true => "TRUE",
         false => "FALSE",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn with_slack_a_bound_change_whose_gates_held_a_scan_apart_comes_by_the_next_scan() {
+        let runs = Runs {
+            inputs: vec!["piece".into(), "held".into(), "over".into(), "hood".into()],
+            outputs: vec![],
+            runs: vec![],
+        };
+        let keep = Half {
+            depends: vec![0],
+            driver: None,
+            rules: vec![(vec![false], Rule::Free)],
+            early: vec![],
+            scenes: vec![],
+        };
+        // Taken where the cup holds it over the track, with the hood down as at every
+        // recorded scan there; the cup and the hood may arrive in the scan it leaves.
+        let taken = Half {
+            depends: vec![0, 1, 2],
+            driver: None,
+            rules: vec![(vec![true; 3], Rule::To(false))],
+            early: vec![1, 2, 3],
+            scenes: vec![(vec![true; 3], vec![(3, true)])],
+        };
+        let part = Part {
+            sensor: 0,
+            halves: [keep, taken],
+            wait_cap: 0,
+            free_start: true,
+            valve: None,
+        };
+        let mut t = String::new();
+        next(&mut t, &part, &runs);
+        let held = "piece & (held | next(held)) & (over | next(over)) & (hood | next(hood))";
+        let lines = [
+            "        !piece : {FALSE, TRUE};".to_string(),
+            "        piece & held & over & hood : FALSE;".into(),
+            format!("        {held} & !(next(held) & next(over) & next(hood)) : FALSE;"),
+            format!("        {held} : {{FALSE, TRUE}};"),
+            "        TRUE : piece;".into(),
+        ];
+        let body: Vec<&str> = t.lines().skip(1).take(lines.len()).collect();
+        assert_eq!(body, lines, "{t}");
     }
 }

@@ -40,19 +40,27 @@
 //!   read the controller's outputs) that matter to it in the sense above, with the number of
 //!   sensors tried shared out, then those that matter among the scans where the first hold
 //!   (the cup holds a piece: over the track it leaves, over the slider a new piece stays);
-//!   usually none, so that a button is free in every context. A change of the environment's
-//!   sensor never recorded (a switch turned on, not back) is free everywhere, and the sensor
-//!   starts free.
+//!   usually none, so that a button is free in every context. A change bound nowhere (an
+//!   operator's) is only narrowed by its gates, and a gate there by chance would leave out
+//!   runs the plant makes: its gates must pass the test with the chance shared among every
+//!   change of the environment's the recordings show, not only its own. A change of the
+//!   environment's sensor never recorded (a switch turned on, not back) is free everywhere,
+//!   and the sensor starts free.
 //! - *Behaviour*: in a context seen in the recordings the sensor takes the values seen there;
 //!   the environment's change is free there, unless at least three recorded stays in the
 //!   context ended with it and none with the context left (a piece leaves the track the cup
-//!   holds it over): then it comes there at the latest as recorded. In a context never seen
+//!   holds it over): then it comes there at the latest as recorded, where the controller's
+//!   sensors outside the context show what they showed at every recorded scan in it (the
+//!   scene: the hand over this track, not over another while a piece waits here). In a
+//!   context never seen
 //!   the sensor keeps its value (a sensor does not change without a cause). Every command is
 //!   accepted in every state (the model is receptive by construction).
 //! - *Scans*: with `--slack`, where the model's scan need not be the recording PLC's, a
 //!   change a command drives may come that many scans later than recorded, and a change the
 //!   environment makes when a sensor of the controller's has a value may come in the scan that
-//!   sensor takes it (the piece leaves as the cup grips, `next(vac)`).
+//!   sensor takes it (the piece leaves as the cup grips, `next(vac)`); where such a bound
+//!   change's sensors all held, each in this scan or the next, but will not all hold in the
+//!   next (the cup gripped as it left), it comes by the next scan.
 //! - *Delays*: in an ambiguous context of a driven change, the sensor must change once it
 //!   stayed longer than the longest stay recorded there (plus a slack), and may change once
 //!   it stayed a quarter of the shortest stay recorded before a change (a counter per sensor
@@ -212,10 +220,17 @@ pub(crate) struct Half {
     /// Per context seen (values of `depends`, in order; the sensor's own value first): the
     /// rule.
     pub(crate) rules: Vec<(Vec<bool>, Rule)>,
-    /// The sensors among `depends` whose value in a context may also be the one they take
-    /// in the same scan ([`early`]).
+    /// The controller's sensors among `depends` and the scenes whose value in a context may
+    /// also be the one they take in the same scan ([`early`]).
     pub(crate) early: Vec<usize>,
+    /// Per context where the environment's change is bound: the controller's sensors outside
+    /// `depends` with one value at every recorded change there ([`scenes`]); it is bound only
+    /// where they have it.
+    pub(crate) scenes: Vec<(Vec<bool>, Scene)>,
 }
+
+/// Sensors at the value each had (signal index, value).
+pub(crate) type Scene = Vec<(usize, bool)>;
 
 impl Half {
     /// The largest dwell bound of a delayed rule (0: no counter).
@@ -240,6 +255,17 @@ pub(crate) enum Rule {
     /// A command moves it: it keeps its value while it stayed fewer than the first count of
     /// scans, may change from then on, and must once it stayed the second.
     Within(usize, usize),
+}
+
+impl Rule {
+    /// Whether the rule forces the change of a sensor that is `v` (at once or within bounds).
+    pub(crate) fn forces(self, v: bool) -> bool {
+        match self {
+            Rule::To(to) => to != v,
+            Rule::Within(..) => true,
+            Rule::Free => false,
+        }
+    }
 }
 
 /// A learned plant.
@@ -310,9 +336,11 @@ pub(crate) fn learn(
 ) -> Result<Learned, LearnError> {
     let runs = Runs::of(set);
     refuse_too_short(&runs, set)?;
+    let family = depend::environment_changes(&runs);
     let mut parts: Vec<Part> = (0..runs.inputs.len())
-        .map(|x| depend::part(&runs, x, slack))
+        .map(|x| depend::part(&runs, x, slack, family))
         .collect();
+    scenes(&mut parts, &runs);
     if slack > 0 {
         early(&mut parts);
     }
@@ -339,11 +367,56 @@ fn early(parts: &mut [Part]) {
     for p in parts.iter_mut().filter(|p| p.free_start) {
         let x = p.sensor;
         for h in p.halves.iter_mut().filter(|h| h.driver.is_none()) {
-            h.early = (h.depends.iter().copied())
+            let scenes = h.scenes.iter().flat_map(|(_, s)| s.iter().map(|&(f, _)| f));
+            let mut early: Vec<usize> = (h.depends.iter().copied())
                 .filter(|&f| f != x && commanded.get(f) == Some(&true))
+                .chain(scenes)
+                .collect();
+            early.sort_unstable();
+            early.dedup();
+            h.early = early;
+        }
+    }
+}
+
+/// Where the environment's change is bound (a piece leaves the track the cup holds it
+/// over), the scene of the context: each sensor of the controller's that had one value at
+/// every recorded scan there. The gates say where the change may come; forcing it where the
+/// machine stood otherwise than ever recorded (the cup gripping over another track while a
+/// piece waits on this one) would speak beyond the recordings, so there the sensor keeps its
+/// value, as in any context never seen.
+fn scenes(parts: &mut [Part], runs: &Runs) {
+    let commanded: Vec<bool> = parts.iter().map(|p| !p.free_start).collect();
+    for p in parts.iter_mut().filter(|p| p.free_start) {
+        for (v, h) in [false, true].into_iter().zip(p.halves.iter_mut()) {
+            h.scenes = (h.rules.iter())
+                .filter(|(_, r)| r.forces(v))
+                .map(|(c, _)| (c.clone(), scene(runs, &h.depends, c, &commanded)))
                 .collect();
         }
     }
+}
+
+/// The controller's sensors outside `depends` that had one value at every recorded scan in
+/// context `c` of `depends` (the stays there and the changes alike), with that value.
+fn scene(runs: &Runs, depends: &[usize], c: &[bool], commanded: &[bool]) -> Scene {
+    let seen: Vec<&Scan> = (runs.transitions())
+        .map(|(s, _)| s)
+        .filter(|s| {
+            depends
+                .iter()
+                .map(|&f| runs.signal(s, f))
+                .eq(c.iter().copied())
+        })
+        .collect();
+    let Some(first) = seen.first() else {
+        return Vec::new();
+    };
+    (0..runs.inputs.len())
+        .filter(|f| commanded[*f] && !depends.contains(f))
+        .filter(|&f| seen.iter().all(|s| s.inputs[f] == first.inputs[f]))
+        .map(|f| (f, first.inputs[f]))
+        .collect()
 }
 
 /// Refuses recordings that show no transition, an output never on or a sensor never
