@@ -19,7 +19,8 @@ pub struct LearnPlantArgs {
     pub observe: Option<PathBuf>,
     /// Scans a sensor change a command drives may come later than recorded (the model's scan
     /// need not be the recording PLC's); from 1 on, a change the environment makes when a
-    /// sensor has a value may also come in the scan that sensor takes it.
+    /// sensor has a value may also come in the scan that sensor takes it, and comes by the
+    /// next scan where its sensors held a scan apart (the cup gripped as it left).
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub slack: usize,
     /// What is known of the plant beyond the recordings, as named LTL properties over the

@@ -38,9 +38,9 @@ pub struct MainArgs {
     )]
     pub observe: Option<PathBuf>,
     /// With --learn-plant: scans a sensor change a command drives may come later than
-    /// recorded (the model's scan need not be the recording PLC's); from 1 on, a change the
-    /// environment makes when a sensor has a value may also come in the scan that sensor
-    /// takes it.
+    /// recorded (the model's scan need not be the recording PLC's); from 1 on, the
+    /// environment's changes may come as the sensors they wait for arrive (see
+    /// `synth learn-plant --help`).
     #[arg(
         long,
         default_value_t = 0,
