@@ -52,9 +52,9 @@
 //!   holds it over): then it comes there at the latest as recorded, where the controller's
 //!   sensors outside the context show what they showed at every recorded scan in it (the
 //!   scene: the hand over this track, not over another while a piece waits here). In a
-//!   context never seen
-//!   the sensor keeps its value (a sensor does not change without a cause). Every command is
-//!   accepted in every state (the model is receptive by construction).
+//!   context never seen the sensor keeps its value (a sensor does not change without a
+//!   cause). Every command is accepted in every state (the model is receptive by
+//!   construction).
 //! - *Scans*: with `--slack`, where the model's scan need not be the recording PLC's, a
 //!   change a command drives may come that many scans later than recorded, and a change the
 //!   environment makes when a sensor of the controller's has a value may come in the scan that
@@ -224,7 +224,7 @@ pub(crate) struct Half {
     /// also be the one they take in the same scan ([`early`]).
     pub(crate) early: Vec<usize>,
     /// Per context where the environment's change is bound: the controller's sensors outside
-    /// `depends` with one value at every recorded change there ([`scenes`]); it is bound only
+    /// `depends` with one value at every recorded scan there ([`scenes`]); it is bound only
     /// where they have it.
     pub(crate) scenes: Vec<(Vec<bool>, Scene)>,
 }
