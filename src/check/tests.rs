@@ -473,6 +473,21 @@ fn assignments_reading_next_values_are_evaluated_in_the_order_they_read_each_oth
     assert_eq!(known.unwrap(), expect[..1].to_vec());
 }
 
+#[test]
+fn an_assignment_reading_its_own_next_value_is_checked_on_every_candidate() {
+    // The parser refuses such a model; one built in memory keeps the candidates' semantics.
+    let (f, t) = (Value::Bool(false), Value::Bool(true));
+    for (negated, expect) in [(true, vec![]), (false, vec![vec![f], vec![t]])] {
+        let mut b = Builder::new(&[]);
+        let x = b.var("x", Type::Bool);
+        let own = next_of(&x);
+        b.next(&x, if negated { not(own) } else { own });
+        let m = b.m;
+        let succ = Semantics::new(&m).successors(&[f], &[], &[]).unwrap();
+        assert_eq!(succ, expect, "negated: {negated}");
+    }
+}
+
 /// The Pick-and-Place surrogate plant (`smv/pnp_surrogate.smv`), transcribed.
 pub(super) fn pnp_plant() -> Model {
     let mut b = Builder::new(&crate::cases::pnp::OUTPUTS);

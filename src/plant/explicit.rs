@@ -693,7 +693,8 @@ fn next_order<'e>(m: &Model, later: &[(usize, &'e Expr)]) -> Option<Vec<(usize, 
         .map(|&(i, e)| {
             let mut read = Vec::new();
             next_reads(m, e, &mut read);
-            read.retain(|w| *w != i && later.iter().any(|(j, _)| j == w));
+            // A variable reading its own next value is a cycle too: never ready below.
+            read.retain(|w| later.iter().any(|(j, _)| j == w));
             (i, e, read)
         })
         .collect();
