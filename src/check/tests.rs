@@ -474,6 +474,69 @@ fn assignments_reading_next_values_are_evaluated_in_the_order_they_read_each_oth
 }
 
 #[test]
+fn successors_with_next_readers_are_the_candidates_every_assignment_admits() {
+    use crate::plant::explicit::{eval, Site};
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let (f, t) = (Value::Bool(false), Value::Bool(true));
+    for round in 0..200 {
+        // Four Boolean variables; each assignment reads current values, the parameter and
+        // the next values of the variables before it in a random order.
+        let mut b = Builder::new(&["u"]);
+        let vars: Vec<Expr> = (0..4)
+            .map(|k| b.var(&format!("v{k}"), Type::Bool))
+            .collect();
+        let u = b.param("u");
+        let mut order: Vec<usize> = (0..4).collect();
+        for k in (1..4).rev() {
+            order.swap(k, rng.gen_range(0..=k));
+        }
+        for (pos, &k) in order.iter().enumerate() {
+            let mut leaf = |rng: &mut rand_chacha::ChaCha8Rng| match rng.gen_range(0..4) {
+                0 if pos > 0 => next_of(&vars[order[rng.gen_range(0..pos)]]),
+                1 => u.clone(),
+                _ => vars[rng.gen_range(0..4)].clone(),
+            };
+            let e = match rng.gen_range(0..4) {
+                0 => set(vec![bool(false), bool(true)]),
+                1 => bin(BinOp::And, leaf(&mut rng), not(leaf(&mut rng))),
+                2 => case(vec![
+                    (leaf(&mut rng), set(vec![bool(false), bool(true)])),
+                    (bool(true), leaf(&mut rng)),
+                ]),
+                _ => bin(BinOp::Or, leaf(&mut rng), leaf(&mut rng)),
+            };
+            if rng.gen_bool(0.9) {
+                b.next(&vars[k], e);
+            }
+        }
+        let m = b.m;
+        let sem = Semantics::new(&m);
+        let state: Vec<Value> = (0..4)
+            .map(|_| if rng.gen_bool(0.5) { t } else { f })
+            .collect();
+        let params = [rng.gen_bool(0.5)];
+        let mut expect = Vec::new();
+        for bits in 0..16u32 {
+            let cand: Vec<Value> = (0..4)
+                .map(|k| if bits >> (3 - k) & 1 == 1 { t } else { f })
+                .collect();
+            let admitted = m.vars.iter().enumerate().all(|(k, var)| match &var.next {
+                Some(e) => eval(&m, e, Site::Next(VarId(k)), &state, &params, Some(&cand))
+                    .unwrap()
+                    .contains(&cand[k]),
+                None => true,
+            });
+            if admitted {
+                expect.push(cand);
+            }
+        }
+        let succ = sem.successors(&state, &params, &params).unwrap();
+        assert_eq!(succ, expect, "round {round}: {:?}", m.vars);
+    }
+}
+
+#[test]
 fn an_assignment_reading_its_own_next_value_is_checked_on_every_candidate() {
     // The parser refuses such a model; one built in memory keeps the candidates' semantics.
     let (f, t) = (Value::Bool(false), Value::Bool(true));
