@@ -492,7 +492,7 @@ fn successors_with_next_readers_are_the_candidates_every_assignment_admits() {
             order.swap(k, rng.gen_range(0..=k));
         }
         for (pos, &k) in order.iter().enumerate() {
-            let mut leaf = |rng: &mut rand_chacha::ChaCha8Rng| match rng.gen_range(0..4) {
+            let leaf = |rng: &mut rand_chacha::ChaCha8Rng| match rng.gen_range(0..4) {
                 0 if pos > 0 => next_of(&vars[order[rng.gen_range(0..pos)]]),
                 1 => u.clone(),
                 _ => vars[rng.gen_range(0..4)].clone(),
