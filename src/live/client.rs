@@ -92,6 +92,16 @@ fn is_connection_status(status: StatusCode) -> bool {
     .contains(&status)
 }
 
+/// Whether a Read failed because the server does not know the session (yet): it restarted,
+/// and the client library is making a new one.
+fn is_session_coming_back(status: StatusCode) -> bool {
+    [
+        StatusCode::BadUserAccessDenied,
+        StatusCode::BadSessionNotActivated,
+    ]
+    .contains(&status)
+}
+
 impl Sampler {
     /// Connects to `conn.url` and checks that every node of `mapping` (ids in `ids`) reads as
     /// a bit.
@@ -230,6 +240,12 @@ impl Sampler {
         let values = match read {
             Err(_) => return Ok(Reading::Gap),
             Ok(Err(status)) if is_connection_status(status) => return Ok(Reading::Gap),
+            // A server restarted under a running session refuses its reads until the client
+            // library has made and activated a new session: the connection is still coming
+            // back. Before the first reading the same answer is the server's refusal.
+            Ok(Err(status)) if self.first.is_some() && is_session_coming_back(status) => {
+                return Ok(Reading::Gap)
+            }
             Ok(Err(status)) => {
                 return Err(LiveError::Connect {
                     url: self.url.clone(),
