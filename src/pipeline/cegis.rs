@@ -39,6 +39,32 @@ pub(crate) struct Config {
     /// same number of states, or after this much of the loop's CPU time refuting candidates of
     /// one number of states.
     pub(crate) stall: Option<(usize, std::time::Duration)>,
+    /// Counterexamples an earlier turn of the loop on the same problem learned, encoded before
+    /// the first candidate.
+    pub(crate) learned: Learned,
+}
+
+/// Counterexamples a turn of the loop learned: facts about every machine that satisfies the
+/// properties with this plant, so another turn on the same problem (with other bounds) starts
+/// from them instead of finding them again one candidate at a time.
+#[derive(Debug, Clone, Default)]
+pub struct Learned {
+    /// Behaviours no verified machine shows (beside the user's negative scenarios).
+    pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
+    /// Runs of the plant's free variables along which every encoded property must hold.
+    pub(crate) environments: Vec<crate::sat::closed_loop::Environment>,
+}
+
+impl Learned {
+    /// How many counterexamples were learned.
+    pub fn len(&self) -> usize {
+        self.negatives.len() + self.environments.len()
+    }
+
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 /// [`Iteration::checked_by`] of a final pass that found no smaller machine than the candidate
@@ -119,7 +145,7 @@ pub enum CegisError {
     },
     /// Candidates kept being refuted without the loop moving on to more states or
     /// transitions ([`Config::stall`]).
-    #[error("no progress: {rounds} candidates in a row with C = {c} in {seconds:.1} s, refuted one counterexample at a time")]
+    #[error("no progress: {rounds} candidates in a row with C = {c} in {seconds:.1} s, refuted one counterexample at a time ({} counterexamples learned)", learned.len())]
     Stalled {
         /// Refuted candidates in a row.
         rounds: usize,
@@ -127,6 +153,8 @@ pub enum CegisError {
         c: usize,
         /// Seconds since the first of them.
         seconds: f64,
+        /// What the loop learned, for another turn.
+        learned: Box<Learned>,
     },
     /// A property fails but NuSMV's trace lacks a controller input or output as a Boolean, so
     /// it cannot become a negative scenario.
@@ -375,6 +403,17 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         for neg in &config.negatives {
             synth.add_negative(neg.clone());
         }
+        for neg in &config.learned.negatives {
+            if !synth.negatives().contains(neg) {
+                synth.add_negative(neg.clone());
+            }
+        }
+        if let Some(closed) = closed {
+            for env in &config.learned.environments {
+                // A duplicate is refused, and adds nothing anyway.
+                let _ = synth.add_environment(&closed.spec, env.clone());
+            }
+        }
         synth.set_minimize_n(true);
         Cegis {
             set,
@@ -471,6 +510,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
                     rounds: n,
                     c,
                     seconds: since.elapsed().as_secs_f64(),
+                    learned: Box::new(self.learned()),
                 })
             }
             _ => Ok(()),
@@ -479,7 +519,18 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
 
     /// Counterexamples (negative scenarios and environments) added so far.
     fn counterexamples(&self) -> usize {
-        self.synth.negatives().len() + self.synth.environments()
+        self.synth.negatives().len() + self.synth.environments().len()
+    }
+
+    /// The counterexamples the loop learned (the user's negative scenarios left out).
+    fn learned(&self) -> Learned {
+        Learned {
+            negatives: (self.synth.negatives().iter())
+                .filter(|n| !self.config.negatives.contains(n))
+                .cloned()
+                .collect(),
+            environments: self.synth.environments().to_vec(),
+        }
     }
 
     /// Back to candidates after a counterexample: no final pass, candidate proofs.

@@ -84,6 +84,9 @@ pub struct Options {
     /// refuting them (the loop learning one behaviour at a time: another engine's turn);
     /// `None`: never.
     pub stall: Option<(usize, std::time::Duration)>,
+    /// With a check: counterexamples an earlier turn of the loop on the same problem learned
+    /// ([`super::CegisError::Stalled`]).
+    pub learned: super::Learned,
 }
 
 impl Default for Options {
@@ -96,6 +99,7 @@ impl Default for Options {
             proof_budget: DEFAULT_PROOF_BUDGET,
             negatives: Vec::new(),
             stall: None,
+            learned: Default::default(),
         }
     }
 }
@@ -185,6 +189,7 @@ pub fn run(
         proof_budget: opts.proof_budget,
         negatives: opts.negatives.clone(),
         stall: opts.stall,
+        learned: opts.learned.clone(),
     };
     let closed = match super::loop_encoding::LoopEncoding::new(
         &check.problem,

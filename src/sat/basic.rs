@@ -586,9 +586,9 @@ impl<'a> Synthesizer<'a> {
         self.minimize_n = on;
     }
 
-    /// How many environments are encoded.
-    pub(crate) fn environments(&self) -> usize {
-        self.environments.len()
+    /// The environments encoded so far ([`Self::add_environment`]), in order.
+    pub(crate) fn environments(&self) -> &[closed_loop::Environment] {
+        &self.environments
     }
 
     /// The negative scenarios added so far ([`Self::add_negative`]), in order; the CEGIS loop

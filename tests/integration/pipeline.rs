@@ -47,6 +47,50 @@ fn exact_with_a_check_is_certified_by_nusmv_and_replays() {
     assert!(again.report.all_hold());
 }
 
+/// A loop stopped for lack of progress hands every counterexample it learned to the next
+/// turn on the same problem, which then never proposes a machine one of them refutes.
+#[test]
+fn a_stalled_loop_hands_what_it_learned_to_the_next_turn() {
+    let set = lamp();
+    let Some(check) = lamp_check(&set) else {
+        return;
+    };
+    let fresh = exact::run(&set, Some(&check), &exact::Options::default(), &mut |_| {}).unwrap();
+    let refuted = |r: &exact::Exact| {
+        r.iterations
+            .iter()
+            .filter(|i| !i.failing.is_empty())
+            .count()
+    };
+    assert!(refuted(&fresh) >= 2, "{:?}", fresh.iterations);
+    let stalling = exact::Options {
+        stall: Some((1, std::time::Duration::from_secs(3600))),
+        ..exact::Options::default()
+    };
+    let learned = match exact::run(&set, Some(&check), &stalling, &mut |_| {}) {
+        Err(pipeline::Error::Cegis(pipeline::CegisError::Stalled { learned, .. })) => learned,
+        other => panic!(
+            "expected the loop to stall: {:?}",
+            other.map(|r| r.iterations)
+        ),
+    };
+    assert!(!learned.is_empty());
+    let next = exact::Options {
+        learned: *learned,
+        ..exact::Options::default()
+    };
+    let r = exact::run(&set, Some(&check), &next, &mut |_| {}).unwrap();
+    assert!(r.certificate.as_ref().expect("checked").report.all_hold());
+    set.check(&r.synthesis.ecc).unwrap();
+    assert_eq!(r.synthesis.size, fresh.synthesis.size);
+    assert!(
+        refuted(&r) < refuted(&fresh),
+        "{:?} after {:?}",
+        r.iterations,
+        fresh.iterations
+    );
+}
+
 #[test]
 fn search_ends_with_nusmv_s_verdict_on_its_machine() {
     let set = lamp();

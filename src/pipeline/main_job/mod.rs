@@ -23,7 +23,8 @@
 //!    states, or [`STALL_TIME`] of its own CPU time refuting them, it hands over to the
 //!    guide, as in 1. When the guide has no machine, the exact loop again for the time left;
 //!    when it gives up the error says what the recordings never show and what the game says
-//!    of the problem.
+//!    of the problem. Both later turns of the loop (below the guide's machine, or alone
+//!    again) start from the counterexamples the first one learned.
 //! 3. With the search ([`Method::Search`]): its verified machine bounds the exact loop (at
 //!    most its states, for as long as the search took, at least 30 s); when that finds no
 //!    smaller machine, the search's machine is made small along the closed loop
@@ -222,6 +223,18 @@ fn handing_over(
     events(Event::MainJob(Step::Stalled {
         why: stalled.to_string(),
     }));
+    // The loop's later turns (below the guide's machine, or alone again) start from what it
+    // learned: the same counterexamples would otherwise be found again, one candidate at a time.
+    let super::CegisError::Stalled { learned, .. } = stalled else {
+        unreachable!("matched above")
+    };
+    let opts = &Options {
+        exact: exact::Options {
+            learned: *learned,
+            ..opts.exact.clone()
+        },
+        ..opts.clone()
+    };
     match guided(set, check, explained, opts, events)? {
         Guided::Machine(m) => Ok(*m),
         Guided::Declined(why) => exact_loop(set, check, explained, opts, Some(why), events),
