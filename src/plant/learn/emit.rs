@@ -96,7 +96,7 @@ fn header(
     t.push_str(
         "-- Assumes: a sensor keeps its value in a context the recordings never show; a sensor\n",
     );
-    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*); a sensor no command moves both ways is the environment's:\n-- free where seen changing, but bound to change where every recorded stay ended so.\n");
+    t.push_str("-- a command moves changes at the latest after the longest stay recorded, and not before a\n-- quarter of the shortest (wait_*); a sensor no command moves both ways is the environment's:\n-- free where seen changing, but bound to change where every recorded stay ended so, while the\n-- controller's other sensors show what they showed at every such scan (elsewhere it keeps its value).\n");
     if let Some(o) = observers {
         let _ = writeln!(
             t,
