@@ -165,6 +165,18 @@ pub enum CegisError {
     },
 }
 
+impl CegisError {
+    /// A stall's message and what the loop learned, for the next turn; any other error as
+    /// it is.
+    pub(crate) fn into_stall(self) -> Result<(String, Learned), CegisError> {
+        let why = self.to_string();
+        match self {
+            CegisError::Stalled { learned, .. } => Ok((why, *learned)),
+            other => Err(other),
+        }
+    }
+}
+
 /// Runs CEGIS; `verifier` holds the closed-loop model of the current candidate.
 pub(crate) fn run(
     set: &ScenarioSet,

@@ -209,7 +209,7 @@ fn handing_over(
 ) -> Result<VerifiedMachine, Error> {
     let mut first = opts.exact.clone();
     first.stall = Some((STALL_ROUNDS, STALL_TIME));
-    let stalled = match opts.limit.exact(set, check, &first, events) {
+    let (why, learned) = match opts.limit.exact(set, check, &first, events) {
         Ok(r) => {
             let (ecc, certificate, exact) = exact_parts(r, opts)?;
             return Ok(VerifiedMachine {
@@ -218,20 +218,17 @@ fn handing_over(
                 summary: Summary::Exact(exact),
             });
         }
-        Err(Error::Cegis(e @ super::CegisError::Stalled { .. })) => e,
+        Err(Error::Cegis(e)) => e
+            .into_stall()
+            .map_err(|e| why_none(set, check, explained, opts, None, Error::Cegis(e), events))?,
         Err(e) => return Err(why_none(set, check, explained, opts, None, e, events)),
     };
-    events(Event::MainJob(Step::Stalled {
-        why: stalled.to_string(),
-    }));
+    events(Event::MainJob(Step::Stalled { why }));
     // The loop's later turns (below the guide's machine, or alone again) start from what it
     // learned: the same counterexamples would otherwise be found again, one candidate at a time.
-    let super::CegisError::Stalled { learned, .. } = stalled else {
-        unreachable!("matched above")
-    };
     let opts = &Options {
         exact: exact::Options {
-            learned: *learned,
+            learned,
             ..opts.exact.clone()
         },
         ..opts.clone()
