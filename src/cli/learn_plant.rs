@@ -12,6 +12,17 @@ use std::path::PathBuf;
 pub struct LearnPlantArgs {
     #[command(flatten)]
     pub traces: TraceArgs,
+    #[command(flatten)]
+    pub learning: LearningArgs,
+    /// The plant file to write (`MODULE plant(<controller outputs>)`).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+}
+
+/// How a plant is learned: the options `synth learn-plant` and the main job's
+/// `--learn-plant` share.
+#[derive(Debug, Args, Clone)]
+pub struct LearningArgs {
     /// SMV declarations (VAR, DEFINE, ASSIGN) added to the learned module: the names the
     /// properties use that no recording shows (an overflow, a "piece placed" event), over the
     /// sensors and controller outputs.
@@ -29,9 +40,17 @@ pub struct LearnPlantArgs {
     /// model does not enforce them.
     #[arg(long, value_name = "FILE")]
     pub assume: Option<PathBuf>,
-    /// The plant file to write (`MODULE plant(<controller outputs>)`).
-    #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+}
+
+impl LearningArgs {
+    /// The learner's options.
+    pub fn options(&self) -> Options {
+        Options {
+            observe: self.observe.clone(),
+            slack: self.slack,
+            assume: self.assume.clone(),
+        }
+    }
 }
 
 /// Arguments of `synth compare-plants`.
@@ -56,12 +75,11 @@ pub struct ComparePlantsArgs {
 
 /// `synth learn-plant`.
 pub fn learn_plant(args: &LearnPlantArgs) -> Result<(), Error> {
-    let options = Options {
-        observe: args.observe.clone(),
-        slack: args.slack,
-        assume: args.assume.clone(),
-    };
-    let written = run(&args.traces.recordings(), &options, &args.out)?;
+    let written = run(
+        &args.traces.recordings(),
+        &args.learning.options(),
+        &args.out,
+    )?;
     for line in written.lines() {
         out!("{line}");
     }

@@ -4,17 +4,35 @@
 //! `synth learn-plant` learns it, and published with the machine as `plant.smv`.
 
 use super::args::{parse_formats, time_limit, AlgorithmsArg, Judge, NusmvArgs, Start, TraceArgs};
+use super::learn_plant::LearningArgs;
 use super::progress::Progress;
 use super::show::print_files;
-use crate::command::learn_plant;
 use crate::command::main_job::{self as job, Request};
 use crate::pipeline::{self, exact, main_job, search, Error};
 use clap::{ArgGroup, Args, ValueEnum};
 use std::path::PathBuf;
+/// The help heading of the options that say how the plant is learned.
+const LEARNING: &str = "With --learn-plant";
+
 /// Arguments of the main job (no subcommand).
 #[derive(Debug, Args, Clone)]
 // The plant is read (`--plant`) or learned (`--learn-plant`): exactly one of them.
 #[command(group(ArgGroup::new("plant_source").args(["plant", "learn_plant"])))]
+// How the plant is learned applies only when it is learned.
+#[command(
+    mut_arg("observe", |a| a
+        .requires("learn_plant")
+        .conflicts_with("plant")
+        .help_heading(LEARNING)),
+    mut_arg("slack", |a| a
+        .requires("learn_plant")
+        .conflicts_with("plant")
+        .help_heading(LEARNING)),
+    mut_arg("assume", |a| a
+        .requires("learn_plant")
+        .conflicts_with("plant")
+        .help_heading(LEARNING))
+)]
 pub struct MainArgs {
     /// LTL properties, one per line (NuSMV syntax over bare names; `--` comments; `name:`).
     #[arg(long, value_name = "FILE")]
@@ -27,39 +45,8 @@ pub struct MainArgs {
     /// `plant.smv` in the output folder, its figures under `learned_plant` in `summary.json`.
     #[arg(long)]
     pub learn_plant: bool,
-    /// With --learn-plant: SMV declarations (VAR, DEFINE, ASSIGN) added to the learned
-    /// module: the names the properties use that no recording shows (an overflow, a "piece
-    /// placed" event), over the sensors and controller outputs.
-    #[arg(
-        long,
-        value_name = "FILE",
-        requires = "learn_plant",
-        conflicts_with = "plant"
-    )]
-    pub observe: Option<PathBuf>,
-    /// With --learn-plant: scans a sensor change a command drives may come later than
-    /// recorded (the model's scan need not be the recording PLC's); from 1 on, the
-    /// environment's changes may come as the sensors they wait for arrive (see
-    /// `synth learn-plant --help`).
-    #[arg(
-        long,
-        default_value_t = 0,
-        value_name = "N",
-        requires = "learn_plant",
-        conflicts_with = "plant"
-    )]
-    pub slack: usize,
-    /// With --learn-plant: what is known of the plant beyond the recordings, as named LTL
-    /// properties over the sensors (the format of --ltl): the recordings are checked against
-    /// them (one that breaks an assumption is named with its step) and the plant's header
-    /// lists them; the learned model does not enforce them.
-    #[arg(
-        long,
-        value_name = "FILE",
-        requires = "learn_plant",
-        conflicts_with = "plant"
-    )]
-    pub assume: Option<PathBuf>,
+    #[command(flatten)]
+    pub learning: LearningArgs,
     /// Scenario files. Default: `<stem>.traces` beside the --ltl file (specs/pnp.ltl ->
     /// specs/pnp.traces), with names from `<stem>.inputs` / `<stem>.outputs`.
     #[arg(long = "traces", value_name = "FILE", num_args = 1..)]
@@ -189,11 +176,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), Error> {
     };
     let request = Request {
         spec,
-        learn_plant: args.learn_plant.then(|| learn_plant::Options {
-            observe: args.observe.clone(),
-            slack: args.slack,
-            assume: args.assume.clone(),
-        }),
+        learn_plant: args.learn_plant.then(|| args.learning.options()),
         recordings: TraceArgs {
             traces: args.traces.clone(),
             input_names: args.input_names.clone(),
