@@ -79,6 +79,8 @@ pub enum Stage {
         steps: usize,
         /// The machine (`None`: none within the state limit).
         size: Option<Size>,
+        /// Whether its `T` and `N` are proven least for the runs.
+        proven: bool,
         /// SAT seconds.
         seconds: f64,
     },
@@ -123,10 +125,15 @@ impl std::fmt::Display for Stage {
                 runs,
                 steps,
                 size,
+                proven,
                 seconds,
             } => write!(
                 f,
-                "guide: least machine{} for the recordings and {runs} closed-loop runs of it ({steps} steps): {} (SAT {seconds:.2} s)",
+                "guide: {} machine{} for the recordings and {runs} closed-loop runs of it ({steps} steps): {}{} (SAT {seconds:.2} s)",
+                match proven {
+                    true => "least",
+                    false => "the fewest-states",
+                },
                 match conventions.is_empty() {
                     true => String::new(),
                     false => format!(" with {conventions}"),
@@ -134,6 +141,10 @@ impl std::fmt::Display for Stage {
                 match size {
                     Some(size) => size.to_string(),
                     None => "none within the state limit, the repaired machine is judged".into(),
+                },
+                match (proven, size) {
+                    (false, Some(_)) => "; T and N as found, not proven least within the guide's budget",
+                    _ => "",
                 }
             ),
             Stage::Written { conventions, size } => write!(
@@ -169,9 +180,8 @@ pub(crate) struct Guided {
     pub(crate) size: Size,
     /// NuSMV's verdicts on it (all hold) and the model it checked.
     pub(crate) certificate: Certificate,
-    /// Whether the guide's machine is the least machine for the recordings and the runs (else
-    /// the repaired one); [`Self::polished`] says whether it was made smaller since.
-    pub(crate) least_for_runs: bool,
+    /// Which machine the guide's is; [`Self::polished`] says whether it was made smaller since.
+    pub(crate) origin: Origin,
     /// Whether it was made smaller by local moves after the guide ([`super::polish`]).
     pub(crate) polished: bool,
     /// The fewest states of any machine in the user's conventions that reproduces the
@@ -186,6 +196,24 @@ pub(crate) struct Guided {
     /// Seconds in SAT.
     pub(crate) sat_seconds: f64,
 }
+
+/// Which machine the guide gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Origin {
+    /// The least machine for the recordings and the runs: `C`, `T` and `N` proven.
+    LeastForRuns,
+    /// The machine with the fewest states for the recordings and the runs, its `T` and `N`
+    /// as found (a proof ran out of its budget).
+    ForRuns,
+    /// The repaired machine (the one for the runs failed NuSMV, or there was none).
+    Repaired,
+}
+
+/// How hard the least machine for the runs is proven least, once a call of its descent has
+/// been slow ([`sat::Proofs::Quick`]; in the solver's work, about two seconds): the polish and
+/// the exact loop below the guide's machine look for smaller ones anyway, while refuting one
+/// transition fewer can take longer than all the rest of the guide.
+const RUNS_PROOF_EFFORT: crate::sat::solver::Effort = crate::sat::solver::Effort::Work(8_000_000);
 
 /// What the guide gives.
 pub(crate) enum Outcome {
@@ -370,7 +398,10 @@ impl Guide<'_, '_> {
             start_state: self.conventions.start_state,
             ..self.sat.clone()
         };
-        let small = match sat::synthesize(&guided, &tree, &opts, &mut |_| {}) {
+        let proofs = sat::Proofs::Quick(RUNS_PROOF_EFFORT);
+        let small = match sat::Synthesizer::with_proofs(&guided, &tree, &opts, proofs)
+            .minimize(&mut |_| {})
+        {
             Ok(small) => {
                 guided.check(&small.ecc).map_err(|d| {
                     Error::Bug(format!(
@@ -389,6 +420,7 @@ impl Guide<'_, '_> {
             runs: n_runs,
             steps,
             size: small.as_ref().map(|s| s.size),
+            proven: small.as_ref().is_some_and(proven_least),
             seconds,
         });
         Ok(small)
@@ -406,17 +438,18 @@ impl Guide<'_, '_> {
         let mut verifier = check.verifier()?;
         let verified_small = match small {
             Some(small) => match self.judge(&mut verifier, &small.ecc, "least")? {
-                (v, true) => Some((v, small.ecc)),
+                (v, true) => Some((v, proven_least(&small), small.ecc)),
                 (_, false) => None,
             },
             None => None,
         };
-        let (certificate, least_for_runs, ecc) = match verified_small {
-            Some((v, ecc)) => (v, true, ecc),
+        let (certificate, origin, ecc) = match verified_small {
+            Some((v, true, ecc)) => (v, Origin::LeastForRuns, ecc),
+            Some((v, false, ecc)) => (v, Origin::ForRuns, ecc),
             None => {
                 let repaired = self.written(repaired)?;
                 match self.judge(&mut verifier, &repaired, "repaired")? {
-                    (v, true) => (v, false, repaired),
+                    (v, true) => (v, Origin::Repaired, repaired),
                     (v, false) => {
                         return Err(Error::Bug(format!(
                             "the closed-loop game says the repaired machine keeps every property, NuSMV says it fails {}",
@@ -439,7 +472,7 @@ impl Guide<'_, '_> {
                 report: certificate.report,
                 model_text: certificate.model.text,
             },
-            least_for_runs,
+            origin,
             polished: false,
             least_states: self.least_states,
             stages: self.stages,
@@ -488,4 +521,9 @@ impl Guide<'_, '_> {
         });
         Ok((v, failing.is_empty()))
     }
+}
+
+/// Whether a synthesis proved its `T` and `N` least.
+fn proven_least(s: &sat::Synthesis) -> bool {
+    s.transitions_exact && s.guards_exact
 }

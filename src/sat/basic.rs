@@ -401,7 +401,17 @@ pub(crate) enum Proofs {
     /// As `Full`, but the refutation that ends the descent is tried on a fresh solver within
     /// this effort; if it does not finish, `T` is reported as not proven minimal.
     Budget(Effort),
+    /// As `Full` while each call on the incremental solver takes under [`QUICK_CALL`]; after a
+    /// slower one, every further bound of `T` on a fresh solver within this effort, and `T`
+    /// is reported as not proven minimal if one does not finish. For a machine that others
+    /// will try to make smaller anyway: the refutation after a slow call usually takes longer
+    /// still.
+    Quick(Effort),
 }
+
+/// A call on the incremental solver longer than this makes a [`Proofs::Quick`] descent
+/// budgeted.
+const QUICK_CALL: Duration = Duration::from_secs(1);
 
 /// Exact synthesis, kept incremental across calls: negative scenarios can be added between
 /// minimizations (CEGIS), and every call continues on the same solver.
@@ -1006,6 +1016,7 @@ impl Descent<'_> {
             (Some(lo), _) if lo == self.t => true,
             (t_lo, Proofs::Skip) => self.candidate_t(&base_t, t_lo),
             (_, Proofs::Budget(budget)) => self.descend_t_within(&base_t, t_floor, budget),
+            (_, Proofs::Quick(effort)) => self.descend_t_quick(&base_t, t_floor, effort),
             (Some(lo), Proofs::Full) if lo < self.t && self.hint.is_none() => {
                 self.ascend_t(lo);
                 true
@@ -1154,6 +1165,44 @@ impl Descent<'_> {
             self.trying(Bound::T, self.t - 1);
             let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
             match self.enc.solver.solve_spending(&assume, &mut allowance) {
+                Bounded::Sat(m) => {
+                    self.read(&m);
+                    self.t = self.structure.transition_count();
+                }
+                Bounded::Unsat => break,
+                Bounded::Unknown => return false,
+            }
+        }
+        true
+    }
+
+    /// As [`Self::descend_t`] into `self.t` while each call takes under [`QUICK_CALL`]; after
+    /// a slower one, each further bound on a fresh solver within `effort` in all. Says whether
+    /// the result is proven least.
+    fn descend_t_quick(&mut self, base: &[Lit], floor: usize, effort: Effort) -> bool {
+        let mut allowance = None;
+        while self.t > floor {
+            let Some(b) = self.enc.total_t.at_most(self.t - 1) else {
+                break;
+            };
+            self.trying(Bound::T, self.t - 1);
+            let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
+            let answer = match &mut allowance {
+                Some(allowance) => self.enc.solver.solve_spending(&assume, allowance),
+                None => {
+                    let started = Instant::now();
+                    let answer = match self.enc.solver.solve(&assume) {
+                        Some(m) => Bounded::Sat(m),
+                        None if self.enc.solver.stopped() => Bounded::Unknown,
+                        None => Bounded::Unsat,
+                    };
+                    if started.elapsed() > QUICK_CALL {
+                        allowance = Some(effort.start());
+                    }
+                    answer
+                }
+            };
+            match answer {
                 Bounded::Sat(m) => {
                     self.read(&m);
                     self.t = self.structure.transition_count();

@@ -233,6 +233,26 @@ fn finite_negative_prefix_forbids_reproducing_it() {
 }
 
 #[test]
+fn quick_proofs_prove_the_least_transitions_when_every_call_is_quick() {
+    // The lamp of two buttons below: every call takes milliseconds, so the quick descent
+    // runs on the incremental solver to the end and proves what the full one proves.
+    let s = set(EITHER);
+    let tree = ScenarioTree::build(&s).unwrap();
+    let o = opts(AlgorithmKind::Tri);
+    let full = synthesize(&s, &tree, &o, &mut |_| {}).unwrap();
+    let quick = basic::Proofs::Quick(solver::Effort::Work(0));
+    let r = Synthesizer::with_proofs(&s, &tree, &o, quick)
+        .minimize(&mut |_| {})
+        .unwrap();
+    assert_eq!((r.size.c, r.size.t), (full.size.c, full.size.t));
+    assert!(
+        r.transitions_exact,
+        "T refuted one below on the incremental solver"
+    );
+    s.check(&r.ecc).unwrap();
+}
+
+#[test]
 fn smaller_exists_refutes_below_the_minimum_and_finds_above_it() {
     // Two scenarios from the same state to different targets (as above), in the cube model.
     let text = "2\nin=REQ[10]; out=CNF[10];\nin=REQ[01]; out=CNF[01]; in=REQ[10]; out=CNF[11];\n";

@@ -404,7 +404,8 @@ fn guide_machine(
     let summary = Summary::Turn(Turn::Guide(GuideSummary {
         exact_loop_below_it: after,
         size: g.size,
-        least_for_recordings_and_runs: g.least_for_runs,
+        least_for_recordings_and_runs: g.origin == guide::Origin::LeastForRuns,
+        for_runs_unproven: g.origin == guide::Origin::ForRuns,
         states_at_least: g.least_states,
         made_smaller: g.polished,
         conventions: opts.exact.sat.conventions().to_string(),

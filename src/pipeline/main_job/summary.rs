@@ -82,6 +82,11 @@ pub struct GuideSummary {
     /// runs (else it is the repaired machine, not minimal); `made_smaller` says whether the
     /// result is a smaller machine made from it.
     pub(crate) least_for_recordings_and_runs: bool,
+    /// The guide's machine has the fewest states for the recordings and the runs, its `T`
+    /// and `N` not proven least for them (within the guide's budget). In `summary.json` the
+    /// `guide` line that says so stands for it.
+    #[serde(skip)]
+    pub(crate) for_runs_unproven: bool,
     /// Proven: no machine in the asked form with fewer states reproduces the recordings
     /// (`None`: not proven, with binary algorithms).
     pub(crate) states_at_least: Option<usize>,
@@ -227,10 +232,11 @@ impl std::fmt::Display for Summary {
                     g.sat_seconds,
                     g.nusmv_seconds,
                     plural(g.nusmv_calls, "check"),
-                    match (g.made_smaller, g.least_for_recordings_and_runs) {
-                        (true, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
-                        (false, true) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
-                        (false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
+                    match (g.made_smaller, g.least_for_recordings_and_runs, g.for_runs_unproven) {
+                        (true, _, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
+                        (false, true, _) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                        (false, false, true) => "C is least for the recordings and the closed-loop runs of the guide, T and N are not proven least for them; a smaller machine that answers differently where nothing was recorded is not ruled out",
+                        (false, false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
                     }
                 )?;
                 match g.states_at_least {

@@ -105,6 +105,7 @@ fn guide_summary() -> GuideSummary {
         exact_loop_below_it: "no smaller machine".into(),
         size: exact_summary().size,
         least_for_recordings_and_runs: true,
+        for_runs_unproven: false,
         states_at_least: Some(6),
         made_smaller: false,
         conventions: String::new(),
