@@ -15,14 +15,15 @@
 //!    ([`crate::game::repair`]): its answers to the recordings are kept;
 //! 3. that machine recorded along every node of its closed loop with the game, and the least
 //!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]) in the
-//!    user's conventions ([`Conventions`]: binary algorithms, a start state);
+//!    user's conventions ([`Conventions`]: binary algorithms, a start state); its `T` is
+//!    proven only while the solver's calls stay quick ([`sat::Proofs::Quick`]);
 //! 4. NuSMV judges it; if it fails, the repaired machine itself, which the game says wins,
 //!    written in the user's conventions (the same runs, [`Conventions::written`]): if NuSMV
 //!    refutes that one too, one of the two checkers is wrong ([`Error::Bug`]).
 //!
-//! The result is least (C, then T, then N) for the recordings *and the runs* among the
-//! machines in the user's conventions; a smaller machine that answers differently where
-//! nothing was recorded is not ruled out.
+//! The result is least (C, then T, then N, unless its line says T and N are as found) for
+//! the recordings *and the runs* among the machines in the user's conventions; a smaller
+//! machine that answers differently where nothing was recorded is not ruled out.
 //!
 //! Steps 1 and 2 work with three-valued algorithms and no start state whatever the user asked:
 //! the repair's moves are three-valued, and a machine in fbSAT's conventions ([`Conventions`])
