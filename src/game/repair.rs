@@ -22,6 +22,7 @@
 
 use super::{bits, Strategy, NONE};
 use crate::ecc::{Algorithm, Ecc, Guard, InputId, State, StateId, Transition, Tri};
+use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::{Origin, Scenario, Step};
 use std::collections::{HashMap, HashSet, VecDeque};
 
@@ -446,6 +447,46 @@ pub(crate) fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repa
         table.overrides.insert((q, e.obs), target);
     }
     Err(RepairError::Rounds(max_rounds))
+}
+
+/// The recordings' tree as a machine: a state per node, entered with the node's outputs, a
+/// transition per recorded active step, guarded by its whole input vector. It answers every
+/// recording as recorded and merges no two histories, so a repair that the least machine's
+/// merges block (a defect whose culprit is an answer the recordings fix in a shared state)
+/// can start from it. `like` gives the interface and initial outputs.
+pub(crate) fn tree_machine(tree: &ScenarioTree, like: &Ecc) -> Ecc {
+    let cube = |u: InputVec| {
+        Guard::And(
+            (tree.input_vectors[u.0].iter().enumerate())
+                .map(|(i, &b)| match b {
+                    true => Guard::Var(InputId(i)),
+                    false => Guard::Not(Box::new(Guard::Var(InputId(i)))),
+                })
+                .collect(),
+        )
+    };
+    let states = (tree.nodes.iter().enumerate())
+        .map(|(v, node)| State {
+            name: format!("s{v}"),
+            algorithm: Algorithm::Tri(
+                (node.outputs.iter())
+                    .map(|&b| if b { Tri::One } else { Tri::Zero })
+                    .collect(),
+            ),
+            transitions: (node.children.iter())
+                .map(|&(u, child)| Transition {
+                    target: StateId(child.0),
+                    guard: cube(u),
+                })
+                .collect(),
+        })
+        .collect();
+    Ecc {
+        inputs: like.inputs.clone(),
+        outputs: like.outputs.clone(),
+        initial_outputs: like.initial_outputs.clone(),
+        states,
+    }
 }
 
 /// Whether `ecc` wins the game: every closed-loop run stays in winning positions and meets

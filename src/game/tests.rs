@@ -211,6 +211,23 @@ fn a_machine_that_never_works_is_repaired_until_it_serves_every_job() {
 }
 
 #[test]
+fn the_recordings_tree_as_a_machine_replays_them_and_is_repaired_until_it_wins() {
+    // Two recordings: a passive step and a job served at once.
+    let set = recorded(&[
+        &[(false, Some(false)), (false, None)],
+        &[(false, Some(false)), (true, Some(true)), (false, Some(false))],
+    ]);
+    let s = won(SERVED, &set);
+    let tree = ScenarioTree::build(&set).unwrap();
+    let machine = repair::tree_machine(&tree, &least(&set));
+    assert_eq!(machine.states.len(), tree.nodes.len());
+    set.check(&machine).unwrap();
+    let r = repair::repair(&s, &machine, 100).unwrap();
+    assert!(repair::wins(&s, &r.ecc).unwrap());
+    set.check(&r.ecc).unwrap();
+}
+
+#[test]
 fn an_answer_that_breaks_a_safety_property_is_replaced_and_the_recorded_ones_kept() {
     use crate::ecc::{Algorithm, Ecc, Guard, State, StateId, Transition, Tri};
     let set = recorded(&[&[(false, Some(false))]]);

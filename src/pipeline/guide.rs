@@ -12,7 +12,9 @@
 //! once, but its strategy is large. So:
 //! 1. solve the game (positions: plant × outputs × property monitors × recordings);
 //! 2. the least machine SAT finds for the recordings alone, repaired until it wins the game
-//!    ([`crate::game::repair`]): its answers to the recordings are kept;
+//!    ([`crate::game::repair`]): its answers to the recordings are kept. Where its merged
+//!    states join recorded answers the game needs apart, and the caller allows it
+//!    ([`RepairStart`]), the recordings' tree as a machine is repaired instead;
 //! 3. that machine recorded along every node of its closed loop with the game, and the least
 //!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]) in the
 //!    user's conventions ([`Conventions`]: binary algorithms, a start state); its `T` is
@@ -62,6 +64,9 @@ pub enum Stage {
     Repaired {
         /// The least machine for the recordings alone.
         base: Size,
+        /// The repair started from the recordings' tree as a machine
+        /// ([`repair::tree_machine`], this size), the least machine's merges blocking it.
+        from_tree: Option<Size>,
         /// The repaired machine (overrides on whole input vectors).
         size: Size,
         /// Fixes made.
@@ -113,12 +118,24 @@ impl std::fmt::Display for Stage {
             ),
             Stage::Repaired {
                 base,
+                from_tree: None,
                 size,
                 rounds,
                 seconds,
             } => write!(
                 f,
                 "guide: the least machine for the recordings alone ({base}) repaired in {rounds} rounds until it wins the game: C={} ({seconds:.2} s)",
+                size.c
+            ),
+            Stage::Repaired {
+                base,
+                from_tree: Some(tree),
+                size,
+                rounds,
+                seconds,
+            } => write!(
+                f,
+                "guide: the least machine for the recordings alone ({base}) cannot be repaired (its states join recorded answers the game needs apart); the recordings' tree as a machine ({tree}) repaired in {rounds} rounds until it wins the game: C={} ({seconds:.2} s)",
                 size.c
             ),
             Stage::Small {
@@ -198,6 +215,17 @@ pub(crate) struct Guided {
     pub(crate) sat_seconds: f64,
 }
 
+/// What the repair may start from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RepairStart {
+    /// The least machine for the recordings alone; the guide declines when its merged states
+    /// keep it from winning.
+    Least,
+    /// Then the recordings' tree as a machine ([`repair::tree_machine`]): more states to
+    /// start from, a larger machine for SAT to shrink.
+    LeastOrTree,
+}
+
 /// Which machine the guide gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Origin {
@@ -238,6 +266,7 @@ pub(crate) fn run(
     set: &ScenarioSet,
     check: &Check,
     conventions: Conventions,
+    start: RepairStart,
     events: Events<'_>,
 ) -> Result<Outcome, Error> {
     let mut guide = Guide {
@@ -249,6 +278,7 @@ pub(crate) fn run(
         nusmv_seconds: 0.0,
         sat: sat_options(check),
         conventions,
+        start,
         least_states: None,
     };
     let (tree, strategy) = match guide.game(check)? {
@@ -278,6 +308,8 @@ struct Guide<'a, 'e> {
     sat: sat::Options,
     /// The form of the guide's machine (step 3 on).
     conventions: Conventions,
+    /// What the repair may start from.
+    start: RepairStart,
     /// The least C of the recordings alone (step 2), a bound on every machine in the user's
     /// conventions: SAT proved it for three-valued algorithms without a start state; a start
     /// state only narrows the machines, binary algorithms widen them (a toggle needs one state
@@ -354,18 +386,23 @@ impl Guide<'_, '_> {
         })?;
         self.least_states =
             (self.conventions.algorithms == crate::ecc::AlgorithmKind::Tri).then_some(base.size.c);
+        let mut from_tree = None;
         let repaired = match repair::repair(strategy, &base.ecc, MAX_ROUNDS) {
             Ok(r) => r,
-            Err(e) => {
-                return Ok(Err(format!(
-                    "the closed-loop game is won ({} positions): a controller that answers the recordings as recorded and keeps every property exists (in the tool's own model of the plant; NuSMV has not checked it), but the repair of the recordings' machine failed: {e}",
-                    strategy.positions
-                )))
+            Err(e @ repair::RepairError::Recorded(_)) if self.start == RepairStart::LeastOrTree => {
+                let tree_machine = repair::tree_machine(tree, &base.ecc);
+                from_tree = Some(tree_machine.size());
+                match repair::repair(strategy, &tree_machine, MAX_ROUNDS) {
+                    Ok(r) => r,
+                    Err(_) => return Ok(Err(self.unrepaired(strategy, e))),
+                }
             }
+            Err(e) => return Ok(Err(self.unrepaired(strategy, e))),
         };
         self.sat_seconds = started.elapsed().as_secs_f64();
         self.stage(Stage::Repaired {
             base: base.size,
+            from_tree,
             size: repaired.ecc.size(),
             rounds: repaired.rounds,
             seconds: self.sat_seconds,
@@ -376,6 +413,14 @@ impl Guide<'_, '_> {
             ))
         })?;
         Ok(Ok(repaired))
+    }
+
+    /// Why the guide has no machine when the game is won but the repair failed with `e`.
+    fn unrepaired(&self, strategy: &game::Strategy, e: repair::RepairError) -> String {
+        format!(
+            "the closed-loop game is won ({} positions): a controller that answers the recordings as recorded and keeps every property exists (in the tool's own model of the plant; NuSMV has not checked it), but the repair of the recordings' machine failed: {e}",
+            strategy.positions
+        )
     }
 
     /// Step 3: the repaired machine recorded along every node of its closed loop with the

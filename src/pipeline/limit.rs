@@ -151,10 +151,11 @@ impl Limit {
         set: &ScenarioSet,
         check: &Check,
         conventions: crate::ecc::Conventions,
+        start: super::guide::RepairStart,
         events: Events<'_>,
     ) -> Result<super::guide::Outcome, Error> {
         self.run(events, |deadline, events| {
-            super::guide::run(set, &check.until(deadline), conventions, events)
+            super::guide::run(set, &check.until(deadline), conventions, start, events)
         })
     }
 }

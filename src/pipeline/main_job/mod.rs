@@ -44,6 +44,7 @@ pub use summary::{BelowGuideSummary, ExactSummary, GuideSummary, SearchSummary, 
 
 use super::exact::{self, Certificate, Exact};
 use super::explain::{self, Explanation};
+use super::guide::RepairStart;
 use super::limit::Limit;
 use super::{guide, polish, search, Check, Class, Error, Event, Events};
 use crate::ecc::{Ecc, Size};
@@ -157,7 +158,10 @@ pub fn run(
 ) -> Result<VerifiedMachine, Error> {
     let mut guide_said = None;
     if guides(opts, explained) {
-        match guided(set, check, explained, opts, events)? {
+        // First: a guide that cannot repair the least machine declines at once, and the
+        // exact loop has its turn (a machine repaired from the tree's has more states than
+        // the loop usually finds).
+        match guided(set, check, explained, opts, RepairStart::Least, events)? {
             Guided::Machine(m) => return Ok(*m),
             Guided::Declined(why) => guide_said = Some(why),
         }
@@ -233,7 +237,15 @@ fn handing_over(
         },
         ..opts.clone()
     };
-    match guided(set, check, explained, opts, events)? {
+    // The loop has stalled: a larger machine from the guide is better than its going on alone.
+    match guided(
+        set,
+        check,
+        explained,
+        opts,
+        RepairStart::LeastOrTree,
+        events,
+    )? {
         Guided::Machine(m) => Ok(*m),
         Guided::Declined(why) => exact_loop(set, check, explained, opts, Some(why), events),
     }
@@ -253,12 +265,13 @@ fn guided(
     check: &Check,
     explained: &Explanation,
     opts: &Options,
+    start: RepairStart,
     events: Events<'_>,
 ) -> Result<Guided, Error> {
     events(Event::MainJob(Step::GuideStarted));
     let max_states = opts.exact.sat.max_states;
     let conventions = opts.exact.sat.conventions();
-    let why = match opts.limit.guide(set, check, conventions, events) {
+    let why = match opts.limit.guide(set, check, conventions, start, events) {
         Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
             let m = below_guide(set, check, *g, opts, events)?;
             return Ok(Guided::Machine(Box::new(m)));
