@@ -215,7 +215,11 @@ fn the_recordings_tree_as_a_machine_replays_them_and_is_repaired_until_it_wins()
     // Two recordings: a passive step and a job served at once.
     let set = recorded(&[
         &[(false, Some(false)), (false, None)],
-        &[(false, Some(false)), (true, Some(true)), (false, Some(false))],
+        &[
+            (false, Some(false)),
+            (true, Some(true)),
+            (false, Some(false)),
+        ],
     ]);
     let s = won(SERVED, &set);
     let tree = ScenarioTree::build(&set).unwrap();
