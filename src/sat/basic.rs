@@ -1158,22 +1158,9 @@ impl Descent<'_> {
     /// first).
     fn descend_t_within(&mut self, base: &[Lit], floor: usize, budget: Effort) -> bool {
         let mut allowance = budget.start();
-        while self.t > floor {
-            let Some(b) = self.enc.total_t.at_most(self.t - 1) else {
-                break;
-            };
-            self.trying(Bound::T, self.t - 1);
-            let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-            match self.enc.solver.solve_spending(&assume, &mut allowance) {
-                Bounded::Sat(m) => {
-                    self.read(&m);
-                    self.t = self.structure.transition_count();
-                }
-                Bounded::Unsat => break,
-                Bounded::Unknown => return false,
-            }
-        }
-        true
+        self.descend_t_by(base, floor, |solver, assume| {
+            solver.solve_spending(assume, &mut allowance)
+        })
     }
 
     /// As [`Self::descend_t`] into `self.t` while each call takes under [`QUICK_CALL`]; after
@@ -1181,28 +1168,38 @@ impl Descent<'_> {
     /// the result is proven least.
     fn descend_t_quick(&mut self, base: &[Lit], floor: usize, effort: Effort) -> bool {
         let mut allowance = None;
+        self.descend_t_by(base, floor, |solver, assume| {
+            if let Some(allowance) = &mut allowance {
+                return solver.solve_spending(assume, allowance);
+            }
+            let started = Instant::now();
+            let answer = match solver.solve(assume) {
+                Some(m) => Bounded::Sat(m),
+                None if solver.stopped() => Bounded::Unknown,
+                None => Bounded::Unsat,
+            };
+            if started.elapsed() > QUICK_CALL {
+                allowance = Some(effort.start());
+            }
+            answer
+        })
+    }
+
+    /// Fewer transitions than `self.t`, one bound at a time down to `floor`, each asked by
+    /// `solve`; says whether the result is proven least (`false`: a call gave up).
+    fn descend_t_by(
+        &mut self,
+        base: &[Lit],
+        floor: usize,
+        mut solve: impl FnMut(&mut Solver, &[Lit]) -> Bounded,
+    ) -> bool {
         while self.t > floor {
             let Some(b) = self.enc.total_t.at_most(self.t - 1) else {
                 break;
             };
             self.trying(Bound::T, self.t - 1);
             let assume: Vec<Lit> = base.iter().copied().chain([b]).collect();
-            let answer = match &mut allowance {
-                Some(allowance) => self.enc.solver.solve_spending(&assume, allowance),
-                None => {
-                    let started = Instant::now();
-                    let answer = match self.enc.solver.solve(&assume) {
-                        Some(m) => Bounded::Sat(m),
-                        None if self.enc.solver.stopped() => Bounded::Unknown,
-                        None => Bounded::Unsat,
-                    };
-                    if started.elapsed() > QUICK_CALL {
-                        allowance = Some(effort.start());
-                    }
-                    answer
-                }
-            };
-            match answer {
+            match solve(&mut self.enc.solver, &assume) {
                 Bounded::Sat(m) => {
                     self.read(&m);
                     self.t = self.structure.transition_count();
