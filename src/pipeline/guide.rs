@@ -100,7 +100,8 @@ pub enum Stage {
     },
     /// NuSMV's verdict on a machine.
     Verdict {
-        /// Which machine: "least" or "repaired".
+        /// Which machine: "least" (for the runs, proven), "fewest-states" (for the runs, `T`
+        /// and `N` as found) or "repaired".
         machine: &'static str,
         /// The properties it fails (empty: verified).
         failing: Vec<String>,
@@ -483,7 +484,11 @@ impl Guide<'_, '_> {
     ) -> Result<Outcome, Error> {
         let mut verifier = check.verifier()?;
         let verified_small = match small {
-            Some(small) => match self.judge(&mut verifier, &small.ecc, "least")? {
+            Some(small) => match self.judge(
+                &mut verifier,
+                &small.ecc,
+                runs_machine(proven_least(&small)),
+            )? {
                 (v, true) => Some((v, proven_least(&small), small.ecc)),
                 (_, false) => None,
             },
@@ -569,7 +574,43 @@ impl Guide<'_, '_> {
     }
 }
 
+/// What the machine for the runs is called in NuSMV's verdict: "least" only when its `T` and
+/// `N` are `proven`.
+fn runs_machine(proven: bool) -> &'static str {
+    match proven {
+        true => "least",
+        false => "fewest-states",
+    }
+}
+
 /// Whether a synthesis proved its `T` and `N` least.
 fn proven_least(s: &sat::Synthesis) -> bool {
     s.transitions_exact && s.guards_exact
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// NuSMV's line on the machine for the runs calls it least only when its `T` and `N` are
+    /// proven, as the line before it does.
+    #[test]
+    fn the_verdict_calls_the_machine_for_the_runs_least_only_when_proven() {
+        let verdict = |proven| {
+            Stage::Verdict {
+                machine: runs_machine(proven),
+                failing: Vec::new(),
+                seconds: 0.1,
+            }
+            .to_string()
+        };
+        assert_eq!(
+            verdict(true),
+            "guide: NuSMV: every property holds on the least machine (0.10 s)"
+        );
+        assert_eq!(
+            verdict(false),
+            "guide: NuSMV: every property holds on the fewest-states machine (0.10 s)"
+        );
+    }
 }
