@@ -23,6 +23,7 @@ use crate::check::{self, ExplicitVerdict};
 use crate::ecc::{Conventions, Ecc, Guard, Run, StateId};
 use crate::sat::guards::{minimize_state, GuardProblem};
 use crate::scenario::ScenarioSet;
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// A machine made smaller by the moves.
@@ -61,19 +62,27 @@ pub(crate) fn shrink(
     let mut converged = false;
     let mut tries = 0;
     'pass: while Instant::now() < deadline {
-        for candidate in moves(&best) {
-            if Instant::now() >= deadline || tries >= MAX_TRIES {
-                break 'pass;
-            }
-            if !candidate.size().is_smaller_than(&best.size()) {
-                continue;
-            }
-            tries += 1;
-            if keeps(&candidate) {
-                best = candidate;
+        let size = best.size();
+        let smaller: Vec<Ecc> = (moves(&best).into_iter())
+            .filter(|m| m.size().is_smaller_than(&size))
+            .take(MAX_TRIES - tries)
+            .collect();
+        // The first move in order that keeps everything, as one core would find it, judged
+        // on every core: the machine reached does not depend on the cores or their timing.
+        let kept = smaller
+            .par_iter()
+            .position_first(|m| Instant::now() < deadline && keeps(m));
+        match kept {
+            Some(i) => {
+                tries += i + 1;
+                best = smaller[i].clone();
                 improved = true;
                 continue 'pass;
             }
+            None => tries += smaller.len(),
+        }
+        if Instant::now() >= deadline || tries >= MAX_TRIES {
+            break 'pass;
         }
         let guards_until = deadline.min(Instant::now() + GUARD_TIME);
         if let Some(candidate) = reguarded(set, check, &best, guards_until) {
