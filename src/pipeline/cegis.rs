@@ -35,13 +35,25 @@ pub(crate) struct Config {
     pub(crate) proof_budget: std::time::Duration,
     /// The user's negative scenarios, encoded before the first candidate.
     pub(crate) negatives: Vec<crate::scenario::negative::NegativeScenario>,
-    /// Stop with [`CegisError::Stalled`] after this many refuted candidates in a row with the
-    /// same number of states, or after this much of the loop's CPU time refuting candidates of
-    /// one number of states.
-    pub(crate) stall: Option<(usize, std::time::Duration)>,
+    /// When to stop with [`CegisError::Stalled`]; `None`: never.
+    pub(crate) stall: Option<Stall>,
     /// Counterexamples an earlier turn of the loop on the same problem learned, encoded before
     /// the first candidate.
     pub(crate) learned: Learned,
+}
+
+/// When the loop stops with [`CegisError::Stalled`] (another engine's turn): its candidates of
+/// one number of states keep being refuted, one behaviour at a time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stall {
+    /// After this many refuted candidates in a row with the same number of states.
+    pub rounds: usize,
+    /// After at least 3 of them and this much of the loop's own CPU time refuting them.
+    pub time: Duration,
+    /// The same, sooner, once a candidate's descent in `T` with that many states has run out
+    /// of its work budget: a sign, counted in the solver's work rather than on the clock, that
+    /// the SAT calls there are growing.
+    pub hard_time: Duration,
 }
 
 /// Counterexamples a turn of the loop learned: facts about every machine that satisfies the
@@ -501,7 +513,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
     }
 
     /// Counts the refuted `candidate` against [`Config::stall`]: `Err` when that many in a row
-    /// had its number of states, or when they took that long.
+    /// had its number of states, or when they took that long ([`Stall`]).
     fn stalled(&mut self, candidate: &Synthesis) -> Result<(), CegisError> {
         let c = candidate.size.c;
         self.same = match self.same {
@@ -514,19 +526,22 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         // (Pick-and-Place from four scenarios: 11 candidates in 24 s at load 3, where 17 reach
         // the least machine in 16 s idle).
         let spent = thread_cpu().saturating_sub(cpu);
-        match self.config.stall {
-            Some((rounds, time))
-                if self.passed.is_none() && (n >= rounds || n >= 3 && spent >= time) =>
-            {
-                Err(CegisError::Stalled {
-                    rounds: n,
-                    c,
-                    seconds: since.elapsed().as_secs_f64(),
-                    learned: Box::new(self.learned()),
-                })
-            }
-            _ => Ok(()),
+        let Some(stall) = self.config.stall.filter(|_| self.passed.is_none()) else {
+            return Ok(());
+        };
+        let time = match self.synth.transitions_gave_up(c) {
+            true => stall.hard_time,
+            false => stall.time,
+        };
+        if n >= stall.rounds || n >= 3 && spent >= time {
+            return Err(CegisError::Stalled {
+                rounds: n,
+                c,
+                seconds: since.elapsed().as_secs_f64(),
+                learned: Box::new(self.learned()),
+            });
         }
+        Ok(())
     }
 
     /// Counterexamples (negative scenarios and environments) added so far.

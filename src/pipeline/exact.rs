@@ -79,11 +79,9 @@ pub struct Options {
     /// Behaviours the machine must not show (the user's `--negative` scenarios), beside those
     /// the loop learns from NuSMV.
     pub negatives: Vec<NegativeScenario>,
-    /// With a check: stop with [`super::CegisError::Stalled`] after this many refuted
-    /// candidates in a row with the same number of states, or (after at least 3) this long
-    /// refuting them (the loop learning one behaviour at a time: another engine's turn);
-    /// `None`: never.
-    pub stall: Option<(usize, std::time::Duration)>,
+    /// With a check: when to stop with [`super::CegisError::Stalled`] (the loop learning one
+    /// behaviour at a time: another engine's turn); `None`: never.
+    pub stall: Option<super::Stall>,
     /// With a check: counterexamples an earlier turn of the loop on the same problem learned
     /// ([`super::CegisError::Stalled`]).
     pub learned: super::Learned,

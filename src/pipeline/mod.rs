@@ -75,7 +75,7 @@ pub use crate::verify::{
     VerificationResult, Verifier, VerifyError,
 };
 pub use active::Round as LearnRound;
-pub use cegis::{CegisError, Learned};
+pub use cegis::{CegisError, Learned, Stall};
 pub use class::Class;
 pub use distributed::DescriptionError;
 pub use event::{Event, Events, Note};

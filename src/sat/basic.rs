@@ -607,6 +607,12 @@ impl<'a> Synthesizer<'a> {
         &self.negatives
     }
 
+    /// Whether a candidate's descent in `T` with `c` states ran out of its work budget
+    /// ([`Proofs::Skip`]; it is not tried again at that `C`).
+    pub(crate) fn transitions_gave_up(&self, c: usize) -> bool {
+        matches!(self.known.t_timed_out, Some((c1, _)) if c1 == c)
+    }
+
     /// Rebuilds the encoding for a larger window of states, with every negative scenario.
     fn grow(&mut self, c_max: usize) {
         self.enc = Encoding::build(

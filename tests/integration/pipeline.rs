@@ -4,6 +4,7 @@
 use crate::common::{nusmv_or_skip, Dir};
 use fbsynth::pipeline::{self, exact, modular, noisy, refine, search, Check, Problem, Recordings};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 fn file(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
@@ -64,7 +65,11 @@ fn a_stalled_loop_hands_what_it_learned_to_the_next_turn() {
     };
     assert!(refuted(&fresh) >= 2, "{:?}", fresh.iterations);
     let stalling = exact::Options {
-        stall: Some((1, std::time::Duration::from_secs(3600))),
+        stall: Some(pipeline::Stall {
+            rounds: 1,
+            time: Duration::from_secs(3600),
+            hard_time: Duration::from_secs(3600),
+        }),
         ..exact::Options::default()
     };
     let learned = match exact::run(&set, Some(&check), &stalling, &mut |_| {}) {
@@ -89,6 +94,54 @@ fn a_stalled_loop_hands_what_it_learned_to_the_next_turn() {
         r.iterations,
         fresh.iterations
     );
+}
+
+/// Where a candidate's descent in `T` runs out of its work budget (station seed 1: its
+/// candidates with 8 states need more transitions than its recording alone), the loop stalls
+/// after [`pipeline::Stall::hard_time`] of refuting them, not after `time`; without that, the
+/// same loop goes on to a verified machine.
+#[test]
+fn a_loop_whose_descent_in_t_runs_out_stalls_after_the_hard_time() {
+    let Some(nusmv) = nusmv_or_skip() else { return };
+    let dir = Dir::new();
+    fbsynth::cases::station::write_files(dir.path(), 1).unwrap();
+    let set = Recordings::files(vec![dir.path().join("station.traces")])
+        .load()
+        .unwrap();
+    let problem = Problem::load(
+        &dir.path().join("station.ltl"),
+        &dir.path().join("plant.smv"),
+        &set.inputs,
+        &set.outputs,
+    )
+    .unwrap();
+    let check = Check::new(problem, nusmv);
+    let stall = |hard_time| exact::Options {
+        stall: Some(pipeline::Stall {
+            rounds: 1_000,
+            time: Duration::from_secs(3600),
+            hard_time,
+        }),
+        ..exact::Options::default()
+    };
+    match exact::run(&set, Some(&check), &stall(Duration::ZERO), &mut |_| {}) {
+        Err(pipeline::Error::Cegis(pipeline::CegisError::Stalled { rounds, .. })) => {
+            assert!(rounds >= 3, "stalled after {rounds} candidates")
+        }
+        other => panic!(
+            "expected the loop to stall: {:?}",
+            other.map(|r| r.iterations)
+        ),
+    }
+    let r = exact::run(
+        &set,
+        Some(&check),
+        &stall(Duration::from_secs(3600)),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert!(r.certificate.as_ref().expect("checked").report.all_hold());
+    set.check(&r.synthesis.ecc).unwrap();
 }
 
 #[test]

@@ -20,7 +20,8 @@
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
-//!    states, or [`STALL_TIME`] of its own CPU time refuting them, it hands over to the
+//!    states, or [`STALL_TIME`] of its own CPU time refuting them ([`STALL_HARD_TIME`] once a
+//!    candidate's descent in `T` there has run out of its work budget), it hands over to the
 //!    guide, as in 1. When the guide has no machine, the exact loop again for the time left;
 //!    when it gives up the error says what the recordings never show and what the game says
 //!    of the problem. Both later turns of the loop (below the guide's machine, or alone
@@ -42,6 +43,7 @@ pub(crate) mod summary;
 
 pub use summary::{BelowGuideSummary, ExactSummary, GuideSummary, SearchSummary, Summary, Turn};
 
+use super::cegis::Stall;
 use super::exact::{self, Certificate, Exact};
 use super::explain::{self, Explanation};
 use super::guide::RepairStart;
@@ -202,6 +204,15 @@ pub(crate) const STALL_ROUNDS: usize = 30;
 /// scenarios, `BENCHMARKS.md`): a hand-over there costs the guide's turn and the loop's again.
 pub(crate) const STALL_TIME: Duration = Duration::from_secs(60);
 
+/// The CPU time after which the exact loop hands over, as with [`STALL_TIME`], once a
+/// candidate's descent in `T` with that many states has run out of its work budget: there the
+/// SAT calls grow from under a second to tens (station seed 7: 10-39 s each, 89 s before the
+/// hand-over at [`STALL_TIME`], 14 s at this one, and a smaller machine in the end). Loops that
+/// converge and run out there have spent at most about 4 s when they do (stations 1 and 8,
+/// the distribution station); Pick-and-Place from four scenarios never runs out (its
+/// candidates have the proven least `T`).
+pub(crate) const STALL_HARD_TIME: Duration = Duration::from_secs(10);
+
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
 /// guide has no machine, the exact loop again for the time left.
 fn handing_over(
@@ -212,7 +223,11 @@ fn handing_over(
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
     let mut first = opts.exact.clone();
-    first.stall = Some((STALL_ROUNDS, STALL_TIME));
+    first.stall = Some(Stall {
+        rounds: STALL_ROUNDS,
+        time: STALL_TIME,
+        hard_time: STALL_HARD_TIME,
+    });
     let (why, learned) = match opts.limit.exact(set, check, &first, events) {
         Ok(r) => {
             let (ecc, certificate, exact) = exact_parts(r, opts)?;
