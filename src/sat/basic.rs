@@ -29,7 +29,7 @@
 //! built for up to `C_max` states with "state in use" variables, and every bound (states, `K`,
 //! `T`, `N`) is a solver assumption on those variables or on totalizer outputs
 //! ([`super::card`]). Only if every `C <= C_max` is unsatisfiable is the encoding rebuilt for a
-//! doubled `C_max`.
+//! `C_max` a quarter (at least two states) larger.
 //!
 //! Every machine is replayed through the simulator on every scenario before it is returned;
 //! a mismatch is reported as [`SatError::Bug`].
@@ -737,7 +737,7 @@ impl<'a> Synthesizer<'a> {
     }
 
     /// Phase 1: the least `C` and a machine with that many states, by ascent from the proven
-    /// lower bound; an exhausted window is rebuilt doubled ([`Self::grow`]) up to
+    /// lower bound; an exhausted window is rebuilt a quarter larger ([`Self::grow`]) up to
     /// [`Options::max_states`]. Every refuted bound raises the proven lower bound.
     fn least_states(&mut self, progress: Progress<'_>) -> Result<(usize, Model), SatError> {
         let (max_states, fixed) = (self.opts.max_states, self.opts.fixed);
@@ -777,7 +777,10 @@ impl<'a> Synthesizer<'a> {
                 }
                 None if c_max >= max_states => return Err(SatError::TooManyStates { max_states }),
                 None => {
-                    let next = (c_max * 2).min(max_states);
+                    // A quarter more states (at least two), not twice as many: every state of
+                    // the window beyond the least C adds variables and symmetric machines to
+                    // every later call, and the least C is usually just above the window.
+                    let next = (c_max + (c_max / 4).max(2)).min(max_states);
                     progress(Step::Reencoding {
                         states: next,
                         per_module: false,
