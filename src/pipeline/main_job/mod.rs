@@ -206,11 +206,11 @@ pub(crate) const STALL_TIME: Duration = Duration::from_secs(60);
 
 /// The CPU time after which the exact loop hands over, as with [`STALL_TIME`], once a
 /// candidate's descent in `T` with that many states has run out of its work budget: there the
-/// SAT calls can grow from under a second to tens (station seed 7: 10-39 s each, so that
-/// [`STALL_TIME`] is reached after 89 s, this bound after 14 s). Loops that converge and run
-/// out there have spent at most about 4 s when they do (stations 1 and 8, the distribution
-/// station); Pick-and-Place from four scenarios never runs out (its candidates have the
-/// proven least `T`).
+/// SAT calls can grow from under a second to tens of seconds each (generated stations whose
+/// one recorded run serves one request of several), so that [`STALL_TIME`] is reached only
+/// after minutes. Loops that converge and run out there have spent at most about 4 s when
+/// they do (stations 1 and 8, the distribution station); Pick-and-Place from four scenarios
+/// never runs out (its candidates have the proven least `T`).
 pub(crate) const STALL_HARD_TIME: Duration = Duration::from_secs(10);
 
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
