@@ -483,13 +483,9 @@ impl Guide<'_, '_> {
         repaired: Ecc,
     ) -> Result<Outcome, Error> {
         let mut verifier = check.verifier()?;
-        let verified_small = match small {
-            Some(small) => match self.judge(
-                &mut verifier,
-                &small.ecc,
-                runs_machine(proven_least(&small)),
-            )? {
-                (v, true) => Some((v, proven_least(&small), small.ecc)),
+        let verified_small = match small.map(|s| (proven_least(&s), s.ecc)) {
+            Some((proven, ecc)) => match self.judge(&mut verifier, &ecc, runs_machine(proven))? {
+                (v, true) => Some((v, proven, ecc)),
                 (_, false) => None,
             },
             None => None,

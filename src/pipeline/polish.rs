@@ -63,7 +63,7 @@ pub(crate) fn shrink(
     let mut tries = 0;
     'pass: while Instant::now() < deadline {
         let size = best.size();
-        let smaller: Vec<Ecc> = (moves(&best).into_iter())
+        let mut smaller: Vec<Ecc> = (moves(&best).into_iter())
             .filter(|m| m.size().is_smaller_than(&size))
             .take(MAX_TRIES - tries)
             .collect();
@@ -75,7 +75,7 @@ pub(crate) fn shrink(
         match kept {
             Some(i) => {
                 tries += i + 1;
-                best = smaller[i].clone();
+                best = smaller.swap_remove(i);
                 improved = true;
                 continue 'pass;
             }
