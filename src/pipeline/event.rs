@@ -519,6 +519,10 @@ impl fmt::Display for Step {
                 f,
                 "the exact loop looks for a smaller verified machine with at most {states} states, for up to {seconds:.1} s:"
             ),
+            Step::GuideLeast { floor } => write!(
+                f,
+                "the guide's machine meets {floor}: it is least, no turn of the exact loop below it"
+            ),
             Step::GuideStands { after } => {
                 write!(f, "the exact loop: {after}; the guide's machine stands")
             }

@@ -15,8 +15,10 @@
 //!    time, the game answers for every behaviour of the plant at once. Its machine is least
 //!    only for the recordings and the guide's own runs; it is made smaller in process
 //!    ([`polish`]), and the exact loop gets a turn below it (at most its states; half the
-//!    time the guide took, at least 2 s): a smaller verified machine replaces it. The guide,
-//!    the polish and that turn keep the user's algorithm form and start state.
+//!    time the guide took, at least 2 s): a smaller verified machine replaces it. No turn
+//!    when the machine meets the recordings' own lower bounds, as a turn of the exact loop
+//!    reported them ([`Floor`]): then it is least. The guide, the polish and that turn keep
+//!    the user's algorithm form and start state.
 //! 2. Otherwise the exact loop ([`exact`]). Where the recordings show every value but not
 //!    every behaviour the properties need, it can refute candidates one behaviour at a time
 //!    for minutes: after [`STALL_ROUNDS`] refuted candidates in a row with the same number of
@@ -51,6 +53,7 @@ use super::limit::Limit;
 use super::{guide, polish, search, Check, Class, Error, Event, Events};
 use crate::ecc::{Ecc, Size};
 use crate::scenario::ScenarioSet;
+use std::cell::Cell;
 use std::time::Duration;
 
 /// How the main job synthesizes.
@@ -97,6 +100,12 @@ pub enum Step {
         states: usize,
         /// For at most this many seconds.
         seconds: f64,
+    },
+    /// The guide's machine meets the recordings' own lower bounds: it is least, and the exact
+    /// loop has no turn below it.
+    GuideLeast {
+        /// The bounds, in words.
+        floor: String,
     },
     /// The exact loop's turn below the guide ended without a smaller machine.
     GuideStands {
@@ -158,19 +167,32 @@ pub fn run(
     opts: &Options,
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
+    let floor = Cell::new(None);
+    let events = &mut |e: Event<'_>| {
+        if let Event::LowerBounds { c, t, n, .. } = e {
+            floor.set(Some(Floor { c, t, n }));
+        }
+        events(e)
+    };
+    let job = Job {
+        set,
+        check,
+        explained,
+        floor: &floor,
+    };
     let mut guide_said = None;
     if guides(opts, explained) {
         // First: a guide that cannot repair the least machine declines at once, and the
         // exact loop has its turn (a machine repaired from the tree's has more states than
         // the loop usually finds).
-        match guided(set, check, explained, opts, RepairStart::Least, events)? {
+        match guided(&job, opts, RepairStart::Least, events)? {
             Guided::Machine(m) => return Ok(*m),
             Guided::Declined(why) => guide_said = Some(why),
         }
     }
     match &opts.method {
         Method::Sat if guide_said.is_none() && guide_states(opts) => {
-            handing_over(set, check, explained, opts, events)
+            handing_over(&job, opts, events)
         }
         Method::Sat => exact_loop(set, check, explained, opts, guide_said, events),
         Method::Search(s) => searched(set, check, opts, s, events),
@@ -216,12 +238,16 @@ pub(crate) const STALL_HARD_TIME: Duration = Duration::from_secs(10);
 /// The exact loop, handing over to the guide when it stalls ([`STALL_ROUNDS`]); when the
 /// guide has no machine, the exact loop again for the time left.
 fn handing_over(
-    set: &ScenarioSet,
-    check: &Check,
-    explained: &Explanation,
+    job: &Job<'_>,
     opts: &Options,
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
+    let Job {
+        set,
+        check,
+        explained,
+        ..
+    } = *job;
     let mut first = opts.exact.clone();
     first.stall = Some(Stall {
         rounds: STALL_ROUNDS,
@@ -253,16 +279,54 @@ fn handing_over(
         ..opts.clone()
     };
     // The loop has stalled: a larger machine from the guide is better than its going on alone.
-    match guided(
-        set,
-        check,
-        explained,
-        opts,
-        RepairStart::LeastOrTree,
-        events,
-    )? {
+    match guided(job, opts, RepairStart::LeastOrTree, events)? {
         Guided::Machine(m) => Ok(*m),
         Guided::Declined(why) => exact_loop(set, check, explained, opts, Some(why), events),
+    }
+}
+
+/// What every turn of the main job reads.
+struct Job<'a> {
+    set: &'a ScenarioSet,
+    check: &'a Check,
+    /// What the recordings say about the properties.
+    explained: &'a Explanation,
+    /// The recordings' own lower bounds, once a turn of the exact loop has reported them.
+    floor: &'a Cell<Option<Floor>>,
+}
+
+/// The lower bounds of the recordings alone, as the exact loop reports them
+/// ([`Event::LowerBounds`]): the least `C`, the least `T` with `C` states (0: not proven) and
+/// the least `N` with both (when proven). They bound every machine in the asked form that
+/// reproduces the recordings, verified or not ([`crate::sat::least_tree_exact`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Floor {
+    c: usize,
+    t: usize,
+    n: Option<usize>,
+}
+
+impl Floor {
+    /// Whether `ecc` meets the bounds in C, T and N: then no machine that reproduces the
+    /// recordings is smaller. Only for guards that are conjunctions, the machines the bounds
+    /// are proven for.
+    fn met_by(&self, ecc: &Ecc) -> bool {
+        let size = ecc.size();
+        let cubes = (ecc.states.iter().flat_map(|s| &s.transitions))
+            .all(|t| t.guard.as_dnf().is_some_and(|terms| terms.len() <= 1));
+        cubes && self.t > 0 && (size.c, size.t, Some(size.n)) == (self.c, self.t, self.n)
+    }
+}
+
+impl std::fmt::Display for Floor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the lower bounds of the recordings alone (C >= {}, T >= {}, N >= {})",
+            self.c,
+            self.t,
+            self.n.unwrap_or(0)
+        )
     }
 }
 
@@ -276,19 +340,18 @@ enum Guided {
 
 /// The guide within the limit, and the exact loop's turn below its machine.
 fn guided(
-    set: &ScenarioSet,
-    check: &Check,
-    explained: &Explanation,
+    job: &Job<'_>,
     opts: &Options,
     start: RepairStart,
     events: Events<'_>,
 ) -> Result<Guided, Error> {
+    let (set, check) = (job.set, job.check);
     events(Event::MainJob(Step::GuideStarted));
     let max_states = opts.exact.sat.max_states;
     let conventions = opts.exact.sat.conventions();
     let why = match opts.limit.guide(set, check, conventions, start, events) {
         Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
-            let m = below_guide(set, check, *g, opts, events)?;
+            let m = below_guide(job, *g, opts, events)?;
             return Ok(Guided::Machine(Box::new(m)));
         }
         Ok(guide::Outcome::Verified(g)) => format!(
@@ -302,7 +365,7 @@ fn guided(
             ));
             return Err(noted(
                 limit,
-                explained.unrecorded_line().into_iter().collect(),
+                job.explained.unrecorded_line().into_iter().collect(),
             ));
         }
         Err(e) => return Err(e),
@@ -311,19 +374,27 @@ fn guided(
     Ok(Guided::Declined(why))
 }
 
-/// The exact loop's turn below the guide's machine `g`: its machine if smaller, else `g`.
+/// The exact loop's turn below the guide's machine `g`: its machine if smaller, else `g`. No
+/// turn when `g`, made smaller, meets the recordings' own lower bounds: it is least.
 fn below_guide(
-    set: &ScenarioSet,
-    check: &Check,
+    job: &Job<'_>,
     g: guide::Guided,
     opts: &Options,
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
+    let (set, check) = (job.set, job.check);
     let spent = opts.limit.elapsed();
     let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
     let g = polished(set, check, opts, g, opts.limit.left(), &mut stages, events)?;
     let budget = budget.min(opts.limit.left());
+    if let Some(floor) = job.floor.get().filter(|f| f.met_by(&g.ecc)) {
+        let after = format!("not run: the machine meets {floor}");
+        events(Event::MainJob(Step::GuideLeast {
+            floor: floor.to_string(),
+        }));
+        return Ok(guide_machine(g, stages, after, true, opts));
+    }
     let mut after = "not run: no time left".to_string();
     if !budget.is_zero() {
         events(Event::MainJob(Step::BelowGuide {
@@ -364,7 +435,9 @@ fn below_guide(
             after: after.clone(),
         }));
     }
-    Ok(guide_machine(g, stages, after, opts))
+    // The turn computes the recordings' lower bounds when no turn before it did.
+    let least = job.floor.get().is_some_and(|f| f.met_by(&g.ecc));
+    Ok(guide_machine(g, stages, after, least, opts))
 }
 
 /// The guide's machine `g` made smaller by local moves the in-process checker accepts
@@ -422,16 +495,19 @@ fn polished(
     Ok(g)
 }
 
-/// The guide's machine `g` as the result.
+/// The guide's machine `g` as the result; `least` when it meets the recordings' own lower
+/// bounds ([`Floor::met_by`]).
 fn guide_machine(
     g: guide::Guided,
     stages: Vec<String>,
     after: String,
+    least: bool,
     opts: &Options,
 ) -> VerifiedMachine {
     let summary = Summary::Turn(Turn::Guide(GuideSummary {
         exact_loop_below_it: after,
         size: g.size,
+        proven_least: least,
         least_for_recordings_and_runs: g.origin == guide::Origin::LeastForRuns,
         for_runs_unproven: g.origin == guide::Origin::ForRuns,
         states_at_least: g.least_states,

@@ -78,6 +78,10 @@ pub struct GuideSummary {
     pub(crate) exact_loop_below_it: String,
     /// The machine's C, K, T and N.
     pub(crate) size: Size,
+    /// Proven: no machine that reproduces the recordings is smaller in (C, T, N), verified or
+    /// not, in the asked form. The machine meets the lower bounds of the recordings alone
+    /// (least C, least T at it, least N at both).
+    pub(crate) proven_least: bool,
     /// Whether the guide's machine is least for the recordings and the guide's closed-loop
     /// runs (else it is the repaired machine, not minimal); `made_smaller` says whether the
     /// result is a smaller machine made from it.
@@ -233,6 +237,7 @@ impl std::fmt::Display for Summary {
                     g.nusmv_seconds,
                     plural(g.nusmv_calls, "check"),
                     match (g.made_smaller, g.least_for_recordings_and_runs, g.for_runs_unproven) {
+                        _ if g.proven_least => "C, T and N are least: the machine meets the lower bounds of the recordings alone, so no machine that reproduces the recordings is smaller",
                         (true, _, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
                         (false, true, _) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
                         (false, false, true) => "C is least for the recordings and the closed-loop runs of the guide, T and N are not proven least for them; a smaller machine that answers differently where nothing was recorded is not ruled out",
@@ -240,6 +245,7 @@ impl std::fmt::Display for Summary {
                     }
                 )?;
                 match g.states_at_least {
+                    _ if g.proven_least => {}
                     Some(c) if c == g.size.c => write!(f, "\nproven: C = {c} is least (no machine with fewer states reproduces the recordings)")?,
                     Some(c) => write!(f, "\nproven: C >= {c} (no machine with fewer states reproduces the recordings); T and N are not bounded")?,
                     None => {}
@@ -248,7 +254,7 @@ impl std::fmt::Display for Summary {
                     return Ok(());
                 }
                 write!(f, "\nthe machine has {}, as asked", g.conventions)?;
-                match !g.made_smaller && g.least_for_recordings_and_runs {
+                match g.proven_least || !g.made_smaller && g.least_for_recordings_and_runs {
                     true => write!(f, "; it is least among the machines that have them"),
                     false => Ok(()),
                 }

@@ -104,6 +104,7 @@ fn guide_summary() -> GuideSummary {
     GuideSummary {
         exact_loop_below_it: "no smaller machine".into(),
         size: exact_summary().size,
+        proven_least: false,
         least_for_recordings_and_runs: true,
         for_runs_unproven: false,
         states_at_least: Some(6),
@@ -183,6 +184,7 @@ fn each_summary_has_the_keys_of_its_method() {
             "method",
             "nusmv_calls",
             "nusmv_seconds",
+            "proven_least",
             "report",
             "sat_seconds",
             "size",
@@ -262,4 +264,64 @@ fn the_guides_summary_says_which_bound_on_the_states_is_proven() {
     assert!(said(Some(c - 2)).contains(&format!("\nproven: C >= {} (no machine with fewer states reproduces the recordings); T and N are not bounded", c - 2)));
     assert!(said(Some(c)).contains(&format!("\nproven: C = {c} is least")));
     assert!(!said(None).contains("proven:"));
+}
+
+/// The guide's machine is called least only when it meets every bound (C, T at it, N at both,
+/// each proven) and its guards are conjunctions, the machines the bounds are proven for.
+#[test]
+fn a_machine_meets_the_floor_only_in_every_figure_with_cube_guards() {
+    use crate::ecc::{Algorithm, AlgorithmKind, Guard, InputId, State, StateId, Transition};
+    let x = |i: usize| Guard::Var(InputId(i));
+    let state = |target: usize, guard: Guard| State {
+        name: String::new(),
+        algorithm: Algorithm::keep_all(AlgorithmKind::Tri, 0),
+        transitions: vec![Transition {
+            target: StateId(target),
+            guard,
+        }],
+    };
+    let machine = |guard: Guard| Ecc {
+        inputs: vec!["a".into(), "b".into()],
+        outputs: vec![],
+        initial_outputs: vec![],
+        states: vec![state(1, guard), state(0, x(1))],
+    };
+    let cubes = machine(Guard::And(vec![x(0), x(1)]));
+    let floor = Floor {
+        c: 2,
+        t: 2,
+        n: Some(3),
+    };
+    assert!(floor.met_by(&cubes));
+    assert!(!Floor {
+        n: Some(2),
+        ..floor
+    }
+    .met_by(&cubes));
+    assert!(!Floor { n: None, ..floor }.met_by(&cubes));
+    assert!(!Floor { t: 0, ..floor }.met_by(&cubes));
+    assert!(!Floor { c: 1, ..floor }.met_by(&cubes));
+    let dnf = machine(Guard::Or(vec![x(0), x(1)]));
+    assert_eq!(dnf.size().n, 3);
+    assert!(!floor.met_by(&dnf));
+}
+
+/// A guide's machine proven least says so in place of what it is least for, and drops the
+/// bound on the states alone.
+#[test]
+fn the_guides_summary_says_least_when_it_is_proven() {
+    let g = GuideSummary {
+        proven_least: true,
+        made_smaller: true,
+        ..guide_summary()
+    };
+    let said = Summary::Turn(Turn::Guide(g)).to_string();
+    assert!(
+        said.contains(
+            "\nC, T and N are least: the machine meets the lower bounds of the recordings alone"
+        ),
+        "{said}"
+    );
+    assert!(!said.contains("not proven least"), "{said}");
+    assert!(!said.contains("proven: C"), "{said}");
 }
