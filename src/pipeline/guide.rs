@@ -18,7 +18,8 @@
 //! 3. that machine recorded along every node of its closed loop with the game, and the least
 //!    machine for the recordings and those runs (plain exact synthesis, [`crate::sat`]) in the
 //!    user's conventions ([`Conventions`]: binary algorithms, a start state); its `T` is
-//!    proven only while the solver's calls stay quick ([`sat::Proofs::Quick`]);
+//!    proven only while the solver's calls stay quick ([`sat::Proofs::Quick`]), its `N` only
+//!    within [`RUNS_GUARD_BUDGET`];
 //! 4. NuSMV judges it; if it fails, the repaired machine itself, which the game says wins,
 //!    written in the user's conventions (the same runs, [`Conventions::written`]): if NuSMV
 //!    refutes that one too, one of the two checkers is wrong ([`Error::Bug`]).
@@ -245,6 +246,12 @@ pub(crate) enum Origin {
 /// transition fewer can take longer than all the rest of the guide.
 const RUNS_PROOF_EFFORT: crate::sat::solver::Effort = crate::sat::solver::Effort::Work(8_000_000);
 
+/// The longest the guards of the least machine for the runs are minimized (the default is
+/// 10 s): the main job's polish writes every state's guards anew from the closed loop
+/// ([`super::polish`]), so these guards are only where it starts, and on a few hundred runs
+/// the full budget is often spent without proving the least `N`.
+const RUNS_GUARD_BUDGET: std::time::Duration = std::time::Duration::from_secs(3);
+
 /// What the guide gives.
 pub(crate) enum Outcome {
     /// A verified machine.
@@ -443,6 +450,7 @@ impl Guide<'_, '_> {
         let opts = sat::Options {
             algorithms: self.conventions.algorithms,
             start_state: self.conventions.start_state,
+            guard_budget: RUNS_GUARD_BUDGET,
             ..self.sat.clone()
         };
         let proofs = sat::Proofs::Quick(RUNS_PROOF_EFFORT);
