@@ -346,12 +346,13 @@ fn guided(
     events: Events<'_>,
 ) -> Result<Guided, Error> {
     let (set, check) = (job.set, job.check);
+    let started = std::time::Instant::now();
     events(Event::MainJob(Step::GuideStarted));
     let max_states = opts.exact.sat.max_states;
     let conventions = opts.exact.sat.conventions();
     let why = match opts.limit.guide(set, check, conventions, start, events) {
         Ok(guide::Outcome::Verified(g)) if g.size.c <= max_states => {
-            let m = below_guide(job, *g, opts, events)?;
+            let m = below_guide(job, *g, started.elapsed(), opts, events)?;
             return Ok(Guided::Machine(Box::new(m)));
         }
         Ok(guide::Outcome::Verified(g)) => format!(
@@ -374,17 +375,18 @@ fn guided(
     Ok(Guided::Declined(why))
 }
 
-/// The exact loop's turn below the guide's machine `g`: its machine if smaller, else `g`. No
-/// turn when `g`, made smaller, meets the recordings' own lower bounds: it is least.
+/// The exact loop's turn below the guide's machine `g`, which took `spent`: its machine if
+/// smaller, else `g`. No turn when `g`, made smaller, meets the recordings' own lower bounds:
+/// it is least.
 fn below_guide(
     job: &Job<'_>,
     g: guide::Guided,
+    spent: Duration,
     opts: &Options,
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
     let (set, check) = (job.set, job.check);
-    let spent = opts.limit.elapsed();
-    let budget = (opts.limit.left()).min(Duration::from_secs_f64((spent / 2.0).max(2.0)));
+    let budget = (opts.limit.left()).min((spent / 2).max(Duration::from_secs(2)));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
     let g = polished(set, check, opts, g, opts.limit.left(), &mut stages, events)?;
     let budget = budget.min(opts.limit.left());
