@@ -312,8 +312,8 @@ impl Floor {
     /// are proven for.
     fn met_by(&self, ecc: &Ecc) -> bool {
         let size = ecc.size();
-        let cubes = (ecc.states.iter().flat_map(|s| &s.transitions))
-            .all(|t| t.guard.as_dnf().is_some_and(|terms| terms.len() <= 1));
+        let cubes =
+            (ecc.states.iter().flat_map(|s| &s.transitions)).all(|t| t.guard.as_cube().is_some());
         cubes && self.t > 0 && (size.c, size.t, Some(size.n)) == (self.c, self.t, self.n)
     }
 }
