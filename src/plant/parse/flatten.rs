@@ -16,7 +16,7 @@ use super::syntax::{
     Assign, ConstraintDecl, DefineDecl, Ident, Module, Node, NodeKind, Plant, Source,
 };
 use crate::plant::ModelError;
-use crate::quote::quote;
+use crate::quote::{cut, quote};
 use std::collections::{HashMap, HashSet};
 
 /// The deepest chain of instances (`plant` at depth 0); far beyond any real plant, it bounds
@@ -46,7 +46,7 @@ pub(super) fn flatten(src: &Source, modules: Vec<Module>) -> Result<Plant, Model
             format!(
                 "no MODULE plant(outputs...) in the file (found {}); the plant is the module \
                  named plant",
-                found.join(", ")
+                cut(&found.join(", "))
             ),
         ));
     };

@@ -831,3 +831,17 @@ fn module_instances_are_flattened_with_dotted_names() {
     // Every declaration keeps the line of the module that writes it.
     assert_eq!((m.vars[0].line, m.vars[1].line), (9, 2));
 }
+
+/// A file without the plant module names the modules it has, a long name cut like any other
+/// user text: the message stays a line long.
+#[test]
+fn the_modules_found_instead_of_the_plant_are_named_cut() {
+    let long = "x".repeat(5_000);
+    let said = error(&format!("MODULE {long}(a)\nVAR v : boolean;\n"));
+    assert!(
+        said.contains("no MODULE plant(outputs...) in the file (found xxx"),
+        "{said}"
+    );
+    assert!(said.contains("(5000 characters)"), "{said}");
+    assert!(said.len() < 300, "{} bytes: {said}", said.len());
+}
