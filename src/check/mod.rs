@@ -498,53 +498,111 @@ pub(crate) fn check_with(
     limits: &Limits,
     memo: &mut PlantMemo,
 ) -> Result<Vec<ExplicitVerdict>, CheckError> {
-    ecc.validate().map_err(CheckError::Ecc)?;
-    if ecc.inputs.len() != coupling.inputs.len() || ecc.outputs != coupling.outputs {
-        return Err(CheckError::Ecc(
-            "its interface is not the one the coupling was made for".into(),
-        ));
-    }
-    // The memo is a cache: one that has grown over many checks is dropped rather than let
-    // crowd out the closed loop.
-    if memo.bytes > limits.max_bytes / 2 {
-        *memo = PlantMemo::default();
-    }
-    let closed = ExplicitLoop::build(model, coupling, ecc, limits, memo)?;
-    let fairness = model.fairness.len();
-    let all_fair = mask(fairness);
-    if closed.initial.is_empty() {
-        return Err(CheckError::NoBehaviour {
-            scope: "closed loop",
-            what: "initial state",
-        });
-    }
-    let budget = limits.max_bytes.saturating_sub(closed.bytes);
-    if find_lasso(&mut Plain(&closed), all_fair, budget)?.is_none() {
-        return Err(CheckError::NoBehaviour {
-            scope: "closed loop",
-            what: "fair infinite path",
-        });
-    }
-    let mut verdicts = Vec::with_capacity(props.len());
+    let judge = Judge::of(model, coupling, ecc, limits, memo)?;
+    (props.iter().zip(&automata.0).enumerate())
+        .map(|(index, (p, gba))| judge.verdict(index, p, gba))
+        .collect()
+}
+
+/// Whether every property holds ([`check_with`] says [`ExplicitVerdict::Holds`] for each),
+/// judged in order up to the first that does not: a search that only keeps machines keeping
+/// every property spends most of its checks on machines that break one.
+pub(crate) fn all_hold_with(
+    model: &Model,
+    coupling: &Wiring,
+    ecc: &Ecc,
+    props: &[Property],
+    automata: &Automata,
+    limits: &Limits,
+    memo: &mut PlantMemo,
+) -> Result<bool, CheckError> {
+    let judge = Judge::of(model, coupling, ecc, limits, memo)?;
     for (index, (p, gba)) in props.iter().zip(&automata.0).enumerate() {
+        if !matches!(judge.verdict(index, p, gba)?, ExplicitVerdict::Holds) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// The closed loop of one machine, explored, ready to judge properties on.
+struct Judge<'a> {
+    model: &'a Model,
+    coupling: &'a Wiring,
+    closed: ExplicitLoop<'a>,
+    limits: &'a Limits,
+    /// Bytes left for a property's search once the closed loop is built.
+    budget: usize,
+}
+
+impl<'a> Judge<'a> {
+    /// The closed loop of `model` and `ecc`, checked to have an initial state and a fair
+    /// infinite path.
+    fn of(
+        model: &'a Model,
+        coupling: &'a Wiring,
+        ecc: &'a Ecc,
+        limits: &'a Limits,
+        memo: &'a mut PlantMemo,
+    ) -> Result<Judge<'a>, CheckError> {
+        ecc.validate().map_err(CheckError::Ecc)?;
+        if ecc.inputs.len() != coupling.inputs.len() || ecc.outputs != coupling.outputs {
+            return Err(CheckError::Ecc(
+                "its interface is not the one the coupling was made for".into(),
+            ));
+        }
+        // The memo is a cache: one that has grown over many checks is dropped rather than let
+        // crowd out the closed loop.
+        if memo.bytes > limits.max_bytes / 2 {
+            *memo = PlantMemo::default();
+        }
+        let closed = ExplicitLoop::build(model, coupling, ecc, limits, memo)?;
+        if closed.initial.is_empty() {
+            return Err(CheckError::NoBehaviour {
+                scope: "closed loop",
+                what: "initial state",
+            });
+        }
+        let budget = limits.max_bytes.saturating_sub(closed.bytes);
+        let all_fair = mask(model.fairness.len());
+        if find_lasso(&mut Plain(&closed), all_fair, budget)?.is_none() {
+            return Err(CheckError::NoBehaviour {
+                scope: "closed loop",
+                what: "fair infinite path",
+            });
+        }
+        Ok(Judge {
+            model,
+            coupling,
+            closed,
+            limits,
+            budget,
+        })
+    }
+
+    /// The verdict on property `p` (the `index`-th), whose negation is `gba`.
+    fn verdict(
+        &self,
+        index: usize,
+        p: &Property,
+        gba: &Result<Gba, gba::Refused>,
+    ) -> Result<ExplicitVerdict, CheckError> {
+        let (model, closed) = (self.model, &self.closed);
+        let fairness = model.fairness.len();
         let gba = match gba {
             Ok(g) => g,
-            Err(gba::Refused(why)) => {
-                verdicts.push(ExplicitVerdict::Unsupported(why.clone()));
-                continue;
-            }
+            Err(gba::Refused(why)) => return Ok(ExplicitVerdict::Unsupported(why.clone())),
         };
         if gba.sets + fairness > 64 {
-            verdicts.push(ExplicitVerdict::Unsupported(format!(
+            return Ok(ExplicitVerdict::Unsupported(format!(
                 "{} acceptance sets and {fairness} fairness conditions (at most 64 in all)",
                 gba.sets
             )));
-            continue;
         }
         let atoms = gba
             .atoms
             .iter()
-            .map(|a| Atom::resolve(a, model, coupling))
+            .map(|a| Atom::resolve(a, model, self.coupling))
             .collect::<Result<Vec<_>, String>>()
             .map_err(|message| CheckError::Property {
                 index,
@@ -567,16 +625,16 @@ pub(crate) fn check_with(
         let nodes = gba.successors.len();
         if closed.keys.len().saturating_mul(nodes.max(1)) >= u32::MAX as usize {
             return Err(CheckError::TooManyStates {
-                limit: limits.max_states,
+                limit: self.limits.max_states,
             });
         }
         let mut product = Product {
-            closed: &closed,
+            closed,
             gba,
             labels: &labels,
         };
-        let all = mask(gba.sets) | all_fair << gba.sets;
-        verdicts.push(match find_lasso(&mut product, all, budget)? {
+        let all = mask(gba.sets) | mask(fairness) << gba.sets;
+        Ok(match find_lasso(&mut product, all, self.budget)? {
             None => ExplicitVerdict::Holds,
             Some(l) => {
                 let nodes = nodes as u32;
@@ -585,9 +643,8 @@ pub(crate) fn check_with(
                 closed.confirm(&p.formula, &lasso)?;
                 ExplicitVerdict::Violated(lasso)
             }
-        });
+        })
     }
-    Ok(verdicts)
 }
 
 /// Every pair of controller state and input vector the closed loop of `model` and `ecc`

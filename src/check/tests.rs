@@ -78,6 +78,31 @@ fn lamp_verdicts_and_counterexamples() {
     assert!(matches!(&v[5], ExplicitVerdict::Unsupported(why) if why.contains("past")));
 }
 
+/// "Every property holds" stops at the first that does not, and says what the verdicts say:
+/// for each prefix of the lamp's properties (an unsupported one counts as not holding).
+#[test]
+fn all_hold_says_what_the_verdicts_say() {
+    let (m, e) = (lamp(), toggle());
+    let texts = [
+        "G (on -> X lamp)",
+        "G (lamp -> on | X !lamp)",
+        "F lamp",
+        "Y lamp",
+    ];
+    let coupling = Wiring::of_model(&m, &e.inputs, &e.outputs).unwrap();
+    for k in 0..=texts.len() {
+        let props: Vec<Property> = texts[..k].iter().map(|t| prop(t)).collect();
+        let automata = Automata::of(&props);
+        let limits = Limits::default();
+        let mut memo = PlantMemo::default();
+        let all = all_hold_with(&m, &coupling, &e, &props, &automata, &limits, &mut memo);
+        let v = check(&m, &coupling, &e, &props, &limits).unwrap();
+        let expected = v.iter().all(|v| *v == ExplicitVerdict::Holds);
+        assert_eq!(all.unwrap(), expected, "{:?}", &texts[..k]);
+        assert_eq!(expected, k <= 2);
+    }
+}
+
 #[test]
 fn fairness_restricts_the_paths() {
     let mut m = lamp();
