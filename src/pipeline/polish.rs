@@ -15,11 +15,14 @@
 //! are written anew ([`reguarded`]): the fewest literals (SAT, [`crate::sat::guards`]) that
 //! answer as the machine does on every pair of state and inputs the recordings and the
 //! closed loop reach, other inputs being don't-cares. The closed loop stays the same, so
-//! the verdicts do; the local moves start again from the new guards. Each step makes the
-//! machine smaller in (C, T, N); nothing proves the end least.
+//! the verdicts do; the local moves start again from the new guards. When that does not help
+//! either, another state becomes the initial one ([`rerooted`]; the same size, kept when it
+//! keeps everything) and a move or new guards after it are looked for: the guide's machine may
+//! start in a state the closed loop also enters for other work, whose transitions then serve
+//! both. Each step makes the machine smaller in (C, T, N); nothing proves the end least.
 
 use super::Check;
-use crate::check::{self, ExplicitVerdict};
+use crate::check;
 use crate::ecc::{Conventions, Ecc, Guard, Run, StateId};
 use crate::sat::guards::{minimize_state, GuardProblem};
 use crate::scenario::ScenarioSet;
@@ -51,12 +54,16 @@ pub(crate) fn shrink(
     let problem = &check.problem;
     let model = problem.model.as_ref().ok()?;
     let wiring = check::Wiring::new(model, &problem.coupling).ok()?;
-    let keeps = |e: &Ecc| {
+    let automata = check::Automata::of(&problem.props);
+    let limits = check::Limits::default();
+    // Per core a memo of the plant's states: the machines judged differ, the plant does not.
+    let keeps_with = |memo: &mut check::PlantMemo, e: &Ecc| {
         conventions.broken(e).is_none()
             && set.check(e).is_ok()
-            && check::check(model, &wiring, e, &problem.props, &check::Limits::default())
-                .is_ok_and(|v| v.iter().all(|v| matches!(v, ExplicitVerdict::Holds)))
+            && check::all_hold_with(model, &wiring, e, &problem.props, &automata, &limits, memo)
+                .unwrap_or(false)
     };
+    let keeps = |e: &Ecc| keeps_with(&mut check::PlantMemo::default(), e);
     let mut best = ecc.clone();
     let mut improved = false;
     let mut converged = false;
@@ -71,7 +78,10 @@ pub(crate) fn shrink(
         // on every core: the machine reached does not depend on the cores or their timing.
         let kept = smaller
             .par_iter()
-            .position_first(|m| Instant::now() < deadline && keeps(m));
+            .map_init(check::PlantMemo::default, |memo, m| {
+                Instant::now() < deadline && keeps_with(memo, m)
+            })
+            .position_first(|kept| kept);
         match kept {
             Some(i) => {
                 tries += i + 1;
@@ -85,12 +95,39 @@ pub(crate) fn shrink(
             break 'pass;
         }
         let guards_until = deadline.min(Instant::now() + GUARD_TIME);
+        let size = best.size();
+        let smaller_after = |m: &Ecc, memo: &mut check::PlantMemo| {
+            let by_move = (moves(m).into_iter())
+                .filter(|x| x.size().is_smaller_than(&size))
+                .find(|x| Instant::now() < deadline && keeps_with(memo, x));
+            by_move.or_else(|| {
+                reguarded(set, check, m, guards_until)
+                    .filter(|x| x.size().is_smaller_than(&size) && keeps_with(memo, x))
+            })
+        };
         if let Some(candidate) = reguarded(set, check, &best, guards_until) {
-            if candidate.size().is_smaller_than(&best.size()) && keeps(&candidate) {
+            if candidate.size().is_smaller_than(&size) && keeps(&candidate) {
                 best = candidate;
                 improved = true;
                 continue 'pass;
             }
+        }
+        // Another state as the initial one: the same size, but a state entered only at the
+        // start may then merge or lose transitions. The first root (in order) after which a
+        // move or new guards make the machine smaller.
+        let roots: Vec<Ecc> = (1..best.states.len()).map(|r| rerooted(&best, r)).collect();
+        let after_root = roots
+            .par_iter()
+            .map_init(check::PlantMemo::default, |memo, m| {
+                (Instant::now() < deadline && keeps_with(memo, m))
+                    .then(|| smaller_after(m, memo))
+                    .flatten()
+            })
+            .find_map_first(|found| found);
+        if let Some(candidate) = after_root {
+            best = candidate;
+            improved = true;
+            continue 'pass;
         }
         converged = true;
         break;
@@ -223,6 +260,24 @@ fn merged(ecc: &Ecc, a: usize, b: usize) -> Ecc {
     reachable(e)
 }
 
+/// `ecc` started in state `r` instead of state 0 (the two swap numbers; the initial outputs
+/// stay), without the states no longer reached.
+fn rerooted(ecc: &Ecc, r: usize) -> Ecc {
+    let mut e = ecc.clone();
+    e.states.swap(0, r);
+    let swap = |q: usize| match q {
+        0 => r,
+        q if q == r => 0,
+        q => q,
+    };
+    for st in &mut e.states {
+        for t in &mut st.transitions {
+            t.target = StateId(swap(t.target.0));
+        }
+    }
+    reachable(e)
+}
+
 /// `ecc` without the states no transition path from the initial state reaches, the rest
 /// renumbered in order.
 fn reachable(mut ecc: Ecc) -> Ecc {
@@ -301,6 +356,32 @@ mod tests {
             let before = ecc.states[0].transitions[0].guard.eval(x);
             assert_eq!(fresh[0].guard.eval(x), before, "{x:?}");
         }
+    }
+
+    /// Rerooting swaps the numbers of the old and the new initial state, redirects every
+    /// transition with them, and drops what the new initial state does not reach.
+    #[test]
+    fn a_new_root_swaps_numbers_and_unreached_states_go() {
+        let ecc = Ecc {
+            inputs: vec!["x".into()],
+            outputs: vec![],
+            initial_outputs: vec![],
+            states: vec![
+                state(vec![(2, Guard::True)]),
+                state(vec![(0, Guard::True)]),
+                state(vec![(1, Guard::True), (2, Guard::True)]),
+            ],
+        };
+        let r = rerooted(&ecc, 2);
+        let targets: Vec<Vec<usize>> = (r.states.iter())
+            .map(|s| s.transitions.iter().map(|t| t.target.0).collect())
+            .collect();
+        // Old 2 is now 0 (it goes to old 1 and itself), old 1 to old 0, now 2.
+        assert_eq!(targets, vec![vec![1, 0], vec![2], vec![0]]);
+        // A root that reaches only itself keeps only itself.
+        let mut lone = ecc.clone();
+        lone.states[1].transitions[0].target = StateId(1);
+        assert_eq!(rerooted(&lone, 1).states.len(), 1);
     }
 
     #[test]
