@@ -489,6 +489,49 @@ pub(crate) fn tree_machine(tree: &ScenarioTree, like: &Ecc) -> Ecc {
     }
 }
 
+/// `base` (a machine that reproduces the recordings of `tree`) with every guard narrowed to
+/// the input vectors the recordings fire it on, each a whole cube; transitions they never
+/// fire go. It answers every recording as `base` does, and on every other input vector it
+/// stays: the repair then decides there from the game alone, where `base` would carry its
+/// guards' generalizations (chosen by SAT for fewest literals, not for the plant) into the
+/// closed loop.
+pub(crate) fn narrowed(tree: &ScenarioTree, base: &Ecc) -> Ecc {
+    let mut fired: Vec<Vec<Vec<InputVec>>> = (base.states.iter())
+        .map(|s| vec![Vec::new(); s.transitions.len()])
+        .collect();
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((node, q)) = stack.pop() {
+        for &(u, child) in &tree.nodes[node].children {
+            let x = &tree.input_vectors[u.0];
+            let t = (base.states[q].transitions.iter())
+                .position(|t| t.guard.eval(x))
+                .expect("the base reproduces the recordings");
+            if !fired[q][t].contains(&u) {
+                fired[q][t].push(u);
+            }
+            stack.push((child.0, base.states[q].transitions[t].target.0));
+        }
+    }
+    let mut e = base.clone();
+    for (st, fired) in e.states.iter_mut().zip(fired) {
+        let guards = fired.into_iter().map(|us| {
+            let cubes: Vec<Vec<(InputId, bool)>> = (us.into_iter())
+                .map(|u| {
+                    (tree.input_vectors[u.0].iter().enumerate())
+                        .map(|(i, &b)| (InputId(i), b))
+                        .collect()
+                })
+                .collect();
+            Guard::dnf(&cubes)
+        });
+        for (t, g) in st.transitions.iter_mut().zip(guards) {
+            t.guard = g;
+        }
+        st.transitions.retain(|t| t.guard != Guard::False);
+    }
+    e
+}
+
 /// Whether `ecc` wins the game: every closed-loop run stays in winning positions and meets
 /// every goal again and again (in the game's model of the plant; NuSMV has the last word).
 pub(crate) fn wins(s: &Strategy, ecc: &Ecc) -> Result<bool, RepairError> {

@@ -210,6 +210,48 @@ fn a_machine_that_never_works_is_repaired_until_it_serves_every_job() {
     assert!(small.states.len() <= r.ecc.states.len());
 }
 
+/// The least machine narrowed to the recorded inputs answers the recordings as before and
+/// stays on every input vector they never show in a state; the game then decides there.
+#[test]
+fn a_machine_narrowed_to_the_recorded_inputs_stays_elsewhere_and_is_repaired() {
+    // A job served once; the least machine's guard reads more than that one vector.
+    let set = recorded(&[&[
+        (false, Some(false)),
+        (true, Some(true)),
+        (false, Some(false)),
+    ]]);
+    let s = won(SERVED, &set);
+    let base = least(&set);
+    let tree = ScenarioTree::build(&set).unwrap();
+    let narrowed = repair::narrowed(&tree, &base);
+    set.check(&narrowed).unwrap();
+    assert_eq!(narrowed.states.len(), base.states.len());
+    // The (state, inputs) pairs the recording shows, replayed on the base.
+    let mut seen = Vec::new();
+    let mut run = crate::ecc::Run::new(&base);
+    for step in &set.scenarios[0].steps {
+        seen.push((run.state.0, step.inputs.clone()));
+        run.step(&step.inputs);
+    }
+    let mut generalized = 0;
+    for q in 0..base.states.len() {
+        for x in [vec![false], vec![true]] {
+            let fires =
+                |e: &crate::ecc::Ecc| e.states[q].transitions.iter().any(|t| t.guard.eval(&x));
+            let shown = seen.contains(&(q, x.clone()));
+            assert!(!fires(&narrowed) || shown, "state {q} fires on {x:?}");
+            generalized += usize::from(fires(&base) && !shown);
+        }
+    }
+    assert!(
+        generalized > 0,
+        "the base fires somewhere nothing was recorded: {base:?}"
+    );
+    let r = repair::repair(&s, &narrowed, 100).unwrap();
+    assert!(repair::wins(&s, &r.ecc).unwrap());
+    set.check(&r.ecc).unwrap();
+}
+
 #[test]
 fn the_recordings_tree_as_a_machine_replays_them_and_is_repaired_until_it_wins() {
     // Two recordings: a passive step and a job served at once.

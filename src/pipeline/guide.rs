@@ -11,8 +11,11 @@
 //! one. The game ([`crate::game`]) answers that question for every behaviour of the plant at
 //! once, but its strategy is large. So:
 //! 1. solve the game (positions: plant × outputs × property monitors × recordings);
-//! 2. the least machine SAT finds for the recordings alone, repaired until it wins the game
-//!    ([`crate::game::repair`]): its answers to the recordings are kept. Where its merged
+//! 2. the least machine SAT finds for the recordings alone, its guards narrowed to the input
+//!    vectors recorded ([`repair::narrowed`]), repaired until it wins the game
+//!    ([`crate::game::repair`]): its answers to the recordings are kept, and where nothing was
+//!    recorded the game alone decides, not the generalizations SAT chose for fewest literals
+//!    (they reach into the closed loop and the runs of step 3 keep them). Where its merged
 //!    states join recorded answers the game needs apart, and the caller allows it
 //!    ([`RepairStart`]), the recordings' tree as a machine is repaired instead;
 //! 3. that machine recorded along every node of its closed loop with the game, and the least
@@ -35,8 +38,9 @@
 //! where a node is reached along another path, so it is not sure to win; NuSMV judges it, and
 //! the repaired machine written in the user's conventions is there when it fails.
 //!
-//! Pick-and-Place (`specs/pnp.ltl`) from its first scenario alone gives C 8, K 3, T 17, N 40;
-//! from its first two, C 9, K 5, T 21, N 48. Times are in `BENCHMARKS.md`.
+//! Pick-and-Place (`specs/pnp.ltl`) from its first scenario alone gives C 9, K 6, T 28, N 88,
+//! which the main job's polish ([`super::polish`]) makes C 8, K 3, T 13, N 23; from its first
+//! two, C 10, K 6, T 31, N 89, polished to C 8, K 4, T 13, N 21. Times are in `BENCHMARKS.md`.
 
 use super::exact::Certificate;
 use super::{Check, Error, Event, Events};
@@ -126,7 +130,7 @@ impl std::fmt::Display for Stage {
                 seconds,
             } => write!(
                 f,
-                "guide: the least machine for the recordings alone ({base}) repaired in {rounds} rounds until it wins the game: C={} ({seconds:.2} s)",
+                "guide: the least machine for the recordings alone ({base}), narrowed to the inputs recorded, repaired in {rounds} rounds until it wins the game: C={} ({seconds:.2} s)",
                 size.c
             ),
             Stage::Repaired {
@@ -395,7 +399,8 @@ impl Guide<'_, '_> {
         self.least_states =
             (self.conventions.algorithms == crate::ecc::AlgorithmKind::Tri).then_some(base.size.c);
         let mut from_tree = None;
-        let repaired = match repair::repair(strategy, &base.ecc, MAX_ROUNDS) {
+        let narrowed = repair::narrowed(tree, &base.ecc);
+        let repaired = match repair::repair(strategy, &narrowed, MAX_ROUNDS) {
             Ok(r) => r,
             Err(e @ repair::RepairError::Recorded(_)) if self.start == RepairStart::LeastOrTree => {
                 let tree_machine = repair::tree_machine(tree, &base.ecc);
