@@ -491,10 +491,10 @@ pub(crate) fn tree_machine(tree: &ScenarioTree, like: &Ecc) -> Ecc {
 
 /// `base` (a machine that reproduces the recordings of `tree`) with every guard narrowed to
 /// the input vectors the recordings fire it on, each a whole cube; transitions they never
-/// fire go. It answers every recording as `base` does, and on every other input vector it
-/// stays: the repair then decides there from the game alone, where `base` would carry its
-/// guards' generalizations (chosen by SAT for fewest literals, not for the plant) into the
-/// closed loop.
+/// fire go. It answers every recording as `base` does, and in every pair of state and input
+/// vector they do not show it stays: the repair then decides there from the game alone, where
+/// `base` would carry its guards' generalizations (chosen by SAT for fewest literals, not for
+/// the plant) into the closed loop.
 pub(crate) fn narrowed(tree: &ScenarioTree, base: &Ecc) -> Ecc {
     let mut fired: Vec<Vec<Vec<InputVec>>> = (base.states.iter())
         .map(|s| vec![Vec::new(); s.transitions.len()])

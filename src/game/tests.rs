@@ -214,7 +214,8 @@ fn a_machine_that_never_works_is_repaired_until_it_serves_every_job() {
 /// stays on every input vector they never show in a state; the game then decides there.
 #[test]
 fn a_machine_narrowed_to_the_recorded_inputs_stays_elsewhere_and_is_repaired() {
-    // A job served once; the least machine's guard reads more than that one vector.
+    // A job served once: the least machine's guards also fire in pairs of state and input
+    // the recording never shows.
     let set = recorded(&[&[
         (false, Some(false)),
         (true, Some(true)),
@@ -245,7 +246,7 @@ fn a_machine_narrowed_to_the_recorded_inputs_stays_elsewhere_and_is_repaired() {
     }
     assert!(
         generalized > 0,
-        "the base fires somewhere nothing was recorded: {base:?}"
+        "the base fires only where the recording shows it, narrowing changes nothing: {base:?}"
     );
     let r = repair::repair(&s, &narrowed, 100).unwrap();
     assert!(repair::wins(&s, &r.ecc).unwrap());

@@ -38,12 +38,14 @@ pub(crate) struct Shrunk {
 }
 
 /// Most moves judged by the in-process checker: a bound on the work that, unlike a time,
-/// gives the same machine on every run.
+/// gives the same machine on every run. The moves after another initial state are not
+/// counted: at most one pass per state.
 const MAX_TRIES: usize = 3_000;
 
 /// The machine reached from `ecc` by the moves (module documentation) until none helps, after
-/// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move helps or the in-process checker cannot judge this plant.
-/// Every machine it keeps is in `conventions` (a merge into a start state is refused).
+/// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move
+/// helps or the in-process checker cannot judge this plant. Every machine it keeps is in
+/// `conventions` (a merge into a start state is refused).
 pub(crate) fn shrink(
     set: &ScenarioSet,
     check: &Check,
@@ -51,91 +53,143 @@ pub(crate) fn shrink(
     conventions: Conventions,
     deadline: Instant,
 ) -> Option<Shrunk> {
-    let problem = &check.problem;
-    let model = problem.model.as_ref().ok()?;
-    let wiring = check::Wiring::new(model, &problem.coupling).ok()?;
-    let automata = check::Automata::of(&problem.props);
-    let limits = check::Limits::default();
-    // Per core a memo of the plant's states: the machines judged differ, the plant does not.
-    let keeps_with = |memo: &mut check::PlantMemo, e: &Ecc| {
-        conventions.broken(e).is_none()
-            && set.check(e).is_ok()
-            && check::all_hold_with(model, &wiring, e, &problem.props, &automata, &limits, memo)
-                .unwrap_or(false)
-    };
-    let keeps = |e: &Ecc| keeps_with(&mut check::PlantMemo::default(), e);
+    let keeps = Keeps::of(set, check, conventions)?;
     let mut best = ecc.clone();
     let mut improved = false;
     let mut converged = false;
     let mut tries = 0;
-    'pass: while Instant::now() < deadline {
-        let size = best.size();
-        let mut smaller: Vec<Ecc> = (moves(&best).into_iter())
-            .filter(|m| m.size().is_smaller_than(&size))
-            .take(MAX_TRIES - tries)
-            .collect();
-        // The first move in order that keeps everything, as one core would find it, judged
-        // on every core: the machine reached does not depend on the cores or their timing.
-        let kept = smaller
-            .par_iter()
-            .map_init(check::PlantMemo::default, |memo, m| {
-                Instant::now() < deadline && keeps_with(memo, m)
-            })
-            .position_first(|kept| kept);
-        match kept {
-            Some(i) => {
-                tries += i + 1;
-                best = smaller.swap_remove(i);
-                improved = true;
-                continue 'pass;
+    while Instant::now() < deadline {
+        let (kept, judged) = first_kept_move(&keeps, &best, MAX_TRIES - tries, deadline);
+        tries += judged;
+        let smaller = match kept {
+            Some(m) => Some(m),
+            None if Instant::now() >= deadline || tries >= MAX_TRIES => break,
+            None => {
+                let guards_until = deadline.min(Instant::now() + GUARD_TIME);
+                let memo = &mut check::PlantMemo::default();
+                (reguarded(set, check, &best, guards_until))
+                    .filter(|m| m.size().is_smaller_than(&best.size()) && keeps.judge(memo, m))
+                    .or_else(|| after_new_root(&keeps, &best, deadline, guards_until))
             }
-            None => tries += smaller.len(),
-        }
-        if Instant::now() >= deadline || tries >= MAX_TRIES {
-            break 'pass;
-        }
-        let guards_until = deadline.min(Instant::now() + GUARD_TIME);
-        let size = best.size();
-        let smaller_after = |m: &Ecc, memo: &mut check::PlantMemo| {
-            let by_move = (moves(m).into_iter())
-                .filter(|x| x.size().is_smaller_than(&size))
-                .find(|x| Instant::now() < deadline && keeps_with(memo, x));
-            by_move.or_else(|| {
-                reguarded(set, check, m, guards_until)
-                    .filter(|x| x.size().is_smaller_than(&size) && keeps_with(memo, x))
-            })
         };
-        if let Some(candidate) = reguarded(set, check, &best, guards_until) {
-            if candidate.size().is_smaller_than(&size) && keeps(&candidate) {
-                best = candidate;
+        match smaller {
+            Some(m) => {
+                best = m;
                 improved = true;
-                continue 'pass;
+            }
+            None => {
+                converged = true;
+                break;
             }
         }
-        // Another state as the initial one: the same size, but a state entered only at the
-        // start may then merge or lose transitions. The first root (in order) after which a
-        // move or new guards make the machine smaller.
-        let roots: Vec<Ecc> = (1..best.states.len()).map(|r| rerooted(&best, r)).collect();
-        let after_root = roots
-            .par_iter()
-            .map_init(check::PlantMemo::default, |memo, m| {
-                (Instant::now() < deadline && keeps_with(memo, m))
-                    .then(|| smaller_after(m, memo))
-                    .flatten()
-            })
-            .find_map_first(|found| found);
-        if let Some(candidate) = after_root {
-            best = candidate;
-            improved = true;
-            continue 'pass;
-        }
-        converged = true;
-        break;
     }
     improved.then_some(Shrunk {
         ecc: best,
         converged,
     })
+}
+
+/// What a machine the moves reach must do: stay in the asked form, reproduce the recordings
+/// and keep every property in the in-process checker.
+struct Keeps<'a> {
+    set: &'a ScenarioSet,
+    check: &'a Check,
+    conventions: Conventions,
+    model: &'a crate::plant::Model,
+    wiring: check::Wiring,
+    automata: check::Automata,
+    limits: check::Limits,
+}
+
+impl<'a> Keeps<'a> {
+    /// `None` when the in-process checker cannot read the plant of `check`.
+    fn of(set: &'a ScenarioSet, check: &'a Check, conventions: Conventions) -> Option<Keeps<'a>> {
+        let problem = &check.problem;
+        let model = problem.model.as_ref().ok()?;
+        Some(Keeps {
+            set,
+            check,
+            conventions,
+            model,
+            wiring: check::Wiring::new(model, &problem.coupling).ok()?,
+            automata: check::Automata::of(&problem.props),
+            limits: check::Limits::default(),
+        })
+    }
+
+    /// Whether `e` keeps everything; `memo` holds the plant states met so far on this core
+    /// (the machines judged differ, the plant does not).
+    fn judge(&self, memo: &mut check::PlantMemo, e: &Ecc) -> bool {
+        let props = &self.check.problem.props;
+        self.conventions.broken(e).is_none()
+            && self.set.check(e).is_ok()
+            && check::all_hold_with(
+                self.model,
+                &self.wiring,
+                e,
+                props,
+                &self.automata,
+                &self.limits,
+                memo,
+            )
+            .unwrap_or(false)
+    }
+}
+
+/// The first move from `best` (in the order of [`moves`], at most `most` of them) that makes
+/// it smaller and keeps everything, and how many moves were judged.
+fn first_kept_move(
+    keeps: &Keeps<'_>,
+    best: &Ecc,
+    most: usize,
+    deadline: Instant,
+) -> (Option<Ecc>, usize) {
+    let size = best.size();
+    let mut smaller: Vec<Ecc> = (moves(best).into_iter())
+        .filter(|m| m.size().is_smaller_than(&size))
+        .take(most)
+        .collect();
+    // The first move in order that keeps everything, as one core would find it, judged on
+    // every core: the machine reached does not depend on the cores or their timing.
+    let kept = (smaller.par_iter())
+        .map_init(check::PlantMemo::default, |memo, m| {
+            Instant::now() < deadline && keeps.judge(memo, m)
+        })
+        .position_first(|kept| kept);
+    match kept {
+        Some(i) => (Some(smaller.swap_remove(i)), i + 1),
+        None => (None, smaller.len()),
+    }
+}
+
+/// Another state as the initial one ([`rerooted`]): the same size, but a state entered only
+/// at the start may then merge or lose transitions. The first root (in order) that keeps
+/// everything and after which a move or new guards (written until `guards_until`) make the
+/// machine smaller than `best`, that machine.
+fn after_new_root(
+    keeps: &Keeps<'_>,
+    best: &Ecc,
+    deadline: Instant,
+    guards_until: Instant,
+) -> Option<Ecc> {
+    let size = best.size();
+    let smaller_after = |m: &Ecc, memo: &mut check::PlantMemo| {
+        let by_move = (moves(m).into_iter())
+            .filter(|x| x.size().is_smaller_than(&size))
+            .find(|x| Instant::now() < deadline && keeps.judge(memo, x));
+        by_move.or_else(|| {
+            (reguarded(keeps.set, keeps.check, m, guards_until))
+                .filter(|x| x.size().is_smaller_than(&size) && keeps.judge(memo, x))
+        })
+    };
+    let roots: Vec<Ecc> = (1..best.states.len()).map(|r| rerooted(best, r)).collect();
+    (roots.par_iter())
+        .map_init(check::PlantMemo::default, |memo, m| {
+            (Instant::now() < deadline && keeps.judge(memo, m))
+                .then(|| smaller_after(m, memo))
+                .flatten()
+        })
+        .find_map_first(|found| found)
 }
 
 /// The longest the guards of one machine are written anew ([`reguarded`]); past it each
