@@ -498,35 +498,12 @@ pub(crate) fn check_with(
     limits: &Limits,
     memo: &mut PlantMemo,
 ) -> Result<Vec<ExplicitVerdict>, CheckError> {
-    let judge = Judge::of(model, coupling, ecc, limits, memo)?;
-    (props.iter().zip(&automata.0).enumerate())
-        .map(|(index, (p, gba))| judge.verdict(index, p, gba))
-        .collect()
+    Judge::of(model, coupling, ecc, limits, memo)?.verdicts(props, automata)
 }
 
-/// Whether every property holds ([`check_with`] says [`ExplicitVerdict::Holds`] for each),
-/// judged in order up to the first that does not: a search that only keeps machines keeping
-/// every property spends most of its checks on machines that break one.
-pub(crate) fn all_hold_with(
-    model: &Model,
-    coupling: &Wiring,
-    ecc: &Ecc,
-    props: &[Property],
-    automata: &Automata,
-    limits: &Limits,
-    memo: &mut PlantMemo,
-) -> Result<bool, CheckError> {
-    let judge = Judge::of(model, coupling, ecc, limits, memo)?;
-    for (index, (p, gba)) in props.iter().zip(&automata.0).enumerate() {
-        if !matches!(judge.verdict(index, p, gba)?, ExplicitVerdict::Holds) {
-            return Ok(false);
-        }
-    }
-    Ok(true)
-}
-
-/// The closed loop of one machine, explored, ready to judge properties on.
-struct Judge<'a> {
+/// The closed loop of one machine, explored, ready to judge properties on: every verdict
+/// ([`check_with`]), or whether all hold, up to the first that does not ([`Judge::all_hold`]).
+pub(crate) struct Judge<'a> {
     model: &'a Model,
     coupling: &'a Wiring,
     closed: ExplicitLoop<'a>,
@@ -538,7 +515,7 @@ struct Judge<'a> {
 impl<'a> Judge<'a> {
     /// The closed loop of `model` and `ecc`, checked to have an initial state and a fair
     /// infinite path.
-    fn of(
+    pub(crate) fn of(
         model: &'a Model,
         coupling: &'a Wiring,
         ecc: &'a Ecc,
@@ -578,6 +555,33 @@ impl<'a> Judge<'a> {
             limits,
             budget,
         })
+    }
+
+    /// The verdict on every property of `props`, in order.
+    fn verdicts(
+        &self,
+        props: &[Property],
+        automata: &Automata,
+    ) -> Result<Vec<ExplicitVerdict>, CheckError> {
+        (props.iter().zip(&automata.0).enumerate())
+            .map(|(index, (p, gba))| self.verdict(index, p, gba))
+            .collect()
+    }
+
+    /// Whether every property of `props` holds, judged in order up to the first that does
+    /// not: a search that keeps only machines keeping every property spends most of its
+    /// checks on machines that break one.
+    pub(crate) fn all_hold(
+        &self,
+        props: &[Property],
+        automata: &Automata,
+    ) -> Result<bool, CheckError> {
+        for (index, (p, gba)) in props.iter().zip(&automata.0).enumerate() {
+            if !matches!(self.verdict(index, p, gba)?, ExplicitVerdict::Holds) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 
     /// The verdict on property `p` (the `index`-th), whose negation is `gba`.

@@ -95,7 +95,8 @@ fn all_hold_says_what_the_verdicts_say() {
         let automata = Automata::of(&props);
         let limits = Limits::default();
         let mut memo = PlantMemo::default();
-        let all = all_hold_with(&m, &coupling, &e, &props, &automata, &limits, &mut memo);
+        let all = Judge::of(&m, &coupling, &e, &limits, &mut memo)
+            .and_then(|j| j.all_hold(&props, &automata));
         let v = check(&m, &coupling, &e, &props, &limits).unwrap();
         let expected = v.iter().all(|v| *v == ExplicitVerdict::Holds);
         assert_eq!(all.unwrap(), expected, "{:?}", &texts[..k]);

@@ -123,16 +123,9 @@ impl<'a> Keeps<'a> {
         let props = &self.check.problem.props;
         self.conventions.broken(e).is_none()
             && self.set.check(e).is_ok()
-            && check::all_hold_with(
-                self.model,
-                &self.wiring,
-                e,
-                props,
-                &self.automata,
-                &self.limits,
-                memo,
-            )
-            .unwrap_or(false)
+            && check::Judge::of(self.model, &self.wiring, e, &self.limits, memo)
+                .and_then(|j| j.all_hold(props, &self.automata))
+                .unwrap_or(false)
     }
 }
 
@@ -301,16 +294,11 @@ fn merged(ecc: &Ecc, a: usize, b: usize) -> Ecc {
     let mut e = ecc.clone();
     let moved = e.states.remove(b).transitions;
     e.states[a].transitions.extend(moved);
-    let renumber = |q: usize| match q {
+    retargeted(&mut e, |q| match q {
         q if q == b => a,
         q if q > b => q - 1,
         q => q,
-    };
-    for st in &mut e.states {
-        for t in &mut st.transitions {
-            t.target = StateId(renumber(t.target.0));
-        }
-    }
+    });
     reachable(e)
 }
 
@@ -319,17 +307,21 @@ fn merged(ecc: &Ecc, a: usize, b: usize) -> Ecc {
 fn rerooted(ecc: &Ecc, r: usize) -> Ecc {
     let mut e = ecc.clone();
     e.states.swap(0, r);
-    let swap = |q: usize| match q {
+    retargeted(&mut e, |q| match q {
         0 => r,
         q if q == r => 0,
         q => q,
-    };
-    for st in &mut e.states {
+    });
+    reachable(e)
+}
+
+/// Every transition of `ecc` sent to the state `number` gives its target.
+fn retargeted(ecc: &mut Ecc, number: impl Fn(usize) -> usize) {
+    for st in &mut ecc.states {
         for t in &mut st.transitions {
-            t.target = StateId(swap(t.target.0));
+            t.target = StateId(number(t.target.0));
         }
     }
-    reachable(e)
 }
 
 /// `ecc` without the states no transition path from the initial state reaches, the rest
@@ -357,11 +349,7 @@ fn reachable(mut ecc: Ecc) -> Ecc {
         q += 1;
         seen[q - 1]
     });
-    for st in &mut ecc.states {
-        for t in &mut st.transitions {
-            t.target = StateId(index[t.target.0]);
-        }
-    }
+    retargeted(&mut ecc, |q| index[q]);
     ecc
 }
 
@@ -412,26 +400,35 @@ mod tests {
         }
     }
 
+    /// A machine of one input and no outputs with these states.
+    fn machine(states: Vec<State>) -> Ecc {
+        Ecc {
+            inputs: vec!["x".into()],
+            outputs: vec![],
+            initial_outputs: vec![],
+            states,
+        }
+    }
+
+    /// Each state's transitions' targets, in order.
+    fn targets(e: &Ecc) -> Vec<Vec<usize>> {
+        (e.states.iter())
+            .map(|s| s.transitions.iter().map(|t| t.target.0).collect())
+            .collect()
+    }
+
     /// Rerooting swaps the numbers of the old and the new initial state, redirects every
     /// transition with them, and drops what the new initial state does not reach.
     #[test]
     fn a_new_root_swaps_numbers_and_unreached_states_go() {
-        let ecc = Ecc {
-            inputs: vec!["x".into()],
-            outputs: vec![],
-            initial_outputs: vec![],
-            states: vec![
-                state(vec![(2, Guard::True)]),
-                state(vec![(0, Guard::True)]),
-                state(vec![(1, Guard::True), (2, Guard::True)]),
-            ],
-        };
+        let ecc = machine(vec![
+            state(vec![(2, Guard::True)]),
+            state(vec![(0, Guard::True)]),
+            state(vec![(1, Guard::True), (2, Guard::True)]),
+        ]);
         let r = rerooted(&ecc, 2);
-        let targets: Vec<Vec<usize>> = (r.states.iter())
-            .map(|s| s.transitions.iter().map(|t| t.target.0).collect())
-            .collect();
         // Old 2 is now 0 (it goes to old 1 and itself), old 1 to old 0, now 2.
-        assert_eq!(targets, vec![vec![1, 0], vec![2], vec![0]]);
+        assert_eq!(targets(&r), vec![vec![1, 0], vec![2], vec![0]]);
         // A root that reaches only itself keeps only itself.
         let mut lone = ecc.clone();
         lone.states[1].transitions[0].target = StateId(1);
@@ -440,23 +437,15 @@ mod tests {
 
     #[test]
     fn a_merge_redirects_and_renumbers_and_unreachable_states_go() {
-        let ecc = Ecc {
-            inputs: vec!["x".into()],
-            outputs: vec![],
-            initial_outputs: vec![],
-            states: vec![
-                state(vec![(1, Guard::True)]),
-                state(vec![(2, Guard::True)]),
-                state(vec![(0, Guard::True)]),
-                state(vec![(0, Guard::True)]),
-            ],
-        };
+        let ecc = machine(vec![
+            state(vec![(1, Guard::True)]),
+            state(vec![(2, Guard::True)]),
+            state(vec![(0, Guard::True)]),
+            state(vec![(0, Guard::True)]),
+        ]);
         let m = merged(&ecc, 0, 1);
         // State 3 was never reached; state 2 becomes 1, state 1's transition now 0's second.
         assert_eq!(m.states.len(), 2);
-        let targets: Vec<Vec<usize>> = (m.states.iter())
-            .map(|s| s.transitions.iter().map(|t| t.target.0).collect())
-            .collect();
-        assert_eq!(targets, vec![vec![0, 1], vec![0]]);
+        assert_eq!(targets(&m), vec![vec![0, 1], vec![0]]);
     }
 }
