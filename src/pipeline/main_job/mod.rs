@@ -376,8 +376,8 @@ fn guided(
 }
 
 /// The exact loop's turn below the guide's machine `g`, which took `spent`: its machine if
-/// smaller, else `g`. No turn when `g`, made smaller, meets the recordings' own lower bounds:
-/// it is least.
+/// smaller, else `g`, within a quarter of `spent` (at least [`MIN_TURN`]). No turn when `g`,
+/// made smaller, meets the recordings' own lower bounds: it is least.
 fn below_guide(
     job: &Job<'_>,
     g: guide::Guided,
@@ -386,7 +386,11 @@ fn below_guide(
     events: Events<'_>,
 ) -> Result<VerifiedMachine, Error> {
     let (set, check) = (job.set, job.check);
-    let budget = (opts.limit.left()).min((spent / 2).max(Duration::from_secs(2)));
+    // Where the turn finds a smaller machine, the loop converges within a few candidates;
+    // where the recordings are sparse (Pick-and-Place from one or two scenarios, the
+    // generated stations) its candidates at the recordings' least C are refuted one
+    // behaviour at a time and a longer turn finds nothing either.
+    let budget = (opts.limit.left()).min((spent / 4).max(MIN_TURN));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
     let g = polished(set, check, opts, g, opts.limit.left(), &mut stages, events)?;
     let budget = budget.min(opts.limit.left());
@@ -441,6 +445,9 @@ fn below_guide(
     let least = job.floor.get().is_some_and(|f| f.met_by(&g.ecc));
     Ok(guide_machine(g, stages, after, least, opts))
 }
+
+/// The shortest turn of the exact loop below the guide's machine.
+const MIN_TURN: Duration = Duration::from_secs(2);
 
 /// The guide's machine `g` made smaller by local moves the in-process checker accepts
 /// ([`polish`]), in the form `opts` asks (algorithms, start state), within `budget` (the run's
