@@ -526,6 +526,14 @@ impl fmt::Display for Step {
             Step::GuideStands { after } => {
                 write!(f, "the exact loop: {after}; the guide's machine stands")
             }
+            Step::Polishing {
+                size,
+                judged,
+                seconds,
+            } => write!(
+                f,
+                "guide: making its machine smaller in process: {size} so far ({judged} moves judged, {seconds:.1} s)"
+            ),
             Step::Polished { line } => write!(f, "{line}"),
             Step::Realizability => write!(
                 f,

@@ -23,7 +23,7 @@
 
 use super::Check;
 use crate::check;
-use crate::ecc::{Conventions, Ecc, Guard, Run, StateId};
+use crate::ecc::{Conventions, Ecc, Guard, Run, Size, StateId};
 use crate::sat::guards::{minimize_state, GuardProblem};
 use crate::scenario::ScenarioSet;
 use rayon::prelude::*;
@@ -42,22 +42,28 @@ pub(crate) struct Shrunk {
 /// counted: at most one pass per state.
 const MAX_TRIES: usize = 3_000;
 
+/// The least time between two reports of [`shrink`]'s progress.
+pub(crate) const PROGRESS_EVERY: Duration = Duration::from_secs(2);
+
 /// The machine reached from `ecc` by the moves (module documentation) until none helps, after
 /// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move
 /// helps or the in-process checker cannot judge this plant. Every machine it keeps is in
-/// `conventions` (a merge into a start state is refused).
+/// `conventions` (a merge into a start state is refused). `progress` hears the smallest
+/// machine so far and the moves judged, at most once every [`PROGRESS_EVERY`].
 pub(crate) fn shrink(
     set: &ScenarioSet,
     check: &Check,
     ecc: &Ecc,
     conventions: Conventions,
     deadline: Instant,
+    progress: &mut dyn FnMut(Size, usize),
 ) -> Option<Shrunk> {
     let keeps = Keeps::of(set, check, conventions)?;
     let mut best = ecc.clone();
     let mut improved = false;
     let mut converged = false;
     let mut tries = 0;
+    let mut reported = Instant::now();
     while Instant::now() < deadline {
         let (kept, judged) = first_kept_move(&keeps, &best, MAX_TRIES - tries, deadline);
         tries += judged;
@@ -76,6 +82,10 @@ pub(crate) fn shrink(
             Some(m) => {
                 best = m;
                 improved = true;
+                if reported.elapsed() >= PROGRESS_EVERY {
+                    progress(best.size(), tries);
+                    reported = Instant::now();
+                }
             }
             None => {
                 converged = true;

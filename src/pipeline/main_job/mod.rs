@@ -112,6 +112,16 @@ pub enum Step {
         /// What the turn found (as in [`GuideSummary::exact_loop_below_it`]).
         after: String,
     },
+    /// The guide's machine being made smaller in process: the smallest so far (at most one
+    /// line every [`polish::PROGRESS_EVERY`]).
+    Polishing {
+        /// Its size.
+        size: Size,
+        /// Moves judged so far.
+        judged: usize,
+        /// Seconds since the moves began.
+        seconds: f64,
+    },
     /// The guide's machine made smaller in process, and NuSMV's word on it (one line).
     Polished {
         /// What was found.
@@ -468,7 +478,20 @@ fn polished(
     let Some(polish::Shrunk {
         ecc: small,
         converged,
-    }) = polish::shrink(set, check, &g.ecc, conventions, deadline)
+    }) = polish::shrink(
+        set,
+        check,
+        &g.ecc,
+        conventions,
+        deadline,
+        &mut |size, judged| {
+            events(Event::MainJob(Step::Polishing {
+                size,
+                judged,
+                seconds: now.elapsed().as_secs_f64(),
+            }))
+        },
+    )
     else {
         return Ok(g);
     };

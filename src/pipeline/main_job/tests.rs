@@ -325,3 +325,23 @@ fn the_guides_summary_says_least_when_it_is_proven() {
     assert!(!said.contains("not proven least"), "{said}");
     assert!(!said.contains("proven: C"), "{said}");
 }
+
+/// The polish's progress line names the smallest machine so far, the moves judged and the
+/// seconds since the moves began.
+#[test]
+fn the_polishing_line_says_the_machine_so_far_and_the_moves_judged() {
+    let step = Step::Polishing {
+        size: Size {
+            c: 8,
+            k: 3,
+            t: 16,
+            n: 43,
+        },
+        judged: 1492,
+        seconds: 11.34,
+    };
+    assert_eq!(
+        step.to_string(),
+        "guide: making its machine smaller in process: C=8 K=3 T=16 N=43 so far (1492 moves judged, 11.3 s)"
+    );
+}
