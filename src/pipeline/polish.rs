@@ -49,7 +49,8 @@ pub(crate) const PROGRESS_EVERY: Duration = Duration::from_secs(2);
 /// [`MAX_TRIES`] moves judged, or at `deadline` (the run's time limit); `None` when no move
 /// helps or the in-process checker cannot judge this plant. Every machine it keeps is in
 /// `conventions` (a merge into a start state is refused). `progress` hears the smallest
-/// machine so far and the moves judged, at most once every [`PROGRESS_EVERY`].
+/// machine so far and the moves judged towards [`MAX_TRIES`], at most once every
+/// [`PROGRESS_EVERY`].
 pub(crate) fn shrink(
     set: &ScenarioSet,
     check: &Check,

@@ -399,7 +399,7 @@ fn below_guide(
     // Where the turn finds a smaller machine, the loop converges within a few candidates;
     // where the recordings are sparse (Pick-and-Place from one or two scenarios, the
     // generated stations) its candidates at the recordings' least C are refuted one
-    // behaviour at a time and a longer turn finds nothing either.
+    // behaviour at a time, and a longer turn only delays the result.
     let budget = (opts.limit.left()).min((spent / 4).max(MIN_TURN));
     let mut stages: Vec<String> = g.stages.iter().map(ToString::to_string).collect();
     let g = polished(set, check, opts, g, opts.limit.left(), &mut stages, events)?;
