@@ -455,16 +455,6 @@ pub(crate) fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repa
 /// merges block (a defect whose culprit is an answer the recordings fix in a shared state)
 /// can start from it. `like` gives the interface and initial outputs.
 pub(crate) fn tree_machine(tree: &ScenarioTree, like: &Ecc) -> Ecc {
-    let cube = |u: InputVec| {
-        Guard::And(
-            (tree.input_vectors[u.0].iter().enumerate())
-                .map(|(i, &b)| match b {
-                    true => Guard::Var(InputId(i)),
-                    false => Guard::Not(Box::new(Guard::Var(InputId(i)))),
-                })
-                .collect(),
-        )
-    };
     let states = (tree.nodes.iter().enumerate())
         .map(|(v, node)| State {
             name: format!("s{v}"),
@@ -476,7 +466,7 @@ pub(crate) fn tree_machine(tree: &ScenarioTree, like: &Ecc) -> Ecc {
             transitions: (node.children.iter())
                 .map(|&(u, child)| Transition {
                     target: StateId(child.0),
-                    guard: cube(u),
+                    guard: Guard::cube(&whole_vector(tree, u)),
                 })
                 .collect(),
         })
@@ -515,13 +505,8 @@ pub(crate) fn narrowed(tree: &ScenarioTree, base: &Ecc) -> Ecc {
     let mut e = base.clone();
     for (st, fired) in e.states.iter_mut().zip(fired) {
         let guards = fired.into_iter().map(|us| {
-            let cubes: Vec<Vec<(InputId, bool)>> = (us.into_iter())
-                .map(|u| {
-                    (tree.input_vectors[u.0].iter().enumerate())
-                        .map(|(i, &b)| (InputId(i), b))
-                        .collect()
-                })
-                .collect();
+            let cubes: Vec<Vec<(InputId, bool)>> =
+                (us.into_iter()).map(|u| whole_vector(tree, u)).collect();
             Guard::dnf(&cubes)
         });
         for (t, g) in st.transitions.iter_mut().zip(guards) {
@@ -530,6 +515,13 @@ pub(crate) fn narrowed(tree: &ScenarioTree, base: &Ecc) -> Ecc {
         st.transitions.retain(|t| t.guard != Guard::False);
     }
     e
+}
+
+/// The recorded input vector `u` of `tree` as the literals of a cube that holds on it alone.
+fn whole_vector(tree: &ScenarioTree, u: InputVec) -> Vec<(InputId, bool)> {
+    (tree.input_vectors[u.0].iter().enumerate())
+        .map(|(i, &b)| (InputId(i), b))
+        .collect()
 }
 
 /// Whether `ecc` wins the game: every closed-loop run stays in winning positions and meets

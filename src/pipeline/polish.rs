@@ -74,8 +74,7 @@ pub(crate) fn shrink(
             None => {
                 let guards_until = deadline.min(Instant::now() + GUARD_TIME);
                 let memo = &mut check::PlantMemo::default();
-                (reguarded(set, check, &best, guards_until))
-                    .filter(|m| m.size().is_smaller_than(&best.size()) && keeps.judge(memo, m))
+                (keeps.by_new_guards(&best, best.size(), guards_until, memo))
                     .or_else(|| after_new_root(&keeps, &best, deadline, guards_until))
             }
         };
@@ -138,6 +137,19 @@ impl<'a> Keeps<'a> {
                 .and_then(|j| j.all_hold(props, &self.automata))
                 .unwrap_or(false)
     }
+
+    /// `e` with its guards written anew ([`reguarded`], until `until`) when that makes it
+    /// smaller than `size` and it keeps everything.
+    fn by_new_guards(
+        &self,
+        e: &Ecc,
+        size: Size,
+        until: Instant,
+        memo: &mut check::PlantMemo,
+    ) -> Option<Ecc> {
+        (reguarded(self.set, self.check, e, until))
+            .filter(|x| x.size().is_smaller_than(&size) && self.judge(memo, x))
+    }
 }
 
 /// The first move from `best` (in the order of [`moves`], at most `most` of them) that makes
@@ -181,10 +193,7 @@ fn after_new_root(
         let by_move = (moves(m).into_iter())
             .filter(|x| x.size().is_smaller_than(&size))
             .find(|x| Instant::now() < deadline && keeps.judge(memo, x));
-        by_move.or_else(|| {
-            (reguarded(keeps.set, keeps.check, m, guards_until))
-                .filter(|x| x.size().is_smaller_than(&size) && keeps.judge(memo, x))
-        })
+        by_move.or_else(|| keeps.by_new_guards(m, size, guards_until, memo))
     };
     let roots: Vec<Ecc> = (1..best.states.len()).map(|r| rerooted(best, r)).collect();
     (roots.par_iter())
