@@ -232,13 +232,26 @@ pub(crate) fn write_all(
         .map(|&format| Ok((format, text(ecc, stem, format)?)))
         .collect::<Result<_, ExportError>>()?;
 
+    let named = texts
+        .into_iter()
+        .map(|(format, text)| (format!("{stem}.{}", format.extension()), text));
+    write_texts(dir, named)
+}
+
+/// Writes each `(file, text)` to `dir/file` ([`write_file`]), and right after each Graphviz
+/// file (`.dot`) its drawing beside it (`.svg`) when Graphviz's `dot` is installed. Returns the
+/// paths written, in that order.
+pub(crate) fn write_texts(
+    dir: &Path,
+    texts: impl IntoIterator<Item = (String, String)>,
+) -> Result<Vec<PathBuf>, ExportError> {
     let mut written = Vec::new();
-    for (format, text) in texts {
-        let path = dir.join(format!("{stem}.{}", format.extension()));
+    for (file, text) in texts {
+        let path = dir.join(&file);
         write_file(&path, text.as_bytes())?;
-        written.push(path);
-        if format == Format::Dot {
-            let svg = dir.join(format!("{stem}.svg"));
+        written.push(path.clone());
+        if file.ends_with(".dot") {
+            let svg = path.with_extension("svg");
             match dot::render_svg(&text, &svg) {
                 Ok(true) => written.push(svg),
                 Ok(false) => {}

@@ -579,30 +579,18 @@ pub(crate) fn write_modular(
     let created = super::plcopen::creation_time();
     write_composite_plcopen(modular, stem, &created, &mut xml).expect("names are checked");
     let utf8 = |b: Vec<u8>| String::from_utf8(b).expect("the emitters write UTF-8");
-    let dot = composite_dot(modular, stem);
-    let mut written = Vec::new();
     let texts = [
         (format!("{stem}.fbt"), fbt),
         (format!("{stem}.smv"), smv),
         (format!("{stem}.st"), utf8(st)),
         (format!("{stem}.xml"), utf8(xml)),
-        (format!("{stem}.dot"), dot.clone()),
+        (format!("{stem}.dot"), composite_dot(modular, stem)),
         (
             format!("{stem}.modules.json"),
             decomposition_json(modular, stem),
         ),
     ];
-    for (file, text) in texts {
-        let path = dir.join(file);
-        super::write_file(&path, text.as_bytes())?;
-        written.push(path);
-    }
-    let svg = dir.join(format!("{stem}.svg"));
-    match super::dot::render_svg(&dot, &svg) {
-        Ok(true) => written.push(svg),
-        Ok(false) => {}
-        Err(source) => return Err(ExportError::Render { path: svg, source }),
-    }
+    let mut written = super::write_texts(dir, texts)?;
     for (m, module) in modular.modules.iter().enumerate() {
         let name = module_type_name(stem, m);
         written.extend(super::write_all(
@@ -647,21 +635,7 @@ fn write_chain(modular: &Modular, dir: &Path, stem: &str) -> Result<Vec<PathBuf>
         format!("{stem}.modules.json"),
         decomposition_json(modular, stem),
     ));
-    let mut written = Vec::new();
-    for (file, text) in texts {
-        let path = dir.join(&file);
-        super::write_file(&path, text.as_bytes())?;
-        written.push(path.clone());
-        if file.ends_with(".dot") {
-            let svg = path.with_extension("svg");
-            match super::dot::render_svg(&text, &svg) {
-                Ok(true) => written.push(svg),
-                Ok(false) => {}
-                Err(source) => return Err(ExportError::Render { path: svg, source }),
-            }
-        }
-    }
-    Ok(written)
+    super::write_texts(dir, texts)
 }
 
 #[cfg(test)]

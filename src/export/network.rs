@@ -316,21 +316,7 @@ pub(crate) fn write_network(
             "two exports would be written to {file}: a controller is named like the network (--name)"
         )));
     }
-    let mut written = Vec::new();
-    for (file, text) in texts {
-        let path = dir.join(&file);
-        super::write_file(&path, text.as_bytes())?;
-        written.push(path.clone());
-        if file.ends_with(".dot") {
-            let svg = path.with_extension("svg");
-            match super::dot::render_svg(&text, &svg) {
-                Ok(true) => written.push(svg),
-                Ok(false) => {}
-                Err(source) => return Err(ExportError::Render { path: svg, source }),
-            }
-        }
-    }
-    Ok(written)
+    super::write_texts(dir, texts)
 }
 
 #[cfg(test)]
