@@ -207,12 +207,44 @@ pub fn check_coupling_by(
     let plant_name = |n: &String| {
         (couple.iter().find(|c| c.controller == *n)).map_or(n.clone(), |c| c.plant.clone())
     };
-    let at = |file: &Path, line: usize, message: String| CouplingError::At {
+    check_controller_names(inputs, outputs)?;
+    let (params, param_names) = plant_params(plant, outputs, plant_name)?;
+    let names = bindings(plant, outputs)?;
+    let sensors: Vec<String> = inputs.iter().map(plant_name).collect();
+    for i in &sensors {
+        if names.get(i) != Some(&Binding::Plant) {
+            return Err(at(
+                &plant.file,
+                plant.module_line,
+                format!(
+                    "module plant declares no variable or define {} for the controller input of that name",
+                    quote(i)
+                ),
+            ));
+        }
+    }
+    check_property_names(props, spec_file, &names, &plant.file)?;
+    Ok(Coupling {
+        names,
+        inputs: inputs.to_vec(),
+        sensors,
+        param_names,
+        outputs: outputs.to_vec(),
+        params,
+    })
+}
+
+/// An error at `file:line`.
+fn at(file: &Path, line: usize, message: String) -> CouplingError {
+    CouplingError::At {
         file: file.to_path_buf(),
         line,
         message,
-    };
-    let pf = plant.file.as_path();
+    }
+}
+
+/// Every controller input and output name is an identifier the closed loop does not reserve.
+fn check_controller_names(inputs: &[String], outputs: &[String]) -> Result<(), CouplingError> {
     for (n, side) in
         (inputs.iter().map(|n| (n, "input"))).chain(outputs.iter().map(|n| (n, "output")))
     {
@@ -227,6 +259,17 @@ pub fn check_coupling_by(
             )));
         }
     }
+    Ok(())
+}
+
+/// Per parameter of `MODULE plant` that is a controller output (its plant name by
+/// `plant_name`): the output's index, and the parameter's name. The events are parameters too
+/// and have no index; any other parameter is an error at its line.
+fn plant_params(
+    plant: &Plant,
+    outputs: &[String],
+    plant_name: impl Fn(&String) -> String,
+) -> Result<(Vec<usize>, Vec<String>), CouplingError> {
     let mut params = Vec::with_capacity(plant.params.len());
     let mut param_names = Vec::with_capacity(plant.params.len());
     for p in &plant.params {
@@ -241,7 +284,7 @@ pub fn check_coupling_by(
             None if EVENTS.contains(&p.name.as_str()) => {}
             None => {
                 return Err(at(
-                    pf,
+                    &plant.file,
                     p.line,
                     format!(
                         "plant parameter {} is not a controller output (outputs: {}; or the event CNF or REQ)",
@@ -252,6 +295,13 @@ pub fn check_coupling_by(
             }
         }
     }
+    Ok((params, param_names))
+}
+
+/// Which side each name of the closed loop belongs to: the controller's outputs and the
+/// plant's variables and defines, each an identifier, none reserved, none on both sides.
+fn bindings(plant: &Plant, outputs: &[String]) -> Result<BTreeMap<String, Binding>, CouplingError> {
+    let pf = plant.file.as_path();
     let mut names: BTreeMap<String, Binding> = BTreeMap::new();
     for o in outputs {
         names.insert(o.clone(), Binding::ControllerOutput);
@@ -279,19 +329,17 @@ pub fn check_coupling_by(
             .map_err(|m| at(pf, d.line, format!("{}: {m}", quote(&d.name))))?;
         names.insert(d.name.clone(), Binding::Plant);
     }
-    let sensors: Vec<String> = inputs.iter().map(plant_name).collect();
-    for i in &sensors {
-        if names.get(i) != Some(&Binding::Plant) {
-            return Err(at(
-                pf,
-                plant.module_line,
-                format!(
-                    "module plant declares no variable or define {} for the controller input of that name",
-                    quote(i)
-                ),
-            ));
-        }
-    }
+    Ok(names)
+}
+
+/// Every property's name is an identifier and every name its formula reads is bound in
+/// `names`; an error names the line of `spec_file`.
+fn check_property_names(
+    props: &[Property],
+    spec_file: &Path,
+    names: &BTreeMap<String, Binding>,
+    plant_file: &Path,
+) -> Result<(), CouplingError> {
     for (k, p) in props.iter().enumerate() {
         if let Err(m) = check_identifier(&property_name(k, p)) {
             return Err(at(
@@ -308,20 +356,13 @@ pub fn check_coupling_by(
                     format!(
                         "unknown name {}: neither a controller output nor a variable or define of module plant in {}",
                         quote(&n),
-                        pf.display()
+                        plant_file.display()
                     ),
                 ));
             }
         }
     }
-    Ok(Coupling {
-        names,
-        inputs: inputs.to_vec(),
-        sensors,
-        param_names,
-        outputs: outputs.to_vec(),
-        params,
-    })
+    Ok(())
 }
 
 /// Each pair of `couple` names a controller input with a name the plant declares, or a
