@@ -168,7 +168,6 @@ pub(crate) fn learn(
     })?;
     let mut set = initial.clone();
     let mut rounds = Vec::new();
-    let mut recorded_steps = 0;
     let mut at_least = 1;
     // The last round's machine when it reproduces what that round recorded: it is still of
     // least `C` (more recordings never lower it), so it is kept rather than inferred again.
@@ -188,35 +187,12 @@ pub(crate) fn learn(
             None => infer(&set, opts, at_least, events)?,
         };
         at_least = machine.states.len();
-        let tree = ScenarioTree::build(&set)?;
         if opts.tour && rounds.len() + 1 < opts.max_rounds {
-            let letters = ambiguity::alphabet(&tree, set.inputs.len(), asking.all_inputs)?;
-            let (mut asked, mut sequences) = (Asked::Tour, tour(&machine, &tree, &letters));
-            if sequences.is_empty() {
-                (asked, sequences) = (Asked::Probes, probes(&machine, &tree, &letters));
-            }
-            if !sequences.is_empty() {
-                let round = Round {
-                    states: machine.states.len(),
-                    asked,
-                    verdict: None,
-                    recorded_steps: sequences.iter().map(Vec::len).sum(),
-                    widened: false,
-                };
-                for inputs in &sequences {
-                    let k = set.scenarios.len() + 1;
-                    set.scenarios
-                        .push(record(oracle, inputs, origin(asked.name(), k)));
-                }
+            if let Some(round) = tour_round(&machine, &asking, oracle, &mut set)? {
                 if set.check(&machine).is_ok() {
                     kept = Some(machine);
                 }
-                recorded_steps += round.recorded_steps;
-                events(Event::LearnRound {
-                    number: rounds.len() + 1,
-                    round: &round,
-                });
-                rounds.push(round);
+                heard(&mut rounds, round, events);
                 continue;
             }
         }
@@ -232,25 +208,17 @@ pub(crate) fn learn(
             widen = false;
             asking.all_inputs = true;
             round.widened = true;
-            events(Event::LearnRound {
-                number: rounds.len() + 1,
-                round: &round,
-            });
-            rounds.push(round);
+            heard(&mut rounds, round, events);
             kept = Some(machine);
             continue;
         }
         if found.verdict != Uniqueness::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
-            events(Event::LearnRound {
-                number: rounds.len() + 1,
-                round: &round,
-            });
-            rounds.push(round);
+            heard(&mut rounds, round, events);
             return Ok(Learned {
                 machine,
                 recordings: set,
+                recorded_steps: rounds.iter().map(|r| r.recorded_steps).sum(),
                 rounds,
-                recorded_steps,
                 unique: found.verdict == Uniqueness::Unique,
             });
         }
@@ -261,13 +229,49 @@ pub(crate) fn learn(
             set.scenarios
                 .push(record(oracle, &inputs, origin("oracle", k)));
         }
-        recorded_steps += round.recorded_steps;
-        events(Event::LearnRound {
-            number: rounds.len() + 1,
-            round: &round,
-        });
-        rounds.push(round);
+        heard(&mut rounds, round, events);
     }
+}
+
+/// `round` told to `events` as the next of `rounds`, and added to them.
+fn heard(rounds: &mut Vec<Round>, round: Round, events: Events<'_>) {
+    events(Event::LearnRound {
+        number: rounds.len() + 1,
+        round: &round,
+    });
+    rounds.push(round);
+}
+
+/// A round of input sequences planned on `machine` over the letters `asking` allows (a tour
+/// of its transitions, else probes), each recorded from `oracle` into `set`; `None` when there
+/// is no sequence left to plan.
+fn tour_round(
+    machine: &Ecc,
+    asking: &ambiguity::Options,
+    oracle: &Ecc,
+    set: &mut ScenarioSet,
+) -> Result<Option<Round>, Error> {
+    let tree = ScenarioTree::build(set)?;
+    let letters = ambiguity::alphabet(&tree, set.inputs.len(), asking.all_inputs)?;
+    let (mut asked, mut sequences) = (Asked::Tour, tour(machine, &tree, &letters));
+    if sequences.is_empty() {
+        (asked, sequences) = (Asked::Probes, probes(machine, &tree, &letters));
+    }
+    if sequences.is_empty() {
+        return Ok(None);
+    }
+    for inputs in &sequences {
+        let k = set.scenarios.len() + 1;
+        set.scenarios
+            .push(record(oracle, inputs, origin(asked.name(), k)));
+    }
+    Ok(Some(Round {
+        states: machine.states.len(),
+        asked,
+        verdict: None,
+        recorded_steps: sequences.iter().map(Vec::len).sum(),
+        widened: false,
+    }))
 }
 
 /// A configuration of a machine: its state and output values.
