@@ -55,6 +55,87 @@ pub(crate) struct Sampler {
     interval: Duration,
     next_tick: Instant,
     first: Option<Instant>,
+    /// The certificate folder of a connection without security, removed last (after the
+    /// runtime, whose event loop may still read it).
+    _own_pki: Option<tempfile::TempDir>,
+}
+
+/// An empty certificate folder of this run's own, for a connection without security: the
+/// client library makes its folders there even when it uses no certificate. Removed when
+/// dropped, and on a termination signal.
+fn own_pki() -> std::io::Result<tempfile::TempDir> {
+    let dir = tempfile::Builder::new()
+        .prefix("fbsynth-opcua-pki-")
+        .tempdir()?;
+    crate::files::remove_on_signal(dir.path());
+    Ok(dir)
+}
+
+/// The endpoint of `conn.url` to connect to, in the security `conn` asks for, with an
+/// anonymous user.
+async fn endpoint(
+    client: &mut opcua::client::Client,
+    conn: &Connection,
+) -> Result<EndpointDescription, LiveError> {
+    let url = &conn.url;
+    let connect_err = |message: String| LiveError::Connect {
+        url: url.clone(),
+        message,
+    };
+    let endpoints = tokio::time::timeout(
+        CONNECT_TIMEOUT,
+        client.get_server_endpoints_from_url(url.as_str()),
+    )
+    .await
+    .map_err(|_| connect_err("no answer to GetEndpoints".into()))?
+    .map_err(|e| connect_err(e.to_string()))?;
+    let secure_wanted = conn.security == Security::Basic256Sha256;
+    let (policy, mode) =
+        choose_endpoint(&endpoints, conn.security, secure_wanted).map_err(|message| {
+            LiveError::Endpoint {
+                url: url.clone(),
+                message,
+            }
+        })?;
+    if policy != SecurityPolicy::None && conn.certs.is_none() {
+        return Err(LiveError::Endpoint {
+            url: url.clone(),
+            message: format!(
+                "the server requires security ({policy}); give a certificate folder with --certs DIR"
+            ),
+        });
+    }
+    Ok((
+        url.as_str(),
+        policy.to_str(),
+        mode,
+        UserTokenPolicy::anonymous(),
+    )
+        .into())
+}
+
+/// A session on `endpoint`, its event loop started, once the server accepted it.
+async fn session(
+    client: &mut opcua::client::Client,
+    endpoint: EndpointDescription,
+    url: &str,
+) -> Result<Arc<Session>, LiveError> {
+    let connect_err = |message: String| LiveError::Connect {
+        url: url.to_string(),
+        message,
+    };
+    let (session, event_loop) = client
+        .connect_to_matching_endpoint(endpoint, IdentityToken::Anonymous)
+        .await
+        .map_err(|e| connect_err(e.to_string()))?;
+    event_loop.spawn();
+    match tokio::time::timeout(CONNECT_TIMEOUT, session.wait_for_connection()).await {
+        Ok(true) => Ok(session),
+        Ok(false) => Err(connect_err(
+            "the server refused the session (with security: is its certificate in DIR/trusted/, and ours trusted by it?)".into(),
+        )),
+        Err(_) => Err(connect_err("no session within 10 s".into())),
+    }
 }
 
 /// The node id of every mapped signal, in the mapping's address order; a bad one names the
@@ -118,10 +199,6 @@ impl Sampler {
             url: url.clone(),
             message,
         };
-        let connect_err = |message: String| LiveError::Connect {
-            url: url.clone(),
-            message,
-        };
         // One worker: the session's event loop (keep-alive, reconnects) runs between reads.
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -129,12 +206,13 @@ impl Sampler {
             .enable_all()
             .build()
             .map_err(|e| client_err(e.to_string()))?;
-        let pki = match &conn.certs {
-            Some(dir) => dir.clone(),
-            // Never written for a connection without security: no key is made for it.
-            None => std::env::temp_dir().join("fbsynth-opcua-pki"),
+        let (pki, own_pki) = match &conn.certs {
+            Some(dir) => (dir.clone(), None),
+            None => {
+                let own = own_pki().map_err(|e| client_err(e.to_string()))?;
+                (own.path().to_path_buf(), Some(own))
+            }
         };
-        let secure_wanted = conn.security == Security::Basic256Sha256;
         let mut client = ClientBuilder::new()
             .application_name("fbsynth synth")
             .application_uri("urn:fbsynth:synth")
@@ -149,52 +227,8 @@ impl Sampler {
             .session_timeout(30_000)
             .client()
             .map_err(|errors| client_err(errors.join("; ")))?;
-        let endpoints = runtime
-            .block_on(async {
-                tokio::time::timeout(
-                    CONNECT_TIMEOUT,
-                    client.get_server_endpoints_from_url(url.as_str()),
-                )
-                .await
-            })
-            .map_err(|_| connect_err("no answer to GetEndpoints".into()))?
-            .map_err(|e| connect_err(e.to_string()))?;
-        let (policy, mode) =
-            choose_endpoint(&endpoints, conn.security, secure_wanted).map_err(|message| {
-                LiveError::Endpoint {
-                    url: url.clone(),
-                    message,
-                }
-            })?;
-        if policy != SecurityPolicy::None && conn.certs.is_none() {
-            return Err(LiveError::Endpoint {
-                url,
-                message: format!(
-                    "the server requires security ({policy}); give a certificate folder with --certs DIR"
-                ),
-            });
-        }
-        let endpoint: EndpointDescription = (
-            url.as_str(),
-            policy.to_str(),
-            mode,
-            UserTokenPolicy::anonymous(),
-        )
-            .into();
-        let session = runtime.block_on(async {
-            let (session, event_loop) = client
-                .connect_to_matching_endpoint(endpoint, IdentityToken::Anonymous)
-                .await
-                .map_err(|e| connect_err(e.to_string()))?;
-            event_loop.spawn();
-            match tokio::time::timeout(CONNECT_TIMEOUT, session.wait_for_connection()).await {
-                Ok(true) => Ok(session),
-                Ok(false) => Err(connect_err(
-                    "the server refused the session (with security: is its certificate in DIR/trusted/, and ours trusted by it?)".into(),
-                )),
-                Err(_) => Err(connect_err("no session within 10 s".into())),
-            }
-        })?;
+        let endpoint = runtime.block_on(endpoint(&mut client, conn))?;
+        let session = runtime.block_on(session(&mut client, endpoint, &url))?;
         let nodes = (mapping.addresses().iter())
             .map(|(address, slot)| Node {
                 slot: *slot,
@@ -216,6 +250,7 @@ impl Sampler {
             interval: conn.interval,
             next_tick: Instant::now(),
             first: None,
+            _own_pki: own_pki,
         })
     }
 

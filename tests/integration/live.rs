@@ -154,9 +154,13 @@ fn record_infer_and_monitor_a_live_plc() {
     let map = write_map(dir.path());
     let log = dir.path().join("plc.csv");
 
+    // The run's temporary folders: nothing of the connection may stay there.
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
     let plc = start_plc(&python, &replay, None);
     let o = TestCommand::new()
         .umask(0o022)
+        .env("TMPDIR", &tmp)
         .args([
             "record",
             "--opcua",
@@ -172,6 +176,8 @@ fn record_infer_and_monitor_a_live_plc() {
     drop(plc);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(text(&o.stdout).contains("recorded"), "{}", text(&o.stdout));
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().collect();
+    assert!(left.is_empty(), "left in the temporary folder: {left:?}");
     let csv = std::fs::read_to_string(&log).unwrap();
     let mut lines = csv.lines();
     let header = lines.next().unwrap();
