@@ -303,8 +303,8 @@ pub(crate) fn write_noisy(
     let result = &noisy.synthesis;
     let mut rows = Vec::new();
     for (k, c) in result.candidates.iter().enumerate() {
-        let folder = format!("candidate_{}", k + 1);
-        let dir = out.join(&folder);
+        let row = noisy_row(noisy, k);
+        let dir = out.join(&row.folder);
         create_dir(&dir)?;
         export::write_all(&c.ecc, &dir, name, formats)?;
         let mut text = Vec::new();
@@ -313,28 +313,52 @@ pub(crate) fn write_noisy(
         let mut csv = Vec::new();
         csvlog::write(&c.corrected, &mut csv)?;
         write(&dir.join("corrected.csv"), &csv)?;
-        let row = NoisyRow {
-            candidate: k + 1,
-            errors: c.errors,
-            size: c.size,
-            guards_exact: c.guards_exact,
-            verified: noisy
-                .closed
-                .get(k)
-                .and_then(Option::as_ref)
-                .map(|c| matches!(c, InLoop::Verified(_))),
-            verified_size: noisy.verified(k + 1).map(|e| e.synthesis.size),
-            as_found_violates: noisy.as_found.get(k).cloned(),
-            why_not: match noisy.closed.get(k) {
-                Some(Some(InLoop::None(why))) => Some(why.clone()),
-                _ => None,
-            },
-            folder,
-        };
         let json = serde_json::to_string_pretty(&row).expect("serializable");
         write(&dir.join("candidate.json"), json.as_bytes())?;
         rows.push(row);
     }
+    let table = noisy_table(noisy, &rows);
+    write(&out.join("summary.txt"), table.as_bytes())?;
+    let summary = summary::NoisySummary {
+        format: summary::NOISY,
+        c: result.n,
+        k: result.k,
+        t: result.r,
+        exhausted: result.exhausted,
+        chosen: noisy.chosen(),
+        candidates: rows,
+        stats: result.stats.clone(),
+        total_seconds,
+    };
+    let json = format!("{:#}", summary::to_json(&summary));
+    write(&out.join("summary.json"), json.as_bytes())?;
+    Ok(table)
+}
+
+/// The summary row of noisy candidate `k` (from 0), kept in the folder `candidate_<k + 1>`.
+fn noisy_row(noisy: &Noisy, k: usize) -> NoisyRow {
+    let c = &noisy.synthesis.candidates[k];
+    NoisyRow {
+        candidate: k + 1,
+        errors: c.errors,
+        size: c.size,
+        guards_exact: c.guards_exact,
+        verified: (noisy.closed.get(k).and_then(Option::as_ref))
+            .map(|c| matches!(c, InLoop::Verified(_))),
+        verified_size: noisy.verified(k + 1).map(|e| e.synthesis.size),
+        as_found_violates: noisy.as_found.get(k).cloned(),
+        why_not: match noisy.closed.get(k) {
+            Some(Some(InLoop::None(why))) => Some(why.clone()),
+            _ => None,
+        },
+        folder: format!("candidate_{}", k + 1),
+    }
+}
+
+/// The noisy synthesis's summary table (`summary.txt`): its bounds, then one line per
+/// candidate of `rows`.
+fn noisy_table(noisy: &Noisy, rows: &[NoisyRow]) -> String {
+    let result = &noisy.synthesis;
     let mut table = format!(
         "noisy synthesis: C = {}  K = {}  T = {}; {} alternative edges; {} candidate(s){}\n\n\
          candidate  errors  C   K   T   N    verified (C K T N)  folder        as found (NuSMV)\n",
@@ -345,7 +369,7 @@ pub(crate) fn write_noisy(
         rows.len(),
         if result.exhausted { ", all" } else { "" }
     );
-    for r in &rows {
+    for r in rows {
         table.push_str(&format!(
             "{:<10} {:<7} {:<3} {:<3} {:<3} {:<4} {:<19} {:<13} {}\n",
             r.candidate,
@@ -372,21 +396,7 @@ pub(crate) fn write_noisy(
             "(verified -: closed loop not tried, an earlier candidate in the order gave the result)\n",
         );
     }
-    write(&out.join("summary.txt"), table.as_bytes())?;
-    let summary = summary::NoisySummary {
-        format: summary::NOISY,
-        c: result.n,
-        k: result.k,
-        t: result.r,
-        exhausted: result.exhausted,
-        chosen: noisy.chosen(),
-        candidates: rows,
-        stats: result.stats.clone(),
-        total_seconds,
-    };
-    let json = format!("{:#}", summary::to_json(&summary));
-    write(&out.join("summary.json"), json.as_bytes())?;
-    Ok(table)
+    table
 }
 
 /// Writes scenarios in the fbSAT text format with their names files beside them
