@@ -312,12 +312,11 @@ pub(crate) fn svg(w: &Waveform) -> String {
         r#"<title>counterexample of {}</title>"#,
         escape_attr(&w.title)
     );
-    let x = |i: usize| NAMES + STEP * i;
     // The loop, shaded: the lasso's own steps, then the repetition.
     let _ = writeln!(
         out,
         r##"<rect x="{}" y="{}" width="{}" height="{}" fill="#eef4ff"/>"##,
-        x(w.loop_start),
+        step_x(w.loop_start),
         ROW,
         STEP * (drawn - w.loop_start),
         ROW * (w.signals.len() + 1)
@@ -325,14 +324,14 @@ pub(crate) fn svg(w: &Waveform) -> String {
     let _ = writeln!(
         out,
         r##"<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#7a8fb8" stroke-dasharray="4 3"/>"##,
-        x(w.steps),
+        step_x(w.steps),
         ROW,
         ROW * (w.signals.len() + 2)
     );
     let _ = writeln!(
         out,
         r#"<text x="{}" y="{}">loop back to step {}</text>"#,
-        x(w.steps) + 4,
+        step_x(w.steps) + 4,
         ROW - 8,
         w.loop_start
     );
@@ -340,7 +339,7 @@ pub(crate) fn svg(w: &Waveform) -> String {
         let _ = writeln!(
             out,
             r##"<text x="{}" y="{}" text-anchor="middle" fill="#555">{}</text>"##,
-            x(i) + STEP / 2,
+            step_x(i) + STEP / 2,
             2 * ROW - 8,
             w.step_of(i)
         );
@@ -354,55 +353,67 @@ pub(crate) fn svg(w: &Waveform) -> String {
             s.group.label(),
             escape_attr(&s.name)
         );
-        let boolean = s
-            .values
-            .iter()
-            .all(|v| matches!(v, Value::Bool(_) | Value::Unknown));
-        if boolean {
-            let (high, low) = (top + 5, top + ROW - 5);
-            let mut points = String::new();
-            for i in 0..drawn {
-                let y = match s.values[w.step_of(i)] {
-                    Value::Bool(true) => high,
-                    _ => low,
-                };
-                let _ = write!(points, "{},{y} {},{y} ", x(i), x(i + 1));
-            }
-            let _ = writeln!(
-                out,
-                r##"<polyline points="{}" fill="none" stroke="#1a4fa0" stroke-width="1.5"/>"##,
-                points.trim_end()
-            );
-        } else {
-            // A box per run of equal values, labelled with the value.
-            let mut i = 0;
-            while i < drawn {
-                let v = &s.values[w.step_of(i)];
-                let mut j = i + 1;
-                while j < drawn && s.values[w.step_of(j)] == *v && j != w.steps {
-                    j += 1;
-                }
-                let _ = writeln!(
-                    out,
-                    r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#1a4fa0"/>"##,
-                    x(i) + 1,
-                    top + 5,
-                    STEP * (j - i) - 2,
-                    ROW - 10
-                );
-                let _ = writeln!(
-                    out,
-                    r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-                    x(i) + STEP * (j - i) / 2,
-                    top + ROW / 2 + 4,
-                    escape_attr(&v.short())
-                );
-                i = j;
-            }
+        let boolean = (s.values.iter()).all(|v| matches!(v, Value::Bool(_) | Value::Unknown));
+        match boolean {
+            true => boolean_row(&mut out, w, s, top),
+            false => value_boxes(&mut out, w, s, top),
         }
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// The x coordinate where drawn step `i` begins.
+fn step_x(i: usize) -> usize {
+    NAMES + STEP * i
+}
+
+/// A Boolean signal's row at `top`: a line, high where it is true.
+fn boolean_row(out: &mut String, w: &Waveform, s: &Signal, top: usize) {
+    let (high, low) = (top + 5, top + ROW - 5);
+    let mut points = String::new();
+    for i in 0..w.drawn() {
+        let y = match s.values[w.step_of(i)] {
+            Value::Bool(true) => high,
+            _ => low,
+        };
+        let _ = write!(points, "{},{y} {},{y} ", step_x(i), step_x(i + 1));
+    }
+    let _ = writeln!(
+        out,
+        r##"<polyline points="{}" fill="none" stroke="#1a4fa0" stroke-width="1.5"/>"##,
+        points.trim_end()
+    );
+}
+
+/// Another signal's row at `top`: a box per run of equal values, labelled with the value (a
+/// run ends where the loop's repetition begins).
+fn value_boxes(out: &mut String, w: &Waveform, s: &Signal, top: usize) {
+    let drawn = w.drawn();
+    let mut i = 0;
+    while i < drawn {
+        let v = &s.values[w.step_of(i)];
+        let mut j = i + 1;
+        while j < drawn && s.values[w.step_of(j)] == *v && j != w.steps {
+            j += 1;
+        }
+        let _ = writeln!(
+            out,
+            r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#1a4fa0"/>"##,
+            step_x(i) + 1,
+            top + 5,
+            STEP * (j - i) - 2,
+            ROW - 10
+        );
+        let _ = writeln!(
+            out,
+            r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
+            step_x(i) + STEP * (j - i) / 2,
+            top + ROW / 2 + 4,
+            escape_attr(&v.short())
+        );
+        i = j;
+    }
 }
 
 #[cfg(test)]
