@@ -129,18 +129,33 @@ impl Description {
         set: &ScenarioSet,
         file: &Path,
     ) -> Result<Interfaces, DescriptionError> {
-        let bad = |controller: &str, message: String| DescriptionError::Controller {
-            file: file.to_path_buf(),
-            controller: controller.to_string(),
-            message,
-        };
         if self.controllers.is_empty() {
             return Err(DescriptionError::Network {
                 file: file.to_path_buf(),
                 message: "no controller".into(),
             });
         }
-        let external = set.inputs.len();
+        let Writers { names, pins, owner } = self.pins(set, file)?;
+        if let Some(z) = owner.iter().position(Option::is_none) {
+            return Err(DescriptionError::Network {
+                file: file.to_path_buf(),
+                message: format!(
+                    "output `{}` of the recordings is written by no controller",
+                    set.outputs[z]
+                ),
+            });
+        }
+        let reads = (self.controllers.iter().enumerate())
+            .map(|(m, c)| reads(set, c, m, &owner, file))
+            .collect::<Result<_, _>>()?;
+        Ok(Interfaces { names, pins, reads })
+    }
+
+    /// The controllers' names and the outputs each writes (sorted), and per output of the
+    /// recordings the controller that writes it: each name a block's, no name twice, each
+    /// controller writing at least one output, no output written twice.
+    fn pins(&self, set: &ScenarioSet, file: &Path) -> Result<Writers, DescriptionError> {
+        let bad = |controller: &str, message: String| controller_error(file, controller, message);
         let mut owner: Vec<Option<usize>> = vec![None; set.outputs.len()];
         let mut names: Vec<String> = Vec::new();
         let mut pins = Vec::new();
@@ -186,37 +201,58 @@ impl Description {
             mine.sort();
             pins.push(mine);
         }
-        if let Some(z) = owner.iter().position(Option::is_none) {
-            return Err(DescriptionError::Network {
-                file: file.to_path_buf(),
-                message: format!(
-                    "output `{}` of the recordings is written by no controller",
-                    set.outputs[z]
-                ),
-            });
-        }
-        let mut reads = Vec::new();
-        for (m, c) in self.controllers.iter().enumerate() {
-            let mut mine = Vec::new();
-            for i in &c.inputs {
-                let x = if let Some(x) = set.inputs.iter().position(|n| n == i) {
-                    x
-                } else if let Some(z) = set.outputs.iter().position(|n| n == i) {
-                    if owner[z] == Some(m) {
-                        return Err(bad(&c.name, format!("it reads its own output `{i}`")));
-                    }
-                    external + z
-                } else {
-                    return Err(bad(&c.name, format!("input `{i}` is neither an input of the recordings nor another controller's output")));
-                };
-                if !mine.contains(&InputId(x)) {
-                    mine.push(InputId(x));
-                }
+        Ok(Writers { names, pins, owner })
+    }
+}
+
+/// Who writes what ([`Description::pins`]).
+struct Writers {
+    /// Controller names, in order.
+    names: Vec<String>,
+    /// Per controller, the outputs it writes.
+    pins: Vec<Vec<OutputId>>,
+    /// Per output of the recordings, the controller that writes it.
+    owner: Vec<Option<usize>>,
+}
+
+/// What controller `c` (number `m`) may read, sorted: inputs of the recordings and the outputs
+/// other controllers write (`owner`), as extended inputs ([`extend`]).
+fn reads(
+    set: &ScenarioSet,
+    c: &ControllerSpec,
+    m: usize,
+    owner: &[Option<usize>],
+    file: &Path,
+) -> Result<Vec<InputId>, DescriptionError> {
+    let bad = |message: String| controller_error(file, &c.name, message);
+    let mut mine = Vec::new();
+    for i in &c.inputs {
+        let x = if let Some(x) = set.inputs.iter().position(|n| n == i) {
+            x
+        } else if let Some(z) = set.outputs.iter().position(|n| n == i) {
+            if owner[z] == Some(m) {
+                return Err(bad(format!("it reads its own output `{i}`")));
             }
-            mine.sort();
-            reads.push(mine);
+            set.inputs.len() + z
+        } else {
+            return Err(bad(format!(
+                "input `{i}` is neither an input of the recordings nor another controller's output"
+            )));
+        };
+        if !mine.contains(&InputId(x)) {
+            mine.push(InputId(x));
         }
-        Ok(Interfaces { names, pins, reads })
+    }
+    mine.sort();
+    Ok(mine)
+}
+
+/// An error of the controller named `controller` in the description `file`.
+fn controller_error(file: &Path, controller: &str, message: String) -> DescriptionError {
+    DescriptionError::Controller {
+        file: file.to_path_buf(),
+        controller: controller.to_string(),
+        message,
     }
 }
 
