@@ -97,31 +97,13 @@ fn parse_line(
             step: step_no.max(1),
             message,
         };
-        let (kind, rest) = action.split_once('=').ok_or_else(|| {
-            err(format!(
-                "expected in=EVENT[bits] or out=EVENT[bits], found {}",
-                quote(action)
-            ))
-        })?;
-        let (event, bits) = rest
-            .trim()
-            .strip_suffix(']')
-            .and_then(|r| r.split_once('['))
-            .ok_or_else(|| {
-                err(format!(
-                    "expected EVENT[bits] after {}, found {}",
-                    quote(&format!("{kind}=")),
-                    quote(rest)
-                ))
-            })?;
-        let values = bits_from_str(bits.trim())
-            .ok_or_else(|| err(format!("bits must be 0 or 1, found {}", quote(bits))))?;
-        match kind.trim() {
+        let (kind, event, values) = parse_action(action).map_err(err)?;
+        match kind {
             "in" => {
-                if event.trim() != INPUT_EVENT {
+                if event != INPUT_EVENT {
                     return Err(err(format!(
                         "unknown input event {} (only {INPUT_EVENT} is supported)",
-                        quote(event.trim())
+                        quote(event)
                     )));
                 }
                 check_width(&mut widths.0, values.len(), "input").map_err(err)?;
@@ -132,10 +114,10 @@ fn parse_line(
                 open = true;
             }
             "out" => {
-                if event.trim() != OUTPUT_EVENT {
+                if event != OUTPUT_EVENT {
                     return Err(err(format!(
                         "unknown output event {} (only {OUTPUT_EVENT} is supported)",
-                        quote(event.trim())
+                        quote(event)
                     )));
                 }
                 check_width(&mut widths.1, values.len(), "output").map_err(err)?;
@@ -172,6 +154,28 @@ fn parse_line(
         },
         steps,
     })
+}
+
+/// One action, `KIND=EVENT[bits]`: its kind and event (trimmed) and its bits.
+fn parse_action(action: &str) -> Result<(&str, &str, Vec<bool>), String> {
+    let (kind, rest) = action.split_once('=').ok_or_else(|| {
+        format!(
+            "expected in=EVENT[bits] or out=EVENT[bits], found {}",
+            quote(action)
+        )
+    })?;
+    let (event, bits) = (rest.trim().strip_suffix(']'))
+        .and_then(|r| r.split_once('['))
+        .ok_or_else(|| {
+            format!(
+                "expected EVENT[bits] after {}, found {}",
+                quote(&format!("{kind}=")),
+                quote(rest)
+            )
+        })?;
+    let values = bits_from_str(bits.trim())
+        .ok_or_else(|| format!("bits must be 0 or 1, found {}", quote(bits)))?;
+    Ok((kind.trim(), event.trim(), values))
 }
 
 fn check_width(width: &mut Option<usize>, got: usize, what: &str) -> Result<(), String> {
