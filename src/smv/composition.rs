@@ -543,6 +543,38 @@ pub fn compose_controller(
         text.push('\n');
     }
     let plant_lines = plant.text.lines().count();
+    text.push_str(&main_module(inputs, plant, coupling));
+    let mut specs = Vec::new();
+    // One line per property: its formula is printed from the tree, the rest is a comment.
+    let first = text.lines().count() + 1;
+    for (k, p) in props.iter().enumerate() {
+        let spec = SpecLine {
+            model_line: first + k,
+            spec_line: p.line,
+            name: property_name(k, p),
+            smv_name: smv_property_name(k),
+            formula: p.formula.to_smv(&|n: &str| n.to_string()),
+        };
+        text.push_str(&format!(
+            "LTLSPEC NAME {} := {};  -- {}\n",
+            spec.smv_name,
+            spec.formula,
+            comment(&format!("{}: {}", spec.name, p.text))
+        ));
+        specs.push(spec);
+    }
+    ComposedModel {
+        text,
+        plant_first,
+        plant_lines,
+        specs,
+    }
+}
+
+/// `MODULE main` of the closed loop: the controller reads the plant's sensors (its `inputs`,
+/// by their plant names), the plant its commands (the controller's outputs and events), and
+/// every name a property reads is defined as the side's own.
+fn main_module(inputs: &[String], plant: &Plant, coupling: &Coupling) -> String {
     let mut main = String::from("\nMODULE main\nVAR\n");
     let sensors: Vec<String> = inputs
         .iter()
@@ -583,32 +615,7 @@ pub fn compose_controller(
         };
         main.push_str(&format!("  {name} := {inst}.{name};\n"));
     }
-    text.push_str(&main);
-    let mut specs = Vec::new();
-    // One line per property: its formula is printed from the tree, the rest is a comment.
-    let first = text.lines().count() + 1;
-    for (k, p) in props.iter().enumerate() {
-        let spec = SpecLine {
-            model_line: first + k,
-            spec_line: p.line,
-            name: property_name(k, p),
-            smv_name: smv_property_name(k),
-            formula: p.formula.to_smv(&|n: &str| n.to_string()),
-        };
-        text.push_str(&format!(
-            "LTLSPEC NAME {} := {};  -- {}\n",
-            spec.smv_name,
-            spec.formula,
-            comment(&format!("{}: {}", spec.name, p.text))
-        ));
-        specs.push(spec);
-    }
-    ComposedModel {
-        text,
-        plant_first,
-        plant_lines,
-        specs,
-    }
+    main
 }
 
 #[cfg(test)]
