@@ -134,7 +134,10 @@ async fn session(
         Ok(false) => Err(connect_err(
             "the server refused the session (with security: is its certificate in DIR/trusted/, and ours trusted by it?)".into(),
         )),
-        Err(_) => Err(connect_err("no session within 10 s".into())),
+        Err(_) => Err(connect_err(format!(
+            "no session within {} s",
+            CONNECT_TIMEOUT.as_secs()
+        ))),
     }
 }
 

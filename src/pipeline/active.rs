@@ -192,7 +192,7 @@ pub(crate) fn learn(
                 if set.check(&machine).is_ok() {
                     kept = Some(machine);
                 }
-                heard(&mut rounds, round, events);
+                push_round(&mut rounds, round, events);
                 continue;
             }
         }
@@ -208,12 +208,12 @@ pub(crate) fn learn(
             widen = false;
             asking.all_inputs = true;
             round.widened = true;
-            heard(&mut rounds, round, events);
+            push_round(&mut rounds, round, events);
             kept = Some(machine);
             continue;
         }
         if found.verdict != Uniqueness::Ambiguous || rounds.len() + 1 >= opts.max_rounds {
-            heard(&mut rounds, round, events);
+            push_round(&mut rounds, round, events);
             return Ok(Learned {
                 machine,
                 recordings: set,
@@ -229,12 +229,12 @@ pub(crate) fn learn(
             set.scenarios
                 .push(record(oracle, &inputs, origin("oracle", k)));
         }
-        heard(&mut rounds, round, events);
+        push_round(&mut rounds, round, events);
     }
 }
 
-/// `round` told to `events` as the next of `rounds`, and added to them.
-fn heard(rounds: &mut Vec<Round>, round: Round, events: Events<'_>) {
+/// `round` reported to `events` as the next of `rounds`, and added to them.
+fn push_round(rounds: &mut Vec<Round>, round: Round, events: Events<'_>) {
     events(Event::LearnRound {
         number: rounds.len() + 1,
         round: &round,
