@@ -37,6 +37,31 @@ pub(crate) fn remove_on_signal(path: &Path) {
     }
 }
 
+/// A temporary folder of the run's own: removed when dropped, and when a termination signal
+/// ends the program first ([`remove_on_signal`]).
+pub(crate) struct WorkDir {
+    // Forgotten for the signal first, then removed with its TempDir.
+    _on_signal: RemovedOnSignal,
+    dir: tempfile::TempDir,
+}
+
+impl WorkDir {
+    /// A new empty folder in the system's temporary folder (mode 0700).
+    pub(crate) fn new() -> std::io::Result<WorkDir> {
+        let dir = tempfile::tempdir()?;
+        remove_on_signal(dir.path());
+        Ok(WorkDir {
+            _on_signal: RemovedOnSignal(dir.path().to_path_buf()),
+            dir,
+        })
+    }
+
+    /// Where it is.
+    pub(crate) fn path(&self) -> &Path {
+        self.dir.path()
+    }
+}
+
 /// Forgets `path` for [`remove_on_signal`]: it is gone, or it is a result now.
 pub(crate) fn keep_on_signal(path: &Path) {
     for list in [&TEMPORARIES, &MADE_FOLDERS] {

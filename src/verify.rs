@@ -466,7 +466,7 @@ impl Problem {
 pub struct Verifier {
     problem: std::sync::Arc<Problem>,
     dialogue: Dialogue,
-    workdir: tempfile::TempDir,
+    workdir: crate::files::WorkDir,
 }
 
 impl Verifier {
@@ -475,8 +475,7 @@ impl Verifier {
         problem: std::sync::Arc<Problem>,
         nusmv: &crate::nusmv::Nusmv,
     ) -> Result<Verifier, VerifyError> {
-        let workdir = tempfile::tempdir()?;
-        crate::files::remove_on_signal(workdir.path());
+        let workdir = crate::files::WorkDir::new()?;
         // The models written there are the user's plant and properties: for their eyes only.
         #[cfg(unix)]
         {
@@ -549,13 +548,6 @@ pub struct VerificationResult {
     pub counterexamples: Vec<Counterexample>,
     /// The composed model (kept for the user or for error reports).
     pub(crate) model: ComposedModel,
-}
-
-impl Drop for Verifier {
-    fn drop(&mut self) {
-        // The work folder goes with its TempDir right after this.
-        crate::files::keep_on_signal(self.workdir.path());
-    }
 }
 
 /// Verifies `ecc` in closed loop; `workdir` receives the model file.

@@ -6,6 +6,7 @@
 //! where the session's event loop runs) so the rest of the crate stays synchronous.
 
 use super::{Connection, LiveError, Security};
+use crate::files::WorkDir;
 use crate::ingest::{Mapping, Slot};
 use crate::scenario::csvlog::Sample;
 use opcua::client::{ClientBuilder, IdentityToken, Session};
@@ -55,20 +56,10 @@ pub(crate) struct Sampler {
     interval: Duration,
     next_tick: Instant,
     first: Option<Instant>,
-    /// The certificate folder of a connection without security, removed last (after the
-    /// runtime, whose event loop may still read it).
-    _own_pki: Option<tempfile::TempDir>,
-}
-
-/// An empty certificate folder of this run's own, for a connection without security: the
-/// client library makes its folders there even when it uses no certificate. Removed when
-/// dropped, and on a termination signal.
-fn own_pki() -> std::io::Result<tempfile::TempDir> {
-    let dir = tempfile::Builder::new()
-        .prefix("fbsynth-opcua-pki-")
-        .tempdir()?;
-    crate::files::remove_on_signal(dir.path());
-    Ok(dir)
+    /// The certificate folder of a connection without security (the client library makes
+    /// its folders there even when it uses no certificate), removed last: after the runtime,
+    /// whose event loop may still read it.
+    _own_pki: Option<WorkDir>,
 }
 
 /// The endpoint of `conn.url` to connect to, in the security `conn` asks for, with an
@@ -212,7 +203,7 @@ impl Sampler {
         let (pki, own_pki) = match &conn.certs {
             Some(dir) => (dir.clone(), None),
             None => {
-                let own = own_pki().map_err(|e| client_err(e.to_string()))?;
+                let own = WorkDir::new().map_err(|e| client_err(e.to_string()))?;
                 (own.path().to_path_buf(), Some(own))
             }
         };

@@ -50,8 +50,7 @@ pub(crate) fn check_exportable(
     recordings: &Recordings,
 ) -> Result<(), Error> {
     let all: Vec<OutputId> = (0..set.outputs.len()).map(OutputId).collect();
-    let dir = tempfile::tempdir()?;
-    crate::files::remove_on_signal(dir.path());
+    let dir = crate::files::WorkDir::new()?;
     match export::write_all(&probe(set, &all), dir.path(), name, formats) {
         Ok(_) => Ok(()),
         Err(e) => Err(locate_name_error(e, recordings)),

@@ -94,8 +94,7 @@ pub(crate) fn refuse_unfair(check: &Check) -> Result<(), Error> {
 pub(crate) fn check_plant(set: &ScenarioSet, check: &Check) -> Result<(), Error> {
     let p = &check.problem;
     refuse_unfair(check)?;
-    let dir = tempfile::tempdir()?;
-    crate::files::remove_on_signal(dir.path());
+    let dir = crate::files::WorkDir::new()?;
     let mut dialogue = check.nusmv.dialogue();
     let path = dir.path().join("receptiveness.smv");
     std::fs::write(&path, plant_checks::receptiveness(&p.plant, &p.coupling))?;
@@ -115,8 +114,7 @@ pub(crate) fn refuse_violations(
     match recorded {
         Ok(found) => Ok(found),
         Err(mut violate) => {
-            let dir = tempfile::tempdir()?;
-            crate::files::remove_on_signal(dir.path());
+            let dir = crate::files::WorkDir::new()?;
             let mut dialogue = check.nusmv.dialogue();
             // Without NuSMV's answer the claim about controllers is not made either.
             violate.unreplayed = first_unreplayed(set, check, &mut dialogue, dir.path())
