@@ -23,7 +23,8 @@
 //! - J. Geldenhuys, A. Valmari: *Tarjan's algorithm makes on-the-fly LTL verification more
 //!   efficient*, TACAS 2004.
 
-use std::collections::{HashMap, VecDeque};
+use rustc_hash::{FxHashMap, FxHashSet};
+use std::collections::VecDeque;
 
 /// A graph explored on demand. Node numbers are assigned by the graph.
 pub(crate) trait Graph {
@@ -61,7 +62,7 @@ struct Frame {
 /// The depth-first search of [`find_lasso`].
 struct Search {
     /// Depth-first number of each node seen, or [`DEAD`].
-    number: HashMap<u32, u32>,
+    number: FxHashMap<u32, u32>,
     count: u32,
     /// Roots of the components on the stack: (number, marks of the component so far).
     roots: Vec<(u32, u64)>,
@@ -133,7 +134,7 @@ pub(crate) fn find_lasso<G: Graph>(
     budget: usize,
 ) -> Result<Option<NodeLasso>, G::Error> {
     let mut s = Search {
-        number: HashMap::new(),
+        number: FxHashMap::default(),
         count: 0,
         roots: Vec::new(),
         live: Vec::new(),
@@ -171,8 +172,7 @@ pub(crate) fn find_lasso<G: Graph>(
 /// The lasso through the component of root number `root` (see the module header).
 fn lasso<G: Graph>(g: &mut G, s: &Search, root: u32, all: u64) -> Result<NodeLasso, G::Error> {
     let (stack, live, number) = (&s.stack, &s.live, &s.number);
-    let component: std::collections::HashSet<u32> =
-        live.iter().copied().filter(|v| number[v] >= root).collect();
+    let component: FxHashSet<u32> = live.iter().copied().filter(|v| number[v] >= root).collect();
     let root_pos = stack
         .iter()
         .position(|f| number[&f.node] == root)
@@ -222,7 +222,7 @@ fn shortest_from_initial<G: Graph>(
     if inits.contains(&target) {
         return Ok(Some(Vec::new()));
     }
-    let mut parent: HashMap<u32, Option<u32>> = inits.iter().map(|&i| (i, None)).collect();
+    let mut parent: FxHashMap<u32, Option<u32>> = inits.iter().map(|&i| (i, None)).collect();
     let mut queue: VecDeque<u32> = inits.into_iter().collect();
     let mut succ = Vec::new();
     while let Some(v) = queue.pop_front() {
@@ -256,11 +256,11 @@ fn shortest_from_initial<G: Graph>(
 /// `within`; the path lists the nodes after `from`.
 fn bfs<G: Graph>(
     g: &mut G,
-    within: &std::collections::HashSet<u32>,
+    within: &FxHashSet<u32>,
     from: u32,
     goal: impl Fn(&G, u32) -> bool,
 ) -> Result<Option<Vec<u32>>, G::Error> {
-    let mut parent: HashMap<u32, u32> = HashMap::new();
+    let mut parent: FxHashMap<u32, u32> = FxHashMap::default();
     let mut queue = VecDeque::from([from]);
     let mut succ = Vec::new();
     while let Some(v) = queue.pop_front() {

@@ -22,7 +22,8 @@
 //!   linear temporal logic*, PSTV 1995.
 
 use crate::ltl::Ltl;
-use std::collections::{BTreeSet, HashMap};
+use rustc_hash::FxHashMap;
+use std::collections::BTreeSet;
 
 /// A formula with a past operator, or too large for the automaton's bit sets.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,7 +50,7 @@ enum Node {
 #[derive(Debug, Default)]
 struct Nnf {
     nodes: Vec<Node>,
-    ids: HashMap<Node, F>,
+    ids: FxHashMap<Node, F>,
     /// The atoms: names and comparisons, as they appear in the formula.
     atoms: Vec<Ltl>,
 }
@@ -249,14 +250,14 @@ struct Pending {
 struct Tableau {
     states: Vec<Expanded>,
     /// `(old, next)` of each state, to merge equal nodes.
-    index: HashMap<(BTreeSet<F>, BTreeSet<F>), usize>,
+    index: FxHashMap<(BTreeSet<F>, BTreeSet<F>), usize>,
 }
 
 impl Tableau {
     fn expand(nnf: &Nnf, root: F) -> Tableau {
         let mut t = Tableau {
             states: Vec::new(),
-            index: HashMap::new(),
+            index: FxHashMap::default(),
         };
         let mut work = vec![Pending {
             incoming: BTreeSet::from([INIT]),

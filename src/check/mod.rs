@@ -39,7 +39,8 @@ use crate::scenario::negative::{NegativeScenario, NegativeStep};
 use crate::smv::composition;
 use emptiness::{find_lasso, Graph};
 use gba::Gba;
-use std::collections::{BTreeMap, HashMap};
+use rustc_hash::FxHashMap;
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// How the controller and the plant are wired, by index.
@@ -375,7 +376,7 @@ pub(crate) struct PlantMemo {
     /// Plant states, by number.
     states: Vec<Arc<[Value]>>,
     /// The number of each plant state.
-    ids: HashMap<Arc<[Value]>, u32>,
+    ids: FxHashMap<Arc<[Value]>, u32>,
     /// Per plant state number: what is known about it.
     info: Vec<PlantState>,
     /// Bytes the memo is estimated to hold.
@@ -390,9 +391,9 @@ type Successors = Arc<[u32]>;
 #[derive(Debug, Default)]
 struct PlantState {
     /// Under outputs `o`: what the controller reads, and the fairness conditions that hold.
-    at: HashMap<u64, (Arc<[bool]>, u64)>,
+    at: FxHashMap<u64, (Arc<[bool]>, u64)>,
     /// Under outputs `o` now and `o'` next: the plant's successors.
-    successors: HashMap<(u64, u64), Successors>,
+    successors: FxHashMap<(u64, u64), Successors>,
 }
 
 /// Estimated bytes of a plant state in a [`PlantMemo`] besides its values: the two handles,
@@ -800,7 +801,7 @@ impl<'a> ExplicitLoop<'a> {
             transitions: 0,
             bytes: 0,
         };
-        let mut index: HashMap<Key, u32> = HashMap::new();
+        let mut index: FxHashMap<Key, u32> = FxHashMap::default();
         let mut intern = |c: &mut ExplicitLoop, key: Key| -> Result<u32, CheckError> {
             if let Some(&i) = index.get(&key) {
                 return Ok(i);
@@ -1078,7 +1079,7 @@ struct FreePlant<'a> {
     sem: Semantics<'a>,
     params_in_state: bool,
     keys: Vec<(Box<[Value]>, u64)>,
-    index: HashMap<(Box<[Value]>, u64), u32>,
+    index: FxHashMap<(Box<[Value]>, u64), u32>,
     fair: Vec<u64>,
     limits: Limits,
     /// Bytes the states are estimated to hold.
@@ -1097,7 +1098,7 @@ impl<'a> FreePlant<'a> {
             sem: Semantics::new(model),
             params_in_state,
             keys: Vec::new(),
-            index: HashMap::new(),
+            index: FxHashMap::default(),
             fair: Vec::new(),
             limits: *limits,
             bytes: 0,

@@ -39,7 +39,8 @@ use crate::ltl::Property;
 use crate::plant::explicit::Semantics;
 use crate::plant::{Model, Value, VarKind};
 use crate::scenario::tree::ScenarioTree;
-use std::collections::{HashMap, VecDeque};
+use rustc_hash::FxHashMap;
+use std::collections::VecDeque;
 
 const NONE: u32 = u32::MAX;
 
@@ -100,20 +101,20 @@ struct Arena<'a> {
     coupling: &'a Wiring,
     monitors: Monitors,
     tree: &'a ScenarioTree,
-    tree_inputs: HashMap<u64, usize>,
+    tree_inputs: FxHashMap<u64, usize>,
     free: Vec<usize>,
     combos: Vec<Vec<Value>>,
     plants: Vec<Box<[Value]>>,
-    plant_index: HashMap<Box<[Value]>, u32>,
+    plant_index: FxHashMap<Box<[Value]>, u32>,
     /// Per plant and free-input combination: the plant-only atoms.
     plant_atoms: Vec<u64>,
     sides: Vec<Side>,
-    side_index: HashMap<Side, u32>,
+    side_index: FxHashMap<Side, u32>,
     nodes: Vec<(u32, u64)>,
-    node_index: HashMap<(u32, u64), u32>,
+    node_index: FxHashMap<(u32, u64), u32>,
     expanded: Vec<Option<Box<Expanded>>>,
     /// Per plant, free-input combination and outputs: the plant's successors.
-    successors: HashMap<(u32, usize, u64), std::rc::Rc<[u32]>>,
+    successors: FxHashMap<(u32, usize, u64), std::rc::Rc<[u32]>>,
     n_outputs: usize,
     max_positions: usize,
     /// Successor entries (moves × outcomes) stored so far: with many outputs each position
@@ -189,14 +190,14 @@ impl<'a> Arena<'a> {
             free,
             combos,
             plants: Vec::new(),
-            plant_index: HashMap::new(),
+            plant_index: FxHashMap::default(),
             plant_atoms: Vec::new(),
             sides: Vec::new(),
-            side_index: HashMap::new(),
+            side_index: FxHashMap::default(),
             nodes: Vec::new(),
-            node_index: HashMap::new(),
+            node_index: FxHashMap::default(),
             expanded: Vec::new(),
-            successors: HashMap::new(),
+            successors: FxHashMap::default(),
             n_outputs: coupling.outputs.len(),
             max_positions,
             entries: 0,
@@ -386,7 +387,7 @@ impl<'a> Arena<'a> {
 /// answer and `NONE` once the run has left the recordings.
 fn recorded_step(
     tree: &ScenarioTree,
-    tree_inputs: &HashMap<u64, usize>,
+    tree_inputs: &FxHashMap<u64, usize>,
     tau: u32,
     x: u64,
 ) -> (Option<Option<usize>>, u32) {
@@ -553,7 +554,7 @@ pub(crate) struct Strategy {
 /// What a strategy needs of the arena once it is solved.
 struct ArenaData {
     tree: ScenarioTree,
-    tree_inputs: HashMap<u64, usize>,
+    tree_inputs: FxHashMap<u64, usize>,
     nodes: Vec<(u32, u64)>,
     expanded: Vec<Option<Box<Expanded>>>,
 }
@@ -673,7 +674,7 @@ impl Strategy {
     /// controller's inputs; the count of (position, goal) pairs it reaches.
     fn check_observable(&self) -> Result<usize, GameError> {
         let distinct = |ns: &mut dyn Iterator<Item = u32>| -> Result<(), GameError> {
-            let mut seen: HashMap<u64, u32> = HashMap::new();
+            let mut seen: FxHashMap<u64, u32> = FxHashMap::default();
             for n in ns {
                 let obs = self.arena.expanded[n as usize]
                     .as_ref()

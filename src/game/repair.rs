@@ -24,7 +24,8 @@ use super::{bits, Strategy, NONE};
 use crate::ecc::{Algorithm, Ecc, Guard, InputId, State, StateId, Transition, Tri};
 use crate::scenario::tree::{InputVec, ScenarioTree};
 use crate::scenario::{Origin, Scenario, Step};
-use std::collections::{HashMap, HashSet, VecDeque};
+use rustc_hash::{FxHashMap, FxHashSet};
+use std::collections::VecDeque;
 
 /// Why a machine could not be repaired.
 #[derive(Debug, thiserror::Error)]
@@ -69,9 +70,9 @@ impl Masks {
 struct Table<'e> {
     base: &'e Ecc,
     algorithms: Vec<Masks>,
-    overrides: HashMap<(u32, u64), u32>,
+    overrides: FxHashMap<(u32, u64), u32>,
     /// The base's answer per (state, inputs): the target, or `NONE` when nothing fires.
-    memo: HashMap<(u32, u64), u32>,
+    memo: FxHashMap<(u32, u64), u32>,
     n_inputs: usize,
 }
 
@@ -104,8 +105,8 @@ impl<'e> Table<'e> {
         Ok(Table {
             base,
             algorithms,
-            overrides: HashMap::new(),
-            memo: HashMap::new(),
+            overrides: FxHashMap::default(),
+            memo: FxHashMap::default(),
             n_inputs: base.inputs.len(),
         })
     }
@@ -211,7 +212,7 @@ fn explore(s: &Strategy, table: &mut Table) -> Result<Product, (u32, u32)> {
         parent: Vec::new(),
         edges: Vec::new(),
     };
-    let mut index: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut index: FxHashMap<(u32, u32), u32> = FxHashMap::default();
     let mut queue = VecDeque::new();
     for &c in &s.initial {
         if index.insert((0, c), p.nodes.len() as u32).is_none() {
@@ -344,9 +345,9 @@ fn starving(
 }
 
 /// The (state, inputs) answers the recordings use, by replaying them on the base machine.
-fn recorded_entries(s: &Strategy, base: &Ecc) -> HashSet<(u32, u64)> {
+fn recorded_entries(s: &Strategy, base: &Ecc) -> FxHashSet<(u32, u64)> {
     let tree = &s.arena.tree;
-    let mut locked = HashSet::new();
+    let mut locked = FxHashSet::default();
     // The tree holds every recorded step; its nodes are reached by the base in one state each.
     let mut stack = vec![(0usize, 0u32, bits(&base.initial_outputs))];
     let mut table = Table::of(base).expect("checked by the caller");
