@@ -286,60 +286,26 @@ impl<'a> Arena<'a> {
         Ok(initial)
     }
 
+    /// Position `n`'s moves and their successors: none when every plant step from it breaks a
+    /// safety monitor or the plant has no successor (the environment cannot move there).
     fn expand(&mut self, n: u32, queue: &mut VecDeque<u32>) -> Result<(), GameError> {
         let (side, o) = self.nodes[n as usize];
         let Side { plant, memory, tau } = self.sides[side as usize];
         let params = self.coupling.params(o);
-        let mut obs = None;
-        let mut steps = Vec::with_capacity(self.combos.len());
         let fulls: Vec<Vec<Value>> = (0..self.combos.len())
             .map(|c| self.full(plant, c))
             .collect();
-        for (c, full) in fulls.iter().enumerate() {
-            let v = self.plant_atoms[plant as usize * self.combos.len() + c]
-                | (self.monitors.output_atoms(&self.sem, full, o, &params))
-                    .map_err(|e| atom_error(e, self.sem.model()))?;
-            let step = self.monitors.step(memory, v);
-            if step.bad {
-                return Ok(());
-            }
-            let x = bits(&self.coupling.read_inputs(&self.sem, full, &params)?);
-            if obs.is_some_and(|y| y != x) {
-                return Err(GameError::Outside(
-                    "a controller input reads a free input of the plant".into(),
-                ));
-            }
-            obs = Some(x);
-            steps.push(step);
-        }
-        let obs = obs.expect("at least one combination");
+        let Some((obs, steps)) = self.observe(plant, memory, o, &params, &fulls)? else {
+            return Ok(());
+        };
         let (recorded, tau_next) = recorded_step(self.tree, &self.tree_inputs, tau, obs);
         let forced = recorded.map(|a| a.map(|child| bits(&self.tree.nodes[child].outputs)));
         let mut out: Vec<(u32, u64)> = Vec::new();
         for (c, step) in steps.iter().enumerate() {
-            let key = (plant, c, o);
-            let succ = match self.successors.get(&key) {
-                Some(s) => s.clone(),
-                None => {
-                    let mut ids = Vec::new();
-                    // One candidate successor at a time: with free inputs there are as many as
-                    // their combinations, all of which the plant's state forgets.
-                    let sem = self.sem.clone();
-                    sem.for_each_successor(&fulls[c], &params, &params, &mut |s| {
-                        let p = self.plant(s.to_vec())?;
-                        if !ids.contains(&p) {
-                            ids.push(p);
-                        }
-                        Ok::<(), GameError>(())
-                    })?;
-                    let ids: std::rc::Rc<[u32]> = ids.into();
-                    // The cache counts against the same bound as the moves.
-                    self.entries += ids.len() + CACHE_ENTRY;
-                    self.successors.insert(key, ids.clone());
-                    ids
-                }
-            };
-            for &p in succ.iter() {
+            for &p in self
+                .plant_successors(plant, c, o, &fulls[c], &params)?
+                .iter()
+            {
                 let side = self.side(Side {
                     plant: p,
                     memory: step.memory,
@@ -379,6 +345,70 @@ impl<'a> Arena<'a> {
             succ,
         }));
         Ok(())
+    }
+
+    /// The controller's inputs at `plant` with outputs `o` and the monitors' step under each
+    /// free-input combination (`fulls`); `None` when one of them breaks a safety monitor.
+    fn observe(
+        &self,
+        plant: u32,
+        memory: u64,
+        o: u64,
+        params: &[bool],
+        fulls: &[Vec<Value>],
+    ) -> Result<Option<(u64, Vec<monitor::Step>)>, GameError> {
+        let mut obs = None;
+        let mut steps = Vec::with_capacity(fulls.len());
+        for (c, full) in fulls.iter().enumerate() {
+            let v = self.plant_atoms[plant as usize * self.combos.len() + c]
+                | (self.monitors.output_atoms(&self.sem, full, o, params))
+                    .map_err(|e| atom_error(e, self.sem.model()))?;
+            let step = self.monitors.step(memory, v);
+            if step.bad {
+                return Ok(None);
+            }
+            let x = bits(&self.coupling.read_inputs(&self.sem, full, params)?);
+            if obs.is_some_and(|y| y != x) {
+                return Err(GameError::Outside(
+                    "a controller input reads a free input of the plant".into(),
+                ));
+            }
+            obs = Some(x);
+            steps.push(step);
+        }
+        Ok(Some((obs.expect("at least one combination"), steps)))
+    }
+
+    /// The plant states after `plant` (values `full` with free-input combination `c`) under
+    /// outputs `o`, computed once per triple.
+    fn plant_successors(
+        &mut self,
+        plant: u32,
+        c: usize,
+        o: u64,
+        full: &[Value],
+        params: &[bool],
+    ) -> Result<std::rc::Rc<[u32]>, GameError> {
+        let key = (plant, c, o);
+        if let Some(s) = self.successors.get(&key) {
+            return Ok(s.clone());
+        }
+        let mut ids = Vec::new();
+        // One candidate successor at a time: with free inputs there are as many as their
+        // combinations, all of which the plant's state forgets.
+        let sem = self.sem.clone();
+        sem.for_each_successor(full, params, params, &mut |s| {
+            let p = self.plant(s.to_vec())?;
+            if !ids.contains(&p) {
+                ids.push(p);
+            }
+            Ok::<(), GameError>(())
+        })?;
+        let ids: std::rc::Rc<[u32]> = ids.into();
+        // The cache counts against the same bound as the moves.
+        self.entries += ids.len() + CACHE_ENTRY;
+        self.successors.insert(key, ids.clone());
+        Ok(ids)
     }
 }
 
