@@ -253,6 +253,17 @@ struct Tableau {
     index: FxHashMap<(BTreeSet<F>, BTreeSet<F>), usize>,
 }
 
+impl Pending {
+    /// Each formula of `fs` to be processed, unless it already was.
+    fn add_new(&mut self, fs: &[F]) {
+        for f in fs {
+            if !self.old.contains(f) {
+                self.new.insert(*f);
+            }
+        }
+    }
+}
+
 impl Tableau {
     fn expand(nnf: &Nnf, root: F) -> Tableau {
         let mut t = Tableau {
@@ -267,90 +278,92 @@ impl Tableau {
         }];
         while let Some(mut n) = work.pop() {
             let Some(g) = n.new.pop_first() else {
-                let key = (n.old, n.next);
-                if let Some(&q) = t.index.get(&key) {
-                    t.states[q].incoming.extend(n.incoming);
-                    continue;
-                }
-                let q = t.states.len();
-                t.index.insert(key.clone(), q);
-                work.push(Pending {
-                    incoming: BTreeSet::from([q]),
-                    new: key.1.clone(),
-                    old: BTreeSet::new(),
-                    next: BTreeSet::new(),
-                });
-                t.states.push(Expanded {
-                    incoming: n.incoming,
-                    old: key.0,
-                });
+                t.close(n, &mut work);
                 continue;
             };
             if n.old.contains(&g) {
                 work.push(n);
                 continue;
             }
-            let add_new = |n: &mut Pending, fs: &[F]| {
-                for f in fs {
-                    if !n.old.contains(f) {
-                        n.new.insert(*f);
-                    }
-                }
-            };
             n.old.insert(g);
-            match nnf.nodes[g as usize] {
-                Node::False => {}
-                Node::True => work.push(n),
-                Node::Lit(a, p) => {
-                    if nnf
-                        .ids
-                        .get(&Node::Lit(a, !p))
-                        .is_some_and(|c| n.old.contains(c))
-                    {
-                        continue;
-                    }
-                    work.push(n);
-                }
-                Node::And(a, b) => {
-                    add_new(&mut n, &[a, b]);
-                    work.push(n);
-                }
-                Node::X(a) => {
-                    n.next.insert(a);
-                    work.push(n);
-                }
-                Node::Or(a, b) | Node::U(a, b) | Node::V(a, b) => {
-                    // First branch: what holds now (a | ...: a; a U b: b; a V b: a & b);
-                    // second: the rest (b; a and X (a U b); b and X (a V b)).
-                    let mut first = Pending {
-                        incoming: n.incoming.clone(),
-                        new: n.new.clone(),
-                        old: n.old.clone(),
-                        next: n.next.clone(),
-                    };
-                    let mut second = n;
-                    match nnf.nodes[g as usize] {
-                        Node::Or(..) => {
-                            add_new(&mut first, &[a]);
-                            add_new(&mut second, &[b]);
-                        }
-                        Node::U(..) => {
-                            add_new(&mut first, &[b]);
-                            add_new(&mut second, &[a]);
-                            second.next.insert(g);
-                        }
-                        _ => {
-                            add_new(&mut first, &[a, b]);
-                            add_new(&mut second, &[b]);
-                            second.next.insert(g);
-                        }
-                    }
-                    work.push(second);
-                    work.push(first);
-                }
-            }
+            work.extend(decompose(nnf, g, n));
         }
         t
+    }
+
+    /// A node with nothing left to process: merged into the state with the same `old` and
+    /// `next` when there is one, else a new state, whose successor node starts from `next`.
+    fn close(&mut self, n: Pending, work: &mut Vec<Pending>) {
+        let key = (n.old, n.next);
+        if let Some(&q) = self.index.get(&key) {
+            self.states[q].incoming.extend(n.incoming);
+            return;
+        }
+        let q = self.states.len();
+        self.index.insert(key.clone(), q);
+        work.push(Pending {
+            incoming: BTreeSet::from([q]),
+            new: key.1.clone(),
+            old: BTreeSet::new(),
+            next: BTreeSet::new(),
+        });
+        self.states.push(Expanded {
+            incoming: n.incoming,
+            old: key.0,
+        });
+    }
+}
+
+/// What node `n` becomes once formula `g` (just added to its `old`) is processed: nothing when
+/// `g` contradicts it, else one node, or two for a disjunction, an until or a release, the
+/// one to process first last.
+fn decompose(nnf: &Nnf, g: F, mut n: Pending) -> Vec<Pending> {
+    match nnf.nodes[g as usize] {
+        Node::False => vec![],
+        Node::True => vec![n],
+        Node::Lit(a, p) => {
+            let negation = nnf.ids.get(&Node::Lit(a, !p));
+            if negation.is_some_and(|c| n.old.contains(c)) {
+                return vec![];
+            }
+            vec![n]
+        }
+        Node::And(a, b) => {
+            n.add_new(&[a, b]);
+            vec![n]
+        }
+        Node::X(a) => {
+            n.next.insert(a);
+            vec![n]
+        }
+        Node::Or(a, b) | Node::U(a, b) | Node::V(a, b) => {
+            // First branch: what holds now (a | ...: a; a U b: b; a V b: a & b);
+            // second: the rest (b; a and X (a U b); b and X (a V b)).
+            let mut first = Pending {
+                incoming: n.incoming.clone(),
+                new: n.new.clone(),
+                old: n.old.clone(),
+                next: n.next.clone(),
+            };
+            let mut second = n;
+            match nnf.nodes[g as usize] {
+                Node::Or(..) => {
+                    first.add_new(&[a]);
+                    second.add_new(&[b]);
+                }
+                Node::U(..) => {
+                    first.add_new(&[b]);
+                    second.add_new(&[a]);
+                    second.next.insert(g);
+                }
+                _ => {
+                    first.add_new(&[a, b]);
+                    second.add_new(&[b]);
+                    second.next.insert(g);
+                }
+            }
+            vec![second, first]
+        }
     }
 }
 
