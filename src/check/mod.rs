@@ -785,11 +785,8 @@ impl<'a> ExplicitLoop<'a> {
             .iter()
             .map(|s| OutputEffect::of(&s.algorithm))
             .collect();
-        let o0 = ecc
-            .initial_outputs
-            .iter()
-            .enumerate()
-            .fold(0u64, |o, (z, &v)| o | (v as u64) << z);
+        let o0 =
+            (ecc.initial_outputs.iter().enumerate()).fold(0u64, |o, (z, &v)| o | (v as u64) << z);
         let mut c = ExplicitLoop {
             sem: Semantics::new(model),
             coupling,
@@ -802,20 +799,7 @@ impl<'a> ExplicitLoop<'a> {
             bytes: 0,
         };
         let mut index: FxHashMap<Key, u32> = FxHashMap::default();
-        let mut intern = |c: &mut ExplicitLoop, key: Key| -> Result<u32, CheckError> {
-            if let Some(&i) = index.get(&key) {
-                return Ok(i);
-            }
-            if c.keys.len() >= limits.max_states {
-                return Err(CheckError::TooManyStates {
-                    limit: limits.max_states,
-                });
-            }
-            let i = c.keys.len() as u32;
-            index.insert(key, i);
-            c.keys.push(key);
-            Ok(i)
-        };
+        let mut intern = |c: &mut ExplicitLoop, key: Key| c.intern(&mut index, key, limits);
         // Without INIT constraints an initial state exists (or evaluating one fails): the
         // prediction holds before the free inputs' combinations are enumerated at all.
         if model.init.is_empty() {
@@ -835,14 +819,7 @@ impl<'a> ExplicitLoop<'a> {
         while next < c.keys.len() {
             let key = c.keys[next];
             let (inputs, fair) = memo.at(&c.sem, coupling, key.plant, key.outputs)?;
-            let (q, o) = match ecc.states[key.ctrl as usize]
-                .transitions
-                .iter()
-                .find(|t| t.guard.eval(&inputs))
-            {
-                Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
-                None => (key.ctrl, key.outputs),
-            };
+            let (q, o) = react(ecc, &effects, key, &inputs);
             let successors = memo.successors(&c.sem, coupling, key.plant, key.outputs, o)?;
             c.within(limits, successors.len(), memo)?;
             let mut out = Vec::with_capacity(successors.len());
@@ -862,6 +839,28 @@ impl<'a> ExplicitLoop<'a> {
         }
         c.plants = memo.states.clone();
         Ok(c)
+    }
+
+    /// The number of the closed-loop state `key`, numbered next when it is new (at most
+    /// [`Limits::max_states`] of them).
+    fn intern(
+        &mut self,
+        index: &mut FxHashMap<Key, u32>,
+        key: Key,
+        limits: &Limits,
+    ) -> Result<u32, CheckError> {
+        if let Some(&i) = index.get(&key) {
+            return Ok(i);
+        }
+        if self.keys.len() >= limits.max_states {
+            return Err(CheckError::TooManyStates {
+                limit: limits.max_states,
+            });
+        }
+        let i = self.keys.len() as u32;
+        index.insert(key, i);
+        self.keys.push(key);
+        Ok(i)
     }
 
     /// Refuses, before exploring, a closed loop whose transitions can be told to exceed the
@@ -994,6 +993,17 @@ impl<'a> ExplicitLoop<'a> {
             return Err(bug("its loop is not fair".into()));
         }
         Ok(())
+    }
+}
+
+/// The controller's answer in closed-loop state `key` to `inputs`: the first transition of
+/// its state whose guard holds fires (its target and the outputs after the target's
+/// algorithm), or nothing changes.
+fn react(ecc: &Ecc, effects: &[OutputEffect], key: Key, inputs: &[bool]) -> (u32, u64) {
+    let fired = (ecc.states[key.ctrl as usize].transitions.iter()).find(|t| t.guard.eval(inputs));
+    match fired {
+        Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
+        None => (key.ctrl, key.outputs),
     }
 }
 
