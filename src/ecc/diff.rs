@@ -166,77 +166,12 @@ pub(crate) struct Structure {
 /// its guard and its target seen through the matching.
 pub(crate) fn structure(a: &Ecc, b: &Ecc) -> Result<Structure, DiffError> {
     difference_interface(a, b)?;
-    let n = a.inputs.len();
-    let mut to_second: Vec<Option<StateId>> = vec![None; a.states.len()];
-    let mut to_first: Vec<Option<StateId>> = vec![None; b.states.len()];
-    let mut order = vec![(StateId(0), StateId(0))];
-    to_second[0] = Some(StateId(0));
-    to_first[0] = Some(StateId(0));
-    let mut candidates = Vec::new();
-    let mut k = 0;
-    while k < order.len() {
-        let (sa, sb) = order[k];
-        k += 1;
-        for v in 0..1u32 << n {
-            let x: Vec<bool> = (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect();
-            let fire = |e: &Ecc, s: StateId| {
-                (e.states[s.0].transitions.iter())
-                    .find(|t| t.guard.eval(&x))
-                    .map(|t| t.target)
-            };
-            if let (Some(ta), Some(tb)) = (fire(a, sa), fire(b, sb)) {
-                candidates.push((ta, tb));
-            }
-        }
-        // Then transitions of equal priority, which also reach the targets of transitions
-        // that never fire (a guard covered by the ones before it).
-        let (xa, xb) = (&a.states[sa.0].transitions, &b.states[sb.0].transitions);
-        candidates.extend(xa.iter().zip(xb).map(|(ta, tb)| (ta.target, tb.target)));
-        for (ta, tb) in candidates.drain(..) {
-            if to_second[ta.0].is_none() && to_first[tb.0].is_none() {
-                to_second[ta.0] = Some(tb);
-                to_first[tb.0] = Some(ta);
-                order.push((ta, tb));
-            }
-        }
-    }
-    let name = |s: Option<StateId>| s.map_or("an unmatched state".to_string(), |s| s.to_string());
-    let pairs = order
-        .iter()
-        .map(|&(sa, sb)| {
-            let (x, y) = (a.state(sa), b.state(sb));
-            let mut changes = Vec::new();
-            if x.algorithm != y.algorithm {
-                changes.push(format!(
-                    "algorithm {} became {}",
-                    x.algorithm.to_strings().join("/"),
-                    y.algorithm.to_strings().join("/")
-                ));
-            }
-            let shown = |t: Option<&super::Transition>, e: &Ecc, target: Option<StateId>| {
-                t.map(|t| format!("{} -> {}", t.guard.display(&e.inputs), name(target)))
-            };
-            for i in 0..x.transitions.len().max(y.transitions.len()) {
-                let ta = x.transitions.get(i);
-                let tb = y.transitions.get(i);
-                // A's transition written in B's numbering, to compare like with like.
-                let left = shown(ta, a, ta.and_then(|t| to_second[t.target.0]));
-                let right = shown(tb, b, tb.map(|t| t.target));
-                if left != right {
-                    let quoted = |t: Option<String>| t.map_or("none".into(), |t| format!("`{t}`"));
-                    changes.push(format!(
-                        "transition {}: {} became {}",
-                        i + 1,
-                        quoted(left),
-                        quoted(right)
-                    ));
-                }
-            }
-            StatePair {
-                first: sa,
-                second: sb,
-                changes,
-            }
+    let m = Matching::of(a, b);
+    let pairs = (m.order.iter())
+        .map(|&(sa, sb)| StatePair {
+            first: sa,
+            second: sb,
+            changes: changes(a, b, sa, sb, &m.to_second),
         })
         .collect();
     let unmatched = |m: &[Option<StateId>]| {
@@ -247,9 +182,102 @@ pub(crate) fn structure(a: &Ecc, b: &Ecc) -> Result<Structure, DiffError> {
     };
     Ok(Structure {
         pairs,
-        unmatched_first: unmatched(&to_second),
-        unmatched_second: unmatched(&to_first),
+        unmatched_first: unmatched(&m.to_second),
+        unmatched_second: unmatched(&m.to_first),
     })
+}
+
+/// The states of two machines matched up ([`structure`]).
+struct Matching {
+    /// The matched pairs, in the order they were matched.
+    order: Vec<(StateId, StateId)>,
+    /// Per state of the first machine, its match in the second.
+    to_second: Vec<Option<StateId>>,
+    /// Per state of the second machine, its match in the first.
+    to_first: Vec<Option<StateId>>,
+}
+
+impl Matching {
+    fn of(a: &Ecc, b: &Ecc) -> Matching {
+        let n = a.inputs.len();
+        let mut m = Matching {
+            order: vec![(StateId(0), StateId(0))],
+            to_second: vec![None; a.states.len()],
+            to_first: vec![None; b.states.len()],
+        };
+        m.to_second[0] = Some(StateId(0));
+        m.to_first[0] = Some(StateId(0));
+        let mut candidates = Vec::new();
+        let mut k = 0;
+        while k < m.order.len() {
+            let (sa, sb) = m.order[k];
+            k += 1;
+            for v in 0..1u32 << n {
+                let x: Vec<bool> = (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect();
+                let fire = |e: &Ecc, s: StateId| {
+                    (e.states[s.0].transitions.iter())
+                        .find(|t| t.guard.eval(&x))
+                        .map(|t| t.target)
+                };
+                if let (Some(ta), Some(tb)) = (fire(a, sa), fire(b, sb)) {
+                    candidates.push((ta, tb));
+                }
+            }
+            // Then transitions of equal priority, which also reach the targets of transitions
+            // that never fire (a guard covered by the ones before it).
+            let (xa, xb) = (&a.states[sa.0].transitions, &b.states[sb.0].transitions);
+            candidates.extend(xa.iter().zip(xb).map(|(ta, tb)| (ta.target, tb.target)));
+            for (ta, tb) in candidates.drain(..) {
+                if m.to_second[ta.0].is_none() && m.to_first[tb.0].is_none() {
+                    m.to_second[ta.0] = Some(tb);
+                    m.to_first[tb.0] = Some(ta);
+                    m.order.push((ta, tb));
+                }
+            }
+        }
+        m
+    }
+}
+
+/// What differs between state `sa` of `a` and its match `sb` of `b`: the algorithm, and each
+/// transition by priority, `a`'s targets seen through the matching `to_second`.
+fn changes(
+    a: &Ecc,
+    b: &Ecc,
+    sa: StateId,
+    sb: StateId,
+    to_second: &[Option<StateId>],
+) -> Vec<String> {
+    let name = |s: Option<StateId>| s.map_or("an unmatched state".to_string(), |s| s.to_string());
+    let (x, y) = (a.state(sa), b.state(sb));
+    let mut changes = Vec::new();
+    if x.algorithm != y.algorithm {
+        changes.push(format!(
+            "algorithm {} became {}",
+            x.algorithm.to_strings().join("/"),
+            y.algorithm.to_strings().join("/")
+        ));
+    }
+    let shown = |t: Option<&super::Transition>, e: &Ecc, target: Option<StateId>| {
+        t.map(|t| format!("{} -> {}", t.guard.display(&e.inputs), name(target)))
+    };
+    for i in 0..x.transitions.len().max(y.transitions.len()) {
+        let ta = x.transitions.get(i);
+        let tb = y.transitions.get(i);
+        // A's transition written in B's numbering, to compare like with like.
+        let left = shown(ta, a, ta.and_then(|t| to_second[t.target.0]));
+        let right = shown(tb, b, tb.map(|t| t.target));
+        if left != right {
+            let quoted = |t: Option<String>| t.map_or("none".into(), |t| format!("`{t}`"));
+            changes.push(format!(
+                "transition {}: {} became {}",
+                i + 1,
+                quoted(left),
+                quoted(right)
+            ));
+        }
+    }
+    changes
 }
 
 /// A run of `ecc` resumed in configuration `c`.
