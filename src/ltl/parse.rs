@@ -347,104 +347,117 @@ fn build(p: Pair<Rule>) -> Result<Ltl, LineError> {
 
 /// Builds a node that is no wrapper ([`innermost`]).
 fn build_level(p: Pair<Rule>) -> Result<Ltl, LineError> {
-    let pos = p.as_span().start();
     match p.as_rule() {
-        Rule::implies => {
-            // `a -> b -> c` is `a -> (b -> c)`: the chain is collected in a loop and folded
-            // from the right, so that a long chain costs no stack either.
-            let mut operands = Vec::new();
-            let mut level = p;
-            loop {
-                let mut inner = level.into_inner();
-                operands.push(next_operand(&mut inner)?);
-                match inner.next() {
-                    None => break,
-                    Some(_op) => level = inner.next().expect("-> has a right operand"),
-                }
-            }
-            let mut acc = operands.pop().expect("a chain has an operand");
-            while let Some(left) = operands.pop() {
-                acc = Ltl::Implies(Box::new(left), Box::new(acc));
-            }
-            Ok(acc)
-        }
-        Rule::iff | Rule::or | Rule::and | Rule::binary => {
-            let mut inner = p.into_inner();
-            let mut acc = next_operand(&mut inner)?;
-            while let Some(op) = inner.next() {
-                let a = Box::new(acc);
-                let b = Box::new(next_operand(&mut inner)?);
-                acc = match op.as_str() {
-                    "<->" => Ltl::Iff(a, b),
-                    "|" => Ltl::Or(a, b),
-                    "xor" => Ltl::Xor(a, b),
-                    "xnor" => Ltl::Xnor(a, b),
-                    "&" => Ltl::And(a, b),
-                    "U" => Ltl::U(a, b),
-                    "V" => Ltl::V(a, b),
-                    "S" => Ltl::S(a, b),
-                    "T" => Ltl::T(a, b),
-                    other => unreachable!("binary operator {other:?}"),
-                };
-            }
-            Ok(acc)
-        }
-        Rule::unary => {
-            let mut ops: Vec<Pair<Rule>> = p.into_inner().collect();
-            let body = ops.pop().expect("unary ends with a comparison level");
-            let mut acc = operand(body)?;
-            for op in ops.iter().rev() {
-                let a = Box::new(acc);
-                acc = match op.as_str() {
-                    "!" => Ltl::Not(a),
-                    "X" => Ltl::X(a),
-                    "F" => Ltl::F(a),
-                    "G" => Ltl::G(a),
-                    "Y" => Ltl::Y(a),
-                    "Z" => Ltl::Z(a),
-                    "H" => Ltl::H(a),
-                    "O" => Ltl::O(a),
-                    other => unreachable!("prefix operator {other:?}"),
-                };
-            }
-            Ok(acc)
-        }
+        Rule::implies => implication(p),
+        Rule::iff | Rule::or | Rule::and | Rule::binary => left_chain(p),
+        Rule::unary => prefixed(p),
         Rule::cmp => build_cmp(p),
         Rule::constant => Ok(if p.as_str() == "TRUE" {
             Ltl::True
         } else {
             Ltl::False
         }),
-        Rule::integer => {
-            let text = p.as_str();
-            // NuSMV integers are C ints; a larger one would only fail later inside NuSMV.
-            match text.parse::<i64>() {
-                Ok(i) if i.unsigned_abs() <= i32::MAX as u64 => Ok(Ltl::Int(i)),
-                _ => Err(syntax(
-                    pos,
-                    format!(
-                        "integer {} is out of NuSMV's range (at most {})",
-                        crate::quote::cut(text),
-                        i32::MAX
-                    ),
-                )),
-            }
-        }
-        Rule::name => {
-            let mut offset = pos;
-            for segment in p.as_str().split('.') {
-                if is_keyword(segment) {
-                    return Err(syntax(
-                        offset,
-                        format!("'{segment}' is a NuSMV keyword, not a name"),
-                    ));
-                }
-                offset += segment.len() + 1;
-            }
-            Ok(Ltl::Atom(p.as_str().to_string()))
-        }
+        Rule::integer => integer(p),
+        Rule::name => atom(p),
         r => unreachable!("no formula is built from rule {r:?}"),
     }
+}
+
+/// `a -> b -> c`, which is `a -> (b -> c)`: the chain is collected in a loop and folded from
+/// the right, so that a long chain costs no stack either.
+fn implication(p: Pair<Rule>) -> Result<Ltl, LineError> {
+    let mut operands = Vec::new();
+    let mut level = p;
+    loop {
+        let mut inner = level.into_inner();
+        operands.push(next_operand(&mut inner)?);
+        match inner.next() {
+            None => break,
+            Some(_op) => level = inner.next().expect("-> has a right operand"),
+        }
+    }
+    let mut acc = operands.pop().expect("a chain has an operand");
+    while let Some(left) = operands.pop() {
+        acc = Ltl::Implies(Box::new(left), Box::new(acc));
+    }
+    Ok(acc)
+}
+
+/// A chain of binary operators of one level, folded from the left.
+fn left_chain(p: Pair<Rule>) -> Result<Ltl, LineError> {
+    let mut inner = p.into_inner();
+    let mut acc = next_operand(&mut inner)?;
+    while let Some(op) = inner.next() {
+        let a = Box::new(acc);
+        let b = Box::new(next_operand(&mut inner)?);
+        acc = match op.as_str() {
+            "<->" => Ltl::Iff(a, b),
+            "|" => Ltl::Or(a, b),
+            "xor" => Ltl::Xor(a, b),
+            "xnor" => Ltl::Xnor(a, b),
+            "&" => Ltl::And(a, b),
+            "U" => Ltl::U(a, b),
+            "V" => Ltl::V(a, b),
+            "S" => Ltl::S(a, b),
+            "T" => Ltl::T(a, b),
+            other => unreachable!("binary operator {other:?}"),
+        };
+    }
+    Ok(acc)
+}
+
+/// Prefix operators before a comparison level, the innermost last.
+fn prefixed(p: Pair<Rule>) -> Result<Ltl, LineError> {
+    let mut ops: Vec<Pair<Rule>> = p.into_inner().collect();
+    let body = ops.pop().expect("unary ends with a comparison level");
+    let mut acc = operand(body)?;
+    for op in ops.iter().rev() {
+        let a = Box::new(acc);
+        acc = match op.as_str() {
+            "!" => Ltl::Not(a),
+            "X" => Ltl::X(a),
+            "F" => Ltl::F(a),
+            "G" => Ltl::G(a),
+            "Y" => Ltl::Y(a),
+            "Z" => Ltl::Z(a),
+            "H" => Ltl::H(a),
+            "O" => Ltl::O(a),
+            other => unreachable!("prefix operator {other:?}"),
+        };
+    }
+    Ok(acc)
+}
+
+/// An integer literal, within NuSMV's range.
+fn integer(p: Pair<Rule>) -> Result<Ltl, LineError> {
+    let text = p.as_str();
+    // NuSMV integers are C ints; a larger one would only fail later inside NuSMV.
+    match text.parse::<i64>() {
+        Ok(i) if i.unsigned_abs() <= i32::MAX as u64 => Ok(Ltl::Int(i)),
+        _ => Err(syntax(
+            p.as_span().start(),
+            format!(
+                "integer {} is out of NuSMV's range (at most {})",
+                crate::quote::cut(text),
+                i32::MAX
+            ),
+        )),
+    }
+}
+
+/// A (dotted) name, none of whose segments is a NuSMV keyword.
+fn atom(p: Pair<Rule>) -> Result<Ltl, LineError> {
+    let mut offset = p.as_span().start();
+    for segment in p.as_str().split('.') {
+        if is_keyword(segment) {
+            return Err(syntax(
+                offset,
+                format!("'{segment}' is a NuSMV keyword, not a name"),
+            ));
+        }
+        offset += segment.len() + 1;
+    }
+    Ok(Ltl::Atom(p.as_str().to_string()))
 }
 
 fn next_operand<'i>(inner: &mut impl Iterator<Item = Pair<'i, Rule>>) -> Result<Ltl, LineError> {
