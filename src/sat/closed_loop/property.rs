@@ -226,18 +226,8 @@ impl<'r> Bounded<'r> {
                     g.and2(x, y)
                 }
             }
-            Iff(a, b) | Xnor(a, b) | Xor(a, b) => {
-                // φ <-> ψ is (φ & ψ) | (¬φ & ¬ψ); its negation (φ & ¬ψ) | (¬φ & ψ).
-                let same = matches!(f, Xor(..)) != pos;
-                let (pa, na) = (self.at(g, a, t, true), self.at(g, a, t, false));
-                let (pb, nb) = (self.at(g, b, t, true), self.at(g, b, t, false));
-                let (x, y) = if same {
-                    (g.and2(pa, pb), g.and2(na, nb))
-                } else {
-                    (g.and2(pa, nb), g.and2(na, pb))
-                };
-                g.or2(x, y)
-            }
+            Iff(a, b) | Xnor(a, b) => self.equivalence(g, (a, b), t, pos),
+            Xor(a, b) => self.equivalence(g, (a, b), t, !pos),
             X(a) => {
                 if t >= last {
                     B::C(true)
@@ -245,37 +235,51 @@ impl<'r> Bounded<'r> {
                     self.at(g, a, t + 1, pos)
                 }
             }
-            // Each temporal operator in NNF is one of: until (strong/weak) or release.
-            F(a) => {
-                if pos {
-                    self.until(g, None, (a, true), t)
-                } else {
-                    self.release(g, None, (a, false), t)
-                }
-            }
-            G(a) => {
-                if pos {
-                    self.release(g, None, (a, true), t)
-                } else {
-                    self.until(g, None, (a, false), t)
-                }
-            }
-            U(a, b) => {
-                if pos {
-                    self.until(g, Some((a, true)), (b, true), t)
-                } else {
-                    self.release(g, Some((a, false)), (b, false), t)
-                }
-            }
-            V(a, b) => {
-                if pos {
-                    self.release(g, Some((a, true)), (b, true), t)
-                } else {
-                    self.until(g, Some((a, false)), (b, false), t)
-                }
-            }
+            // Each temporal operator in NNF is an until or a release; negation swaps them.
+            F(a) => self.until_or_release(g, None, a, t, pos, true),
+            G(a) => self.until_or_release(g, None, a, t, pos, false),
+            U(a, b) => self.until_or_release(g, Some(a), b, t, pos, true),
+            V(a, b) => self.until_or_release(g, Some(a), b, t, pos, false),
             // Not covered (see `covered`): never reached for an encoded property.
             Y(_) | Z(_) | H(_) | O(_) | S(..) | T(..) => B::C(true),
+        }
+    }
+
+    /// `a <-> b` at `t` (`pos`), or its negation: `(a & b) | (!a & !b)`, negated
+    /// `(a & !b) | (!a & b)`.
+    fn equivalence<F: ExtendFormula>(
+        &mut self,
+        g: &mut Gates<'_, F>,
+        (a, b): (&Ltl, &Ltl),
+        t: usize,
+        pos: bool,
+    ) -> B {
+        let (pa, na) = (self.at(g, a, t, true), self.at(g, a, t, false));
+        let (pb, nb) = (self.at(g, b, t, true), self.at(g, b, t, false));
+        let (x, y) = if pos {
+            (g.and2(pa, pb), g.and2(na, nb))
+        } else {
+            (g.and2(pa, nb), g.and2(na, pb))
+        };
+        g.or2(x, y)
+    }
+
+    /// `a U b` (`is_until`) or `a V b` at `t` (with `a` absent: `F b` or `G b`), or with `pos`
+    /// false its negation: the dual operator on the negated operands.
+    fn until_or_release<F: ExtendFormula>(
+        &mut self,
+        g: &mut Gates<'_, F>,
+        a: Option<&Ltl>,
+        b: &Ltl,
+        t: usize,
+        pos: bool,
+        is_until: bool,
+    ) -> B {
+        let (a, b) = (a.map(|a| (a, pos)), (b, pos));
+        if is_until == pos {
+            self.until(g, a, b, t)
+        } else {
+            self.release(g, a, b, t)
         }
     }
 

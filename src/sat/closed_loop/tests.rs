@@ -123,6 +123,34 @@ fn environment_forces_the_reaction_the_recording_lacks() {
     assert_eq!(lamp, vec![false, false, false, true], "{:?}", s.ecc);
 }
 
+/// The same property written with other operators (equivalence, exclusive or, until,
+/// release, and negations that turn one into its dual) forces the same reaction.
+#[test]
+fn dual_forms_of_one_property_force_the_same_reaction() {
+    let p = "(button -> X X lamp)";
+    for formula in [
+        format!("G ({p} <-> TRUE)"),
+        format!("G !({p} xor TRUE)"),
+        format!("!F !{p}"),
+        format!("!(TRUE U !{p})"),
+        format!("FALSE V {p}"),
+        format!("!!G {p}"),
+    ] {
+        let set = idle_recording();
+        let tree = ScenarioTree::build(&set).unwrap();
+        let mut synth = Synthesizer::new(&set, &tree, &options());
+        synth.add_environment(&spec(&formula), one_press()).unwrap();
+        let s = synth.minimize(&mut |_| {}).unwrap();
+        let lamp = lamp_run(&s.ecc, &[false, true, false, false]);
+        assert_eq!(
+            lamp,
+            vec![false, false, false, true],
+            "{formula}: {:?}",
+            s.ecc
+        );
+    }
+}
+
 /// A property no machine can satisfy on the environment: no machine at any size.
 #[test]
 fn contradictory_property_leaves_no_machine() {
