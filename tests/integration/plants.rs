@@ -383,13 +383,16 @@ fn generated_stations_get_a_verified_machine_no_larger_than_their_reference() {
             summary["size"]
         );
         // "Least" only where the machine meets the recordings' own lower bounds, as the
-        // exact loop reported them. Seed 2's loop stalls, and the guide's machine, made
-        // smaller, meets them.
+        // exact loop reported them.
         if summary["proven_least"] == true {
             let floor = lower_bounds(&err).unwrap_or_else(|| panic!("seed {seed}: {err}"));
             assert_eq!(found, floor, "seed {seed}: {err}");
         }
-        if seed == 2 {
+        // Seed 2's loop usually stalls and hands over, and the guide's machine, made smaller,
+        // meets them. Which candidates the loop meets depends on when the lower bounds from
+        // the second core reach it, so on a loaded host it may find a verified machine
+        // itself before it stalls.
+        if seed == 2 && err.contains("guide takes over") {
             assert_eq!(summary["proven_least"], true, "seed {seed}: {err}");
         }
     }
