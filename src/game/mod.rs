@@ -286,8 +286,9 @@ impl<'a> Arena<'a> {
         Ok(initial)
     }
 
-    /// Position `n`'s moves and their successors: none when every plant step from it breaks a
-    /// safety monitor or the plant has no successor (the environment cannot move there).
+    /// Position `n`'s moves and their successors; none are stored when the monitors reject
+    /// the step under some free-input combination (a safety property is broken there) or the
+    /// plant has no successor.
     fn expand(&mut self, n: u32, queue: &mut VecDeque<u32>) -> Result<(), GameError> {
         let (side, o) = self.nodes[n as usize];
         let Side { plant, memory, tau } = self.sides[side as usize];
