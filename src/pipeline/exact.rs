@@ -149,21 +149,7 @@ pub fn run(
     events: Events<'_>,
 ) -> Result<Exact, Error> {
     if check.is_none() && opts.negatives.is_empty() {
-        // Long recordings are encoded a part at a time (same answer, see `lazy`).
-        let sat = opts.sat(false);
-        let synthesis = super::lazy::synthesize(
-            set,
-            &mut |part, tree, events| {
-                let mut synth = sat::Synthesizer::new(part, tree, &sat);
-                Ok(synth.minimize(&mut |m| events(Event::Solver(m)))?)
-            },
-            events,
-        )?;
-        return Ok(Exact {
-            synthesis,
-            certificate: None,
-            iterations: Vec::new(),
-        });
+        return Ok(unverified(by_parts(set, opts, events)?));
     }
     let tree = ScenarioTree::build(set)?;
     negative::check_not_recorded(set, &tree, &opts.negatives)?;
@@ -172,12 +158,9 @@ pub fn run(
         for neg in &opts.negatives {
             synth.add_negative(neg.clone());
         }
-        let synthesis = synth.minimize(&mut |m| events(Event::Solver(m)))?;
-        return Ok(Exact {
-            synthesis,
-            certificate: None,
-            iterations: Vec::new(),
-        });
+        return Ok(unverified(
+            synth.minimize(&mut |m| events(Event::Solver(m)))?,
+        ));
     };
     let mut verifier = check.verifier()?;
     let config = cegis::Config {
@@ -212,17 +195,46 @@ pub fn run(
         // Past the deadline the loop was cut short: nothing it failed on is worth keeping.
         Err(e) if opts.sat.deadline.passed() => Err(e.into()),
         Err(e) => {
-            if let (Some(keep), Some(model)) = (&opts.keep_failed_model, verifier.last_model()) {
-                // Best effort: the error below is what the user needs first.
-                if let Some(dir) = keep.parent() {
-                    let _ = std::fs::create_dir_all(dir);
-                }
-                if let Ok(text) = std::fs::read(model) {
-                    let _ = crate::files::write_atomic(keep, &text);
-                }
-            }
+            keep_failed_model(opts, &verifier);
             Err(e.into())
         }
+    }
+}
+
+/// The least machine for `set` alone, long recordings encoded a part at a time (the same
+/// answer, see `lazy`).
+fn by_parts(set: &ScenarioSet, opts: &Options, events: Events<'_>) -> Result<Synthesis, Error> {
+    let sat = opts.sat(false);
+    super::lazy::synthesize(
+        set,
+        &mut |part, tree, events| {
+            let mut synth = sat::Synthesizer::new(part, tree, &sat);
+            Ok(synth.minimize(&mut |m| events(Event::Solver(m)))?)
+        },
+        events,
+    )
+}
+
+/// A machine no model checker judged.
+fn unverified(synthesis: Synthesis) -> Exact {
+    Exact {
+        synthesis,
+        certificate: None,
+        iterations: Vec::new(),
+    }
+}
+
+/// The last closed-loop model NuSMV judged, copied where `--keep-failed-model` asks, on a
+/// best effort: the loop's error is what the user needs first.
+fn keep_failed_model(opts: &Options, verifier: &crate::verify::Verifier) {
+    let (Some(keep), Some(model)) = (&opts.keep_failed_model, verifier.last_model()) else {
+        return;
+    };
+    if let Some(dir) = keep.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    if let Ok(text) = std::fs::read(model) {
+        let _ = crate::files::write_atomic(keep, &text);
     }
 }
 
