@@ -470,22 +470,12 @@ pub(crate) fn run(
     checkers: Vec<Box<dyn Checker>>,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Outcome, SearchError> {
-    if config.states == 0 || config.colonies == 0 || config.offspring == 0 {
-        return Err(SearchError::Config);
-    }
-    if !checkers.is_empty() && checkers.len() != config.colonies {
-        return Err(SearchError::Checkers(checkers.len(), config.colonies));
-    }
+    let mut colonies = colonies(data, config, checkers)?;
     let start = Instant::now();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(config.threads.max(1))
         .build()
         .map_err(|e| SearchError::Threads(e.to_string()))?;
-    let mut checkers: Vec<Option<Box<dyn Checker>>> = checkers.into_iter().map(Some).collect();
-    checkers.resize_with(config.colonies, || None);
-    let mut colonies: Vec<Colony> = (checkers.into_iter().enumerate())
-        .map(|(k, checker)| Colony::new(data, config, k, checker))
-        .collect();
     // The best machine so far: colonies restart, the elite stays.
     let mut elite: Option<(usize, Individual)> = None;
     let mut round = 0;
@@ -530,17 +520,9 @@ pub(crate) fn run(
         });
         let out_of_budget = config.time_limit.is_some_and(|t| start.elapsed() >= t)
             || config.max_evaluations.is_some_and(|m| evaluations >= m)
-            || config
-                .give_up_rounds
-                .is_some_and(|g| round - progress_since >= g);
+            || (config.give_up_rounds).is_some_and(|g| round - progress_since >= g);
         if done || out_of_budget {
-            let stats = Stats {
-                evaluations,
-                verifications: colonies.iter().map(|c| c.verifications).sum(),
-                replayed: colonies.iter().map(|c| c.replayed).sum(),
-                rounds: round,
-                seconds: start.elapsed().as_secs_f64(),
-            };
+            let stats = stats(&colonies, round, start);
             return Ok(colonies[elite_k].outcome(data, best, done, stats));
         }
         // Sharing: a stagnating colony restarts from the elite when that is better than its
@@ -548,6 +530,36 @@ pub(crate) fn run(
         for c in colonies.iter_mut() {
             c.restart_if_stagnant(&best, config, data.inputs.len());
         }
+    }
+}
+
+/// The colonies, each with its checker when there are properties, after checking the config.
+fn colonies<'a>(
+    data: &'a ScenarioData,
+    config: &Config,
+    checkers: Vec<Box<dyn Checker>>,
+) -> Result<Vec<Colony<'a>>, SearchError> {
+    if config.states == 0 || config.colonies == 0 || config.offspring == 0 {
+        return Err(SearchError::Config);
+    }
+    if !checkers.is_empty() && checkers.len() != config.colonies {
+        return Err(SearchError::Checkers(checkers.len(), config.colonies));
+    }
+    let mut checkers: Vec<Option<Box<dyn Checker>>> = checkers.into_iter().map(Some).collect();
+    checkers.resize_with(config.colonies, || None);
+    Ok((checkers.into_iter().enumerate())
+        .map(|(k, checker)| Colony::new(data, config, k, checker))
+        .collect())
+}
+
+/// The search's figures after `round` rounds begun at `start`.
+fn stats(colonies: &[Colony], round: usize, start: Instant) -> Stats {
+    Stats {
+        evaluations: colonies.iter().map(|c| c.evaluations).sum(),
+        verifications: colonies.iter().map(|c| c.verifications).sum(),
+        replayed: colonies.iter().map(|c| c.replayed).sum(),
+        rounds: round,
+        seconds: start.elapsed().as_secs_f64(),
     }
 }
 
