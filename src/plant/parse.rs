@@ -20,7 +20,7 @@ mod tests;
 
 use super::{BinOp, Model, ModelError, VarKind};
 use crate::quote::{cut, quote};
-use pest::iterators::Pair;
+use pest::iterators::{Pair, Pairs};
 use pest::Parser;
 use std::path::Path;
 
@@ -112,87 +112,25 @@ fn module(src: &Source, pair: Pair<Rule>) -> Result<Module, ModelError> {
 }
 
 fn section(src: &Source, pair: Pair<Rule>, module: &mut Module) -> Result<(), ModelError> {
-    let plant = &mut module.body;
     let rule = pair.as_rule();
     let pos = pair.as_span().start();
     let mut inner = pair.into_inner();
     let _keyword = inner.next();
     match rule {
-        Rule::var_section | Rule::ivar_section => {
-            let kind = if rule == Rule::var_section {
-                VarKind::State
-            } else {
-                VarKind::Input
-            };
-            for decl in inner {
-                let mut parts = decl.into_inner();
-                let name = ident(parts.next().expect("a declaration has a name"));
-                let _colon = parts.next();
-                let ty = only_child(parts.next().expect("and a type"));
-                if ty.as_rule() == Rule::instance_type {
-                    let mut parts = ty.into_inner();
-                    let of = ident(parts.next().expect("an instance names its module"));
-                    let args = parts.filter(|p| p.as_rule() == Rule::expr);
-                    let args = args.map(|a| expr(src, a, 0)).collect::<Result<_, _>>()?;
-                    if kind == VarKind::Input {
-                        return Err(src.error(
-                            name.pos,
-                            format!("{} is a module instance under IVAR", quote(&name.name)),
-                        ));
-                    }
-                    module.instances.push(Instance {
-                        name,
-                        module: of,
-                        args,
-                    });
-                    continue;
-                }
-                let ty = var_type(src, ty)?;
-                plant.vars.push(VarDecl { name, kind, ty });
-            }
-        }
+        Rule::var_section => declarations(src, inner, VarKind::State, module)?,
+        Rule::ivar_section => declarations(src, inner, VarKind::Input, module)?,
         Rule::define_section => {
             for define in inner {
                 let mut parts = define.into_inner();
                 let name = ident(parts.next().expect("a define has a name"));
                 let _becomes = parts.next();
                 let expr = expr(src, parts.next().expect("and an expression"), 0)?;
-                plant.defines.push(DefineDecl { name, expr });
+                module.body.defines.push(DefineDecl { name, expr });
             }
         }
         Rule::assign_section => {
             for assignment in inner {
-                let mut parts = assignment.into_inner();
-                let target = parts.next().expect("an assignment has a target");
-                let pos = target.as_span().start();
-                let target_rule = target.as_rule();
-                let var = target
-                    .into_inner()
-                    .find(|p| p.as_rule() == Rule::name)
-                    .map(ident)
-                    .expect("a target names a variable");
-                let target = match target_rule {
-                    Rule::init_target => Target::Init,
-                    Rule::next_target => Target::Next,
-                    _ => {
-                        return Err(src.error(
-                            pos,
-                            format!(
-                                "'{0} := ...' (an invariant assignment) is outside the subset: \
-                                 assign init({0}) and next({0}), or use INVAR",
-                                cut(&var.name)
-                            ),
-                        ))
-                    }
-                };
-                let _becomes = parts.next();
-                let value = expr(src, parts.next().expect("and a value"), 0)?;
-                plant.assigns.push(Assign {
-                    target,
-                    pos,
-                    var,
-                    value,
-                });
+                module.body.assigns.push(assign(src, assignment)?);
             }
         }
         Rule::init_section
@@ -207,18 +145,85 @@ fn section(src: &Source, pair: Pair<Rule>, module: &mut Module) -> Result<(), Mo
                 Rule::fairness_section => Section::Fairness,
                 _ => Section::Justice,
             };
-            let expr = expr(
-                src,
-                inner.next().expect("a constraint has an expression"),
-                0,
-            )?;
-            plant
-                .constraints
-                .push(ConstraintDecl { section, pos, expr });
+            let constraint = inner.next().expect("a constraint has an expression");
+            let expr = expr(src, constraint, 0)?;
+            (module.body.constraints).push(ConstraintDecl { section, pos, expr });
         }
         r => unreachable!("no section is built from rule {r:?}"),
     }
     Ok(())
+}
+
+/// The declarations of a `VAR` (`kind` state) or `IVAR` (`kind` input) section: variables,
+/// and under `VAR` instances of other modules.
+fn declarations(
+    src: &Source,
+    decls: Pairs<Rule>,
+    kind: VarKind,
+    module: &mut Module,
+) -> Result<(), ModelError> {
+    for decl in decls {
+        let mut parts = decl.into_inner();
+        let name = ident(parts.next().expect("a declaration has a name"));
+        let _colon = parts.next();
+        let ty = only_child(parts.next().expect("and a type"));
+        if ty.as_rule() != Rule::instance_type {
+            let ty = var_type(src, ty)?;
+            module.body.vars.push(VarDecl { name, kind, ty });
+            continue;
+        }
+        let mut parts = ty.into_inner();
+        let of = ident(parts.next().expect("an instance names its module"));
+        let args = parts.filter(|p| p.as_rule() == Rule::expr);
+        let args = args.map(|a| expr(src, a, 0)).collect::<Result<_, _>>()?;
+        if kind == VarKind::Input {
+            return Err(src.error(
+                name.pos,
+                format!("{} is a module instance under IVAR", quote(&name.name)),
+            ));
+        }
+        module.instances.push(Instance {
+            name,
+            module: of,
+            args,
+        });
+    }
+    Ok(())
+}
+
+/// One assignment of an `ASSIGN` section: `init(x) := ...` or `next(x) := ...` (an invariant
+/// `x := ...` is outside the subset).
+fn assign(src: &Source, assignment: Pair<Rule>) -> Result<Assign, ModelError> {
+    let mut parts = assignment.into_inner();
+    let target = parts.next().expect("an assignment has a target");
+    let pos = target.as_span().start();
+    let target_rule = target.as_rule();
+    let var = (target.into_inner())
+        .find(|p| p.as_rule() == Rule::name)
+        .map(ident)
+        .expect("a target names a variable");
+    let target = match target_rule {
+        Rule::init_target => Target::Init,
+        Rule::next_target => Target::Next,
+        _ => {
+            return Err(src.error(
+                pos,
+                format!(
+                    "'{0} := ...' (an invariant assignment) is outside the subset: \
+                     assign init({0}) and next({0}), or use INVAR",
+                    cut(&var.name)
+                ),
+            ))
+        }
+    };
+    let _becomes = parts.next();
+    let value = expr(src, parts.next().expect("and a value"), 0)?;
+    Ok(Assign {
+        target,
+        pos,
+        var,
+        value,
+    })
 }
 
 fn ident(pair: Pair<Rule>) -> Ident {
