@@ -1000,8 +1000,7 @@ impl<'a> ExplicitLoop<'a> {
 /// its state whose guard holds fires (its target and the outputs after the target's
 /// algorithm), or nothing changes.
 fn react(ecc: &Ecc, effects: &[OutputEffect], key: Key, inputs: &[bool]) -> (u32, u64) {
-    let fired = (ecc.states[key.ctrl as usize].transitions.iter()).find(|t| t.guard.eval(inputs));
-    match fired {
+    match ecc.states[key.ctrl as usize].fired(inputs) {
         Some(t) => (t.target.0 as u32, effects[t.target.0].apply(key.outputs)),
         None => (key.ctrl, key.outputs),
     }

@@ -214,11 +214,7 @@ impl Matching {
             k += 1;
             for v in 0..1u32 << n {
                 let x: Vec<bool> = (0..n).map(|i| v >> (n - 1 - i) & 1 == 1).collect();
-                let fire = |e: &Ecc, s: StateId| {
-                    (e.states[s.0].transitions.iter())
-                        .find(|t| t.guard.eval(&x))
-                        .map(|t| t.target)
-                };
+                let fire = |e: &Ecc, s: StateId| e.states[s.0].fired(&x).map(|t| t.target);
                 if let (Some(ta), Some(tb)) = (fire(a, sa), fire(b, sb)) {
                     candidates.push((ta, tb));
                 }

@@ -251,6 +251,13 @@ pub struct State {
     pub transitions: Vec<Transition>,
 }
 
+impl State {
+    /// The transition that fires on inputs `x`: the first whose guard holds.
+    pub(crate) fn fired(&self, x: &[bool]) -> Option<&Transition> {
+        self.transitions.iter().find(|t| t.guard.eval(x))
+    }
+}
+
 /// An Execution Control Chart with its interface.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Ecc {

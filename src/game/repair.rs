@@ -123,9 +123,7 @@ impl<'e> Table<'e> {
         let base = self.base;
         *self.memo.entry((q, x)).or_insert_with(|| {
             let v: Vec<bool> = (0..n).map(|i| x >> i & 1 == 1).collect();
-            (base.states[q as usize].transitions.iter())
-                .find(|t| t.guard.eval(&v))
-                .map_or(NONE, |t| t.target.0 as u32)
+            (base.states[q as usize].fired(&v)).map_or(NONE, |t| t.target.0 as u32)
         })
     }
 

@@ -254,7 +254,7 @@ fn guard_problem(ecc: &Ecc, q: usize, xs: &[Vec<bool>]) -> GuardProblem {
         ..GuardProblem::default()
     };
     for x in xs {
-        let fired = (ecc.states[q].transitions.iter()).find(|t| t.guard.eval(x));
+        let fired = ecc.states[q].fired(x);
         let Some(t) = fired else {
             p.negative.push(x.clone());
             continue;

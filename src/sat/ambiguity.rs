@@ -187,13 +187,7 @@ fn distinguishing_path(s: &mut impl ExtendFormula, q: &Query, v: &Vars, fixed: &
             .map(|p| {
                 q.alphabet
                     .iter()
-                    .map(|x| {
-                        fixed.states[p]
-                            .transitions
-                            .iter()
-                            .find(|t| t.guard.eval(x))
-                            .map(|t| t.target.0)
-                    })
+                    .map(|x| fixed.states[p].fired(x).map(|t| t.target.0))
                     .collect()
             })
             .collect(),

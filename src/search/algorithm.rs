@@ -522,7 +522,7 @@ pub(crate) fn run(
             || config.max_evaluations.is_some_and(|m| evaluations >= m)
             || (config.give_up_rounds).is_some_and(|g| round - progress_since >= g);
         if done || out_of_budget {
-            let stats = stats(&colonies, round, start);
+            let stats = stats(&colonies, evaluations, round, start);
             return Ok(colonies[elite_k].outcome(data, best, done, stats));
         }
         // Sharing: a stagnating colony restarts from the elite when that is better than its
@@ -552,10 +552,10 @@ fn colonies<'a>(
         .collect())
 }
 
-/// The search's figures after `round` rounds begun at `start`.
-fn stats(colonies: &[Colony], round: usize, start: Instant) -> Stats {
+/// The search's figures after `round` rounds begun at `start`, `evaluations` in all.
+fn stats(colonies: &[Colony], evaluations: u64, round: usize, start: Instant) -> Stats {
     Stats {
-        evaluations: colonies.iter().map(|c| c.evaluations).sum(),
+        evaluations,
         verifications: colonies.iter().map(|c| c.verifications).sum(),
         replayed: colonies.iter().map(|c| c.replayed).sum(),
         rounds: round,
