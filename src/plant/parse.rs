@@ -289,8 +289,45 @@ fn integer(src: &Source, pair: &Pair<Rule>) -> Result<i64, ModelError> {
 
 /// Builds an expression. `nest` counts the parentheses, cases, sets and `next( )` around it.
 fn expr(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
-    let mut pair = pair;
-    // A level with a single operand is a wrapper: descend without recursing.
+    let pair = operand_level(pair);
+    let (pos, end) = (pair.as_span().start(), pair.as_span().end());
+    let text = pair.as_str();
+    match pair.as_rule() {
+        Rule::implies | Rule::ite => fold_right(src, pair, nest),
+        Rule::iff | Rule::or | Rule::and | Rule::rel | Rule::sum | Rule::product => {
+            fold_left(src, pair, nest)
+        }
+        Rule::unary => unary(src, pair, nest),
+        Rule::bool_lit => Ok(Node::leaf(pos, end, NodeKind::Bool(text == "TRUE"))),
+        Rule::integer => Ok(Node::leaf(pos, end, NodeKind::Int(integer(src, &pair)?))),
+        Rule::name => Ok(Node::leaf(pos, end, NodeKind::Name(text.to_string()))),
+        Rule::paren => {
+            let mut node = expr(src, only_expr(pair), nesting(src, pos, nest)?)?;
+            // The node spans its parentheses, so that messages quote them.
+            node.pos = pos;
+            node.end = end;
+            Ok(node)
+        }
+        Rule::next_expr => {
+            let arg = expr(src, only_expr(pair), nesting(src, pos, nest)?)?;
+            Node::new(src, pos, end, pos, NodeKind::Next(Box::new(arg)))
+        }
+        Rule::case_expr => case_expr(src, pair, nesting(src, pos, nest)?),
+        Rule::set_expr => {
+            let nest = nesting(src, pos, nest)?;
+            let items = (pair.into_inner())
+                .filter(|p| p.as_rule() == Rule::expr)
+                .map(|p| expr(src, p, nest))
+                .collect::<Result<Vec<_>, _>>()?;
+            Node::new(src, pos, end, pos, NodeKind::Set(items))
+        }
+        r => unreachable!("no expression is built from rule {r:?}"),
+    }
+}
+
+/// The first level below `pair` with more than one operand (or a leaf): a level with a single
+/// operand is a wrapper, descended without recursing.
+fn operand_level(mut pair: Pair<Rule>) -> Pair<Rule> {
     loop {
         let mut inner = pair.clone().into_inner();
         match (pair.as_rule(), inner.next(), inner.next()) {
@@ -308,107 +345,68 @@ fn expr(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError>
                 Some(only),
                 None,
             ) => pair = only,
-            _ => break,
+            _ => return pair,
         }
     }
-    let pos = pair.as_span().start();
+}
+
+/// The expression inside parentheses or `next( )`.
+fn only_expr(pair: Pair<Rule>) -> Pair<Rule> {
+    (pair.into_inner())
+        .find(|p| p.as_rule() == Rule::expr)
+        .expect("parentheses and next( ) hold an expression")
+}
+
+/// A left-associative level: `a op b op c` as `(a op b) op c`.
+fn fold_left(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
+    let mut inner = pair.into_inner();
+    let first = inner.next().expect("a level starts with an operand");
+    let mut acc = expr(src, first, nest)?;
+    while let Some(op) = inner.next() {
+        let right = inner.next().expect("an operator has a right operand");
+        let right = expr(src, right, nest)?;
+        let op_pos = op.as_span().start();
+        let (start, end) = (acc.pos, right.end);
+        let kind = NodeKind::Bin {
+            op: bin_op(op.as_str()),
+            op_pos,
+            left: Box::new(acc),
+            right: Box::new(right),
+        };
+        acc = Node::new(src, start, end, op_pos, kind)?;
+    }
+    Ok(acc)
+}
+
+/// Prefix operators (`!`, `-`), innermost first.
+fn unary(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
     let end = pair.as_span().end();
-    let nested = |pos: usize| nesting(src, pos, nest);
-    match pair.as_rule() {
-        Rule::implies | Rule::ite => fold_right(src, pair, nest),
-        Rule::iff | Rule::or | Rule::and | Rule::rel | Rule::sum | Rule::product => {
-            let mut inner = pair.into_inner();
-            let mut acc = expr(
-                src,
-                inner.next().expect("a level starts with an operand"),
-                nest,
-            )?;
-            while let Some(op) = inner.next() {
-                let right = expr(
-                    src,
-                    inner.next().expect("an operator has a right operand"),
-                    nest,
-                )?;
-                let op_pos = op.as_span().start();
-                let (start, end) = (acc.pos, right.end);
-                let kind = NodeKind::Bin {
-                    op: bin_op(op.as_str()),
-                    op_pos,
-                    left: Box::new(acc),
-                    right: Box::new(right),
-                };
-                acc = Node::new(src, start, end, op_pos, kind)?;
-            }
-            Ok(acc)
-        }
-        Rule::unary => {
-            let mut ops: Vec<Pair<Rule>> = pair.into_inner().collect();
-            let body = ops.pop().expect("unary ends with an operand");
-            let mut acc = expr(src, body, nest)?;
-            for op in ops.iter().rev() {
-                let op_pos = op.as_span().start();
-                let operand = Box::new(acc);
-                let kind = if op.as_str() == "!" {
-                    NodeKind::Not(operand)
-                } else {
-                    NodeKind::Neg(operand)
-                };
-                acc = Node::new(src, op_pos, end, op_pos, kind)?;
-            }
-            Ok(acc)
-        }
-        Rule::bool_lit => Ok(Node::leaf(
-            pos,
-            end,
-            NodeKind::Bool(pair.as_str() == "TRUE"),
-        )),
-        Rule::integer => Ok(Node::leaf(pos, end, NodeKind::Int(integer(src, &pair)?))),
-        Rule::name => Ok(Node::leaf(
-            pos,
-            end,
-            NodeKind::Name(pair.as_str().to_string()),
-        )),
-        Rule::paren => {
-            let inner = pair
-                .into_inner()
-                .find(|p| p.as_rule() == Rule::expr)
-                .expect("parentheses hold an expression");
-            let mut node = expr(src, inner, nested(pos)?)?;
-            // The node spans its parentheses, so that messages quote them.
-            node.pos = pos;
-            node.end = end;
-            Ok(node)
-        }
-        Rule::next_expr => {
-            let inner = pair
-                .into_inner()
-                .find(|p| p.as_rule() == Rule::expr)
-                .expect("next( ) holds an expression");
-            let arg = expr(src, inner, nested(pos)?)?;
-            Node::new(src, pos, end, pos, NodeKind::Next(Box::new(arg)))
-        }
-        Rule::case_expr => {
-            let nest = nested(pos)?;
-            let mut branches = Vec::new();
-            for branch in pair.into_inner().filter(|p| p.as_rule() == Rule::branch) {
-                let mut parts = branch.into_inner().filter(|p| p.as_rule() == Rule::expr);
-                let cond = expr(src, parts.next().expect("a branch has a condition"), nest)?;
-                let value = expr(src, parts.next().expect("and a value"), nest)?;
-                branches.push((cond, value));
-            }
-            Node::new(src, pos, end, pos, NodeKind::Case(branches))
-        }
-        Rule::set_expr => {
-            let nest = nested(pos)?;
-            let items = pair
-                .into_inner()
-                .filter(|p| p.as_rule() == Rule::expr)
-                .map(|p| expr(src, p, nest))
-                .collect::<Result<Vec<_>, _>>()?;
-            Node::new(src, pos, end, pos, NodeKind::Set(items))
-        }
-        r => unreachable!("no expression is built from rule {r:?}"),
+    let mut ops: Vec<Pair<Rule>> = pair.into_inner().collect();
+    let body = ops.pop().expect("unary ends with an operand");
+    let mut acc = expr(src, body, nest)?;
+    for op in ops.iter().rev() {
+        let op_pos = op.as_span().start();
+        let operand = Box::new(acc);
+        let kind = match op.as_str() {
+            "!" => NodeKind::Not(operand),
+            _ => NodeKind::Neg(operand),
+        };
+        acc = Node::new(src, op_pos, end, op_pos, kind)?;
     }
+    Ok(acc)
+}
+
+/// `case c1 : v1; ... esac`, its branches nested at `nest`.
+fn case_expr(src: &Source, pair: Pair<Rule>, nest: usize) -> Result<Node, ModelError> {
+    let (pos, end) = (pair.as_span().start(), pair.as_span().end());
+    let mut branches = Vec::new();
+    for branch in pair.into_inner().filter(|p| p.as_rule() == Rule::branch) {
+        let mut parts = branch.into_inner().filter(|p| p.as_rule() == Rule::expr);
+        let cond = expr(src, parts.next().expect("a branch has a condition"), nest)?;
+        let value = expr(src, parts.next().expect("and a value"), nest)?;
+        branches.push((cond, value));
+    }
+    Node::new(src, pos, end, pos, NodeKind::Case(branches))
 }
 
 /// The nesting level inside a parenthesis (or case, set, `next( )`, `? :`) at `pos`.
@@ -517,23 +515,105 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
         }
     };
     let tokens = tokens(src.text);
-    // The token at the failure (or the one after it), the ones before and after that.
-    let k = tokens.partition_point(|&(start, tok)| start + tok.len() <= pos);
-    let token = |i: usize| tokens.get(i).map_or("", |t| t.1);
-    let (found, after) = (token(k), token(k + 1));
-    let prev = k.checked_sub(1).map_or("", token);
-    let pos = tokens.get(k).map_or(pos, |t| t.0);
-    let expects = |rules: &[Rule]| positives.iter().any(|r| rules.contains(r));
-    let in_expression = positives.iter().any(|&r| describe(r).1 == AN_EXPRESSION)
-        || positives.iter().any(|&r| describe(r).1 == AN_OPERATOR);
-    let is_word = found.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
-
-    let refused =
-        |what: String| src.error(pos, format!("{what} is outside the subset of plant files"));
-    if let Some(what) = refused_keyword(found) {
-        return refused(what);
+    let failure = Failure::at(src, &tokens, pos, positives);
+    match failure.outside_subset() {
+        Some(e) => e,
+        None => failure.expected(),
     }
-    if expects(&[Rule::var_type]) && is_word {
+}
+
+/// Where a parse stopped: the token there, its neighbours, and the rules pest could have
+/// matched.
+struct Failure<'s> {
+    src: &'s Source<'s>,
+    /// Byte offset of the token found.
+    pos: usize,
+    /// The token at the failure (or the one after it), the ones before and after that.
+    found: &'s str,
+    prev: &'s str,
+    after: &'s str,
+    positives: &'s [Rule],
+}
+
+impl<'s> Failure<'s> {
+    fn at(
+        src: &'s Source<'s>,
+        tokens: &[(usize, &'s str)],
+        pos: usize,
+        positives: &'s [Rule],
+    ) -> Failure<'s> {
+        let k = tokens.partition_point(|&(start, tok)| start + tok.len() <= pos);
+        let token = |i: usize| tokens.get(i).map_or("", |t| t.1);
+        Failure {
+            src,
+            pos: tokens.get(k).map_or(pos, |t| t.0),
+            found: token(k),
+            prev: k.checked_sub(1).map_or("", token),
+            after: token(k + 1),
+            positives,
+        }
+    }
+
+    fn expects(&self, rules: &[Rule]) -> bool {
+        self.positives.iter().any(|r| rules.contains(r))
+    }
+
+    fn error(&self, message: impl Into<String>) -> ModelError {
+        self.src.error(self.pos, message)
+    }
+
+    fn refused(&self, what: String) -> ModelError {
+        self.error(format!("{what} is outside the subset of plant files"))
+    }
+
+    /// The NuSMV construct outside the subset (or the misplaced keyword) the token found
+    /// starts, named; `None` when it is an ordinary syntax error.
+    fn outside_subset(&self) -> Option<ModelError> {
+        let (found, prev, after) = (self.found, self.prev, self.after);
+        if let Some(what) = refused_keyword(found) {
+            return Some(self.refused(what));
+        }
+        let is_word = found.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
+        if self.expects(&[Rule::var_type]) && is_word {
+            return Some(self.refused_type());
+        }
+        if let Some(e) = self.refused_operator() {
+            return Some(e);
+        }
+        if is_word_constant(found) {
+            return Some(self.refused(format!("the word constant {}", quote(found))));
+        }
+        if self.in_expression() {
+            if found == "(" && is_name_like(prev) {
+                return Some(self.refused(format!("the function call '{}(...)'", cut(prev))));
+            }
+            if after == "(" && found == "init" {
+                return Some(self.error(
+                    "init(...) is not an expression: it only names the target of an assignment",
+                ));
+            }
+            if after == "(" && is_keyword(found) && !SYNTAX_KEYWORDS.contains(&found) {
+                return Some(self.refused(format!("the function '{found}(...)'")));
+            }
+        }
+        if matches!(found, "init" | "next") && after == "(" && self.expects(&[Rule::section]) {
+            return Some(self.error(format!(
+                "{found}(...) := ... stands only in an ASSIGN section"
+            )));
+        }
+        if is_keyword(found) && (!SYNTAX_KEYWORDS.contains(&found) || self.expects(NAME_RULES)) {
+            return Some(self.error(format!("'{found}' is a NuSMV keyword, not a name")));
+        }
+        None
+    }
+
+    fn in_expression(&self) -> bool {
+        (self.positives.iter()).any(|&r| matches!(describe(r).1, AN_EXPRESSION | AN_OPERATOR))
+    }
+
+    /// A word where a type is expected: a NuSMV type outside the subset, or no type at all.
+    fn refused_type(&self) -> ModelError {
+        let found = self.found;
         let what = match found {
             "array" => "an array type".to_string(),
             "word" | "unsigned" | "signed" | "Word" => "a word type".to_string(),
@@ -542,75 +622,49 @@ fn explain(src: &Source, e: &pest::error::Error<Rule>) -> ModelError {
             }
             "process" => "a process".to_string(),
             _ if is_keyword(found) => {
-                return src.error(pos, format!("'{found}' is a NuSMV keyword, not a type"))
+                return self.error(format!("'{found}' is a NuSMV keyword, not a type"))
             }
             _ => format!("the type {}", quote(found)),
         };
-        return refused(what);
-    }
-    match found {
-        "[" => return refused("an array or bit selection ('[...]')".to_string()),
-        "<<" | ">>" | "::" | "union" | "in" => {
-            return refused(format!("the word and set operator '{found}'"))
-        }
-        "." if is_name_like(prev) => {
-            return refused(format!(
-                "a dotted name ({}, a part of a module instance)",
-                quote(&format!("{prev}.{after}"))
-            ))
-        }
-        _ => {}
-    }
-    if is_word_constant(found) {
-        return refused(format!("the word constant {}", quote(found)));
-    }
-    if in_expression {
-        if found == "(" && is_name_like(prev) {
-            return refused(format!("the function call '{}(...)'", cut(prev)));
-        }
-        if after == "(" && found == "init" {
-            return src.error(
-                pos,
-                "init(...) is not an expression: it only names the target of an assignment",
-            );
-        }
-        if after == "(" && is_keyword(found) && !SYNTAX_KEYWORDS.contains(&found) {
-            return refused(format!("the function '{found}(...)'"));
-        }
-    }
-    if matches!(found, "init" | "next") && after == "(" && expects(&[Rule::section]) {
-        return src.error(
-            pos,
-            format!("{found}(...) := ... stands only in an ASSIGN section"),
-        );
-    }
-    if is_keyword(found) && (!SYNTAX_KEYWORDS.contains(&found) || expects(NAME_RULES)) {
-        return src.error(pos, format!("'{found}' is a NuSMV keyword, not a name"));
+        self.refused(what)
     }
 
-    let mut expected: Vec<(u8, &str)> = positives.iter().map(|&r| describe(r)).collect();
-    expected.sort();
-    expected.dedup();
-    let expected: Vec<&str> = expected.into_iter().map(|(_, text)| text).collect();
-    let expected = match expected.as_slice() {
-        [] => "something else".to_string(),
-        [one] => one.to_string(),
-        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
-    };
-    let after_prev = if prev.is_empty() {
-        String::new()
-    } else {
-        format!(" after {}", quote(prev))
-    };
-    let found = if found.is_empty() {
-        "the end of the file".to_string()
-    } else {
-        quote(found).to_string()
-    };
-    src.error(
-        pos,
-        format!("expected {expected}{after_prev}, found {found}"),
-    )
+    /// An operator, selection or dotted name outside the subset.
+    fn refused_operator(&self) -> Option<ModelError> {
+        let (found, prev, after) = (self.found, self.prev, self.after);
+        let what = match found {
+            "[" => "an array or bit selection ('[...]')".to_string(),
+            "<<" | ">>" | "::" | "union" | "in" => format!("the word and set operator '{found}'"),
+            "." if is_name_like(prev) => format!(
+                "a dotted name ({}, a part of a module instance)",
+                quote(&format!("{prev}.{after}"))
+            ),
+            _ => return None,
+        };
+        Some(self.refused(what))
+    }
+
+    /// "expected X or Y after P, found F", from the rules pest could have matched.
+    fn expected(&self) -> ModelError {
+        let mut expected: Vec<(u8, &str)> = self.positives.iter().map(|&r| describe(r)).collect();
+        expected.sort();
+        expected.dedup();
+        let expected: Vec<&str> = expected.into_iter().map(|(_, text)| text).collect();
+        let expected = match expected.as_slice() {
+            [] => "something else".to_string(),
+            [one] => one.to_string(),
+            [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+        };
+        let after_prev = match self.prev {
+            "" => String::new(),
+            prev => format!(" after {}", quote(prev)),
+        };
+        let found = match self.found {
+            "" => "the end of the file".to_string(),
+            found => quote(found).to_string(),
+        };
+        self.error(format!("expected {expected}{after_prev}, found {found}"))
+    }
 }
 
 const AN_EXPRESSION: &str = "an expression";
