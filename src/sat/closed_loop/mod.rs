@@ -128,22 +128,10 @@ pub(crate) fn encode(
 ) {
     let model = &*spec.plant;
     let mut g = Gates { f };
-    let n = env.states.len();
-    let deadline = n.saturating_sub(1);
+    let deadline = env.states.len().saturating_sub(1);
     let last = deadline + spec.response_bound;
-    // Both operands of a comparison: `on_for != k` reads the define `k` as well.
-    let names: std::collections::BTreeSet<String> = spec
-        .properties
-        .iter()
-        .flat_map(property::operand_names)
-        .collect();
-    let env_vars: Vec<(String, usize)> = environment_names(model)
-        .into_iter()
-        .filter_map(|n| match model.lookup(&n) {
-            Some(Name::Var(v)) => Some((n, v.0)),
-            _ => None,
-        })
-        .collect();
+    let names = property_names(spec);
+    let env_vars = environment_vars(model);
     let mut state: Vec<Fd> = env.at(0).iter().map(|&v| Fd::constant(v)).collect();
     let mut machine = MachineState::initial(vars.c_max, &spec.initial_outputs);
     let mut atoms: Vec<HashMap<String, Fd>> = Vec::with_capacity(last + 1);
@@ -151,43 +139,10 @@ pub(crate) fn encode(
     for t in 0..=last {
         let params: Vec<B> = spec.params.iter().map(|&z| machine.outputs[z]).collect();
         let mut frame = plant::Frame::new(model, &state, &params);
-        let read = |g: &mut Gates<'_, _>, name: &str, frame: &mut plant::Frame<'_>| -> Option<Fd> {
-            match model.lookup(name)? {
-                Name::Var(v) => Some(frame.state[v.0].clone()),
-                Name::Define(d) => Some(plant::eval(
-                    g,
-                    model,
-                    &crate::plant::Expr::Define(d),
-                    frame,
-                    None,
-                )),
-                Name::Param(_) => None,
-            }
-        };
-        let inputs: Vec<B> = spec
-            .inputs
-            .iter()
-            .map(|&name| {
-                let e = match name {
-                    Name::Var(v) => crate::plant::Expr::Var(v),
-                    Name::Define(d) => crate::plant::Expr::Define(d),
-                    Name::Param(p) => crate::plant::Expr::Param(p),
-                };
-                plant::boolean(&mut g, model, &e, &mut frame)
-            })
-            .collect();
-        let mut here = HashMap::new();
-        for name in &names {
-            if let Some(z) = spec.outputs.iter().position(|o| o == name) {
-                here.insert(name.clone(), Fd::of_bool(machine.outputs[z]));
-            } else if let Some(v) = read(&mut g, name, &mut frame) {
-                here.insert(name.clone(), v);
-            }
-        }
-        atoms.push(here);
+        let inputs = sensors(&mut g, spec, &mut frame);
+        atoms.push(atoms_at(&mut g, spec, &names, &machine, &mut frame));
         envs.push(
-            env_vars
-                .iter()
+            (env_vars.iter())
                 .map(|(name, i)| (name.clone(), env.at(t)[*i]))
                 .collect(),
         );
@@ -201,7 +156,7 @@ pub(crate) fn encode(
     let run = property::Run {
         atoms: &atoms,
         env: &envs,
-        env_len: n,
+        env_len: env.states.len(),
         env_loop: env.loop_start,
         symbol: &symbol,
         deadline,
@@ -210,6 +165,71 @@ pub(crate) fn encode(
     for p in &spec.properties {
         bounded.require(&mut g, p);
     }
+}
+
+/// The names the properties read. Both operands of a comparison: `on_for != k` reads the
+/// define `k` as well.
+fn property_names(spec: &Spec) -> std::collections::BTreeSet<String> {
+    (spec.properties.iter())
+        .flat_map(property::operand_names)
+        .collect()
+}
+
+/// The plant's free variables ([`environment_names`]) with their indices.
+fn environment_vars(model: &Model) -> Vec<(String, usize)> {
+    environment_names(model)
+        .into_iter()
+        .filter_map(|n| match model.lookup(&n) {
+            Some(Name::Var(v)) => Some((n, v.0)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The machine's inputs in one step: what the plant shows in `frame`.
+fn sensors<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    spec: &Spec,
+    frame: &mut plant::Frame<'_>,
+) -> Vec<B> {
+    (spec.inputs.iter())
+        .map(|&name| {
+            let e = match name {
+                Name::Var(v) => crate::plant::Expr::Var(v),
+                Name::Define(d) => crate::plant::Expr::Define(d),
+                Name::Param(p) => crate::plant::Expr::Param(p),
+            };
+            plant::boolean(g, &spec.plant, &e, frame)
+        })
+        .collect()
+}
+
+/// The value of every name a property reads in one step: a machine output, or a plant
+/// variable or define in `frame`.
+fn atoms_at<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    spec: &Spec,
+    names: &std::collections::BTreeSet<String>,
+    machine: &MachineState,
+    frame: &mut plant::Frame<'_>,
+) -> HashMap<String, Fd> {
+    let model = &*spec.plant;
+    let mut here = HashMap::new();
+    for name in names {
+        if let Some(z) = spec.outputs.iter().position(|o| o == name) {
+            here.insert(name.clone(), Fd::of_bool(machine.outputs[z]));
+            continue;
+        }
+        let value = match model.lookup(name) {
+            Some(Name::Var(v)) => frame.state[v.0].clone(),
+            Some(Name::Define(d)) => {
+                plant::eval(g, model, &crate::plant::Expr::Define(d), frame, None)
+            }
+            Some(Name::Param(_)) | None => continue,
+        };
+        here.insert(name.clone(), value);
+    }
+    here
 }
 
 #[cfg(test)]

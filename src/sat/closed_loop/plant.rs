@@ -68,57 +68,80 @@ pub(crate) fn eval<F: ExtendFormula>(
         }
         Expr::Neg(a) => {
             let a = eval(g, model, a, frame, None);
-            let pairs =
-                a.0.into_iter()
-                    .map(|(v, b)| match v {
-                        Value::Int(i) => (Value::Int(crate::plant::arith::negate(i)), b),
-                        other => (other, b),
-                    })
-                    .collect();
-            g.join(pairs)
+            negate(g, a)
         }
         Expr::Bin(op, a, b) => binary(g, model, *op, a, b, frame),
-        Expr::Case(branches) => {
-            let mut pairs = Vec::new();
-            let mut none_before = B::C(true);
-            for (c, v) in branches {
-                let c = boolean(g, model, c, frame);
-                let here = g.and2(none_before, c);
-                if here != B::C(false) {
-                    let v = eval(g, model, v, frame, choice);
-                    for (w, b) in v.0 {
-                        let both = g.and2(here, b);
-                        pairs.push((w, both));
-                    }
-                }
-                none_before = g.and2(none_before, !c);
-                if none_before == B::C(false) {
-                    break;
-                }
+        Expr::Case(branches) => case(g, model, branches, frame, choice),
+        Expr::Set(items) => set(g, model, items, frame, choice),
+    }
+}
+
+/// `-a`, value by value.
+fn negate<F: ExtendFormula>(g: &mut Gates<'_, F>, a: Fd) -> Fd {
+    let pairs =
+        a.0.into_iter()
+            .map(|(v, b)| match v {
+                Value::Int(i) => (Value::Int(crate::plant::arith::negate(i)), b),
+                other => (other, b),
+            })
+            .collect();
+    g.join(pairs)
+}
+
+/// `case c1 : v1; ... esac`: each value where its condition is the first that holds.
+fn case<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    branches: &[(Expr, Expr)],
+    frame: &mut Frame<'_>,
+    choice: Option<Value>,
+) -> Fd {
+    let mut pairs = Vec::new();
+    let mut none_before = B::C(true);
+    for (c, v) in branches {
+        let c = boolean(g, model, c, frame);
+        let here = g.and2(none_before, c);
+        if here != B::C(false) {
+            let v = eval(g, model, v, frame, choice);
+            for (w, b) in v.0 {
+                let both = g.and2(here, b);
+                pairs.push((w, both));
             }
-            g.join(pairs)
         }
-        Expr::Set(items) => {
-            let values: Vec<Fd> = items
-                .iter()
-                .map(|i| eval(g, model, i, frame, None))
-                .collect();
-            let Some(first) = values.first() else {
-                return Fd(Vec::new());
-            };
-            let Some(w) = choice else {
-                return first.clone();
-            };
-            let holds: Vec<B> = values.iter().map(|v| v.is(w)).collect();
-            let holds = g.or(&holds);
-            let mut pairs = vec![(w, holds)];
-            for (v, b) in &first.0 {
-                let b = g.and2(!holds, *b);
-                pairs.push((*v, b));
-            }
-            g.join(pairs)
+        none_before = g.and2(none_before, !c);
+        if none_before == B::C(false) {
+            break;
         }
     }
+    g.join(pairs)
+}
+
+/// A set `{a, b, ...}`: `choice` where the set holds it, else its first item.
+fn set<F: ExtendFormula>(
+    g: &mut Gates<'_, F>,
+    model: &Model,
+    items: &[Expr],
+    frame: &mut Frame<'_>,
+    choice: Option<Value>,
+) -> Fd {
+    let values: Vec<Fd> = items
+        .iter()
+        .map(|i| eval(g, model, i, frame, None))
+        .collect();
+    let Some(first) = values.first() else {
+        return Fd(Vec::new());
+    };
+    let Some(w) = choice else {
+        return first.clone();
+    };
+    let holds: Vec<B> = values.iter().map(|v| v.is(w)).collect();
+    let holds = g.or(&holds);
+    let mut pairs = vec![(w, holds)];
+    for (v, b) in &first.0 {
+        let b = g.and2(!holds, *b);
+        pairs.push((*v, b));
+    }
+    g.join(pairs)
 }
 
 /// Evaluates a Boolean expression.
