@@ -172,39 +172,11 @@ impl Structure {
             }
         }
         let algorithms = (0..c)
-            .map(|q| {
-                // An entry the scenarios exercise comes from the model. An entry they do not:
-                // if the other old value was seen, the output is set to what was seen there
-                // (the state determines the output, as a Moore machine's would; "keep" would
-                // carry stale commands into situations nobody recorded); if neither was seen,
-                // the output is kept.
-                let bit = |z: usize, old: bool| {
-                    let (this, other) = (usize::from(old), usize::from(!old));
-                    if seen[q][z][this] || closed_loop {
-                        model.value(v.a(q, z, old))
-                    } else if seen[q][z][other] {
-                        model.value(v.a(q, z, !old))
-                    } else {
-                        old
-                    }
-                };
-                let a0: Vec<bool> = (0..v.outputs).map(|z| bit(z, false)).collect();
-                let a1: Vec<bool> = (0..v.outputs).map(|z| bit(z, true)).collect();
-                algorithm(kind, a0, a1)
-            })
+            .map(|q| state_algorithm(model, v, kind, q, &seen[q], closed_loop))
             .collect();
         let cube_transitions = match &v.guards {
             GuardModel::TreeExact => None,
-            GuardModel::Cubes(cv) => Some(
-                (0..c)
-                    .map(|q| {
-                        (0..cv.max_out_degree)
-                            .filter(|&k| model.value(cv.en(0, q, k)))
-                            .map(|k| cube_transition(model, cv, 0, q, k, InputId))
-                            .collect()
-                    })
-                    .collect(),
-            ),
+            GuardModel::Cubes(cv) => Some((0..c).map(|q| cube_transitions(model, cv, q)).collect()),
         };
         Structure {
             cube_transitions,
@@ -255,4 +227,40 @@ impl Structure {
             .map(|t| t.guard.literal_count())
             .sum()
     }
+}
+
+/// The output algorithm of state `q`. An entry the scenarios exercise (`seen`) comes from the
+/// model. An entry they do not: if the other old value was seen, the output is set to what was
+/// seen there (the state determines the output, as a Moore machine's would; "keep" would carry
+/// stale commands into situations nobody recorded); if neither was seen, the output is kept.
+/// With `closed_loop` every entry comes from the model.
+fn state_algorithm(
+    model: &Model,
+    v: &Vars,
+    kind: AlgorithmKind,
+    q: usize,
+    seen: &[[bool; 2]],
+    closed_loop: bool,
+) -> Algorithm {
+    let bit = |z: usize, old: bool| {
+        let (this, other) = (usize::from(old), usize::from(!old));
+        if seen[z][this] || closed_loop {
+            model.value(v.a(q, z, old))
+        } else if seen[z][other] {
+            model.value(v.a(q, z, !old))
+        } else {
+            old
+        }
+    };
+    let a0: Vec<bool> = (0..v.outputs).map(|z| bit(z, false)).collect();
+    let a1: Vec<bool> = (0..v.outputs).map(|z| bit(z, true)).collect();
+    algorithm(kind, a0, a1)
+}
+
+/// The enabled transitions of state `q` in the cube model, in priority order.
+fn cube_transitions(model: &Model, cv: &CubeVars, q: usize) -> Vec<Transition> {
+    (0..cv.max_out_degree)
+        .filter(|&k| model.value(cv.en(0, q, k)))
+        .map(|k| cube_transition(model, cv, 0, q, k, InputId))
+        .collect()
 }
