@@ -208,17 +208,18 @@ pub(crate) fn vcd(w: &Waveform) -> String {
         w.loop_start,
         w.steps.saturating_sub(1)
     );
-    out.push_str("$timescale 1 ms $end\n$scope module closed_loop $end\n");
     // The kind of each signal: a wire when every value is Boolean, else an integer.
-    let wire: Vec<bool> = w
-        .signals
-        .iter()
-        .map(|s| {
-            s.values
-                .iter()
-                .all(|v| matches!(v, Value::Bool(_) | Value::Unknown))
-        })
+    let wire: Vec<bool> = (w.signals.iter())
+        .map(|s| (s.values.iter()).all(|v| matches!(v, Value::Bool(_) | Value::Unknown)))
         .collect();
+    vcd_declarations(&mut out, w, &wire);
+    vcd_changes(&mut out, w, &wire);
+    out
+}
+
+/// The VCD header's scopes and variables: one scope per [`Group`], then `in_loop`.
+fn vcd_declarations(out: &mut String, w: &Waveform, wire: &[bool]) {
+    out.push_str("$timescale 1 ms $end\n$scope module closed_loop $end\n");
     let mut current: Option<Group> = None;
     for (k, s) in w.signals.iter().enumerate() {
         if current != Some(s.group) {
@@ -233,12 +234,8 @@ pub(crate) fn vcd(w: &Waveform) -> String {
         } else {
             ("integer", 32)
         };
-        let _ = writeln!(
-            out,
-            "$var {kind} {bits} {} {} $end",
-            vcd_id(k),
-            vcd_name(&s.name)
-        );
+        let (id, name) = (vcd_id(k), vcd_name(&s.name));
+        let _ = writeln!(out, "$var {kind} {bits} {id} {name} $end");
     }
     if current.is_some() {
         out.push_str("$upscope $end\n");
@@ -246,20 +243,12 @@ pub(crate) fn vcd(w: &Waveform) -> String {
     let loop_id = vcd_id(w.signals.len());
     let _ = writeln!(out, "$var wire 1 {loop_id} in_loop $end");
     out.push_str("$upscope $end\n$enddefinitions $end\n");
-    let value = |k: usize, v: &Value| -> String {
-        let id = vcd_id(k);
-        match (wire[k], v) {
-            (true, Value::Bool(b)) => format!("{}{id}", u8::from(*b)),
-            (true, _) => format!("x{id}"),
-            (false, Value::Bool(b)) => format!("b{} {id}", u8::from(*b)),
-            (false, Value::Int(i)) => format!("b{:b} {id}", *i as u32),
-            (false, Value::Text(t)) => match state_number(t) {
-                Some(n) => format!("b{n:b} {id}"),
-                None => format!("bx {id}"),
-            },
-            (false, Value::Unknown) => format!("bx {id}"),
-        }
-    };
+}
+
+/// The VCD body: the values at time 0 (`$dumpvars`), then each change, one time unit per
+/// drawn step.
+fn vcd_changes(out: &mut String, w: &Waveform, wire: &[bool]) {
+    let loop_id = vcd_id(w.signals.len());
     for i in 0..w.drawn() {
         let step = w.step_of(i);
         let _ = writeln!(out, "#{i}");
@@ -269,20 +258,33 @@ pub(crate) fn vcd(w: &Waveform) -> String {
         for (k, s) in w.signals.iter().enumerate() {
             let v = &s.values[step];
             if i == 0 || s.values[w.step_of(i - 1)] != *v {
-                out.push_str(&value(k, v));
-                out.push('\n');
+                let _ = writeln!(out, "{}", vcd_value(&vcd_id(k), wire[k], v));
             }
         }
-        let in_loop = i >= w.loop_start;
         if i == 0 || i == w.loop_start {
-            let _ = writeln!(out, "{}{loop_id}", u8::from(in_loop));
+            let _ = writeln!(out, "{}{loop_id}", u8::from(i >= w.loop_start));
         }
         if i == 0 {
             out.push_str("$end\n");
         }
     }
     let _ = writeln!(out, "#{}", w.drawn());
-    out
+}
+
+/// One value change of the signal `id`: a wire's bit, or an integer's binary digits (a
+/// controller state `sK` as `K`); `x` where unknown.
+fn vcd_value(id: &str, wire: bool, v: &Value) -> String {
+    match (wire, v) {
+        (true, Value::Bool(b)) => format!("{}{id}", u8::from(*b)),
+        (true, _) => format!("x{id}"),
+        (false, Value::Bool(b)) => format!("b{} {id}", u8::from(*b)),
+        (false, Value::Int(i)) => format!("b{:b} {id}", *i as u32),
+        (false, Value::Text(t)) => match state_number(t) {
+            Some(n) => format!("b{n:b} {id}"),
+            None => format!("bx {id}"),
+        },
+        (false, Value::Unknown) => format!("bx {id}"),
+    }
 }
 
 /// `K` of a controller state named `sK`.
