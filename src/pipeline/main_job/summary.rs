@@ -6,6 +6,7 @@
 //! `method` key; the others name theirs.
 
 use super::super::cegis::Iteration;
+use super::super::event::plural;
 use super::super::exact::Exact;
 use super::super::follow;
 use crate::ecc::Size;
@@ -194,89 +195,133 @@ pub(crate) fn schema() -> schemars::Schema {
 /// The closing lines of the main job: how the machine was found and what is proven.
 impl std::fmt::Display for Summary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        use super::super::event::plural;
         match self {
-            Summary::Exact(e) => {
-                write!(
-                    f,
-                    "{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
-                    plural(e.iterations.len(), "candidate"),
-                    e.total_seconds,
-                    e.sat_seconds,
-                    e.nusmv_seconds
-                )?;
-                // C is always proven least; T and N only when the proof fit in the budget.
-                let unproven: Vec<&str> = [
-                    (!e.transitions_proven_minimal).then_some("T"),
-                    (!e.guards_proven_minimal).then_some("N"),
-                ]
-                .into_iter()
-                .flatten()
-                .collect();
-                if !unproven.is_empty() {
-                    write!(
-                        f,
-                        "\n{} not proven minimal within the proof budget (--proof-budget SECONDS to try longer)",
-                        unproven.join(" and ")
-                    )?;
-                }
-                Ok(())
-            }
+            Summary::Exact(e) => exact_lines(f, e),
             Summary::Turn(Turn::BelowGuide(b)) => write!(
                 f,
                 "{}\n(the exact loop found it below the game's guide's {})",
                 Summary::Exact(b.exact.clone()),
                 b.guide_size
             ),
-            Summary::Turn(Turn::Guide(g)) => {
-                write!(
-                    f,
-                    "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
-                    g.total_seconds,
-                    g.sat_seconds,
-                    g.nusmv_seconds,
-                    plural(g.nusmv_calls, "check"),
-                    match (g.made_smaller, g.least_for_recordings_and_runs, g.for_runs_unproven) {
-                        _ if g.proven_least => "C, T and N are least: the machine meets the lower bounds of the recordings alone, so no machine that reproduces the recordings is smaller",
-                        (true, _, _) => "the guide's machine made smaller by merging states and dropping transitions and literals while every property holds (see the guide's lines); it is not proven least",
-                        (false, true, _) => "C, T and N are least for the recordings and the closed-loop runs of the guide; a smaller machine that answers differently where nothing was recorded is not ruled out",
-                        (false, false, true) => "C is least for the recordings and the closed-loop runs of the guide, T and N are not proven least for them; a smaller machine that answers differently where nothing was recorded is not ruled out",
-                        (false, false, false) => "the repaired machine itself (the least machine for the runs failed NuSMV); it is not minimal",
-                    }
-                )?;
-                match g.states_at_least {
-                    _ if g.proven_least => {}
-                    Some(c) if c == g.size.c => write!(f, "\nproven: C = {c} is least (no machine with fewer states reproduces the recordings)")?,
-                    Some(c) => write!(f, "\nproven: C >= {c} (no machine with fewer states reproduces the recordings); T and N are not bounded")?,
-                    None => {}
-                }
-                if g.conventions.is_empty() {
-                    return Ok(());
-                }
-                write!(f, "\nthe machine has {}, as asked", g.conventions)?;
-                match g.proven_least || !g.made_smaller && g.least_for_recordings_and_runs {
-                    true => write!(f, "; it is least among the machines that have them"),
-                    false => Ok(()),
-                }
-            }
-            Summary::Turn(Turn::Search(s)) => write!(
-                f,
-                "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its machine ({}) {}",
-                s.seed,
-                s.total_seconds,
-                s.search.evaluations,
-                s.in_process_checks,
-                s.nusmv_runs,
-                s.searched_size,
-                match (s.replaced_by_exact_loop, s.shrunk_size) {
-                    (true, _) => "bounded the exact loop, which found this smaller one".to_string(),
-                    (false, Some(size)) => format!(
-                        "made small along the closed loop in {} ({size})",
-                        plural(s.shrink_rounds.len(), "round")
-                    ),
-                    (false, None) => "stands: the time limit came before it was made small".into(),
-                }
-            ),
+            Summary::Turn(Turn::Guide(g)) => guide_lines(f, g),
+            Summary::Turn(Turn::Search(s)) => search_line(f, s),
         }
     }
+}
+
+/// The exact loop's figures, and which of T and N the proof budget left unproven.
+fn exact_lines(f: &mut std::fmt::Formatter<'_>, e: &ExactSummary) -> std::fmt::Result {
+    write!(
+        f,
+        "{}, {:.2} s total (SAT {:.2} s, NuSMV {:.2} s)",
+        plural(e.iterations.len(), "candidate"),
+        e.total_seconds,
+        e.sat_seconds,
+        e.nusmv_seconds
+    )?;
+    // C is always proven least; T and N only when the proof fit in the budget.
+    let unproven: Vec<&str> = [
+        (!e.transitions_proven_minimal).then_some("T"),
+        (!e.guards_proven_minimal).then_some("N"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    if !unproven.is_empty() {
+        let unproven = unproven.join(" and ");
+        write!(
+            f,
+            "\n{unproven} not proven minimal within the proof budget (--proof-budget SECONDS to \
+             try longer)"
+        )?;
+    }
+    Ok(())
+}
+
+/// The guide's figures and what is proven about its machine.
+fn guide_lines(f: &mut std::fmt::Formatter<'_>, g: &GuideSummary) -> std::fmt::Result {
+    write!(
+        f,
+        "closed-loop game as the guide: {:.2} s total (SAT {:.2} s, NuSMV {:.2} s in {})\n{}",
+        g.total_seconds,
+        g.sat_seconds,
+        g.nusmv_seconds,
+        plural(g.nusmv_calls, "check"),
+        guide_claim(g)
+    )?;
+    match g.states_at_least {
+        _ if g.proven_least => {}
+        Some(c) if c == g.size.c => write!(
+            f,
+            "\nproven: C = {c} is least (no machine with fewer states reproduces the recordings)"
+        )?,
+        Some(c) => write!(
+            f,
+            "\nproven: C >= {c} (no machine with fewer states reproduces the recordings); T and \
+             N are not bounded"
+        )?,
+        None => {}
+    }
+    if g.conventions.is_empty() {
+        return Ok(());
+    }
+    write!(f, "\nthe machine has {}, as asked", g.conventions)?;
+    match g.proven_least || !g.made_smaller && g.least_for_recordings_and_runs {
+        true => write!(f, "; it is least among the machines that have them"),
+        false => Ok(()),
+    }
+}
+
+/// What the guide's machine is least among, in words.
+fn guide_claim(g: &GuideSummary) -> &'static str {
+    match (
+        g.made_smaller,
+        g.least_for_recordings_and_runs,
+        g.for_runs_unproven,
+    ) {
+        _ if g.proven_least => {
+            "C, T and N are least: the machine meets the lower bounds of the recordings alone, so \
+             no machine that reproduces the recordings is smaller"
+        }
+        (true, _, _) => {
+            "the guide's machine made smaller by merging states and dropping transitions and \
+             literals while every property holds (see the guide's lines); it is not proven least"
+        }
+        (false, true, _) => {
+            "C, T and N are least for the recordings and the closed-loop runs of the guide; a \
+             smaller machine that answers differently where nothing was recorded is not ruled out"
+        }
+        (false, false, true) => {
+            "C is least for the recordings and the closed-loop runs of the guide, T and N are not \
+             proven least for them; a smaller machine that answers differently where nothing was \
+             recorded is not ruled out"
+        }
+        (false, false, false) => {
+            "the repaired machine itself (the least machine for the runs failed NuSMV); it is not \
+             minimal"
+        }
+    }
+}
+
+/// The search's figures and what became of its machine.
+fn search_line(f: &mut std::fmt::Formatter<'_>, s: &SearchSummary) -> std::fmt::Result {
+    let became = match (s.replaced_by_exact_loop, s.shrunk_size) {
+        (true, _) => "bounded the exact loop, which found this smaller one".to_string(),
+        (false, Some(size)) => format!(
+            "made small along the closed loop in {} ({size})",
+            plural(s.shrink_rounds.len(), "round")
+        ),
+        (false, None) => "stands: the time limit came before it was made small".into(),
+    };
+    write!(
+        f,
+        "search, seed {}: {:.2} s total, {} evaluations, {} in-process checks, {} NuSMV runs; its \
+         machine ({}) {became}",
+        s.seed,
+        s.total_seconds,
+        s.search.evaluations,
+        s.in_process_checks,
+        s.nusmv_runs,
+        s.searched_size,
+    )
 }
