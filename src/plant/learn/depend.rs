@@ -28,8 +28,8 @@ type Counts = BTreeMap<Vec<bool>, (usize, usize)>;
 /// the contexts where it was seen changing, from the start on. The chance that a sensor
 /// gates the environment's change by coincidence is shared among the `family` changes of the
 /// environment's the recordings show ([`environment_changes`]).
-pub(crate) fn part(runs: &Runs, x: usize, slack: usize, family: usize) -> Part {
-    let drivers = drivers(runs, x);
+/// `drivers` are the sensor's ([`drivers`]).
+pub(crate) fn part(runs: &Runs, x: usize, drivers: Drivers, slack: usize, family: usize) -> Part {
     let commanded = drivers.iter().all(Option::is_some);
     let valve = valve(runs, drivers);
     let held = valve.map(|v| v.held(runs, x));
@@ -48,9 +48,12 @@ pub(crate) fn part(runs: &Runs, x: usize, slack: usize, family: usize) -> Part {
     }
 }
 
+/// Per change of a sensor (rise, fall): the output and the value of it that drives it.
+pub(crate) type Drivers = [Option<(usize, bool)>; 2];
+
 /// The commands that drive the rise and the fall of sensor `x` ([`driver`]); the other
 /// change of a sensor one command drives may be driven by its withdrawal ([`withdrawal`]).
-fn drivers(runs: &Runs, x: usize) -> [Option<(usize, bool)>; 2] {
+pub(crate) fn drivers(runs: &Runs, x: usize) -> Drivers {
     let mut drivers = [false, true].map(|v| driver(runs, x, v));
     for v in [false, true] {
         let (this, other) = (usize::from(v), usize::from(!v));
@@ -64,10 +67,11 @@ fn drivers(runs: &Runs, x: usize) -> [Option<(usize, bool)>; 2] {
 /// How many changes the recordings show the environment making: the rises and falls they
 /// show of the sensors no command drives both ways. Each is tested for gates against every
 /// other sensor; a model of many such changes would otherwise gate one of them by chance
-/// (an operator seen putting pieces on one track only while the cup was up).
-pub(crate) fn environment_changes(runs: &Runs) -> usize {
+/// (an operator seen putting pieces on one track only while the cup was up). `drivers` holds
+/// every sensor's ([`drivers`]).
+pub(crate) fn environment_changes(runs: &Runs, drivers: &[Drivers]) -> usize {
     (0..runs.inputs.len())
-        .filter(|&x| !drivers(runs, x).iter().all(Option::is_some))
+        .filter(|&x| !drivers[x].iter().all(Option::is_some))
         .map(|x| {
             [false, true]
                 .into_iter()
@@ -83,7 +87,7 @@ pub(crate) fn environment_changes(runs: &Runs) -> usize {
 /// the pulse. The recordings may always show the sensor answering the pulse at once; a
 /// sensor that answers later (a cup that grips once a piece arrives) still does under the
 /// valve, when `--slack` lets it.
-fn valve(runs: &Runs, drivers: [Option<(usize, bool)>; 2]) -> Option<Valve> {
+fn valve(runs: &Runs, drivers: Drivers) -> Option<Valve> {
     match drivers {
         [Some((open, true)), Some((close, true))]
             if open != close && pulsed(runs, open) && pulsed(runs, close) =>
@@ -519,6 +523,17 @@ mod tests {
     use crate::plant::learn::Scan;
     use crate::scenario::Origin;
 
+    /// The part of sensor `x`, its drivers found from `r`.
+    fn part_of(r: &Runs, x: usize, slack: usize, family: usize) -> Part {
+        part(r, x, drivers(r, x), slack, family)
+    }
+
+    /// The environment's changes in `r`, every sensor's drivers found from it.
+    fn env_changes(r: &Runs) -> usize {
+        let drivers: Vec<Drivers> = (0..r.inputs.len()).map(|x| drivers(r, x)).collect();
+        environment_changes(r, &drivers)
+    }
+
     /// Runs of a cylinder (sensor `end`, command `push`: the end is reached two scans after
     /// `push` comes on; the controller withdraws it once it reads the end, and the cylinder
     /// springs back at the next scan) beside a button the operator presses for two scans at
@@ -566,7 +581,7 @@ mod tests {
     #[test]
     fn a_cylinder_is_driven_both_ways_and_its_start_is_recorded() {
         let r = runs(&[1, 9], &[0, 1, 2]);
-        let p = part(&r, 0, 0, 1);
+        let p = part_of(&r, 0, 0, 1);
         assert_eq!(p.halves[0].driver, Some((0, true)));
         assert_eq!(p.halves[1].driver, Some((0, false)));
         assert!(!p.free_start);
@@ -576,7 +591,7 @@ mod tests {
     #[test]
     fn a_button_a_lamp_answers_is_the_environments_and_free_everywhere() {
         let r = runs(&[1, 9], &[0, 1, 2]);
-        let p = part(&r, 1, 0, 1);
+        let p = part_of(&r, 1, 0, 1);
         assert!(p.free_start);
         assert!(p.halves.iter().all(|h| h.driver.is_none()));
         // No output is a dependency, and the button is free wherever it changed.
@@ -592,12 +607,12 @@ mod tests {
         assert!(reliable(&driven, 2, false, 0, true, true));
         let flaky = runs(&[1, 9], &[0, 2]);
         assert!(!reliable(&flaky, 2, false, 0, true, true));
-        assert!(part(&flaky, 2, 0, 1).free_start);
+        assert!(part_of(&flaky, 2, 0, 1).free_start);
     }
 
     #[test]
     fn a_sensor_two_pulsed_commands_drive_follows_a_valve_that_keeps_the_last_pulse() {
-        let p = part(&Runs::of(&cup(false)), 0, 1, 1);
+        let p = part_of(&Runs::of(&cup(false)), 0, 1, 1);
         assert_eq!(p.valve, Some(Valve { open: 0, close: 1 }));
         // Through the valve the grip may come a scan after the pulse ended (slack 1): the
         // context "valve open, cup not holding" is a delayed one.
@@ -605,7 +620,7 @@ mod tests {
         let open = (rise.depends.iter()).position(|&f| f == 1).unwrap();
         assert!((rise.rules.iter()).any(|(c, r)| c[open] && matches!(r, Rule::Within(0, 1))));
         // A command held on over two scans is no pulse: no valve.
-        assert_eq!(part(&Runs::of(&cup(true)), 0, 1, 1).valve, None);
+        assert_eq!(part_of(&Runs::of(&cup(true)), 0, 1, 1).valve, None);
     }
 
     /// Runs of a track (sensors `piece`, `held`, `over`; commands `suck`, `away`): the
@@ -648,7 +663,7 @@ mod tests {
     #[test]
     fn a_piece_leaves_the_track_the_cup_holds_it_over_and_the_operator_stays_free() {
         let r = track();
-        let p = part(&r, 0, 0, 1);
+        let p = part_of(&r, 0, 0, 1);
         assert!(p.free_start);
         let [put, taken] = &p.halves;
         // The operator puts pieces whatever the machine does: free, never forced.
@@ -668,7 +683,7 @@ mod tests {
     #[test]
     fn with_slack_the_piece_may_leave_in_the_scan_the_cup_grips_and_leaves_by_the_next() {
         let r = track();
-        let mut parts: Vec<Part> = (0..3).map(|x| part(&r, x, 1, 1)).collect();
+        let mut parts: Vec<Part> = (0..3).map(|x| part_of(&r, x, 1, 1)).collect();
         assert!(!parts[1].free_start && !parts[2].free_start);
         crate::plant::learn::early(&mut parts);
         // The cup and the hand are the controller's: the piece may leave as they arrive.
@@ -714,16 +729,16 @@ mod tests {
     fn a_free_change_is_gated_only_by_what_holds_up_against_every_change_of_the_environment() {
         let r = door();
         // Four changes of the environment's: the button's and the door's rises and falls.
-        assert_eq!(environment_changes(&r), 4);
+        assert_eq!(env_changes(&r), 4);
         // Tested alone, the presses seem to wait for the door (a chance of 2% that they came
         // only while it was open)...
-        assert_eq!(part(&r, 0, 0, 1).halves[0].depends, vec![0, 1]);
+        assert_eq!(part_of(&r, 0, 0, 1).halves[0].depends, vec![0, 1]);
         // ... which does not hold up against the four: the button is free whatever the door.
-        let p = part(&r, 0, 0, environment_changes(&r));
+        let p = part_of(&r, 0, 0, env_changes(&r));
         assert_eq!(p.halves[0].depends, vec![0]);
         assert!((p.halves[0].rules.iter()).all(|(_, rule)| *rule == Rule::Free));
         // A bound change keeps the gates its own test gives: they say where it is forced.
-        let taken = &part(&track(), 0, 0, 1000).halves[1];
+        let taken = &part_of(&track(), 0, 0, 1000).halves[1];
         assert_eq!(taken.depends, vec![0, 1, 2]);
     }
 

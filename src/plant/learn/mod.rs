@@ -336,9 +336,12 @@ pub(crate) fn learn(
 ) -> Result<Learned, LearnError> {
     let runs = Runs::of(set);
     refuse_too_short(&runs, set)?;
-    let family = depend::environment_changes(&runs);
-    let mut parts: Vec<Part> = (0..runs.inputs.len())
-        .map(|x| depend::part(&runs, x, slack, family))
+    let drivers: Vec<depend::Drivers> = (0..runs.inputs.len())
+        .map(|x| depend::drivers(&runs, x))
+        .collect();
+    let family = depend::environment_changes(&runs, &drivers);
+    let mut parts: Vec<Part> = (drivers.iter().enumerate())
+        .map(|(x, &d)| depend::part(&runs, x, d, slack, family))
         .collect();
     scenes(&mut parts, &runs);
     if slack > 0 {
