@@ -374,78 +374,92 @@ pub(crate) fn repair(s: &Strategy, base: &Ecc, max_rounds: usize) -> Result<Repa
     }
     let mut table = Table::of(base)?;
     let locked = recorded_entries(s, base);
-    let a = &s.arena;
     for round in 0..=max_rounds {
-        let (q, c, goal) = match explore(s, &mut table) {
-            Err((q, c)) => (q, c, None),
-            Ok(p) => {
-                let entry = |u: u32| {
-                    let (q, c) = p.nodes[u as usize];
-                    locked.contains(&(q, a.expanded[c as usize].as_ref().expect("winning").obs))
-                };
-                match starving(s, &p, &entry) {
-                    None => {
-                        return Ok(Repaired {
-                            ecc: table.to_ecc(),
-                            rounds: round,
-                        })
-                    }
-                    Some(Err(e)) => return Err(e),
-                    Some(Ok((u, j))) => {
-                        let (q, c) = p.nodes[u as usize];
-                        (q, c, Some(j))
-                    }
-                }
-            }
+        let Some(defect) = defect(s, &mut table, &locked)? else {
+            return Ok(Repaired {
+                ecc: table.to_ecc(),
+                rounds: round,
+            });
         };
         if round == max_rounds {
             break;
         }
-        let e = a.expanded[c as usize].as_ref().expect("winning");
-        if locked.contains(&(q, e.obs)) {
+        let (q, c, _) = defect;
+        let obs = s.arena.expanded[c as usize].as_ref().expect("winning").obs;
+        if locked.contains(&(q, obs)) {
             return Err(RepairError::Recorded("step into a losing position"));
         }
-        let good = |m: usize| match goal {
-            Some(j) => s.progress_move(c, m, j),
-            None => s.safe_move(c, m),
-        };
-        let o = a.nodes[c as usize].1;
-        // Cheapest first: stay, then an existing state (fewest outputs changed), then a new one.
-        let existing = (0..table.algorithms.len() as u32)
-            .filter_map(|t| {
-                let o2 = table.algorithms[t as usize].apply(o);
-                let m = e.moves.iter().position(|&mv| mv == o2)?;
-                good(m).then_some(((t != q, (o2 ^ o).count_ones(), t), t))
-            })
-            .min();
-        let target = match existing {
-            Some((_, t)) => t,
-            None => {
-                let j = goal.unwrap_or(0);
-                let m = s.choice[c as usize * s.goals + j];
-                let m = if m == NONE {
-                    (0..s.goals)
-                        .map(|j| s.choice[c as usize * s.goals + j])
-                        .find(|&m| m != NONE)
-                        .expect("a winning position has a move")
-                } else {
-                    m
-                };
-                let all = if base.outputs.len() == 64 {
-                    u64::MAX
-                } else {
-                    (1u64 << base.outputs.len()) - 1
-                };
-                table.algorithms.push(Masks {
-                    set: all,
-                    values: e.moves[m as usize],
-                });
-                table.algorithms.len() as u32 - 1
-            }
-        };
-        table.overrides.insert((q, e.obs), target);
+        let target = fix(s, &mut table, defect);
+        table.overrides.insert((q, obs), target);
     }
     Err(RepairError::Rounds(max_rounds))
+}
+
+/// The machine's next defect in the game: `(state, position, goal)` where its move steps
+/// into a losing position (no goal), or where it starves goal `j` (`Some(j)`); `None` when it
+/// wins. Starving through entries the recordings fix is a [`RepairError`].
+fn defect(
+    s: &Strategy,
+    table: &mut Table,
+    locked: &FxHashSet<(u32, u64)>,
+) -> Result<Option<(u32, u32, Option<usize>)>, RepairError> {
+    let a = &s.arena;
+    let p = match explore(s, table) {
+        Err((q, c)) => return Ok(Some((q, c, None))),
+        Ok(p) => p,
+    };
+    let entry = |u: u32| {
+        let (q, c) = p.nodes[u as usize];
+        locked.contains(&(q, a.expanded[c as usize].as_ref().expect("winning").obs))
+    };
+    match starving(s, &p, &entry) {
+        None => Ok(None),
+        Some(Err(e)) => Err(e),
+        Some(Ok((u, j))) => {
+            let (q, c) = p.nodes[u as usize];
+            Ok(Some((q, c, Some(j))))
+        }
+    }
+}
+
+/// The state the machine should enter instead at `defect`: cheapest first, the same state,
+/// then an existing one (fewest outputs changed) whose move is safe (or makes progress toward
+/// the starved goal), else a new state with the strategy's move.
+fn fix(s: &Strategy, table: &mut Table, (q, c, goal): (u32, u32, Option<usize>)) -> u32 {
+    let a = &s.arena;
+    let e = a.expanded[c as usize].as_ref().expect("winning");
+    let good = |m: usize| match goal {
+        Some(j) => s.progress_move(c, m, j),
+        None => s.safe_move(c, m),
+    };
+    let o = a.nodes[c as usize].1;
+    let existing = (0..table.algorithms.len() as u32)
+        .filter_map(|t| {
+            let o2 = table.algorithms[t as usize].apply(o);
+            let m = e.moves.iter().position(|&mv| mv == o2)?;
+            good(m).then_some(((t != q, (o2 ^ o).count_ones(), t), t))
+        })
+        .min();
+    if let Some((_, t)) = existing {
+        return t;
+    }
+    let row = |j: usize| s.choice[c as usize * s.goals + j];
+    let m = match row(goal.unwrap_or(0)) {
+        NONE => (0..s.goals)
+            .map(row)
+            .find(|&m| m != NONE)
+            .expect("a winning position has a move"),
+        m => m,
+    };
+    let all = match table.base.outputs.len() {
+        64 => u64::MAX,
+        n => (1u64 << n) - 1,
+    };
+    table.algorithms.push(Masks {
+        set: all,
+        values: e.moves[m as usize],
+    });
+    table.algorithms.len() as u32 - 1
 }
 
 /// The recordings' tree as a machine: a state per node, entered with the node's outputs, a
