@@ -565,17 +565,10 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
             )
     });
     let (prev_pos, prev) = token_before(code, pos);
-    let found = token_at(code, pos);
     if operand_expected {
-        let msg = match prev {
-            "" => "expected formula".to_string(),
-            ":" => "expected formula after the label".to_string(),
-            "=" | "!=" => format!("expected a name, an integer, TRUE or FALSE after '{prev}'"),
-            "<" | "<=" | ">" | ">=" => format!("expected a name or an integer after '{prev}'"),
-            _ => format!("expected formula after {}", quote(prev)),
-        };
-        return syntax(pos, msg);
+        return syntax(pos, operand_expected_after(prev));
     }
+    let found = token_at(code, pos);
     if found == ":" {
         return syntax(
             pos,
@@ -586,7 +579,29 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
     if is_keyword(prev) {
         return syntax(prev_pos, format!("'{prev}' is a NuSMV keyword, not a name"));
     }
-    let close_allowed = positives.contains(&Rule::close);
+    operator_expected(code, pos, prev, found, positives.contains(&Rule::close))
+}
+
+/// The message where an operand was expected after the token `prev`.
+fn operand_expected_after(prev: &str) -> String {
+    match prev {
+        "" => "expected formula".to_string(),
+        ":" => "expected formula after the label".to_string(),
+        "=" | "!=" => format!("expected a name, an integer, TRUE or FALSE after '{prev}'"),
+        "<" | "<=" | ">" | ">=" => format!("expected a name or an integer after '{prev}'"),
+        _ => format!("expected formula after {}", quote(prev)),
+    }
+}
+
+/// The error where an operator (or `)`, when `close_allowed`) was expected at `pos` of
+/// `code`, after `prev`, and `found` stands: a missing or unmatched parenthesis named as such.
+fn operator_expected(
+    code: &str,
+    pos: usize,
+    prev: &str,
+    found: &str,
+    close_allowed: bool,
+) -> LineError {
     match found {
         "" if close_allowed => match unclosed_paren(&code[..pos]) {
             Some(open) => syntax(
@@ -600,18 +615,14 @@ fn explain(src: &str, e: &pest::error::Error<Rule>) -> LineError {
         },
         ")" if !close_allowed => syntax(pos, "unmatched ')'"),
         _ => {
-            let expected = if close_allowed {
-                "an operator or ')'"
-            } else {
-                "an operator or the end of the line"
+            let expected = match close_allowed {
+                true => "an operator or ')'",
+                false => "an operator or the end of the line",
             };
+            let (prev, found) = (quote(prev), quote(found));
             syntax(
                 pos,
-                format!(
-                    "expected {expected} after {}, found {}",
-                    quote(prev),
-                    quote(found)
-                ),
+                format!("expected {expected} after {prev}, found {found}"),
             )
         }
     }
