@@ -295,65 +295,46 @@ pub fn read_json(text: &str, file: &Path) -> Result<Ecc, JsonError> {
         message: crate::quote::message(&strip_position(&e.to_string(), e.line(), e.column()))
             .to_string(),
     })?;
-    let fail = |at: String, problem: ContentProblem| JsonError::Content {
+    read_document(doc).map_err(|(at, problem)| JsonError::Content {
         file: file.to_path_buf(),
         at,
         problem,
-    };
+    })
+}
 
+/// A problem in a document's content, with the JSON path where it is.
+type Located = (String, ContentProblem);
+
+/// The machine a parsed document describes, or the first problem in it.
+fn read_document(doc: Document) -> Result<Ecc, Located> {
     if let Some(found) = doc.format.filter(|&f| f != FORMAT) {
-        return Err(fail("format".into(), ContentProblem::Format { found }));
+        return Err(("format".into(), ContentProblem::Format { found }));
     }
-    check_names(&doc).map_err(|(at, p)| fail(at, p))?;
+    check_names(&doc)?;
     let outputs = doc.outputs.len();
     let initial_outputs = match &doc.initial_outputs {
         None => vec![false; outputs],
-        Some(s) => read_bits(s, outputs).map_err(|p| fail("initial_outputs".into(), p))?,
+        Some(s) => read_bits(s, outputs).map_err(|p| ("initial_outputs".to_string(), p))?,
     };
     if doc.states.is_empty() {
-        return Err(fail("states".into(), ContentProblem::NoStates));
+        return Err(("states".into(), ContentProblem::NoStates));
     }
-
-    let mut states = Vec::with_capacity(doc.states.len());
-    for (i, s) in doc.states.iter().enumerate() {
-        let algorithm = read_algorithm(s, outputs)
-            .map_err(|(field, p)| fail(format!("states[{i}]{field}"), p))?;
-        if let Some(first) = states.first().map(|s0: &State| s0.algorithm.kind()) {
-            if algorithm.kind() != first {
-                return Err(fail(
-                    format!("states[{i}]"),
-                    ContentProblem::MixedAlgorithms {
-                        first: kind_name(first),
-                        this: kind_name(algorithm.kind()),
-                    },
-                ));
-            }
-        }
-        states.push(State {
-            name: s.name.clone(),
-            algorithm,
-            transitions: Vec::new(),
-        });
-    }
-
+    let mut states = read_states(&doc.states, outputs)?;
     let count = states.len();
     for (k, t) in doc.transitions.iter().enumerate() {
         for (field, index) in [("from", t.from), ("to", t.to)] {
             if index >= count {
-                return Err(fail(
-                    format!("transitions[{k}].{field}"),
-                    ContentProblem::NoSuchState { index, count },
-                ));
+                let at = format!("transitions[{k}].{field}");
+                return Err((at, ContentProblem::NoSuchState { index, count }));
             }
         }
         let guard = parse_guard(&t.guard, &doc.inputs)
-            .map_err(|e| fail(format!("transitions[{k}].guard"), ContentProblem::Guard(e)))?;
+            .map_err(|e| (format!("transitions[{k}].guard"), ContentProblem::Guard(e)))?;
         states[t.from].transitions.push(Transition {
             target: StateId(t.to),
             guard,
         });
     }
-
     let ecc = Ecc {
         inputs: doc.inputs,
         outputs: doc.outputs,
@@ -366,6 +347,30 @@ pub fn read_json(text: &str, file: &Path) -> Result<Ecc, JsonError> {
         "read_json checks everything validate does"
     );
     Ok(ecc)
+}
+
+/// The states of a document, without their transitions; every algorithm of one kind.
+fn read_states(docs: &[StateEntry], outputs: usize) -> Result<Vec<State>, Located> {
+    let mut states: Vec<State> = Vec::with_capacity(docs.len());
+    for (i, s) in docs.iter().enumerate() {
+        let algorithm =
+            read_algorithm(s, outputs).map_err(|(field, p)| (format!("states[{i}]{field}"), p))?;
+        if let Some(first) = states.first().map(|s0| s0.algorithm.kind()) {
+            if algorithm.kind() != first {
+                let problem = ContentProblem::MixedAlgorithms {
+                    first: kind_name(first),
+                    this: kind_name(algorithm.kind()),
+                };
+                return Err((format!("states[{i}]"), problem));
+            }
+        }
+        states.push(State {
+            name: s.name.clone(),
+            algorithm,
+            transitions: Vec::new(),
+        });
+    }
+    Ok(states)
 }
 
 /// serde_json appends " at line L column C" to its messages; the position has its own fields.
@@ -382,7 +387,7 @@ fn kind_name(k: AlgorithmKind) -> &'static str {
 }
 
 /// Interface and state names: identifiers, not the event names, no duplicates.
-fn check_names(doc: &Document) -> Result<(), (String, ContentProblem)> {
+fn check_names(doc: &Document) -> Result<(), Located> {
     // Interface names clash in Structured Text and 4diac when they differ only in case.
     let mut interface: HashMap<String, String> = HashMap::new();
     let named = (doc
