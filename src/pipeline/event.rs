@@ -232,13 +232,7 @@ impl fmt::Display for Event<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Event::Solver(step) => write!(f, "{step}"),
-            Event::LowerBounds { c, t, n, seconds } => {
-                write!(f, "lower bounds from the recorded inputs alone: C >= {c}, T >= {t}")?;
-                if let Some(n) = n {
-                    write!(f, ", N >= {n} at C = {c} and T = {t}")?;
-                }
-                write!(f, " ({seconds:.2} s)")
-            }
+            Event::LowerBounds { c, t, n, seconds } => lower_bounds(f, *c, *t, *n, *seconds),
             Event::Candidate(it) => candidate(f, it),
             Event::InProcessStopped { why } => write!(
                 f,
@@ -265,22 +259,7 @@ impl fmt::Display for Event<'_> {
                 f,
                 "search: no progress on the properties in {rounds} rounds; the scenarios reconstructed anew (seed {seed})"
             ),
-            Event::SearchRound(p) => {
-                let props = p
-                    .properties
-                    .map(|(s, t)| format!(", properties {s}/{t}"))
-                    .unwrap_or_default();
-                write!(
-                    f,
-                    "round {}: best fitness {:.5} ({}/{} scenarios{props}), {} evaluations, {:.0}/s",
-                    p.round,
-                    p.best_fitness,
-                    p.best_score.reproduced,
-                    p.best_score.scenarios,
-                    p.evaluations,
-                    p.evaluations as f64 / p.seconds.max(1e-9)
-                )
-            }
+            Event::SearchRound(p) => search_round(f, p),
             Event::SearchEnded {
                 seconds,
                 evaluations,
@@ -316,19 +295,65 @@ impl fmt::Display for Event<'_> {
                 encoded,
                 total,
                 diverging,
-            } => write!(
-                f,
-                "part {round}: {encoded} of {total} recorded steps encoded; {}",
-                match diverging {
-                    0 => "the machine reproduces every step".to_string(),
-                    1 => "1 scenario departs from the machine: its prefix grows".to_string(),
-                    n => format!("{n} scenarios depart from the machine: their prefixes grow"),
-                }
-            ),
+            } => lazy_part(f, *round, *encoded, *total, *diverging),
             Event::LearnRound { number, round } => learn_round(f, *number, round),
             Event::Note(note) => write!(f, "{note}"),
         }
     }
+}
+
+/// The line of the lower bounds the recordings alone give.
+fn lower_bounds(
+    f: &mut fmt::Formatter<'_>,
+    c: usize,
+    t: usize,
+    n: Option<usize>,
+    seconds: f64,
+) -> fmt::Result {
+    write!(
+        f,
+        "lower bounds from the recorded inputs alone: C >= {c}, T >= {t}"
+    )?;
+    if let Some(n) = n {
+        write!(f, ", N >= {n} at C = {c} and T = {t}")?;
+    }
+    write!(f, " ({seconds:.2} s)")
+}
+
+/// The line of a round of the search.
+fn search_round(f: &mut fmt::Formatter<'_>, p: &crate::search::Progress) -> fmt::Result {
+    let props = (p.properties)
+        .map(|(s, t)| format!(", properties {s}/{t}"))
+        .unwrap_or_default();
+    write!(
+        f,
+        "round {}: best fitness {:.5} ({}/{} scenarios{props}), {} evaluations, {:.0}/s",
+        p.round,
+        p.best_fitness,
+        p.best_score.reproduced,
+        p.best_score.scenarios,
+        p.evaluations,
+        p.evaluations as f64 / p.seconds.max(1e-9)
+    )
+}
+
+/// The line of a part of the lazy encoding of long recordings.
+fn lazy_part(
+    f: &mut fmt::Formatter<'_>,
+    round: usize,
+    encoded: usize,
+    total: usize,
+    diverging: usize,
+) -> fmt::Result {
+    let departing = match diverging {
+        0 => "the machine reproduces every step".to_string(),
+        1 => "1 scenario departs from the machine: its prefix grows".to_string(),
+        n => format!("{n} scenarios depart from the machine: their prefixes grow"),
+    };
+    write!(
+        f,
+        "part {round}: {encoded} of {total} recorded steps encoded; {departing}"
+    )
 }
 
 /// The line of a candidate of the exact loop.
