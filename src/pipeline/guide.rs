@@ -151,26 +151,7 @@ impl std::fmt::Display for Stage {
                 size,
                 proven,
                 seconds,
-            } => write!(
-                f,
-                "guide: {} machine{} for the recordings and {runs} closed-loop runs of it ({steps} steps): {}{} (SAT {seconds:.2} s)",
-                match proven {
-                    true => "least",
-                    false => "the fewest-states",
-                },
-                match conventions.is_empty() {
-                    true => String::new(),
-                    false => format!(" with {conventions}"),
-                },
-                match size {
-                    Some(size) => size.to_string(),
-                    None => "none within the state limit, the repaired machine is judged".into(),
-                },
-                match (proven, size) {
-                    (false, Some(_)) => "; T and N as found, not proven least within the guide's budget",
-                    _ => "",
-                }
-            ),
+            } => small_line(f, conventions, (*runs, *steps), *size, *proven, *seconds),
             Stage::Written { conventions, size } => write!(
                 f,
                 "guide: the repaired machine written with {conventions}, the same runs: {size}"
@@ -194,6 +175,39 @@ impl std::fmt::Display for Stage {
             ),
         }
     }
+}
+
+/// The line of [`Stage::Small`]: which machine for the recordings and the runs (how many,
+/// and their steps), and what is proven of it.
+fn small_line(
+    f: &mut std::fmt::Formatter<'_>,
+    conventions: &str,
+    (runs, steps): (usize, usize),
+    size: Option<Size>,
+    proven: bool,
+    seconds: f64,
+) -> std::fmt::Result {
+    let which = match proven {
+        true => "least",
+        false => "the fewest-states",
+    };
+    let with = match conventions.is_empty() {
+        true => String::new(),
+        false => format!(" with {conventions}"),
+    };
+    let size_text = match size {
+        Some(size) => size.to_string(),
+        None => "none within the state limit, the repaired machine is judged".into(),
+    };
+    let unproven = match (proven, size) {
+        (false, Some(_)) => "; T and N as found, not proven least within the guide's budget",
+        _ => "",
+    };
+    write!(
+        f,
+        "guide: {which} machine{with} for the recordings and {runs} closed-loop runs of it \
+         ({steps} steps): {size_text}{unproven} (SAT {seconds:.2} s)"
+    )
 }
 
 /// A verified machine from the guide.
