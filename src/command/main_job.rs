@@ -140,25 +140,7 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     check_exportable(&set, &r.name, &r.formats, &recordings)?;
     // Taken before the search: a second run into the same folder stops now, not at the end.
     let results = ResultSet::open(&out, claim(r, &recordings, &spec))?;
-    // Recordings that violate a property are refused even where NuSMV cannot be run; only the
-    // claim about controllers waits for NuSMV's replay of the recordings on the plant.
-    let recorded = explain::refuse_violations(&set, &problem.props, &r.spec.ltl);
-    let (nusmv, recorded) = match (spec.nusmv.locate(), recorded) {
-        (Ok(nusmv), recorded) => (nusmv, recorded),
-        (Err(e), Err(mut violate)) => {
-            violate.unreplayed = Some(format!("a step NuSMV could not check: {e}"));
-            return Err(violate.into());
-        }
-        (Err(e), Ok(_)) => return Err(e),
-    };
-    let check = Check::new(problem, nusmv);
-    // The recordings' verdicts speak of the closed loop only where the plant can produce them.
-    plant_check::check_plant(&set, &check)?;
-    let found = plant_check::refuse_violations(recorded, &set, &check)?;
-    events(Event::Note(Note::Explained {
-        explanation: &found,
-        properties: check.problem.props.len(),
-    }));
+    let (check, found) = checked(r, &set, problem, &spec, events)?;
     let opts = main_job::Options {
         method: r.method.clone(),
         exact: exact::Options {
@@ -171,20 +153,18 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
     let verified = main_job::run(&set, &check, &found, &opts, events)?;
     let summary =
         MainSummary::new(&verified.summary, None).with_learned_plant(read.learned_plant.clone());
-    let provenance = spec.provenance(&r.name);
-    let (ecc, certificate) = (&verified.ecc, &verified.certificate);
     let mut staged = write_verified(
         results.staging(),
         &r.formats,
-        ecc,
-        certificate,
-        &provenance,
+        &verified.ecc,
+        &verified.certificate,
+        &spec.provenance(&r.name),
         &summary,
     )?;
     let ambiguity = match &r.ambiguity {
         Some(a) => Some(report_verified(
             &set,
-            ecc,
+            &verified.ecc,
             a,
             &check,
             results.staging(),
@@ -193,11 +173,7 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         None => None,
     };
     staged.extend(ambiguity.iter().flat_map(|a| a.files.clone()));
-    if let Some(text) = &spec.learned {
-        let file = results.staging().join(LEARNED_PLANT);
-        crate::files::write_atomic(&file, text.as_bytes())?;
-        staged.push(file);
-    }
+    staged.extend(staged_plant(&results, &spec)?);
     Ok(Done {
         files: publish(results, &staged)?,
         scenarios: set.scenarios.len(),
@@ -206,6 +182,46 @@ pub(crate) fn run(r: &Request, events: Events<'_>) -> Result<Done, Error> {
         ambiguity,
         learned_plant: read.learned_plant,
     })
+}
+
+/// The check of the problem with NuSMV, and what the recordings say of the properties.
+/// Recordings that violate a property are refused even where NuSMV cannot be run; only the
+/// claim about controllers waits for NuSMV's replay of the recordings on the plant, and the
+/// recordings' verdicts speak of the closed loop only where the plant can produce them.
+fn checked(
+    r: &Request,
+    set: &ScenarioSet,
+    problem: crate::verify::Problem,
+    spec: &Spec,
+    events: Events<'_>,
+) -> Result<(Check, explain::Explanation), Error> {
+    let recorded = explain::refuse_violations(set, &problem.props, &r.spec.ltl);
+    let (nusmv, recorded) = match (spec.nusmv.locate(), recorded) {
+        (Ok(nusmv), recorded) => (nusmv, recorded),
+        (Err(e), Err(mut violate)) => {
+            violate.unreplayed = Some(format!("a step NuSMV could not check: {e}"));
+            return Err(violate.into());
+        }
+        (Err(e), Ok(_)) => return Err(e),
+    };
+    let check = Check::new(problem, nusmv);
+    plant_check::check_plant(set, &check)?;
+    let found = plant_check::refuse_violations(recorded, set, &check)?;
+    events(Event::Note(Note::Explained {
+        explanation: &found,
+        properties: check.problem.props.len(),
+    }));
+    Ok((check, found))
+}
+
+/// The learned plant, when one was learned, written into the result set's staging folder.
+fn staged_plant(results: &ResultSet, spec: &Spec) -> Result<Option<PathBuf>, Error> {
+    let Some(text) = &spec.learned else {
+        return Ok(None);
+    };
+    let file = results.staging().join(LEARNED_PLANT);
+    crate::files::write_atomic(&file, text.as_bytes())?;
+    Ok(Some(file))
 }
 
 /// What the main job claims of its output folder: it reads the recordings, the properties,
