@@ -332,23 +332,24 @@ fn operand_level(mut pair: Pair<Rule>) -> Pair<Rule> {
         let mut inner = pair.clone().into_inner();
         match (pair.as_rule(), inner.next(), inner.next()) {
             (Rule::expr, Some(only), _) => pair = only,
-            (
-                Rule::implies
-                | Rule::iff
-                | Rule::ite
-                | Rule::or
-                | Rule::and
-                | Rule::rel
-                | Rule::sum
-                | Rule::product
-                | Rule::unary,
-                Some(only),
-                None,
-            ) => pair = only,
+            (level, Some(only), None) if LEVELS.contains(&level) => pair = only,
             _ => return pair,
         }
     }
 }
+
+/// The grammar's levels of operators, loosest first.
+const LEVELS: &[Rule] = &[
+    Rule::implies,
+    Rule::iff,
+    Rule::ite,
+    Rule::or,
+    Rule::and,
+    Rule::rel,
+    Rule::sum,
+    Rule::product,
+    Rule::unary,
+];
 
 /// The expression inside parentheses or `next( )`.
 fn only_expr(pair: Pair<Rule>) -> Pair<Rule> {
