@@ -240,6 +240,7 @@ struct Expanded {
     old: BTreeSet<F>,
 }
 
+#[derive(Clone)]
 struct Pending {
     incoming: BTreeSet<usize>,
     new: BTreeSet<F>,
@@ -339,12 +340,7 @@ fn decompose(nnf: &Nnf, g: F, mut n: Pending) -> Vec<Pending> {
         Node::Or(a, b) | Node::U(a, b) | Node::V(a, b) => {
             // First branch: what holds now (a | ...: a; a U b: b; a V b: a & b);
             // second: the rest (b; a and X (a U b); b and X (a V b)).
-            let mut first = Pending {
-                incoming: n.incoming.clone(),
-                new: n.new.clone(),
-                old: n.old.clone(),
-                next: n.next.clone(),
-            };
+            let mut first = n.clone();
             let mut second = n;
             match nnf.nodes[g as usize] {
                 Node::Or(..) => {
