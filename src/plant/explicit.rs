@@ -484,6 +484,42 @@ impl<'m> Semantics<'m> {
         known: &[(VarId, Value)],
         f: &mut impl FnMut(&[Value]) -> Result<(), E>,
     ) -> Result<(), E> {
+        let (mut choices, later) = self.next_choices(state, params, known)?;
+        let Some(order) = next_order(self.model, &later) else {
+            return self.each_checked(state, params, next_params, &choices, &later, f);
+        };
+        // Each assignment that reads next values is evaluated once the values it reads are
+        // chosen, instead of trying every value of its domain: a learned plant whose
+        // environment reads the sensors' next values, with observers of next values, would
+        // otherwise try 2^k candidates per successor.
+        for &(i, _) in &order {
+            choices[i].truncate(1);
+        }
+        let mut found = Vec::new();
+        for_each_combination(self.model, &choices, &mut |s| {
+            let mut s = s.to_vec();
+            self.assign_next_readers(state, params, &order, known, &mut s, &mut |t| {
+                if self.transition_ok(state, params, t, next_params)? {
+                    found.push(t.to_vec());
+                }
+                Ok(())
+            })
+        })?;
+        // The same order as the enumeration of [`Self::each_checked`]: sorted, without
+        // repetition.
+        found.sort();
+        found.iter().try_for_each(|t| f(t))
+    }
+
+    /// Per variable, the values its next state may take from `state` (restricted by `known`),
+    /// sorted and distinct; and the assignments that read another variable's next value, whose
+    /// variables keep their whole domain here.
+    fn next_choices<'e>(
+        &'e self,
+        state: &[Value],
+        params: &[bool],
+        known: &[(VarId, Value)],
+    ) -> Result<(Vec<Vec<Value>>, NextReaders<'e>), EvalError> {
         let m = self.model;
         let mut env = Env::new(m, state, params, None);
         let mut choices = Vec::with_capacity(m.vars.len());
@@ -500,7 +536,7 @@ impl<'m> Semantics<'m> {
                     let site = Site::Next(VarId(i));
                     let vs = env.values(e, site)?;
                     if let Some(bad) = vs.iter().find(|v| !in_domain(var, **v)) {
-                        return Err(out_of_domain(m, VarId(i), site, *bad).into());
+                        return Err(out_of_domain(m, VarId(i), site, *bad));
                     }
                     vs
                 }
@@ -514,32 +550,25 @@ impl<'m> Semantics<'m> {
             vs.dedup();
             choices.push(vs);
         }
-        if let Some(order) = next_order(m, &later) {
-            // Each assignment that reads next values is evaluated once the values it reads are
-            // chosen, instead of trying every value of its domain: a learned plant whose
-            // environment reads the sensors' next values, with observers of next values,
-            // would otherwise try 2^k candidates per successor.
-            for &(i, _) in &order {
-                choices[i].truncate(1);
-            }
-            let mut found = Vec::new();
-            for_each_combination(m, &choices, &mut |s| {
-                let mut s = s.to_vec();
-                self.assign_next_readers(state, params, &order, known, &mut s, &mut |t| {
-                    if self.transition_ok(state, params, t, next_params)? {
-                        found.push(t.to_vec());
-                    }
-                    Ok(())
-                })
-            })?;
-            // The same order as the enumeration below: sorted, without repetition.
-            found.sort();
-            return found.iter().try_for_each(|t| f(t));
-        }
-        for_each_combination(m, &choices, &mut |s| {
+        Ok((choices, later))
+    }
+
+    /// Calls `f` on every combination of `choices` that the assignments in `later` give
+    /// and the transition constraints admit, in sorted order.
+    fn each_checked<E: From<EvalError>>(
+        &self,
+        state: &[Value],
+        params: &[bool],
+        next_params: &[bool],
+        choices: &[Vec<Value>],
+        later: &[(usize, &Expr)],
+        f: &mut impl FnMut(&[Value]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let m = self.model;
+        for_each_combination(m, choices, &mut |s| {
             if !later.is_empty() {
                 let mut env = Env::new(m, state, params, Some(s));
-                for &(i, e) in &later {
+                for &(i, e) in later {
                     let site = Site::Next(VarId(i));
                     let vs = env.values(e, site)?;
                     if let Some(bad) = vs.iter().find(|v| !in_domain(&m.vars[i], **v)) {
@@ -684,6 +713,9 @@ fn out_of_domain(m: &Model, v: VarId, site: Site, value: Value) -> EvalError {
         },
     }
 }
+
+/// Assignments that read another variable's next value: the variable and its `next`.
+type NextReaders<'e> = Vec<(usize, &'e Expr)>;
 
 /// The assignments of `later` (variable, `next` expression) ordered so that each comes after
 /// those whose next values it reads; `None` when they read each other in a cycle (left to
