@@ -136,58 +136,30 @@ impl Ltl {
                 at: recorded(name, len, column)?,
                 tail: Truth::Unknown,
             },
-            Cmp(op, l, r) => {
-                let equal = match (op, l.as_ref(), r.as_ref()) {
-                    (CmpOp::Eq | CmpOp::Ne, l, r) if is_boolean(l) && is_boolean(r) => {
-                        pointwise(l, r, Truth::iff)?
-                    }
-                    _ => return Err(NotEvaluable::Comparison(self.to_string())),
-                };
-                if *op == CmpOp::Eq {
-                    equal
-                } else {
-                    negate(equal)
+            Cmp(op, l, r) => match (op, l.as_ref(), r.as_ref()) {
+                (CmpOp::Eq, l, r) if is_boolean(l) && is_boolean(r) => pointwise(l, r, Truth::iff)?,
+                (CmpOp::Ne, l, r) if is_boolean(l) && is_boolean(r) => {
+                    negate(pointwise(l, r, Truth::iff)?)
                 }
-            }
+                _ => return Err(NotEvaluable::Comparison(self.to_string())),
+            },
             Not(a) => negate(eval(a)?),
             And(a, b) => pointwise(a, b, Truth::and)?,
             Or(a, b) => pointwise(a, b, Truth::or)?,
             Xor(a, b) => pointwise(a, b, |x, y| x.iff(y).not())?,
             Xnor(a, b) | Iff(a, b) => pointwise(a, b, Truth::iff)?,
             Implies(a, b) => pointwise(a, b, |x, y| x.not().or(y))?,
-            X(a) => {
-                let a = eval(a)?;
-                let at = (0..len)
-                    .map(|i| a.at.get(i + 1).copied().unwrap_or(a.tail))
-                    .collect();
-                Values { at, tail: a.tail }
-            }
+            X(a) => one_ahead(len, eval(a)?),
             F(a) => until(&constant(Truth::True), &eval(a)?),
             G(a) => release(&constant(Truth::False), &eval(a)?),
             U(a, b) => until(&eval(a)?, &eval(b)?),
             V(a, b) => release(&eval(a)?, &eval(b)?),
             Y(a) => one_back(eval(a)?, Truth::False),
             Z(a) => one_back(eval(a)?, Truth::True),
-            H(a) => {
-                let a = eval(a)?;
-                past(len, |prev, i| a.at[i].and(prev.unwrap_or(Truth::True)))
-            }
-            O(a) => {
-                let a = eval(a)?;
-                past(len, |prev, i| a.at[i].or(prev.unwrap_or(Truth::False)))
-            }
-            S(a, b) => {
-                let (a, b) = (eval(a)?, eval(b)?);
-                past(len, |prev, i| {
-                    b.at[i].or(a.at[i].and(prev.unwrap_or(Truth::False)))
-                })
-            }
-            T(a, b) => {
-                let (a, b) = (eval(a)?, eval(b)?);
-                past(len, |prev, i| {
-                    b.at[i].and(a.at[i].or(prev.unwrap_or(Truth::True)))
-                })
-            }
+            H(a) => triggered(len, &constant(Truth::False), &eval(a)?),
+            O(a) => since(len, &constant(Truth::True), &eval(a)?),
+            S(a, b) => since(len, &eval(a)?, &eval(b)?),
+            T(a, b) => triggered(len, &eval(a)?, &eval(b)?),
         })
     }
 }
@@ -252,6 +224,30 @@ fn past(len: usize, step: impl Fn(Option<Truth>, usize) -> Truth) -> Values {
         at,
         tail: Truth::Unknown,
     }
+}
+
+/// `a S b`, forward: `v(i) = b(i) | a(i) & v(i-1)`, false before position 0 (`O b` is
+/// `TRUE S b`).
+fn since(len: usize, a: &Values, b: &Values) -> Values {
+    past(len, |prev, i| {
+        b.at[i].or(a.at[i].and(prev.unwrap_or(Truth::False)))
+    })
+}
+
+/// `a T b`, forward: `v(i) = b(i) & (a(i) | v(i-1))`, true before position 0 (`H b` is
+/// `FALSE T b`).
+fn triggered(len: usize, a: &Values, b: &Values) -> Values {
+    past(len, |prev, i| {
+        b.at[i].and(a.at[i].or(prev.unwrap_or(Truth::True)))
+    })
+}
+
+/// `X a`: position `i` is `a` at `i + 1`, the tail's past the prefix.
+fn one_ahead(len: usize, a: Values) -> Values {
+    let at = (0..len)
+        .map(|i| a.at.get(i + 1).copied().unwrap_or(a.tail))
+        .collect();
+    Values { at, tail: a.tail }
 }
 
 /// `Y a` (`at_start` false) and `Z a` (`at_start` true).
@@ -349,6 +345,7 @@ mod tests {
         assert_eq!(truth("O a", "0100", ""), vec![F, T, T, T]);
         assert_eq!(truth("H a", "1101", ""), vec![T, T, F, F]);
         assert_eq!(truth("a S b", "0110", "1000"), vec![T, T, T, F]);
+        assert_eq!(truth("a T b", "0010", "1011"), vec![T, F, T, T]);
         // After the prefix a past operator is unknown: `X Y a` at the last position is `a`
         // there, but the evaluation only claims what it can prove.
         assert_eq!(truth("G (X Y a)", "11", ""), vec![U, U]);
