@@ -189,14 +189,10 @@ pub(crate) fn least_corrections(
     initial_outputs: &[bool],
     steps: &[Step],
 ) -> Option<Corrections> {
-    let states = ecc.states.len();
     // cost[q]: fewest corrections reaching state q after the steps so far.
-    let mut cost: Vec<Option<usize>> = vec![None; states];
+    let mut cost: Vec<Option<usize>> = vec![None; ecc.states.len()];
     cost[0] = Some(0);
-    // Per active step: its index, whether it has an alternative, and for each state entered
-    // the state left and whether the alternative was taken.
-    type Back = Vec<Option<(usize, bool)>>;
-    let mut back: Vec<(usize, bool, Back)> = Vec::new();
+    let mut back: Vec<Back> = Vec::new();
     let mut outputs = initial_outputs.to_vec();
     let fire = |q: usize, outputs: &[bool], x: &[bool]| {
         let mut run = Run::at(ecc, StateId(q), outputs.to_vec());
@@ -204,6 +200,7 @@ pub(crate) fn least_corrections(
     };
     for (k, step) in steps.iter().enumerate() {
         let Some(out) = &step.outputs else {
+            // A step without an answer: nothing may fire on it.
             for (q, c) in cost.iter_mut().enumerate() {
                 if c.is_some() && fire(q, &outputs, &step.inputs).is_some() {
                     *c = None;
@@ -215,8 +212,8 @@ pub(crate) fn least_corrections(
             continue;
         };
         let alt = alternative_input(steps, k, *out != outputs);
-        let mut next: Vec<Option<usize>> = vec![None; states];
-        let mut from: Vec<Option<(usize, bool)>> = vec![None; states];
+        let mut next: Vec<Option<usize>> = vec![None; cost.len()];
+        let mut from: Vec<Option<(usize, bool)>> = vec![None; cost.len()];
         for (q, c) in cost.iter().enumerate() {
             let Some(c) = *c else { continue };
             let labels =
@@ -236,22 +233,39 @@ pub(crate) fn least_corrections(
             return None;
         }
         cost = next;
-        back.push((k, alt.is_some(), from));
+        back.push(Back {
+            step: k,
+            has_alternative: alt.is_some(),
+            from,
+        });
         outputs.clone_from(out);
     }
-    let (mut q, _) = cost
-        .iter()
-        .enumerate()
+    traced_back(&cost, &back)
+}
+
+/// One answered step of [`least_corrections`]'s programme, kept to trace the choice back.
+struct Back {
+    /// The step's index.
+    step: usize,
+    /// Whether the step has an alternative edge.
+    has_alternative: bool,
+    /// Per state entered: the state left and whether the alternative was taken.
+    from: Vec<Option<(usize, bool)>>,
+}
+
+/// The corrections of the cheapest state at the end (`cost`), traced back through `back`.
+fn traced_back(cost: &[Option<usize>], back: &[Back]) -> Option<Corrections> {
+    let (mut q, _) = (cost.iter().enumerate())
         .filter_map(|(q, c)| c.map(|c| (q, c)))
         .min_by_key(|&(_, c)| c)?;
     let mut taken = Vec::new();
     let mut with_alt = Vec::new();
-    for (k, has_alt, from) in back.iter().rev() {
-        let (p, alt) = from[q].expect("a surviving state has a predecessor");
+    for b in back.iter().rev() {
+        let (p, alt) = b.from[q].expect("a surviving state has a predecessor");
         if alt {
-            taken.push(*k);
+            taken.push(b.step);
         }
-        if *has_alt {
+        if b.has_alternative {
             with_alt.push(alt);
         }
         q = p;
