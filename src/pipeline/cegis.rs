@@ -681,12 +681,11 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
             return Ok(InProcess::Unrefuted(Vec::new()));
         };
         let started = Instant::now();
-        let problem = self.verifier.problem();
         let verdicts = match check::check(
             &closed.spec.plant,
             &closed.coupling,
             &synthesis.ecc,
-            &problem.props,
+            &closed.checked,
             &check::Limits::default(),
         ) {
             Ok(verdicts) => verdicts,
@@ -700,15 +699,17 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
                 return Ok(InProcess::Unrefuted(Vec::new()));
             }
         };
-        let names = problem.property_names();
-        let holds = (verdicts.iter())
+        let names = &closed.names;
+        // Of the problem's own properties; a safety part fails only with its property.
+        let own = &verdicts[..closed.own];
+        let holds = (own.iter())
             .map(|v| matches!(v, check::ExplicitVerdict::Holds))
             .collect();
-        let (added, length) = self.refine_in_process(closed, &verdicts, &names, &synthesis.ecc)?;
+        let (added, length) = self.refine_in_process(closed, &verdicts, names, &synthesis.ecc)?;
         if added == 0 {
             return Ok(InProcess::Unrefuted(holds));
         }
-        let failing: Vec<String> = (verdicts.iter().zip(&names))
+        let failing: Vec<String> = (own.iter().zip(names))
             .filter(|(v, _)| matches!(v, check::ExplicitVerdict::Violated(_)))
             .map(|(_, name)| name.clone())
             .collect();

@@ -124,6 +124,111 @@ pub(crate) fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
     walk(f, true, env)
 }
 
+/// The safety part of a property: the strongest formula this weakening gives that every run
+/// satisfying `f` satisfies, with no eventuality left (`None` when it says nothing, `TRUE`, or
+/// `f` has past operators or eventualities under `<->` or `xor`). Each eventuality is made
+/// weak, by polarity: in positive position `a U b` becomes `a W b` (`b V (a | b)`) and `F a`
+/// becomes `TRUE`; in negative position `G a` becomes `FALSE` and `a V b` becomes `b U (a & b)`
+/// (whose negation is the weak until). Environment-only subformulas stay as they are: the
+/// encoding reads them exactly.
+///
+/// Why: a liveness property's lassos come back one behaviour at a time, while a safety
+/// property's counterexamples rule out, along their environment, every machine that fails
+/// there ([`super`]). `G (vac -> (vac U placed))` ("a held piece is held until it is placed")
+/// contains "a held piece is not dropped before it is placed", which the encoding can carry.
+pub(crate) fn safety_part(f: &Ltl, env: &dyn Fn(&str) -> bool) -> Option<Ltl> {
+    fn b(f: Ltl) -> Box<Ltl> {
+        Box::new(f)
+    }
+    fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> Option<Ltl> {
+        use Ltl::*;
+        if is_safety(f, env) && is_safety(&Not(b(f.clone())), env) {
+            // No eventuality in either polarity (environment-only parts included).
+            return Some(f.clone());
+        }
+        Some(match f {
+            Not(a) => Not(b(walk(a, !pos, env)?)),
+            And(x, y) => And(b(walk(x, pos, env)?), b(walk(y, pos, env)?)),
+            Or(x, y) => Or(b(walk(x, pos, env)?), b(walk(y, pos, env)?)),
+            Implies(x, y) => Implies(b(walk(x, !pos, env)?), b(walk(y, pos, env)?)),
+            X(a) => X(b(walk(a, pos, env)?)),
+            F(_) if pos => True,
+            F(a) => F(b(walk(a, pos, env)?)),
+            G(_) if !pos => False,
+            G(a) => G(b(walk(a, pos, env)?)),
+            U(x, y) if pos => {
+                let (x, y) = (walk(x, pos, env)?, walk(y, pos, env)?);
+                V(b(y.clone()), b(Or(b(x), b(y))))
+            }
+            U(x, y) => U(b(walk(x, pos, env)?), b(walk(y, pos, env)?)),
+            V(x, y) if !pos => {
+                let (x, y) = (walk(x, pos, env)?, walk(y, pos, env)?);
+                U(b(y.clone()), b(And(b(x), b(y))))
+            }
+            V(x, y) => V(b(walk(x, pos, env)?), b(walk(y, pos, env)?)),
+            // Eventualities in both polarities, or past operators: not weakened.
+            _ => return None,
+        })
+    }
+    if !covered(f) {
+        return None;
+    }
+    let weak = constants_folded(walk(f, true, env)?);
+    (weak != Ltl::True && is_safety(&weak, env)).then_some(weak)
+}
+
+/// `f` with `TRUE` and `FALSE` folded into the operators above them, so that a weakening
+/// that says nothing comes out as `TRUE`.
+fn constants_folded(f: Ltl) -> Ltl {
+    use Ltl::*;
+    let fold = |f: Box<Ltl>| constants_folded(*f);
+    match f {
+        Not(a) => match fold(a) {
+            True => False,
+            False => True,
+            a => Not(Box::new(a)),
+        },
+        And(x, y) => match (fold(x), fold(y)) {
+            (False, _) | (_, False) => False,
+            (True, z) | (z, True) => z,
+            (x, y) => And(Box::new(x), Box::new(y)),
+        },
+        Or(x, y) => match (fold(x), fold(y)) {
+            (True, _) | (_, True) => True,
+            (False, z) | (z, False) => z,
+            (x, y) => Or(Box::new(x), Box::new(y)),
+        },
+        Implies(x, y) => match (fold(x), fold(y)) {
+            (False, _) | (_, True) => True,
+            (True, z) => z,
+            (z, False) => Not(Box::new(z)),
+            (x, y) => Implies(Box::new(x), Box::new(y)),
+        },
+        X(a) => match fold(a) {
+            c @ (True | False) => c,
+            a => X(Box::new(a)),
+        },
+        G(a) => match fold(a) {
+            c @ (True | False) => c,
+            a => G(Box::new(a)),
+        },
+        F(a) => match fold(a) {
+            c @ (True | False) => c,
+            a => F(Box::new(a)),
+        },
+        // `a V TRUE` and `a U TRUE` hold; `a V FALSE` and `a U FALSE` do not.
+        V(x, y) => match fold(y) {
+            c @ (True | False) => c,
+            y => V(Box::new(fold(x)), Box::new(y)),
+        },
+        U(x, y) => match fold(y) {
+            c @ (True | False) => c,
+            y => U(Box::new(fold(x)), Box::new(y)),
+        },
+        f => f,
+    }
+}
+
 /// Whether the encoding covers the formula: no past operators.
 pub(crate) fn covered(f: &Ltl) -> bool {
     f.is_future_only()

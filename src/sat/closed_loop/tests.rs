@@ -270,3 +270,53 @@ fn a_define_of_a_free_input_is_no_constant_of_the_environment() {
     let s = synth.minimize(&mut |_| {}).unwrap();
     assert_eq!(s.size.t, 0, "{:?}", s.ecc);
 }
+
+/// One formula parsed.
+fn formula(text: &str) -> Ltl {
+    parse_spec(Path::new("t.ltl"), text)
+        .unwrap()
+        .remove(0)
+        .formula
+}
+
+/// The safety part of `text`, `p` the environment's only name.
+fn safety_part_of(text: &str) -> Option<Ltl> {
+    property::safety_part(&formula(text), &|n| n == "p")
+}
+
+#[test]
+fn a_held_piece_is_not_dropped_before_it_is_placed() {
+    assert_eq!(
+        safety_part_of("G (vac -> (vac U placed))"),
+        Some(formula("G (vac -> (placed V (vac | placed)))"))
+    );
+}
+
+#[test]
+fn a_response_has_no_safety_part() {
+    assert_eq!(safety_part_of("G (a -> F b)"), None);
+    assert_eq!(safety_part_of("(F G !p) -> G (a -> F b)"), None);
+    // Past operators are not encoded, so neither is a part of them.
+    assert_eq!(safety_part_of("G (a -> (a U Y b))"), None);
+}
+
+#[test]
+fn eventualities_in_negative_position_are_made_weak_too() {
+    // `!(a V b)` is `!a U !b`: its weak form is the negation of `b U (a & b)`.
+    assert_eq!(
+        safety_part_of("G ((a V b) -> X c)"),
+        Some(formula("G ((b U (a & b)) -> X c)"))
+    );
+    // `!(G a)` is `F !a`: nothing of it stays, nor of the implication.
+    assert_eq!(safety_part_of("(G a) -> (b U c)"), None);
+    // Environment-only parts are read exactly, so they stay: `G F p` is no eventuality here.
+    assert_eq!(
+        safety_part_of("(G F p) | G (a -> (a U b))"),
+        Some(formula("(G F p) | G (a -> (b V (a | b)))"))
+    );
+}
+
+#[test]
+fn a_safety_property_is_its_own_safety_part() {
+    assert_eq!(safety_part_of("G !(a & b)"), Some(formula("G !(a & b)")));
+}
