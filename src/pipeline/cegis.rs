@@ -522,9 +522,7 @@ impl<'a, 'l, 'e> Cegis<'a, 'l, 'e> {
         };
         let (_, n, since, cpu) = self.same;
         // The loop's own CPU time, not the wall clock: on a machine other programs load, the
-        // wall clock made the loop hand over before candidates it reaches on an idle one
-        // (Pick-and-Place from four scenarios: 11 candidates in 24 s at load 3, where 17 reach
-        // the least machine in 16 s idle).
+        // wall clock would make the loop hand over before candidates it reaches on an idle one.
         let spent = thread_cpu().saturating_sub(cpu);
         let Some(stall) = self.config.stall.filter(|_| self.passed.is_none()) else {
             return Ok(());
