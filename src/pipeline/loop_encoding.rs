@@ -5,7 +5,8 @@
 //! In: a [`Problem`] with a plant model the tool can run, the scenario set (the controller's
 //! interface). Out: a [`LoopEncoding`]: the encoding's [`Spec`] and, per property, whether it is
 //! encoded or why not. A property that is not encoded is still checked by NuSMV, and its
-//! counterexamples still come back as negative scenarios.
+//! counterexamples still come back as negative scenarios; a liveness property over the plant
+//! alone has its safety part encoded and checked beside it.
 
 use crate::ecc::ident::{parse_smv_value, SmvValue};
 use crate::ltl::{Ltl, Property};

@@ -124,8 +124,8 @@ pub(crate) fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
     walk(f, true, env)
 }
 
-/// The safety part of a property: the strongest formula this weakening gives that every run
-/// satisfying `f` satisfies, with no eventuality left (`None` when it says nothing, `TRUE`, or
+/// The safety part of a property: a formula that every run satisfying `f` satisfies, with no
+/// eventuality left (`None` when it says nothing, `TRUE`, or
 /// `f` has past operators or eventualities under `<->` or `xor`). Each eventuality is made
 /// weak, by polarity: in positive position `a U b` becomes `a W b` (`b V (a | b)`) and `F a`
 /// becomes `TRUE`; in negative position `G a` becomes `FALSE` and `a V b` becomes `b U (a & b)`
