@@ -27,7 +27,7 @@ pub(crate) struct LoopEncoding {
     /// How plant, machine and the encoded properties fit together in the SAT encoding.
     pub(crate) spec: Arc<Spec>,
     /// Per property of [`Self::checked`]: `Ok(())` if encoded, else why not.
-    pub(crate) coverage: Vec<Result<(), String>>,
+    pub(crate) coverage: Vec<Result<(), Uncovered>>,
     /// What the in-process checker judges a candidate on: the problem's properties (spec
     /// order), then the safety part of each liveness property that has one
     /// ([`closed_loop::property::safety_part`]), encoded and checked so that its
@@ -64,7 +64,7 @@ impl LoopEncoding {
             response_bound,
             initial_outputs: set.initial_outputs.clone(),
         };
-        let mut coverage: Vec<Result<(), String>> = (problem.props.iter())
+        let mut coverage: Vec<Result<(), Uncovered>> = (problem.props.iter())
             .map(|p| coverage_of(&spec, &p.formula))
             .collect();
         let mut checked = problem.props.clone();
@@ -178,21 +178,32 @@ fn parse_value(model: &Model, text: &str) -> Option<Value> {
     }
 }
 
+/// Why the encoding does not carry a property.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum Uncovered {
+    /// It has past operators.
+    #[error("past operators are not encoded")]
+    Past,
+    /// It reads a name that is not one of the closed loop's.
+    #[error("'{0}' is not a name of the closed loop")]
+    Name(String),
+    /// A liveness property: bounded eventualities unrolled along every environment make the
+    /// encoding too large to solve in seconds on plants like Pick-and-Place; NuSMV's lassos
+    /// come back as negative scenarios instead, and the property's safety part is encoded.
+    #[error("a liveness property: its counterexamples come back as negative scenarios")]
+    Liveness,
+}
+
 /// Whether the encoding carries `formula` on `spec`'s closed loop, or why not.
-fn coverage_of(spec: &Spec, formula: &Ltl) -> Result<(), String> {
+fn coverage_of(spec: &Spec, formula: &Ltl) -> Result<(), Uncovered> {
     if !closed_loop::property::covered(formula) {
-        return Err("past operators are not encoded".to_string());
+        return Err(Uncovered::Past);
     }
     if let Some(n) = (formula.names().into_iter()).find(|n| !closed_loop::resolves(spec, n)) {
-        return Err(format!("'{n}' is not a name of the closed loop"));
+        return Err(Uncovered::Name(n));
     }
     if !closed_loop::property::is_safety(formula, &|n| closed_loop::is_environment(spec, n)) {
-        // Bounded eventualities unrolled along every environment make the encoding too large
-        // to solve in seconds on plants like Pick-and-Place; NuSMV's lassos come back as
-        // negative scenarios instead, and the property's safety part is encoded.
-        return Err(
-            "a liveness property: its counterexamples come back as negative scenarios".to_string(),
-        );
+        return Err(Uncovered::Liveness);
     }
     Ok(())
 }
@@ -209,12 +220,9 @@ fn coverage_of(spec: &Spec, formula: &Ltl) -> Result<(), String> {
 /// outputs (a generated station's "an extending cylinder keeps extending until its end") is
 /// left out: on the stations its environments make each SAT call slower without sparing
 /// candidates (station 5: 28 s with it, 8 s without).
-fn safety_part(spec: &Spec, p: &Property, why: &Result<(), String>) -> Option<Property> {
-    let names = p.formula.names();
-    let liveness = why.is_err()
-        && closed_loop::property::covered(&p.formula)
-        && (names.iter()).all(|n| closed_loop::resolves(spec, n) && !spec.outputs.contains(n));
-    if !liveness {
+fn safety_part(spec: &Spec, p: &Property, why: &Result<(), Uncovered>) -> Option<Property> {
+    let over_plant = (p.formula.names().iter()).all(|n| !spec.outputs.contains(n));
+    if *why != Err(Uncovered::Liveness) || !over_plant {
         return None;
     }
     let env = |n: &str| closed_loop::is_environment(spec, n);

@@ -99,29 +99,33 @@ pub fn operand_names(f: &Ltl) -> BTreeSet<String> {
 /// such properties are encoded by default. `env(n)`: name `n` is the environment's alone, a
 /// free variable of the plant or a symbolic constant ([`super::is_environment`]).
 pub(crate) fn is_safety(f: &Ltl, env: &dyn Fn(&str) -> bool) -> bool {
-    fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> bool {
-        use Ltl::*;
-        if f.is_future_only() && operand_names(f).iter().all(|n| env(n)) {
-            return true;
-        }
-        match f {
-            True | False | Atom(_) | Int(_) | Cmp(..) => true,
-            Not(a) => walk(a, !pos, env),
-            And(a, b) | Or(a, b) => walk(a, pos, env) && walk(b, pos, env),
-            Implies(a, b) => walk(a, !pos, env) && walk(b, pos, env),
-            Iff(a, b) | Xnor(a, b) | Xor(a, b) => {
-                walk(a, pos, env) && walk(a, !pos, env) && walk(b, pos, env) && walk(b, !pos, env)
-            }
-            X(a) => walk(a, pos, env),
-            // F and U are eventualities in positive position, G and V in negative.
-            F(a) => !pos && walk(a, pos, env),
-            G(a) => pos && walk(a, pos, env),
-            U(a, b) => !pos && walk(a, pos, env) && walk(b, pos, env),
-            V(a, b) => pos && walk(a, pos, env) && walk(b, pos, env),
-            Y(_) | Z(_) | H(_) | O(_) | S(..) | T(..) => false,
-        }
+    safety_at(f, true, env)
+}
+
+/// Whether `f` in positive (`pos`) or negative position has no eventuality outside its
+/// environment-only subformulas ([`is_safety`]).
+fn safety_at(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> bool {
+    use Ltl::*;
+    let walk = safety_at;
+    if f.is_future_only() && operand_names(f).iter().all(|n| env(n)) {
+        return true;
     }
-    walk(f, true, env)
+    match f {
+        True | False | Atom(_) | Int(_) | Cmp(..) => true,
+        Not(a) => walk(a, !pos, env),
+        And(a, b) | Or(a, b) => walk(a, pos, env) && walk(b, pos, env),
+        Implies(a, b) => walk(a, !pos, env) && walk(b, pos, env),
+        Iff(a, b) | Xnor(a, b) | Xor(a, b) => {
+            walk(a, pos, env) && walk(a, !pos, env) && walk(b, pos, env) && walk(b, !pos, env)
+        }
+        X(a) => walk(a, pos, env),
+        // F and U are eventualities in positive position, G and V in negative.
+        F(a) => !pos && walk(a, pos, env),
+        G(a) => pos && walk(a, pos, env),
+        U(a, b) => !pos && walk(a, pos, env) && walk(b, pos, env),
+        V(a, b) => pos && walk(a, pos, env) && walk(b, pos, env),
+        Y(_) | Z(_) | H(_) | O(_) | S(..) | T(..) => false,
+    }
 }
 
 /// The safety part of a property: a formula that every run satisfying `f` satisfies, with no
@@ -142,7 +146,7 @@ pub(crate) fn safety_part(f: &Ltl, env: &dyn Fn(&str) -> bool) -> Option<Ltl> {
     }
     fn walk(f: &Ltl, pos: bool, env: &dyn Fn(&str) -> bool) -> Option<Ltl> {
         use Ltl::*;
-        if is_safety(f, env) && is_safety(&Not(b(f.clone())), env) {
+        if safety_at(f, true, env) && safety_at(f, false, env) {
             // No eventuality in either polarity (environment-only parts included).
             return Some(f.clone());
         }
